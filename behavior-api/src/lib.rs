@@ -1,0 +1,1 @@
+//! behavior-api (placeholder; being written)

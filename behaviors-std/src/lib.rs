@@ -1,0 +1,1 @@
+//! behaviors-std (placeholder; being written)

@@ -1,0 +1,1 @@
+//! ivp (placeholder; being written)

@@ -1,0 +1,1 @@
+//! moos (placeholder; being written)
