@@ -1,0 +1,1 @@
+//! bhv (placeholder; being written)

@@ -1,0 +1,1 @@
+//! geometry (placeholder; being written)
