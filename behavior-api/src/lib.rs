@@ -1,1 +1,47 @@
-//! behavior-api (placeholder; being written)
+//! `behavior-api`: the stable ABI between the ivp-helm host and its behaviors, and the
+//! SDK to write one.
+//!
+//! A behavior is a [`behavior::Behavior`] trait object (abi_stable `#[sabi_trait]`), the
+//! same for behaviors compiled into the helm and for those loaded from a `cdylib`: the
+//! engine cannot tell them apart. During each call the behavior talks to the helm through
+//! a [`context::HelmContext`] (the info buffer and postings). Authors implement the plain
+//! Rust trait [`sdk::IvpBehavior`] and export it with [`export_behaviors!`].
+//!
+//! ```
+//! use behavior_api::sdk::{Ctx, HelmDomain, IvpBehavior};
+//! use behavior_api::FunctionData;
+//!
+//! struct Quiet { domain: String }
+//! impl IvpBehavior for Quiet {
+//!     fn domain(&self) -> String { self.domain.clone() }
+//!     fn default_name(&self) -> String { "bhv_quiet".into() }
+//!     fn set_param(&mut self, _: &mut Ctx<'_>, _: &str, _: &str) -> bool { false }
+//!     fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+//!         ctx.post_message("QUIET", "yes");
+//!         None
+//!     }
+//! }
+//! let helm = HelmDomain::new("course,0,359,360:speed,0,4,41");
+//! let b = behavior_api::sdk::boxed(Quiet { domain: helm.sub_domain(&["speed"]) });
+//! assert_eq!(b.domain().as_str(), "speed,0,4,41");
+//! ```
+//!
+//! Versioning: the root module carries this crate's version; abi_stable refuses a library
+//! built against an incompatible version and checks every type layout when loading.
+
+// abi_stable's sabi_trait macro expands to impls inside a const block.
+#![allow(non_local_definitions)]
+
+pub mod behavior;
+pub mod context;
+pub mod function;
+pub mod module;
+pub mod sdk;
+pub mod value;
+
+pub use abi_stable;
+pub use behavior::{BehaviorBox, CallResult};
+pub use context::HelmCtx;
+pub use function::FunctionData;
+pub use module::{BehaviorLibRef, API_VERSION};
+pub use value::PostValue;
