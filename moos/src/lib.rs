@@ -1,1 +1,16 @@
-//! moos (placeholder; being written)
+//! MOOS V10 protocol support, written from `specs/moos-wire.md` only.
+//!
+//! * [`wire`]: message and packet codec (little-endian, i32 lengths), stream framing.
+//! * [`mission`]: `.moos` mission file reader (globals, `ProcessConfig` blocks, `define:`).
+//! * [`db`]: an embeddable MOOSDB (also the `moosdb` binary).
+//! * [`client`]: an asynchronous MOOS client with heartbeat, skew filter and reconnect.
+//! * [`alog`]: pLogger `.alog` writer and reader.
+#![forbid(unsafe_code)]
+
+pub mod mission;
+pub mod text;
+pub mod time;
+pub mod wire;
+
+pub use mission::{ConfigLine, MissionError, MissionFile};
+pub use wire::{DataType, Message, MsgType, WireError};

@@ -1,0 +1,90 @@
+use std::io::{self, Read};
+use std::ops::Range;
+
+use super::{PacketHeader, WireError, PACKET_HEADER_LEN};
+
+const CHUNK: usize = 64 * 1024;
+
+/// Accumulates bytes from a stream and yields complete packets.
+///
+/// TCP may split or merge packets; this buffers as bytes arrive and never reserves more
+/// than one read chunk ahead, so a lying `pkt_len` costs nothing until the bytes come.
+pub struct FrameReader {
+    buf: Vec<u8>,
+    start: usize,
+    max_packet: usize,
+}
+
+impl FrameReader {
+    pub fn new(max_packet: usize) -> FrameReader {
+        FrameReader {
+            buf: Vec::new(),
+            start: 0,
+            max_packet,
+        }
+    }
+
+    /// Read once from `r`, appending what arrives. Returns the bytes read (0 = EOF).
+    pub fn fill<R: Read>(&mut self, r: &mut R) -> io::Result<usize> {
+        if self.start > 0 && (self.start == self.buf.len() || self.start >= CHUNK) {
+            self.buf.drain(..self.start);
+            self.start = 0;
+        }
+        let old = self.buf.len();
+        self.buf.resize(old + CHUNK, 0);
+        match r.read(&mut self.buf[old..]) {
+            Ok(n) => {
+                self.buf.truncate(old + n);
+                Ok(n)
+            }
+            Err(e) => {
+                self.buf.truncate(old);
+                Err(e)
+            }
+        }
+    }
+
+    /// The range of the next complete packet, if one is buffered. The header's length
+    /// is validated as soon as 4 bytes are present (so an oversize packet fails early).
+    pub fn next_frame(&mut self) -> Result<Option<Range<usize>>, WireError> {
+        let avail = &self.buf[self.start..];
+        if avail.len() < 4 {
+            return Ok(None);
+        }
+        let len = i32::from_le_bytes([avail[0], avail[1], avail[2], avail[3]]);
+        if len < PACKET_HEADER_LEN as i32 {
+            return Err(WireError::BadPacketLength {
+                len,
+                have: avail.len(),
+            });
+        }
+        let ulen = len as usize;
+        if ulen > self.max_packet {
+            return Err(WireError::PacketTooLarge {
+                len: ulen,
+                cap: self.max_packet,
+            });
+        }
+        if avail.len() < ulen {
+            return Ok(None);
+        }
+        let r = self.start..self.start + ulen;
+        self.start += ulen;
+        Ok(Some(r))
+    }
+
+    /// Bytes of a frame returned by [`FrameReader::next_frame`] (valid until the next fill).
+    pub fn frame(&self, r: Range<usize>) -> &[u8] {
+        &self.buf[r]
+    }
+
+    /// Validate a frame's header (count etc.).
+    pub fn header(&self, r: Range<usize>) -> Result<PacketHeader, WireError> {
+        PacketHeader::parse(&self.buf[r], self.max_packet)
+    }
+
+    /// Buffered bytes not yet returned as frames.
+    pub fn pending(&self) -> usize {
+        self.buf.len() - self.start
+    }
+}
