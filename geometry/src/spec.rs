@@ -1,0 +1,420 @@
+//! Output spec formatting for VIEW_* postings (behaviors-std.md §1.5).
+
+/// printf `%.<d>f`, then trailing zeros and a trailing `.` stripped; `-0` becomes `0`.
+pub fn fmt_x(v: f64, d: usize) -> String {
+    let mut s = format!("{v:.d$}");
+    if s.contains('.') {
+        while s.ends_with('0') {
+            s.pop();
+        }
+        if s.ends_with('.') {
+            s.pop();
+        }
+    }
+    if s == "-0" {
+        s = "0".to_string();
+    }
+    s
+}
+
+/// Color names accepted in visual attributes (compared lower-case, `_` ignored).
+const COLORS: &[&str] = &[
+    "aliceblue",
+    "antiquewhite",
+    "aqua",
+    "aquamarine",
+    "azure",
+    "beige",
+    "bisque",
+    "black",
+    "blanchedalmond",
+    "blue",
+    "blueviolet",
+    "brown",
+    "burlywood",
+    "cadetblue",
+    "chartreuse",
+    "chocolate",
+    "coral",
+    "cornflowerblue",
+    "cornsilk",
+    "crimson",
+    "cyan",
+    "darkblue",
+    "darkcyan",
+    "darkgoldenrod",
+    "darkgray",
+    "darkgreen",
+    "darkkhaki",
+    "darkmagenta",
+    "darkolivegreen",
+    "darkorange",
+    "darkorchid",
+    "darkred",
+    "darksalmon",
+    "darkseagreen",
+    "darkslateblue",
+    "darkslategray",
+    "darkturquoise",
+    "darkviolet",
+    "deeppink",
+    "deepskyblue",
+    "dimgray",
+    "dodgerblue",
+    "firebrick",
+    "floralwhite",
+    "forestgreen",
+    "fuchsia",
+    "gainsboro",
+    "ghostwhite",
+    "gold",
+    "goldenrod",
+    "gray",
+    "grey",
+    "green",
+    "greenyellow",
+    "honeydew",
+    "hotpink",
+    "indianred",
+    "indigo",
+    "ivory",
+    "khaki",
+    "lavender",
+    "lavenderblush",
+    "lawngreen",
+    "lemonchiffon",
+    "lightblue",
+    "lightcoral",
+    "lightcyan",
+    "lightgoldenrod",
+    "lightgray",
+    "lightgreen",
+    "lightpink",
+    "lightsalmon",
+    "lightseagreen",
+    "lightskyblue",
+    "lightslategray",
+    "lightsteelblue",
+    "lightyellow",
+    "lime",
+    "limegreen",
+    "linen",
+    "magenta",
+    "maroon",
+    "mediumaquamarine",
+    "mediumblue",
+    "mediumorchid",
+    "mediumpurple",
+    "mediumseagreen",
+    "mediumslateblue",
+    "mediumspringgreen",
+    "mediumturquoise",
+    "mediumvioletred",
+    "midnightblue",
+    "mintcream",
+    "mistyrose",
+    "moccasin",
+    "navajowhite",
+    "navy",
+    "oldlace",
+    "olive",
+    "olivedrab",
+    "orange",
+    "orangered",
+    "orchid",
+    "palegoldenrod",
+    "palegreen",
+    "paleturquoise",
+    "palevioletred",
+    "papayawhip",
+    "peachpuff",
+    "peru",
+    "pink",
+    "plum",
+    "powderblue",
+    "purple",
+    "red",
+    "rosybrown",
+    "royalblue",
+    "saddlebrown",
+    "salmon",
+    "sandybrown",
+    "seagreen",
+    "seashell",
+    "sienna",
+    "silver",
+    "skyblue",
+    "slateblue",
+    "slategray",
+    "snow",
+    "springgreen",
+    "steelblue",
+    "tan",
+    "teal",
+    "thistle",
+    "tomato",
+    "turquoise",
+    "violet",
+    "wheat",
+    "white",
+    "whitesmoke",
+    "yellow",
+    "yellowgreen",
+    "invisible",
+    "empty",
+];
+
+/// True if `s` is a recognized color name (or a `hex:`/`0x` color).
+pub fn is_color(s: &str) -> bool {
+    let t: String = s
+        .trim()
+        .to_ascii_lowercase()
+        .chars()
+        .filter(|c| *c != '_')
+        .collect();
+    if t.is_empty() {
+        return false;
+    }
+    if let Some(h) = t.strip_prefix("hex:").or_else(|| t.strip_prefix("0x")) {
+        return !h.is_empty() && h.chars().all(|c| c.is_ascii_hexdigit() || c == ',');
+    }
+    COLORS.contains(&t.as_str())
+}
+
+/// Attributes of a visual object, printed in the fixed order of §1.5.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Attrs {
+    pub active: Option<bool>,
+    pub label: String,
+    pub msg: String,
+    pub source: String,
+    pub vsource: String,
+    pub id: String,
+    pub label_color: String,
+    pub edge_color: String,
+    pub vertex_color: String,
+    pub fill_color: String,
+    pub time: Option<f64>,
+    pub duration: Option<f64>,
+    pub vertex_size: Option<f64>,
+    pub edge_size: Option<f64>,
+    pub fill_transparency: Option<f64>,
+}
+
+impl Attrs {
+    /// Set one attribute from a `key=value` field of a spec string. Returns false if the
+    /// key is not an attribute or the value is malformed. Unknown colors are ignored.
+    pub fn set(&mut self, key: &str, value: &str) -> bool {
+        let value = value.trim();
+        let num = || value.parse::<f64>().ok().filter(|v| v.is_finite());
+        match key.trim().to_ascii_lowercase().as_str() {
+            "active" => match value.to_ascii_lowercase().as_str() {
+                "true" => self.active = Some(true),
+                "false" => self.active = Some(false),
+                _ => return false,
+            },
+            "label" => self.label = value.to_string(),
+            "msg" => self.msg = value.to_string(),
+            "source" => self.source = value.to_string(),
+            "vsource" => self.vsource = value.to_string(),
+            "id" => self.id = value.to_string(),
+            "label_color" => self.set_color_field(0, value),
+            "edge_color" => self.set_color_field(1, value),
+            "vertex_color" => self.set_color_field(2, value),
+            "fill_color" => self.set_color_field(3, value),
+            "time" => match num() {
+                Some(v) => self.time = Some(v),
+                None => return false,
+            },
+            "duration" => match num() {
+                Some(v) => self.duration = Some(v),
+                None => return false,
+            },
+            "vertex_size" => match num() {
+                Some(v) => self.vertex_size = Some(v),
+                None => return false,
+            },
+            "edge_size" => match num() {
+                Some(v) => self.edge_size = Some(v),
+                None => return false,
+            },
+            "fill_transparency" => match num() {
+                Some(v) => self.fill_transparency = Some(v),
+                None => return false,
+            },
+            _ => return false,
+        }
+        true
+    }
+
+    fn set_color_field(&mut self, which: u8, value: &str) {
+        if !is_color(value) {
+            return;
+        }
+        let v = value.to_string();
+        match which {
+            0 => self.label_color = v,
+            1 => self.edge_color = v,
+            2 => self.vertex_color = v,
+            _ => self.fill_color = v,
+        }
+    }
+
+    /// The attributes as `,key=value` fields (leading comma included for each).
+    pub fn spec(&self) -> String {
+        let mut s = String::new();
+        if let Some(a) = self.active {
+            s.push_str(if a { ",active=true" } else { ",active=false" });
+        }
+        let strs = [
+            ("label", &self.label),
+            ("msg", &self.msg),
+            ("source", &self.source),
+            ("vsource", &self.vsource),
+            ("id", &self.id),
+            ("label_color", &self.label_color),
+            ("edge_color", &self.edge_color),
+            ("vertex_color", &self.vertex_color),
+            ("fill_color", &self.fill_color),
+        ];
+        for (k, v) in strs {
+            if !v.is_empty() {
+                s.push_str(&format!(",{k}={v}"));
+            }
+        }
+        if let Some(t) = self.time {
+            s.push_str(&format!(",time={}", fmt_x(t, 2)));
+        }
+        if let Some(d) = self.duration {
+            s.push_str(&format!(",duration={}", fmt_x(d, 2)));
+        }
+        if let Some(v) = self.vertex_size {
+            s.push_str(&format!(",vertex_size={}", fmt_x(v, 1)));
+        }
+        if let Some(v) = self.edge_size {
+            s.push_str(&format!(",edge_size={}", fmt_x(v, 1)));
+        }
+        if let Some(v) = self.fill_transparency {
+            s.push_str(&format!(",fill_transparency={}", fmt_x(v, 2)));
+        }
+        s
+    }
+}
+
+/// A vertex (x, y, optional z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex {
+    pub x: f64,
+    pub y: f64,
+    pub z: Option<f64>,
+}
+
+impl Vertex {
+    pub fn new(x: f64, y: f64) -> Self {
+        Vertex { x, y, z: None }
+    }
+}
+
+/// `x=..,y=..[,z=..]` (2 decimals compact) then the attributes.
+pub fn point_spec(x: f64, y: f64, z: Option<f64>, attrs: &Attrs) -> String {
+    let mut s = format!("x={},y={}", fmt_x(x, 2), fmt_x(y, 2));
+    if let Some(z) = z {
+        s.push_str(&format!(",z={}", fmt_x(z, 2)));
+    }
+    s.push_str(&attrs.spec());
+    s
+}
+
+/// Inactive point used to erase a drawn point: `x=0,y=0,active=false[,label=L]`.
+pub fn point_erase_spec(label: &str) -> String {
+    let mut s = "x=0,y=0,active=false".to_string();
+    if !label.is_empty() {
+        s.push_str(&format!(",label={label}"));
+    }
+    s
+}
+
+/// `pts={x,y:x,y:...}` with `precision` decimals (compact).
+pub fn pts_spec(pts: &[Vertex], precision: usize) -> String {
+    let body: Vec<String> = pts
+        .iter()
+        .map(|p| {
+            let mut v = format!("{},{}", fmt_x(p.x, precision), fmt_x(p.y, precision));
+            if let Some(z) = p.z {
+                v.push_str(&format!(",{}", fmt_x(z, precision)));
+            }
+            v
+        })
+        .collect();
+    format!("pts={{{}}}", body.join(":"))
+}
+
+/// Seglist or polygon spec: the vertices then the attributes.
+pub fn seglist_spec(pts: &[Vertex], precision: usize, attrs: &Attrs) -> String {
+    let mut s = pts_spec(pts, precision);
+    s.push_str(&attrs.spec());
+    s
+}
+
+/// Inactive seglist/polygon used for erasing: `pts={0,0:9,0:0,9},active=false[,label=L]`.
+pub fn seglist_erase_spec(label: &str) -> String {
+    let mut s = "pts={0,0:9,0:0,9},active=false".to_string();
+    if !label.is_empty() {
+        s.push_str(&format!(",label={label}"));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compact() {
+        assert_eq!(fmt_x(3.0, 2), "3");
+        assert_eq!(fmt_x(2.50, 2), "2.5");
+        assert_eq!(fmt_x(-0.0001, 2), "0");
+        assert_eq!(fmt_x(-1.234, 1), "-1.2");
+        assert_eq!(fmt_x(100.0, 0), "100");
+        assert_eq!(fmt_x(63.43494882, 3), "63.435");
+    }
+
+    #[test]
+    fn attribute_order() {
+        let mut a = Attrs::default();
+        assert!(a.set("vertex_size", "5"));
+        assert!(a.set("vertex_color", "yellow"));
+        assert!(a.set("label_color", "aqua"));
+        assert!(a.set("label", "abe's nextpt"));
+        a.active = Some(true);
+        assert_eq!(
+            point_spec(1.0, -2.5, None, &a),
+            "x=1,y=-2.5,active=true,label=abe's nextpt,label_color=aqua,vertex_color=yellow,vertex_size=5"
+        );
+        assert!(a.set("edge_color", "not_a_color"));
+        assert!(a.edge_color.is_empty());
+        assert!(!a.set("vertex_size", "big"));
+        assert!(!a.set("bogus", "1"));
+        assert!(is_color("dodger_blue"));
+        assert!(is_color("DodgerBlue"));
+    }
+
+    #[test]
+    fn seglists() {
+        let pts = [Vertex::new(0.0, -40.0), Vertex::new(60.123456, -40.0)];
+        let a = Attrs {
+            label: "abe_wpt".into(),
+            edge_size: Some(1.0),
+            ..Attrs::default()
+        };
+        assert_eq!(
+            seglist_spec(&pts, 3, &a),
+            "pts={0,-40:60.123,-40},label=abe_wpt,edge_size=1"
+        );
+        assert_eq!(
+            seglist_erase_spec("L"),
+            "pts={0,0:9,0:0,9},active=false,label=L"
+        );
+        assert_eq!(point_erase_spec(""), "x=0,y=0,active=false");
+    }
+}
