@@ -1,0 +1,243 @@
+//! An embeddable MOOSDB (spec §4.3, §5.3–§5.11).
+//!
+//! ```no_run
+//! use moos::db::{Db, DbConfig};
+//! let db = Db::start(DbConfig { port: 0, ..DbConfig::default() }).unwrap();
+//! println!("listening on {}", db.port());
+//! db.shutdown();
+//! ```
+//!
+//! Threads: one acceptor, and per client one reader (decodes packets, then processes them
+//! under the single state lock, so packets are handled one at a time as in C++) and one
+//! writer draining that client's byte-capped outbox. A slow subscriber therefore never
+//! blocks publishers: its outbox grows until the cap, then it is dropped.
+
+mod outbox;
+mod server;
+mod state;
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use thiserror::Error;
+
+use crate::mission::MissionFile;
+use state::State;
+
+/// DB settings. `Default` gives port 9000 on 127.0.0.1, community `#1`, warp 1,
+/// 5 s client timeout, 64 MiB per-client queue cap.
+#[derive(Clone, Debug)]
+pub struct DbConfig {
+    /// TCP port; 0 picks an ephemeral one (see [`Db::port`]).
+    pub port: u16,
+    /// Address to listen on (loopback by default).
+    pub bind: IpAddr,
+    /// Community name (mission `Community`).
+    pub community: String,
+    /// Time-warp factor, 0 < warp ≤ 400.
+    pub time_warp: f64,
+    /// Drop a client after this much real time without receiving anything.
+    pub client_timeout: Duration,
+    /// Per-client cap on bytes held + queued for sending; past it the client is dropped.
+    pub max_queue_bytes: usize,
+    /// Largest packet accepted from a client.
+    pub max_packet: usize,
+    /// The handshake packet must arrive within this time.
+    pub handshake_timeout: Duration,
+    /// A blocked write to a client fails after this time.
+    pub send_timeout: Duration,
+    /// Consolidation delays (`--response`): (client-name pattern, milliseconds).
+    pub response: Vec<(String, f64)>,
+    /// Host name sent in the welcome (`hostname=<..>`); the machine's name if `None`.
+    pub hostname: Option<String>,
+}
+
+impl Default for DbConfig {
+    fn default() -> Self {
+        DbConfig {
+            port: 9000,
+            bind: IpAddr::V4(Ipv4Addr::LOCALHOST),
+            community: "#1".into(),
+            time_warp: 1.0,
+            client_timeout: Duration::from_secs(5),
+            max_queue_bytes: 64 * 1024 * 1024,
+            max_packet: crate::wire::DEFAULT_MAX_PACKET,
+            handshake_timeout: Duration::from_secs(5),
+            send_timeout: Duration::from_secs(6),
+            response: Vec::new(),
+            hostname: None,
+        }
+    }
+}
+
+impl DbConfig {
+    /// Apply the mission globals the DB reads: `ServerPort`, `Community`,
+    /// `MOOSTimeWarp`, `ClientTimeout` (spec §7.2).
+    pub fn apply_mission(&mut self, m: &MissionFile) {
+        if let Some(p) = m.global_f64("ServerPort") {
+            if (0.0..=65535.0).contains(&p) {
+                self.port = p as u16;
+            }
+        }
+        if let Some(c) = m.global("Community") {
+            self.community = c;
+        }
+        if let Some(w) = m.global_f64("MOOSTimeWarp") {
+            if crate::time::warp_ok(w) {
+                self.time_warp = w;
+            }
+        }
+        if let Some(t) = m.global_f64("ClientTimeout") {
+            if t > 0.0 && t.is_finite() {
+                self.client_timeout = Duration::from_secs_f64(t);
+            }
+        }
+    }
+}
+
+/// Why the DB could not start.
+#[derive(Debug, Error)]
+pub enum DbError {
+    #[error("cannot listen on {addr}: {source}")]
+    Bind {
+        addr: SocketAddr,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("invalid time warp {0} (must be 0 < warp <= 400)")]
+    BadWarp(f64),
+    #[error("socket setup failed: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// Counters for monitoring and tests.
+#[derive(Clone, Debug, Default)]
+pub struct DbStats {
+    pub clients: usize,
+    pub overflows: u64,
+    pub delivered: u64,
+    pub queued_bytes: usize,
+}
+
+pub(crate) struct Inner {
+    state: Mutex<State>,
+    cfg: DbConfig,
+    stop: AtomicBool,
+    next_conn: AtomicU64,
+}
+
+impl Inner {
+    fn lock(&self) -> MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+    fn now(&self) -> f64 {
+        crate::time::local_time(self.cfg.time_warp)
+    }
+}
+
+/// A running MOOSDB. Dropping it shuts it down.
+pub struct Db {
+    inner: Arc<Inner>,
+    addr: SocketAddr,
+    acceptor: Option<JoinHandle<()>>,
+}
+
+impl Db {
+    /// Bind and start serving.
+    pub fn start(cfg: DbConfig) -> Result<Db, DbError> {
+        if !crate::time::warp_ok(cfg.time_warp) {
+            return Err(DbError::BadWarp(cfg.time_warp));
+        }
+        let addr = SocketAddr::new(cfg.bind, cfg.port);
+        let listener = TcpListener::bind(addr).map_err(|source| DbError::Bind { addr, source })?;
+        let addr = listener.local_addr()?;
+        listener.set_nonblocking(true)?;
+        let hostname = cfg.hostname.clone().unwrap_or_else(hostname);
+        let now = crate::time::local_time(cfg.time_warp);
+        let state = State::new(&cfg.community, &hostname, &cfg.response, now);
+        let inner = Arc::new(Inner {
+            state: Mutex::new(state),
+            cfg,
+            stop: AtomicBool::new(false),
+            next_conn: AtomicU64::new(1),
+        });
+        let i2 = inner.clone();
+        let acceptor = std::thread::Builder::new()
+            .name("moosdb-accept".into())
+            .spawn(move || server::accept_loop(i2, listener))?;
+        tracing::info!(%addr, community = %inner.cfg.community, "MOOSDB started");
+        Ok(Db {
+            inner,
+            addr,
+            acceptor: Some(acceptor),
+        })
+    }
+
+    /// The port actually bound.
+    pub fn port(&self) -> u16 {
+        self.addr.port()
+    }
+
+    pub fn local_addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Names of the connected clients.
+    pub fn client_names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.inner.lock().clients.keys().cloned().collect();
+        v.sort();
+        v
+    }
+
+    /// Bytes currently held or queued for all clients.
+    pub fn queued_bytes(&self) -> usize {
+        self.inner.lock().queued_bytes()
+    }
+
+    pub fn stats(&self) -> DbStats {
+        let s = self.inner.lock();
+        DbStats {
+            clients: s.clients.len(),
+            overflows: s.overflows,
+            delivered: s.delivered,
+            queued_bytes: s.queued_bytes(),
+        }
+    }
+
+    /// Stop accepting, close every client connection and wait for the acceptor.
+    pub fn shutdown(mut self) {
+        self.stop();
+    }
+
+    fn stop(&mut self) {
+        self.inner.stop.store(true, Ordering::SeqCst);
+        if let Some(h) = self.acceptor.take() {
+            let _ = h.join();
+        }
+        let s = self.inner.lock();
+        for c in s.clients.values() {
+            c.out.close();
+        }
+    }
+}
+
+impl Drop for Db {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// This machine's host name (`gethostname()` equivalent), or `localhost`.
+pub fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .or_else(|_| std::fs::read_to_string("/etc/hostname"))
+        .ok()
+        .map(|s| s.trim().to_owned())
+        .filter(|s| !s.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "localhost".into())
+}
+

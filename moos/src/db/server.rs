@@ -1,0 +1,215 @@
+//! Socket side of the DB: accept, handshake, per-client reader and writer threads.
+
+use std::io::{ErrorKind, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use super::outbox::Outbox;
+use super::state::Admit;
+use super::Inner;
+use crate::wire::{self, DataType, FrameReader, Message, MsgType};
+
+pub(crate) fn accept_loop(inner: Arc<Inner>, listener: TcpListener) {
+    while !inner.stop.load(Ordering::SeqCst) {
+        match listener.accept() {
+            Ok((stream, peer)) => {
+                let id = inner.next_conn.fetch_add(1, Ordering::Relaxed);
+                let i2 = inner.clone();
+                let r = std::thread::Builder::new()
+                    .name(format!("moosdb-conn-{id}"))
+                    .spawn(move || serve(i2, stream, id));
+                if let Err(e) = r {
+                    tracing::error!(%peer, "cannot spawn connection thread: {e}");
+                }
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock => {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            Err(e) => {
+                tracing::warn!("accept failed: {e}");
+                std::thread::sleep(Duration::from_millis(20));
+            }
+        }
+    }
+}
+
+/// A poison packet (`K`/`S`, reason in `sval`), spec §4.3 step 5.
+pub(crate) fn poison_packet(reason: &str, now: f64) -> Vec<u8> {
+    let m = Message {
+        msg_type: MsgType::POISON,
+        data_type: DataType::STRING,
+        time: now,
+        sval: reason.as_bytes().to_vec(),
+        ..Message::default()
+    };
+    let mut out = Vec::new();
+    let _ = wire::encode_packet(&[m], &mut out);
+    out
+}
+
+fn is_timeout(e: &std::io::Error) -> bool {
+    matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut)
+}
+
+/// Read the handshake packet within the deadline.
+fn read_handshake(
+    inner: &Inner,
+    stream: &mut TcpStream,
+    fr: &mut FrameReader,
+) -> Option<Vec<Message>> {
+    let deadline = Instant::now() + inner.cfg.handshake_timeout;
+    loop {
+        match fr.next_frame() {
+            Ok(Some(r)) => {
+                return match wire::decode_packet_lenient(fr.frame(r), usize::MAX) {
+                    Ok((msgs, _)) => Some(msgs),
+                    Err(_) => Some(Vec::new()),
+                };
+            }
+            Ok(None) => {}
+            Err(e) => {
+                tracing::debug!("bad handshake packet: {e}");
+                return None;
+            }
+        }
+        let left = deadline.checked_duration_since(Instant::now())?;
+        if left.is_zero() || stream.set_read_timeout(Some(left)).is_err() {
+            return None;
+        }
+        match fr.fill(stream) {
+            Ok(0) => return None,
+            Ok(_) => {}
+            Err(_) => return None,
+        }
+    }
+}
+
+fn serve(inner: Arc<Inner>, mut stream: TcpStream, conn_id: u64) {
+    let _ = stream.set_nodelay(true);
+    if stream
+        .set_read_timeout(Some(inner.cfg.handshake_timeout))
+        .is_err()
+    {
+        return;
+    }
+    let mut banner = [0u8; 32];
+    if stream.read_exact(&mut banner).is_err() || !wire::banner_ok(&banner) {
+        tracing::debug!(conn_id, "bad or missing banner: closing");
+        return;
+    }
+    let mut fr = FrameReader::new(inner.cfg.max_packet);
+    let Some(hs) = read_handshake(&inner, &mut stream, &mut fr) else {
+        return;
+    };
+    let Some(hs) = hs.into_iter().next() else {
+        let p = poison_packet("Failed to read receive client's name", inner.now());
+        let _ = stream.write_all(&p);
+        return;
+    };
+    let Ok(wstream) = stream.try_clone() else {
+        return;
+    };
+    let Ok(ostream) = stream.try_clone() else {
+        return;
+    };
+    let out = Arc::new(Outbox::new(ostream, inner.cfg.max_queue_bytes));
+    let name = String::from_utf8_lossy(&hs.sval).into_owned();
+    let admitted = {
+        let now = inner.now();
+        inner.lock().admit(&hs, conn_id, out.clone(), now)
+    };
+    if let Admit::Poison(reason) = admitted {
+        tracing::info!(client = %name, %reason, "handshake refused");
+        let _ = stream.set_write_timeout(Some(inner.cfg.send_timeout));
+        let _ = stream.write_all(&poison_packet(&reason, inner.now()));
+        return;
+    }
+    let o2 = out.clone();
+    let send_timeout = inner.cfg.send_timeout;
+    let spawned = std::thread::Builder::new()
+        .name(format!("moosdb-write-{conn_id}"))
+        .spawn(move || writer(o2, wstream, send_timeout));
+    let reason = if spawned.is_err() {
+        "cannot spawn writer"
+    } else {
+        read_loop(&inner, &mut stream, &mut fr, &name)
+    };
+    let now = inner.now();
+    inner.lock().disconnect(&name, conn_id, reason, now);
+    out.close();
+}
+
+fn read_loop(
+    inner: &Inner,
+    stream: &mut TcpStream,
+    fr: &mut FrameReader,
+    name: &str,
+) -> &'static str {
+    let tick = inner.cfg.client_timeout.min(Duration::from_secs(1));
+    if stream.set_read_timeout(Some(tick)).is_err() {
+        return "socket error";
+    }
+    let mut last_rx = Instant::now();
+    let mut batch: Vec<Vec<Message>> = Vec::new();
+    loop {
+        loop {
+            match fr.next_frame() {
+                Ok(Some(r)) => match wire::decode_packet_lenient(fr.frame(r), usize::MAX) {
+                    Ok((msgs, err)) => {
+                        if let Some(e) = err {
+                            tracing::warn!(client = %name, "malformed message dropped: {e}");
+                        }
+                        batch.push(msgs);
+                    }
+                    Err(e) => {
+                        tracing::warn!(client = %name, "malformed packet: {e}");
+                        return "malformed packet";
+                    }
+                },
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!(client = %name, "bad packet framing: {e}");
+                    return "malformed packet";
+                }
+            }
+        }
+        if !batch.is_empty() {
+            let now = inner.now();
+            let mut st = inner.lock();
+            for msgs in batch.drain(..) {
+                st.process(name, msgs, now, now);
+            }
+        }
+        if inner.stop.load(Ordering::Relaxed) {
+            return "shutdown";
+        }
+        match fr.fill(stream) {
+            Ok(0) => return "closed by client",
+            Ok(_) => last_rx = Instant::now(),
+            Err(e) if is_timeout(&e) => {
+                if last_rx.elapsed() > inner.cfg.client_timeout {
+                    tracing::info!(client = %name, "client silent too long: dropping");
+                    return "timeout";
+                }
+            }
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(_) => return "socket error",
+        }
+    }
+}
+
+fn writer(out: Arc<Outbox>, mut stream: TcpStream, send_timeout: Duration) {
+    let _ = stream.set_write_timeout(Some(send_timeout));
+    let mut spare = Vec::new();
+    while out.take(&mut spare) {
+        if let Err(e) = stream.write_all(&spare) {
+            tracing::debug!("write to client failed: {e}");
+            out.close();
+            return;
+        }
+        spare.clear();
+    }
+}
+

@@ -1,0 +1,763 @@
+//! The DB's single-threaded state machine (spec §5.3–§5.9). Every packet from every
+//! client is processed here one at a time under one lock.
+
+use std::collections::{BTreeSet, HashMap};
+use std::sync::Arc;
+
+use super::outbox::Outbox;
+use crate::text::{find_value, format_g, wildcard_match};
+use crate::wire::{DataType, Message, MsgType, PacketBuilder};
+
+const REFRESH_PERIOD: f64 = 2.0;
+
+pub(crate) struct Sub {
+    client: Arc<str>,
+    interval: f64,
+    last_sent: f64,
+}
+
+pub(crate) struct Var {
+    data_type: DataType,
+    dval: f64,
+    sval: Vec<u8>,
+    time: f64,
+    source: String,
+    source_aux: String,
+    community: String,
+    written_db: f64,
+    write_count: u64,
+    writers: BTreeSet<String>,
+    freq: f64,
+    subs: Vec<Sub>,
+}
+
+impl Var {
+    fn new(data_type: DataType) -> Var {
+        Var {
+            data_type,
+            dval: -1.0,
+            sval: Vec::new(),
+            time: -1.0,
+            source: String::new(),
+            source_aux: String::new(),
+            community: String::new(),
+            written_db: -1.0,
+            write_count: 0,
+            writers: BTreeSet::new(),
+            freq: 0.0,
+            subs: Vec::new(),
+        }
+    }
+
+    fn current(&self, key: &str) -> Message {
+        let is_d = self.data_type == DataType::DOUBLE;
+        Message {
+            id: -1,
+            msg_type: MsgType::NOTIFY,
+            data_type: self.data_type,
+            source: self.source.clone(),
+            source_aux: self.source_aux.clone(),
+            community: self.community.clone(),
+            key: key.to_owned(),
+            time: self.time,
+            dval: if is_d { self.dval } else { -1.0 },
+            dval2: -1.0,
+            sval: if is_d { Vec::new() } else { self.sval.clone() },
+        }
+    }
+}
+
+#[derive(Default)]
+struct Qos {
+    recent: f64,
+    max: f64,
+    min: f64,
+    avg: f64,
+    n: u64,
+}
+
+struct Filter {
+    app: String,
+    var: String,
+    interval: f64,
+}
+
+pub(crate) struct ClientRec {
+    pub conn_id: u64,
+    is_async: bool,
+    held: Vec<u8>,
+    held_count: usize,
+    filters: Vec<Filter>,
+    pub out: Arc<Outbox>,
+    consolidation: f64,
+    qos: Option<Qos>,
+    published: BTreeSet<String>,
+}
+
+/// Result of a handshake attempt.
+pub(crate) enum Admit {
+    Welcome,
+    Poison(String),
+}
+
+pub(crate) struct State {
+    pub community: String,
+    db_name: String,
+    hostname: String,
+    start: f64,
+    last_refresh: f64,
+    vars: HashMap<String, Var>,
+    pub clients: HashMap<String, ClientRec>,
+    /// Newest connection last.
+    order: Vec<String>,
+    dirty: Vec<String>,
+    to_drop: Vec<(String, &'static str)>,
+    response: Vec<(String, f64)>,
+    scratch: Vec<u8>,
+    encoded: Vec<u8>,
+    targets: Vec<Arc<str>>,
+    pub overflows: u64,
+    pub delivered: u64,
+}
+
+impl State {
+    pub fn new(community: &str, hostname: &str, response: &[(String, f64)], now: f64) -> State {
+        let mut vars = HashMap::new();
+        for (n, t) in [
+            ("DB_TIME", DataType::DOUBLE),
+            ("DB_UPTIME", DataType::DOUBLE),
+            ("DB_CLIENTS", DataType::DOUBLE),
+            ("DB_EVENT", DataType::STRING),
+            ("DB_VARSUMMARY", DataType::STRING),
+            ("DB_QOS", DataType::STRING),
+            ("DB_RWSUMMARY", DataType::STRING),
+        ] {
+            vars.insert(n.to_owned(), Var::new(t));
+        }
+        // Consolidation entries with wildcards go before explicit names (spec §5.11).
+        let mut response = response.to_vec();
+        response.sort_by_key(|(p, _)| !(p.contains('*') || p.contains('?')));
+        State {
+            community: community.to_owned(),
+            db_name: format!("MOOSDB_{community}"),
+            hostname: hostname.to_owned(),
+            start: now,
+            last_refresh: now,
+            vars,
+            clients: HashMap::new(),
+            order: Vec::new(),
+            dirty: Vec::new(),
+            to_drop: Vec::new(),
+            response,
+            scratch: Vec::new(),
+            encoded: Vec::new(),
+            targets: Vec::new(),
+            overflows: 0,
+            delivered: 0,
+        }
+    }
+
+    /// Handshake (spec §4.3 steps 4–8). On `Welcome`, the welcome packet is queued on `out`.
+    pub fn admit(&mut self, hs: &Message, conn_id: u64, out: Arc<Outbox>, now: f64) -> Admit {
+        let name = String::from_utf8_lossy(&hs.sval).into_owned();
+        if name.is_empty() {
+            return Admit::Poison("Failed to read receive client's name".into());
+        }
+        if self.clients.contains_key(&name) {
+            return Admit::Poison(format!("A client of this name (\"{name}\") already exists"));
+        }
+        let is_async = hs.key.eq_ignore_ascii_case(crate::wire::ASYNC_KEY);
+        let welcome = Message {
+            msg_type: MsgType::WELCOME,
+            data_type: DataType::DOUBLE,
+            source_aux: format!("hostname={}", self.hostname),
+            community: self.community.clone(),
+            time: now,
+            dval: now - hs.time,
+            sval: crate::wire::ASYNC_KEY.as_bytes().to_vec(),
+            ..Message::default()
+        };
+        let _ = out.push_with(|b| {
+            let mut p = PacketBuilder::new(b);
+            let _ = p.push(&welcome);
+            let _ = p.finish();
+        });
+        let consolidation = self
+            .response
+            .iter()
+            .find(|(p, _)| wildcard_match(p, &name))
+            .map(|(_, ms)| ms / 1000.0)
+            .unwrap_or(0.0);
+        self.clients.insert(
+            name.clone(),
+            ClientRec {
+                conn_id,
+                is_async,
+                held: Vec::new(),
+                held_count: 0,
+                filters: Vec::new(),
+                out,
+                consolidation,
+                qos: None,
+                published: BTreeSet::new(),
+            },
+        );
+        self.order.push(name.clone());
+        tracing::info!(client = %name, asynchronous = is_async, "client connected");
+        self.db_notify_str("DB_EVENT", &format!("connected={name}"), now);
+        self.finish_drops(now);
+        Admit::Welcome
+    }
+
+    /// Connection `conn_id` of `name` closed (EOF, error or timeout): spec §5.5.
+    pub fn disconnect(&mut self, name: &str, conn_id: u64, reason: &str, now: f64) {
+        match self.clients.get(name) {
+            Some(c) if c.conn_id == conn_id => {}
+            _ => return,
+        }
+        self.remove_client(name, reason, now);
+        self.finish_drops(now);
+    }
+
+    fn remove_client(&mut self, name: &str, reason: &str, now: f64) {
+        let Some(c) = self.clients.remove(name) else {
+            return;
+        };
+        c.out.close();
+        self.order.retain(|n| n != name);
+        for v in self.vars.values_mut() {
+            v.subs.retain(|s| &*s.client != name);
+        }
+        tracing::info!(client = %name, reason, "client disconnected");
+        self.db_notify_str("DB_EVENT", &format!("disconnected={name}"), now);
+    }
+
+    fn finish_drops(&mut self, now: f64) {
+        while let Some((name, why)) = self.to_drop.pop() {
+            if self.clients.contains_key(&name) {
+                self.overflows += 1;
+                tracing::warn!(client = %name, why, "dropping client: outgoing queue over its byte cap");
+                self.db_notify_str("DB_EVENT", &format!("overflow={name}"), now);
+                self.remove_client(&name, why, now);
+            }
+        }
+    }
+
+    /// Total bytes held or queued for all clients.
+    pub fn queued_bytes(&self) -> usize {
+        self.clients
+            .values()
+            .map(|c| c.held.len() + c.out.queued())
+            .sum()
+    }
+
+    /// One packet from client `name` (spec §5.3).
+    pub fn process(&mut self, name: &str, mut msgs: Vec<Message>, local: f64, now: f64) {
+        if msgs.is_empty() {
+            tracing::debug!(client = %name, "packet with no content");
+            return;
+        }
+        let Some(consolidation) = self.clients.get(name).map(|c| c.consolidation) else {
+            return;
+        };
+        let has_notify = msgs.iter().any(|m| m.msg_type == MsgType::NOTIFY);
+        let mut timing = None;
+        if msgs[0].msg_type == MsgType::TIMING {
+            let mut t = msgs.remove(0);
+            t.dval = local;
+            t.dval2 = consolidation;
+            self.record_qos(name, (t.dval - t.time) * 1000.0);
+            timing = Some(t);
+        }
+        let mut q_replies: Vec<Message> = Vec::new();
+        for m in msgs.iter_mut() {
+            match m.msg_type {
+                MsgType::NOTIFY => {
+                    if let Some(c) = self.clients.get_mut(name) {
+                        if !c.published.contains(&m.key) {
+                            c.published.insert(m.key.clone());
+                        }
+                    }
+                    self.notify(m, now);
+                }
+                MsgType::REGISTER => self.register(&m.source, &m.key, m.dval, now),
+                MsgType::UNREGISTER => self.unregister(&m.source, &m.key),
+                MsgType::WILDCARD_REGISTER => self.wildcard_register(m, now),
+                MsgType::WILDCARD_UNREGISTER => self.wildcard_unregister(m),
+                MsgType::SERVER_REQUEST => self.server_request(m, now, &mut q_replies),
+                _ => {}
+            }
+        }
+        if now - self.last_refresh > REFRESH_PERIOD {
+            self.refresh(now);
+        }
+        let Some(c) = self.clients.get_mut(name) else {
+            self.finish_drops(now);
+            return;
+        };
+        let sync_null = (!c.is_async).then(|| Message {
+            dval: local,
+            ..Message::default()
+        });
+        let take_held = !msgs.is_empty() || !c.is_async;
+        let mut buf = std::mem::take(&mut self.scratch);
+        buf.clear();
+        let mut p = PacketBuilder::new(&mut buf);
+        if let Some(n) = &sync_null {
+            let _ = p.push(n);
+        } else if let Some(t) = &timing {
+            let _ = p.push(t);
+        }
+        if take_held {
+            p.push_encoded(&c.held, c.held_count);
+            self.delivered += c.held_count as u64;
+            c.held.clear();
+            c.held_count = 0;
+        }
+        for r in q_replies.iter().rev() {
+            let _ = p.push(r);
+        }
+        let nonempty = p.count() > 0;
+        let _ = p.finish();
+        if nonempty && c.out.push_with(|b| b.extend_from_slice(&buf)).is_err() {
+            self.to_drop.push((name.to_owned(), "reply"));
+        }
+        self.scratch = buf;
+        if has_notify {
+            self.push_all();
+        }
+        self.finish_drops(now);
+    }
+
+    /// Send every asynchronous client's held mail as one packet each.
+    fn push_all(&mut self) {
+        let dirty = std::mem::take(&mut self.dirty);
+        for name in &dirty {
+            let Some(c) = self.clients.get_mut(name) else {
+                continue;
+            };
+            if !c.is_async || c.held_count == 0 {
+                continue;
+            }
+            let (held, count) = (&c.held, c.held_count);
+            let r = c.out.push_with(|b| {
+                let mut p = PacketBuilder::new(b);
+                p.push_encoded(held, count);
+                let _ = p.finish();
+            });
+            self.delivered += count as u64;
+            c.held.clear();
+            c.held_count = 0;
+            if r.is_err() {
+                self.to_drop.push((name.clone(), "push"));
+            }
+        }
+        self.dirty = dirty;
+        self.dirty.clear();
+    }
+
+    fn hold(&mut self, client: &str, encoded: &[u8]) {
+        let Some(c) = self.clients.get_mut(client) else {
+            return;
+        };
+        if c.held_count == 0 {
+            self.dirty.push(client.to_owned());
+        }
+        c.held.extend_from_slice(encoded);
+        c.held_count += 1;
+        let cap = c.out_cap();
+        if c.held.len() + c.out.queued() > cap {
+            c.held = Vec::new();
+            c.held_count = 0;
+            c.out.close();
+            self.to_drop.push((client.to_owned(), "held mail"));
+        }
+    }
+
+    /// `N` (spec §5.4.1). `m` is turned into the forwarded copy in place.
+    fn notify(&mut self, m: &mut Message, now: f64) {
+        if !self.vars.contains_key(&m.key) {
+            self.vars.insert(m.key.clone(), Var::new(m.data_type));
+        }
+        let first = self.vars.get(&m.key).is_some_and(|v| v.write_count == 0);
+        if first {
+            let mut matches = Vec::new();
+            for (cname, c) in &self.clients {
+                for f in &c.filters {
+                    if wildcard_match(&f.app, &m.source) && wildcard_match(&f.var, &m.key) {
+                        matches.push((cname.clone(), f.interval));
+                    }
+                }
+            }
+            if let Some(v) = self.vars.get_mut(&m.key) {
+                v.data_type = m.data_type;
+                for (cname, interval) in matches {
+                    add_sub(v, &cname, interval);
+                }
+            }
+        }
+        let Some(v) = self.vars.get_mut(&m.key) else {
+            return;
+        };
+        if v.data_type != m.data_type {
+            tracing::warn!(var = %m.key, have = %(v.data_type.0 as char), got = %(m.data_type.0 as char), source = %m.source, "type mismatch: notification dropped");
+            return;
+        }
+        if m.data_type == DataType::DOUBLE {
+            v.dval = m.dval;
+        } else {
+            v.sval.clear();
+            v.sval.extend_from_slice(&m.sval);
+        }
+        if v.written_db > 0.0 && now > v.written_db {
+            v.freq = 0.9 * v.freq + 0.1 / (now - v.written_db);
+        }
+        v.time = m.time;
+        if v.source != m.source {
+            v.source.clone_from(&m.source);
+        }
+        if v.source_aux != m.source_aux {
+            v.source_aux.clone_from(&m.source_aux);
+        }
+        v.written_db = now;
+        if !v.writers.contains(&m.source) {
+            v.writers.insert(m.source.clone());
+        }
+        v.write_count += 1;
+        if m.community.is_empty() {
+            m.community.clone_from(&self.community);
+        }
+        if v.community != m.community {
+            v.community.clone_from(&m.community);
+        }
+        m.msg_type = MsgType::NOTIFY;
+        let mut targets = std::mem::take(&mut self.targets);
+        targets.clear();
+        for s in v.subs.iter_mut() {
+            if s.interval == 0.0 || now - s.last_sent >= s.interval {
+                s.last_sent = now;
+                targets.push(s.client.clone());
+            }
+        }
+        if !targets.is_empty() {
+            let mut enc = std::mem::take(&mut self.encoded);
+            enc.clear();
+            let _ = m.encode_into(&mut enc);
+            for t in &targets {
+                self.hold(t, &enc);
+            }
+            self.encoded = enc;
+        }
+        self.targets = targets;
+    }
+
+    /// `R` (spec §5.4.2).
+    fn register(&mut self, client: &str, key: &str, interval: f64, now: f64) {
+        if client.is_empty() {
+            tracing::warn!(var = key, "register with empty source refused");
+            return;
+        }
+        let v = self
+            .vars
+            .entry(key.to_owned())
+            .or_insert_with(|| Var::new(DataType::NOT_SET));
+        let last = add_sub(v, client, interval);
+        if v.write_count > 0 {
+            v.subs[last].last_sent = now;
+            let cur = v.current(key);
+            let mut enc = Vec::with_capacity(cur.encoded_len());
+            let _ = cur.encode_into(&mut enc);
+            self.hold(client, &enc);
+        }
+    }
+
+    fn unregister(&mut self, client: &str, key: &str) {
+        if let Some(v) = self.vars.get_mut(key) {
+            v.subs.retain(|s| &*s.client != client);
+        }
+    }
+
+    /// `*` (spec §5.4.5).
+    fn wildcard_register(&mut self, m: &Message, now: f64) {
+        let s = m.string();
+        let app = find_value(&s, "AppPattern", false).unwrap_or_default();
+        let var = find_value(&s, "VarPattern", false).unwrap_or_default();
+        let interval = find_value(&s, "Interval", false)
+            .map(|i| crate::text::atof(&i))
+            .filter(|i| i.is_finite())
+            .unwrap_or(0.0);
+        let Some(c) = self.clients.get_mut(&m.source) else {
+            return;
+        };
+        if !c.filters.iter().any(|f| f.app == app && f.var == var) {
+            c.filters.push(Filter {
+                app: app.clone(),
+                var: var.clone(),
+                interval,
+            });
+        }
+        let mut hits: Vec<String> = self
+            .vars
+            .iter()
+            .filter(|(k, v)| wildcard_match(&var, k) && wildcard_match(&app, &v.source))
+            .map(|(k, _)| k.clone())
+            .collect();
+        hits.sort();
+        for k in hits {
+            self.register(&m.source, &k, interval, now);
+        }
+    }
+
+    /// `/` (spec §5.4.6): the filter itself stays.
+    fn wildcard_unregister(&mut self, m: &Message) {
+        let s = m.string();
+        let app = find_value(&s, "AppPattern", false).unwrap_or_default();
+        let var = find_value(&s, "VarPattern", false).unwrap_or_default();
+        for (k, v) in self.vars.iter_mut() {
+            if wildcard_match(&var, k) && wildcard_match(&app, &v.source) {
+                v.subs.retain(|s| *s.client != *m.source);
+            }
+        }
+    }
+
+    fn record_qos(&mut self, name: &str, ms: f64) {
+        if let Some(c) = self.clients.get_mut(name) {
+            let q = c.qos.get_or_insert_with(|| Qos {
+                min: f64::INFINITY,
+                ..Qos::default()
+            });
+            q.recent = ms;
+            q.max = q.max.max(ms);
+            q.min = q.min.min(ms);
+            q.n += 1;
+            q.avg += (ms - q.avg) / (q.n.min(100) as f64);
+        }
+    }
+
+    /// `Q` (spec §5.8). Replies are generated in walk order; the caller reverses them.
+    fn server_request(&mut self, m: &Message, now: f64, out: &mut Vec<Message>) {
+        let key = m.key.as_str();
+        let reply = |key: &str, time: f64, sval: String| Message {
+            id: m.id,
+            msg_type: MsgType::NOTIFY,
+            data_type: DataType::STRING,
+            source: self.db_name.clone(),
+            community: self.community.clone(),
+            key: key.to_owned(),
+            time,
+            sval: sval.into_bytes(),
+            ..Message::default()
+        };
+        if key == "ALL" {
+            let mut names: Vec<&String> = self.vars.keys().collect();
+            names.sort();
+            // Pushed to the front one by one: final order is reverse alphabetical.
+            for n in names {
+                let v = &self.vars[n];
+                let t = v.written_db - self.start;
+                out.push(Message {
+                    id: m.id,
+                    msg_type: MsgType::NOTIFY,
+                    data_type: v.data_type,
+                    source: v.source.clone(),
+                    source_aux: v.source_aux.clone(),
+                    community: v.community.clone(),
+                    key: n.clone(),
+                    time: if t < 0.0 { -1.0 } else { t },
+                    dval: v.dval,
+                    dval2: v.freq,
+                    sval: v.sval.clone(),
+                });
+            }
+        } else if key.contains("PROC_SUMMARY") {
+            let uptime = now - self.start;
+            let mut rs = Vec::new();
+            for name in self.order.iter().rev() {
+                let Some(c) = self.clients.get(name) else {
+                    continue;
+                };
+                let mut subs: Vec<&String> = self
+                    .vars
+                    .iter()
+                    .filter(|(_, v)| v.subs.iter().any(|s| *s.client == **name))
+                    .map(|(k, _)| k)
+                    .collect();
+                subs.sort();
+                let mut s = format!("{name}:SUBSCRIBED=");
+                for v in subs {
+                    s.push(',');
+                    s.push_str(v);
+                }
+                s.push_str(",PUBLISHED=");
+                for v in &c.published {
+                    s.push(',');
+                    s.push_str(v);
+                }
+                rs.push(reply("PROC_SUMMARY", uptime, s));
+            }
+            out.extend(rs);
+        } else if key.contains("VAR_SUMMARY") {
+            let mut names: Vec<&String> = self.vars.keys().collect();
+            names.sort();
+            let joined = names
+                .iter()
+                .map(|s| s.as_str())
+                .collect::<Vec<_>>()
+                .join(",");
+            out.push(reply("VAR_SUMMARY", now, joined));
+        } else if key.contains("DB_CLEAR") {
+            for v in self.vars.values_mut() {
+                v.dval = -1.0;
+                v.sval.clear();
+                v.writers.clear();
+                v.write_count = 0;
+                v.freq = 0.0;
+            }
+            for c in self.clients.values_mut() {
+                c.held.clear();
+                c.held_count = 0;
+            }
+            self.start = now;
+        }
+    }
+
+    fn db_notify(&mut self, mut m: Message, now: f64) {
+        m.source = self.db_name.clone();
+        m.community = self.community.clone();
+        m.time = now;
+        self.notify(&mut m, now);
+    }
+
+    fn db_notify_str(&mut self, key: &str, val: &str, now: f64) {
+        self.db_notify(Message::notify_string(key, val, now), now);
+    }
+
+    /// Refresh the DB_* variables (spec §5.9).
+    fn refresh(&mut self, now: f64) {
+        self.last_refresh = now;
+        self.db_notify(Message::notify_double("DB_TIME", now, now), now);
+        self.db_notify(Message::notify_double("DB_UPTIME", now - self.start, now), now);
+        let clients: String = self.order.iter().rev().map(|n| format!("{n},")).collect();
+        self.db_notify_str("DB_CLIENTS", &clients, now);
+        let summary = self.var_summary();
+        self.db_notify_str("DB_VARSUMMARY", &summary, now);
+        let mut names: Vec<&String> = self.clients.keys().collect();
+        names.sort();
+        let mut qos = String::new();
+        for n in names {
+            match &self.clients[n].qos {
+                Some(q) => qos.push_str(&format!(
+                    "{n}={}:{}:{}:{},",
+                    format_g(q.recent),
+                    format_g(q.max),
+                    format_g(q.min),
+                    format_g(q.avg)
+                )),
+                None => qos.push_str(&format!("{n}=0:0:1e+09:0,")),
+            }
+        }
+        self.db_notify_str("DB_QOS", &qos, now);
+        let rw = self
+            .order
+            .iter()
+            .rev()
+            .map(|n| {
+                let mut subs: Vec<&str> = self
+                    .vars
+                    .iter()
+                    .filter(|(_, v)| v.subs.iter().any(|s| *s.client == **n))
+                    .map(|(k, _)| k.as_str())
+                    .collect();
+                subs.sort();
+                let pubs: Vec<&str> = self
+                    .clients
+                    .get(n)
+                    .map(|c| c.published.iter().map(String::as_str).collect())
+                    .unwrap_or_default();
+                format!("{n}={}&{}", subs.join(":"), pubs.join(":"))
+            })
+            .collect::<Vec<_>>()
+            .join(",");
+        self.db_notify_str("DB_RWSUMMARY", &rw, now);
+    }
+
+    fn var_summary(&self) -> String {
+        let mut names: Vec<&String> = self.vars.keys().collect();
+        names.sort();
+        let mut s = String::new();
+        for n in names {
+            let v = &self.vars[n];
+            let (when, who) = if v.write_count == 0 {
+                (String::new(), "(write pending)".to_owned())
+            } else {
+                (time_of_day(v.written_db), v.source.clone())
+            };
+            let value = match v.data_type {
+                DataType::DOUBLE if v.write_count > 0 => format!("{:.1}", v.dval),
+                DataType::STRING => {
+                    let t = String::from_utf8_lossy(&v.sval);
+                    if t.chars().count() > 25 {
+                        format!("{}...", t.chars().take(22).collect::<String>())
+                    } else {
+                        t.into_owned()
+                    }
+                }
+                DataType::BINARY => binary_size(v.sval.len()),
+                _ => String::new(),
+            };
+            let dt = if v.write_count == 0 {
+                '~'
+            } else {
+                v.data_type.0 as char
+            };
+            s.push_str(&format!(
+                "{n:<20} {when:<20} {who:<20} {:>4.1}Hz {dt:<2} {value}\n",
+                v.freq
+            ));
+        }
+        s
+    }
+}
+
+impl ClientRec {
+    fn out_cap(&self) -> usize {
+        self.out.cap()
+    }
+}
+
+fn add_sub(v: &mut Var, client: &str, interval: f64) -> usize {
+    if let Some(i) = v.subs.iter().position(|s| &*s.client == client) {
+        v.subs[i].interval = interval;
+        v.subs[i].last_sent = 0.0;
+        i
+    } else {
+        v.subs.push(Sub {
+            client: Arc::from(client),
+            interval,
+            last_sent: 0.0,
+        });
+        v.subs.len() - 1
+    }
+}
+
+/// `HH:MM:SS.mmm` of a (possibly warped) UNIX time, in UTC (display only).
+fn time_of_day(t: f64) -> String {
+    let ms = (t.rem_euclid(86400.0) * 1000.0) as u64;
+    format!(
+        "{:02}:{:02}:{:02}.{:03}",
+        ms / 3_600_000,
+        ms / 60_000 % 60,
+        ms / 1000 % 60,
+        ms % 1000
+    )
+}
+
+fn binary_size(n: usize) -> String {
+    if n < 1024 {
+        format!("*binary* {n} B")
+    } else if n < 1024 * 1024 {
+        format!("*binary* {} KB", n / 1024)
+    } else {
+        format!("*binary* {} MB", n / (1024 * 1024))
+    }
+}
