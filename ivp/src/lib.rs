@@ -1,1 +1,57 @@
-//! ivp (placeholder; being written)
+//! # ivp — IvP domains, functions, builders and solver
+//!
+//! An **IvP function** is a piecewise-linear utility function over a discrete
+//! decision domain (e.g. `course × speed`). Each piece is a box of grid indices
+//! with a linear interior function `w_0*x_0 + … + w_{n-1}*x_{n-1} + w_n` on the
+//! indices. The solver picks the grid point maximizing the sum of several
+//! weighted IvP functions, with the reference helm's exact tie-breaking.
+//!
+//! ```
+//! use ivp::{Domain, ZaicPeak, Solver, couple};
+//!
+//! let dom = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+//! let mut crs = ZaicPeak::new(&dom, "course").unwrap();
+//! crs.set_value_wrap(true);
+//! crs.set_params(63.4, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+//! let mut spd = ZaicPeak::new(&dom, "speed").unwrap();
+//! spd.set_params(2.0, 1.0, 1.6, 20.0, 0.0, 100.0, 0);
+//! let mut f = couple(crs.extract(true).unwrap(), spd.extract(true).unwrap(), 50.0, 50.0, true).unwrap();
+//! f.set_pwt(100.0);
+//!
+//! let mut solver = Solver::new();
+//! let d = solver.solve(&dom, &[&f]).unwrap().unwrap();
+//! assert_eq!(d.values, vec![Some(63.0), Some(2.0)]);
+//! ```
+//!
+//! ## Storage and the plugin ABI boundary
+//!
+//! [`IvpFunction`] is plain data: its [`Domain`], and its pieces stored
+//! contiguously in two flat buffers, `bounds: Vec<i32>` (`lo, hi` per dimension
+//! per piece) and `weights: Vec<f64>` (slopes then intercept per piece), plus
+//! `pwt`, `context` and `gelbox`. To hand a function across the behavior-plugin
+//! ABI, call [`IvpFunction::into_raw_parts`] and **move** each `Vec` into an
+//! `abi_stable::std_types::RVec` (`RVec::from(vec)` reuses the allocation: no
+//! per-iteration deep copy); on the other side turn the `RVec`s back into
+//! `Vec`s (`into_vec`) and rebuild with [`IvpFunction::from_raw_parts`], which
+//! validates the layout. This crate itself depends on no ABI crate.
+//!
+//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`],
+//! [`solver`], [`ipf`] (BHV_IPF strings).
+
+pub mod coupler;
+pub mod domain;
+pub mod error;
+pub mod function;
+pub mod ipf;
+pub mod reflector;
+pub mod solver;
+pub mod zaic;
+
+pub use coupler::{couple, try_couple};
+pub use domain::{Domain, DomainVar, Snap};
+pub use error::IvpError;
+pub use function::{IvpFunction, Piece, RawFunction};
+pub use ipf::ipf_packets;
+pub use reflector::{Aof, AofWaypoint, Reflector};
+pub use solver::{Decision, Solver};
+pub use zaic::{ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};

@@ -1,0 +1,307 @@
+//! IvP domain: an ordered list of discrete decision variables (spec §1).
+
+use crate::error::{finite, IvpError};
+use std::fmt;
+
+/// One decision variable: `points` values `low + delta*j`, `j = 0..points-1`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DomainVar {
+    pub name: String,
+    pub low: f64,
+    pub high: f64,
+    pub points: u32,
+}
+
+impl DomainVar {
+    /// `(high-low)/(points-1)`, or 0 when `points == 1`.
+    pub fn delta(&self) -> f64 {
+        if self.points > 1 {
+            (self.high - self.low) / f64::from(self.points - 1)
+        } else {
+            0.0
+        }
+    }
+
+    /// Value of discrete index `j`: `low + delta*j` (multiply, then add).
+    pub fn value(&self, j: u32) -> f64 {
+        self.low + self.delta() * f64::from(j)
+    }
+}
+
+/// Value → index conversion rule ("snap type" 0, 1, 2 of the spec).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Snap {
+    Floor,
+    Ceil,
+    /// Nearest, ties go down.
+    Nearest,
+}
+
+/// An ordered set of decision variables.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Domain {
+    vars: Vec<DomainVar>,
+}
+
+fn validate(name: &str, low: f64, high: f64, points: u32) -> Result<(), IvpError> {
+    if name.is_empty() || name.contains([':', ',', ';']) || name.contains(char::is_whitespace) {
+        return Err(IvpError::BadVarName(name.to_string()));
+    }
+    finite(&format!("{name}.low"), low)?;
+    finite(&format!("{name}.high"), high)?;
+    if points < 1 {
+        return Err(IvpError::PointsTooFew { var: name.to_string(), points });
+    }
+    if low > high {
+        return Err(IvpError::LowAboveHigh { var: name.to_string(), low, high });
+    }
+    if points == 1 && high != low {
+        return Err(IvpError::SinglePointRange { var: name.to_string(), low, high });
+    }
+    Ok(())
+}
+
+fn perr(spec: &str, field: &str, reason: &str) -> IvpError {
+    IvpError::Parse { spec: spec.to_string(), field: field.to_string(), reason: reason.to_string() }
+}
+
+/// Compact number format: 5 decimals, trailing zeros and a trailing `.` removed.
+pub(crate) fn compact(v: f64) -> String {
+    let s = format!("{v:.5}");
+    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s
+    }
+}
+
+impl Domain {
+    /// Empty domain.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Append a variable (fails on duplicate name, `low > high`, `points < 1`,
+    /// `points == 1 && high != low`, non-finite bounds).
+    pub fn add_var(&mut self, name: &str, low: f64, high: f64, points: u32) -> Result<(), IvpError> {
+        validate(name, low, high, points)?;
+        if self.index_of(name).is_some() {
+            return Err(IvpError::DuplicateVar(name.to_string()));
+        }
+        self.vars.push(DomainVar { name: name.to_string(), low, high, points });
+        Ok(())
+    }
+
+    /// Parse `"course:0:359:360,speed:0:4:41"` (variables separated by `,`,
+    /// each in the [`Domain::parse_var`] form).
+    pub fn parse(spec: &str) -> Result<Domain, IvpError> {
+        let mut d = Domain::new();
+        for part in spec.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let (v, _) = Domain::parse_var(part)?;
+            d.add_var(&v.name, v.low, v.high, v.points)?;
+        }
+        Ok(d)
+    }
+
+    /// Parse one helm `domain =` value: `name:low:high:points[:optional]`, with `,`
+    /// accepted as separator too. Field 4 may be `delta=d` (`0 < d <= high-low`,
+    /// points = `trunc((high-low)/d + 1)`). Returns the variable and its optional flag.
+    pub fn parse_var(s: &str) -> Result<(DomainVar, bool), IvpError> {
+        let norm = s.trim().replace(',', ":");
+        let f: Vec<&str> = norm.split(':').map(str::trim).collect();
+        if f.len() != 4 && f.len() != 5 {
+            return Err(perr(s, "fields", "expected name:low:high:points[:optional]"));
+        }
+        let name = f[0];
+        let low: f64 = f[1].parse().map_err(|_| perr(s, "low", "is not a number"))?;
+        let high: f64 = f[2].parse().map_err(|_| perr(s, "high", "is not a number"))?;
+        let points = if let Some(dtxt) = f[3].strip_prefix("delta=") {
+            let d: f64 = dtxt.trim().parse().map_err(|_| perr(s, "delta", "is not a number"))?;
+            if !(high > low && d > 0.0 && d <= high - low) {
+                return Err(perr(s, "delta", "must satisfy 0 < delta <= high-low"));
+            }
+            let p = ((high - low) / d + 1.0).trunc();
+            if p > f64::from(u32::MAX) {
+                return Err(perr(s, "delta", "gives too many points"));
+            }
+            p as u32
+        } else {
+            f[3].parse::<u32>().map_err(|_| perr(s, "points", "is not a non-negative integer"))?
+        };
+        validate(name, low, high, points)?;
+        let optional = f.len() == 5 && f[4].eq_ignore_ascii_case("optional");
+        Ok((DomainVar { name: name.to_string(), low, high, points }, optional))
+    }
+
+    /// Number of variables.
+    pub fn size(&self) -> usize {
+        self.vars.len()
+    }
+
+    /// Variable `i` (panics if out of range, like slice indexing).
+    pub fn var(&self, i: usize) -> &DomainVar {
+        &self.vars[i]
+    }
+
+    /// All variables in order.
+    pub fn vars(&self) -> &[DomainVar] {
+        &self.vars
+    }
+
+    /// Position of the variable called `name`.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.vars.iter().position(|v| v.name == name)
+    }
+
+    /// `low + delta*index` of dimension `dim`.
+    pub fn value(&self, dim: usize, index: u32) -> f64 {
+        self.vars[dim].value(index)
+    }
+
+    /// Value → index of dimension `dim` (spec §1 snap rules), clamped to the grid.
+    pub fn snap(&self, dim: usize, value: f64, snap: Snap) -> u32 {
+        let v = &self.vars[dim];
+        let top = v.points.saturating_sub(1);
+        if value.is_nan() || value <= v.low {
+            return 0;
+        }
+        if value >= v.high {
+            return top;
+        }
+        let delta = v.delta();
+        if delta <= 0.0 {
+            return 0;
+        }
+        let idx = match snap {
+            Snap::Floor => ((value - v.low) / delta).trunc(),
+            Snap::Ceil | Snap::Nearest => {
+                let val = if snap == Snap::Nearest { value - delta / 2.0 } else { value };
+                let d = (val - v.low) / delta;
+                let t = d.trunc();
+                if d > t {
+                    t + 1.0
+                } else {
+                    t
+                }
+            }
+        };
+        if idx <= 0.0 {
+            0
+        } else if idx >= f64::from(top) {
+            top
+        } else {
+            idx as u32
+        }
+    }
+
+    /// The listed variables in the listed order; empty if any is missing.
+    pub fn sub_domain(&self, names: &[&str]) -> Domain {
+        let mut out = Domain::new();
+        for n in names {
+            match self.index_of(n) {
+                Some(i) if out.index_of(n).is_none() => out.vars.push(self.vars[i].clone()),
+                Some(_) => {}
+                None => return Domain::new(),
+            }
+        }
+        out
+    }
+
+    /// `self` followed by the variables of `other` not already present.
+    pub fn union(&self, other: &Domain) -> Domain {
+        let mut out = self.clone();
+        for v in &other.vars {
+            if out.index_of(&v.name).is_none() {
+                out.vars.push(v.clone());
+            }
+        }
+        out
+    }
+
+    /// Build from already-validated variables.
+    pub fn from_vars(vars: Vec<DomainVar>) -> Result<Domain, IvpError> {
+        let mut d = Domain::new();
+        for v in vars {
+            d.add_var(&v.name, v.low, v.high, v.points)?;
+        }
+        Ok(d)
+    }
+
+    /// `name;low;high;points` joined by `:` (the BHV_IPF `D` field).
+    pub fn to_ipf_string(&self) -> String {
+        let parts: Vec<String> = self
+            .vars
+            .iter()
+            .map(|v| format!("{};{};{};{}", v.name, compact(v.low), compact(v.high), v.points))
+            .collect();
+        parts.join(":")
+    }
+}
+
+/// `domainToString`: `name,low,high,points` joined by `:`.
+impl fmt::Display for Domain {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, v) in self.vars.iter().enumerate() {
+            if i > 0 {
+                f.write_str(":")?;
+            }
+            write!(f, "{},{},{},{}", v.name, compact(v.low), compact(v.high), v.points)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn value_and_display() {
+        let d = Domain::parse("course:0:359:360,speed:0:2:21").unwrap();
+        assert_eq!(d.value(1, 3), 0.30000000000000004);
+        assert_eq!(d.to_string(), "course,0,359,360:speed,0,2,21");
+        let s = Domain::parse("speed:0:1.5:16").unwrap();
+        assert_eq!(s.to_string(), "speed,0,1.5,16");
+    }
+
+    #[test]
+    fn bad_vars_are_named() {
+        let mut d = Domain::new();
+        assert!(matches!(d.add_var("x", 0.0, 1.0, 0), Err(IvpError::PointsTooFew { .. })));
+        assert!(matches!(d.add_var("x", 2.0, 1.0, 3), Err(IvpError::LowAboveHigh { .. })));
+        assert!(matches!(d.add_var("x", 0.0, 1.0, 1), Err(IvpError::SinglePointRange { .. })));
+        assert!(matches!(d.add_var("x", f64::NAN, 1.0, 3), Err(IvpError::NotFinite { .. })));
+        d.add_var("x", 0.0, 1.0, 3).unwrap();
+        assert!(matches!(d.add_var("x", 0.0, 1.0, 3), Err(IvpError::DuplicateVar(_))));
+        let e = Domain::parse("speed:0:abc:3").unwrap_err();
+        assert!(e.to_string().contains("high"), "{e}");
+    }
+
+    #[test]
+    fn parse_delta_and_optional() {
+        let (v, opt) = Domain::parse_var("depth:0:100:delta=0.5:Optional").unwrap();
+        assert_eq!(v.points, 201);
+        assert!(opt);
+        assert!(Domain::parse_var("depth:0:100:delta=200").is_err());
+    }
+
+    #[test]
+    fn snap_rules() {
+        let d = Domain::parse("speed:0:2:21").unwrap();
+        assert_eq!(d.snap(0, 0.25, Snap::Floor), 2);
+        assert_eq!(d.snap(0, 0.25, Snap::Ceil), 3);
+        assert_eq!(d.snap(0, 0.26, Snap::Nearest), 3);
+        assert_eq!(d.snap(0, -1.0, Snap::Nearest), 0);
+        assert_eq!(d.snap(0, 5.0, Snap::Nearest), 20);
+    }
+
+    #[test]
+    fn sub_and_union() {
+        let d = Domain::parse("course:0:359:360,speed:0:2:21").unwrap();
+        assert_eq!(d.sub_domain(&["speed", "course"]).var(0).name, "speed");
+        assert_eq!(d.sub_domain(&["speed", "depth"]).size(), 0);
+        let e = Domain::parse("depth:0:10:11,speed:0:2:21").unwrap();
+        assert_eq!(d.union(&e).to_string(), "course,0,359,360:speed,0,2,21:depth,0,10,11");
+    }
+}

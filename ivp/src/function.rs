@@ -1,0 +1,335 @@
+//! Piecewise-linear IvP functions stored as flat arrays (spec §2).
+
+use crate::domain::{Domain, DomainVar};
+use crate::error::IvpError;
+
+/// An IvP function: an ordered list of linear pieces over its own [`Domain`].
+///
+/// Storage is contiguous: piece `k` owns `bounds[2*dim*k .. 2*dim*(k+1)]`
+/// (`lo, hi` per dimension, inclusive grid indices) and
+/// `weights[(dim+1)*k .. (dim+1)*(k+1)]` (one slope per dimension, then the
+/// intercept). Values are evaluated on grid *indices*, not domain values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IvpFunction {
+    domain: Domain,
+    bounds: Vec<i32>,
+    weights: Vec<f64>,
+    pwt: f64,
+    context: String,
+    gelbox: Vec<u32>,
+}
+
+/// A borrowed view of one piece.
+#[derive(Debug, Clone, Copy)]
+pub struct Piece<'a> {
+    bounds: &'a [i32],
+    weights: &'a [f64],
+}
+
+impl<'a> Piece<'a> {
+    /// Lowest index (inclusive) in dimension `d`.
+    pub fn lo(&self, d: usize) -> i32 {
+        self.bounds[2 * d]
+    }
+    /// Highest index (inclusive) in dimension `d`.
+    pub fn hi(&self, d: usize) -> i32 {
+        self.bounds[2 * d + 1]
+    }
+    /// Slopes (one per dimension) followed by the intercept.
+    pub fn weights(&self) -> &'a [f64] {
+        self.weights
+    }
+    /// Maximum over the box: intercept first, then dimension 0, 1, ...
+    pub fn max_val(&self) -> f64 {
+        max_val(self.bounds, self.weights)
+    }
+    /// Minimum over the box (opposite corner).
+    pub fn min_val(&self) -> f64 {
+        min_val(self.bounds, self.weights)
+    }
+}
+
+/// `maxVal` of a linear box (spec §2.1): `w_n + Σ_d w_d * (w_d < 0 ? lo_d : hi_d)`.
+#[inline]
+pub(crate) fn max_val(bounds: &[i32], w: &[f64]) -> f64 {
+    let n = w.len() - 1;
+    let mut acc = w[n];
+    for d in 0..n {
+        let c = if w[d] < 0.0 { bounds[2 * d] } else { bounds[2 * d + 1] };
+        acc += w[d] * f64::from(c);
+    }
+    acc
+}
+
+#[inline]
+pub(crate) fn min_val(bounds: &[i32], w: &[f64]) -> f64 {
+    let n = w.len() - 1;
+    let mut acc = w[n];
+    for d in 0..n {
+        let c = if w[d] < 0.0 { bounds[2 * d + 1] } else { bounds[2 * d] };
+        acc += w[d] * f64::from(c);
+    }
+    acc
+}
+
+/// The raw parts of an [`IvpFunction`], all fields public so the buffers can be
+/// moved (not copied) into another container, e.g. `abi_stable::std_types::RVec`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawFunction {
+    pub vars: Vec<DomainVar>,
+    pub bounds: Vec<i32>,
+    pub weights: Vec<f64>,
+    pub pwt: f64,
+    pub context: String,
+    pub gelbox: Vec<u32>,
+}
+
+fn check_layout(domain: &Domain, bounds: &[i32], weights: &[f64], gelbox: &[u32]) -> Result<(), IvpError> {
+    let dim = domain.size();
+    if dim == 0 {
+        if bounds.is_empty() && weights.is_empty() {
+            return Ok(());
+        }
+        return Err(IvpError::BadPiece { piece: 0, reason: "pieces over an empty domain".into() });
+    }
+    let bl = 2 * dim;
+    let wl = dim + 1;
+    if bounds.len() % bl != 0 || weights.len() % wl != 0 || bounds.len() / bl != weights.len() / wl {
+        return Err(IvpError::BadPiece { piece: 0, reason: "bounds/weights lengths do not match the dimension".into() });
+    }
+    if gelbox.len() != dim {
+        return Err(IvpError::Invalid { param: "gelbox".into(), reason: format!("needs {dim} entries") });
+    }
+    for (k, b) in bounds.chunks_exact(bl).enumerate() {
+        for d in 0..dim {
+            let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+            let top = i64::from(domain.var(d).points) - 1;
+            if lo < 0 || lo > hi || i64::from(hi) > top {
+                return Err(IvpError::BadPiece {
+                    piece: k,
+                    reason: format!("bounds [{lo},{hi}] outside 0..={top} of `{}`", domain.var(d).name),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+impl IvpFunction {
+    /// Build from `(per-dimension (lo,hi), weights)` pieces; weights are the
+    /// slopes in dimension order then the intercept. Gel box = whole domain, pwt 10.
+    pub fn from_pieces(domain: Domain, pieces: &[(Vec<(i32, i32)>, Vec<f64>)]) -> Result<IvpFunction, IvpError> {
+        let dim = domain.size();
+        let mut bounds = Vec::with_capacity(pieces.len() * 2 * dim);
+        let mut weights = Vec::with_capacity(pieces.len() * (dim + 1));
+        for (k, (b, w)) in pieces.iter().enumerate() {
+            if b.len() != dim || w.len() != dim + 1 {
+                return Err(IvpError::BadPiece { piece: k, reason: format!("needs {dim} intervals and {} weights", dim + 1) });
+            }
+            for &(lo, hi) in b {
+                bounds.push(lo);
+                bounds.push(hi);
+            }
+            weights.extend_from_slice(w);
+        }
+        let gelbox = domain.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
+        Self::from_flat(domain, bounds, weights, gelbox)
+    }
+
+    /// Build from flat buffers (layout documented on the type); validated.
+    pub fn from_flat(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>, gelbox: Vec<u32>) -> Result<IvpFunction, IvpError> {
+        check_layout(&domain, &bounds, &weights, &gelbox)?;
+        Ok(IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox })
+    }
+
+    /// Unchecked constructor for builders of this crate (layout is correct by construction).
+    pub(crate) fn new_unchecked(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>) -> IvpFunction {
+        let gelbox = domain.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
+        IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox }
+    }
+
+    /// Give the buffers away (no copy).
+    pub fn into_raw_parts(self) -> RawFunction {
+        RawFunction {
+            vars: self.domain.vars().to_vec(),
+            bounds: self.bounds,
+            weights: self.weights,
+            pwt: self.pwt,
+            context: self.context,
+            gelbox: self.gelbox,
+        }
+    }
+
+    /// Rebuild from raw parts (validated; the buffers are moved in, not copied).
+    pub fn from_raw_parts(raw: RawFunction) -> Result<IvpFunction, IvpError> {
+        let domain = Domain::from_vars(raw.vars)?;
+        let mut f = Self::from_flat(domain, raw.bounds, raw.weights, raw.gelbox)?;
+        f.pwt = raw.pwt;
+        f.context = raw.context;
+        Ok(f)
+    }
+
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+    pub fn dim(&self) -> usize {
+        self.domain.size()
+    }
+    pub fn piece_count(&self) -> usize {
+        self.weights.len() / (self.dim() + 1)
+    }
+    /// Piece `k` (panics if out of range).
+    pub fn piece(&self, k: usize) -> Piece<'_> {
+        let (bl, wl) = (2 * self.dim(), self.dim() + 1);
+        Piece { bounds: &self.bounds[k * bl..(k + 1) * bl], weights: &self.weights[k * wl..(k + 1) * wl] }
+    }
+    /// Iterate the pieces in order.
+    pub fn pieces(&self) -> impl Iterator<Item = Piece<'_>> {
+        (0..self.piece_count()).map(move |k| self.piece(k))
+    }
+    /// Flat bounds buffer.
+    pub fn bounds(&self) -> &[i32] {
+        &self.bounds
+    }
+    /// Flat weights buffer.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+    /// Gel box high corner per dimension (grid cell size minus 1).
+    pub fn gelbox(&self) -> &[u32] {
+        &self.gelbox
+    }
+    /// Set the gel box (one entry per dimension).
+    pub fn set_gelbox(&mut self, gelbox: Vec<u32>) -> Result<(), IvpError> {
+        if gelbox.len() != self.dim() {
+            return Err(IvpError::Invalid { param: "gelbox".into(), reason: format!("needs {} entries", self.dim()) });
+        }
+        self.gelbox = gelbox;
+        Ok(())
+    }
+
+    /// Value at a grid point: the first piece containing it, evaluated
+    /// intercept first, then `+ slope_d * index_d` in dimension order.
+    pub fn eval(&self, index: &[u32]) -> Option<f64> {
+        if index.len() != self.dim() {
+            return None;
+        }
+        self.pieces()
+            .find(|p| index.iter().enumerate().all(|(d, &i)| i64::from(p.lo(d)) <= i64::from(i) && i64::from(i) <= i64::from(p.hi(d))))
+            .map(|p| {
+                let w = p.weights();
+                let mut acc = w[self.dim()];
+                for (d, &i) in index.iter().enumerate() {
+                    acc += w[d] * f64::from(i);
+                }
+                acc
+            })
+    }
+
+    /// Max over pieces of the piece maximum (0 with no pieces).
+    pub fn max_wt(&self) -> f64 {
+        self.pieces().map(|p| p.max_val()).reduce(|a, b| if b > a { b } else { a }).unwrap_or(0.0)
+    }
+    /// Min over pieces of the piece minimum (0 with no pieces).
+    pub fn min_wt(&self) -> f64 {
+        self.pieces().map(|p| p.min_val()).reduce(|a, b| if b < a { b } else { a }).unwrap_or(0.0)
+    }
+
+    /// Shift then scale so the range becomes `[base, base+range]`; flat functions untouched.
+    pub fn normalize(&mut self, base: f64, range: f64) {
+        let (mn, mx) = (self.min_wt(), self.max_wt());
+        let r = mx - mn;
+        if r.is_nan() || r <= 0.0 {
+            return;
+        }
+        let wl = self.dim() + 1;
+        let shift = base - mn;
+        let scale = range / r;
+        for w in self.weights.chunks_exact_mut(wl) {
+            w[wl - 1] += shift;
+            for x in w.iter_mut() {
+                *x *= scale;
+            }
+        }
+    }
+
+    /// Multiply every weight (slopes and intercepts) by `w`.
+    pub fn apply_weight(&mut self, w: f64) {
+        for x in &mut self.weights {
+            *x *= w;
+        }
+    }
+
+    pub fn pwt(&self) -> f64 {
+        self.pwt
+    }
+    pub fn set_pwt(&mut self, pwt: f64) {
+        self.pwt = pwt;
+    }
+    pub fn context(&self) -> &str {
+        &self.context
+    }
+    pub fn set_context(&mut self, s: &str) {
+        self.context = s.to_string();
+    }
+    /// True if any weight is NaN.
+    pub fn has_nan(&self) -> bool {
+        self.weights.iter().any(|w| w.is_nan())
+    }
+
+    /// Translate into `target` (spec §2.3): dimensions move to the same-named
+    /// target variable; new dimensions get the full interval and slope 0.
+    pub fn translate(&self, target: &Domain) -> Result<IvpFunction, IvpError> {
+        let map = dim_map(&self.domain, target)?;
+        let (od, td) = (self.dim(), target.size());
+        let n = self.piece_count();
+        let mut bounds = Vec::with_capacity(n * 2 * td);
+        let mut weights = Vec::with_capacity(n * (td + 1));
+        let mut gelbox: Vec<u32> = target.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
+        for (d, &t) in map.iter().enumerate() {
+            gelbox[t] = self.gelbox[d];
+        }
+        translate_into(&self.bounds, &self.weights, od, &map, target, &mut bounds, &mut weights);
+        Ok(IvpFunction { domain: target.clone(), bounds, weights, pwt: self.pwt, context: self.context.clone(), gelbox })
+    }
+
+    /// BHV_IPF whole-function string (spec §9.1).
+    pub fn to_ipf_string(&self) -> String {
+        crate::ipf::encode(self)
+    }
+}
+
+/// For each own dimension, the target dimension of the same name.
+pub(crate) fn dim_map(own: &Domain, target: &Domain) -> Result<Vec<usize>, IvpError> {
+    own.vars().iter().map(|v| target.index_of(&v.name).ok_or_else(|| IvpError::UnknownVar(v.name.clone()))).collect()
+}
+
+/// Append the translated pieces to `bounds`/`weights` (cleared by the caller if needed).
+pub(crate) fn translate_into(
+    src_b: &[i32],
+    src_w: &[f64],
+    od: usize,
+    map: &[usize],
+    target: &Domain,
+    bounds: &mut Vec<i32>,
+    weights: &mut Vec<f64>,
+) {
+    let td = target.size();
+    let n = if od + 1 == 0 { 0 } else { src_w.len() / (od + 1) };
+    for k in 0..n {
+        let b0 = bounds.len();
+        let w0 = weights.len();
+        for v in target.vars() {
+            bounds.push(0);
+            bounds.push(v.points as i32 - 1);
+            weights.push(0.0);
+        }
+        weights.push(src_w[k * (od + 1) + od]);
+        for (d, &t) in map.iter().enumerate() {
+            bounds[b0 + 2 * t] = src_b[k * 2 * od + 2 * d];
+            bounds[b0 + 2 * t + 1] = src_b[k * 2 * od + 2 * d + 1];
+            weights[w0 + t] = src_w[k * (od + 1) + d];
+        }
+        debug_assert_eq!(weights.len() - w0, td + 1);
+    }
+}

@@ -1,0 +1,119 @@
+//! BHV_IPF serialization (spec §9).
+
+use crate::domain::compact;
+use crate::function::IvpFunction;
+use std::fmt::Write;
+
+/// The custom 4-decimal weight encoding of spec §9.1.
+pub fn encode_weight(w: f64, out: &mut String) {
+    let mut a = w;
+    if a < 0.0 {
+        out.push('-');
+        a = -a;
+    }
+    if a == 0.0 {
+        out.push('0');
+        return;
+    }
+    if !a.is_finite() {
+        let _ = write!(out, "{a}");
+        return;
+    }
+    let n = (a * 10000.0 + 0.5).trunc();
+    if n == 0.0 {
+        out.push_str("0.0000");
+        return;
+    }
+    let int = (n / 10000.0).trunc();
+    let frac = (n - int * 10000.0) as u32;
+    let _ = write!(out, "{int:.0}.");
+    if frac != 0 {
+        let digits = format!("{frac:04}");
+        out.push_str(digits.trim_end_matches('0'));
+    }
+}
+
+pub(crate) fn encode(f: &IvpFunction) -> String {
+    let dim = f.dim();
+    let mut s = String::with_capacity(64 + f.piece_count() * (dim * 8 + (dim + 1) * 9));
+    let _ = write!(s, "H,{},{},{},{},1,{},D,{},G", f.context().chars().count(), f.context(), dim, f.piece_count(), compact(f.pwt()), f.domain().to_ipf_string());
+    for g in f.gelbox() {
+        let _ = write!(s, ",{g}");
+    }
+    s.push_str(",F");
+    for p in f.pieces() {
+        for d in 0..dim {
+            let _ = write!(s, ",{},{}", p.lo(d), p.hi(d));
+        }
+        for &w in p.weights() {
+            s.push(',');
+            encode_weight(w, &mut s);
+        }
+    }
+    s
+}
+
+/// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
+pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
+    let chars: Vec<char> = whole.chars().collect();
+    let header = id.chars().count() + 50;
+    let body = 2000usize.saturating_sub(header).max(1);
+    let count = chars.len() / body + 1;
+    (1..=count)
+        .map(|k| {
+            let a = ((k - 1) * body).min(chars.len());
+            let b = (k * body).min(chars.len());
+            let mut p = format!("P,{id},{count},{k},");
+            p.extend(&chars[a..b]);
+            p
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domain::Domain;
+
+    fn enc(w: f64) -> String {
+        let mut s = String::new();
+        encode_weight(w, &mut s);
+        s
+    }
+
+    #[test]
+    fn weights() {
+        assert_eq!(enc(2.0), "2.");
+        assert_eq!(enc(100.0), "100.");
+        assert_eq!(enc(-0.00004), "-0.0000");
+        assert_eq!(enc(0.25), "0.25");
+        assert_eq!(enc(123.45678), "123.4568");
+        assert_eq!(enc(-1000.0), "-1000.");
+        assert_eq!(enc(0.289425), "0.2894");
+        assert_eq!(enc(0.0), "0");
+    }
+
+    #[test]
+    fn spec_packet_example() {
+        let d = Domain::parse("speed:0:2:21").unwrap();
+        let mut f = IvpFunction::from_pieces(
+            d,
+            &[(vec![(0, 4)], vec![2.0, 100.0]), (vec![(5, 11)], vec![-0.00004, 0.25]), (vec![(12, 20)], vec![123.45678, -1000.0])],
+        )
+        .unwrap();
+        f.set_pwt(37.5);
+        f.set_context("12:abc");
+        let p = ipf_packets("abc^12", &f.to_ipf_string());
+        assert_eq!(p, vec!["P,abc^12,1,1,H,6,12:abc,1,3,1,37.5,D,speed;0;2;21,G,20,F,0,4,2.,100.,5,11,-0.0000,0.25,12,20,123.4568,-1000.".to_string()]);
+    }
+
+    #[test]
+    fn chunking_exact_multiple() {
+        let id = "x";
+        let body = 2000 - 51;
+        let whole: String = "a".repeat(body * 2);
+        let p = ipf_packets(id, &whole);
+        assert_eq!(p.len(), 3);
+        assert_eq!(p[2], "P,x,3,3,");
+    }
+}

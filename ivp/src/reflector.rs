@@ -1,0 +1,353 @@
+//! OF_Reflector (spec §8): approximate an analytical objective function (AOF)
+//! by linear pieces on a uniform tiling.
+//!
+//! Implemented: the uniform stage (`uniform_piece`, `uniform_grid`,
+//! `uniform_amount` via the genUnifBox rule), the degree-1 fit with strict
+//! range, and normalized extraction. **Not implemented:** directed refinement
+//! (`refine_region`/`refine_piece`), smart refinement (`smart_amount`,
+//! `smart_percent`: the reference picks random leaves, so it is not
+//! reproducible anyway) and auto-peak; `create`'s smart amount is ignored.
+
+use crate::domain::Domain;
+use crate::error::IvpError;
+use crate::function::IvpFunction;
+
+/// An analytical objective function over a domain's grid.
+pub trait Aof {
+    /// Utility at grid point `index` (one index per variable of `domain`).
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64;
+}
+
+/// `angle360`: add/subtract 360 until `0 <= a < 360`.
+pub fn angle360(a: f64) -> f64 {
+    if !a.is_finite() {
+        return a;
+    }
+    let mut a = a;
+    while a >= 360.0 {
+        a -= 360.0;
+    }
+    while a < 0.0 {
+        a += 360.0;
+    }
+    a
+}
+
+/// `angle180`: `angle360`, then minus 360 if above 180.
+pub fn angle180(a: f64) -> f64 {
+    let a = angle360(a);
+    if a > 180.0 {
+        a - 360.0
+    } else {
+        a
+    }
+}
+
+/// Compass bearing from A to B (behaviors-std.md §1.1, bit-exact order).
+pub fn rel_ang(ax: f64, ay: f64, bx: f64, by: f64) -> f64 {
+    if ax == bx && ay == by {
+        return 0.0;
+    }
+    let mut w = 0.0;
+    let mut sop = 0.0;
+    if ax < bx {
+        if ay == by {
+            return 90.0;
+        }
+        w = 90.0;
+    } else if ax > bx {
+        if ay == by {
+            return 270.0;
+        }
+        w = 270.0;
+    }
+    if ay < by {
+        if ax == bx {
+            return 0.0;
+        }
+        sop = if bx > ax { -1.0 } else { 1.0 };
+    } else if by < ay {
+        if ax == bx {
+            return 180.0;
+        }
+        sop = if bx > ax { 1.0 } else { -1.0 };
+    }
+    let t = ((by - ay).abs() / (bx - ax).abs()).atan();
+    let tdeg = (t / std::f64::consts::PI) * 180.0;
+    angle360(tdeg * sop + w)
+}
+
+/// AOF_Waypoint (behaviors-std.md §2.4 `roc`): rate of closure toward a point.
+#[derive(Debug, Clone)]
+pub struct AofWaypoint {
+    course_dim: usize,
+    speed_dim: usize,
+    bearing: f64,
+    desired_speed: f64,
+    vmax: f64,
+}
+
+impl AofWaypoint {
+    /// Needs `course` and `speed` in `domain`; `vmax` = the speed variable's high.
+    pub fn new(domain: &Domain, osx: f64, osy: f64, ptx: f64, pty: f64, desired_speed: f64) -> Result<Self, IvpError> {
+        let course_dim = domain.index_of("course").ok_or_else(|| IvpError::UnknownVar("course".into()))?;
+        let speed_dim = domain.index_of("speed").ok_or_else(|| IvpError::UnknownVar("speed".into()))?;
+        for (p, v) in [("osx", osx), ("osy", osy), ("ptx", ptx), ("pty", pty), ("desired_speed", desired_speed)] {
+            crate::error::finite(p, v)?;
+        }
+        let vmax = domain.var(speed_dim).high;
+        if vmax <= 0.0 {
+            return Err(IvpError::Invalid { param: "speed.high".into(), reason: "must be > 0".into() });
+        }
+        Ok(AofWaypoint { course_dim, speed_dim, bearing: rel_ang(osx, osy, ptx, pty), desired_speed, vmax })
+    }
+}
+
+impl Aof for AofWaypoint {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        let c = domain.value(self.course_dim, index[self.course_dim]);
+        let v = domain.value(self.speed_dim, index[self.speed_dim]);
+        let a = angle360(c - self.bearing);
+        let roc = (a / 180.0 * std::f64::consts::PI).cos() * v;
+        let mut diff = self.desired_speed - roc;
+        if diff < 0.0 {
+            diff *= -0.5;
+        }
+        if diff > 2.0 * self.vmax {
+            diff = 2.0 * self.vmax;
+        }
+        let s1 = (1.0 - diff / (2.0 * self.vmax)) * 100.0;
+        let s2 = (1.0 - (angle180(a).abs() * v.max(0.0)) / (self.vmax * 180.0)) * 100.0;
+        0.8 * s1 + 0.2 * s2
+    }
+}
+
+/// The OF_Reflector builder.
+pub struct Reflector<'a> {
+    domain: Domain,
+    aof: &'a dyn Aof,
+    uniform_piece: Option<Vec<u32>>,
+    uniform_grid: Option<Vec<u32>>,
+    uniform_amount: usize,
+    strict_range: bool,
+    bounds: Vec<i32>,
+    weights: Vec<f64>,
+    gelbox: Vec<u32>,
+    warnings: String,
+}
+
+impl<'a> Reflector<'a> {
+    pub fn new(domain: &Domain, aof: &'a dyn Aof) -> Self {
+        Reflector {
+            domain: domain.clone(),
+            aof,
+            uniform_piece: None,
+            uniform_grid: None,
+            uniform_amount: 1,
+            strict_range: true,
+            bounds: vec![],
+            weights: vec![],
+            gelbox: vec![],
+            warnings: String::new(),
+        }
+    }
+
+    /// Box sizes from `"discrete @ course:10,speed:5"` (unnamed variables: 1).
+    fn parse_box(&self, s: &str) -> Option<Vec<u32>> {
+        let body = s.trim();
+        let body = body.strip_prefix("discrete").map(str::trim_start).and_then(|b| b.strip_prefix('@')).unwrap_or(body);
+        let mut sizes = vec![1u32; self.domain.size()];
+        for part in body.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let (name, val) = part.split_once(':')?;
+            let d = self.domain.index_of(name.trim())?;
+            let v: u32 = val.trim().parse().ok()?;
+            if v == 0 {
+                return None;
+            }
+            sizes[d] = v;
+        }
+        Some(sizes)
+    }
+
+    /// Parameters: `uniform_piece`, `uniform_grid` (box strings), `uniform_amount`
+    /// (integer ≥ 1), `strict_range` (`true`/`false`). Unknown names return false.
+    pub fn set_param(&mut self, name: &str, value: &str) -> bool {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "uniform_piece" => self.parse_box(value).map(|b| self.uniform_piece = Some(b)).is_some(),
+            "uniform_grid" => self.parse_box(value).map(|b| self.uniform_grid = Some(b)).is_some(),
+            "uniform_amount" => match value.trim().parse::<usize>() {
+                Ok(a) if a >= 1 => {
+                    self.uniform_amount = a;
+                    true
+                }
+                _ => false,
+            },
+            "strict_range" => match value.trim().to_ascii_lowercase().as_str() {
+                "true" => {
+                    self.strict_range = true;
+                    true
+                }
+                "false" => {
+                    self.strict_range = false;
+                    true
+                }
+                _ => false,
+            },
+            _ => {
+                self.warnings.push_str(&format!("unhandled param: {name}"));
+                false
+            }
+        }
+    }
+
+    pub fn warnings(&self) -> &str {
+        &self.warnings
+    }
+
+    /// genUnifBox: piece edge lengths for about `amount` pieces.
+    fn unif_box(&self, amount: usize) -> Vec<u32> {
+        let n = self.domain.size();
+        let pts: Vec<u64> = self.domain.vars().iter().map(|v| u64::from(v.points)).collect();
+        let mut splits = vec![1u64; n];
+        let mut maxed: Vec<bool> = (0..n).map(|d| splits[d] >= pts[d]).collect();
+        loop {
+            let mut pick: Option<usize> = None;
+            for d in 0..n {
+                if maxed[d] {
+                    continue;
+                }
+                let r = pts[d] as f64 / splits[d] as f64;
+                if pick.is_none_or(|p| r > pts[p] as f64 / splits[p] as f64) {
+                    pick = Some(d);
+                }
+            }
+            let Some(d) = pick else { break };
+            splits[d] += 1;
+            let prod: u64 = splits.iter().product();
+            if prod > amount as u64 {
+                splits[d] -= 1;
+                maxed[d] = true;
+            } else if splits[d] >= pts[d] {
+                maxed[d] = true;
+            }
+        }
+        (0..n).map(|d| pts[d].div_ceil(splits[d]) as u32).collect()
+    }
+
+    /// Build the pieces (uniform stage + fit). `unif_amount` is used when no
+    /// `uniform_piece` was set; `_smart_amount` is ignored (see module docs).
+    /// Returns the number of pieces.
+    pub fn create(&mut self, unif_amount: Option<usize>, _smart_amount: Option<usize>) -> usize {
+        let n = self.domain.size();
+        if n == 0 {
+            return 0;
+        }
+        let size = match &self.uniform_piece {
+            Some(s) => s.clone(),
+            None => self.unif_box(unif_amount.unwrap_or(self.uniform_amount).max(1)),
+        };
+        self.gelbox = self.uniform_grid.clone().unwrap_or_else(|| size.clone()).iter().map(|s| s.saturating_sub(1)).collect();
+        let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
+        let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
+        let total: usize = counts.iter().map(|&c| c as usize).product();
+        // Tiles with dimension 0 varying fastest; the reference stores them reversed.
+        let mut tiles: Vec<Vec<(u32, u32)>> = Vec::with_capacity(total);
+        let mut coord = vec![0u32; n];
+        for _ in 0..total {
+            tiles.push((0..n).map(|d| (coord[d] * size[d], ((coord[d] + 1) * size[d]).min(pts[d]) - 1)).collect());
+            for d in 0..n {
+                coord[d] += 1;
+                if coord[d] < counts[d] {
+                    break;
+                }
+                coord[d] = 0;
+            }
+        }
+        self.bounds.clear();
+        self.weights.clear();
+        for t in tiles.iter().rev() {
+            for &(lo, hi) in t {
+                self.bounds.push(lo as i32);
+                self.bounds.push(hi as i32);
+            }
+            let w = self.fit(t);
+            self.weights.extend_from_slice(&w);
+        }
+        total
+    }
+
+    /// Degree-1 fit of one box (spec §8 step 3).
+    fn fit(&self, b: &[(u32, u32)]) -> Vec<f64> {
+        let n = b.len();
+        let ncorner = 1usize << n;
+        let mut pt = vec![0u32; n];
+        let mut vals = Vec::with_capacity(ncorner + 1);
+        let mut points: Vec<Vec<u32>> = Vec::with_capacity(ncorner + 1);
+        for mask in 0..ncorner {
+            for d in 0..n {
+                pt[d] = if mask & (1 << d) != 0 { b[d].1 } else { b[d].0 };
+            }
+            vals.push(self.aof.eval(&self.domain, &pt));
+            points.push(pt.clone());
+        }
+        let mut w = vec![0.0; n + 1];
+        for d in 0..n {
+            let width = f64::from(b[d].1 - b[d].0);
+            if width == 0.0 {
+                continue;
+            }
+            let mut sum = 0.0;
+            let mut cnt = 0.0;
+            for mask in 0..ncorner {
+                if mask & (1 << d) == 0 {
+                    sum += vals[mask | (1 << d)] - vals[mask];
+                    cnt += 1.0;
+                }
+            }
+            w[d] = (sum / cnt) / width;
+        }
+        if b.iter().any(|&(lo, hi)| hi - lo + 1 > 2) {
+            let c: Vec<u32> = b.iter().map(|&(lo, hi)| lo + (hi - lo) / 2).collect();
+            vals.push(self.aof.eval(&self.domain, &c));
+            points.push(c);
+        }
+        let plane = |w: &[f64], p: &[u32]| -> f64 {
+            let mut acc = 0.0;
+            for d in 0..n {
+                acc += w[d] * f64::from(p[d]);
+            }
+            acc
+        };
+        let mut isum = 0.0;
+        for (v, p) in vals.iter().zip(&points) {
+            isum += v - plane(&w, p);
+        }
+        let mut icpt = isum / vals.len() as f64;
+        if self.strict_range {
+            let vmin = vals.iter().copied().fold(f64::INFINITY, f64::min);
+            let vmax = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let pvals: Vec<f64> = points.iter().map(|p| plane(&w, p) + icpt).collect();
+            let pmin = pvals.iter().copied().fold(f64::INFINITY, f64::min);
+            let pmax = pvals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if pmax > vmax {
+                icpt -= pmax - vmax;
+            } else if pmin < vmin {
+                icpt += vmin - pmin;
+            }
+        }
+        w[n] = icpt;
+        w
+    }
+
+    /// The function (normalized to `[0,100]` if `normalize`); `None` before `create`.
+    pub fn extract(&self, normalize: bool) -> Option<IvpFunction> {
+        if self.weights.is_empty() {
+            return None;
+        }
+        let mut f = IvpFunction::from_flat(self.domain.clone(), self.bounds.clone(), self.weights.clone(), self.gelbox.clone()).ok()?;
+        if normalize {
+            f.normalize(0.0, 100.0);
+        }
+        Some(f)
+    }
+}

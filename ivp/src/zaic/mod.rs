@@ -1,0 +1,128 @@
+//! ZAIC builders: one-dimensional IvP functions from a few parameters (spec §3).
+//!
+//! Setters mirror the C++ names in snake_case and return `bool` like the C++
+//! ones (the `call_ok` of the conformance cases). `extract` returns `None` when
+//! the builder state is bad; `try_extract` returns the typed reason instead.
+
+mod heq;
+mod peak;
+mod spd;
+mod vector;
+
+pub use heq::{ZaicHeq, ZaicLeq};
+pub use peak::ZaicPeak;
+pub use spd::ZaicSpd;
+pub use vector::ZaicVector;
+
+use crate::domain::Domain;
+use crate::error::IvpError;
+use crate::function::IvpFunction;
+
+/// The one-variable domain of a builder.
+pub(crate) fn one_var(domain: &Domain, var: &str) -> Result<Domain, IvpError> {
+    let d = domain.sub_domain(&[var]);
+    if d.size() != 1 {
+        return Err(IvpError::UnknownVar(var.to_string()));
+    }
+    Ok(d)
+}
+
+/// Accumulates 1-D pieces in order.
+#[derive(Default)]
+pub(crate) struct Pieces1 {
+    bounds: Vec<i32>,
+    weights: Vec<f64>,
+}
+
+impl Pieces1 {
+    pub(crate) fn push(&mut self, lo: i32, hi: i32, slope: f64, intercept: f64) {
+        self.bounds.push(lo);
+        self.bounds.push(hi);
+        self.weights.push(slope);
+        self.weights.push(intercept);
+    }
+
+    /// "Box(a, ra, b, rb)": slope `(rb-ra)/(b-a)` (0 if a == b), intercept `ra - slope*a`;
+    /// the piece covers `[lo, b]`.
+    pub(crate) fn push_anchor(&mut self, lo: i32, a: i32, ra: f64, b: i32, rb: f64) {
+        let slope = if a == b { 0.0 } else { (rb - ra) / f64::from(b - a) };
+        self.push(lo, b, slope, ra - slope * f64::from(a));
+    }
+
+    pub(crate) fn finish(self, domain: Domain) -> IvpFunction {
+        IvpFunction::new_unchecked(domain, self.bounds, self.weights)
+    }
+}
+
+/// Piece construction from sampled values (spec §3.1, tolerance 0.001).
+pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
+    let mut out = Pieces1::default();
+    let n = v.len();
+    if n < 2 {
+        return out;
+    }
+    let tol = 0.001;
+    let (mut first, mut fv) = (0usize, v[0]);
+    let (mut trend, mut m, mut b) = (false, 0.0f64, 0.0f64);
+    let chord = |first: usize, fv: f64, end: usize, ve: f64| if end == first { 0.0 } else { (ve - fv) / (end - first) as f64 };
+    for i in 1..n {
+        let fi = i as f64;
+        if !trend {
+            m = (v[i] - fv) / (i - first) as f64;
+            b = v[i] - m * fi;
+            trend = true;
+        }
+        let mut brk = ((m * fi + b) - v[i]).abs() > tol;
+        let lm = v[i] - v[i - 1];
+        if (lm < 0.0 && m > 0.0) || (lm > 0.0 && m < 0.0) {
+            brk = true;
+        }
+        if i == n - 1 {
+            if brk {
+                out.push(i as i32, i as i32, 0.0, v[i]);
+            } else {
+                let s = chord(first, fv, i, v[i]);
+                out.push(first as i32, i as i32, s, fv - s * first as f64);
+            }
+        }
+        if brk {
+            let s = chord(first, fv, i - 1, v[i - 1]);
+            out.push(first as i32, (i - 1) as i32, s, fv - s * first as f64);
+            trend = false;
+            first = i;
+            fv = v[i];
+        }
+    }
+    out
+}
+
+/// PDMapBuilder (spec §3.3): strictly increasing anchors from 0 to N-1.
+pub(crate) fn pieces_from_anchors(d: &[i32], r: &[f64], n: i32) -> Option<Pieces1> {
+    let k = d.len();
+    if k == 0 || k != r.len() || d[0] != 0 || d[k - 1] != n - 1 || d.windows(2).any(|w| w[0] >= w[1]) {
+        return None;
+    }
+    let mut out = Pieces1::default();
+    if k == 1 {
+        out.push_anchor(d[0], d[0], r[0], d[0], r[0]);
+        return Some(out);
+    }
+    if k == 2 {
+        out.push_anchor(d[0], d[0], r[0], d[1], r[1]);
+        return Some(out);
+    }
+    for i in 0..k - 1 {
+        if i == 0 {
+            out.push_anchor(d[0], d[0], r[0], d[1], r[1]);
+        } else if d[i] + 1 == d[i + 1] {
+            if i + 1 == k - 1 {
+                out.push_anchor(d[i + 1], d[i + 1], r[i + 1], d[i + 1], r[i + 1]);
+            } else {
+                out.push_anchor(d[i], d[i], r[i], d[i + 1], r[i + 1]);
+            }
+        } else {
+            out.push_anchor(d[i] + 1, d[i], r[i], d[i + 1], r[i + 1]);
+        }
+    }
+    Some(out)
+}
