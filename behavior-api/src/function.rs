@@ -45,3 +45,33 @@ impl FunctionData {
         (self.weights.len() == n * (dim + 1)).then_some(n)
     }
 }
+
+impl FunctionData {
+    /// Move an `ivp` function into the ABI form: the piece buffers are moved, not copied.
+    pub fn from_ivp(f: ivp::IvpFunction) -> FunctionData {
+        let domain = f.domain().to_string();
+        let raw = f.into_raw_parts();
+        FunctionData {
+            domain: domain.into(),
+            bounds: raw.bounds.into(),
+            weights: raw.weights.into(),
+            pwt: raw.pwt,
+            gelbox: raw.gelbox.into(),
+        }
+    }
+
+    /// Variable names of the function's domain, in dimension order.
+    pub fn var_names(&self) -> impl Iterator<Item = &str> {
+        self.domain
+            .as_str()
+            .split(':')
+            .filter(|s| !s.is_empty())
+            .map(|v| v.split(',').next().unwrap_or(""))
+    }
+}
+
+impl From<ivp::IvpFunction> for FunctionData {
+    fn from(f: ivp::IvpFunction) -> Self {
+        FunctionData::from_ivp(f)
+    }
+}

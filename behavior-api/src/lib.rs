@@ -40,6 +40,7 @@ pub mod sdk;
 pub mod value;
 
 pub use abi_stable;
+pub use ivp;
 pub use behavior::{BehaviorBox, CallResult};
 pub use context::HelmCtx;
 pub use function::FunctionData;

@@ -361,3 +361,20 @@ pub fn boxed_catching<B: IvpBehavior>(ctor: impl FnOnce() -> B) -> ROption<Behav
         RResult::RErr(_) => ROption::RNone,
     }
 }
+
+/// Convert a function built with the `ivp` builders into the ABI form (no deep copy).
+pub fn function_data(f: ivp::IvpFunction) -> FunctionData {
+    FunctionData::from_ivp(f)
+}
+
+impl HelmDomain {
+    /// The `ivp` domain with exactly `names` (in that order); `None` if one is missing.
+    pub fn ivp_domain(&self, names: &[&str]) -> Option<ivp::Domain> {
+        let mut d = ivp::Domain::new();
+        for n in names {
+            let v = self.var(n)?;
+            d.add_var(&v.name, v.low, v.high, v.points).ok()?;
+        }
+        Some(d)
+    }
+}
