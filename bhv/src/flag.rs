@@ -23,6 +23,8 @@ pub struct FlagSpec {
 }
 
 /// A flag parameter value.
+// The shape is fixed by the helm's API; flags are parsed once at startup.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum FlagParam {
     /// A flag to add to the list.
