@@ -17,6 +17,8 @@ pub struct IvpFunction {
     pwt: f64,
     context: String,
     gelbox: Vec<u32>,
+    /// Grid cell upper bounds (empty = no grid); see [`IvpFunction::build_grid`].
+    grid: Vec<f64>,
 }
 
 /// A borrowed view of one piece.
@@ -82,6 +84,10 @@ pub struct RawFunction {
     pub pwt: f64,
     pub context: String,
     pub gelbox: Vec<u32>,
+    /// Grid cell upper bounds as built by the builder (empty = no grid). Must be
+    /// carried across the ABI too: the solver's pruning (and so exact ties in
+    /// rare near-tie cases) depends on it.
+    pub grid: Vec<f64>,
 }
 
 fn check_layout(domain: &Domain, bounds: &[i32], weights: &[f64], gelbox: &[u32]) -> Result<(), IvpError> {
@@ -139,13 +145,13 @@ impl IvpFunction {
     /// Build from flat buffers (layout documented on the type); validated.
     pub fn from_flat(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>, gelbox: Vec<u32>) -> Result<IvpFunction, IvpError> {
         check_layout(&domain, &bounds, &weights, &gelbox)?;
-        Ok(IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox })
+        Ok(IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox, grid: Vec::new() })
     }
 
     /// Unchecked constructor for builders of this crate (layout is correct by construction).
     pub(crate) fn new_unchecked(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>) -> IvpFunction {
         let gelbox = domain.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
-        IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox }
+        IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox, grid: Vec::new() }
     }
 
     /// Give the buffers away (no copy).
@@ -157,6 +163,7 @@ impl IvpFunction {
             pwt: self.pwt,
             context: self.context,
             gelbox: self.gelbox,
+            grid: self.grid,
         }
     }
 
@@ -166,6 +173,13 @@ impl IvpFunction {
         let mut f = Self::from_flat(domain, raw.bounds, raw.weights, raw.gelbox)?;
         f.pwt = raw.pwt;
         f.context = raw.context;
+        if !raw.grid.is_empty() {
+            let cells = grid_cells(&f.domain, &f.gelbox).3;
+            if raw.grid.len() != cells {
+                return Err(IvpError::Invalid { param: "grid".into(), reason: format!("needs {cells} cell bounds") });
+            }
+            f.grid = raw.grid;
+        }
         Ok(f)
     }
 
@@ -205,7 +219,55 @@ impl IvpFunction {
             return Err(IvpError::Invalid { param: "gelbox".into(), reason: format!("needs {} entries", self.dim()) });
         }
         self.gelbox = gelbox;
+        if !self.grid.is_empty() {
+            self.build_grid();
+        }
         Ok(())
+    }
+
+    /// Build the search grid (spec §2.4): per cell of `gelbox+1` points, the max
+    /// `maxVal` of the pieces overlapping it (`-inf` for an empty cell). Builders
+    /// call this when they extract, as the reference does. Afterwards
+    /// [`normalize`](Self::normalize) and [`apply_weight`](Self::apply_weight)
+    /// transform the stored bounds arithmetically instead of rebuilding them —
+    /// the reference solver prunes with these bounds, which decides rare exact
+    /// near-ties. Functions without a grid (e.g. coupled ones) get a fresh grid
+    /// in the solver.
+    pub fn build_grid(&mut self) {
+        let (ppg, _nc, stride, total) = grid_cells(&self.domain, &self.gelbox);
+        let dim = self.dim();
+        let mut g = vec![f64::NEG_INFINITY; total];
+        for p in self.pieces() {
+            let v = p.max_val();
+            let mut idx_lo = Vec::with_capacity(dim);
+            let mut span = Vec::with_capacity(dim);
+            for d in 0..dim {
+                idx_lo.push((p.lo(d) / ppg[d]) as usize);
+                span.push((p.hi(d) / ppg[d] - p.lo(d) / ppg[d] + 1) as usize);
+            }
+            let cnt: usize = span.iter().product();
+            for t in 0..cnt {
+                let (mut rem, mut c) = (t, 0usize);
+                for d in 0..dim {
+                    c += (idx_lo[d] + rem % span[d]) * stride[d];
+                    rem /= span[d];
+                }
+                if g[c] == f64::NEG_INFINITY || v > g[c] {
+                    g[c] = v;
+                }
+            }
+        }
+        self.grid = g;
+    }
+
+    /// Whether the function carries a builder-made grid.
+    pub fn has_grid(&self) -> bool {
+        !self.grid.is_empty()
+    }
+
+    /// Grid cell upper bounds (cells numbered with dimension 0 fastest).
+    pub fn grid_bounds(&self) -> &[f64] {
+        &self.grid
     }
 
     /// Value at a grid point: the first piece containing it, evaluated
@@ -251,12 +313,18 @@ impl IvpFunction {
                 *x *= scale;
             }
         }
+        for g in &mut self.grid {
+            *g = (*g + shift) * scale;
+        }
     }
 
     /// Multiply every weight (slopes and intercepts) by `w`.
     pub fn apply_weight(&mut self, w: f64) {
         for x in &mut self.weights {
             *x *= w;
+        }
+        for g in &mut self.grid {
+            *g *= w;
         }
     }
 
@@ -290,13 +358,35 @@ impl IvpFunction {
             gelbox[t] = self.gelbox[d];
         }
         translate_into(&self.bounds, &self.weights, od, &map, target, &mut bounds, &mut weights);
-        Ok(IvpFunction { domain: target.clone(), bounds, weights, pwt: self.pwt, context: self.context.clone(), gelbox })
+        let mut f = IvpFunction { domain: target.clone(), bounds, weights, pwt: self.pwt, context: self.context.clone(), gelbox, grid: Vec::new() };
+        if self.has_grid() {
+            f.build_grid();
+        }
+        Ok(f)
     }
 
     /// BHV_IPF whole-function string (spec §9.1).
     pub fn to_ipf_string(&self) -> String {
         crate::ipf::encode(self)
     }
+}
+
+/// Grid geometry: (points per cell, cells, stride (dim 0 fastest), total cells).
+/// Points per cell = `gelbox+1` clamped to `[2, points]`.
+pub(crate) fn grid_cells(domain: &Domain, gelbox: &[u32]) -> (Vec<i32>, Vec<i32>, Vec<usize>, usize) {
+    let (mut ppg, mut nc, mut stride) = (vec![], vec![], vec![]);
+    let mut total = 1usize;
+    for (d, v) in domain.vars().iter().enumerate() {
+        let pts = v.points as i32;
+        let g = gelbox.get(d).map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
+        let p = (g + 1).max(2).min(pts).max(1);
+        let n = (pts + p - 1) / p;
+        ppg.push(p);
+        nc.push(n);
+        stride.push(total);
+        total *= n as usize;
+    }
+    (ppg, nc, stride, total)
 }
 
 /// For each own dimension, the target dimension of the same name.

@@ -345,6 +345,7 @@ impl<'a> Reflector<'a> {
             return None;
         }
         let mut f = IvpFunction::from_flat(self.domain.clone(), self.bounds.clone(), self.weights.clone(), self.gelbox.clone()).ok()?;
+        f.build_grid();
         if normalize {
             f.normalize(0.0, 100.0);
         }

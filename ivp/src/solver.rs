@@ -416,6 +416,29 @@ impl Solver {
         if !p.single {
             build_cells(p, dim, total);
         }
+        // A builder-made grid is kept (its bounds transformed like the weights)
+        // when no translation is needed; otherwise the grid is rebuilt above.
+        let same = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t) && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
+        let g = f.grid_bounds();
+        if same && g.len() == total {
+            let tg = |x: f64| {
+                let mut x = x;
+                if norm {
+                    x = (x + shift) * scale;
+                }
+                x * pwt
+            };
+            if p.single {
+                let v = tg(g[0]);
+                p.global_ub = if v == f64::NEG_INFINITY { NO_BOUND } else { v };
+            } else {
+                for (c, &x) in g.iter().enumerate() {
+                    let v = tg(x);
+                    p.cell_filled[c] = v != f64::NEG_INFINITY && !v.is_nan();
+                    p.cell_ub[c] = if p.cell_filled[c] { v } else { NO_BOUND };
+                }
+            }
+        }
         Ok(())
     }
 }

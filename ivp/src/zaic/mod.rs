@@ -49,8 +49,11 @@ impl Pieces1 {
         self.push(lo, b, slope, ra - slope * f64::from(a));
     }
 
+    /// The function, with its (single-cell) grid built as the reference builders do.
     pub(crate) fn finish(self, domain: Domain) -> IvpFunction {
-        IvpFunction::new_unchecked(domain, self.bounds, self.weights)
+        let mut f = IvpFunction::new_unchecked(domain, self.bounds, self.weights);
+        f.build_grid();
+        f
     }
 }
 
