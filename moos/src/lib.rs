@@ -7,12 +7,14 @@
 //! * [`alog`]: pLogger `.alog` writer and reader.
 #![forbid(unsafe_code)]
 
+pub mod client;
 pub mod db;
 pub mod mission;
 pub mod text;
 pub mod time;
 pub mod wire;
 
+pub use client::{Client, ClientConfig, ClientError};
 pub use db::{Db, DbConfig, DbError};
 pub use mission::{ConfigLine, MissionError, MissionFile};
 pub use wire::{DataType, Message, MsgType, WireError};

@@ -1,0 +1,339 @@
+//! The client's connection thread: connect, handshake, writer loop; plus the reader.
+
+use std::io::{ErrorKind, Write};
+use std::net::{Shutdown, SocketAddr, TcpStream, ToSocketAddrs};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use super::{wildcard_payload, Shared};
+use crate::wire::{self, DataType, FrameReader, Message, MsgType, PacketBuilder};
+
+enum End {
+    /// Connection lost: reconnect.
+    Lost,
+    /// Poisoned or stopping: finish.
+    Final,
+}
+
+pub(super) fn run(sh: Arc<Shared>) {
+    let mut backoff = sh.cfg.reconnect_min;
+    while !sh.stop.load(Ordering::SeqCst) {
+        match connect(&sh) {
+            Some(stream) => {
+                match session(&sh, stream) {
+                    End::Final => break,
+                    End::Lost => backoff = sh.cfg.reconnect_min,
+                }
+                if sh.stop.load(Ordering::SeqCst) {
+                    break;
+                }
+                pause(&sh, backoff);
+            }
+            None => {
+                pause(&sh, backoff);
+                backoff = (backoff * 2).min(sh.cfg.reconnect_max);
+            }
+        }
+    }
+    let mut st = sh.lock();
+    st.connected = false;
+    sh.mail_cv.notify_all();
+}
+
+/// Sleep that a stop request interrupts.
+fn pause(sh: &Shared, d: Duration) {
+    let deadline = Instant::now() + d;
+    let mut st = sh.lock();
+    while !sh.stop.load(Ordering::SeqCst) {
+        let Some(left) = deadline.checked_duration_since(Instant::now()) else {
+            return;
+        };
+        st = sh
+            .out_cv
+            .wait_timeout(st, left)
+            .unwrap_or_else(|p| p.into_inner())
+            .0;
+    }
+}
+
+fn connect(sh: &Shared) -> Option<TcpStream> {
+    let addrs: Vec<SocketAddr> = match (sh.cfg.host.as_str(), sh.cfg.port).to_socket_addrs() {
+        Ok(a) => a.collect(),
+        Err(e) => {
+            tracing::debug!(host = %sh.cfg.host, "cannot resolve DB host: {e}");
+            return None;
+        }
+    };
+    for a in addrs {
+        if let Ok(s) = TcpStream::connect_timeout(&a, Duration::from_secs(1)) {
+            return Some(s);
+        }
+    }
+    None
+}
+
+fn handshake(sh: &Shared, stream: &mut TcpStream, fr: &mut FrameReader) -> Result<Message, End> {
+    let _ = stream.set_nodelay(true);
+    let hs = Message {
+        msg_type: MsgType::DATA,
+        data_type: DataType::STRING,
+        key: wire::ASYNC_KEY.into(),
+        time: sh.local_time(),
+        sval: sh.cfg.name.as_bytes().to_vec(),
+        ..Message::default()
+    };
+    // Banner and handshake in one write: the DB reads the banner with one recv(32).
+    let mut buf = wire::BANNER.to_vec();
+    if wire::encode_packet(&[hs], &mut buf).is_err() || stream.write_all(&buf).is_err() {
+        return Err(End::Lost);
+    }
+    let _ = stream.set_read_timeout(Some(Duration::from_secs(5)));
+    loop {
+        match fr.next_frame() {
+            Ok(Some(r)) => {
+                let msgs = wire::decode_packet(fr.frame(r), usize::MAX).map_err(|_| End::Lost)?;
+                return msgs.into_iter().next().ok_or(End::Lost);
+            }
+            Ok(None) => {}
+            Err(_) => return Err(End::Lost),
+        }
+        match fr.fill(stream) {
+            Ok(n) if n > 0 => {}
+            _ => return Err(End::Lost),
+        }
+    }
+}
+
+fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
+    let mut fr = FrameReader::new(sh.cfg.max_packet);
+    {
+        let mut st = sh.lock();
+        st.skew = 0.0;
+    }
+    let welcome = match handshake(sh, &mut stream, &mut fr) {
+        Ok(w) => w,
+        Err(e) => return e,
+    };
+    if welcome.msg_type == MsgType::POISON {
+        let reason = welcome.string().into_owned();
+        tracing::error!(client = %sh.cfg.name, %reason, "DB refused the handshake");
+        let mut st = sh.lock();
+        st.poisoned = Some(reason);
+        sh.mail_cv.notify_all();
+        return End::Final;
+    }
+    let db_host = crate::text::find_value(&welcome.source_aux, "hostname", false).unwrap_or_default();
+    let (Ok(rstream), Ok(wstream)) = (stream.try_clone(), stream.try_clone()) else {
+        return End::Lost;
+    };
+    let dead = Arc::new(AtomicBool::new(false));
+    {
+        let mut st = sh.lock();
+        st.community = welcome.community.clone();
+        st.skew_enabled = sh.cfg.skew_correction
+            && (db_host.is_empty() || db_host != crate::db::hostname());
+        st.skew = if st.skew_enabled { welcome.dval } else { 0.0 };
+        st.db_host = db_host;
+        st.connected = true;
+        st.connects += 1;
+        st.out.clear();
+        st.out_count = 0;
+        st.outgoing_delay = 0.0;
+        // Re-issue every subscription.
+        let now = sh.local_time() + st.skew;
+        let regs: Vec<(String, f64)> = st.regs.iter().map(|(k, v)| (k.clone(), *v)).collect();
+        for (k, iv) in regs {
+            let m = Message {
+                msg_type: MsgType::REGISTER,
+                data_type: DataType::DOUBLE,
+                key: k,
+                time: now,
+                dval: iv,
+                ..Message::default()
+            };
+            sh.enqueue(&mut st, m);
+        }
+        for (v, a, iv) in st.wilds.clone() {
+            let m = Message {
+                msg_type: MsgType::WILDCARD_REGISTER,
+                data_type: DataType::STRING,
+                key: sh.cfg.name.clone(),
+                time: now,
+                sval: wildcard_payload(&a, &v, iv),
+                ..Message::default()
+            };
+            sh.enqueue(&mut st, m);
+        }
+        sh.mail_cv.notify_all();
+    }
+    tracing::info!(client = %sh.cfg.name, community = %welcome.community, "connected to the DB");
+    let (sh2, d2) = (sh.clone(), dead.clone());
+    let reader = std::thread::Builder::new()
+        .name(format!("moos-client-rd-{}", sh.cfg.name))
+        .spawn(move || read_loop(sh2, rstream, fr, d2));
+    if reader.is_ok() {
+        write_loop(sh, wstream, &dead);
+    }
+    let _ = stream.shutdown(Shutdown::Both);
+    if let Ok(h) = reader {
+        let _ = h.join();
+    }
+    let mut st = sh.lock();
+    st.connected = false;
+    st.out.clear();
+    st.out_count = 0;
+    sh.mail_cv.notify_all();
+    tracing::info!(client = %sh.cfg.name, "disconnected from the DB");
+    if sh.stop.load(Ordering::SeqCst) {
+        End::Final
+    } else {
+        End::Lost
+    }
+}
+
+fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
+    let wait = Duration::from_millis(333);
+    let mut last_t: Option<Instant> = None;
+    let mut batch: Vec<u8> = Vec::new();
+    let mut body: Vec<u8> = Vec::new();
+    let warp = sh.cfg.time_warp;
+    loop {
+        let (count, delay) = {
+            let mut st = sh.lock();
+            let deadline = Instant::now() + wait;
+            while st.out_count == 0 && !dead.load(Ordering::SeqCst) && !sh.stop.load(Ordering::SeqCst) {
+                let t_due = last_t.is_none_or(|t| t.elapsed() >= sh.cfg.heartbeat);
+                let Some(left) = deadline.checked_duration_since(Instant::now()) else {
+                    break;
+                };
+                if t_due {
+                    break;
+                }
+                st = sh
+                    .out_cv
+                    .wait_timeout(st, left)
+                    .unwrap_or_else(|p| p.into_inner())
+                    .0;
+            }
+            if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
+                return;
+            }
+            body.clear();
+            std::mem::swap(&mut body, &mut st.out);
+            let n = st.out_count;
+            st.out_count = 0;
+            (n, st.outgoing_delay)
+        };
+        let t_due = last_t.is_none_or(|t| t.elapsed() >= sh.cfg.heartbeat);
+        if count == 0 && !t_due {
+            continue;
+        }
+        batch.clear();
+        let mut p = PacketBuilder::new(&mut batch);
+        if t_due {
+            let t = Message {
+                msg_type: MsgType::TIMING,
+                data_type: DataType::DOUBLE,
+                key: wire::TIMING_KEY.into(),
+                time: sh.local_time(),
+                dval: 0.0,
+                ..Message::default()
+            };
+            let _ = p.push(&t);
+            last_t = Some(Instant::now());
+        }
+        p.push_encoded(&body, count);
+        let _ = p.finish();
+        if let Err(e) = stream.write_all(&batch) {
+            tracing::debug!("write to DB failed: {e}");
+            dead.store(true, Ordering::SeqCst);
+            return;
+        }
+        let w = if warp > 1.0 { warp * 0.2 / 1000.0 } else { 0.0 };
+        let sleep = delay.max(w);
+        if sleep > 0.0 && sleep.is_finite() {
+            std::thread::sleep(Duration::from_secs_f64(sleep.min(1.0)));
+        }
+    }
+}
+
+fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: Arc<AtomicBool>) {
+    let _ = stream.set_read_timeout(Some(Duration::from_millis(250)));
+    loop {
+        loop {
+            let msgs = match fr.next_frame() {
+                Ok(Some(r)) => match wire::decode_packet_lenient(fr.frame(r), usize::MAX) {
+                    Ok((m, err)) => {
+                        if let Some(e) = err {
+                            tracing::warn!("malformed message from DB dropped: {e}");
+                        }
+                        m
+                    }
+                    Err(e) => {
+                        tracing::warn!("malformed packet from DB: {e}");
+                        return finish(&sh, &dead);
+                    }
+                },
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!("bad packet from DB: {e}");
+                    return finish(&sh, &dead);
+                }
+            };
+            deliver(&sh, msgs);
+        }
+        if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
+            return finish(&sh, &dead);
+        }
+        match fr.fill(&mut stream) {
+            Ok(0) => return finish(&sh, &dead),
+            Ok(_) => {}
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted) => {}
+            Err(_) => return finish(&sh, &dead),
+        }
+    }
+}
+
+fn finish(sh: &Shared, dead: &AtomicBool) {
+    dead.store(true, Ordering::SeqCst);
+    let _g = sh.lock();
+    sh.out_cv.notify_all();
+}
+
+/// Spec §5.2: timing echo handling, then hand the mail over.
+fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
+    if msgs.is_empty() {
+        return;
+    }
+    let tr = sh.local_time();
+    let mut st = sh.lock();
+    st.packets_received += 1;
+    let first = msgs[0].msg_type;
+    if first == MsgType::TIMING {
+        let t = msgs.remove(0);
+        if st.skew_enabled && st.packets_received > 1 {
+            let measured = t.dval - (t.time + tr) / 2.0;
+            if measured.is_finite() {
+                st.skew = if st.skew == 0.0 {
+                    measured
+                } else {
+                    0.9 * st.skew + 0.1 * measured
+                };
+            }
+        }
+        if t.dval2.is_finite() && t.dval2 >= 0.0 {
+            st.outgoing_delay = t.dval2;
+        }
+    }
+    msgs.retain(|m| m.msg_type != MsgType::NULL);
+    if msgs.is_empty() {
+        return;
+    }
+    if st.inbox.is_empty() {
+        st.inbox = msgs;
+    } else {
+        st.inbox.append(&mut msgs);
+    }
+    sh.mail_cv.notify_all();
+}
