@@ -7,6 +7,7 @@
 //! * [`alog`]: pLogger `.alog` writer and reader.
 #![forbid(unsafe_code)]
 
+pub mod alog;
 pub mod client;
 pub mod db;
 pub mod mission;

@@ -1,1 +1,130 @@
-fn main() {}
+//! `moosdb`: a MOOSDB compatible with MOOS V10 C++ clients.
+
+use std::net::IpAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::Parser;
+use moos::db::{Db, DbConfig};
+use moos::mission::MissionFile;
+
+/// A MOOS V10 database server (MOOSDB).
+///
+/// MOOS apps connect over TCP, publish variables and subscribe to them; the DB forwards
+/// every write to the subscribers. Real C++ MOOS apps (pHelmIvP, pLogger, uMS, ...) work
+/// against it as against the C++ MOOSDB.
+///
+/// Settings come from the mission file's globals (ServerPort, Community, MOOSTimeWarp,
+/// ClientTimeout) and are overridden by the flags below. Flags use the C++ spelling,
+/// e.g. `--moos_port=9001`.
+///
+/// Examples:
+///   moosdb                                   # port 9000, community "#1"
+///   moosdb alpha.moos                        # read ServerPort/Community from the mission
+///   moosdb --moos_port=9001 --moos_community=alpha
+///   moosdb alpha.moos --moos_time_warp=10    # all apps must use the same warp
+///
+/// Log verbosity: RUST_LOG=info (default), RUST_LOG=debug for per-connection detail.
+#[derive(Parser, Debug)]
+#[command(name = "moosdb", version, verbatim_doc_comment)]
+struct Args {
+    /// Mission file (.moos) to read globals from.
+    mission: Option<PathBuf>,
+    /// TCP port to listen on [mission ServerPort, default 9000].
+    #[arg(long = "moos_port", value_name = "PORT")]
+    port: Option<u16>,
+    /// Community name sent to clients [mission Community, default "#1"].
+    #[arg(long = "moos_community", value_name = "NAME")]
+    community: Option<String>,
+    /// Time-warp factor, 0 < warp <= 400 [mission MOOSTimeWarp, default 1].
+    #[arg(long = "moos_time_warp", value_name = "WARP")]
+    time_warp: Option<f64>,
+    /// Drop a client silent for this many real seconds [mission ClientTimeout, default 5].
+    #[arg(long = "moos_timeout", value_name = "SECONDS")]
+    timeout: Option<f64>,
+    /// Address to listen on. Use 127.0.0.1 to accept local apps only.
+    #[arg(long, default_value = "0.0.0.0", value_name = "ADDR")]
+    bind: IpAddr,
+    /// Per-client cap on queued outgoing bytes; a client that falls this far behind is
+    /// disconnected (it gets current values again when it reconnects).
+    #[arg(long = "max_queue_bytes", default_value_t = 64 * 1024 * 1024, value_name = "BYTES")]
+    max_queue_bytes: usize,
+    /// Consolidation delays returned in timing echoes: `name:ms,pattern:ms,...`
+    /// (a bare number means `*`). Clients sleep that long after each send.
+    #[arg(long, value_name = "LIST")]
+    response: Option<String>,
+}
+
+fn parse_response(s: &str) -> Result<Vec<(String, f64)>, String> {
+    let mut v = Vec::new();
+    for part in s.split(',').filter(|p| !p.trim().is_empty()) {
+        let (pat, ms) = match part.rsplit_once(':') {
+            Some((p, m)) => (p.trim().to_owned(), m.trim()),
+            None => ("*".to_owned(), part.trim()),
+        };
+        let ms: f64 = ms.parse().map_err(|_| format!("bad --response entry {part:?}"))?;
+        v.push((pat, ms));
+    }
+    Ok(v)
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .init();
+    let args = Args::parse();
+    let mut cfg = DbConfig {
+        bind: args.bind,
+        max_queue_bytes: args.max_queue_bytes,
+        ..DbConfig::default()
+    };
+    if let Some(path) = &args.mission {
+        match MissionFile::read(path) {
+            Ok(m) => cfg.apply_mission(&m),
+            Err(e) => {
+                eprintln!("moosdb: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if let Some(p) = args.port {
+        cfg.port = p;
+    }
+    if let Some(c) = args.community {
+        cfg.community = c;
+    }
+    if let Some(w) = args.time_warp {
+        cfg.time_warp = w;
+    }
+    if let Some(t) = args.timeout {
+        if !(t > 0.0 && t.is_finite()) {
+            eprintln!("moosdb: --moos_timeout must be a positive number of seconds");
+            return ExitCode::from(2);
+        }
+        cfg.client_timeout = Duration::from_secs_f64(t);
+    }
+    if let Some(r) = &args.response {
+        match parse_response(r) {
+            Ok(v) => cfg.response = v,
+            Err(e) => {
+                eprintln!("moosdb: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let db = match Db::start(cfg) {
+        Ok(db) => db,
+        Err(e) => {
+            eprintln!("moosdb: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    println!("moosdb listening on port {}", db.port());
+    loop {
+        std::thread::park();
+    }
+}
