@@ -243,7 +243,18 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
             let _ = p.push(&t);
             last_t = Some(Instant::now());
         }
-        p.push_encoded(&body, count);
+        // Split big batches into packets of about MAX_OUT_PACKET bytes at message
+        // boundaries, so no single packet floods the DB's per-subscriber queues.
+        let mut pos = 0;
+        while pos < body.len() {
+            let (end, n) = chunk_end(&body, pos, MAX_OUT_PACKET);
+            p.push_encoded(&body[pos..end], n);
+            pos = end;
+            if pos < body.len() {
+                let _ = p.finish();
+                p = PacketBuilder::new(&mut batch);
+            }
+        }
         let _ = p.finish();
         if let Err(e) = stream.write_all(&batch) {
             tracing::debug!("write to DB failed: {e}");
@@ -256,6 +267,26 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
             std::thread::sleep(Duration::from_secs_f64(sleep.min(1.0)));
         }
     }
+}
+
+/// Largest packet the client builds from queued posts (one bigger message still goes alone).
+const MAX_OUT_PACKET: usize = 128 * 1024;
+
+/// End offset and message count of the run of encoded messages starting at `pos` that
+/// fits in `max` bytes (at least one message).
+fn chunk_end(body: &[u8], pos: usize, max: usize) -> (usize, usize) {
+    let mut end = pos;
+    let mut n = 0;
+    while end + 4 <= body.len() {
+        let len = i32::from_le_bytes([body[end], body[end + 1], body[end + 2], body[end + 3]]);
+        let len = usize::try_from(len).unwrap_or(0).max(1);
+        if n > 0 && end + len - pos > max {
+            break;
+        }
+        end = (end + len).min(body.len());
+        n += 1;
+    }
+    (end, n)
 }
 
 fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: Arc<AtomicBool>) {

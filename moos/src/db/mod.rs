@@ -197,6 +197,11 @@ impl Db {
         self.inner.lock().queued_bytes()
     }
 
+    /// Bytes held or queued for one client (`None` if not connected).
+    pub fn client_queued_bytes(&self, name: &str) -> Option<usize> {
+        self.inner.lock().client_queued(name)
+    }
+
     pub fn stats(&self) -> DbStats {
         let s = self.inner.lock();
         DbStats {

@@ -251,6 +251,10 @@ impl State {
             .sum()
     }
 
+    pub fn client_queued(&self, name: &str) -> Option<usize> {
+        self.clients.get(name).map(|c| c.held.len() + c.out.queued())
+    }
+
     /// One packet from client `name` (spec §5.3).
     pub fn process(&mut self, name: &str, mut msgs: Vec<Message>, local: f64, now: f64) {
         if msgs.is_empty() {
