@@ -16,7 +16,14 @@ fn waypoint(d: &Domain, bearing: f64, heading: f64, cruise: f64, pwt: f64) -> Iv
     c.set_params(heading, 30.0, 180.0, 5.0, 0.0, 20.0, k);
     let mut s = ZaicPeak::new(d, "speed").unwrap();
     s.set_params(cruise, cruise / 2.0, 1.6, 20.0, 0.0, 100.0, 0);
-    let mut f = couple(c.extract(false).unwrap(), s.extract(true).unwrap(), 50.0, 50.0, true).unwrap();
+    let mut f = couple(
+        c.extract(false).unwrap(),
+        s.extract(true).unwrap(),
+        50.0,
+        50.0,
+        true,
+    )
+    .unwrap();
     f.set_pwt(pwt);
     f
 }
@@ -64,7 +71,9 @@ fn builds(c: &mut Criterion) {
             z.extract().unwrap()
         })
     });
-    c.bench_function("waypoint_coupled_build", |b| b.iter(|| waypoint(&d, black_box(63.43), 90.0, 2.0, 100.0)));
+    c.bench_function("waypoint_coupled_build", |b| {
+        b.iter(|| waypoint(&d, black_box(63.43), 90.0, 2.0, 100.0))
+    });
 }
 
 fn solves(c: &mut Criterion) {

@@ -50,25 +50,44 @@ fn validate(name: &str, low: f64, high: f64, points: u32) -> Result<(), IvpError
     finite(&format!("{name}.low"), low)?;
     finite(&format!("{name}.high"), high)?;
     if points < 1 {
-        return Err(IvpError::PointsTooFew { var: name.to_string(), points });
+        return Err(IvpError::PointsTooFew {
+            var: name.to_string(),
+            points,
+        });
     }
     if low > high {
-        return Err(IvpError::LowAboveHigh { var: name.to_string(), low, high });
+        return Err(IvpError::LowAboveHigh {
+            var: name.to_string(),
+            low,
+            high,
+        });
     }
     if points == 1 && high != low {
-        return Err(IvpError::SinglePointRange { var: name.to_string(), low, high });
+        return Err(IvpError::SinglePointRange {
+            var: name.to_string(),
+            low,
+            high,
+        });
     }
     Ok(())
 }
 
 fn perr(spec: &str, field: &str, reason: &str) -> IvpError {
-    IvpError::Parse { spec: spec.to_string(), field: field.to_string(), reason: reason.to_string() }
+    IvpError::Parse {
+        spec: spec.to_string(),
+        field: field.to_string(),
+        reason: reason.to_string(),
+    }
 }
 
 /// Compact number format: 5 decimals, trailing zeros and a trailing `.` removed.
 pub(crate) fn compact(v: f64) -> String {
     let s = format!("{v:.5}");
-    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
     if s == "-0" {
         "0".to_string()
     } else {
@@ -84,12 +103,23 @@ impl Domain {
 
     /// Append a variable (fails on duplicate name, `low > high`, `points < 1`,
     /// `points == 1 && high != low`, non-finite bounds).
-    pub fn add_var(&mut self, name: &str, low: f64, high: f64, points: u32) -> Result<(), IvpError> {
+    pub fn add_var(
+        &mut self,
+        name: &str,
+        low: f64,
+        high: f64,
+        points: u32,
+    ) -> Result<(), IvpError> {
         validate(name, low, high, points)?;
         if self.index_of(name).is_some() {
             return Err(IvpError::DuplicateVar(name.to_string()));
         }
-        self.vars.push(DomainVar { name: name.to_string(), low, high, points });
+        self.vars.push(DomainVar {
+            name: name.to_string(),
+            low,
+            high,
+            points,
+        });
         Ok(())
     }
 
@@ -111,13 +141,24 @@ impl Domain {
         let norm = s.trim().replace(',', ":");
         let f: Vec<&str> = norm.split(':').map(str::trim).collect();
         if f.len() != 4 && f.len() != 5 {
-            return Err(perr(s, "fields", "expected name:low:high:points[:optional]"));
+            return Err(perr(
+                s,
+                "fields",
+                "expected name:low:high:points[:optional]",
+            ));
         }
         let name = f[0];
-        let low: f64 = f[1].parse().map_err(|_| perr(s, "low", "is not a number"))?;
-        let high: f64 = f[2].parse().map_err(|_| perr(s, "high", "is not a number"))?;
+        let low: f64 = f[1]
+            .parse()
+            .map_err(|_| perr(s, "low", "is not a number"))?;
+        let high: f64 = f[2]
+            .parse()
+            .map_err(|_| perr(s, "high", "is not a number"))?;
         let points = if let Some(dtxt) = f[3].strip_prefix("delta=") {
-            let d: f64 = dtxt.trim().parse().map_err(|_| perr(s, "delta", "is not a number"))?;
+            let d: f64 = dtxt
+                .trim()
+                .parse()
+                .map_err(|_| perr(s, "delta", "is not a number"))?;
             if !(high > low && d > 0.0 && d <= high - low) {
                 return Err(perr(s, "delta", "must satisfy 0 < delta <= high-low"));
             }
@@ -127,11 +168,20 @@ impl Domain {
             }
             p as u32
         } else {
-            f[3].parse::<u32>().map_err(|_| perr(s, "points", "is not a non-negative integer"))?
+            f[3].parse::<u32>()
+                .map_err(|_| perr(s, "points", "is not a non-negative integer"))?
         };
         validate(name, low, high, points)?;
         let optional = f.len() == 5 && f[4].eq_ignore_ascii_case("optional");
-        Ok((DomainVar { name: name.to_string(), low, high, points }, optional))
+        Ok((
+            DomainVar {
+                name: name.to_string(),
+                low,
+                high,
+                points,
+            },
+            optional,
+        ))
     }
 
     /// Number of variables.
@@ -176,7 +226,11 @@ impl Domain {
         let idx = match snap {
             Snap::Floor => ((value - v.low) / delta).trunc(),
             Snap::Ceil | Snap::Nearest => {
-                let val = if snap == Snap::Nearest { value - delta / 2.0 } else { value };
+                let val = if snap == Snap::Nearest {
+                    value - delta / 2.0
+                } else {
+                    value
+                };
                 let d = (val - v.low) / delta;
                 let t = d.trunc();
                 if d > t {
@@ -233,7 +287,15 @@ impl Domain {
         let parts: Vec<String> = self
             .vars
             .iter()
-            .map(|v| format!("{};{};{};{}", v.name, compact(v.low), compact(v.high), v.points))
+            .map(|v| {
+                format!(
+                    "{};{};{};{}",
+                    v.name,
+                    compact(v.low),
+                    compact(v.high),
+                    v.points
+                )
+            })
             .collect();
         parts.join(":")
     }
@@ -246,7 +308,14 @@ impl fmt::Display for Domain {
             if i > 0 {
                 f.write_str(":")?;
             }
-            write!(f, "{},{},{},{}", v.name, compact(v.low), compact(v.high), v.points)?;
+            write!(
+                f,
+                "{},{},{},{}",
+                v.name,
+                compact(v.low),
+                compact(v.high),
+                v.points
+            )?;
         }
         Ok(())
     }
@@ -268,12 +337,27 @@ mod tests {
     #[test]
     fn bad_vars_are_named() {
         let mut d = Domain::new();
-        assert!(matches!(d.add_var("x", 0.0, 1.0, 0), Err(IvpError::PointsTooFew { .. })));
-        assert!(matches!(d.add_var("x", 2.0, 1.0, 3), Err(IvpError::LowAboveHigh { .. })));
-        assert!(matches!(d.add_var("x", 0.0, 1.0, 1), Err(IvpError::SinglePointRange { .. })));
-        assert!(matches!(d.add_var("x", f64::NAN, 1.0, 3), Err(IvpError::NotFinite { .. })));
+        assert!(matches!(
+            d.add_var("x", 0.0, 1.0, 0),
+            Err(IvpError::PointsTooFew { .. })
+        ));
+        assert!(matches!(
+            d.add_var("x", 2.0, 1.0, 3),
+            Err(IvpError::LowAboveHigh { .. })
+        ));
+        assert!(matches!(
+            d.add_var("x", 0.0, 1.0, 1),
+            Err(IvpError::SinglePointRange { .. })
+        ));
+        assert!(matches!(
+            d.add_var("x", f64::NAN, 1.0, 3),
+            Err(IvpError::NotFinite { .. })
+        ));
         d.add_var("x", 0.0, 1.0, 3).unwrap();
-        assert!(matches!(d.add_var("x", 0.0, 1.0, 3), Err(IvpError::DuplicateVar(_))));
+        assert!(matches!(
+            d.add_var("x", 0.0, 1.0, 3),
+            Err(IvpError::DuplicateVar(_))
+        ));
         let e = Domain::parse("speed:0:abc:3").unwrap_err();
         assert!(e.to_string().contains("high"), "{e}");
     }
@@ -302,6 +386,9 @@ mod tests {
         assert_eq!(d.sub_domain(&["speed", "course"]).var(0).name, "speed");
         assert_eq!(d.sub_domain(&["speed", "depth"]).size(), 0);
         let e = Domain::parse("depth:0:10:11,speed:0:2:21").unwrap();
-        assert_eq!(d.union(&e).to_string(), "course,0,359,360:speed,0,2,21:depth,0,10,11");
+        assert_eq!(
+            d.union(&e).to_string(),
+            "course,0,359,360:speed,0,2,21:depth,0,10,11"
+        );
     }
 }

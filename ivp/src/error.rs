@@ -31,7 +31,11 @@ pub enum IvpError {
     BadVarName(String),
     /// A domain string could not be parsed.
     #[error("cannot parse domain `{spec}`: field `{field}` {reason}")]
-    Parse { spec: String, field: String, reason: String },
+    Parse {
+        spec: String,
+        field: String,
+        reason: String,
+    },
     /// A variable used by a function is not part of the target domain.
     #[error("DomainVar {0} not recognized")]
     UnknownVar(String),
@@ -57,6 +61,9 @@ pub(crate) fn finite(param: &str, value: f64) -> Result<f64, IvpError> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(IvpError::NotFinite { param: param.to_string(), value })
+        Err(IvpError::NotFinite {
+            param: param.to_string(),
+            value,
+        })
     }
 }

@@ -21,6 +21,10 @@ pub struct IvpFunction {
     grid: Vec<f64>,
 }
 
+/// One piece for [`IvpFunction::from_pieces`]: `(lo, hi)` per dimension, then
+/// the weights (slopes in dimension order, then the intercept).
+pub type PieceSpec = (Vec<(i32, i32)>, Vec<f64>);
+
 /// A borrowed view of one piece.
 #[derive(Debug, Clone, Copy)]
 pub struct Piece<'a> {
@@ -57,7 +61,11 @@ pub(crate) fn max_val(bounds: &[i32], w: &[f64]) -> f64 {
     let n = w.len() - 1;
     let mut acc = w[n];
     for d in 0..n {
-        let c = if w[d] < 0.0 { bounds[2 * d] } else { bounds[2 * d + 1] };
+        let c = if w[d] < 0.0 {
+            bounds[2 * d]
+        } else {
+            bounds[2 * d + 1]
+        };
         acc += w[d] * f64::from(c);
     }
     acc
@@ -68,7 +76,11 @@ pub(crate) fn min_val(bounds: &[i32], w: &[f64]) -> f64 {
     let n = w.len() - 1;
     let mut acc = w[n];
     for d in 0..n {
-        let c = if w[d] < 0.0 { bounds[2 * d + 1] } else { bounds[2 * d] };
+        let c = if w[d] < 0.0 {
+            bounds[2 * d + 1]
+        } else {
+            bounds[2 * d]
+        };
         acc += w[d] * f64::from(c);
     }
     acc
@@ -90,21 +102,38 @@ pub struct RawFunction {
     pub grid: Vec<f64>,
 }
 
-fn check_layout(domain: &Domain, bounds: &[i32], weights: &[f64], gelbox: &[u32]) -> Result<(), IvpError> {
+fn check_layout(
+    domain: &Domain,
+    bounds: &[i32],
+    weights: &[f64],
+    gelbox: &[u32],
+) -> Result<(), IvpError> {
     let dim = domain.size();
     if dim == 0 {
         if bounds.is_empty() && weights.is_empty() {
             return Ok(());
         }
-        return Err(IvpError::BadPiece { piece: 0, reason: "pieces over an empty domain".into() });
+        return Err(IvpError::BadPiece {
+            piece: 0,
+            reason: "pieces over an empty domain".into(),
+        });
     }
     let bl = 2 * dim;
     let wl = dim + 1;
-    if bounds.len() % bl != 0 || weights.len() % wl != 0 || bounds.len() / bl != weights.len() / wl {
-        return Err(IvpError::BadPiece { piece: 0, reason: "bounds/weights lengths do not match the dimension".into() });
+    if bounds.len() / bl * bl != bounds.len()
+        || weights.len() / wl * wl != weights.len()
+        || bounds.len() / bl != weights.len() / wl
+    {
+        return Err(IvpError::BadPiece {
+            piece: 0,
+            reason: "bounds/weights lengths do not match the dimension".into(),
+        });
     }
     if gelbox.len() != dim {
-        return Err(IvpError::Invalid { param: "gelbox".into(), reason: format!("needs {dim} entries") });
+        return Err(IvpError::Invalid {
+            param: "gelbox".into(),
+            reason: format!("needs {dim} entries"),
+        });
     }
     for (k, b) in bounds.chunks_exact(bl).enumerate() {
         for d in 0..dim {
@@ -113,7 +142,10 @@ fn check_layout(domain: &Domain, bounds: &[i32], weights: &[f64], gelbox: &[u32]
             if lo < 0 || lo > hi || i64::from(hi) > top {
                 return Err(IvpError::BadPiece {
                     piece: k,
-                    reason: format!("bounds [{lo},{hi}] outside 0..={top} of `{}`", domain.var(d).name),
+                    reason: format!(
+                        "bounds [{lo},{hi}] outside 0..={top} of `{}`",
+                        domain.var(d).name
+                    ),
                 });
             }
         }
@@ -124,13 +156,16 @@ fn check_layout(domain: &Domain, bounds: &[i32], weights: &[f64], gelbox: &[u32]
 impl IvpFunction {
     /// Build from `(per-dimension (lo,hi), weights)` pieces; weights are the
     /// slopes in dimension order then the intercept. Gel box = whole domain, pwt 10.
-    pub fn from_pieces(domain: Domain, pieces: &[(Vec<(i32, i32)>, Vec<f64>)]) -> Result<IvpFunction, IvpError> {
+    pub fn from_pieces(domain: Domain, pieces: &[PieceSpec]) -> Result<IvpFunction, IvpError> {
         let dim = domain.size();
         let mut bounds = Vec::with_capacity(pieces.len() * 2 * dim);
         let mut weights = Vec::with_capacity(pieces.len() * (dim + 1));
         for (k, (b, w)) in pieces.iter().enumerate() {
             if b.len() != dim || w.len() != dim + 1 {
-                return Err(IvpError::BadPiece { piece: k, reason: format!("needs {dim} intervals and {} weights", dim + 1) });
+                return Err(IvpError::BadPiece {
+                    piece: k,
+                    reason: format!("needs {dim} intervals and {} weights", dim + 1),
+                });
             }
             for &(lo, hi) in b {
                 bounds.push(lo);
@@ -138,20 +173,53 @@ impl IvpFunction {
             }
             weights.extend_from_slice(w);
         }
-        let gelbox = domain.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
+        let gelbox = domain
+            .vars()
+            .iter()
+            .map(|v| v.points.saturating_sub(1))
+            .collect();
         Self::from_flat(domain, bounds, weights, gelbox)
     }
 
     /// Build from flat buffers (layout documented on the type); validated.
-    pub fn from_flat(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>, gelbox: Vec<u32>) -> Result<IvpFunction, IvpError> {
+    pub fn from_flat(
+        domain: Domain,
+        bounds: Vec<i32>,
+        weights: Vec<f64>,
+        gelbox: Vec<u32>,
+    ) -> Result<IvpFunction, IvpError> {
         check_layout(&domain, &bounds, &weights, &gelbox)?;
-        Ok(IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox, grid: Vec::new() })
+        Ok(IvpFunction {
+            domain,
+            bounds,
+            weights,
+            pwt: 10.0,
+            context: String::new(),
+            gelbox,
+            grid: Vec::new(),
+        })
     }
 
     /// Unchecked constructor for builders of this crate (layout is correct by construction).
-    pub(crate) fn new_unchecked(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>) -> IvpFunction {
-        let gelbox = domain.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
-        IvpFunction { domain, bounds, weights, pwt: 10.0, context: String::new(), gelbox, grid: Vec::new() }
+    pub(crate) fn new_unchecked(
+        domain: Domain,
+        bounds: Vec<i32>,
+        weights: Vec<f64>,
+    ) -> IvpFunction {
+        let gelbox = domain
+            .vars()
+            .iter()
+            .map(|v| v.points.saturating_sub(1))
+            .collect();
+        IvpFunction {
+            domain,
+            bounds,
+            weights,
+            pwt: 10.0,
+            context: String::new(),
+            gelbox,
+            grid: Vec::new(),
+        }
     }
 
     /// Give the buffers away (no copy).
@@ -176,7 +244,10 @@ impl IvpFunction {
         if !raw.grid.is_empty() {
             let cells = grid_cells(&f.domain, &f.gelbox).3;
             if raw.grid.len() != cells {
-                return Err(IvpError::Invalid { param: "grid".into(), reason: format!("needs {cells} cell bounds") });
+                return Err(IvpError::Invalid {
+                    param: "grid".into(),
+                    reason: format!("needs {cells} cell bounds"),
+                });
             }
             f.grid = raw.grid;
         }
@@ -195,7 +266,10 @@ impl IvpFunction {
     /// Piece `k` (panics if out of range).
     pub fn piece(&self, k: usize) -> Piece<'_> {
         let (bl, wl) = (2 * self.dim(), self.dim() + 1);
-        Piece { bounds: &self.bounds[k * bl..(k + 1) * bl], weights: &self.weights[k * wl..(k + 1) * wl] }
+        Piece {
+            bounds: &self.bounds[k * bl..(k + 1) * bl],
+            weights: &self.weights[k * wl..(k + 1) * wl],
+        }
     }
     /// Iterate the pieces in order.
     pub fn pieces(&self) -> impl Iterator<Item = Piece<'_>> {
@@ -216,7 +290,10 @@ impl IvpFunction {
     /// Set the gel box (one entry per dimension).
     pub fn set_gelbox(&mut self, gelbox: Vec<u32>) -> Result<(), IvpError> {
         if gelbox.len() != self.dim() {
-            return Err(IvpError::Invalid { param: "gelbox".into(), reason: format!("needs {} entries", self.dim()) });
+            return Err(IvpError::Invalid {
+                param: "gelbox".into(),
+                reason: format!("needs {} entries", self.dim()),
+            });
         }
         self.gelbox = gelbox;
         if !self.grid.is_empty() {
@@ -277,7 +354,11 @@ impl IvpFunction {
             return None;
         }
         self.pieces()
-            .find(|p| index.iter().enumerate().all(|(d, &i)| i64::from(p.lo(d)) <= i64::from(i) && i64::from(i) <= i64::from(p.hi(d))))
+            .find(|p| {
+                index.iter().enumerate().all(|(d, &i)| {
+                    i64::from(p.lo(d)) <= i64::from(i) && i64::from(i) <= i64::from(p.hi(d))
+                })
+            })
             .map(|p| {
                 let w = p.weights();
                 let mut acc = w[self.dim()];
@@ -290,11 +371,17 @@ impl IvpFunction {
 
     /// Max over pieces of the piece maximum (0 with no pieces).
     pub fn max_wt(&self) -> f64 {
-        self.pieces().map(|p| p.max_val()).reduce(|a, b| if b > a { b } else { a }).unwrap_or(0.0)
+        self.pieces()
+            .map(|p| p.max_val())
+            .reduce(|a, b| if b > a { b } else { a })
+            .unwrap_or(0.0)
     }
     /// Min over pieces of the piece minimum (0 with no pieces).
     pub fn min_wt(&self) -> f64 {
-        self.pieces().map(|p| p.min_val()).reduce(|a, b| if b < a { b } else { a }).unwrap_or(0.0)
+        self.pieces()
+            .map(|p| p.min_val())
+            .reduce(|a, b| if b < a { b } else { a })
+            .unwrap_or(0.0)
     }
 
     /// Shift then scale so the range becomes `[base, base+range]`; flat functions untouched.
@@ -353,12 +440,32 @@ impl IvpFunction {
         let n = self.piece_count();
         let mut bounds = Vec::with_capacity(n * 2 * td);
         let mut weights = Vec::with_capacity(n * (td + 1));
-        let mut gelbox: Vec<u32> = target.vars().iter().map(|v| v.points.saturating_sub(1)).collect();
+        let mut gelbox: Vec<u32> = target
+            .vars()
+            .iter()
+            .map(|v| v.points.saturating_sub(1))
+            .collect();
         for (d, &t) in map.iter().enumerate() {
             gelbox[t] = self.gelbox[d];
         }
-        translate_into(&self.bounds, &self.weights, od, &map, target, &mut bounds, &mut weights);
-        let mut f = IvpFunction { domain: target.clone(), bounds, weights, pwt: self.pwt, context: self.context.clone(), gelbox, grid: Vec::new() };
+        translate_into(
+            &self.bounds,
+            &self.weights,
+            od,
+            &map,
+            target,
+            &mut bounds,
+            &mut weights,
+        );
+        let mut f = IvpFunction {
+            domain: target.clone(),
+            bounds,
+            weights,
+            pwt: self.pwt,
+            context: self.context.clone(),
+            gelbox,
+            grid: Vec::new(),
+        };
         if self.has_grid() {
             f.build_grid();
         }
@@ -373,12 +480,17 @@ impl IvpFunction {
 
 /// Grid geometry: (points per cell, cells, stride (dim 0 fastest), total cells).
 /// Points per cell = `gelbox+1` clamped to `[2, points]`.
-pub(crate) fn grid_cells(domain: &Domain, gelbox: &[u32]) -> (Vec<i32>, Vec<i32>, Vec<usize>, usize) {
+pub(crate) fn grid_cells(
+    domain: &Domain,
+    gelbox: &[u32],
+) -> (Vec<i32>, Vec<i32>, Vec<usize>, usize) {
     let (mut ppg, mut nc, mut stride) = (vec![], vec![], vec![]);
     let mut total = 1usize;
     for (d, v) in domain.vars().iter().enumerate() {
         let pts = v.points as i32;
-        let g = gelbox.get(d).map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
+        let g = gelbox
+            .get(d)
+            .map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
         let p = (g + 1).max(2).min(pts).max(1);
         let n = (pts + p - 1) / p;
         ppg.push(p);
@@ -391,7 +503,14 @@ pub(crate) fn grid_cells(domain: &Domain, gelbox: &[u32]) -> (Vec<i32>, Vec<i32>
 
 /// For each own dimension, the target dimension of the same name.
 pub(crate) fn dim_map(own: &Domain, target: &Domain) -> Result<Vec<usize>, IvpError> {
-    own.vars().iter().map(|v| target.index_of(&v.name).ok_or_else(|| IvpError::UnknownVar(v.name.clone()))).collect()
+    own.vars()
+        .iter()
+        .map(|v| {
+            target
+                .index_of(&v.name)
+                .ok_or_else(|| IvpError::UnknownVar(v.name.clone()))
+        })
+        .collect()
 }
 
 /// Append the translated pieces to `bounds`/`weights` (cleared by the caller if needed).
@@ -405,7 +524,7 @@ pub(crate) fn translate_into(
     weights: &mut Vec<f64>,
 ) {
     let td = target.size();
-    let n = if od + 1 == 0 { 0 } else { src_w.len() / (od + 1) };
+    let n = src_w.len() / (od + 1);
     for k in 0..n {
         let b0 = bounds.len();
         let w0 = weights.len();

@@ -36,7 +36,16 @@ pub fn encode_weight(w: f64, out: &mut String) {
 pub(crate) fn encode(f: &IvpFunction) -> String {
     let dim = f.dim();
     let mut s = String::with_capacity(64 + f.piece_count() * (dim * 8 + (dim + 1) * 9));
-    let _ = write!(s, "H,{},{},{},{},1,{},D,{},G", f.context().chars().count(), f.context(), dim, f.piece_count(), compact(f.pwt()), f.domain().to_ipf_string());
+    let _ = write!(
+        s,
+        "H,{},{},{},{},1,{},D,{},G",
+        f.context().chars().count(),
+        f.context(),
+        dim,
+        f.piece_count(),
+        compact(f.pwt()),
+        f.domain().to_ipf_string()
+    );
     for g in f.gelbox() {
         let _ = write!(s, ",{g}");
     }
@@ -98,7 +107,11 @@ mod tests {
         let d = Domain::parse("speed:0:2:21").unwrap();
         let mut f = IvpFunction::from_pieces(
             d,
-            &[(vec![(0, 4)], vec![2.0, 100.0]), (vec![(5, 11)], vec![-0.00004, 0.25]), (vec![(12, 20)], vec![123.45678, -1000.0])],
+            &[
+                (vec![(0, 4)], vec![2.0, 100.0]),
+                (vec![(5, 11)], vec![-0.00004, 0.25]),
+                (vec![(12, 20)], vec![123.45678, -1000.0]),
+            ],
         )
         .unwrap();
         f.set_pwt(37.5);

@@ -38,6 +38,9 @@
 //! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`],
 //! [`solver`], [`ipf`] (BHV_IPF strings).
 
+// Index loops over dimensions read closest to the spec's formulas.
+#![allow(clippy::needless_range_loop)]
+
 pub mod coupler;
 pub mod domain;
 pub mod error;
@@ -50,7 +53,7 @@ pub mod zaic;
 pub use coupler::{couple, try_couple};
 pub use domain::{Domain, DomainVar, Snap};
 pub use error::IvpError;
-pub use function::{IvpFunction, Piece, RawFunction};
+pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};
 pub use ipf::ipf_packets;
 pub use reflector::{Aof, AofWaypoint, Reflector};
 pub use solver::{Decision, Solver};

@@ -89,17 +89,43 @@ pub struct AofWaypoint {
 
 impl AofWaypoint {
     /// Needs `course` and `speed` in `domain`; `vmax` = the speed variable's high.
-    pub fn new(domain: &Domain, osx: f64, osy: f64, ptx: f64, pty: f64, desired_speed: f64) -> Result<Self, IvpError> {
-        let course_dim = domain.index_of("course").ok_or_else(|| IvpError::UnknownVar("course".into()))?;
-        let speed_dim = domain.index_of("speed").ok_or_else(|| IvpError::UnknownVar("speed".into()))?;
-        for (p, v) in [("osx", osx), ("osy", osy), ("ptx", ptx), ("pty", pty), ("desired_speed", desired_speed)] {
+    pub fn new(
+        domain: &Domain,
+        osx: f64,
+        osy: f64,
+        ptx: f64,
+        pty: f64,
+        desired_speed: f64,
+    ) -> Result<Self, IvpError> {
+        let course_dim = domain
+            .index_of("course")
+            .ok_or_else(|| IvpError::UnknownVar("course".into()))?;
+        let speed_dim = domain
+            .index_of("speed")
+            .ok_or_else(|| IvpError::UnknownVar("speed".into()))?;
+        for (p, v) in [
+            ("osx", osx),
+            ("osy", osy),
+            ("ptx", ptx),
+            ("pty", pty),
+            ("desired_speed", desired_speed),
+        ] {
             crate::error::finite(p, v)?;
         }
         let vmax = domain.var(speed_dim).high;
         if vmax <= 0.0 {
-            return Err(IvpError::Invalid { param: "speed.high".into(), reason: "must be > 0".into() });
+            return Err(IvpError::Invalid {
+                param: "speed.high".into(),
+                reason: "must be > 0".into(),
+            });
         }
-        Ok(AofWaypoint { course_dim, speed_dim, bearing: rel_ang(osx, osy, ptx, pty), desired_speed, vmax })
+        Ok(AofWaypoint {
+            course_dim,
+            speed_dim,
+            bearing: rel_ang(osx, osy, ptx, pty),
+            desired_speed,
+            vmax,
+        })
     }
 }
 
@@ -155,7 +181,11 @@ impl<'a> Reflector<'a> {
     /// Box sizes from `"discrete @ course:10,speed:5"` (unnamed variables: 1).
     fn parse_box(&self, s: &str) -> Option<Vec<u32>> {
         let body = s.trim();
-        let body = body.strip_prefix("discrete").map(str::trim_start).and_then(|b| b.strip_prefix('@')).unwrap_or(body);
+        let body = body
+            .strip_prefix("discrete")
+            .map(str::trim_start)
+            .and_then(|b| b.strip_prefix('@'))
+            .unwrap_or(body);
         let mut sizes = vec![1u32; self.domain.size()];
         for part in body.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let (name, val) = part.split_once(':')?;
@@ -173,8 +203,14 @@ impl<'a> Reflector<'a> {
     /// (integer ≥ 1), `strict_range` (`true`/`false`). Unknown names return false.
     pub fn set_param(&mut self, name: &str, value: &str) -> bool {
         match name.trim().to_ascii_lowercase().as_str() {
-            "uniform_piece" => self.parse_box(value).map(|b| self.uniform_piece = Some(b)).is_some(),
-            "uniform_grid" => self.parse_box(value).map(|b| self.uniform_grid = Some(b)).is_some(),
+            "uniform_piece" => self
+                .parse_box(value)
+                .map(|b| self.uniform_piece = Some(b))
+                .is_some(),
+            "uniform_grid" => self
+                .parse_box(value)
+                .map(|b| self.uniform_grid = Some(b))
+                .is_some(),
             "uniform_amount" => match value.trim().parse::<usize>() {
                 Ok(a) if a >= 1 => {
                     self.uniform_amount = a;
@@ -207,7 +243,12 @@ impl<'a> Reflector<'a> {
     /// genUnifBox: piece edge lengths for about `amount` pieces.
     fn unif_box(&self, amount: usize) -> Vec<u32> {
         let n = self.domain.size();
-        let pts: Vec<u64> = self.domain.vars().iter().map(|v| u64::from(v.points)).collect();
+        let pts: Vec<u64> = self
+            .domain
+            .vars()
+            .iter()
+            .map(|v| u64::from(v.points))
+            .collect();
         let mut splits = vec![1u64; n];
         let mut maxed: Vec<bool> = (0..n).map(|d| splits[d] >= pts[d]).collect();
         loop {
@@ -246,7 +287,13 @@ impl<'a> Reflector<'a> {
             Some(s) => s.clone(),
             None => self.unif_box(unif_amount.unwrap_or(self.uniform_amount).max(1)),
         };
-        self.gelbox = self.uniform_grid.clone().unwrap_or_else(|| size.clone()).iter().map(|s| s.saturating_sub(1)).collect();
+        self.gelbox = self
+            .uniform_grid
+            .clone()
+            .unwrap_or_else(|| size.clone())
+            .iter()
+            .map(|s| s.saturating_sub(1))
+            .collect();
         let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
         let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
         let total: usize = counts.iter().map(|&c| c as usize).product();
@@ -254,7 +301,16 @@ impl<'a> Reflector<'a> {
         let mut tiles: Vec<Vec<(u32, u32)>> = Vec::with_capacity(total);
         let mut coord = vec![0u32; n];
         for _ in 0..total {
-            tiles.push((0..n).map(|d| (coord[d] * size[d], ((coord[d] + 1) * size[d]).min(pts[d]) - 1)).collect());
+            tiles.push(
+                (0..n)
+                    .map(|d| {
+                        (
+                            coord[d] * size[d],
+                            ((coord[d] + 1) * size[d]).min(pts[d]) - 1,
+                        )
+                    })
+                    .collect(),
+            );
             for d in 0..n {
                 coord[d] += 1;
                 if coord[d] < counts[d] {
@@ -344,7 +400,13 @@ impl<'a> Reflector<'a> {
         if self.weights.is_empty() {
             return None;
         }
-        let mut f = IvpFunction::from_flat(self.domain.clone(), self.bounds.clone(), self.weights.clone(), self.gelbox.clone()).ok()?;
+        let mut f = IvpFunction::from_flat(
+            self.domain.clone(),
+            self.bounds.clone(),
+            self.weights.clone(),
+            self.gelbox.clone(),
+        )
+        .ok()?;
         f.build_grid();
         if normalize {
             f.normalize(0.0, 100.0);

@@ -70,7 +70,13 @@ impl Prepared {
 
 /// Visit the grid cells overlapping box `b` like an odometer counting down,
 /// last dimension first (spec §2.4). `f` returns false to stop.
-fn for_each_cell(ppg: &[i32], stride: &[usize], b: &[i32], dim: usize, mut f: impl FnMut(usize) -> bool) {
+fn for_each_cell(
+    ppg: &[i32],
+    stride: &[usize],
+    b: &[i32],
+    dim: usize,
+    mut f: impl FnMut(usize) -> bool,
+) {
     let mut total = 1usize;
     for d in 0..dim {
         total *= (b[2 * d + 1] / ppg[d] - b[2 * d] / ppg[d] + 1) as usize;
@@ -112,7 +118,14 @@ pub struct Solver {
 
 /// `acc + Σ_{k >= level} cheapBound(F[k], b)`, accumulated left to right.
 #[inline]
-fn bound_rest(funcs: &[Prepared], active: &[usize], dim: usize, level: usize, b: &[i32], mut acc: f64) -> f64 {
+fn bound_rest(
+    funcs: &[Prepared],
+    active: &[usize],
+    dim: usize,
+    level: usize,
+    b: &[i32],
+    mut acc: f64,
+) -> f64 {
     for &fi in &active[level..] {
         acc += funcs[fi].cheap_bound(b, dim);
     }
@@ -164,8 +177,10 @@ impl Search<'_> {
             let (bl, wl) = (2 * self.dim, self.dim + 1);
             self.best = v;
             self.found = true;
-            self.best_b.copy_from_slice(&self.node_b[slot * bl..(slot + 1) * bl]);
-            self.best_w.copy_from_slice(&self.node_w[slot * wl..(slot + 1) * wl]);
+            self.best_b
+                .copy_from_slice(&self.node_b[slot * bl..(slot + 1) * bl]);
+            self.best_w
+                .copy_from_slice(&self.node_w[slot * wl..(slot + 1) * wl]);
         }
     }
 
@@ -232,7 +247,9 @@ impl Search<'_> {
             f.for_each_cell(node_copy, dim, |c| {
                 for &q in &f.cell_items[f.cell_start[c] as usize..f.cell_start[c + 1] as usize] {
                     let q = q as usize;
-                    if f.seen[q].get() == stamp || !intersects(node_copy, &f.bounds[q * bl..(q + 1) * bl], dim) {
+                    if f.seen[q].get() == stamp
+                        || !intersects(node_copy, &f.bounds[q * bl..(q + 1) * bl], dim)
+                    {
                         continue;
                     }
                     f.seen[q].set(stamp);
@@ -252,18 +269,33 @@ impl Solver {
     /// HelmEngine procedure (spec §5 steps 2–6, §6). `functions` in problem
     /// order (the helm sorts by behavior name). The inputs are not modified.
     /// `Ok(None)` when there is nothing to solve (no function, or no leaf).
-    pub fn solve(&mut self, helm_domain: &Domain, functions: &[&IvpFunction]) -> Result<Option<Decision>, IvpError> {
+    pub fn solve(
+        &mut self,
+        helm_domain: &Domain,
+        functions: &[&IvpFunction],
+    ) -> Result<Option<Decision>, IvpError> {
         let mut d = Decision::default();
-        Ok(if self.solve_into(helm_domain, functions, &mut d)? { Some(d) } else { None })
+        Ok(if self.solve_into(helm_domain, functions, &mut d)? {
+            Some(d)
+        } else {
+            None
+        })
     }
 
     /// As [`Solver::solve`], writing into `out` (reused, no allocation once warm).
     /// Returns whether a decision was found.
-    pub fn solve_into(&mut self, helm_domain: &Domain, functions: &[&IvpFunction], out: &mut Decision) -> Result<bool, IvpError> {
+    pub fn solve_into(
+        &mut self,
+        helm_domain: &Domain,
+        functions: &[&IvpFunction],
+        out: &mut Decision,
+    ) -> Result<bool, IvpError> {
         self.used.clear();
         for f in functions {
             for v in f.domain().vars() {
-                let i = helm_domain.index_of(&v.name).ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?;
+                let i = helm_domain
+                    .index_of(&v.name)
+                    .ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?;
                 if !self.used.contains(&i) {
                     self.used.push(i);
                 }
@@ -280,14 +312,27 @@ impl Solver {
 
     /// IvPProblem with an explicit problem domain (every variable of `problem`
     /// is decided, used or not). Values/indices are per `problem` variable.
-    pub fn solve_problem(&mut self, problem: &Domain, functions: &[&IvpFunction]) -> Result<Option<Decision>, IvpError> {
+    pub fn solve_problem(
+        &mut self,
+        problem: &Domain,
+        functions: &[&IvpFunction],
+    ) -> Result<Option<Decision>, IvpError> {
         self.prob_to_helm.clear();
         self.prob_to_helm.extend(0..problem.size());
         let mut d = Decision::default();
-        Ok(if self.run(problem, functions, &mut d)? { Some(d) } else { None })
+        Ok(if self.run(problem, functions, &mut d)? {
+            Some(d)
+        } else {
+            None
+        })
     }
 
-    fn run(&mut self, helm: &Domain, functions: &[&IvpFunction], out: &mut Decision) -> Result<bool, IvpError> {
+    fn run(
+        &mut self,
+        helm: &Domain,
+        functions: &[&IvpFunction],
+        out: &mut Decision,
+    ) -> Result<bool, IvpError> {
         out.values.clear();
         out.values.resize(helm.size(), None);
         out.indices.clear();
@@ -295,7 +340,8 @@ impl Solver {
         out.utility = 0.0;
         let dim = self.prob_to_helm.len();
         self.pts.clear();
-        self.pts.extend(self.prob_to_helm.iter().map(|&h| helm.var(h).points as i32));
+        self.pts
+            .extend(self.prob_to_helm.iter().map(|&h| helm.var(h).points as i32));
         if self.funcs.len() < functions.len() {
             self.funcs.resize_with(functions.len(), Prepared::default);
         }
@@ -333,7 +379,11 @@ impl Solver {
             return Ok(false);
         }
         for (d, &h) in self.prob_to_helm.iter().enumerate() {
-            let ix = if self.best_w[d] < 0.0 { self.best_b[2 * d] } else { self.best_b[2 * d + 1] };
+            let ix = if self.best_w[d] < 0.0 {
+                self.best_b[2 * d]
+            } else {
+                self.best_b[2 * d + 1]
+            };
             let ix = ix.max(0) as u32;
             out.indices[h] = Some(ix);
             out.values[h] = Some(helm.value(h, ix));
@@ -343,13 +393,23 @@ impl Solver {
     }
 
     /// addOF (normalize if range > 100, apply pwt), alignment and grid build.
-    fn prepare(&mut self, fi: usize, f: &IvpFunction, helm: &Domain, dim: usize) -> Result<(), IvpError> {
+    fn prepare(
+        &mut self,
+        fi: usize,
+        f: &IvpFunction,
+        helm: &Domain,
+        dim: usize,
+    ) -> Result<(), IvpError> {
         let p = &mut self.funcs[fi];
         let od = f.dim();
         p.map.clear();
         for v in f.domain().vars() {
-            let pos = self.prob_to_helm.iter().position(|&h| helm.var(h).name == v.name);
-            p.map.push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
+            let pos = self
+                .prob_to_helm
+                .iter()
+                .position(|&h| helm.var(h).name == v.name);
+            p.map
+                .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
         let (mn, mx) = (f.min_wt(), f.max_wt());
         let norm = mx - mn > 100.0;
@@ -397,7 +457,11 @@ impl Solver {
         let gel = f.gelbox();
         let mut total = 1usize;
         for d in 0..dim {
-            let g = p.map.iter().position(|&t| t == d).map_or(self.pts[d] - 1, |od_i| gel[od_i] as i32);
+            let g = p
+                .map
+                .iter()
+                .position(|&t| t == d)
+                .map_or(self.pts[d] - 1, |od_i| gel[od_i] as i32);
             let ppg = g.saturating_add(1).max(2).min(self.pts[d]).max(1);
             let nc = (self.pts[d] + ppg - 1) / ppg;
             p.ppg.push(ppg);
@@ -408,7 +472,10 @@ impl Solver {
         p.single = total == 1;
         p.global_ub = NO_BOUND;
         for k in 0..n {
-            let v = max_val(&p.bounds[k * bl..(k + 1) * bl], &p.weights[k * wl..(k + 1) * wl]);
+            let v = max_val(
+                &p.bounds[k * bl..(k + 1) * bl],
+                &p.weights[k * wl..(k + 1) * wl],
+            );
             if k == 0 || v > p.global_ub {
                 p.global_ub = v;
             }
@@ -418,7 +485,9 @@ impl Solver {
         }
         // A builder-made grid is kept (its bounds transformed like the weights)
         // when no translation is needed; otherwise the grid is rebuilt above.
-        let same = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t) && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
+        let same = od == dim
+            && p.map.iter().enumerate().all(|(d, &t)| d == t)
+            && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
         let g = f.grid_bounds();
         if same && g.len() == total {
             let tg = |x: f64| {

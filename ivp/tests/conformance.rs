@@ -1,7 +1,10 @@
 //! Runs every golden case of `conformance/ivp/*.toml` (format: comment block at
 //! the top of each file). Fails if the folder or a required file is missing.
 
-use ivp::{couple, AofWaypoint, Domain, IvpFunction, Reflector, Solver, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd};
+use ivp::{
+    couple, AofWaypoint, Domain, IvpFunction, Reflector, Solver, ZaicHeq, ZaicLeq, ZaicPeak,
+    ZaicSpd,
+};
 use std::path::PathBuf;
 use toml::Value;
 
@@ -31,7 +34,8 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
 /// Apply a builder spec (`builder`, `domain`, `calls`, `maxval`); returns (call_ok, warnings, function).
 fn build_zaic(spec: &Value) -> Result<(Vec<bool>, String, Option<IvpFunction>), String> {
     let builder = spec["builder"].as_str().ok_or("no builder")?;
-    let dom = Domain::parse(spec["domain"].as_str().ok_or("no domain")?).map_err(|e| e.to_string())?;
+    let dom =
+        Domain::parse(spec["domain"].as_str().ok_or("no domain")?).map_err(|e| e.to_string())?;
     let var = dom.var(0).name.clone();
     let calls = spec["calls"].as_array().ok_or("no calls")?;
     let maxval = spec.get("maxval").and_then(Value::as_bool).unwrap_or(true);
@@ -103,7 +107,16 @@ fn build_zaic(spec: &Value) -> Result<(Vec<bool>, String, Option<IvpFunction>), 
                 let a = |i: usize| arg(c, i).unwrap_or(f64::NAN);
                 let d = |i: usize, dflt: f64| arg(c, i).unwrap_or(dflt);
                 let ok = match c[0].as_str().ok_or("call name")? {
-                    "setParams" => z.set_params(a(0), a(1), a(2), a(3), a(4), d(5, 0.0), d(6, 0.0), d(7, 100.0)),
+                    "setParams" => z.set_params(
+                        a(0),
+                        a(1),
+                        a(2),
+                        a(3),
+                        a(4),
+                        d(5, 0.0),
+                        d(6, 0.0),
+                        d(7, 100.0),
+                    ),
                     "setMedSpeed" => z.set_med_speed(a(0)),
                     "setLowSpeed" => z.set_low_speed(a(0)),
                     "setHghSpeed" => z.set_hgh_speed(a(0)),
@@ -132,7 +145,12 @@ fn build_zaic(spec: &Value) -> Result<(Vec<bool>, String, Option<IvpFunction>), 
 
 fn check_zaic_case(case: &Value) -> Result<(), String> {
     let (oks, warnings, f) = build_zaic(case)?;
-    let want_ok: Vec<bool> = case["call_ok"].as_array().ok_or("call_ok")?.iter().map(|v| v.as_bool().unwrap_or(false)).collect();
+    let want_ok: Vec<bool> = case["call_ok"]
+        .as_array()
+        .ok_or("call_ok")?
+        .iter()
+        .map(|v| v.as_bool().unwrap_or(false))
+        .collect();
     if oks != want_ok {
         return Err(format!("call_ok {oks:?} != {want_ok:?}"));
     }
@@ -149,10 +167,20 @@ fn check_zaic_case(case: &Value) -> Result<(), String> {
     if f.piece_count() != n {
         return Err(format!("piece count {} != {n}", f.piece_count()));
     }
-    for (k, p) in case["piece_list"].as_array().ok_or("piece_list")?.iter().enumerate() {
+    for (k, p) in case["piece_list"]
+        .as_array()
+        .ok_or("piece_list")?
+        .iter()
+        .enumerate()
+    {
         let p = nums(p);
         let q = f.piece(k);
-        let got = [f64::from(q.lo(0)), f64::from(q.hi(0)), q.weights()[0], q.weights()[1]];
+        let got = [
+            f64::from(q.lo(0)),
+            f64::from(q.hi(0)),
+            q.weights()[0],
+            q.weights()[1],
+        ];
         if !(0..4).all(|i| close(got[i], p[i], 1e-9)) {
             return Err(format!("piece {k}: got {got:?} want {p:?}"));
         }
@@ -167,16 +195,27 @@ fn check_zaic_case(case: &Value) -> Result<(), String> {
 }
 
 fn domain_of(v: &Value) -> Result<Domain, String> {
-    let parts: Vec<&str> = v.as_array().ok_or("domain list")?.iter().filter_map(Value::as_str).collect();
+    let parts: Vec<&str> = v
+        .as_array()
+        .ok_or("domain list")?
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
     Domain::parse(&parts.join(",")).map_err(|e| e.to_string())
 }
 
 fn build_function(fv: &Value) -> Result<IvpFunction, String> {
     match fv["kind"].as_str().ok_or("kind")? {
-        "zaic" => build_zaic(&fv["zaic"])?.2.ok_or_else(|| "zaic produced nothing".to_string()),
+        "zaic" => build_zaic(&fv["zaic"])?
+            .2
+            .ok_or_else(|| "zaic produced nothing".to_string()),
         "coupled" => {
-            let a = build_zaic(&fv["first"])?.2.ok_or("first produced nothing")?;
-            let b = build_zaic(&fv["second"])?.2.ok_or("second produced nothing")?;
+            let a = build_zaic(&fv["first"])?
+                .2
+                .ok_or("first produced nothing")?;
+            let b = build_zaic(&fv["second"])?
+                .2
+                .ok_or("second produced nothing")?;
             let w = nums(&fv["couple"]);
             couple(a, b, w[0], w[1], true).ok_or_else(|| "coupler failed".to_string())
         }
@@ -184,7 +223,15 @@ fn build_function(fv: &Value) -> Result<IvpFunction, String> {
             let dom = domain_of(&fv["fdomain"])?;
             let aof = &fv["aof"];
             let g = |k: &str| aof.get(k).map(num).unwrap_or(0.0);
-            let a = AofWaypoint::new(&dom, g("osx"), g("osy"), g("ptx"), g("pty"), g("desired_speed")).map_err(|e| e.to_string())?;
+            let a = AofWaypoint::new(
+                &dom,
+                g("osx"),
+                g("osy"),
+                g("ptx"),
+                g("pty"),
+                g("desired_speed"),
+            )
+            .map_err(|e| e.to_string())?;
             let mut r = Reflector::new(&dom, &a);
             if let Some(s) = fv.get("uniform_piece").and_then(Value::as_str) {
                 if !r.set_param("uniform_piece", s) {
@@ -197,7 +244,8 @@ fn build_function(fv: &Value) -> Result<IvpFunction, String> {
                 }
             }
             r.create(None, None);
-            r.extract(true).ok_or_else(|| "reflector produced nothing".to_string())
+            r.extract(true)
+                .ok_or_else(|| "reflector produced nothing".to_string())
         }
         k => Err(format!("unknown kind {k}")),
     }
@@ -221,7 +269,13 @@ fn compare_pieces(built: &IvpFunction, rec: &IvpFunction, tol: f64) -> Result<()
         return Err(format!("domain {} != {}", built.domain(), rec.domain()));
     }
     if built.piece_count() != rec.piece_count() || built.gelbox() != rec.gelbox() {
-        return Err(format!("pieces {}/{} gelbox {:?}/{:?}", built.piece_count(), rec.piece_count(), built.gelbox(), rec.gelbox()));
+        return Err(format!(
+            "pieces {}/{} gelbox {:?}/{:?}",
+            built.piece_count(),
+            rec.piece_count(),
+            built.gelbox(),
+            rec.gelbox()
+        ));
     }
     if built.bounds() != rec.bounds() {
         return Err("piece bounds differ".into());
@@ -247,7 +301,11 @@ fn check_solver_case(case: &Value) -> Result<(), String> {
         }
         let mut b = build_function(fv)?;
         b.set_pwt(pwt);
-        let tol = if fv["kind"].as_str() == Some("reflector") { 1e-6 } else { 1e-9 };
+        let tol = if fv["kind"].as_str() == Some("reflector") {
+            1e-6
+        } else {
+            1e-9
+        };
         compare_pieces(&b, &r, tol).map_err(|e| format!("function {}: {e}", fv["name"]))?;
         rec.push(r);
         built.push(b);
@@ -257,14 +315,20 @@ fn check_solver_case(case: &Value) -> Result<(), String> {
     for (label, fs) in [("recorded", &rec), ("built", &built)] {
         let refs: Vec<&IvpFunction> = fs.iter().collect();
         let before: Vec<IvpFunction> = fs.clone();
-        let d = solver.solve_problem(&dom, &refs).map_err(|e| e.to_string())?.ok_or("no decision")?;
+        let d = solver
+            .solve_problem(&dom, &refs)
+            .map_err(|e| e.to_string())?
+            .ok_or("no decision")?;
         if &before != fs {
             return Err("solver modified its inputs".into());
         }
         for (i, v) in dom.vars().iter().enumerate() {
             let want = num(&result[v.name.as_str()]);
             if d.values[i] != Some(want) {
-                return Err(format!("{label}: {} = {:?}, want {want}", v.name, d.values[i]));
+                return Err(format!(
+                    "{label}: {} = {:?}, want {want}",
+                    v.name, d.values[i]
+                ));
             }
         }
         let want_u = num(&result["utility"]);
@@ -278,11 +342,22 @@ fn check_solver_case(case: &Value) -> Result<(), String> {
 #[test]
 fn conformance_ivp() {
     let dir = dir();
-    assert!(dir.is_dir(), "conformance folder missing: {}", dir.display());
+    assert!(
+        dir.is_dir(),
+        "conformance folder missing: {}",
+        dir.display()
+    );
     for r in REQUIRED {
-        assert!(dir.join(format!("{r}.toml")).is_file(), "conformance file missing: {r}.toml");
+        assert!(
+            dir.join(format!("{r}.toml")).is_file(),
+            "conformance file missing: {r}.toml"
+        );
     }
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
     files.sort();
     let mut total_failed = 0;
     let mut report = String::new();
@@ -290,12 +365,19 @@ fn conformance_ivp() {
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
         let text = std::fs::read_to_string(&path).unwrap();
         let doc: Value = toml::from_str(&text).unwrap_or_else(|e| panic!("{stem}: {e}"));
-        let cases = doc.get("case").and_then(Value::as_array).unwrap_or_else(|| panic!("{stem}: no [[case]]"));
+        let cases = doc
+            .get("case")
+            .and_then(Value::as_array)
+            .unwrap_or_else(|| panic!("{stem}: no [[case]]"));
         assert!(!cases.is_empty(), "{stem}: no cases");
         let (mut pass, mut fail) = (0, 0);
         for case in cases {
             let name = case.get("name").and_then(Value::as_str).unwrap_or("?");
-            let res = if case.get("function").is_some() { check_solver_case(case) } else { check_zaic_case(case) };
+            let res = if case.get("function").is_some() {
+                check_solver_case(case)
+            } else {
+                check_zaic_case(case)
+            };
             match res {
                 Ok(()) => pass += 1,
                 Err(e) => {

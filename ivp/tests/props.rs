@@ -7,10 +7,10 @@ const NAMES: [&str; 3] = ["a", "b", "c"];
 
 #[derive(Debug, Clone)]
 struct FnSpec {
-    vars: Vec<usize>,              // helm var indices, in the function's own order
-    cuts: Vec<Vec<u32>>,           // per own dim: interval start points (sorted, first 0)
-    weights: Vec<Vec<i32>>,        // per piece: slopes + intercept (small integers: exact arithmetic)
-    order_seed: u64,               // permutes the piece order
+    vars: Vec<usize>,       // helm var indices, in the function's own order
+    cuts: Vec<Vec<u32>>,    // per own dim: interval start points (sorted, first 0)
+    weights: Vec<Vec<i32>>, // per piece: slopes + intercept (small integers: exact arithmetic)
+    order_seed: u64,        // permutes the piece order
     pwt: i32,
 }
 
@@ -20,29 +20,46 @@ fn domain_strategy() -> impl Strategy<Value = Vec<u32>> {
 
 fn fn_strategy(points: Vec<u32>) -> impl Strategy<Value = FnSpec> {
     let n = points.len();
-    (prop::sample::subsequence((0..n).collect::<Vec<_>>(), 1..=n), any::<u64>(), 1i32..4, any::<bool>()).prop_flat_map(move |(mut vars, seed, pwt, rev)| {
-        if rev {
-            vars.reverse();
-        }
-        let cut_strats: Vec<_> = vars
-            .iter()
-            .map(|&v| {
-                let p = points[v];
-                prop::collection::btree_set(1u32..p.max(2), 0..(p as usize)).prop_map(move |s| {
-                    let mut c: Vec<u32> = vec![0];
-                    c.extend(s.into_iter().filter(|&x| x < p));
-                    c
+    (
+        prop::sample::subsequence((0..n).collect::<Vec<_>>(), 1..=n),
+        any::<u64>(),
+        1i32..4,
+        any::<bool>(),
+    )
+        .prop_flat_map(move |(mut vars, seed, pwt, rev)| {
+            if rev {
+                vars.reverse();
+            }
+            let cut_strats: Vec<_> = vars
+                .iter()
+                .map(|&v| {
+                    let p = points[v];
+                    prop::collection::btree_set(1u32..p.max(2), 0..(p as usize)).prop_map(
+                        move |s| {
+                            let mut c: Vec<u32> = vec![0];
+                            c.extend(s.into_iter().filter(|&x| x < p));
+                            c
+                        },
+                    )
                 })
-            })
-            .collect();
-        let dim = vars.len();
-        (Just(vars), cut_strats, Just(seed), Just(pwt)).prop_flat_map(move |(vars, cuts, seed, pwt)| {
-            let count: usize = cuts.iter().map(Vec::len).product();
-            let w = prop::collection::vec(prop::collection::vec(-3i32..4, dim + 1), count);
-            (Just(vars.clone()), Just(cuts), w, Just(seed), Just(pwt))
-                .prop_map(|(vars, cuts, weights, order_seed, pwt)| FnSpec { vars, cuts, weights, order_seed, pwt })
+                .collect();
+            let dim = vars.len();
+            (Just(vars), cut_strats, Just(seed), Just(pwt)).prop_flat_map(
+                move |(vars, cuts, seed, pwt)| {
+                    let count: usize = cuts.iter().map(Vec::len).product();
+                    let w = prop::collection::vec(prop::collection::vec(-3i32..4, dim + 1), count);
+                    (Just(vars.clone()), Just(cuts), w, Just(seed), Just(pwt)).prop_map(
+                        |(vars, cuts, weights, order_seed, pwt)| FnSpec {
+                            vars,
+                            cuts,
+                            weights,
+                            order_seed,
+                            pwt,
+                        },
+                    )
+                },
+            )
         })
-    })
 }
 
 fn build(spec: &FnSpec, helm: &Domain) -> IvpFunction {
@@ -56,15 +73,27 @@ fn build(spec: &FnSpec, helm: &Domain) -> IvpFunction {
         for (d, c) in spec.cuts.iter().enumerate() {
             let i = rem % c.len();
             rem /= c.len();
-            let hi = if i + 1 < c.len() { c[i + 1] - 1 } else { dom.var(d).points - 1 };
+            let hi = if i + 1 < c.len() {
+                c[i + 1] - 1
+            } else {
+                dom.var(d).points - 1
+            };
             b.push((c[i] as i32, hi as i32));
         }
-        pieces.push((b, spec.weights[k].iter().map(|&x| f64::from(x)).collect::<Vec<f64>>()));
+        pieces.push((
+            b,
+            spec.weights[k]
+                .iter()
+                .map(|&x| f64::from(x))
+                .collect::<Vec<f64>>(),
+        ));
     }
     // Deterministic shuffle.
     let mut s = spec.order_seed;
     for i in (1..pieces.len()).rev() {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         pieces.swap(i, (s >> 33) as usize % (i + 1));
     }
     let mut f = IvpFunction::from_pieces(dom, &pieces).unwrap();
@@ -106,7 +135,13 @@ fn problem_domain(helm: &Domain, fs: &[IvpFunction]) -> Domain {
 fn reference(fs: &[IvpFunction]) -> Option<(Vec<u32>, f64)> {
     let dim = fs[0].dim();
     let mut best: Option<(Vec<i32>, Vec<f64>, f64)> = None;
-    fn rec(fs: &[IvpFunction], lvl: usize, b: Vec<i32>, w: Vec<f64>, best: &mut Option<(Vec<i32>, Vec<f64>, f64)>) {
+    fn rec(
+        fs: &[IvpFunction],
+        lvl: usize,
+        b: Vec<i32>,
+        w: Vec<f64>,
+        best: &mut Option<(Vec<i32>, Vec<f64>, f64)>,
+    ) {
         let dim = w.len() - 1;
         if lvl == fs.len() {
             let mut v = w[dim];
@@ -136,7 +171,14 @@ fn reference(fs: &[IvpFunction]) -> Option<(Vec<u32>, f64)> {
         let b: Vec<i32> = (0..dim).flat_map(|d| [p.lo(d), p.hi(d)]).collect();
         rec(fs, 1, b, p.weights().to_vec(), &mut best);
     }
-    best.map(|(b, w, v)| ((0..dim).map(|d| (if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] }) as u32).collect(), v))
+    best.map(|(b, w, v)| {
+        (
+            (0..dim)
+                .map(|d| (if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] }) as u32)
+                .collect(),
+            v,
+        )
+    })
 }
 
 fn brute_max(fs: &[IvpFunction], problem: &Domain) -> f64 {

@@ -10,7 +10,14 @@ fn waypoint(dom: &Domain, bearing: f64, heading: f64, cruise: f64) -> ivp::IvpFu
     c.set_params(bearing, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
     let k = c.add_component();
     c.set_params(heading, 30.0, 180.0, 5.0, 0.0, 20.0, k);
-    couple(c.extract(false).unwrap(), s.extract(true).unwrap(), 50.0, 50.0, true).unwrap()
+    couple(
+        c.extract(false).unwrap(),
+        s.extract(true).unwrap(),
+        50.0,
+        50.0,
+        true,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -34,11 +41,46 @@ fn example_a_waypoint() {
 #[test]
 fn example_table_waypoints() {
     let cases = [
-        ((0.0, 0.0, 90.0), (100.0, 50.0), 1.2, "speed:0:2:21", 28, (64.0, 1.2)),
-        ((0.0, 0.0, 10.0), (-50.0, 80.0), 1.5, "speed:0:4:41", 35, (328.0, 1.5)),
-        ((0.0, 0.0, 200.0), (30.0, -70.0), 0.5, "speed:0:2:21", 28, (157.0, 0.5)),
-        ((0.0, 0.0, 45.5), (100.0, 100.0), 2.0, "speed:0:2:21", 10, (45.0, 2.0)),
-        ((0.0, 0.0, 0.0), (0.0, 100.0), 1.0, "speed:0:2:21", 16, (0.0, 1.0)),
+        (
+            (0.0, 0.0, 90.0),
+            (100.0, 50.0),
+            1.2,
+            "speed:0:2:21",
+            28,
+            (64.0, 1.2),
+        ),
+        (
+            (0.0, 0.0, 10.0),
+            (-50.0, 80.0),
+            1.5,
+            "speed:0:4:41",
+            35,
+            (328.0, 1.5),
+        ),
+        (
+            (0.0, 0.0, 200.0),
+            (30.0, -70.0),
+            0.5,
+            "speed:0:2:21",
+            28,
+            (157.0, 0.5),
+        ),
+        (
+            (0.0, 0.0, 45.5),
+            (100.0, 100.0),
+            2.0,
+            "speed:0:2:21",
+            10,
+            (45.0, 2.0),
+        ),
+        (
+            (0.0, 0.0, 0.0),
+            (0.0, 100.0),
+            1.0,
+            "speed:0:2:21",
+            16,
+            (0.0, 1.0),
+        ),
     ];
     for ((ox, oy, h), (tx, ty), cruise, spd, pieces, (dc, ds)) in cases {
         let dom = Domain::parse(&format!("course:0:359:360,{spd}")).unwrap();

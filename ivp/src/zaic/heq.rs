@@ -19,7 +19,16 @@ struct Params {
 
 impl Params {
     fn new(domain: &Domain, var: &str) -> Result<Self, IvpError> {
-        Ok(Params { domain: one_var(domain, var)?, summit: 0.0, basewidth: 0.0, summit_delta: 0.0, minutil: 0.0, maxutil: 100.0, warnings: String::new(), error: None })
+        Ok(Params {
+            domain: one_var(domain, var)?,
+            summit: 0.0,
+            basewidth: 0.0,
+            summit_delta: 0.0,
+            minutil: 0.0,
+            maxutil: 100.0,
+            warnings: String::new(),
+            error: None,
+        })
     }
     fn bad(&mut self, e: IvpError, warning: &str) -> bool {
         if !self.warnings.is_empty() {
@@ -31,38 +40,81 @@ impl Params {
     }
     fn set_summit(&mut self, v: f64) -> bool {
         if !v.is_finite() {
-            return self.bad(IvpError::NotFinite { param: "summit".into(), value: v }, "setSummit:not finite");
+            return self.bad(
+                IvpError::NotFinite {
+                    param: "summit".into(),
+                    value: v,
+                },
+                "setSummit:not finite",
+            );
         }
         self.summit = v;
         true
     }
     fn set_base_width(&mut self, v: f64) -> bool {
         if !v.is_finite() {
-            return self.bad(IvpError::NotFinite { param: "basewidth".into(), value: v }, "setBaseWidth:not finite");
+            return self.bad(
+                IvpError::NotFinite {
+                    param: "basewidth".into(),
+                    value: v,
+                },
+                "setBaseWidth:not finite",
+            );
         }
         if v < 0.0 {
-            return self.bad(IvpError::Negative { param: "basewidth".into(), value: v }, "setBaseWidth:negative");
+            return self.bad(
+                IvpError::Negative {
+                    param: "basewidth".into(),
+                    value: v,
+                },
+                "setBaseWidth:negative",
+            );
         }
         self.basewidth = v;
         true
     }
     fn set_summit_delta(&mut self, v: f64) -> bool {
         if !v.is_finite() {
-            return self.bad(IvpError::NotFinite { param: "summit_delta".into(), value: v }, "setSummitDelta:not finite");
+            return self.bad(
+                IvpError::NotFinite {
+                    param: "summit_delta".into(),
+                    value: v,
+                },
+                "setSummitDelta:not finite",
+            );
         }
         if v < 0.0 {
-            return self.bad(IvpError::Negative { param: "summit_delta".into(), value: v }, "setSummitDelta:negative");
+            return self.bad(
+                IvpError::Negative {
+                    param: "summit_delta".into(),
+                    value: v,
+                },
+                "setSummitDelta:negative",
+            );
         }
         self.summit_delta = v;
         true
     }
     fn set_min_max_util(&mut self, min: f64, max: f64) -> bool {
         if !min.is_finite() || !max.is_finite() {
-            let (p, v) = if min.is_finite() { ("maxutil", max) } else { ("minutil", min) };
-            return self.bad(IvpError::NotFinite { param: p.into(), value: v }, "setMinMaxUtil:not finite");
+            let (p, v) = if min.is_finite() {
+                ("maxutil", max)
+            } else {
+                ("minutil", min)
+            };
+            return self.bad(
+                IvpError::NotFinite {
+                    param: p.into(),
+                    value: v,
+                },
+                "setMinMaxUtil:not finite",
+            );
         }
         if min >= max {
-            return self.bad(IvpError::MinNotBelowMax { min, max }, "setMinMaxUtil:min>=max:");
+            return self.bad(
+                IvpError::MinNotBelowMax { min, max },
+                "setMinMaxUtil:min>=max:",
+            );
         }
         self.minutil = min;
         self.maxutil = max;
@@ -122,7 +174,9 @@ pub struct ZaicHeq {
 
 impl ZaicHeq {
     pub fn new(domain: &Domain, var: &str) -> Result<Self, IvpError> {
-        Ok(ZaicHeq { p: Params::new(domain, var)? })
+        Ok(ZaicHeq {
+            p: Params::new(domain, var)?,
+        })
     }
     common_setters!();
 
@@ -143,7 +197,11 @@ impl ZaicHeq {
         }
         if i1 < i2 {
             let s = (p.maxutil - p.minutil) / ib;
-            let b = if i1 > 0 { p.minutil - s * f64::from(i1) } else { p.maxutil - s * f64::from(i2) };
+            let b = if i1 > 0 {
+                p.minutil - s * f64::from(i1)
+            } else {
+                p.maxutil - s * f64::from(i2)
+            };
             out.push(i1, i2 - 1, s, b);
         }
         if i1 > 0 {
@@ -161,7 +219,9 @@ pub struct ZaicLeq {
 
 impl ZaicLeq {
     pub fn new(domain: &Domain, var: &str) -> Result<Self, IvpError> {
-        Ok(ZaicLeq { p: Params::new(domain, var)? })
+        Ok(ZaicLeq {
+            p: Params::new(domain, var)?,
+        })
     }
     common_setters!();
 
@@ -180,7 +240,11 @@ impl ZaicLeq {
         }
         if i1 < i2 {
             let s = -(p.maxutil - p.minutil) / ib;
-            let b = if i1 > 0 { p.maxutil - s * f64::from(i1) } else { p.minutil - s * f64::from(i2) };
+            let b = if i1 > 0 {
+                p.maxutil - s * f64::from(i1)
+            } else {
+                p.minutil - s * f64::from(i2)
+            };
             out.push(i1 + 1, i2, s, b);
         }
         if i2 < n - 1 {

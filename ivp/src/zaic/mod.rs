@@ -45,7 +45,11 @@ impl Pieces1 {
     /// "Box(a, ra, b, rb)": slope `(rb-ra)/(b-a)` (0 if a == b), intercept `ra - slope*a`;
     /// the piece covers `[lo, b]`.
     pub(crate) fn push_anchor(&mut self, lo: i32, a: i32, ra: f64, b: i32, rb: f64) {
-        let slope = if a == b { 0.0 } else { (rb - ra) / f64::from(b - a) };
+        let slope = if a == b {
+            0.0
+        } else {
+            (rb - ra) / f64::from(b - a)
+        };
         self.push(lo, b, slope, ra - slope * f64::from(a));
     }
 
@@ -67,7 +71,13 @@ pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
     let tol = 0.001;
     let (mut first, mut fv) = (0usize, v[0]);
     let (mut trend, mut m, mut b) = (false, 0.0f64, 0.0f64);
-    let chord = |first: usize, fv: f64, end: usize, ve: f64| if end == first { 0.0 } else { (ve - fv) / (end - first) as f64 };
+    let chord = |first: usize, fv: f64, end: usize, ve: f64| {
+        if end == first {
+            0.0
+        } else {
+            (ve - fv) / (end - first) as f64
+        }
+    };
     for i in 1..n {
         let fi = i as f64;
         if !trend {
@@ -102,7 +112,12 @@ pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
 /// PDMapBuilder (spec §3.3): strictly increasing anchors from 0 to N-1.
 pub(crate) fn pieces_from_anchors(d: &[i32], r: &[f64], n: i32) -> Option<Pieces1> {
     let k = d.len();
-    if k == 0 || k != r.len() || d[0] != 0 || d[k - 1] != n - 1 || d.windows(2).any(|w| w[0] >= w[1]) {
+    if k == 0
+        || k != r.len()
+        || d[0] != 0
+        || d[k - 1] != n - 1
+        || d.windows(2).any(|w| w[0] >= w[1])
+    {
         return None;
     }
     let mut out = Pieces1::default();

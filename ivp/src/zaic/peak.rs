@@ -17,7 +17,14 @@ struct Component {
 
 impl Default for Component {
     fn default() -> Self {
-        Component { summit: 0.0, pwidth: 0.0, bwidth: 0.0, delta: 0.0, minutil: 0.0, maxutil: 100.0 }
+        Component {
+            summit: 0.0,
+            pwidth: 0.0,
+            bwidth: 0.0,
+            delta: 0.0,
+            minutil: 0.0,
+            maxutil: 100.0,
+        }
     }
 }
 
@@ -56,12 +63,18 @@ impl ZaicPeak {
     fn check(&mut self, idx: usize, param: &str, v: f64) -> bool {
         if idx >= self.comps.len() {
             self.warn(&format!("{param}:index out of range"));
-            self.error.get_or_insert(IvpError::BadComponent { index: idx, count: self.comps.len() });
+            self.error.get_or_insert(IvpError::BadComponent {
+                index: idx,
+                count: self.comps.len(),
+            });
             return false;
         }
         if !v.is_finite() {
             self.warn(&format!("{param}:not a finite number"));
-            self.error.get_or_insert(IvpError::NotFinite { param: param.to_string(), value: v });
+            self.error.get_or_insert(IvpError::NotFinite {
+                param: param.to_string(),
+                value: v,
+            });
             return false;
         }
         true
@@ -119,7 +132,8 @@ impl ZaicPeak {
         }
         if min >= max {
             self.warn("setMinMaxUtil:min>=max:");
-            self.error.get_or_insert(IvpError::MinNotBelowMax { min, max });
+            self.error
+                .get_or_insert(IvpError::MinNotBelowMax { min, max });
             return false;
         }
         let c = &mut self.comps[idx];
@@ -133,7 +147,16 @@ impl ZaicPeak {
 
     /// summit, basewidth, peakwidth, then min/max util, then summit delta.
     #[allow(clippy::too_many_arguments)]
-    pub fn set_params(&mut self, summit: f64, pwidth: f64, bwidth: f64, delta: f64, minutil: f64, maxutil: f64, idx: usize) -> bool {
+    pub fn set_params(
+        &mut self,
+        summit: f64,
+        pwidth: f64,
+        bwidth: f64,
+        delta: f64,
+        minutil: f64,
+        maxutil: f64,
+        idx: usize,
+    ) -> bool {
         let mut ok = self.set_summit(summit, idx);
         ok = self.set_base_width(bwidth, idx) && ok;
         ok = self.set_peak_width(pwidth, idx) && ok;

@@ -45,7 +45,10 @@ impl ZaicSpd {
         if v.is_finite() {
             return true;
         }
-        self.error.get_or_insert(IvpError::NotFinite { param: param.to_string(), value: v });
+        self.error.get_or_insert(IvpError::NotFinite {
+            param: param.to_string(),
+            value: v,
+        });
         false
     }
 
@@ -63,8 +66,27 @@ impl ZaicSpd {
     /// Returns false when `low` is above or `hgh` below the median speed in force
     /// *before* the call (what the reference reports; the values are still used).
     #[allow(clippy::too_many_arguments)]
-    pub fn set_params(&mut self, med: f64, low: f64, hgh: f64, low_util: f64, hgh_util: f64, min_util: f64, max_spd_util: f64, max_util: f64) -> bool {
-        let names = [("med_spd", med), ("low_spd", low), ("hgh_spd", hgh), ("low_spd_util", low_util), ("hgh_spd_util", hgh_util), ("min_spd_util", min_util), ("max_spd_util", max_spd_util), ("max_util", max_util)];
+    pub fn set_params(
+        &mut self,
+        med: f64,
+        low: f64,
+        hgh: f64,
+        low_util: f64,
+        hgh_util: f64,
+        min_util: f64,
+        max_spd_util: f64,
+        max_util: f64,
+    ) -> bool {
+        let names = [
+            ("med_spd", med),
+            ("low_spd", low),
+            ("hgh_spd", hgh),
+            ("low_spd_util", low_util),
+            ("hgh_spd_util", hgh_util),
+            ("min_spd_util", min_util),
+            ("max_spd_util", max_spd_util),
+            ("max_util", max_util),
+        ];
         let mut all_finite = true;
         for (n, v) in names {
             all_finite = self.finite(n, v) && all_finite;
@@ -85,7 +107,14 @@ impl ZaicSpd {
     }
 
     /// `setParams` with the C++ defaults `min_util = 0, max_util = 0, max_util_total = 100`.
-    pub fn set_params5(&mut self, med: f64, low: f64, hgh: f64, low_util: f64, hgh_util: f64) -> bool {
+    pub fn set_params5(
+        &mut self,
+        med: f64,
+        low: f64,
+        hgh: f64,
+        low_util: f64,
+        hgh_util: f64,
+    ) -> bool {
         self.set_params(med, low, hgh, low_util, hgh_util, 0.0, 0.0, 100.0)
     }
 
@@ -209,7 +238,10 @@ impl ZaicSpd {
             d.push(n - 1);
             r.push(max_u);
         }
-        let p = pieces_from_anchors(&d, &r, n).ok_or_else(|| IvpError::Invalid { param: "anchors".into(), reason: "not strictly increasing from 0 to N-1".into() })?;
+        let p = pieces_from_anchors(&d, &r, n).ok_or_else(|| IvpError::Invalid {
+            param: "anchors".into(),
+            reason: "not strictly increasing from 0 to N-1".into(),
+        })?;
         Ok(p.finish(self.domain.clone()))
     }
 }

@@ -16,7 +16,12 @@ pub struct ZaicVector {
 
 impl ZaicVector {
     pub fn new(domain: &Domain, var: &str) -> Result<Self, IvpError> {
-        Ok(ZaicVector { domain: one_var(domain, var)?, values: vec![], utils: vec![], warnings: String::new() })
+        Ok(ZaicVector {
+            domain: one_var(domain, var)?,
+            values: vec![],
+            utils: vec![],
+            warnings: String::new(),
+        })
     }
 
     /// Domain values `x[k]`.
@@ -50,7 +55,10 @@ impl ZaicVector {
 
     pub fn try_extract(&mut self) -> Result<IvpFunction, IvpError> {
         if self.values.len() != self.utils.len() {
-            return Err(IvpError::Invalid { param: "range_vals".into(), reason: "length differs from domain_vals".into() });
+            return Err(IvpError::Invalid {
+                param: "range_vals".into(),
+                reason: "length differs from domain_vals".into(),
+            });
         }
         for (k, (&x, &u)) in self.values.iter().zip(&self.utils).enumerate() {
             crate::error::finite(&format!("domain_vals[{k}]"), x)?;
@@ -58,9 +66,17 @@ impl ZaicVector {
         }
         let var = self.domain.var(0).clone();
         if self.values.is_empty() || self.values[0] < var.low || self.values[0] > var.high {
-            return Err(IvpError::Invalid { param: "domain_vals".into(), reason: "first value outside the domain range".into() });
+            return Err(IvpError::Invalid {
+                param: "domain_vals".into(),
+                reason: "first value outside the domain range".into(),
+            });
         }
-        if self.values.iter().skip(1).any(|&x| x < var.low || x > var.high) {
+        if self
+            .values
+            .iter()
+            .skip(1)
+            .any(|&x| x < var.low || x > var.high)
+        {
             self.warnings = "domain values outside the domain range".into();
         }
         // Stable selection sort when not non-decreasing.
@@ -85,7 +101,11 @@ impl ZaicVector {
             us = nu;
         }
         let n = var.points as i32;
-        let mut entries: Vec<(i32, f64)> = xs.iter().zip(&us).map(|(&x, &u)| (self.domain.snap(0, x, Snap::Nearest) as i32, u)).collect();
+        let mut entries: Vec<(i32, f64)> = xs
+            .iter()
+            .zip(&us)
+            .map(|(&x, &u)| (self.domain.snap(0, x, Snap::Nearest) as i32, u))
+            .collect();
         if let Some(&(i0, u0)) = entries.first() {
             if i0 != 0 {
                 entries.insert(0, (0, u0));
@@ -113,7 +133,10 @@ impl ZaicVector {
             i = j;
         }
         if d.len() < 2 {
-            return Err(IvpError::Invalid { param: "domain_vals".into(), reason: "need at least 2 distinct indices".into() });
+            return Err(IvpError::Invalid {
+                param: "domain_vals".into(),
+                reason: "need at least 2 distinct indices".into(),
+            });
         }
         let mut out = Pieces1::default();
         for k in 0..d.len() - 1 {
