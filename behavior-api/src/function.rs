@@ -23,6 +23,9 @@ pub struct FunctionData {
     pub pwt: f64,
     /// Grid cell size minus one per dimension (`points - 1` for a single cell).
     pub gelbox: RVec<u32>,
+    /// Grid cell upper bounds as the builder left them (empty = none): the solver's
+    /// pruning, and so exact ties in rare near-tie cases, depend on them.
+    pub grid: RVec<f64>,
 }
 
 impl FunctionData {
@@ -57,6 +60,7 @@ impl FunctionData {
             weights: raw.weights.into(),
             pwt: raw.pwt,
             gelbox: raw.gelbox.into(),
+            grid: raw.grid.into(),
         }
     }
 
