@@ -1,0 +1,71 @@
+//! The golden helm cases, replayed through the real `helm` binary.
+//!
+//! Cases whose behaviors are all built in must pass; the `plugin_*` cases need behavior
+//! libraries and, without IVP_BEHAVIOR_DIRS, must fail with a clear unknown-type error.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn cases_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../conformance/helm")
+}
+
+fn case_files() -> Vec<PathBuf> {
+    let dir = cases_dir();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("conformance folder {} missing: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no cases in {}", dir.display());
+    files
+}
+
+fn conform(file: &PathBuf) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .arg("conform")
+        .arg(file)
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .output()
+        .expect("run helm");
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    (out.status.success(), text)
+}
+
+#[test]
+fn builtin_cases_match_the_real_helm() {
+    let mut failures = Vec::new();
+    let mut n = 0;
+    for f in case_files() {
+        let name = f.file_name().unwrap_or_default().to_string_lossy().to_string();
+        if name.starts_with("plugin_") {
+            continue;
+        }
+        n += 1;
+        let (ok, text) = conform(&f);
+        if !ok {
+            let head: Vec<&str> = text.lines().take(6).collect();
+            failures.push(format!("{name}:\n{}", head.join("\n")));
+        }
+    }
+    println!("helm conformance (built-in): {} passed, {} failed", n - failures.len(), failures.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn plugin_cases_need_their_libraries() {
+    for f in case_files() {
+        let name = f.file_name().unwrap_or_default().to_string_lossy().to_string();
+        if !name.starts_with("plugin_") {
+            continue;
+        }
+        let (ok, text) = conform(&f);
+        assert!(!ok, "{name} passed without its behavior libraries");
+        assert!(
+            text.contains("unknown behavior type BHV_"),
+            "{name}: expected an unknown-behavior-type error, got:\n{text}"
+        );
+        assert!(text.contains(".bhv:"), "{name}: error must name file:line:\n{text}");
+    }
+}
