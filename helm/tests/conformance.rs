@@ -38,7 +38,11 @@ fn builtin_cases_match_the_real_helm() {
     let mut failures = Vec::new();
     let mut n = 0;
     for f in case_files() {
-        let name = f.file_name().unwrap_or_default().to_string_lossy().to_string();
+        let name = f
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
         if name.starts_with("plugin_") {
             continue;
         }
@@ -49,14 +53,22 @@ fn builtin_cases_match_the_real_helm() {
             failures.push(format!("{name}:\n{}", head.join("\n")));
         }
     }
-    println!("helm conformance (built-in): {} passed, {} failed", n - failures.len(), failures.len());
+    println!(
+        "helm conformance (built-in): {} passed, {} failed",
+        n - failures.len(),
+        failures.len()
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]
 fn plugin_cases_need_their_libraries() {
     for f in case_files() {
-        let name = f.file_name().unwrap_or_default().to_string_lossy().to_string();
+        let name = f
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
         if !name.starts_with("plugin_") {
             continue;
         }
@@ -66,6 +78,9 @@ fn plugin_cases_need_their_libraries() {
             text.contains("unknown behavior type BHV_"),
             "{name}: expected an unknown-behavior-type error, got:\n{text}"
         );
-        assert!(text.contains(".bhv:"), "{name}: error must name file:line:\n{text}");
+        assert!(
+            text.contains(".bhv:"),
+            "{name}: error must name file:line:\n{text}"
+        );
     }
 }

@@ -1,0 +1,297 @@
+//! Replaying conformance cases recorded from the real helm (conformance/README.md).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::Deserialize;
+
+use crate::config::{BlockLine, HelmConfig};
+use crate::engine::{Helm, Mail};
+use crate::factory::BehaviorFactory;
+use crate::posting::{Posting, Value};
+
+/// One recorded case.
+#[derive(Debug, Deserialize)]
+pub struct Case {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub domain: Vec<String>,
+    pub check: Vec<String>,
+    pub bhv: String,
+    #[serde(default)]
+    pub config: BTreeMap<String, toml::Value>,
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    pub step: Vec<Step>,
+}
+
+#[derive(Debug, Deserialize)]
+pub struct Step {
+    pub time: f64,
+    #[serde(default)]
+    pub mail: Vec<(String, toml::Value)>,
+    #[serde(default)]
+    pub expect: BTreeMap<String, toml::Value>,
+}
+
+/// A difference between the recording and our helm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mismatch {
+    pub step: usize,
+    pub var: String,
+    pub expected: String,
+    pub got: String,
+}
+
+/// The result of one case.
+#[derive(Debug)]
+pub struct CaseResult {
+    pub name: String,
+    pub file: PathBuf,
+    /// Set when the helm could not be built for the case (e.g. unknown behavior type).
+    pub error: Option<String>,
+    pub mismatches: Vec<Mismatch>,
+}
+
+impl CaseResult {
+    pub fn passed(&self) -> bool {
+        self.error.is_none() && self.mismatches.is_empty()
+    }
+}
+
+/// Errors reading a case file.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: not a conformance case: {source}")]
+    Parse {
+        path: PathBuf,
+        source: toml::de::Error,
+    },
+}
+
+/// Case files named by `paths` (a file, or a folder of `*.toml` files), sorted.
+pub fn collect(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CaseError> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let rd = std::fs::read_dir(p).map_err(|source| CaseError::Io {
+                path: p.clone(),
+                source,
+            })?;
+            let mut files: Vec<PathBuf> = rd
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.extension().is_some_and(|e| e == "toml"))
+                .collect();
+            files.sort();
+            out.extend(files);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+pub fn load(path: &Path) -> Result<Case, CaseError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    toml::from_str(&text).map_err(|source| CaseError::Parse {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+fn toml_value(v: &toml::Value) -> Value {
+    match v {
+        toml::Value::Float(f) => Value::Num(*f),
+        toml::Value::Integer(i) => Value::Num(*i as f64),
+        toml::Value::String(s) => Value::Str(s.clone()),
+        toml::Value::Boolean(b) => Value::Str(b.to_string()),
+        other => Value::Str(other.to_string()),
+    }
+}
+
+fn show(v: &Value) -> String {
+    match v {
+        Value::Num(n) => format!("{n}"),
+        Value::Str(s) => format!("{s:?}"),
+    }
+}
+
+/// Build a helm for the case, as the recording did.
+pub fn build_helm(case: &Case, file: &Path, factory: &BehaviorFactory) -> Result<Helm, String> {
+    let mut lines: Vec<BlockLine> = case
+        .domain
+        .iter()
+        .enumerate()
+        .map(|(i, d)| BlockLine {
+            line: i + 1,
+            name: "domain".into(),
+            value: d.clone(),
+        })
+        .collect();
+    for (k, v) in &case.config {
+        let value = match v {
+            toml::Value::String(s) => s.clone(),
+            other => other.to_string(),
+        };
+        lines.push(BlockLine {
+            line: 0,
+            name: k.clone(),
+            value,
+        });
+    }
+    let (config, warnings) = HelmConfig::from_lines(&lines);
+    let bhv_path = file.with_extension("bhv");
+    let spec = bhv::reader::parse_str(&case.bhv, &bhv_path).map_err(|e| e.to_string())?;
+    let warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    let helm = Helm::new(config, spec, factory, "alpha", warnings);
+    if !helm.config_warnings().is_empty() {
+        return Err(helm.config_warnings().join("; "));
+    }
+    Ok(helm)
+}
+
+/// The helm's own postings on subscribed variables come back as mail, in order.
+fn echo(helm: &Helm, posted: &[Posting], time: f64, out: &mut Vec<Mail>) {
+    for p in posted {
+        if helm.is_subscribed(&p.var) {
+            out.push(Mail {
+                var: p.var.clone(),
+                value: p.value.clone(),
+                time,
+                source: helm.app_name().to_string(),
+                source_aux: p.source_aux.clone(),
+            });
+        }
+    }
+}
+
+/// Replay a case; compares only when `compare` (the bench replays without comparing).
+pub fn replay(case: &Case, helm: &mut Helm, compare: bool) -> Vec<Mismatch> {
+    let tol = case.tolerance.unwrap_or(1e-6);
+    let mut mismatches = Vec::new();
+    let mut mail: Vec<Mail> = Vec::new();
+    let mut posted: Vec<Posting> = Vec::new();
+    let mut last_time = case.step.first().map_or(0.0, |s| s.time);
+    let start = helm.startup(last_time).to_vec();
+    posted.extend(start);
+    for (k, step) in case.step.iter().enumerate() {
+        mail.clear();
+        echo(helm, &posted, last_time, &mut mail);
+        if k > 0 {
+            posted.clear();
+        }
+        for (var, v) in &step.mail {
+            mail.push(Mail {
+                var: var.clone(),
+                value: toml_value(v),
+                time: step.time,
+                source: "uSimMarine".into(),
+                source_aux: String::new(),
+            });
+        }
+        helm.handle_mail(step.time, &mail);
+        let out = helm.iterate(step.time);
+        if k == 0 {
+            posted.extend_from_slice(out);
+        } else {
+            posted.clear();
+            posted.extend_from_slice(out);
+        }
+        last_time = step.time;
+        if compare {
+            compare_step(case, k, &posted, tol, &mut mismatches);
+        }
+    }
+    mismatches
+}
+
+fn compare_step(case: &Case, k: usize, posted: &[Posting], tol: f64, out: &mut Vec<Mismatch>) {
+    let step = &case.step[k];
+    for var in &case.check {
+        let got = posted
+            .iter()
+            .rev()
+            .find(|p| &p.var == var)
+            .map(|p| &p.value);
+        let expected = step.expect.get(var).map(toml_value);
+        let same = match (&expected, got) {
+            (None, None) => true,
+            (Some(Value::Num(a)), Some(Value::Num(b))) => (a - b).abs() <= tol,
+            (Some(Value::Str(a)), Some(Value::Str(b))) => a == b,
+            _ => false,
+        };
+        if !same {
+            out.push(Mismatch {
+                step: k,
+                var: var.clone(),
+                expected: expected.as_ref().map_or("(not published)".into(), show),
+                got: got.map_or("(not published)".into(), show),
+            });
+        }
+    }
+}
+
+/// Run one case file.
+pub fn run_file(file: &Path, factory: &BehaviorFactory) -> CaseResult {
+    let case = match load(file) {
+        Ok(c) => c,
+        Err(e) => {
+            return CaseResult {
+                name: file.display().to_string(),
+                file: file.to_path_buf(),
+                error: Some(e.to_string()),
+                mismatches: Vec::new(),
+            }
+        }
+    };
+    match build_helm(&case, file, factory) {
+        Ok(mut helm) => CaseResult {
+            name: case.name.clone(),
+            file: file.to_path_buf(),
+            error: None,
+            mismatches: replay(&case, &mut helm, true),
+        },
+        Err(e) => CaseResult {
+            name: case.name.clone(),
+            file: file.to_path_buf(),
+            error: Some(e),
+            mismatches: Vec::new(),
+        },
+    }
+}
+
+/// Mean µs per decision iteration replaying `case` for at least `min_secs`, or an error.
+pub fn bench_file(
+    file: &Path,
+    factory: &BehaviorFactory,
+    min_secs: f64,
+) -> Result<(String, f64), String> {
+    let case = load(file).map_err(|e| e.to_string())?;
+    let decisions = case
+        .step
+        .iter()
+        .filter(|s| s.time - case.step[0].time >= 1.0)
+        .count()
+        .max(1);
+    let mut total = 0.0;
+    let mut reps = 0usize;
+    let wall = Instant::now();
+    while wall.elapsed().as_secs_f64() < min_secs || reps == 0 {
+        let mut helm = build_helm(&case, file, factory)?;
+        let t = Instant::now();
+        replay(&case, &mut helm, false);
+        total += t.elapsed().as_secs_f64();
+        reps += 1;
+    }
+    Ok((case.name, total / (reps * decisions) as f64 * 1e6))
+}

@@ -1,0 +1,270 @@
+//! Building the helm: configuration, the behavior set, start-up (helm.md §5).
+
+use bhv::number::Value;
+use bhv::reader::{SetSpec, Templating};
+
+use super::{Helm, HelmState};
+use crate::config::HelmConfig;
+use crate::factory::BehaviorFactory;
+use crate::info_buffer::InfoBuffer;
+use crate::posting::DuplicateFilter;
+use crate::runtime::{apply_config_line, BehaviorCore, BehaviorInstance, HostEnv};
+
+/// Why the helm would not drive: every configuration problem, one per line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildError(pub Vec<String>);
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0.join("\n"))
+    }
+}
+
+impl std::error::Error for BuildError {}
+
+fn names_conflict(a: &str, b: &str) -> bool {
+    a.starts_with(b) || b.starts_with(a)
+}
+
+impl Helm {
+    /// Build the helm from its configuration and the parsed `.bhv` files. Problems do not
+    /// fail the build: they are kept as configuration warnings and the helm is MALCONFIG,
+    /// as the real helm does.
+    pub fn new(
+        config: HelmConfig,
+        spec: SetSpec,
+        factory: &BehaviorFactory,
+        ownship: &str,
+        mut warnings: Vec<String>,
+    ) -> Helm {
+        let env = HostEnv {
+            ownship: ownship.to_string(),
+            helm_iteration: 0,
+            helm_domain: config.domain_string(),
+        };
+        let ib = InfoBuffer::new(0.0);
+        let mut behaviors: Vec<BehaviorInstance> = Vec::new();
+        let mut startup_messages = Vec::new();
+        if config.domain.size() == 0 {
+            warnings.push("No decision domain: add `domain = name:low:high:points` lines".into());
+        }
+        for bs in &spec.behaviors {
+            let where_ = format!("{}:{}", bs.file.display(), bs.line);
+            let Some(bhv) = factory.create(&bs.type_name, &env.helm_domain) else {
+                let dirs = if factory.searched_dirs.is_empty() {
+                    "none (set IVP_BEHAVIOR_DIRS or ivp_behavior_dir)".to_string()
+                } else {
+                    factory.searched_dirs.join(", ")
+                };
+                warnings.push(format!(
+                    "{where_}: unknown behavior type {} (directories searched: {dirs})",
+                    bs.type_name
+                ));
+                continue;
+            };
+            let default_name = bhv.default_name().to_string();
+            let empty_domain = bhv.domain().is_empty();
+            let mut inst = BehaviorInstance {
+                bhv,
+                core: BehaviorCore::new(&bs.type_name, &default_name, ownship),
+            };
+            inst.core.empty_domain = empty_domain;
+            apply_config_line(&mut inst, &env, &ib, "us", ownship);
+            for line in &bs.lines {
+                if !apply_config_line(&mut inst, &env, &ib, &line.param, &line.value) {
+                    warnings.push(format!(
+                        "{}:{}: bad behavior parameter: {}",
+                        bs.file.display(),
+                        line.line,
+                        line.raw.trim()
+                    ));
+                }
+            }
+            match inst.bhv.collective_check().into_result() {
+                Ok(msg) if !msg.is_empty() => warnings.push(format!("{where_}: {msg}")),
+                Ok(_) => {}
+                Err(p) => warnings.push(format!("{where_}: behavior panicked while checking: {p}")),
+            }
+            let hook = {
+                let (b, core) = (&mut inst.bhv, &mut inst.core);
+                crate::runtime::with_ctx_pub(core, &env, &ib, |ctx| b.on_helm_start(ctx))
+            };
+            if let Err(p) = hook.into_result() {
+                warnings.push(format!("{where_}: behavior panicked at helm start: {p}"));
+            }
+            for m in inst.core.messages.drain(..) {
+                startup_messages.push((m.var, m.value));
+            }
+            if bs.templating == Templating::Spawn {
+                continue;
+            }
+            if let Some(other) = behaviors
+                .iter()
+                .find(|b| names_conflict(&b.core.name, &inst.core.name))
+            {
+                let _ = other;
+                warnings.push(format!(
+                    "{where_}: Duplicate behavior name found: {}",
+                    inst.core.name
+                ));
+            }
+            behaviors.push(inst);
+        }
+        let state = if !warnings.is_empty() {
+            HelmState::Malconfig
+        } else if config.standby.is_some() {
+            HelmState::Standby
+        } else if config.start_in_drive {
+            HelmState::Drive
+        } else {
+            HelmState::Park
+        };
+        let has_control = config.start_in_drive && state != HelmState::Malconfig;
+        let bhv_files = spec.files.iter().map(|f| f.display().to_string()).collect();
+        Helm {
+            app_name: "pHelmIvP".into(),
+            env,
+            bhv_cnt_ever: behaviors.len(),
+            behaviors,
+            inits: spec.inits,
+            modes: spec.modes,
+            bhv_files,
+            startup_messages,
+            ib,
+            filter: DuplicateFilter::default(),
+            solver: ivp::Solver::new(),
+            decision: ivp::Decision::default(),
+            state,
+            has_control,
+            start_time: 0.0,
+            iteration: 0,
+            mail_this_cycle: false,
+            helm_state_seen: false,
+            deferred_done: false,
+            allstop: String::new(),
+            no_decision_count: 0,
+            no_goal_count: 0,
+            refresh_pending: false,
+            last_refresh: 0.0,
+            registered: Vec::new(),
+            config_warnings: warnings,
+            outbox: Vec::new(),
+            last_posted: Default::default(),
+            statevars: Vec::new(),
+            completed_pending_last: None,
+            completed_count_last: None,
+            life_events: Vec::new(),
+            turn_samples: Vec::new(),
+            functions: Vec::new(),
+            mode_pairs: Vec::new(),
+            config,
+        }
+    }
+
+    /// Start-up (helm.md §5): returns what the helm publishes.
+    pub fn startup(&mut self, now: f64) -> &[crate::posting::Posting] {
+        self.outbox.clear();
+        self.start_time = now;
+        self.ib = InfoBuffer::new(now);
+        self.post_num("PHELMIVP_PID", f64::from(std::process::id()));
+        if self.state != HelmState::Malconfig || !self.behaviors.is_empty() {
+            let (env, ib) = (&self.env, &self.ib);
+            for inst in &mut self.behaviors {
+                let (b, core) = (&mut inst.bhv, &mut inst.core);
+                let r =
+                    crate::runtime::with_ctx_pub(core, env, ib, |ctx| b.on_params_complete(ctx));
+                if let Err(p) = r.into_result() {
+                    crate::runtime::fault_pub(core, &format!("behavior panicked: {p}"));
+                }
+            }
+        }
+        // Non-deferred initializations, in file order.
+        let inits = std::mem::take(&mut self.inits);
+        for init in &inits {
+            if init.deferred {
+                self.register(&init.var);
+                continue;
+            }
+            let value = init_value(&init.value);
+            self.ib.set_value(&init.var, &value, now);
+            self.post(&init.var, value, "HELM_VAR_INIT");
+        }
+        self.inits = inits;
+        self.register("IVPHELM_STATE");
+        if self.config.hold_on_apps.is_empty() {
+            for (var, value) in std::mem::take(&mut self.startup_messages) {
+                self.ib.set_value(&var, &value, now);
+                self.post(&var, value, "HELM_STARTUP_MSG");
+            }
+        }
+        self.register_all();
+        for f in self.bhv_files.clone() {
+            self.post_str("PLOGGER_CMD", &format!("COPY_FILE_REQUEST = {f}"));
+        }
+        let dom = self.env.helm_domain.clone();
+        self.post_str("IVPHELM_DOMAIN", &dom);
+        let modeset = self.modes.modeset_string();
+        self.post_str("IVPHELM_MODESET", &modeset);
+        for v in [
+            "IVPHELM_BHV_ACTIVE_CNT",
+            "IVPHELM_BHV_IDLE_CNT",
+            "IVPHELM_BHV_RUNNING_CNT",
+            "IVPHELM_BHV_DISABLED_CNT",
+        ] {
+            self.post_num(v, 0.0);
+        }
+        if !self.config.helm_alias.is_empty() {
+            let a = self.config.helm_alias.clone();
+            self.post_str("IVPHELM_ALIAS", &a);
+        }
+        for inst in &self.behaviors {
+            self.life_events.push(format!(
+                "bname={}, btype={}, event=spawn, seed=helm_startup",
+                inst.core.name, inst.core.type_name
+            ));
+        }
+        &self.outbox
+    }
+
+    /// Every variable the helm needs (helm.md §4.1).
+    pub(crate) fn register_all(&mut self) {
+        for v in [
+            "DB_CLIENTS",
+            "MOOS_MANUAL_OVERIDE",
+            "MOOS_MANUAL_OVERRIDE",
+            "RESTART_HELM",
+            "IVPHELM_REJOURNAL",
+            "BHV_ABLE_FILTER",
+            "NAV_X",
+            "NAV_Y",
+            "NAV_SPEED",
+            "NAV_HEADING",
+            "NAV_DEPTH",
+            "HELM_MAP_CLEAR",
+            "AIS_REPORT",
+            "NODE_REPORT",
+            "AIS_REPORT_LOCAL",
+            "NODE_REPORT_LOCAL",
+        ] {
+            self.register(v);
+        }
+        let other = self.config.other_override_var.clone();
+        self.register(&other);
+        let mut vars = Vec::new();
+        for inst in &self.behaviors {
+            vars.extend(inst.core.subscriptions());
+        }
+        vars.extend(self.modes.vars());
+        for v in vars {
+            self.register(&v);
+        }
+    }
+}
+
+/// An initialization value; an empty string is posted as the number 0 (quirk).
+fn init_value(v: &Value) -> Value {
+    match v {
+        Value::Str(s) if s.is_empty() => Value::Num(0.0),
+        other => other.clone(),
+    }
+}

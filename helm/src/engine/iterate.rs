@@ -1,0 +1,335 @@
+//! One helm iteration (helm.md §6), the decision (§7) and the all-stop logic (§9).
+
+use super::{Helm, HelmState};
+use crate::posting::{Posting, Value};
+use crate::runtime::step;
+
+/// What the decision step produced, for the all-stop evaluation.
+#[derive(Debug, Default)]
+pub(crate) struct DecisionSummary {
+    pub halted: Option<String>,
+    pub functions: usize,
+    pub solved: bool,
+}
+
+impl Helm {
+    fn enabled(&self) -> bool {
+        matches!(self.state, HelmState::Park | HelmState::Drive)
+    }
+
+    fn nav_ready(&self) -> bool {
+        let mut ok = ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]
+            .iter()
+            .all(|v| self.ib.is_known(v));
+        if self.config.domain.index_of("depth").is_some() {
+            ok &= self.ib.is_known("NAV_DEPTH");
+        }
+        ok
+    }
+
+    /// One iteration at MOOS time `now`: returns what the helm publishes.
+    pub fn iterate(&mut self, now: f64) -> &[Posting] {
+        self.outbox.clear();
+        self.iteration += 1;
+        if !self.mail_this_cycle {
+            self.ib.set_curr_time(now);
+        }
+        self.mail_this_cycle = false;
+
+        // Status update (§3).
+        if self.enabled() {
+            self.state = if self.has_control {
+                HelmState::Drive
+            } else {
+                HelmState::Park
+            };
+        }
+        let mut state = self.state.as_str().to_string();
+        if self.config.standby.is_some() && self.enabled() {
+            state.push('+');
+        }
+        if self.state == HelmState::Disabled {
+            self.post_on_change("IVPHELM_STATE", Value::Str(state));
+        } else {
+            self.post_str("IVPHELM_STATE", &state);
+        }
+        if !self.enabled() {
+            self.ib.clear_deltas();
+            return &self.outbox;
+        }
+        if !self.nav_ready() {
+            return &self.outbox;
+        }
+        if self.helm_state_seen && !self.deferred_done {
+            self.deferred_done = true;
+            for i in 0..self.inits.len() {
+                let init = &self.inits[i];
+                if !init.deferred || self.ib.is_known(&init.var) {
+                    continue;
+                }
+                let (var, value) = (init.var.clone(), init.value.clone());
+                let value = match value {
+                    Value::Str(s) if s.is_empty() => Value::Num(0.0),
+                    v => v,
+                };
+                self.ib.set_value(&var, &value, now);
+                self.post(&var, value, "HELM_VAR_INIT");
+            }
+        }
+        if self.state == HelmState::Park {
+            self.all_stop("ManualOverride");
+            self.ib.clear_deltas();
+            return &self.outbox;
+        }
+        if now - self.start_time < 1.0 {
+            return &self.outbox;
+        }
+        self.post_turn_rate(now);
+
+        let summary = self.decide(now);
+
+        let results: Vec<String> = self
+            .behaviors
+            .iter_mut()
+            .flat_map(|b| std::mem::take(&mut b.core.update_results))
+            .collect();
+        for r in results {
+            self.post_str("IVPHELM_UPDATE_RESULT", &r);
+        }
+        if self.refresh_pending && now - self.last_refresh > 2.0 {
+            self.filter.clear();
+            self.last_refresh = now;
+            self.refresh_pending = false;
+        }
+        self.register_all();
+        self.publish_behavior_output(now);
+        self.post_num("IVPHELM_IPF_CNT", summary.functions as f64);
+        self.publish_behavior_lists();
+        self.decide_all_stop(&summary);
+        if self.config.park_on_allstop
+            && self.config.allow_park
+            && !self.allstop.eq_ignore_ascii_case("clear")
+        {
+            self.has_control = false;
+        }
+        self.ib.clear_deltas();
+        &self.outbox
+    }
+
+    fn post_turn_rate(&mut self, now: f64) {
+        let h = self.ib.dval("NAV_HEADING").unwrap_or(0.0);
+        self.turn_samples.push((now, h));
+        self.turn_samples.retain(|(t, _)| now - t <= 5.0);
+        let n = self.turn_samples.len();
+        let mut rate = 0.0;
+        if n > 1 {
+            let mut sum = 0.0;
+            for w in self.turn_samples.windows(2) {
+                let mut d = w[1].1 - w[0].1;
+                if d > 180.0 {
+                    d -= 360.0;
+                } else if d < -180.0 {
+                    d += 360.0;
+                }
+                sum += d;
+            }
+            rate = sum / (n - 1) as f64;
+        }
+        self.post_num("TURN_RATE", rate);
+    }
+
+    /// The engine iteration (§7): modes, behaviors, solve.
+    fn decide(&mut self, now: f64) -> DecisionSummary {
+        self.env.helm_iteration += 1;
+        let iter = self.env.helm_iteration;
+        let mut summary = DecisionSummary::default();
+
+        // Modes, before any behavior runs.
+        let pairs: Vec<(String, String)> = self.modes.evaluate(&self.ib).to_vec();
+        for (var, val) in &pairs {
+            let v = typed(val);
+            self.ib.set_value(var, &v, now);
+        }
+        self.mode_pairs = pairs;
+
+        self.functions.clear();
+        for i in 0..self.behaviors.len() {
+            let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
+            if let Some(fd) = outcome.function {
+                let name = self.behaviors[i].core.name.clone();
+                match self.to_ivp(fd) {
+                    Ok(mut f) => {
+                        // BHV_IPF shows the function before normalization, pwt apart.
+                        f.set_context(&format!("{iter}:{name}"));
+                        let whole = f.to_ipf_string();
+                        let id = format!("{name}^{iter}");
+                        for p in ivp::ipf_packets(&id, &whole) {
+                            self.behaviors[i]
+                                .core
+                                .messages
+                                .push(crate::runtime::Message {
+                                    var: "BHV_IPF".into(),
+                                    value: Value::Str(p),
+                                    key: "repeatable".into(),
+                                });
+                        }
+                        self.functions.push((name, f));
+                    }
+                    Err(msg) => {
+                        summary.halted = Some(msg.clone());
+                        crate::runtime::fault_pub(&mut self.behaviors[i].core, &msg);
+                        break;
+                    }
+                }
+            }
+            if !self.behaviors[i].core.ok {
+                let last = self.behaviors[i]
+                    .core
+                    .messages
+                    .iter()
+                    .rev()
+                    .find(|m| m.var == "BHV_ERROR")
+                    .and_then(|m| match &m.value {
+                        Value::Str(s) => Some(s.clone()),
+                        Value::Num(_) => None,
+                    });
+                let text = self
+                    .ib
+                    .sval("BHV_ERROR")
+                    .map(str::to_string)
+                    .or(last)
+                    .unwrap_or_else(|| " - unknown - ".into());
+                summary.halted = Some(format!("BHV_ERROR: {text}"));
+                break;
+            }
+        }
+        summary.functions = self.functions.len();
+        if summary.halted.is_some() || self.functions.is_empty() {
+            return summary;
+        }
+        self.functions
+            .sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
+        let refs: Vec<&ivp::IvpFunction> = self.functions.iter().map(|(_, f)| f).collect();
+        match self
+            .solver
+            .solve_into(&self.config.domain, &refs, &mut self.decision)
+        {
+            Ok(found) => summary.solved = found,
+            Err(e) => summary.halted = Some(e.to_string()),
+        }
+        summary
+    }
+
+    /// A function from a behavior, placed on the helm domain's variables.
+    fn to_ivp(&self, fd: behavior_api::FunctionData) -> Result<ivp::IvpFunction, String> {
+        let mut vars = Vec::new();
+        for name in fd.var_names() {
+            match self.config.domain.index_of(name) {
+                Some(i) => vars.push(self.config.domain.var(i).clone()),
+                None => return Err(format!("DomainVar {name} not recognized ")),
+            }
+        }
+        let raw = ivp::RawFunction {
+            vars,
+            bounds: fd.bounds.into_vec(),
+            weights: fd.weights.into_vec(),
+            pwt: fd.pwt,
+            context: String::new(),
+            gelbox: fd.gelbox.into_vec(),
+            grid: fd.grid.into_vec(),
+        };
+        ivp::IvpFunction::from_raw_parts(raw).map_err(|e| format!("IvP function rejected: {e}"))
+    }
+
+    /// §9.1: all-stop or the decision.
+    fn decide_all_stop(&mut self, s: &DecisionSummary) {
+        let mut msg = "clear".to_string();
+        if s.halted.is_some() {
+            msg = "BehaviorError".into();
+        } else if s.functions == 0 {
+            msg = "NothingToDo".into();
+        } else if self.config.goals_mandatory && s.functions == 0 {
+            msg = "NoGoalBehavior".into();
+        } else {
+            let missing: Vec<String> = (0..self.config.domain.size())
+                .filter(|&i| {
+                    !self.config.optional.get(i).copied().unwrap_or(false)
+                        && self.decision.values.get(i).copied().flatten().is_none()
+                })
+                .map(|i| self.config.domain.var(i).name.clone())
+                .collect();
+            if !missing.is_empty() || !s.solved {
+                msg = format!("MissingDecVars:{}", missing.join(","));
+                self.post_str("BHV_ERROR", &msg);
+            }
+        }
+        if msg != "clear" {
+            self.all_stop(&msg);
+            return;
+        }
+        self.all_stop("clear");
+        for i in 0..self.config.domain.size() {
+            if let Some(v) = self.decision.values.get(i).copied().flatten() {
+                let var = desired_var(&self.config.helm_prefix, &self.config.domain.var(i).name);
+                self.post_num(&var, v);
+            }
+        }
+    }
+
+    /// §9.2: the all-stop routine.
+    pub(crate) fn all_stop(&mut self, m: &str) {
+        if !self.enabled() || m == self.allstop {
+            return;
+        }
+        if !m.is_empty() {
+            self.allstop = m.to_string();
+        }
+        if m == "NothingToDo" || m.starts_with("MissingDecVars") {
+            self.no_decision_count += 1;
+        } else {
+            self.no_decision_count = 0;
+        }
+        if m == "NoGoalBehavior" {
+            self.no_goal_count += 1;
+        } else {
+            self.no_goal_count = 0;
+        }
+        let current = self.allstop.clone();
+        self.post_str("IVPHELM_ALLSTOP", &current);
+        if current.eq_ignore_ascii_case("clear") {
+            return;
+        }
+        if self.no_decision_count == 1 {
+            self.allstop = "IncompleteOrEmptyDecision".into();
+            return;
+        }
+        if self.no_goal_count == 1 {
+            self.allstop = "NoActiveGoalBehavior".into();
+            return;
+        }
+        for i in 0..self.config.domain.size() {
+            let var = desired_var("", &self.config.domain.var(i).name);
+            self.post_num(&var, 0.0);
+        }
+    }
+}
+
+/// `DESIRED_<UPPER(name)>`, with course published as heading.
+fn desired_var(prefix: &str, name: &str) -> String {
+    let up = name.to_ascii_uppercase();
+    let up = if up == "COURSE" {
+        "HEADING".to_string()
+    } else {
+        up
+    };
+    format!("{prefix}DESIRED_{up}")
+}
+
+/// A mode or init value: numeric if it is a number.
+pub(crate) fn typed(s: &str) -> Value {
+    if bhv::number::is_number(s) {
+        Value::Num(bhv::number::atof(s))
+    } else {
+        Value::Str(s.to_string())
+    }
+}

@@ -1,0 +1,104 @@
+//! Mail processing before each iteration (helm.md §4.2).
+
+use super::{Helm, HelmState};
+use crate::posting::Value;
+
+/// One incoming MOOS message.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mail {
+    pub var: String,
+    pub value: Value,
+    /// The message's own timestamp.
+    pub time: f64,
+    pub source: String,
+    pub source_aux: String,
+}
+
+impl Helm {
+    /// Take one batch of mail into the info buffer.
+    pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
+        if self.state == HelmState::Disabled {
+            return;
+        }
+        self.ib.set_curr_time(now);
+        self.mail_this_cycle = true;
+        for m in batch {
+            self.handle_one(now, m);
+        }
+        self.ib.set_string("COMMS_POLICY", "open", now);
+        if self.state == HelmState::Standby {
+            // A standby helm takes over once the primary has gone quiet.
+            if let (Some(t), Some(last)) = (self.config.standby, self.last_posted.get("__hb")) {
+                if let Ok(last) = last.parse::<f64>() {
+                    if now - last > t {
+                        self.state = if self.has_control {
+                            HelmState::Drive
+                        } else {
+                            HelmState::Park
+                        };
+                    }
+                }
+            }
+        }
+    }
+
+    fn from_self(&self, m: &Mail) -> bool {
+        m.source == self.app_name
+    }
+
+    fn handle_one(&mut self, now: f64, m: &Mail) {
+        if let Some(ok_skew) = self.config.ok_skew {
+            let skew = (now - m.time).abs();
+            if skew > ok_skew && !self.from_self(m) && m.var != "HELM_MAP_CLEAR" {
+                let text = format!(
+                    "Helm ignores MOOS msg due to skew: {} Source={} Skew={:.2}",
+                    m.var, m.source, skew
+                );
+                tracing::warn!("{text}");
+                self.post_str("IVPHELM_SKEW", &format!("{text} curr_time: {now:.3}"));
+                return;
+            }
+        }
+        let var = m.var.as_str();
+        let is_override = var == "MOOS_MANUAL_OVERIDE"
+            || var == "MOOS_MANUAL_OVERRIDE"
+            || (!self.config.other_override_var.is_empty()
+                && var == self.config.other_override_var);
+        if is_override {
+            if let Value::Str(s) = &m.value {
+                if s.eq_ignore_ascii_case("false") {
+                    self.has_control = true;
+                } else if s.eq_ignore_ascii_case("true") && self.config.allow_park {
+                    self.has_control = false;
+                }
+            }
+            self.ib.set_value(var, &m.value, m.time);
+            return;
+        }
+        match var {
+            "IVPHELM_STATE" => {
+                self.helm_state_seen = true;
+                if !self.from_self(m) {
+                    if self.config.standby.is_some() {
+                        if self.state == HelmState::Standby {
+                            self.last_posted.insert("__hb", format!("{now}"));
+                        } else {
+                            self.refresh_pending = true;
+                        }
+                    } else if !matches!(&m.value, Value::Str(s) if s == "STANDBY") {
+                        self.all_stop("DisabledByStandbyHelm");
+                        self.state = HelmState::Disabled;
+                    }
+                }
+            }
+            "DB_CLIENTS" | "RESTART_HELM" | "IVPHELM_REJOURNAL" | "BHV_ABLE_FILTER" => {}
+            "NODE_REPORT_LOCAL" => {}
+            "HELM_MAP_CLEAR" => self.refresh_pending = true,
+            _ => {
+                if m.source_aux != "HELM_VAR_INIT" {
+                    self.ib.set_value(var, &m.value, m.time);
+                }
+            }
+        }
+    }
+}

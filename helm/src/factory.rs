@@ -1,0 +1,55 @@
+//! Where behaviors come from: the types compiled into the helm, and (see `loader`) the
+//! libraries found in behavior directories. Both hand out the same ABI trait object.
+
+use behavior_api::sdk::HelmDomain;
+use behavior_api::BehaviorBox;
+
+/// Constructor of a built-in behavior type.
+pub type BuiltinCtor = fn(&HelmDomain) -> BehaviorBox;
+
+/// Creates behaviors by type name.
+pub struct BehaviorFactory {
+    builtins: Vec<(&'static str, BuiltinCtor)>,
+    libraries: Vec<crate::loader::LoadedLibrary>,
+    /// Directories searched for libraries, for error messages.
+    pub searched_dirs: Vec<String>,
+}
+
+impl BehaviorFactory {
+    /// The built-in types only (BHV_Waypoint, BHV_Loiter, BHV_Timer).
+    pub fn with_builtins() -> Self {
+        BehaviorFactory {
+            builtins: Vec::new(), // TEMP
+            libraries: Vec::new(),
+            searched_dirs: Vec::new(),
+        }
+    }
+
+    pub fn add_library(&mut self, lib: crate::loader::LoadedLibrary) {
+        self.libraries.push(lib);
+    }
+
+    pub fn libraries(&self) -> &[crate::loader::LoadedLibrary] {
+        &self.libraries
+    }
+
+    pub fn is_builtin(&self, type_name: &str) -> bool {
+        self.builtins.iter().any(|(n, _)| *n == type_name)
+    }
+
+    /// Whether some source offers `type_name` (built-in types win).
+    pub fn knows(&self, type_name: &str) -> bool {
+        self.is_builtin(type_name) || self.libraries.iter().any(|l| l.offers(type_name))
+    }
+
+    /// A new behavior of `type_name` for the helm domain (`name,low,high,points:...`).
+    pub fn create(&self, type_name: &str, helm_domain: &str) -> Option<BehaviorBox> {
+        if let Some((_, ctor)) = self.builtins.iter().find(|(n, _)| *n == type_name) {
+            return Some(ctor(&HelmDomain::new(helm_domain)));
+        }
+        self.libraries
+            .iter()
+            .find(|l| l.offers(type_name))
+            .and_then(|l| l.create(type_name, helm_domain))
+    }
+}

@@ -1,0 +1,199 @@
+//! The info buffer: the behaviors' view of MOOS data (behavior-common.md §7).
+
+use std::collections::HashMap;
+
+use bhv::logic::VarSource;
+
+#[derive(Debug, Default, Clone)]
+struct Entry {
+    sval: Option<String>,
+    dval: Option<f64>,
+    /// Buffer time of the last write (any type).
+    time: f64,
+    /// Timestamp of the message that last wrote it.
+    msg_time: f64,
+    str_deltas: Vec<String>,
+    dbl_deltas: Vec<f64>,
+}
+
+/// Latest values per variable, their times, and this iteration's values.
+#[derive(Debug, Default)]
+pub struct InfoBuffer {
+    vars: HashMap<String, Entry>,
+    /// Variables with deltas this iteration, so clearing touches only those.
+    touched: Vec<String>,
+    curr_time: f64,
+    start_time: f64,
+}
+
+impl InfoBuffer {
+    pub fn new(start_time: f64) -> Self {
+        InfoBuffer {
+            curr_time: start_time,
+            start_time,
+            ..Default::default()
+        }
+    }
+
+    pub fn set_curr_time(&mut self, t: f64) {
+        self.curr_time = t;
+    }
+    pub fn curr_time(&self) -> f64 {
+        self.curr_time
+    }
+    pub fn local_time(&self) -> f64 {
+        self.curr_time - self.start_time
+    }
+
+    fn entry(&mut self, var: &str) -> &mut Entry {
+        if !self.vars.contains_key(var) {
+            self.vars.insert(var.to_string(), Entry::default());
+        }
+        // The entry was just ensured above.
+        self.vars.get_mut(var).expect("entry exists")
+    }
+
+    fn touch(&mut self, var: &str, first_delta: bool) {
+        if first_delta {
+            self.touched.push(var.to_string());
+        }
+    }
+
+    pub fn set_string(&mut self, var: &str, val: &str, msg_time: f64) {
+        let now = self.curr_time;
+        let e = self.entry(var);
+        let first = e.str_deltas.is_empty() && e.dbl_deltas.is_empty();
+        match &mut e.sval {
+            Some(s) => {
+                s.clear();
+                s.push_str(val);
+            }
+            None => e.sval = Some(val.to_string()),
+        }
+        e.time = now;
+        e.msg_time = msg_time;
+        e.str_deltas.push(val.to_string());
+        self.touch(var, first);
+    }
+
+    pub fn set_double(&mut self, var: &str, val: f64, msg_time: f64) {
+        let now = self.curr_time;
+        let e = self.entry(var);
+        let first = e.str_deltas.is_empty() && e.dbl_deltas.is_empty();
+        e.dval = Some(val);
+        e.time = now;
+        e.msg_time = msg_time;
+        e.dbl_deltas.push(val);
+        self.touch(var, first);
+    }
+
+    pub fn set_value(&mut self, var: &str, val: &crate::posting::Value, msg_time: f64) {
+        match val {
+            crate::posting::Value::Str(s) => self.set_string(var, s, msg_time),
+            crate::posting::Value::Num(v) => self.set_double(var, *v, msg_time),
+        }
+    }
+
+    pub fn is_known(&self, var: &str) -> bool {
+        self.vars.contains_key(var)
+    }
+    pub fn dval(&self, var: &str) -> Option<f64> {
+        self.vars.get(var).and_then(|e| e.dval)
+    }
+    pub fn sval(&self, var: &str) -> Option<&str> {
+        self.vars.get(var).and_then(|e| e.sval.as_deref())
+    }
+
+    /// `getBufferDoubleVal`: the number, else a numeric string converted, else the
+    /// `_DELTA` convention, else none.
+    pub fn double_val(&self, var: &str) -> Option<f64> {
+        if let Some(e) = self.vars.get(var) {
+            if let Some(d) = e.dval {
+                return Some(d);
+            }
+            if let Some(s) = &e.sval {
+                if bhv::number::is_number(s) {
+                    return Some(bhv::number::atof(s));
+                }
+            }
+            return None;
+        }
+        let base = var.strip_suffix("_DELTA")?;
+        let v = self.double_val(base)?;
+        Some(self.curr_time - v)
+    }
+
+    /// `getBufferStringVal`: the string, else the number printed `%.6f`.
+    pub fn string_val(&self, var: &str) -> Option<String> {
+        let e = self.vars.get(var)?;
+        if let Some(s) = &e.sval {
+            return Some(s.clone());
+        }
+        e.dval.map(|d| format!("{d:.6}"))
+    }
+
+    /// Seconds since the variable was last written; -1 if never.
+    pub fn time_val(&self, var: &str) -> f64 {
+        self.vars.get(var).map_or(-1.0, |e| self.curr_time - e.time)
+    }
+    /// Seconds since the timestamp of the message that last wrote it; -1 if never.
+    pub fn msg_time_val(&self, var: &str) -> f64 {
+        self.vars
+            .get(var)
+            .map_or(-1.0, |e| self.curr_time - e.msg_time)
+    }
+    /// Buffer time of the last write, if any.
+    pub fn update_time(&self, var: &str) -> Option<f64> {
+        self.vars.get(var).map(|e| e.time)
+    }
+
+    pub fn string_deltas(&self, var: &str) -> &[String] {
+        self.vars.get(var).map_or(&[], |e| &e.str_deltas)
+    }
+    pub fn double_deltas(&self, var: &str) -> &[f64] {
+        self.vars.get(var).map_or(&[], |e| &e.dbl_deltas)
+    }
+
+    /// End of an iteration (or parked): this iteration's values are forgotten.
+    pub fn clear_deltas(&mut self) {
+        for var in self.touched.drain(..) {
+            if let Some(e) = self.vars.get_mut(&var) {
+                e.str_deltas.clear();
+                e.dbl_deltas.clear();
+            }
+        }
+    }
+}
+
+impl VarSource for InfoBuffer {
+    fn string_val(&self, var: &str) -> Option<&str> {
+        self.sval(var)
+    }
+    fn double_val(&self, var: &str) -> Option<f64> {
+        self.dval(var)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_times_and_deltas() {
+        let mut b = InfoBuffer::new(100.0);
+        assert_eq!(b.time_val("X"), -1.0);
+        b.set_double("X", 3.0, 100.0);
+        b.set_string("X", "abc", 100.0);
+        assert_eq!(b.dval("X"), Some(3.0));
+        assert_eq!(b.sval("X"), Some("abc"));
+        assert_eq!(b.string_deltas("X"), ["abc".to_string()]);
+        b.set_curr_time(101.5);
+        assert_eq!(b.time_val("X"), 1.5);
+        b.clear_deltas();
+        assert!(b.double_deltas("X").is_empty());
+        assert_eq!(b.string_val("Y"), None);
+        b.set_double("Y", 2.0, 101.5);
+        assert_eq!(b.string_val("Y").as_deref(), Some("2.000000"));
+        assert_eq!(b.double_val("Y_DELTA"), Some(99.5));
+    }
+}
