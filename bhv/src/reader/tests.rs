@@ -456,3 +456,28 @@ fn parses_real_example() {
     assert_eq!(s.modes.entries().len(), 2);
     assert_eq!(s.behaviors[0].lines[1].value, "MODE == SURVEYING");
 }
+
+proptest::proptest! {
+    #[test]
+    fn reader_never_panics(t in "[a-zA-Z_ =\\{\\}/#\\\\\n\"(),:!<>0-9]{0,80}") {
+        let _ = parse_str(&t, Path::new("p.bhv"));
+    }
+
+    #[test]
+    fn keyword_case_insensitive(kw in "[iI][nN][iI][tT][iI][aA][lL][iI][zZ][eE]") {
+        let s = parse_str(&format!("{kw} A = 1\n"), Path::new("p.bhv"));
+        proptest::prop_assert!(s.is_ok());
+        if let Ok(s) = s {
+            proptest::prop_assert!(!s.inits[0].deferred);
+        }
+    }
+}
+
+proptest::proptest! {
+    #[test]
+    fn arbitrary_text_never_panics(t in "(.|\n|[{}=()#\\\\/ ]){0,60}") {
+        let _ = parse_str(&t, Path::new("p.bhv"));
+        let _ = crate::logic::LogicCondition::parse(&t);
+        let _ = crate::flag::parse_flag(&t);
+    }
+}
