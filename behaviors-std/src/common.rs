@@ -1,0 +1,196 @@
+//! Helpers shared by the standard behaviors: value parsing the way the reference does it,
+//! the platform (ownship) update and macro substitution.
+
+use behavior_api::sdk::Ctx;
+
+/// The number test of bhv-format.md §8.6 followed by the value (`atof`).
+pub fn parse_number(s: &str) -> Option<f64> {
+    let t = s.trim();
+    let t = match t.strip_prefix('+') {
+        Some(r) if !r.is_empty() => r,
+        _ => t,
+    };
+    if t.is_empty() {
+        return None;
+    }
+    let mut digits = 0;
+    let mut dots = 0;
+    let mut seen_num = false;
+    for c in t.chars() {
+        match c {
+            '0'..='9' => {
+                digits += 1;
+                seen_num = true;
+            }
+            '.' => {
+                dots += 1;
+                seen_num = true;
+            }
+            '-' if !seen_num => {}
+            _ => return None,
+        }
+    }
+    if digits == 0 || dots > 1 {
+        return None;
+    }
+    // Leading minus signs: an odd count is negative (atof reads only one; more than one
+    // makes atof return 0).
+    let minus = t.chars().take_while(|c| *c == '-').count();
+    let body = &t[minus..];
+    let v: f64 = body.parse().ok()?;
+    Some(match minus {
+        0 => v,
+        1 => -v,
+        _ => 0.0,
+    })
+}
+
+/// A non-negative number.
+pub fn parse_nonneg(s: &str) -> Option<f64> {
+    parse_number(s).filter(|v| *v >= 0.0)
+}
+
+/// Boolean words: true/false, yes/no, on/off (any case).
+pub fn parse_bool(s: &str) -> Option<bool> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "true" | "yes" | "on" => Some(true),
+        "false" | "no" | "off" => Some(false),
+        _ => None,
+    }
+}
+
+/// A variable name: non-empty, no white space.
+pub fn no_white(s: &str) -> Option<&str> {
+    let t = s.trim();
+    (!t.is_empty() && !t.chars().any(char::is_whitespace)).then_some(t)
+}
+
+/// Ownship as read by the platform update.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Platform {
+    pub x: f64,
+    pub y: f64,
+    pub heading: f64,
+    pub speed: f64,
+}
+
+/// `updatePlatformInfo`: NAV_X/NAV_Y/NAV_HEADING required (BHV_ERROR otherwise),
+/// NAV_SPEED optional (warning only, 0). Records the values for `$[OSX]`...
+pub fn platform_update(ctx: &mut Ctx<'_>) -> Option<Platform> {
+    let x = ctx.get_buffer_double_val("NAV_X");
+    let y = ctx.get_buffer_double_val("NAV_Y");
+    let (Some(x), Some(y)) = (x, y) else {
+        ctx.post_emessage("No ownship X/Y info in info_buffer.");
+        return None;
+    };
+    let Some(h) = ctx.get_buffer_double_val("NAV_HEADING") else {
+        ctx.post_emessage("No ownship heading info in info_buffer.");
+        return None;
+    };
+    let heading = geometry::angle360(h);
+    let speed = ctx.get_buffer_double_val("NAV_SPEED").unwrap_or(0.0);
+    ctx.set_platform(x, y, heading, speed);
+    Some(Platform {
+        x,
+        y,
+        heading,
+        speed,
+    })
+}
+
+/// Replace `$[KEY]` and `$(KEY)` by `value` everywhere in `text`.
+pub fn subst(text: &mut String, key: &str, value: &str) {
+    for pat in [format!("$[{key}]"), format!("$({key})")] {
+        if text.contains(&pat) {
+            *text = text.replace(&pat, value);
+        }
+    }
+}
+
+/// Variables appearing as the left operand of a comparison in a logic condition.
+pub fn condition_vars(cond: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let bytes: Vec<char> = cond.chars().collect();
+    let mut i = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        if c == '=' || c == '<' || c == '>' || c == '!' {
+            // walk back over blanks, then collect the identifier
+            let mut j = i;
+            while j > 0 && bytes[j - 1] == ' ' {
+                j -= 1;
+            }
+            let end = j;
+            while j > 0 && (bytes[j - 1].is_alphanumeric() || bytes[j - 1] == '_') {
+                j -= 1;
+            }
+            if j < end {
+                let word: String = bytes[j..end].iter().collect();
+                let lower = word.to_ascii_lowercase();
+                if lower != "and"
+                    && lower != "or"
+                    && parse_number(&word).is_none()
+                    && !out.contains(&word)
+                {
+                    out.push(word);
+                }
+            }
+            while i < bytes.len() && matches!(bytes[i], '=' | '<' | '>' | '!') {
+                i += 1;
+            }
+            continue;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// printf `%.0f` of a ratio, with C's spelling of infinities and NaN.
+pub fn fmt_f0(v: f64) -> String {
+    if v.is_nan() {
+        "nan".to_string()
+    } else if v.is_infinite() {
+        if v > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else {
+        format!("{v:.0}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers() {
+        assert_eq!(parse_number("3"), Some(3.0));
+        assert_eq!(parse_number(" -2.5 "), Some(-2.5));
+        assert_eq!(parse_number("+4"), Some(4.0));
+        assert_eq!(parse_number(".5"), Some(0.5));
+        assert_eq!(parse_number("1e3"), None);
+        assert_eq!(parse_number("1.2.3"), None);
+        assert_eq!(parse_number("abc"), None);
+        assert_eq!(parse_number(""), None);
+        assert_eq!(parse_number("-"), None);
+        assert_eq!(parse_number("3-"), None);
+        assert_eq!(parse_nonneg("-1"), None);
+        assert_eq!(parse_bool("TRUE"), Some(true));
+        assert_eq!(parse_bool("off"), Some(false));
+        assert_eq!(parse_bool("maybe"), None);
+        assert_eq!(no_white("A B"), None);
+        assert_eq!(no_white(" AB "), Some("AB"));
+    }
+
+    #[test]
+    fn macros_and_conditions() {
+        let mut s = "a=$[NI] b=$(NI) c=$[NIX]".to_string();
+        subst(&mut s, "NI", "3");
+        assert_eq!(s, "a=3 b=3 c=$[NIX]");
+        assert_eq!(
+            condition_vars("(LEAD = true) and (SPEED_OK != false) or X<=3"),
+            vec!["LEAD", "SPEED_OK", "X"]
+        );
+        assert_eq!(fmt_f0(f64::INFINITY), "inf");
+        assert_eq!(fmt_f0(f64::NAN), "nan");
+        assert_eq!(fmt_f0(2.5), "2");
+    }
+}

@@ -1,0 +1,674 @@
+//! BHV_Waypoint (behaviors-std.md §2): traverse a list of waypoints, optionally along
+//! the track lines with a lead point.
+
+pub mod engine;
+pub mod ipf;
+pub mod params;
+
+use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::{FunctionData, PostValue};
+use geometry::{
+    dist, fmt_x, perp_seg_int_pt, point_spec, project_point, pts_spec, rel_ang, seglist_spec,
+    Attrs, Polygon, Vertex,
+};
+
+use crate::common::{fmt_f0, platform_update, subst, Platform};
+use engine::{Advance, WaypointEngine};
+use params::WptHints;
+
+/// The BHV_Waypoint behavior.
+pub struct BhvWaypoint {
+    domain: String,
+    ivp_domain: Option<ivp::Domain>,
+    speed_high: Option<f64>,
+    pub(crate) engine: WaypointEngine,
+    cruise_speed: f64,
+    speed_alt: f64,
+    use_alt_speed: bool,
+    greedy_tour: bool,
+    draw_path_loop: bool,
+    var_report: String,
+    var_index: String,
+    var_cyindex: String,
+    var_dist_to_prev: String,
+    var_dist_to_next: String,
+    post_suffix: String,
+    wptflags: Vec<String>,
+    cycleflags: Vec<String>,
+    wptflag_on_start: bool,
+    wptflag_on_start_posted: bool,
+    reset_on_idle: bool,
+    eager_prev_index: bool,
+    ipf_type: String,
+    lead: f64,
+    lead_damper: f64,
+    lead_to_start: bool,
+    lead_conditions: Vec<String>,
+    capture_line_absolute: bool,
+    efficiency_all: bool,
+    crs_ratio: f64,
+    hints: WptHints,
+    end_spd: Option<(f64, f64)>,
+    start_intent: bool,
+    // run-time state
+    plat: Platform,
+    prev_pt: Option<(f64, f64)>,
+    prev_waypt_index: i64,
+    prev_cycle_index: u32,
+    nextpt: Option<(f64, f64)>,
+    trackpt: (f64, f64),
+    mark: Option<(f64, f64)>,
+    odo_prev: Option<(f64, f64)>,
+    odo_leg: f64,
+    odo_total: f64,
+    eff: Efficiency,
+}
+
+/// Odometry-based efficiency bookkeeping (`efficiency_measure=all`).
+#[derive(Clone, Debug, Default)]
+struct Efficiency {
+    baselined: bool,
+    leg_start: (f64, f64),
+    leg_time: f64,
+    all_linear: f64,
+    all_odo: f64,
+    all_linear_time: f64,
+    all_odo_time: f64,
+}
+
+impl BhvWaypoint {
+    pub fn new(helm: &HelmDomain) -> Self {
+        BhvWaypoint {
+            domain: helm.sub_domain(&["course", "speed"]),
+            ivp_domain: helm.ivp_domain(&["course", "speed"]),
+            speed_high: helm.var("speed").map(|v| v.high),
+            engine: WaypointEngine::new(),
+            cruise_speed: 0.0,
+            speed_alt: -1.0,
+            use_alt_speed: false,
+            greedy_tour: false,
+            draw_path_loop: false,
+            var_report: "WPT_STAT".into(),
+            var_index: "WPT_INDEX".into(),
+            var_cyindex: "CYCLE_INDEX".into(),
+            var_dist_to_prev: String::new(),
+            var_dist_to_next: String::new(),
+            post_suffix: String::new(),
+            wptflags: Vec::new(),
+            cycleflags: Vec::new(),
+            wptflag_on_start: false,
+            wptflag_on_start_posted: false,
+            reset_on_idle: false,
+            eager_prev_index: false,
+            ipf_type: "zaic".into(),
+            lead: -1.0,
+            lead_damper: -1.0,
+            lead_to_start: false,
+            lead_conditions: Vec::new(),
+            capture_line_absolute: false,
+            efficiency_all: false,
+            crs_ratio: 50.0,
+            hints: WptHints::default(),
+            end_spd: None,
+            start_intent: false,
+            plat: Platform::default(),
+            prev_pt: None,
+            prev_waypt_index: -1,
+            prev_cycle_index: 0,
+            nextpt: None,
+            trackpt: (0.0, 0.0),
+            mark: None,
+            odo_prev: None,
+            odo_leg: 0.0,
+            odo_total: 0.0,
+            eff: Efficiency::default(),
+        }
+    }
+
+    fn sfx(&self, var: &str) -> String {
+        format!("{var}{}", self.post_suffix)
+    }
+
+    fn silent(v: &str) -> bool {
+        v == "silent"
+    }
+
+    fn cruise(&self) -> f64 {
+        if self.use_alt_speed && self.speed_alt >= 0.0 {
+            self.speed_alt
+        } else {
+            self.cruise_speed
+        }
+    }
+
+    fn nextpt_attrs(&self, ownship: &str, active: bool) -> Attrs {
+        Attrs {
+            active: Some(active),
+            label: format!("{ownship}'s nextpt"),
+            label_color: self.hints.nextpt_label_color.clone(),
+            vertex_color: self.hints.nextpt_color.clone(),
+            vertex_size: Some(self.hints.nextpt_vertex_size),
+            ..Attrs::default()
+        }
+    }
+
+    fn post_nextpt_inactive(&self, ctx: &mut Ctx<'_>) {
+        let label = format!("{}'s nextpt", ctx.ownship());
+        let spec = geometry::point_erase_spec(&label);
+        ctx.post_message_key("VIEW_POINT", PostValue::from(spec.as_str()), "wpt");
+    }
+
+    fn erase_visuals(&self, ctx: &mut Ctx<'_>) {
+        let own = ctx.ownship();
+        let trk = geometry::point_erase_spec(&format!("{own}'s trackpt"));
+        ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
+        self.post_nextpt_inactive(ctx);
+        let attrs = Attrs {
+            active: Some(false),
+            label: format!("{own}_{}", ctx.name()),
+            ..Attrs::default()
+        };
+        let seg = seglist_spec(self.engine.points(), 1, &attrs);
+        ctx.post_message("VIEW_SEGLIST", &seg);
+    }
+
+    fn post_flags(&self, ctx: &mut Ctx<'_>, flags: &[String], repeatable: bool) {
+        for f in flags {
+            let text = self.expand_type_macros(f);
+            ctx.post_flag(&text, repeatable);
+        }
+    }
+
+    fn lead_allowed(&self, ctx: &mut Ctx<'_>) -> bool {
+        self.lead_conditions
+            .iter()
+            .all(|c| ctx.eval_condition(c).unwrap_or(false))
+    }
+
+    fn odometry(&mut self) {
+        let (x, y) = (self.plat.x, self.plat.y);
+        if let Some((px, py)) = self.odo_prev {
+            let d = dist(px, py, x, y);
+            self.odo_leg += d;
+            self.odo_total += d;
+        }
+        self.odo_prev = Some((x, y));
+    }
+
+    /// Leg mark: efficiency reporting and a new leg for the odometry.
+    fn leg_mark(&mut self, ctx: &mut Ctx<'_>) {
+        let now = ctx.get_buffer_curr_time();
+        let (x, y) = (self.plat.x, self.plat.y);
+        if self.efficiency_all {
+            if self.eff.baselined {
+                let linear = dist(self.eff.leg_start.0, self.eff.leg_start.1, x, y);
+                let odo = self.odo_leg;
+                let odo_time = now - self.eff.leg_time;
+                let cruise = self.cruise();
+                let linear_time = if cruise > 0.0 { linear / cruise } else { 0.0 };
+                self.eff.all_linear += linear;
+                self.eff.all_odo += odo;
+                self.eff.all_linear_time += linear_time;
+                self.eff.all_odo_time += odo_time;
+                let ratio = |a: f64, b: f64| if b > 0.0 { 100.0 * a / b } else { 0.0 };
+                let summ = |ctx: &Ctx<'_>, l: f64, o: f64, lt: f64, ot: f64| {
+                    format!(
+                        "vname={},bhv_name={},linear_dist={},odo_dist={},efficiency_dist={},linear_time={},odo_time={},efficiency_time={}",
+                        ctx.ownship(),
+                        ctx.name(),
+                        fmt_x(l, 2),
+                        fmt_x(o, 2),
+                        fmt_x(ratio(l, o), 2),
+                        fmt_x(lt, 2),
+                        fmt_x(ot, 2),
+                        fmt_x(ratio(lt, ot), 2)
+                    )
+                };
+                let leg = summ(ctx, linear, odo, linear_time, odo_time);
+                let e = self.eff.clone();
+                let all = summ(
+                    ctx,
+                    e.all_linear,
+                    e.all_odo,
+                    e.all_linear_time,
+                    e.all_odo_time,
+                );
+                ctx.post_message(&self.sfx("WPT_EFF_SUMM_LEG"), &leg);
+                ctx.post_message(&self.sfx("WPT_EFF_SUMM_ALL"), &all);
+                ctx.post_message_num(
+                    &self.sfx("WPT_EFF_DIST_ALL"),
+                    ratio(e.all_linear, e.all_odo),
+                );
+                ctx.post_message_num(
+                    &self.sfx("WPT_EFF_TIME_ALL"),
+                    ratio(e.all_linear_time, e.all_odo_time),
+                );
+                ctx.post_message_num(&self.sfx("WPT_EFF_DIST_LEG"), ratio(linear, odo));
+                ctx.post_message_num(&self.sfx("WPT_EFF_TIME_LEG"), ratio(linear_time, odo_time));
+            }
+            self.eff.baselined = true;
+            self.eff.leg_start = (x, y);
+            self.eff.leg_time = now;
+        }
+        self.odo_leg = 0.0;
+    }
+
+    /// Behavior-level advance (§2.3): true when there is a next point.
+    fn set_next_waypoint(&mut self, ctx: &mut Ctx<'_>, lead_ok: bool) -> (bool, Advance) {
+        if self.engine.size() == 0 {
+            return (false, Advance::EmptySeglist);
+        }
+        self.engine.set_prev_point(self.prev_pt);
+        let res = self.engine.advance(self.plat.x, self.plat.y);
+        if res == Advance::EmptySeglist {
+            return (false, res);
+        }
+        if res != Advance::InTransit {
+            self.leg_mark(ctx);
+        }
+        ctx.post_message_num(&self.sfx("WPT_ODO"), self.odo_leg);
+        if matches!(res, Advance::Completed | Advance::Cycled) {
+            if !Self::silent(&self.var_report) {
+                let word = if res == Advance::Completed {
+                    "completed"
+                } else {
+                    "cycled"
+                };
+                let v = format!("behavior-name={},{word}", ctx.name());
+                ctx.post_message(&self.sfx(&self.var_report), &v);
+            }
+            self.post_flags(ctx, &self.cycleflags.clone(), true);
+        }
+        if res == Advance::Completed {
+            ctx.set_complete();
+            self.mark = None;
+            if ctx.perpetual() {
+                self.engine.reset_for_new_traversal();
+            }
+            return (false, res);
+        }
+        let Some(next) = self.engine.current() else {
+            return (false, res);
+        };
+        self.nextpt = Some((next.x, next.y));
+        self.trackpt = (next.x, next.y);
+        if lead_ok && self.lead >= 0.0 {
+            let ix = self.engine.index();
+            let anchor = if ix > 0 {
+                self.engine.point(ix - 1).map(|p| (p.x, p.y))
+            } else if self.engine.cycles() > 0 {
+                self.engine
+                    .point(self.engine.size() - 1)
+                    .map(|p| (p.x, p.y))
+            } else if self.lead_to_start {
+                if self.mark.is_none() {
+                    self.mark = Some((self.plat.x, self.plat.y));
+                }
+                self.mark
+            } else {
+                None
+            };
+            if let Some((ax, ay)) = anchor {
+                let (os_x, os_y) = (self.plat.x, self.plat.y);
+                let (px, py) = perp_seg_int_pt(ax, ay, next.x, next.y, os_x, os_y);
+                let mut f = 1.0;
+                let dp = dist(px, py, os_x, os_y);
+                if self.lead_damper > 0.0 && dp < self.lead_damper {
+                    f = 1.0 + 2.0 * (1.0 - dp / self.lead_damper);
+                }
+                let l = dist(px, py, next.x, next.y).min(self.lead * f);
+                self.trackpt = project_point(rel_ang(ax, ay, next.x, next.y), l, px, py);
+            }
+        }
+        (true, res)
+    }
+
+    fn post_status_report(&mut self, ctx: &mut Ctx<'_>) {
+        let ix = self.engine.index();
+        if !Self::silent(&self.var_report) {
+            let (nx, ny) = self.nextpt.unwrap_or((0.0, 0.0));
+            let d = dist(self.plat.x, self.plat.y, nx, ny);
+            let cap = self.engine.capture_hits();
+            let tot = cap + self.engine.slip_hits();
+            let v = format!(
+                "vname={},behavior-name={},index={ix},hits={cap}/{tot},cycles={},dist={},eta={}",
+                ctx.ownship(),
+                ctx.name(),
+                self.engine.cycles(),
+                fmt_f0(d),
+                fmt_f0(d / self.plat.speed)
+            );
+            ctx.post_message(&self.sfx(&self.var_report), &v);
+        }
+        if !Self::silent(&self.var_index) && ix as i64 != self.prev_waypt_index {
+            ctx.post_message_num(&self.sfx(&self.var_index), ix as f64);
+        }
+        if !self.eager_prev_index {
+            self.prev_waypt_index = ix as i64;
+        }
+    }
+
+    fn post_views(&self, ctx: &mut Ctx<'_>) {
+        let own = ctx.ownship();
+        let name = ctx.name();
+        let off = matches!(
+            self.hints.edge_color.to_ascii_lowercase().as_str(),
+            "off" | "inactive"
+        );
+        let seg = if off {
+            geometry::seglist_erase_spec(&format!("{own}_{name}"))
+        } else {
+            let attrs = Attrs {
+                label: format!("{own}_{name}"),
+                label_color: self.hints.label_color.clone(),
+                edge_color: self.hints.edge_color.clone(),
+                vertex_color: self.hints.vertex_color.clone(),
+                vertex_size: Some(self.hints.vertex_size),
+                edge_size: Some(self.hints.edge_size),
+                ..Attrs::default()
+            };
+            seglist_spec(self.engine.points(), 3, &attrs)
+        };
+        ctx.post_message("VIEW_SEGLIST", &seg);
+        if self.draw_path_loop {
+            let mut poly = Polygon::new(self.engine.points().to_vec());
+            if poly.is_convex() {
+                poly.attrs = Attrs {
+                    label: format!("{own}_{name}_loop"),
+                    edge_color: self.hints.edge_color.clone(),
+                    vertex_color: self.hints.vertex_color.clone(),
+                    ..Attrs::default()
+                };
+                ctx.post_message("VIEW_POLYGON", &poly.spec(1));
+            }
+        }
+        let (nx, ny) = self.nextpt.unwrap_or((0.0, 0.0));
+        let np = point_spec(nx, ny, None, &self.nextpt_attrs(&own, true));
+        ctx.post_message_key("VIEW_POINT", PostValue::from(np.as_str()), "wpt");
+        let (tx, ty) = self.trackpt;
+        let trk = if dist(tx, ty, nx, ny) > 5.0 {
+            let attrs = Attrs {
+                active: Some(true),
+                label: format!("{own}'s trackpt"),
+                label_color: self.hints.nextpt_color.clone(),
+                vertex_color: self.hints.nextpt_color.clone(),
+                vertex_size: Some(4.0),
+                ..Attrs::default()
+            };
+            point_spec(tx, ty, None, &attrs)
+        } else {
+            geometry::point_erase_spec(&format!("{own}'s trackpt"))
+        };
+        ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
+    }
+
+    fn post_distances(&self, ctx: &mut Ctx<'_>) {
+        let (x, y) = (self.plat.x, self.plat.y);
+        if !self.var_dist_to_prev.is_empty() {
+            let ix = self.engine.index();
+            let d = if let Some((px, py)) = self.engine.prev_point() {
+                dist(x, y, px, py)
+            } else if ix > 0 {
+                self.engine
+                    .point(ix - 1)
+                    .map_or(-1.0, |p| dist(x, y, p.x, p.y))
+            } else {
+                -1.0
+            };
+            ctx.post_message_num(&self.var_dist_to_prev, d);
+        }
+        if !self.var_dist_to_next.is_empty() {
+            let d = self.engine.current().map_or(-1.0, |p| dist(x, y, p.x, p.y));
+            ctx.post_message_num(&self.var_dist_to_next, d);
+        }
+    }
+
+    /// Cruise speed after the `end_spd` ramp.
+    fn ramped_cruise(&self) -> f64 {
+        let mut cruise = self.cruise();
+        if let Some((slow, stop)) = self.end_spd {
+            let d = self.engine.dist_to_go_all(self.plat.x, self.plat.y);
+            if d >= 0.0 {
+                if d <= stop {
+                    cruise = 0.0;
+                } else if d < slow {
+                    cruise *= if slow == stop {
+                        0.0
+                    } else {
+                        (d - stop) / (slow - stop)
+                    };
+                }
+            }
+        }
+        cruise
+    }
+
+    fn build_function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+        let dom = self.ivp_domain.as_ref()?;
+        let o = ipf::WptObjective {
+            ipf_type: &self.ipf_type,
+            cruise: self.ramped_cruise(),
+            bearing: rel_ang(self.plat.x, self.plat.y, self.trackpt.0, self.trackpt.1),
+            heading: self.plat.heading,
+            crs_pct: self.crs_ratio,
+        };
+        match ipf::build(dom, &o) {
+            Ok(mut f) => {
+                f.set_pwt(ctx.priority());
+                Some(function_data(f))
+            }
+            Err(msg) => {
+                ctx.post_wmessage(msg);
+                None
+            }
+        }
+    }
+
+    /// Expand this type's macros (§2.6) in `text`.
+    pub fn expand_type_macros(&self, text: &str) -> String {
+        let mut s = text.to_string();
+        if !s.contains("$[") && !s.contains("$(") {
+            return s;
+        }
+        let n = self.engine.size();
+        let ix = self.engine.index();
+        let f3 = |v: f64| fmt_x(v, 3);
+        let b = |v: bool| if v { "1" } else { "0" };
+        let (nx, ny) = self
+            .nextpt
+            .or_else(|| self.engine.current().map(|p| (p.x, p.y)))
+            .unwrap_or((0.0, 0.0));
+        let (px, py) = self.prev_pt.unwrap_or((0.0, 0.0));
+        let cycrem = if self.engine.repeats_endless() {
+            "forever".to_string()
+        } else {
+            self.engine
+                .repeats()
+                .saturating_sub(self.engine.repeats_sofar())
+                .to_string()
+        };
+        let hits = self.engine.capture_hits() + self.engine.slip_hits();
+        let (ox, oy) = (self.plat.x, self.plat.y);
+        let subs: Vec<(&str, String)> = vec![
+            ("POINTS", pts_spec(self.engine.points(), 1)),
+            ("SPEED", f3(self.cruise_speed)),
+            ("SPEED_ALT", f3(self.speed_alt)),
+            ("USE_SPEED_ALT", b(self.use_alt_speed).into()),
+            ("IPF_TYPE", self.ipf_type.clone()),
+            ("WPT_FLAG_ON_START", b(self.wptflag_on_start).into()),
+            ("LEAD_TO_START", b(self.lead_to_start).into()),
+            ("LEAD_DAMPER", f3(self.lead_damper)),
+            (
+                "ORDER",
+                if self.engine.reverse() {
+                    "reverse"
+                } else {
+                    "normal"
+                }
+                .into(),
+            ),
+            ("NI", ix.to_string()),
+            ("IX", ix.to_string()),
+            ("NX", f3(nx)),
+            ("NY", f3(ny)),
+            ("PI", self.prev_waypt_index.to_string()),
+            ("PX", f3(px)),
+            ("PY", f3(py)),
+            ("X", f3(px)),
+            ("Y", f3(py)),
+            ("CYCLES", self.engine.cycles().to_string()),
+            ("CYCREM", cycrem),
+            ("WPTS_HIT", hits.to_string()),
+            ("WPTS_REM", n.saturating_sub(ix).to_string()),
+            ("WPTS", n.to_string()),
+            ("CYC_DIST_TOGO", f3(self.engine.dist_to_go_cycle(ox, oy))),
+            ("ALL_DIST_TOGO", f3(self.engine.dist_to_go_all(ox, oy))),
+        ];
+        for (k, v) in subs {
+            subst(&mut s, k, &v);
+        }
+        s
+    }
+}
+
+impl IvpBehavior for BhvWaypoint {
+    fn domain(&self) -> String {
+        self.domain.clone()
+    }
+
+    fn default_name(&self) -> String {
+        "bhv_waypoint".into()
+    }
+
+    fn set_param(&mut self, ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        self.set_wpt_param(ctx, param, value)
+    }
+
+    fn on_params_complete(&mut self, ctx: &mut Ctx<'_>) {
+        ctx.add_info_vars("NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING");
+        let settings = self.settings(&ctx.name());
+        ctx.post_repeatable_message("BHV_SETTINGS", PostValue::from(settings.as_str()));
+        if self.engine.size() == 1 && (self.engine.repeats() > 0 || self.engine.repeats_endless()) {
+            ctx.post_wmessage("cycles/repeats not supported with single waypt");
+        }
+        let msg = "No waypts given. Set val to empty if intentional";
+        if self.engine.size() == 0 && !self.start_intent {
+            ctx.post_wmessage(msg);
+        } else {
+            ctx.post_retract_wmessage(msg);
+        }
+    }
+
+    fn on_every_state(&mut self, ctx: &mut Ctx<'_>) {
+        if !self.start_intent || self.engine.size() != 0 {
+            return;
+        }
+        if !ctx.get_buffer_is_known("NAV_X") || !ctx.get_buffer_is_known("NAV_Y") {
+            return;
+        }
+        let x = ctx.get_buffer_double_val_quiet("NAV_X");
+        let y = ctx.get_buffer_double_val_quiet("NAV_Y");
+        if let (Some(x), Some(y)) = (x, y) {
+            let parse = |v: f64| fmt_x(v, 3).parse::<f64>().unwrap_or(v);
+            self.engine
+                .set_points(vec![Vertex::new(parse(x), parse(y))]);
+        }
+    }
+
+    fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
+        if let Some(p) = platform_update(ctx) {
+            self.plat = p;
+        }
+    }
+
+    fn on_idle_to_run(&mut self, ctx: &mut Ctx<'_>) {
+        if let Some(p) = platform_update(ctx) {
+            self.plat = p;
+        }
+        self.odo_prev = Some((self.plat.x, self.plat.y));
+    }
+
+    fn on_run_to_idle(&mut self, ctx: &mut Ctx<'_>) {
+        self.erase_visuals(ctx);
+        if self.reset_on_idle {
+            self.engine.reset_for_new_traversal();
+        }
+        self.engine.reset_cpa();
+        self.odo_prev = None;
+        self.odo_leg = 0.0;
+        self.eff.baselined = false;
+        if !self.var_dist_to_prev.is_empty() {
+            ctx.post_message_num(&self.var_dist_to_prev, -1.0);
+        }
+        if !self.var_dist_to_next.is_empty() {
+            ctx.post_message_num(&self.var_dist_to_next, -1.0);
+        }
+    }
+
+    fn on_complete(&mut self, ctx: &mut Ctx<'_>) {
+        self.erase_visuals(ctx);
+    }
+
+    fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+        if self.engine.size() == 0 {
+            return None;
+        }
+        self.engine.set_perpetual(ctx.perpetual());
+        let Some(p) = platform_update(ctx) else {
+            self.post_nextpt_inactive(ctx);
+            return None;
+        };
+        self.plat = p;
+        self.odometry();
+        let lead_ok = self.lead_allowed(ctx);
+
+        let this = self.engine.current();
+        let this_ix = self.engine.index();
+        if self.prev_pt.is_none() {
+            self.prev_pt = Some((self.plat.x, self.plat.y));
+        }
+        let (have_next, res) = self.set_next_waypoint(ctx, lead_ok);
+        let captured = matches!(
+            res,
+            Advance::Completed | Advance::Cycled | Advance::Advanced
+        );
+        let now = self.engine.current();
+        let changed = match (this, now) {
+            (Some(a), Some(b)) => a.x != b.x || a.y != b.y,
+            _ => false,
+        };
+        let on_start = self.wptflag_on_start && !self.wptflag_on_start_posted;
+        if changed || on_start || res == Advance::Completed || captured {
+            if let Some(t) = this {
+                self.prev_pt = Some((t.x, t.y));
+            }
+            if self.eager_prev_index {
+                self.prev_waypt_index = this_ix as i64;
+            }
+            self.post_flags(ctx, &self.wptflags.clone(), false);
+            self.wptflag_on_start_posted = true;
+        }
+        if !Self::silent(&self.var_cyindex) && self.engine.cycles() != self.prev_cycle_index {
+            ctx.post_message_num(
+                &self.sfx(&self.var_cyindex),
+                f64::from(self.engine.cycles()),
+            );
+            self.prev_cycle_index = self.engine.cycles();
+        }
+        if !have_next {
+            self.post_nextpt_inactive(ctx);
+            return None;
+        }
+        self.post_status_report(ctx);
+        self.post_views(ctx);
+        self.post_distances(ctx);
+        self.build_function(ctx)
+    }
+
+    fn expand_macros(&self, text: &str) -> Option<String> {
+        Some(self.expand_type_macros(text))
+    }
+}
+
+#[cfg(test)]
+mod tests;
