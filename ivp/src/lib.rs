@@ -33,7 +33,16 @@
 //! `abi_stable::std_types::RVec` (`RVec::from(vec)` reuses the allocation: no
 //! per-iteration deep copy); on the other side turn the `RVec`s back into
 //! `Vec`s (`into_vec`) and rebuild with [`IvpFunction::from_raw_parts`], which
-//! validates the layout. This crate itself depends on no ABI crate.
+//! validates the layout. [`RawFunction::grid`] (the builder-made grid bounds,
+//! possibly empty) must travel with the other buffers: the solver prunes with
+//! it exactly as the reference does, which settles rare floating-point
+//! near-ties. This crate itself depends on no ABI crate.
+//!
+//! The solver ([`Solver::solve`]) runs the HelmEngine procedure of the spec
+//! (skip `pwt <= 0`, normalize when the range exceeds 100, apply `pwt`,
+//! sub-domain in first-appearance order, align, branch and bound with the exact
+//! tie rule) on scratch copies, so the caller's functions are never modified;
+//! [`Solver::solve_problem`] is the plain IvPProblem with an explicit domain.
 //!
 //! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`],
 //! [`solver`], [`ipf`] (BHV_IPF strings).

@@ -184,6 +184,48 @@ impl Search<'_> {
         }
     }
 
+    /// Fast path for the deepest level with a single-cell grid: leaf values are
+    /// computed on the fly with exactly the operations of `maxVal(node ∩ q)`
+    /// (summed weights, intercept first, then dimensions in order); the leaf is
+    /// only materialized when it becomes the incumbent.
+    fn last_level_single(&mut self, level: usize, f: &Prepared) {
+        let dim = self.dim;
+        let (bl, wl) = (2 * dim, dim + 1);
+        let node_b = &self.node_b[(level - 1) * bl..level * bl];
+        let node_w = &self.node_w[(level - 1) * wl..level * wl];
+        for (qb, qw) in f
+            .bounds
+            .chunks_exact(bl)
+            .zip(f.weights.chunks_exact(wl))
+            .take(f.n)
+        {
+            if !intersects(node_b, qb, dim) {
+                continue;
+            }
+            let mut acc = node_w[dim] + qw[dim];
+            for d in 0..dim {
+                let w = node_w[d] + qw[d];
+                let c = if w < 0.0 {
+                    node_b[2 * d].max(qb[2 * d])
+                } else {
+                    node_b[2 * d + 1].min(qb[2 * d + 1])
+                };
+                acc += w * f64::from(c);
+            }
+            if !self.found || acc > self.best {
+                self.found = true;
+                self.best = acc;
+                for d in 0..dim {
+                    self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
+                    self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
+                }
+                for i in 0..wl {
+                    self.best_w[i] = node_w[i] + qw[i];
+                }
+            }
+        }
+    }
+
     /// `level` = index of the function to intersect with; node is in slot `level-1`.
     fn recurse(&mut self, level: usize) {
         let dim = self.dim;
@@ -191,6 +233,10 @@ impl Search<'_> {
         let funcs = self.funcs;
         let f = &funcs[self.active[level]];
         let last = level + 1 == self.active.len();
+        if last && f.single {
+            self.last_level_single(level, f);
+            return;
+        }
         let visit = |s: &mut Self, q: usize| {
             let (nb, cb) = s.node_b.split_at_mut(level * bl);
             let (nw, cw) = s.node_w.split_at_mut(level * wl);
