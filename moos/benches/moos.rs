@@ -102,7 +102,9 @@ fn throughput(port: u16, secs: f64) -> f64 {
                 let var = format!("P{p}");
                 while !stop.load(Ordering::Relaxed) {
                     // Flow control: keep at most ~200k deliveries outstanding.
-                    if published.load(Ordering::Relaxed) * 4 > count.load(Ordering::Relaxed) + 200_000 {
+                    if published.load(Ordering::Relaxed) * 4
+                        > count.load(Ordering::Relaxed) + 200_000
+                    {
                         std::thread::sleep(Duration::from_micros(200));
                         continue;
                     }
@@ -160,9 +162,16 @@ fn latency(port: u16, secs: f64) -> (f64, f64, usize) {
     }
     std::thread::sleep(Duration::from_millis(200));
     stop.store(true, Ordering::Relaxed);
-    let mut all: Vec<f64> = subs.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect();
+    let mut all: Vec<f64> = subs
+        .into_iter()
+        .flat_map(|h| h.join().unwrap_or_default())
+        .collect();
     all.sort_by(f64::total_cmp);
-    let pct = |q: f64| all.get(((all.len() as f64 - 1.0) * q) as usize).copied().unwrap_or(f64::NAN);
+    let pct = |q: f64| {
+        all.get(((all.len() as f64 - 1.0) * q) as usize)
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
     (pct(0.5), pct(0.99), all.len())
 }
 
@@ -178,7 +187,10 @@ fn db_bench() {
     })
     .expect("db");
     let rate = throughput(db.port(), secs);
-    println!("db_throughput/4pub_4sub: {:.3} M delivered notifications/s ({secs} s)", rate / 1e6);
+    println!(
+        "db_throughput/4pub_4sub: {:.3} M delivered notifications/s ({secs} s)",
+        rate / 1e6
+    );
     drop(db);
     let db = Db::start(DbConfig {
         port: 0,

@@ -53,7 +53,10 @@ impl<W: Write> AlogWriter<W> {
         writeln!(w, "%% FILE OPENED ON  {log_start:.2}")?;
         writeln!(w, "%% LOGSTART           {log_start:.2}")?;
         writeln!(w, "{bar}")?;
-        Ok(AlogWriter { w, start: log_start })
+        Ok(AlogWriter {
+            w,
+            start: log_start,
+        })
     }
 
     pub fn log_start(&self) -> f64 {

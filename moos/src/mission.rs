@@ -349,14 +349,26 @@ ProcessConfig = other\n\
         let names: Vec<&str> = b.iter().map(|l| l.name.as_str()).collect();
         assert_eq!(
             names,
-            ["AppTick", "behaviors", "domain", "domain", "MyParam", "url", "[bracket]", "ServerPort"]
+            [
+                "AppTick",
+                "behaviors",
+                "domain",
+                "domain",
+                "MyParam",
+                "url",
+                "[bracket]",
+                "ServerPort"
+            ]
         );
         assert_eq!(b[1].value, "alpha.bhv");
         assert_eq!(b[1].line, 12);
         assert_eq!(b[2].value, "course:0:359:360");
         assert_eq!(b[4].value, "some value with spaces");
         assert_eq!(b[5].value, "http://x.y//z");
-        assert_eq!(m.process_config("other").unwrap()[0].value, "UNDEFINED_MOOS_TEST_VAR_Q");
+        assert_eq!(
+            m.process_config("other").unwrap()[0].value,
+            "UNDEFINED_MOOS_TEST_VAR_Q"
+        );
         assert!(m.process_config("nope").is_none());
         assert_eq!(m.config_value("pHelmIvP", "apptick").as_deref(), Some("4"));
         assert_eq!(m.config_value("pHelmIvP", "ServerPort"), None); // bracket quirk
@@ -373,8 +385,11 @@ ProcessConfig = other\n\
     #[test]
     fn env_and_empty_expansion() {
         std::env::set_var("MOOS_MISSION_TEST_ENV", "fromenv");
-        let m = MissionFile::parse("A = ${MOOS_MISSION_TEST_ENV}x\nB = k${}rest\n", Path::new("t"))
-            .unwrap();
+        let m = MissionFile::parse(
+            "A = ${MOOS_MISSION_TEST_ENV}x\nB = k${}rest\n",
+            Path::new("t"),
+        )
+        .unwrap();
         assert_eq!(m.global("a").as_deref(), Some("fromenvx"));
         assert_eq!(m.global("b").as_deref(), Some("k"));
     }

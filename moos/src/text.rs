@@ -75,7 +75,11 @@ pub fn format_g_prec(v: f64, prec: usize) -> String {
         return if v > 0.0 { "inf".into() } else { "-inf".into() };
     }
     if v == 0.0 {
-        return if v.is_sign_negative() { "-0".into() } else { "0".into() };
+        return if v.is_sign_negative() {
+            "-0".into()
+        } else {
+            "0".into()
+        };
     }
     let p = prec.max(1);
     let e = format!("{:.*e}", p - 1, v);
@@ -131,7 +135,10 @@ mod tests {
         assert_eq!(find_value(s, "VarPattern", false).as_deref(), Some("W_*"));
         assert_eq!(find_value(s, "Interval", false).as_deref(), Some("0.5"));
         assert_eq!(find_value(s, "interval", false), None);
-        assert_eq!(find_value("hostname=vm", "hostname", false).as_deref(), Some("vm"));
+        assert_eq!(
+            find_value("hostname=vm", "hostname", false).as_deref(),
+            Some("vm")
+        );
         assert_eq!(atof("0.5xyz"), 0.5);
         assert_eq!(atof("abc"), 0.0);
     }

@@ -113,7 +113,10 @@ fn typed_errors() {
     // absurd count
     let mut bad = pkt.clone();
     bad[4..8].copy_from_slice(&i32::MAX.to_le_bytes());
-    assert!(matches!(wire::decode_packet(&bad, 1 << 20), Err(WireError::BadCount { .. })));
+    assert!(matches!(
+        wire::decode_packet(&bad, 1 << 20),
+        Err(WireError::BadCount { .. })
+    ));
     // negative packet length
     let mut bad = pkt.clone();
     bad[0..4].copy_from_slice(&(-5i32).to_le_bytes());
@@ -138,10 +141,16 @@ fn typed_errors() {
     // msg_len too short
     let mut bad = pkt.clone();
     bad[9..13].copy_from_slice(&10i32.to_le_bytes());
-    assert!(matches!(wire::decode_packet(&bad, 1 << 20), Err(WireError::MessageTooShort(10))));
+    assert!(matches!(
+        wire::decode_packet(&bad, 1 << 20),
+        Err(WireError::MessageTooShort(10))
+    ));
     // frame reader rejects a huge declared length before the bytes arrive
     let mut fr = FrameReader::new(1024);
     let mut r = &i32::MAX.to_le_bytes()[..];
     fr.fill(&mut r).unwrap();
-    assert!(matches!(fr.next_frame(), Err(WireError::PacketTooLarge { .. })));
+    assert!(matches!(
+        fr.next_frame(),
+        Err(WireError::PacketTooLarge { .. })
+    ));
 }

@@ -26,21 +26,23 @@ struct Conn {
 }
 
 fn load() -> BTreeMap<u64, Conn> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../conformance/moos-wire/packets.jsonl");
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../conformance/moos-wire/packets.jsonl");
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("capture file {} is required: {e}", path.display()));
     let mut conns: BTreeMap<u64, Conn> = BTreeMap::new();
     for line in text.lines().filter(|l| !l.trim().is_empty()) {
         let o: Value = serde_json::from_str(line).expect("json");
-        let c = conns.entry(o["connection"].as_u64().expect("conn")).or_default();
+        let c = conns
+            .entry(o["connection"].as_u64().expect("conn"))
+            .or_default();
         let bytes = hex(o["hex"].as_str().expect("hex"));
         match (o["kind"].as_str(), o["direction"].as_str()) {
             (Some("banner"), _) => c.banner = Some(bytes),
             (Some("packet"), Some("C2S")) => c.c2s.push(bytes),
-            (Some("packet"), Some("S2C")) => {
-                c.s2c.push(wire::decode_packet(&bytes, 1 << 24).expect("captured packet"))
-            }
+            (Some("packet"), Some("S2C")) => c
+                .s2c
+                .push(wire::decode_packet(&bytes, 1 << 24).expect("captured packet")),
             other => panic!("unexpected record {other:?}"),
         }
     }
@@ -48,7 +50,8 @@ fn load() -> BTreeMap<u64, Conn> {
 }
 
 fn read_all(s: &mut TcpStream, fr: &mut FrameReader, quiet: Duration) -> Vec<Vec<Message>> {
-    s.set_read_timeout(Some(Duration::from_millis(50))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_millis(50)))
+        .expect("timeout");
     let mut out = Vec::new();
     let mut last = Instant::now();
     let start = Instant::now();
@@ -128,7 +131,8 @@ fn captured_clients_get_the_same_replies() {
         if let std::collections::btree_map::Entry::Vacant(e) = socks.entry(id) {
             let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
             s.set_nodelay(true).expect("nodelay");
-            s.write_all(c.banner.as_deref().unwrap_or(&wire::BANNER)).expect("banner");
+            s.write_all(c.banner.as_deref().unwrap_or(&wire::BANNER))
+                .expect("banner");
             e.insert((s, FrameReader::new(1 << 24), Vec::new()));
         }
         let (s, fr, got) = socks.get_mut(&id).expect("socket");
@@ -141,14 +145,29 @@ fn captured_clients_get_the_same_replies() {
         got.extend(read_all(s, fr, Duration::from_millis(200)));
         let want = &conns[id].s2c;
         // Welcome first, identical in every compared field.
-        assert!(same(&got[0][0], &want[0][0]), "conn {id} welcome: {:?}", got[0]);
+        assert!(
+            same(&got[0][0], &want[0][0]),
+            "conn {id} welcome: {:?}",
+            got[0]
+        );
         // Notification packets: same grouping and contents, in order (the capture may
         // end earlier than our replay, so it must be a prefix).
-        let n_got: Vec<&Vec<Message>> =
-            got.iter().filter(|p| p[0].msg_type != MsgType::TIMING).skip(1).collect();
-        let n_want: Vec<&Vec<Message>> =
-            want.iter().filter(|p| p[0].msg_type != MsgType::TIMING).skip(1).collect();
-        assert!(n_got.len() >= n_want.len(), "conn {id}: {} notify packets, want {}", n_got.len(), n_want.len());
+        let n_got: Vec<&Vec<Message>> = got
+            .iter()
+            .filter(|p| p[0].msg_type != MsgType::TIMING)
+            .skip(1)
+            .collect();
+        let n_want: Vec<&Vec<Message>> = want
+            .iter()
+            .filter(|p| p[0].msg_type != MsgType::TIMING)
+            .skip(1)
+            .collect();
+        assert!(
+            n_got.len() >= n_want.len(),
+            "conn {id}: {} notify packets, want {}",
+            n_got.len(),
+            n_want.len()
+        );
         for (k, (g, w)) in n_got.iter().zip(&n_want).enumerate() {
             assert_eq!(g.len(), w.len(), "conn {id} notify packet {k}");
             compared += g.len();
@@ -157,9 +176,22 @@ fn captured_clients_get_the_same_replies() {
             }
         }
         // Timing echoes: one per T-led packet sent, echoing the client's time.
-        let t_got: Vec<&Message> = got.iter().filter(|p| p[0].msg_type == MsgType::TIMING).map(|p| &p[0]).collect();
-        let t_want: Vec<&Message> = want.iter().filter(|p| p[0].msg_type == MsgType::TIMING).map(|p| &p[0]).collect();
-        assert!(t_got.len() >= t_want.len(), "conn {id}: {} T echoes, want {}", t_got.len(), t_want.len());
+        let t_got: Vec<&Message> = got
+            .iter()
+            .filter(|p| p[0].msg_type == MsgType::TIMING)
+            .map(|p| &p[0])
+            .collect();
+        let t_want: Vec<&Message> = want
+            .iter()
+            .filter(|p| p[0].msg_type == MsgType::TIMING)
+            .map(|p| &p[0])
+            .collect();
+        assert!(
+            t_got.len() >= t_want.len(),
+            "conn {id}: {} T echoes, want {}",
+            t_got.len(),
+            t_want.len()
+        );
         for (a, b) in t_got.iter().zip(&t_want) {
             assert!(same(a, b), "conn {id}: T echo {a:?} vs {b:?}");
             assert!(a.dval > 0.0, "echo carries the DB time");

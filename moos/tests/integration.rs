@@ -72,24 +72,43 @@ fn notify_types_order_and_current_value() {
     sub.register("S", 0.0).expect("register");
     sub.register("B", 0.0).expect("register");
     // current value arrives on Register
-    let m = collect(&sub, Duration::from_secs(3), |m| !keyed(m, "EARLY").is_empty());
+    let m = collect(&sub, Duration::from_secs(3), |m| {
+        !keyed(m, "EARLY").is_empty()
+    });
     let e = keyed(&m, "EARLY")[0];
-    assert_eq!((e.dval, e.time, e.id, e.source.as_str()), (7.0, 123.0, -1, "pub"));
+    assert_eq!(
+        (e.dval, e.time, e.id, e.source.as_str()),
+        (7.0, 123.0, -1, "pub")
+    );
     assert_eq!(e.community, "testcomm");
     std::thread::sleep(Duration::from_millis(100));
     for i in 0..50 {
         pubr.notify_double("X", i as f64, None).expect("post");
     }
-    pubr.notify_with_aux(Message::notify_string("S", "hello", pubr.moos_time()), "aux-info")
+    pubr.notify_with_aux(
+        Message::notify_string("S", "hello", pubr.moos_time()),
+        "aux-info",
+    )
+    .expect("post");
+    pubr.notify_binary("B", &[0, 1, 2, 255], None)
         .expect("post");
-    pubr.notify_binary("B", &[0, 1, 2, 255], None).expect("post");
     let m = collect(&sub, Duration::from_secs(3), |m| !keyed(m, "B").is_empty());
     let xs: Vec<f64> = keyed(&m, "X").iter().map(|m| m.dval).collect();
-    assert_eq!(xs, (0..50).map(f64::from).collect::<Vec<_>>(), "in order, none lost");
+    assert_eq!(
+        xs,
+        (0..50).map(f64::from).collect::<Vec<_>>(),
+        "in order, none lost"
+    );
     let s = keyed(&m, "S")[0];
-    assert_eq!((s.string().as_ref(), s.source_aux.as_str()), ("hello", "aux-info"));
+    assert_eq!(
+        (s.string().as_ref(), s.source_aux.as_str()),
+        ("hello", "aux-info")
+    );
     let b = keyed(&m, "B")[0];
-    assert_eq!((b.data_type, b.sval.as_slice()), (DataType::BINARY, &[0u8, 1, 2, 255][..]));
+    assert_eq!(
+        (b.data_type, b.sval.as_slice()),
+        (DataType::BINARY, &[0u8, 1, 2, 255][..])
+    );
     assert!(m.iter().all(|m| m.msg_type == MsgType::NOTIFY));
 }
 
@@ -113,7 +132,10 @@ fn register_interval_throttles_by_dropping() {
     assert_eq!(keyed(&fm, "V").len(), n);
     let sm = collect(&sub, Duration::from_millis(500), |_| false);
     let got = keyed(&sm, "V").len();
-    assert!((2..=4).contains(&got), "interval 0.5 over 1.2 s gave {got} deliveries");
+    assert!(
+        (2..=4).contains(&got),
+        "interval 0.5 over 1.2 s gave {got} deliveries"
+    );
 }
 
 #[test]
@@ -125,18 +147,24 @@ fn wildcard_and_unregister() {
     std::thread::sleep(Duration::from_millis(100));
     sub.register_wildcard("W_*", "*", 0.0).expect("wildcard");
     sub.register("U", 0.0).expect("register");
-    let m = collect(&sub, Duration::from_secs(2), |m| !keyed(m, "W_OLD").is_empty());
+    let m = collect(&sub, Duration::from_secs(2), |m| {
+        !keyed(m, "W_OLD").is_empty()
+    });
     assert_eq!(keyed(&m, "W_OLD")[0].string(), "before");
     pubr.notify_string("W_NEW", "after", None).expect("post");
     pubr.notify_string("OTHER", "no", None).expect("post");
-    let m = collect(&sub, Duration::from_secs(2), |m| !keyed(m, "W_NEW").is_empty());
+    let m = collect(&sub, Duration::from_secs(2), |m| {
+        !keyed(m, "W_NEW").is_empty()
+    });
     assert_eq!(keyed(&m, "W_NEW")[0].string(), "after");
     assert!(keyed(&m, "OTHER").is_empty());
     sub.unregister("U").expect("unregister");
     std::thread::sleep(Duration::from_millis(100));
     pubr.notify_double("U", 1.0, None).expect("post");
     pubr.notify_string("W_NEW", "again", None).expect("post");
-    let m = collect(&sub, Duration::from_secs(2), |m| !keyed(m, "W_NEW").is_empty());
+    let m = collect(&sub, Duration::from_secs(2), |m| {
+        !keyed(m, "W_NEW").is_empty()
+    });
     assert!(keyed(&m, "U").is_empty(), "unregistered variable delivered");
 }
 
@@ -178,7 +206,8 @@ fn silent_client_dropped_after_five_seconds() {
     let mut buf = wire::BANNER.to_vec();
     wire::encode_packet(&[hs], &mut buf).expect("encode");
     s.write_all(&buf).expect("handshake");
-    s.set_read_timeout(Some(Duration::from_millis(200))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
     let mut fr = FrameReader::new(1 << 20);
     let t0 = Instant::now();
     let mut closed_at = None;
@@ -200,11 +229,16 @@ fn silent_client_dropped_after_five_seconds() {
     );
     assert_eq!(db.client_names(), vec!["watcher".to_string()]);
     // the watcher (which heartbeats) is still there and saw the disconnect event
-    watcher.notify_double("POKE", 1.0, None).expect("still connected");
+    watcher
+        .notify_double("POKE", 1.0, None)
+        .expect("still connected");
     let m = collect(&watcher, Duration::from_secs(2), |m| {
         m.iter().any(|m| m.string() == "disconnected=silent")
     });
-    assert!(m.iter().any(|m| m.string() == "disconnected=silent"), "{m:?}");
+    assert!(
+        m.iter().any(|m| m.string() == "disconnected=silent"),
+        "{m:?}"
+    );
     let _ = s.read(&mut [0u8; 1]);
 }
 
@@ -213,7 +247,8 @@ fn bad_banner_is_closed_silently() {
     let db = db();
     let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
     s.write_all(&[b'x'; 32]).expect("write");
-    s.set_read_timeout(Some(Duration::from_secs(3))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_secs(3)))
+        .expect("timeout");
     let mut b = [0u8; 16];
     let n = s.read(&mut b).unwrap_or(0);
     assert_eq!(n, 0, "nothing is sent for a bad banner");
@@ -234,14 +269,18 @@ fn db_restart_client_reconnects_and_resubscribes() {
         std::thread::sleep(Duration::from_millis(20));
     }
     assert!(!sub.is_connected(), "client noticed the DB went away");
-    assert!(matches!(sub.notify_double("R", 1.0, None), Err(ClientError::NotConnected)));
+    assert!(matches!(
+        sub.notify_double("R", 1.0, None),
+        Err(ClientError::NotConnected)
+    ));
     let second = Db::start(DbConfig {
         port,
         community: "again".into(),
         ..DbConfig::default()
     })
     .expect("restart on the same port");
-    sub.wait_connected(Duration::from_secs(5)).expect("reconnected");
+    sub.wait_connected(Duration::from_secs(5))
+        .expect("reconnected");
     assert_eq!(sub.community(), "again");
     assert_eq!(sub.connection_count(), 2);
     let pubr = client(&second, "pub2");
@@ -261,7 +300,9 @@ fn server_request_var_summary() {
     let c = client(&db, "asker");
     c.notify_double("ZED", 1.0, None).expect("post");
     c.server_request("VAR_SUMMARY").expect("request");
-    let m = collect(&c, Duration::from_secs(2), |m| !keyed(m, "VAR_SUMMARY").is_empty());
+    let m = collect(&c, Duration::from_secs(2), |m| {
+        !keyed(m, "VAR_SUMMARY").is_empty()
+    });
     let r = keyed(&m, "VAR_SUMMARY")[0];
     assert_eq!(r.id, -2);
     assert!(r.string().contains("ZED"));

@@ -52,7 +52,9 @@ fn stalled_subscriber_is_capped_and_dropped() {
     .expect("db");
     let port = db.port();
     let healthy: Vec<Client> = (0..2)
-        .map(|i| Client::connect(ClientConfig::new("127.0.0.1", port, &format!("good{i}"))).expect("sub"))
+        .map(|i| {
+            Client::connect(ClientConfig::new("127.0.0.1", port, &format!("good{i}"))).expect("sub")
+        })
         .collect();
     for c in &healthy {
         c.register("LOAD", 0.0).expect("register");
@@ -60,7 +62,9 @@ fn stalled_subscriber_is_capped_and_dropped() {
     }
     let _stalled = raw_stalled_subscriber(port, "stalled", "LOAD");
     let pubs: Vec<Client> = (0..2)
-        .map(|i| Client::connect(ClientConfig::new("127.0.0.1", port, &format!("pub{i}"))).expect("pub"))
+        .map(|i| {
+            Client::connect(ClientConfig::new("127.0.0.1", port, &format!("pub{i}"))).expect("pub")
+        })
         .collect();
     std::thread::sleep(Duration::from_millis(200));
     assert!(db.client_names().contains(&"stalled".to_string()));
@@ -74,7 +78,8 @@ fn stalled_subscriber_is_capped_and_dropped() {
             let payload = payload.clone();
             std::thread::spawn(move || {
                 for i in 0..PER_PUB {
-                    c.notify_string("LOAD", &format!("{p}:{i}:{payload}"), None).expect("post");
+                    c.notify_string("LOAD", &format!("{p}:{i}:{payload}"), None)
+                        .expect("post");
                     // ~10k messages/s per publisher: fast, but within what a healthy
                     // subscriber reads, even in a debug build.
                     if i % 50 == 49 {
@@ -108,7 +113,10 @@ fn stalled_subscriber_is_capped_and_dropped() {
                 let mut it = s.splitn(3, ':');
                 let p: usize = it.next().and_then(|x| x.parse().ok()).expect("publisher");
                 let i: usize = it.next().and_then(|x| x.parse().ok()).expect("index");
-                assert_eq!(i, next[k][p], "subscriber {k} publisher {p}: out of order or lost");
+                assert_eq!(
+                    i, next[k][p],
+                    "subscriber {k} publisher {p}: out of order or lost"
+                );
                 next[k][p] += 1;
                 counts[k][p] += 1;
             }
@@ -119,17 +127,29 @@ fn stalled_subscriber_is_capped_and_dropped() {
         std::thread::sleep(Duration::from_millis(2));
     }
     let elapsed = t0.elapsed();
-    let pubs: Vec<Client> = handles.into_iter().map(|h| h.join().expect("publisher")).collect();
+    let pubs: Vec<Client> = handles
+        .into_iter()
+        .map(|h| h.join().expect("publisher"))
+        .collect();
     for c in &counts {
         assert_eq!(c, &[PER_PUB, PER_PUB], "a healthy subscriber lost messages");
     }
-    assert!(max_q <= CAP, "stalled queue reached {max_q} bytes (cap {CAP})");
+    assert!(
+        max_q <= CAP,
+        "stalled queue reached {max_q} bytes (cap {CAP})"
+    );
     let stats = db.stats();
     assert!(stats.overflows >= 1, "overflow not reported: {stats:?}");
     assert!(!db.client_names().contains(&"stalled".to_string()));
     assert!(events.iter().any(|e| e == "overflow=stalled"), "{events:?}");
-    assert!(events.iter().any(|e| e == "disconnected=stalled"), "{events:?}");
-    eprintln!("{} msgs to 2 healthy subscribers in {elapsed:?}; stalled peak {max_q} B", 2 * PER_PUB);
+    assert!(
+        events.iter().any(|e| e == "disconnected=stalled"),
+        "{events:?}"
+    );
+    eprintln!(
+        "{} msgs to 2 healthy subscribers in {elapsed:?}; stalled peak {max_q} B",
+        2 * PER_PUB
+    );
 
     // It gets the current value again when it comes back.
     let back = Client::connect(ClientConfig::new("127.0.0.1", port, "stalled")).expect("reconnect");

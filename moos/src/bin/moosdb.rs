@@ -63,7 +63,9 @@ fn parse_response(s: &str) -> Result<Vec<(String, f64)>, String> {
             Some((p, m)) => (p.trim().to_owned(), m.trim()),
             None => ("*".to_owned(), part.trim()),
         };
-        let ms: f64 = ms.parse().map_err(|_| format!("bad --response entry {part:?}"))?;
+        let ms: f64 = ms
+            .parse()
+            .map_err(|_| format!("bad --response entry {part:?}"))?;
         v.push((pat, ms));
     }
     Ok(v)

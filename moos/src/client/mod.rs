@@ -146,7 +146,11 @@ pub struct Client {
 }
 
 fn wildcard_payload(app: &str, var: &str, interval: f64) -> Vec<u8> {
-    format!("AppPattern={app},VarPattern={var},Interval={}", format_g(interval)).into_bytes()
+    format!(
+        "AppPattern={app},VarPattern={var},Interval={}",
+        format_g(interval)
+    )
+    .into_bytes()
 }
 
 impl Client {
@@ -268,11 +272,21 @@ impl Client {
     pub fn notify_double(&self, var: &str, val: f64, time: Option<f64>) -> Result<(), ClientError> {
         self.post(Message::notify_double(var, val, self.time_or_now(time)))
     }
-    pub fn notify_string(&self, var: &str, val: &str, time: Option<f64>) -> Result<(), ClientError> {
+    pub fn notify_string(
+        &self,
+        var: &str,
+        val: &str,
+        time: Option<f64>,
+    ) -> Result<(), ClientError> {
         self.post(Message::notify_string(var, val, self.time_or_now(time)))
     }
     /// Binary notification; an empty payload is refused (as in C++).
-    pub fn notify_binary(&self, var: &str, val: &[u8], time: Option<f64>) -> Result<(), ClientError> {
+    pub fn notify_binary(
+        &self,
+        var: &str,
+        val: &[u8],
+        time: Option<f64>,
+    ) -> Result<(), ClientError> {
         if val.is_empty() {
             return Err(ClientError::BadArgument("empty binary payload".into()));
         }
@@ -284,7 +298,14 @@ impl Client {
         self.post(m)
     }
 
-    fn control(&self, msg_type: MsgType, data_type: DataType, key: &str, dval: f64, sval: Vec<u8>) -> Message {
+    fn control(
+        &self,
+        msg_type: MsgType,
+        data_type: DataType,
+        key: &str,
+        dval: f64,
+        sval: Vec<u8>,
+    ) -> Message {
         Message {
             msg_type,
             data_type,
@@ -302,7 +323,13 @@ impl Client {
         if var.is_empty() {
             return Err(ClientError::BadArgument("empty variable name".into()));
         }
-        let m = self.control(MsgType::REGISTER, DataType::DOUBLE, var, interval, Vec::new());
+        let m = self.control(
+            MsgType::REGISTER,
+            DataType::DOUBLE,
+            var,
+            interval,
+            Vec::new(),
+        );
         let mut st = self.shared.lock();
         st.regs.insert(var.to_owned(), interval);
         if st.connected {
@@ -322,7 +349,12 @@ impl Client {
     }
 
     /// Wildcard subscription (`*` and `?` in both patterns; no commas).
-    pub fn register_wildcard(&self, var_pat: &str, app_pat: &str, interval: f64) -> Result<(), ClientError> {
+    pub fn register_wildcard(
+        &self,
+        var_pat: &str,
+        app_pat: &str,
+        interval: f64,
+    ) -> Result<(), ClientError> {
         check_patterns(var_pat, app_pat)?;
         let name = self.shared.cfg.name.clone();
         let m = self.control(
@@ -334,7 +366,8 @@ impl Client {
         );
         let mut st = self.shared.lock();
         st.wilds.retain(|(v, a, _)| !(v == var_pat && a == app_pat));
-        st.wilds.push((var_pat.to_owned(), app_pat.to_owned(), interval));
+        st.wilds
+            .push((var_pat.to_owned(), app_pat.to_owned(), interval));
         if st.connected {
             self.shared.enqueue(&mut st, m);
         }
@@ -363,7 +396,13 @@ impl Client {
     /// Send a server request (`ALL`, `VAR_SUMMARY`, `PROC_SUMMARY`, `DB_CLEAR`); replies
     /// arrive as mail with id -2.
     pub fn server_request(&self, what: &str) -> Result<(), ClientError> {
-        let m = self.control(MsgType::SERVER_REQUEST, DataType::STRING, what, -1.0, Vec::new());
+        let m = self.control(
+            MsgType::SERVER_REQUEST,
+            DataType::STRING,
+            what,
+            -1.0,
+            Vec::new(),
+        );
         self.post(m)
     }
 

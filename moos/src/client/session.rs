@@ -123,7 +123,8 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         sh.mail_cv.notify_all();
         return End::Final;
     }
-    let db_host = crate::text::find_value(&welcome.source_aux, "hostname", false).unwrap_or_default();
+    let db_host =
+        crate::text::find_value(&welcome.source_aux, "hostname", false).unwrap_or_default();
     let (Ok(rstream), Ok(wstream)) = (stream.try_clone(), stream.try_clone()) else {
         return End::Lost;
     };
@@ -131,8 +132,8 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
     {
         let mut st = sh.lock();
         st.community = welcome.community.clone();
-        st.skew_enabled = sh.cfg.skew_correction
-            && (db_host.is_empty() || db_host != crate::db::hostname());
+        st.skew_enabled =
+            sh.cfg.skew_correction && (db_host.is_empty() || db_host != crate::db::hostname());
         st.skew = if st.skew_enabled { welcome.dval } else { 0.0 };
         st.db_host = db_host;
         st.connected = true;
@@ -202,7 +203,10 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
         let (count, delay) = {
             let mut st = sh.lock();
             let deadline = Instant::now() + wait;
-            while st.out_count == 0 && !dead.load(Ordering::SeqCst) && !sh.stop.load(Ordering::SeqCst) {
+            while st.out_count == 0
+                && !dead.load(Ordering::SeqCst)
+                && !sh.stop.load(Ordering::SeqCst)
+            {
                 let t_due = last_t.is_none_or(|t| t.elapsed() >= sh.cfg.heartbeat);
                 let Some(left) = deadline.checked_duration_since(Instant::now()) else {
                     break;
@@ -320,7 +324,11 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
         match fr.fill(&mut stream) {
             Ok(0) => return finish(&sh, &dead),
             Ok(_) => {}
-            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted) => {}
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
+                ) => {}
             Err(_) => return finish(&sh, &dead),
         }
     }

@@ -212,4 +212,3 @@ fn writer(out: Arc<Outbox>, mut stream: TcpStream, send_timeout: Duration) {
         spare.clear();
     }
 }
-

@@ -252,7 +252,9 @@ impl State {
     }
 
     pub fn client_queued(&self, name: &str) -> Option<usize> {
-        self.clients.get(name).map(|c| c.held.len() + c.out.queued())
+        self.clients
+            .get(name)
+            .map(|c| c.held.len() + c.out.queued())
     }
 
     /// One packet from client `name` (spec §5.3).
@@ -640,7 +642,10 @@ impl State {
     fn refresh(&mut self, now: f64) {
         self.last_refresh = now;
         self.db_notify(Message::notify_double("DB_TIME", now, now), now);
-        self.db_notify(Message::notify_double("DB_UPTIME", now - self.start, now), now);
+        self.db_notify(
+            Message::notify_double("DB_UPTIME", now - self.start, now),
+            now,
+        );
         let clients: String = self.order.iter().rev().map(|n| format!("{n},")).collect();
         self.db_notify_str("DB_CLIENTS", &clients, now);
         let summary = self.var_summary();
