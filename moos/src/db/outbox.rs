@@ -41,10 +41,10 @@ impl Outbox {
     }
 
     /// Append bytes built by `f`. On overflow the bytes are discarded and the outbox closed.
-    pub fn push_with(&self, f: impl FnOnce(&mut Vec<u8>)) -> Result<(), Overflow> {
+    pub fn push_with(&self, f: impl FnOnce(&mut Vec<u8>)) -> Result<usize, Overflow> {
         let mut q = self.lock();
         if q.closed {
-            return Ok(());
+            return Ok(0);
         }
         let before = q.buf.len();
         f(&mut q.buf);
@@ -61,7 +61,7 @@ impl Outbox {
         if was_empty {
             self.cv.notify_one();
         }
-        Ok(())
+        Ok(queued)
     }
 
     pub fn cap(&self) -> usize {

@@ -89,6 +89,8 @@ pub(crate) struct ClientRec {
     held_count: usize,
     filters: Vec<Filter>,
     pub out: Arc<Outbox>,
+    /// Outbox size seen at the last push (saves a lock per held message).
+    queued_hint: usize,
     consolidation: f64,
     qos: Option<Qos>,
     published: BTreeSet<String>,
@@ -197,6 +199,7 @@ impl State {
                 held_count: 0,
                 filters: Vec::new(),
                 out,
+                queued_hint: 0,
                 consolidation,
                 qos: None,
                 published: BTreeSet::new(),
@@ -325,8 +328,11 @@ impl State {
         }
         let nonempty = p.count() > 0;
         let _ = p.finish();
-        if nonempty && c.out.push_with(|b| b.extend_from_slice(&buf)).is_err() {
-            self.to_drop.push((name.to_owned(), "reply"));
+        if nonempty {
+            match c.out.push_with(|b| b.extend_from_slice(&buf)) {
+                Ok(q) => c.queued_hint = q,
+                Err(_) => self.to_drop.push((name.to_owned(), "reply")),
+            }
         }
         self.scratch = buf;
         if has_notify {
@@ -354,8 +360,9 @@ impl State {
             self.delivered += count as u64;
             c.held.clear();
             c.held_count = 0;
-            if r.is_err() {
-                self.to_drop.push((name.clone(), "push"));
+            match r {
+                Ok(q) => c.queued_hint = q,
+                Err(_) => self.to_drop.push((name.clone(), "push")),
             }
         }
         self.dirty = dirty;
@@ -372,7 +379,7 @@ impl State {
         c.held.extend_from_slice(encoded);
         c.held_count += 1;
         let cap = c.out_cap();
-        if c.held.len() + c.out.queued() > cap {
+        if c.held.len() + c.queued_hint > cap && c.held.len() + c.out.queued() > cap {
             c.held = Vec::new();
             c.held_count = 0;
             c.out.close();
