@@ -1,1 +1,290 @@
-//! placeholder
+//! BHV_ConstantSpeed (behaviors-plugins.md §2): a ZAIC_PEAK over `speed` around a
+//! desired speed, every running iteration, plus an optional mismatch posting.
+//!
+//! The host handles the common parameters; note that this type's duration default is 0
+//! (§1.2), which the host must apply for it (see the crate README in `plugins/`).
+
+use behavior_api::ivp::{self, zaic::ZaicPeak};
+use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::FunctionData;
+
+#[path = "../../common/util.rs"]
+mod util;
+use util::{no_white, parse_number};
+
+/// BHV_ConstantSpeed.
+pub struct ConstantSpeed {
+    domain: String,
+    ivp_domain: Option<ivp::Domain>,
+    speed: f64,
+    peakwidth: f64,
+    basewidth: f64,
+    summitdelta: f64,
+    mismatch_var: String,
+}
+
+impl ConstantSpeed {
+    pub fn new(helm_domain: &HelmDomain) -> Self {
+        ConstantSpeed {
+            domain: helm_domain.sub_domain(&["speed"]),
+            ivp_domain: helm_domain.ivp_domain(&["speed"]),
+            speed: 0.0,
+            peakwidth: 0.0,
+            basewidth: 0.2,
+            summitdelta: 0.0,
+            mismatch_var: String::new(),
+        }
+    }
+
+    /// Read NAV_SPEED (idle and running iterations): warnings or the mismatch posting.
+    fn read_ownship(&mut self, ctx: &mut Ctx<'_>) {
+        match ctx.get_buffer_double_val("NAV_SPEED") {
+            None => ctx.post_wmessage("No ownship SPEED info in info_buffer."),
+            Some(os) => {
+                if !self.mismatch_var.is_empty() {
+                    let mut delta = os - self.speed;
+                    if delta < 0.0 {
+                        delta = -delta;
+                    }
+                    ctx.post_message_num(&self.mismatch_var, delta);
+                }
+            }
+        }
+    }
+
+    /// The objective function (§2.3), without pwt.
+    fn build(&self) -> Result<ivp::IvpFunction, &'static str> {
+        let dom = self
+            .ivp_domain
+            .as_ref()
+            .ok_or("No 'speed' variable in the helm domain")?;
+        let err = "Unable to generate constant-speed IvP function";
+        let mut z = ZaicPeak::new(dom, "speed").map_err(|_| err)?;
+        z.set_summit(self.speed, 0);
+        z.set_base_width(self.basewidth, 0);
+        z.set_peak_width(self.peakwidth, 0);
+        z.set_summit_delta(self.summitdelta, 0);
+        z.extract(true).ok_or(err)
+    }
+}
+
+impl IvpBehavior for ConstantSpeed {
+    fn domain(&self) -> String {
+        self.domain.clone()
+    }
+
+    fn default_name(&self) -> String {
+        // The reference's attempt to set a descriptor fails silently (§1.3).
+        "???".into()
+    }
+
+    fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        match param {
+            "speed" => parse_number(value).map(|v| self.speed = v.max(0.0)),
+            "peakwidth" => parse_number(value).map(|v| self.peakwidth = v.max(0.0)),
+            "basewidth" => parse_number(value).map(|v| self.basewidth = v.max(0.0)),
+            "summitdelta" => parse_number(value).map(|v| self.summitdelta = v.clamp(0.0, 100.0)),
+            "speed_mismatch_var" => no_white(value).map(|v| self.mismatch_var = v.to_string()),
+            _ => None,
+        }
+        .is_some()
+    }
+
+    fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
+        self.read_ownship(ctx);
+    }
+
+    fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+        self.read_ownship(ctx);
+        match self.build() {
+            Ok(mut f) => {
+                f.set_pwt(ctx.priority());
+                Some(function_data(f))
+            }
+            Err(msg) => {
+                ctx.post_emessage(msg);
+                None
+            }
+        }
+    }
+}
+
+behavior_api::export_behaviors! {
+    "BHV_ConstantSpeed" => ConstantSpeed::new,
+}
+
+#[cfg(test)]
+#[path = "../../common/testhost.rs"]
+mod testhost;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use testhost::MockHost;
+
+    fn helm() -> HelmDomain {
+        HelmDomain::new("course,0,359,360:speed,0,2,21")
+    }
+
+    fn bhv(params: &[(&str, &str)]) -> (ConstantSpeed, MockHost) {
+        let mut b = ConstantSpeed::new(&helm());
+        let mut host = MockHost::new("cs");
+        for (p, v) in params {
+            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
+        }
+        (b, host)
+    }
+
+    /// (lo, hi, slope, intercept) per piece, slopes/intercepts rounded to 4 decimals.
+    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
+        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
+        (0..f.piece_count().unwrap())
+            .map(|k| {
+                (
+                    f.bounds[2 * k],
+                    f.bounds[2 * k + 1],
+                    r(f.weights[2 * k]),
+                    r(f.weights[2 * k + 1]),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn domain_and_name() {
+        let b = ConstantSpeed::new(&helm());
+        assert_eq!(b.domain(), "speed,0,2,21");
+        assert_eq!(b.default_name(), "???");
+        let b = ConstantSpeed::new(&HelmDomain::new("course,0,359,360"));
+        assert_eq!(b.domain(), "");
+    }
+
+    #[test]
+    fn parameters_are_validated_and_clipped() {
+        let (mut b, mut host) = bhv(&[
+            ("speed", "-1"),
+            ("peakwidth", "-3"),
+            ("basewidth", "-0.5"),
+            ("summitdelta", "150"),
+            ("speed_mismatch_var", "SPD_MM"),
+        ]);
+        assert_eq!(
+            (b.speed, b.peakwidth, b.basewidth, b.summitdelta),
+            (0.0, 0.0, 0.0, 100.0)
+        );
+        assert_eq!(b.mismatch_var, "SPD_MM");
+        host.with(|ctx| {
+            assert!(!b.set_param(ctx, "speed", "fast"));
+            assert!(!b.set_param(ctx, "speed", "1e3"));
+            assert!(!b.set_param(ctx, "summitdelta", ""));
+            assert!(!b.set_param(ctx, "speed_mismatch_var", "A B"));
+            assert!(!b.set_param(ctx, "Speed", "1"));
+            assert!(!b.set_param(ctx, "heading", "1"));
+            assert!(b.set_param(ctx, "summitdelta", "-4"));
+            assert!(b.set_param(ctx, "speed", " +2.5 "));
+        });
+        assert_eq!((b.speed, b.summitdelta), (2.5, 0.0));
+    }
+
+    #[test]
+    fn worked_example_speed_1() {
+        let (mut b, mut host) = bhv(&[("speed", "1.0")]);
+        host.set("NAV_SPEED", 0.5);
+        let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+        assert_eq!(f.pwt, 100.0);
+        assert_eq!(f.domain.as_str(), "speed,0,2,21");
+        assert_eq!(
+            pieces(&f),
+            vec![
+                (0, 8, 0.0, 0.0),
+                (9, 10, 50.0, -400.0),
+                (11, 12, -50.0, 600.0),
+                (13, 20, 0.0, 0.0)
+            ]
+        );
+        assert!(host.posts.is_empty());
+    }
+
+    #[test]
+    fn worked_examples_summit_insist_and_plateau() {
+        let (mut b, mut host) = bhv(&[("speed", "2.5")]);
+        host.set("NAV_SPEED", 0.0);
+        let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+        assert_eq!(pieces(&f), vec![(20, 20, 0.0, 100.0), (0, 19, 0.0, 0.0)]);
+
+        let (mut b, mut host) = bhv(&[("speed", "1.0"), ("peakwidth", "0.3")]);
+        host.set("NAV_SPEED", 0.0);
+        let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+        assert_eq!(
+            pieces(&f),
+            vec![
+                (0, 5, 0.0, 0.0),
+                (6, 7, 50.0, -250.0),
+                (8, 13, 0.0, 100.0),
+                (14, 15, -50.0, 750.0),
+                (16, 20, 0.0, 0.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn worked_example_five_pieces_and_mismatch() {
+        let (mut b, mut host) = bhv(&[
+            ("peakwidth", "0.1"),
+            ("basewidth", "0.5"),
+            ("summitdelta", "10"),
+            ("speed", "1.3"),
+            ("speed_mismatch_var", "SPD_MISMATCH"),
+        ]);
+        host.set("NAV_SPEED", 0.5);
+        let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+        assert_eq!(
+            pieces(&f),
+            vec![
+                (0, 7, 0.0, 0.0),
+                (8, 12, 18.0, -126.0),
+                (13, 14, -10.0, 230.0),
+                (20, 20, 0.0, 0.0),
+                (15, 19, -18.0, 342.0)
+            ]
+        );
+        let mm: f64 = host.last("SPD_MISMATCH").unwrap().parse().unwrap();
+        assert!((mm - 0.8).abs() < 1e-12);
+        assert_eq!(host.posts[0].2, "", "default key");
+    }
+
+    #[test]
+    fn missing_nav_speed_warns_in_idle_and_run() {
+        let (mut b, mut host) = bhv(&[("speed", "1"), ("speed_mismatch_var", "MM")]);
+        host.with(|ctx| b.on_idle_state(ctx));
+        assert_eq!(
+            host.posted("BHV_WARNING"),
+            vec![
+                "cs: NAV_SPEED dbl info not found in helm info_buffer",
+                "cs: No ownship SPEED info in info_buffer."
+            ]
+        );
+        assert!(host.posts.iter().all(|p| p.2 == "repeatable"));
+        assert!(host.posted("MM").is_empty());
+        host.clear();
+        // Running: the function is produced regardless of the read.
+        assert!(host.with(|ctx| b.on_run(ctx)).is_some());
+        assert_eq!(host.posted("BHV_WARNING").len(), 2);
+        host.clear();
+        host.set("NAV_SPEED", 3.0);
+        host.with(|ctx| b.on_idle_state(ctx));
+        assert_eq!(host.posted("MM"), vec!["2"]);
+    }
+
+    #[test]
+    fn missing_domain_variable_is_an_error() {
+        let mut b = ConstantSpeed::new(&HelmDomain::new("course,0,359,360"));
+        let mut host = MockHost::new("cs");
+        host.set("NAV_SPEED", 1.0);
+        assert!(host.with(|ctx| b.on_run(ctx)).is_none());
+        assert_eq!(
+            host.posted("BHV_ERROR"),
+            vec!["cs: No 'speed' variable in the helm domain"]
+        );
+    }
+}
