@@ -19,7 +19,7 @@ impl BehaviorFactory {
     /// The built-in types only (BHV_Waypoint, BHV_Loiter, BHV_Timer).
     pub fn with_builtins() -> Self {
         BehaviorFactory {
-            builtins: Vec::new(), // TEMP
+            builtins: behaviors_std::builtin_types(),
             libraries: Vec::new(),
             searched_dirs: Vec::new(),
         }
