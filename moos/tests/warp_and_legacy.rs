@@ -1,0 +1,121 @@
+//! Time warp (timestamps, warped intervals, DB_* refresh) and legacy synchronous clients.
+
+use std::io::Write;
+use std::net::TcpStream;
+use std::time::{Duration, Instant};
+
+use moos::client::{Client, ClientConfig};
+use moos::db::{Db, DbConfig};
+use moos::wire::{self, DataType, FrameReader, Message, MsgType};
+
+#[test]
+fn time_warp_scales_clocks_intervals_and_db_vars() {
+    let warp = 10.0;
+    let db = Db::start(DbConfig {
+        port: 0,
+        time_warp: warp,
+        community: "warped".into(),
+        ..DbConfig::default()
+    })
+    .expect("db");
+    let mut cfg = ClientConfig::new("127.0.0.1", db.port(), "warper");
+    cfg.time_warp = warp;
+    let c = Client::connect(cfg.clone()).expect("connect");
+    let wall = moos::time::wall_time();
+    assert!((c.moos_time() - wall * warp).abs() < 5.0, "MOOSTime is wall x warp");
+    c.register("DB_CLIENTS", 0.0).expect("register");
+    c.register("DB_TIME", 0.0).expect("register");
+    cfg.name = "warppub".into();
+    let p = Client::connect(cfg).expect("connect");
+    // interval 5 MOOS s = 0.5 real s
+    c.register("TICK", 5.0).expect("register");
+    std::thread::sleep(Duration::from_millis(100));
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_millis(1200) {
+        p.notify_double("TICK", 1.0, None).expect("post");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(200));
+    let mut m = Vec::new();
+    c.fetch(&mut m);
+    let ticks = m.iter().filter(|m| m.key == "TICK").count();
+    assert!((2..=4).contains(&ticks), "5 MOOS s interval at warp 10 over 1.2 s: {ticks}");
+    // more than 2 MOOS s have passed: DB_* refreshed on traffic
+    let clients: Vec<String> =
+        m.iter().filter(|m| m.key == "DB_CLIENTS").map(|m| m.string().into_owned()).collect();
+    assert!(!clients.is_empty(), "DB_CLIENTS refreshed");
+    let last = clients.last().expect("one");
+    assert!(last.contains("warper,") && last.contains("warppub,"), "{last}");
+    let t = m.iter().find(|m| m.key == "DB_TIME").expect("DB_TIME");
+    assert!((t.dval - wall * warp).abs() < 60.0);
+    assert_eq!(t.source, "MOOSDB_warped");
+    assert_eq!(t.data_type, DataType::DOUBLE);
+}
+
+fn read_packet(s: &mut TcpStream, fr: &mut FrameReader) -> Vec<Message> {
+    let deadline = Instant::now() + Duration::from_secs(3);
+    while Instant::now() < deadline {
+        if let Ok(Some(r)) = fr.next_frame() {
+            return wire::decode_packet(fr.frame(r), 1 << 20).expect("decode");
+        }
+        let _ = fr.fill(s);
+    }
+    panic!("no packet");
+}
+
+#[test]
+fn synchronous_client_gets_null_first_and_held_mail() {
+    let db = Db::start(DbConfig {
+        port: 0,
+        ..DbConfig::default()
+    })
+    .expect("db");
+    let p = Client::connect(ClientConfig::new("127.0.0.1", db.port(), "apub")).expect("connect");
+    let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
+    s.set_read_timeout(Some(Duration::from_millis(100))).expect("timeout");
+    let hs = Message {
+        msg_type: MsgType::DATA,
+        data_type: DataType::STRING,
+        key: String::new(), // legacy synchronous
+        time: moos::time::wall_time(),
+        sval: b"legacy".to_vec(),
+        ..Message::default()
+    };
+    let mut buf = wire::BANNER.to_vec();
+    wire::encode_packet(&[hs], &mut buf).expect("encode");
+    s.write_all(&buf).expect("handshake");
+    let mut fr = FrameReader::new(1 << 20);
+    let w = read_packet(&mut s, &mut fr);
+    assert_eq!(w[0].msg_type, MsgType::WELCOME);
+    let reg = Message {
+        msg_type: MsgType::REGISTER,
+        source: "legacy".into(),
+        key: "SV".into(),
+        dval: 0.0,
+        id: 0,
+        ..Message::default()
+    };
+    let mut buf = Vec::new();
+    wire::encode_packet(&[reg], &mut buf).expect("encode");
+    s.write_all(&buf).expect("register");
+    let r = read_packet(&mut s, &mut fr);
+    assert_eq!(r[0].msg_type, MsgType::NULL, "NULL first in every reply");
+    assert!(r[0].dval > 1e9, "NULL carries the DB time");
+    p.notify_string("SV", "v1", None).expect("post");
+    std::thread::sleep(Duration::from_millis(200));
+    // nothing is pushed to a synchronous client ...
+    let _ = fr.fill(&mut s);
+    assert!(fr.next_frame().expect("frame").is_none());
+    // ... until it polls
+    let null = Message {
+        source: "legacy".into(),
+        ..Message::default()
+    };
+    let mut buf = Vec::new();
+    wire::encode_packet(&[null], &mut buf).expect("encode");
+    s.write_all(&buf).expect("poll");
+    let r = read_packet(&mut s, &mut fr);
+    assert_eq!(r[0].msg_type, MsgType::NULL);
+    assert_eq!(r[1].key, "SV");
+    assert_eq!(r[1].string(), "v1");
+}
