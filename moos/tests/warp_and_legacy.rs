@@ -22,7 +22,10 @@ fn time_warp_scales_clocks_intervals_and_db_vars() {
     cfg.time_warp = warp;
     let c = Client::connect(cfg.clone()).expect("connect");
     let wall = moos::time::wall_time();
-    assert!((c.moos_time() - wall * warp).abs() < 5.0, "MOOSTime is wall x warp");
+    assert!(
+        (c.moos_time() - wall * warp).abs() < 5.0,
+        "MOOSTime is wall x warp"
+    );
     c.register("DB_CLIENTS", 0.0).expect("register");
     c.register("DB_TIME", 0.0).expect("register");
     cfg.name = "warppub".into();
@@ -39,13 +42,22 @@ fn time_warp_scales_clocks_intervals_and_db_vars() {
     let mut m = Vec::new();
     c.fetch(&mut m);
     let ticks = m.iter().filter(|m| m.key == "TICK").count();
-    assert!((2..=4).contains(&ticks), "5 MOOS s interval at warp 10 over 1.2 s: {ticks}");
+    assert!(
+        (2..=4).contains(&ticks),
+        "5 MOOS s interval at warp 10 over 1.2 s: {ticks}"
+    );
     // more than 2 MOOS s have passed: DB_* refreshed on traffic
-    let clients: Vec<String> =
-        m.iter().filter(|m| m.key == "DB_CLIENTS").map(|m| m.string().into_owned()).collect();
+    let clients: Vec<String> = m
+        .iter()
+        .filter(|m| m.key == "DB_CLIENTS")
+        .map(|m| m.string().into_owned())
+        .collect();
     assert!(!clients.is_empty(), "DB_CLIENTS refreshed");
     let last = clients.last().expect("one");
-    assert!(last.contains("warper,") && last.contains("warppub,"), "{last}");
+    assert!(
+        last.contains("warper,") && last.contains("warppub,"),
+        "{last}"
+    );
     let t = m.iter().find(|m| m.key == "DB_TIME").expect("DB_TIME");
     assert!((t.dval - wall * warp).abs() < 60.0);
     assert_eq!(t.source, "MOOSDB_warped");
@@ -72,7 +84,8 @@ fn synchronous_client_gets_null_first_and_held_mail() {
     .expect("db");
     let p = Client::connect(ClientConfig::new("127.0.0.1", db.port(), "apub")).expect("connect");
     let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
-    s.set_read_timeout(Some(Duration::from_millis(100))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_millis(100)))
+        .expect("timeout");
     let hs = Message {
         msg_type: MsgType::DATA,
         data_type: DataType::STRING,
