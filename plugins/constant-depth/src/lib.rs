@@ -1,1 +1,250 @@
-//! placeholder
+//! BHV_ConstantDepth (behaviors-plugins.md §4): a ZAIC_PEAK over `depth` around a
+//! desired depth, every running iteration, plus an optional mismatch posting.
+//!
+//! The host handles the common parameters; note that this type's duration default is 0
+//! (§1.2), which the host must apply for it (see the crate README in `plugins/`).
+
+use behavior_api::ivp::{self, zaic::ZaicPeak};
+use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::FunctionData;
+
+#[path = "../../common/util.rs"]
+mod util;
+use util::{no_white, parse_number};
+
+/// BHV_ConstantDepth.
+pub struct ConstantDepth {
+    domain: String,
+    ivp_domain: Option<ivp::Domain>,
+    depth: f64,
+    peakwidth: f64,
+    basewidth: f64,
+    summitdelta: f64,
+    mismatch_var: String,
+}
+
+impl ConstantDepth {
+    pub fn new(helm_domain: &HelmDomain) -> Self {
+        ConstantDepth {
+            domain: helm_domain.sub_domain(&["depth"]),
+            ivp_domain: helm_domain.ivp_domain(&["depth"]),
+            depth: 0.0,
+            peakwidth: 3.0,
+            basewidth: 100.0,
+            summitdelta: 50.0,
+            mismatch_var: String::new(),
+        }
+    }
+
+    /// Read NAV_DEPTH (idle and running iterations): warnings or the mismatch posting.
+    fn read_ownship(&mut self, ctx: &mut Ctx<'_>) {
+        match ctx.get_buffer_double_val("NAV_DEPTH") {
+            None => ctx.post_wmessage("No ownship DEPTH info in info_buffer."),
+            Some(os) => {
+                if !self.mismatch_var.is_empty() {
+                    let mut delta = os - self.depth;
+                    if delta < 0.0 {
+                        delta = -delta;
+                    }
+                    ctx.post_message_num(&self.mismatch_var, delta);
+                }
+            }
+        }
+    }
+
+    /// The objective function (§4.3), without pwt.
+    fn build(&self) -> Result<ivp::IvpFunction, &'static str> {
+        let dom = self
+            .ivp_domain
+            .as_ref()
+            .ok_or("No 'depth' variable in the helm domain")?;
+        let err = "Unable to generate constant-depth IvP function";
+        let mut z = ZaicPeak::new(dom, "depth").map_err(|_| err)?;
+        z.set_summit(self.depth, 0);
+        z.set_base_width(self.basewidth, 0);
+        z.set_peak_width(self.peakwidth, 0);
+        z.set_summit_delta(self.summitdelta, 0);
+        z.extract(true).ok_or(err)
+    }
+}
+
+impl IvpBehavior for ConstantDepth {
+    fn domain(&self) -> String {
+        self.domain.clone()
+    }
+
+    fn default_name(&self) -> String {
+        // The reference's attempt to set a descriptor fails silently (§1.3).
+        "???".into()
+    }
+
+    fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        match param {
+            "depth" => parse_number(value).map(|v| self.depth = v.max(0.0)),
+            "peakwidth" => parse_number(value).map(|v| self.peakwidth = v.max(0.0)),
+            "basewidth" => parse_number(value).map(|v| self.basewidth = v.max(0.0)),
+            "summitdelta" => parse_number(value).map(|v| self.summitdelta = v.clamp(0.0, 100.0)),
+            "depth_mismatch_var" => no_white(value).map(|v| self.mismatch_var = v.to_string()),
+            _ => None,
+        }
+        .is_some()
+    }
+
+    fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
+        self.read_ownship(ctx);
+    }
+
+    fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+        self.read_ownship(ctx);
+        match self.build() {
+            Ok(mut f) => {
+                f.set_pwt(ctx.priority());
+                Some(function_data(f))
+            }
+            Err(msg) => {
+                ctx.post_emessage(msg);
+                None
+            }
+        }
+    }
+}
+
+behavior_api::export_behaviors! {
+    "BHV_ConstantDepth" => ConstantDepth::new,
+}
+
+#[cfg(test)]
+#[path = "../../common/testhost.rs"]
+mod testhost;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use testhost::MockHost;
+
+    fn helm() -> HelmDomain {
+        HelmDomain::new("course,0,359,360:speed,0,2,21:depth,0,100,101")
+    }
+
+    fn bhv(params: &[(&str, &str)]) -> (ConstantDepth, MockHost) {
+        let mut b = ConstantDepth::new(&helm());
+        let mut host = MockHost::new("cd");
+        for (p, v) in params {
+            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
+        }
+        (b, host)
+    }
+
+    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
+        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
+        (0..f.piece_count().unwrap())
+            .map(|k| {
+                (
+                    f.bounds[2 * k],
+                    f.bounds[2 * k + 1],
+                    r(f.weights[2 * k]),
+                    r(f.weights[2 * k + 1]),
+                )
+            })
+            .collect()
+    }
+
+    /// The best grid index, scaling by pwt like the helm (slope and intercept separately)
+    /// and keeping the first piece on ties.
+    fn best(f: &FunctionData) -> i32 {
+        let mut best = (f64::NEG_INFINITY, 0);
+        for k in 0..f.piece_count().unwrap() {
+            let (lo, hi) = (f.bounds[2 * k], f.bounds[2 * k + 1]);
+            let (m, b) = (f.weights[2 * k] * f.pwt, f.weights[2 * k + 1] * f.pwt);
+            let i = if m > 0.0 { hi } else { lo };
+            let v = b + m * f64::from(i);
+            if v > best.0 {
+                best = (v, i);
+            }
+        }
+        best.1
+    }
+
+    #[test]
+    fn domain_and_name() {
+        let b = ConstantDepth::new(&helm());
+        assert_eq!(b.domain(), "depth,0,100,101");
+        assert_eq!(b.default_name(), "???");
+        assert_eq!(ConstantDepth::new(&HelmDomain::new("speed,0,2,21")).domain(), "");
+    }
+
+    #[test]
+    fn parameters() {
+        let (mut b, mut host) = bhv(&[]);
+        assert_eq!(
+            (b.depth, b.peakwidth, b.basewidth, b.summitdelta),
+            (0.0, 3.0, 100.0, 50.0)
+        );
+        host.with(|ctx| {
+            assert!(ctx.name() == "cd");
+            assert!(b.set_param(ctx, "depth", "-5"));
+            assert!(b.set_param(ctx, "peakwidth", "-1"));
+            assert!(b.set_param(ctx, "basewidth", "-1"));
+            assert!(b.set_param(ctx, "summitdelta", "-1"));
+            assert!(b.set_param(ctx, "depth_mismatch_var", "DERR"));
+            assert!(!b.set_param(ctx, "depth", "deep"));
+            assert!(!b.set_param(ctx, "depth_mismatch_var", "D ERR"));
+            assert!(!b.set_param(ctx, "speed", "1"));
+        });
+        assert_eq!(
+            (b.depth, b.peakwidth, b.basewidth, b.summitdelta),
+            (0.0, 0.0, 0.0, 0.0)
+        );
+        assert_eq!(b.mismatch_var, "DERR");
+    }
+
+    #[test]
+    fn worked_example_12_3() {
+        let (mut b, mut host) = bhv(&[("depth", "12.3")]);
+        host.set("NAV_DEPTH", 0.0);
+        let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+        assert_eq!(
+            pieces(&f),
+            vec![
+                (0, 9, 0.5, 45.35),
+                (10, 12, 16.6667, -105.0),
+                (13, 15, -16.6667, 305.0),
+                (16, 100, -0.5, 57.65)
+            ]
+        );
+        assert_eq!(best(&f), 12);
+    }
+
+    #[test]
+    fn worked_example_decisions() {
+        for (depth, want) in [("12.5", 12), ("12.4999", 12), ("99.5", 100), ("150", 100), ("0", 0)] {
+            let (mut b, mut host) = bhv(&[("depth", depth)]);
+            host.set("NAV_DEPTH", 0.0);
+            let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+            assert_eq!(best(&f), want, "depth {depth}");
+        }
+        let (mut b, mut host) = bhv(&[("depth", "150")]);
+        host.set("NAV_DEPTH", 0.0);
+        let f = host.with(|ctx| b.on_run(ctx)).unwrap();
+        assert_eq!(pieces(&f), vec![(0, 47, 0.0, 0.0), (48, 100, 0.5, -23.5)]);
+    }
+
+    #[test]
+    fn mismatch_and_warnings() {
+        let (mut b, mut host) = bhv(&[("depth", "20"), ("depth_mismatch_var", "DERR")]);
+        host.set("NAV_DEPTH", 12.5);
+        host.with(|ctx| b.on_idle_state(ctx));
+        assert_eq!(host.posted("DERR"), vec!["7.5"]);
+        host.clear();
+        host.unset("NAV_DEPTH");
+        assert!(host.with(|ctx| b.on_run(ctx)).is_some());
+        assert_eq!(
+            host.posted("BHV_WARNING"),
+            vec![
+                "cd: NAV_DEPTH dbl info not found in helm info_buffer",
+                "cd: No ownship DEPTH info in info_buffer."
+            ]
+        );
+        assert!(host.posted("DERR").is_empty());
+    }
+}
