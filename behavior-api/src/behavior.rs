@@ -21,12 +21,8 @@ pub trait Behavior: Send {
     /// The name used when the `.bhv` block has no `name =` line.
     fn default_name(&self) -> RString;
     /// A type-specific parameter; `Ok(false)` means not accepted.
-    fn set_param(
-        &mut self,
-        ctx: HelmCtx<'_>,
-        param: RStr<'_>,
-        value: RStr<'_>,
-    ) -> CallResult<bool>;
+    fn set_param(&mut self, ctx: HelmCtx<'_>, param: RStr<'_>, value: RStr<'_>)
+        -> CallResult<bool>;
     /// After all parameters (and after each successful update).
     fn on_params_complete(&mut self, ctx: HelmCtx<'_>) -> CallResult<()>;
     /// Once at helm start-up; anything posted becomes a helm-start message.

@@ -41,7 +41,7 @@ impl FunctionData {
     /// Number of pieces, or `None` when the buffers disagree with each other.
     pub fn piece_count(&self) -> Option<usize> {
         let dim = self.dim();
-        if dim == 0 || self.bounds.len() % (2 * dim) != 0 {
+        if dim == 0 || !self.bounds.len().is_multiple_of(2 * dim) {
             return None;
         }
         let n = self.bounds.len() / (2 * dim);

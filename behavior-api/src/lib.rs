@@ -40,9 +40,9 @@ pub mod sdk;
 pub mod value;
 
 pub use abi_stable;
-pub use ivp;
 pub use behavior::{BehaviorBox, CallResult};
 pub use context::HelmCtx;
 pub use function::FunctionData;
+pub use ivp;
 pub use module::{BehaviorLibRef, API_VERSION};
 pub use value::PostValue;

@@ -164,11 +164,13 @@ impl<'a> Ctx<'a> {
 
     /// `postMessage(var, string)` with the default key.
     pub fn post_message(&mut self, var: &str, value: &str) {
-        self.inner.post(var.into(), PostValue::from(value), "".into());
+        self.inner
+            .post(var.into(), PostValue::from(value), "".into());
     }
     /// `postMessage(var, double)` with the default key.
     pub fn post_message_num(&mut self, var: &str, value: f64) {
-        self.inner.post(var.into(), PostValue::Num(value), "".into());
+        self.inner
+            .post(var.into(), PostValue::Num(value), "".into());
     }
     /// `postMessage(var, value, key)`: the key is appended to the default key.
     pub fn post_message_key(&mut self, var: &str, value: PostValue<'_>, key: &str) {
@@ -311,16 +313,19 @@ impl<B: IvpBehavior> Behavior for Adapter<B> {
     fn domain(&self) -> RString {
         // A panic here is caught and reported as an empty domain (the helm then
         // reports "Null IvPDomain").
-        catching(|| self.0.domain())
-            .unwrap_or_default()
-            .into()
+        catching(|| self.0.domain()).unwrap_or_default().into()
     }
     fn default_name(&self) -> RString {
         catching(|| self.0.default_name())
             .unwrap_or_else(|_| "???".to_string())
             .into()
     }
-    fn set_param(&mut self, ctx: HelmCtx<'_>, param: RStr<'_>, value: RStr<'_>) -> CallResult<bool> {
+    fn set_param(
+        &mut self,
+        ctx: HelmCtx<'_>,
+        param: RStr<'_>,
+        value: RStr<'_>,
+    ) -> CallResult<bool> {
         let b = &mut self.0;
         catching(move || b.set_param(&mut Ctx::new(ctx), param.as_str(), value.as_str()))
     }

@@ -210,14 +210,13 @@ impl HelmConfig {
                     cfg.helm_alias = value.clone();
                     true
                 }
-                "standby" => {
-                    if bhv::number::is_number(&value) && bhv::number::atof(&value) > 0.0 {
-                        cfg.standby = Some(bhv::number::atof(&value));
+                "standby" => match positive_number(&value) {
+                    Some(t) => {
+                        cfg.standby = Some(t);
                         true
-                    } else {
-                        false
                     }
-                }
+                    None => false,
+                },
                 "node_skew" => value.contains(','),
                 "helm_prefix" => {
                     cfg.helm_prefix = value.clone();
@@ -234,14 +233,13 @@ impl HelmConfig {
                     }
                     ok
                 }
-                "nav_grace" => {
-                    if bhv::number::is_number(&value) {
-                        cfg.nav_grace = bhv::number::atof(&value);
+                "nav_grace" => match number(&value) {
+                    Some(t) => {
+                        cfg.nav_grace = t;
                         true
-                    } else {
-                        false
                     }
-                }
+                    None => false,
+                },
                 "contact_max_age" => {
                     bhv::number::is_number(&value) && {
                         let v = bhv::number::atof(&value);
@@ -292,6 +290,14 @@ impl HelmConfig {
     pub fn domain_string(&self) -> String {
         self.domain.to_string()
     }
+}
+
+fn number(v: &str) -> Option<f64> {
+    bhv::number::is_number(v).then(|| bhv::number::atof(v))
+}
+
+fn positive_number(v: &str) -> Option<f64> {
+    number(v).filter(|x| *x > 0.0)
 }
 
 fn set_bool(slot: &mut bool, v: &str) -> bool {

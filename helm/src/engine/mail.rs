@@ -42,14 +42,14 @@ impl Helm {
         }
     }
 
-    fn from_self(&self, m: &Mail) -> bool {
+    fn is_own_posting(&self, m: &Mail) -> bool {
         m.source == self.app_name
     }
 
     fn handle_one(&mut self, now: f64, m: &Mail) {
         if let Some(ok_skew) = self.config.ok_skew {
             let skew = (now - m.time).abs();
-            if skew > ok_skew && !self.from_self(m) && m.var != "HELM_MAP_CLEAR" {
+            if skew > ok_skew && !self.is_own_posting(m) && m.var != "HELM_MAP_CLEAR" {
                 let text = format!(
                     "Helm ignores MOOS msg due to skew: {} Source={} Skew={:.2}",
                     m.var, m.source, skew
@@ -78,7 +78,7 @@ impl Helm {
         match var {
             "IVPHELM_STATE" => {
                 self.helm_state_seen = true;
-                if !self.from_self(m) {
+                if !self.is_own_posting(m) {
                     if self.config.standby.is_some() {
                         if self.state == HelmState::Standby {
                             self.last_posted.insert("__hb", format!("{now}"));
