@@ -369,10 +369,11 @@ fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
     if msgs.is_empty() {
         return;
     }
+    // Waiters only sleep on an empty inbox, so only that transition needs a wake-up.
     if st.inbox.is_empty() {
         st.inbox = msgs;
+        sh.mail_cv.notify_all();
     } else {
         st.inbox.append(&mut msgs);
     }
-    sh.mail_cv.notify_all();
 }

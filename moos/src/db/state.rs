@@ -1,7 +1,8 @@
 //! The DB's single-threaded state machine (spec §5.3–§5.9). Every packet from every
 //! client is processed here one at a time under one lock.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::Arc;
 
 use super::outbox::Outbox;
@@ -9,6 +10,32 @@ use crate::text::{find_value, format_g, wildcard_match};
 use crate::wire::{DataType, Message, MsgType, PacketBuilder};
 
 const REFRESH_PERIOD: f64 = 2.0;
+
+/// FNV-1a: variable and client names are short, and SipHash showed up in profiles.
+/// (MOOS communities are trusted networks; hash flooding is not a concern here.)
+#[derive(Default)]
+pub(crate) struct Fnv(u64);
+
+impl Hasher for Fnv {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        let mut h = if self.0 == 0 {
+            0xcbf2_9ce4_8422_2325
+        } else {
+            self.0
+        };
+        for b in bytes {
+            h ^= u64::from(*b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+        self.0 = h;
+    }
+}
+
+type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<Fnv>>;
+type FastSet<K> = HashSet<K, BuildHasherDefault<Fnv>>;
 
 pub(crate) struct Sub {
     client: Arc<str>,
@@ -26,7 +53,7 @@ pub(crate) struct Var {
     community: String,
     written_db: f64,
     write_count: u64,
-    writers: BTreeSet<String>,
+    writers: FastSet<String>,
     freq: f64,
     subs: Vec<Sub>,
 }
@@ -43,7 +70,7 @@ impl Var {
             community: String::new(),
             written_db: -1.0,
             write_count: 0,
-            writers: BTreeSet::new(),
+            writers: FastSet::default(),
             freq: 0.0,
             subs: Vec::new(),
         }
@@ -93,7 +120,7 @@ pub(crate) struct ClientRec {
     queued_hint: usize,
     consolidation: f64,
     qos: Option<Qos>,
-    published: BTreeSet<String>,
+    published: FastSet<String>,
 }
 
 /// Result of a handshake attempt.
@@ -108,8 +135,8 @@ pub(crate) struct State {
     hostname: String,
     start: f64,
     last_refresh: f64,
-    vars: HashMap<String, Var>,
-    pub clients: HashMap<String, ClientRec>,
+    vars: FastMap<String, Var>,
+    pub clients: FastMap<String, ClientRec>,
     /// Newest connection last.
     order: Vec<String>,
     dirty: Vec<String>,
@@ -124,7 +151,7 @@ pub(crate) struct State {
 
 impl State {
     pub fn new(community: &str, hostname: &str, response: &[(String, f64)], now: f64) -> State {
-        let mut vars = HashMap::new();
+        let mut vars = FastMap::default();
         for (n, t) in [
             ("DB_TIME", DataType::DOUBLE),
             ("DB_UPTIME", DataType::DOUBLE),
@@ -146,7 +173,7 @@ impl State {
             start: now,
             last_refresh: now,
             vars,
-            clients: HashMap::new(),
+            clients: FastMap::default(),
             order: Vec::new(),
             dirty: Vec::new(),
             to_drop: Vec::new(),
@@ -202,7 +229,7 @@ impl State {
                 queued_hint: 0,
                 consolidation,
                 qos: None,
-                published: BTreeSet::new(),
+                published: FastSet::default(),
             },
         );
         self.order.push(name.clone());
@@ -389,11 +416,11 @@ impl State {
 
     /// `N` (spec §5.4.1). `m` is turned into the forwarded copy in place.
     fn notify(&mut self, m: &mut Message, now: f64) {
-        if !self.vars.contains_key(&m.key) {
-            self.vars.insert(m.key.clone(), Var::new(m.data_type));
-        }
-        let first = self.vars.get(&m.key).is_some_and(|v| v.write_count == 0);
+        let first = self.vars.get(&m.key).is_none_or(|v| v.write_count == 0);
         if first {
+            if !self.vars.contains_key(&m.key) {
+                self.vars.insert(m.key.clone(), Var::new(m.data_type));
+            }
             let mut matches = Vec::new();
             for (cname, c) in &self.clients {
                 for f in &c.filters {
@@ -602,7 +629,9 @@ impl State {
                     s.push_str(v);
                 }
                 s.push_str(",PUBLISHED=");
-                for v in &c.published {
+                let mut pubs: Vec<&String> = c.published.iter().collect();
+                pubs.sort();
+                for v in pubs {
                     s.push(',');
                     s.push_str(v);
                 }
@@ -685,11 +714,12 @@ impl State {
                     .map(|(k, _)| k.as_str())
                     .collect();
                 subs.sort();
-                let pubs: Vec<&str> = self
+                let mut pubs: Vec<&str> = self
                     .clients
                     .get(n)
                     .map(|c| c.published.iter().map(String::as_str).collect())
                     .unwrap_or_default();
+                pubs.sort();
                 format!("{n}={}&{}", subs.join(":"), pubs.join(":"))
             })
             .collect::<Vec<_>>()
