@@ -1,1 +1,532 @@
-//! placeholder
+//! BHV_StationKeep (behaviors-plugins.md §5): hold a station point with a coupled
+//! course × speed function, a speed ramp between an inner and an outer ring and an
+//! optional hibernation state machine.
+
+use std::collections::VecDeque;
+
+use behavior_api::ivp::{self, coupler::couple, zaic::ZaicPeak};
+use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::{FunctionData, PostValue};
+use geometry::angles::{angle360, rel_ang};
+use geometry::spec::{fmt_x, is_color, Attrs};
+
+#[path = "../../common/util.rs"]
+mod util;
+use util::parse_number;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    Disabled,
+    Hibernating,
+    SeekingStation,
+}
+
+impl Mode {
+    fn label(self) -> &'static str {
+        match self {
+            Mode::Disabled => "DISABLED",
+            Mode::Hibernating => "HIBERNATING",
+            Mode::SeekingStation => "SEEKING_STATION",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Transit {
+    Disabled,
+    Hibernating,
+    PendingProgressStart,
+    NotedProgressStart,
+    NotedProgressEnd,
+}
+
+/// BHV_StationKeep.
+pub struct StationKeep {
+    domain: String,
+    ivp_domain: Option<ivp::Domain>,
+    // station actually held
+    station: (f64, f64),
+    station_set: bool,
+    // static point from station_pt
+    static_pt: (f64, f64),
+    static_defined: bool,
+    pending: bool,
+    center_activate: bool,
+    hibernation_radius: f64,
+    mode: Mode,
+    transit: Transit,
+    outer_radius: f64,
+    inner_radius: f64,
+    outer_speed: f64,
+    extra_speed: f64,
+    swing_time: f64,
+    dist: f64,
+    mark_time: f64,
+    /// (distance, time), newest first.
+    history: VecDeque<(f64, f64)>,
+    // visual hints
+    vertex_color: String,
+    edge_color: String,
+    label_color: String,
+    vertex_size: f64,
+    edge_size: f64,
+    /// Course and speed summits of the last function (for tests and logs).
+    last_summits: (f64, f64),
+}
+
+impl StationKeep {
+    pub fn new(helm_domain: &HelmDomain) -> Self {
+        StationKeep {
+            domain: helm_domain.sub_domain(&["course", "speed"]),
+            ivp_domain: helm_domain.ivp_domain(&["course", "speed"]),
+            station: (0.0, 0.0),
+            station_set: false,
+            static_pt: (0.0, 0.0),
+            static_defined: false,
+            pending: false,
+            center_activate: false,
+            hibernation_radius: -1.0,
+            mode: Mode::Disabled,
+            transit: Transit::Disabled,
+            outer_radius: 15.0,
+            inner_radius: 4.0,
+            outer_speed: 1.2,
+            extra_speed: 2.5,
+            swing_time: 0.0,
+            dist: -1.0,
+            mark_time: -1.0,
+            history: VecDeque::new(),
+            vertex_color: "red".into(),
+            edge_color: "light_blue".into(),
+            label_color: "white".into(),
+            vertex_size: 1.0,
+            edge_size: 1.0,
+            last_summits: (0.0, 0.0),
+        }
+    }
+
+    fn settings(&self, name: &str) -> String {
+        format!(
+            "type=BHV_StationKeep,name={name},x={:.2},y={:.2},inner_radius={:.1},outer_radius={:.1},hibernation_radius={:.1},outer_speed={:.1},center_activate={}",
+            self.static_pt.0,
+            self.static_pt.1,
+            self.inner_radius,
+            self.outer_radius,
+            self.hibernation_radius,
+            self.outer_speed,
+            self.center_activate
+        )
+    }
+
+    fn post_settings(&self, ctx: &mut Ctx<'_>) {
+        let s = self.settings(&ctx.name());
+        ctx.post_repeatable_message("BHV_SETTINGS", PostValue::from(s.as_str()));
+    }
+
+    fn set_visual_hints(&mut self, value: &str) {
+        for field in split_top(value, ',') {
+            let Some((k, v)) = field.split_once('=') else {
+                continue;
+            };
+            let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
+            match k.as_str() {
+                "vertex_color" | "edge_color" | "label_color" if is_color(v) => {
+                    let slot = match k.as_str() {
+                        "vertex_color" => &mut self.vertex_color,
+                        "edge_color" => &mut self.edge_color,
+                        _ => &mut self.label_color,
+                    };
+                    *slot = v.to_string();
+                }
+                "vertex_size" => {
+                    if let Some(n) = parse_number(v) {
+                        self.vertex_size = n;
+                    }
+                }
+                "edge_size" => {
+                    if let Some(n) = parse_number(v) {
+                        self.edge_size = n;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// One `VIEW_POLYGON` radial spec (§5.7).
+    fn circle(&self, ctx: &Ctx<'_>, label: &str, radius: f64, active: bool) -> String {
+        let own = ctx.ownship();
+        let mut s = format!(
+            "radial:: x={:.1},y={:.1},source={own}:{},pts=32",
+            self.station.0,
+            self.station.1,
+            ctx.name()
+        );
+        if self.edge_size >= 0.0 {
+            s.push_str(&format!(",edge_size={}", fmt_x(self.edge_size, 5)));
+        }
+        if self.vertex_size >= 0.0 {
+            s.push_str(&format!(",vertex_size={}", fmt_x(self.vertex_size, 5)));
+        }
+        s.push_str(&format!(
+            ",edge_color={},label_color={},vertex_color={},label={own}:station-keep-{label},radius={radius:.1}",
+            self.edge_color, self.label_color, self.vertex_color
+        ));
+        if !active {
+            s.push_str(",active=false");
+        }
+        s
+    }
+
+    fn post_circle(&self, ctx: &mut Ctx<'_>, label: &str, key: &str, radius: f64, active: bool) {
+        let s = self.circle(ctx, label, radius, active);
+        ctx.post_message_key("VIEW_POLYGON", PostValue::from(s.as_str()), key);
+    }
+
+    fn post_visuals(&self, ctx: &mut Ctx<'_>) {
+        self.post_circle(ctx, "out", "outer", self.outer_radius, true);
+        if self.inner_radius < self.outer_radius {
+            self.post_circle(ctx, "in", "inner", self.inner_radius, true);
+        }
+        if self.hibernation_radius > self.outer_radius {
+            self.post_circle(ctx, "hiber", "hiber", self.hibernation_radius, true);
+        }
+    }
+
+    fn erase_visuals(&self, ctx: &mut Ctx<'_>) {
+        self.post_circle(ctx, "out", "outer", self.outer_radius, false);
+        self.post_circle(ctx, "in", "inner", self.inner_radius, false);
+        self.post_circle(ctx, "hiber", "hiber", self.hibernation_radius, false);
+    }
+
+    /// History test: `None` when the span is ≤ 5 s, else the rate of change.
+    fn history_rate(&self) -> Option<f64> {
+        let (dn, tn) = *self.history.front()?;
+        let (d0, t0) = *self.history.back()?;
+        let span = tn - t0;
+        if span <= 5.0 {
+            return None;
+        }
+        Some((dn - d0) / span)
+    }
+
+    /// The hibernation state machine (§5.5).
+    fn update_hibernation(&mut self) {
+        if self.mode == Mode::Disabled {
+            return;
+        }
+        let (d, r) = (self.dist, self.hibernation_radius);
+        match self.transit {
+            Transit::PendingProgressStart => {
+                if d <= r && self.history_rate().is_some_and(|rate| rate <= 0.0) {
+                    self.history.clear();
+                    self.transit = Transit::NotedProgressStart;
+                }
+            }
+            Transit::NotedProgressStart => {
+                if self.history_rate().is_some_and(|rate| rate >= 0.0) {
+                    self.transit = Transit::NotedProgressEnd;
+                }
+            }
+            _ => {}
+        }
+        if self.mode == Mode::Hibernating {
+            if d > r {
+                self.mode = Mode::SeekingStation;
+                self.history.clear();
+                self.transit = Transit::PendingProgressStart;
+            }
+            return;
+        }
+        if self.mode == Mode::SeekingStation
+            && (d <= self.inner_radius || (self.transit == Transit::NotedProgressEnd && d <= r))
+        {
+            self.mode = Mode::Hibernating;
+            self.transit = Transit::Hibernating;
+            self.history.clear();
+        }
+    }
+
+    /// The speed summit (§5.4 step 9).
+    fn speed_summit(&self) -> f64 {
+        let d = self.dist;
+        if self.mode == Mode::Hibernating || d <= self.inner_radius {
+            0.0
+        } else if d < self.outer_radius {
+            let range = self.outer_radius - self.inner_radius;
+            let pct = (d - self.inner_radius) / range;
+            pct * self.outer_speed
+        } else {
+            self.extra_speed
+        }
+    }
+
+    /// The coupled course × speed function (§5.6), without pwt.
+    fn build(&self, course: f64, speed: f64) -> Option<ivp::IvpFunction> {
+        let dom = self.ivp_domain.as_ref()?;
+        let mut zs = ZaicPeak::new(dom, "speed").ok()?;
+        zs.set_summit(speed, 0);
+        zs.set_base_width(0.4, 0);
+        zs.set_peak_width(0.0, 0);
+        zs.set_summit_delta(0.0, 0);
+        zs.set_min_max_util(0.0, 25.0, 0);
+        let mut zc = ZaicPeak::new(dom, "course").ok()?;
+        zc.set_summit(course, 0);
+        zc.set_base_width(180.0, 0);
+        zc.set_peak_width(0.0, 0);
+        zc.set_summit_delta(0.0, 0);
+        zc.set_value_wrap(true);
+        let fs = zs.extract(true)?;
+        let fc = zc.extract(true)?;
+        couple(fc, fs, 50.0, 50.0, true)
+    }
+}
+
+/// Split on `sep` outside double quotes and braces.
+fn split_top(s: &str, sep: char) -> Vec<String> {
+    let mut out = Vec::new();
+    let (mut cur, mut depth, mut quoted) = (String::new(), 0i32, false);
+    for c in s.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            '{' if !quoted => depth += 1,
+            '}' if !quoted => depth -= 1,
+            _ => {}
+        }
+        if c == sep && !quoted && depth <= 0 {
+            out.push(std::mem::take(&mut cur));
+        } else {
+            cur.push(c);
+        }
+    }
+    out.push(cur);
+    out
+}
+
+/// Point strings accepted by `station_pt` (§5.1), tried in order.
+fn parse_station_point(s: &str) -> Option<(f64, f64)> {
+    let t = s.trim();
+    let pair = |sep: char| -> Option<(f64, f64)> {
+        let (a, b) = t.split_once(sep)?;
+        if b.contains(sep) {
+            return None;
+        }
+        Some((parse_number(a)?, parse_number(b)?))
+    };
+    if let Some(p) = pair(',').or_else(|| pair(':')) {
+        return Some(p);
+    }
+    if t.contains('=') {
+        // Standard form: key=value fields; x and y required (atof).
+        let (mut x, mut y) = (None, None);
+        let (mut sx, mut sy) = (0.0, 0.0);
+        let mut attrs = Attrs::default();
+        for f in split_top(t, ',') {
+            let (k, v) = f.split_once('=')?;
+            let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
+            match k.as_str() {
+                "x" => x = Some(bhv::number::atof(v)),
+                "y" => y = Some(bhv::number::atof(v)),
+                "shiftx" => sx = parse_number(v).unwrap_or(0.0),
+                "shifty" => sy = parse_number(v).unwrap_or(0.0),
+                "z" | "shiftz" | "heading" | "hdg" => {}
+                _ => {
+                    if !attrs.set(&k, v) {
+                        return None;
+                    }
+                }
+            }
+        }
+        return Some((x? + sx, y? + sy));
+    }
+    // Abbreviated form: `:`-separated elements.
+    let mut vertex = None;
+    let mut attrs = Attrs::default();
+    for el in t.split(':') {
+        let parts: Vec<&str> = el.split(',').map(str::trim).collect();
+        if parts.len() == 2 && attrs.set(parts[0], parts[1]) {
+            continue;
+        }
+        if parts.len() == 2 || parts.len() == 3 {
+            let nums: Option<Vec<f64>> = parts.iter().map(|p| parse_number(p)).collect();
+            if let Some(n) = nums {
+                vertex = Some((n[0], n[1]));
+                continue;
+            }
+        }
+        return None;
+    }
+    vertex
+}
+
+fn positive(value: &str) -> Option<f64> {
+    parse_number(value).filter(|v| *v > 0.0)
+}
+
+impl IvpBehavior for StationKeep {
+    fn domain(&self) -> String {
+        self.domain.clone()
+    }
+
+    fn default_name(&self) -> String {
+        "station_keep".into()
+    }
+
+    fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        let param = param.to_ascii_lowercase();
+        let value = value.trim();
+        match param.as_str() {
+            "station_pt" | "point" => parse_station_point(value).map(|p| {
+                self.static_pt = p;
+                self.static_defined = true;
+                self.pending = true;
+            }),
+            "center_activate" => match value.to_ascii_lowercase().as_str() {
+                "true" => Some(true),
+                "false" => Some(false),
+                _ => None,
+            }
+            .map(|b| {
+                self.center_activate = b;
+                self.pending = true;
+            }),
+            "hibernation_radius" => {
+                if value.eq_ignore_ascii_case("off") || value == "-1" {
+                    self.hibernation_radius = -1.0;
+                    self.mode = Mode::Disabled;
+                    Some(())
+                } else {
+                    positive(value).map(|r| {
+                        self.hibernation_radius = r;
+                        if self.mode == Mode::Disabled {
+                            self.mode = Mode::Hibernating;
+                        }
+                    })
+                }
+            }
+            "outer_radius" => positive(value).map(|v| self.outer_radius = v),
+            "inner_radius" => positive(value).map(|v| self.inner_radius = v),
+            "outer_speed" => positive(value).map(|v| {
+                self.outer_speed = v;
+                if self.extra_speed < v {
+                    self.extra_speed = v;
+                }
+            }),
+            "extra_speed" | "transit_speed" => positive(value).map(|v| self.extra_speed = v),
+            "swing_time" => parse_number(value).map(|v| self.swing_time = v.clamp(0.0, 60.0)),
+            "visual_hints" => {
+                self.set_visual_hints(value);
+                Some(())
+            }
+            _ => None,
+        }
+        .is_some()
+    }
+
+    fn on_params_complete(&mut self, ctx: &mut Ctx<'_>) {
+        ctx.add_info_vars("NAV_X, NAV_Y");
+        self.post_settings(ctx);
+    }
+
+    fn on_idle_to_run(&mut self, ctx: &mut Ctx<'_>) {
+        self.post_settings(ctx);
+    }
+
+    fn on_run_to_idle(&mut self, ctx: &mut Ctx<'_>) {
+        self.history.clear();
+        self.erase_visuals(ctx);
+        if self.center_activate {
+            self.pending = true;
+        }
+        self.mark_time = -1.0;
+    }
+
+    fn on_complete(&mut self, ctx: &mut Ctx<'_>) {
+        self.erase_visuals(ctx);
+    }
+
+    fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+        // 1. Platform update.
+        let x = ctx.get_buffer_double_val("NAV_X");
+        let y = ctx.get_buffer_double_val("NAV_Y");
+        let (Some(osx), Some(osy)) = (x, y) else {
+            ctx.post_emessage("No ownship X/Y info in info_buffer.");
+            return None;
+        };
+        let Some(h) = ctx.get_buffer_double_val("NAV_HEADING") else {
+            ctx.post_emessage("No ownship heading info in info_buffer.");
+            return None;
+        };
+        let osh = angle360(h);
+        let osv = ctx.get_buffer_double_val("NAV_SPEED").unwrap_or(0.0);
+        ctx.set_platform(osx, osy, osh, osv);
+
+        // 2-4. Refresh: station assignment or distance/history update.
+        let now = ctx.get_buffer_curr_time();
+        if self.mark_time == -1.0 {
+            self.mark_time = now;
+        }
+        let mut changed = false;
+        if self.pending {
+            if self.center_activate {
+                self.station = (osx, osy);
+                self.station_set = true;
+                changed = true;
+                if now >= self.mark_time + self.swing_time {
+                    self.pending = false;
+                }
+            } else if self.static_defined {
+                self.station = self.static_pt;
+                self.station_set = true;
+                self.pending = false;
+                changed = true;
+            }
+        }
+        if changed {
+            self.mode = Mode::Hibernating;
+            self.transit = Transit::Hibernating;
+        } else {
+            self.dist = (osx - self.station.0).hypot(osy - self.station.1);
+            self.history.push_front((self.dist, now));
+            let k = self.history.iter().filter(|(_, t)| now - t > 10.0).count();
+            for _ in 0..k {
+                self.history.pop_back();
+            }
+        }
+
+        ctx.post_message_num("DIST_TO_STATION", self.dist);
+        if !self.station_set {
+            ctx.post_wmessage("STATION_POINT_NOT_SET");
+            self.erase_visuals(ctx);
+            return None;
+        }
+        if self.inner_radius > self.outer_radius {
+            self.outer_radius = self.inner_radius;
+        }
+        self.update_hibernation();
+        ctx.post_message("PSKEEP_MODE", self.mode.label());
+        self.post_visuals(ctx);
+
+        let course = if self.pending {
+            osh
+        } else {
+            rel_ang(osx, osy, self.station.0, self.station.1)
+        };
+        let speed = self.speed_summit();
+        self.last_summits = (course, speed);
+        let mut f = self.build(course, speed)?;
+        f.set_pwt(ctx.priority());
+        Some(function_data(f))
+    }
+}
+
+behavior_api::export_behaviors! {
+    "BHV_StationKeep" => StationKeep::new,
+}
+
+#[cfg(test)]
+#[path = "../../common/testhost.rs"]
+mod testhost;
+
+#[cfg(test)]
+mod tests;
