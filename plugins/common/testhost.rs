@@ -102,7 +102,10 @@ impl HelmContext for MockHost {
             return ROption::RSome(*v);
         }
         if warn {
-            let msg = format!("{}: {} dbl info not found in helm info_buffer", self.name, var);
+            let msg = format!(
+                "{}: {} dbl info not found in helm info_buffer",
+                self.name, var
+            );
             self.posts
                 .push(("BHV_WARNING".into(), msg, "repeatable".into()));
         }

@@ -170,7 +170,10 @@ mod tests {
         let b = ConstantDepth::new(&helm());
         assert_eq!(b.domain(), "depth,0,100,101");
         assert_eq!(b.default_name(), "???");
-        assert_eq!(ConstantDepth::new(&HelmDomain::new("speed,0,2,21")).domain(), "");
+        assert_eq!(
+            ConstantDepth::new(&HelmDomain::new("speed,0,2,21")).domain(),
+            ""
+        );
     }
 
     #[test]
@@ -217,7 +220,13 @@ mod tests {
 
     #[test]
     fn worked_example_decisions() {
-        for (depth, want) in [("12.5", 12), ("12.4999", 12), ("99.5", 100), ("150", 100), ("0", 0)] {
+        for (depth, want) in [
+            ("12.5", 12),
+            ("12.4999", 12),
+            ("99.5", 100),
+            ("150", 100),
+            ("0", 0),
+        ] {
             let (mut b, mut host) = bhv(&[("depth", depth)]);
             host.set("NAV_DEPTH", 0.0);
             let f = host.with(|ctx| b.on_run(ctx)).unwrap();

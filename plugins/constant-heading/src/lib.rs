@@ -192,7 +192,7 @@ mod tests {
             assert_eq!(b.heading, want, "{given}");
         }
         let (b, _) = bhv_in("course,0,359,72", &[("heading", "90")]);
-        assert_eq!(b.heading, 91.014084507042256);
+        assert_eq!(b.heading, 91.014_084_507_042_26);
         // Without a course variable the heading is rejected.
         let mut b = ConstantHeading::new(&HelmDomain::new("speed,0,2,21"));
         let mut host = MockHost::new("ch");
@@ -240,7 +240,8 @@ mod tests {
 
     #[test]
     fn worked_examples_pieces() {
-        let (mut b, mut host) = bhv(&[("heading", "10.6"), ("peakwidth", "0"), ("basewidth", "90")]);
+        let (mut b, mut host) =
+            bhv(&[("heading", "10.6"), ("peakwidth", "0"), ("basewidth", "90")]);
         host.set("NAV_HEADING", 0.0);
         let f = host.with(|ctx| b.on_run(ctx)).unwrap();
         assert_eq!(
@@ -268,7 +269,11 @@ mod tests {
         let f = host.with(|ctx| b.on_run(ctx)).unwrap();
         assert_eq!(
             pieces(&f),
-            vec![(0, 79, 0.0, 0.0), (80, 100, 0.0, 100.0), (101, 359, 0.0, 0.0)]
+            vec![
+                (0, 79, 0.0, 0.0),
+                (80, 100, 0.0, 100.0),
+                (101, 359, 0.0, 0.0)
+            ]
         );
     }
 

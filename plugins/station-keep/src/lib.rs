@@ -217,16 +217,14 @@ impl StationKeep {
         }
         let (d, r) = (self.dist, self.hibernation_radius);
         match self.transit {
-            Transit::PendingProgressStart => {
-                if d <= r && self.history_rate().is_some_and(|rate| rate <= 0.0) {
-                    self.history.clear();
-                    self.transit = Transit::NotedProgressStart;
-                }
+            Transit::PendingProgressStart
+                if d <= r && self.history_rate().is_some_and(|rate| rate <= 0.0) =>
+            {
+                self.history.clear();
+                self.transit = Transit::NotedProgressStart;
             }
-            Transit::NotedProgressStart => {
-                if self.history_rate().is_some_and(|rate| rate >= 0.0) {
-                    self.transit = Transit::NotedProgressEnd;
-                }
+            Transit::NotedProgressStart if self.history_rate().is_some_and(|rate| rate >= 0.0) => {
+                self.transit = Transit::NotedProgressEnd;
             }
             _ => {}
         }

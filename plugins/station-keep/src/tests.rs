@@ -59,7 +59,10 @@ fn domain_name_and_defaults() {
     let (b, _) = bhv(&[]);
     assert_eq!(b.domain(), "course,0,359,360:speed,0,2,21");
     assert_eq!(b.default_name(), "station_keep");
-    assert_eq!(StationKeep::new(&HelmDomain::new("course,0,359,360")).domain(), "");
+    assert_eq!(
+        StationKeep::new(&HelmDomain::new("course,0,359,360")).domain(),
+        ""
+    );
     assert_eq!(
         b.settings("skeep"),
         "type=BHV_StationKeep,name=skeep,x=0.00,y=0.00,inner_radius=4.0,outer_radius=15.0,hibernation_radius=-1.0,outer_speed=1.2,center_activate=false"
@@ -72,7 +75,10 @@ fn point_strings() {
     assert_eq!(parse_station_point(" 3 : 4 "), Some((3.0, 4.0)));
     assert_eq!(parse_station_point("x=1.5,y=-2,label=a"), Some((1.5, -2.0)));
     assert_eq!(parse_station_point("x=abc,y=2"), Some((0.0, 2.0)));
-    assert_eq!(parse_station_point("x=1,y=2,shiftx=10,shifty=-1"), Some((11.0, 1.0)));
+    assert_eq!(
+        parse_station_point("x=1,y=2,shiftx=10,shifty=-1"),
+        Some((11.0, 1.0))
+    );
     assert_eq!(parse_station_point("1,2,3"), Some((1.0, 2.0)));
     assert_eq!(parse_station_point("7,8:label,bar"), Some((7.0, 8.0)));
     assert_eq!(parse_station_point("present_position"), None);
@@ -108,20 +114,37 @@ fn parameter_rules() {
         assert_eq!(b.swing_time, 60.0);
         assert!(b.set_param(ctx, "swing_time", "-3"));
         assert_eq!(b.swing_time, 0.0);
-        assert!(b.set_param(ctx, "visual_hints", "edge_color=green, vertex_size=3, bogus=1, label_color=notacolor"));
-        assert_eq!((b.edge_color.as_str(), b.vertex_size, b.label_color.as_str()), ("green", 3.0, "white"));
+        assert!(b.set_param(
+            ctx,
+            "visual_hints",
+            "edge_color=green, vertex_size=3, bogus=1, label_color=notacolor"
+        ));
+        assert_eq!(
+            (b.edge_color.as_str(), b.vertex_size, b.label_color.as_str()),
+            ("green", 3.0, "white")
+        );
         assert!(!b.set_param(ctx, "speed", "1"));
     });
 }
 
+/// (station, ownship x, y, hdg, it.1 decision, it.2 distance, it.2 decision)
+type StepCase = (&'static str, f64, f64, f64, (f64, f64), f64, (f64, f64));
+
 #[test]
 fn single_step_examples() {
-    // (station, ownship x, y, hdg, it.1 decision, it.2 dist, it.2 decision)
-    let cases: &[(&str, f64, f64, f64, (f64, f64), f64, (f64, f64))] = &[
+    let cases: &[StepCase] = &[
         ("0,0", 10.0, 0.0, 90.0, (270.0, 0.0), 10.0, (270.0, 0.7)),
         ("0,0", 9.5, 0.0, 90.0, (270.0, 0.0), 9.5, (270.0, 0.6)),
         ("0,0", 7.0, 7.0, 90.0, (225.0, 0.0), 9.899495, (225.0, 0.6)),
-        ("100,50", 0.0, 0.0, 90.0, (63.0, 0.0), 111.803399, (63.0, 2.0)),
+        (
+            "100,50",
+            0.0,
+            0.0,
+            90.0,
+            (63.0, 0.0),
+            111.803399,
+            (63.0, 2.0),
+        ),
         ("0,0", 1.0, 0.0, 0.0, (270.0, 0.0), 1.0, (270.0, 0.0)),
     ];
     for &(st, x, y, h, d1, dist, d2) in cases {
@@ -132,14 +155,20 @@ fn single_step_examples() {
         assert_eq!(host.posted("PSKEEP_MODE"), vec!["HIBERNATING"]);
         host.clear();
         let got = step(&mut b, &mut host, x, y, h).unwrap();
-        assert!((got.0 - d2.0).abs() < 1e-9 && (got.1 - d2.1).abs() < 1e-9, "{st} it.2 {got:?}");
+        assert!(
+            (got.0 - d2.0).abs() < 1e-9 && (got.1 - d2.1).abs() < 1e-9,
+            "{st} it.2 {got:?}"
+        );
         assert!((b.dist - dist).abs() < 1e-6);
         assert_eq!(host.posted("PSKEEP_MODE"), vec!["SEEKING_STATION"]);
     }
     let (mut b, mut host) = bhv(&[("station_pt", "0,0"), ("inner_radius", "1")]);
     step(&mut b, &mut host, -3.0, -2.0, 10.0);
     let got = step(&mut b, &mut host, -3.0, -2.0, 10.0).unwrap();
-    assert!((got.0 - 56.0).abs() < 1e-9 && (got.1 - 0.2).abs() < 1e-9, "{got:?}");
+    assert!(
+        (got.0 - 56.0).abs() < 1e-9 && (got.1 - 0.2).abs() < 1e-9,
+        "{got:?}"
+    );
 }
 
 #[test]
@@ -164,12 +193,26 @@ fn hibernation_sequence() {
     }
     let t = |time: usize| time - 1001;
     assert_eq!(modes[t(1001)], "HIBERNATING");
-    assert_eq!((modes[t(1003)].as_str(), speeds[t(1003)]), ("HIBERNATING", 0.0));
+    assert_eq!(
+        (modes[t(1003)].as_str(), speeds[t(1003)]),
+        ("HIBERNATING", 0.0)
+    );
     assert_eq!(modes[t(1004)], "SEEKING_STATION");
     assert!((speeds[t(1004)] - 1.9).abs() < 1e-9);
     assert_eq!(b.mode, Mode::Hibernating);
-    for (time, v) in [(1015, 1.2), (1016, 1.0), (1017, 1.1), (1018, 1.2), (1019, 1.4), (1020, 1.9)] {
-        assert!((speeds[t(time)] - v).abs() < 1e-9, "t={time} {}", speeds[t(time)]);
+    for (time, v) in [
+        (1015, 1.2),
+        (1016, 1.0),
+        (1017, 1.1),
+        (1018, 1.2),
+        (1019, 1.4),
+        (1020, 1.9),
+    ] {
+        assert!(
+            (speeds[t(time)] - v).abs() < 1e-9,
+            "t={time} {}",
+            speeds[t(time)]
+        );
         assert_eq!(modes[t(time)], "SEEKING_STATION");
     }
     assert_eq!(modes[t(1022)], "SEEKING_STATION");
@@ -186,7 +229,11 @@ fn center_activate_with_swing_time() {
     for x in [0.0, 1.0, 2.0, 3.0, 30.0] {
         host.clear();
         let d = step(&mut b, &mut host, x, 0.0, 45.0).unwrap();
-        out.push((d, host.last("DIST_TO_STATION").unwrap(), host.last("PSKEEP_MODE").unwrap()));
+        out.push((
+            d,
+            host.last("DIST_TO_STATION").unwrap(),
+            host.last("PSKEEP_MODE").unwrap(),
+        ));
     }
     let want = [
         ((45.0, 0.0), "-1", "HIBERNATING"),
@@ -203,7 +250,10 @@ fn center_activate_with_swing_time() {
     host.clear();
     host.with(|ctx| b.on_run_to_idle(ctx));
     assert_eq!(host.posted("VIEW_POLYGON").len(), 3);
-    assert!(host.posted("VIEW_POLYGON").iter().all(|s| s.ends_with(",active=false")));
+    assert!(host
+        .posted("VIEW_POLYGON")
+        .iter()
+        .all(|s| s.ends_with(",active=false")));
     host.time = 1007.0;
     host.clear();
     let d = step(&mut b, &mut host, 100.0, 0.0, 45.0).unwrap();
@@ -228,17 +278,26 @@ fn no_station_and_missing_nav() {
     let (mut b, mut host) = bhv(&[]);
     assert!(step(&mut b, &mut host, 3.0, 4.0, 0.0).is_none());
     assert_eq!(host.posted("DIST_TO_STATION"), vec!["5"]);
-    assert_eq!(host.posted("BHV_WARNING"), vec!["skeep: STATION_POINT_NOT_SET"]);
+    assert_eq!(
+        host.posted("BHV_WARNING"),
+        vec!["skeep: STATION_POINT_NOT_SET"]
+    );
     assert_eq!(host.posted("VIEW_POLYGON").len(), 3);
     host.clear();
     host.unset("NAV_X");
     assert!(host.with(|ctx| b.on_run(ctx)).is_none());
-    assert_eq!(host.posted("BHV_ERROR"), vec!["skeep: No ownship X/Y info in info_buffer."]);
+    assert_eq!(
+        host.posted("BHV_ERROR"),
+        vec!["skeep: No ownship X/Y info in info_buffer."]
+    );
     host.clear();
     host.set("NAV_X", 0.0);
     host.unset("NAV_HEADING");
     assert!(host.with(|ctx| b.on_run(ctx)).is_none());
-    assert_eq!(host.posted("BHV_ERROR"), vec!["skeep: No ownship heading info in info_buffer."]);
+    assert_eq!(
+        host.posted("BHV_ERROR"),
+        vec!["skeep: No ownship heading info in info_buffer."]
+    );
     host.clear();
     host.set("NAV_HEADING", 0.0);
     host.unset("NAV_SPEED");
@@ -261,7 +320,12 @@ fn visuals() {
         "radial:: x=0.0,y=-50.0,source=abe:skeep,pts=32,edge_size=1,vertex_size=1,edge_color=light_blue,label_color=white,vertex_color=red,label=abe:station-keep-out,radius=15.0"
     );
     assert!(v[1].ends_with("label=abe:station-keep-in,radius=4.0"));
-    let keys: Vec<&str> = host.posts.iter().filter(|p| p.0 == "VIEW_POLYGON").map(|p| p.2.as_str()).collect();
+    let keys: Vec<&str> = host
+        .posts
+        .iter()
+        .filter(|p| p.0 == "VIEW_POLYGON")
+        .map(|p| p.2.as_str())
+        .collect();
     assert_eq!(keys, vec!["outer", "inner"]);
     host.clear();
     host.with(|ctx| assert!(b.set_param(ctx, "hibernation_radius", "20")));
