@@ -2,6 +2,14 @@
 
 /// printf `%.<d>f`, then trailing zeros and a trailing `.` stripped; `-0` becomes `0`.
 pub fn fmt_x(v: f64, d: usize) -> String {
+    // Whole numbers print the same at any precision: skip float formatting for them.
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        return if v == 0.0 {
+            "0".to_string()
+        } else {
+            (v as i64).to_string()
+        };
+    }
     let mut s = format!("{v:.d$}");
     if s.contains('.') {
         while s.ends_with('0') {

@@ -270,28 +270,42 @@ pub fn run_file(file: &Path, factory: &BehaviorFactory) -> CaseResult {
     }
 }
 
-/// Mean µs per decision iteration replaying `case` for at least `min_secs`, or an error.
+/// Timing of a case replayed repeatedly for at least `min_secs`.
+#[derive(Debug, Clone)]
+pub struct BenchResult {
+    pub name: String,
+    /// Mean µs per decision iteration (modes, behaviors, solve): the C++ measure.
+    pub decision_us: f64,
+    /// Mean µs per whole iteration step: mail, iteration, publication, runner echo.
+    pub whole_us: f64,
+}
+
+/// Replay `case` repeatedly, each time through a fresh helm, for at least `min_secs`.
 pub fn bench_file(
     file: &Path,
     factory: &BehaviorFactory,
     min_secs: f64,
-) -> Result<(String, f64), String> {
+) -> Result<BenchResult, String> {
     let case = load(file).map_err(|e| e.to_string())?;
-    let decisions = case
-        .step
-        .iter()
-        .filter(|s| s.time - case.step[0].time >= 1.0)
-        .count()
-        .max(1);
-    let mut total = 0.0;
+    let mut decide = std::time::Duration::ZERO;
+    let mut decisions = 0u64;
+    let mut whole = 0.0;
     let mut reps = 0usize;
     let wall = Instant::now();
     while wall.elapsed().as_secs_f64() < min_secs || reps == 0 {
         let mut helm = build_helm(&case, file, factory)?;
         let t = Instant::now();
         replay(&case, &mut helm, false);
-        total += t.elapsed().as_secs_f64();
+        whole += t.elapsed().as_secs_f64();
+        let (d, n) = helm.decision_timing();
+        decide += d;
+        decisions += n;
         reps += 1;
     }
-    Ok((case.name, total / (reps * decisions) as f64 * 1e6))
+    let decisions = decisions.max(1);
+    Ok(BenchResult {
+        name: case.name,
+        decision_us: decide.as_secs_f64() / decisions as f64 * 1e6,
+        whole_us: whole / decisions as f64 * 1e6,
+    })
 }

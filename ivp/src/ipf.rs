@@ -24,12 +24,56 @@ pub fn encode_weight(w: f64, out: &mut String) {
         out.push_str("0.0000");
         return;
     }
+    // Integer arithmetic gives the same digits as the float form for every weight below
+    // 1e15 / 10000 and avoids float formatting on the per-iteration path.
+    if n < 1e15 {
+        let n = n as u64;
+        push_u64(out, n / 10000);
+        out.push('.');
+        push_frac4(out, (n % 10000) as u32);
+        return;
+    }
     let int = (n / 10000.0).trunc();
     let frac = (n - int * 10000.0) as u32;
     let _ = write!(out, "{int:.0}.");
-    if frac != 0 {
-        let digits = format!("{frac:04}");
-        out.push_str(digits.trim_end_matches('0'));
+    push_frac4(out, frac);
+}
+
+fn push_i32(out: &mut String, v: i32) {
+    if v < 0 {
+        out.push('-');
+    }
+    push_u64(out, u64::from(v.unsigned_abs()));
+}
+
+fn push_u64(out: &mut String, mut v: u64) {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    for &b in &buf[i..] {
+        out.push(b as char);
+    }
+}
+
+/// Four fractional digits with trailing zeros removed (nothing for 0).
+fn push_frac4(out: &mut String, frac: u32) {
+    if frac == 0 {
+        return;
+    }
+    let digits = [frac / 1000, frac / 100 % 10, frac / 10 % 10, frac % 10];
+    let mut last = 4;
+    while last > 0 && digits[last - 1] == 0 {
+        last -= 1;
+    }
+    for d in &digits[..last] {
+        out.push((b'0' + *d as u8) as char);
     }
 }
 
@@ -52,7 +96,10 @@ pub(crate) fn encode(f: &IvpFunction) -> String {
     s.push_str(",F");
     for p in f.pieces() {
         for d in 0..dim {
-            let _ = write!(s, ",{},{}", p.lo(d), p.hi(d));
+            s.push(',');
+            push_i32(&mut s, p.lo(d));
+            s.push(',');
+            push_i32(&mut s, p.hi(d));
         }
         for &w in p.weights() {
             s.push(',');
@@ -64,6 +111,21 @@ pub(crate) fn encode(f: &IvpFunction) -> String {
 
 /// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
 pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
+    if whole.is_ascii() && id.is_ascii() {
+        let header = id.len() + 50;
+        let body = 2000usize.saturating_sub(header).max(1);
+        let count = whole.len() / body + 1;
+        return (1..=count)
+            .map(|k| {
+                let a = ((k - 1) * body).min(whole.len());
+                let b = (k * body).min(whole.len());
+                let mut p = String::with_capacity(id.len() + 24 + (b - a));
+                let _ = write!(p, "P,{id},{count},{k},");
+                p.push_str(&whole[a..b]);
+                p
+            })
+            .collect();
+    }
     let chars: Vec<char> = whole.chars().collect();
     let header = id.chars().count() + 50;
     let body = 2000usize.saturating_sub(header).max(1);
@@ -100,6 +162,10 @@ mod tests {
         assert_eq!(enc(-1000.0), "-1000.");
         assert_eq!(enc(0.289425), "0.2894");
         assert_eq!(enc(0.0), "0");
+        assert_eq!(enc(0.05), "0.05");
+        assert_eq!(enc(1.0001), "1.0001");
+        assert_eq!(enc(12345678.9), "12345678.9");
+        assert_eq!(enc(3e14), "300000000000000.");
     }
 
     #[test]

@@ -157,6 +157,8 @@ impl Helm {
             turn_samples: Vec::new(),
             functions: Vec::new(),
             mode_pairs: Vec::new(),
+            decide_time: std::time::Duration::ZERO,
+            decide_count: 0,
             config,
         }
     }

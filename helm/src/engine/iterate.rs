@@ -86,7 +86,10 @@ impl Helm {
         }
         self.post_turn_rate(now);
 
+        let t0 = std::time::Instant::now();
         let summary = self.decide(now);
+        self.decide_time += t0.elapsed();
+        self.decide_count += 1;
 
         let results: Vec<String> = self
             .behaviors

@@ -86,11 +86,20 @@ pub struct Helm {
     pub(crate) turn_samples: Vec<(f64, f64)>,
     /// Functions of this iteration (behavior name, function), reused across iterations.
     pub(crate) functions: Vec<(String, ivp::IvpFunction)>,
+    /// Time spent in the engine's decision step (what the C++ timing measures), and count.
+    pub(crate) decide_time: std::time::Duration,
+    pub(crate) decide_count: u64,
     /// Mode variable values of this iteration, sorted by variable.
     pub(crate) mode_pairs: Vec<(String, String)>,
 }
 
 impl Helm {
+    /// Total time spent in decision steps (modes, behaviors, solve) and their number:
+    /// the measure of the C++ `determineNextDecision` timings.
+    pub fn decision_timing(&self) -> (std::time::Duration, u64) {
+        (self.decide_time, self.decide_count)
+    }
+
     /// The current status.
     pub fn state(&self) -> HelmState {
         self.state
