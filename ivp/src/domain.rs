@@ -47,8 +47,13 @@ fn validate(name: &str, low: f64, high: f64, points: u32) -> Result<(), IvpError
     if name.is_empty() || name.contains([':', ',', ';']) || name.contains(char::is_whitespace) {
         return Err(IvpError::BadVarName(name.to_string()));
     }
-    finite(&format!("{name}.low"), low)?;
-    finite(&format!("{name}.high"), high)?;
+    // Name the parameter only when it is bad: this runs on every function built.
+    if !low.is_finite() {
+        finite(&format!("{name}.low"), low)?;
+    }
+    if !high.is_finite() {
+        finite(&format!("{name}.high"), high)?;
+    }
     if points < 1 {
         return Err(IvpError::PointsTooFew {
             var: name.to_string(),

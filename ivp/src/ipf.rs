@@ -40,26 +40,11 @@ pub fn encode_weight(w: f64, out: &mut String) {
 }
 
 fn push_i32(out: &mut String, v: i32) {
-    if v < 0 {
-        out.push('-');
-    }
-    push_u64(out, u64::from(v.unsigned_abs()));
+    out.push_str(itoa::Buffer::new().format(v));
 }
 
-fn push_u64(out: &mut String, mut v: u64) {
-    let mut buf = [0u8; 20];
-    let mut i = buf.len();
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    for &b in &buf[i..] {
-        out.push(b as char);
-    }
+fn push_u64(out: &mut String, v: u64) {
+    out.push_str(itoa::Buffer::new().format(v));
 }
 
 /// Four fractional digits with trailing zeros removed (nothing for 0).

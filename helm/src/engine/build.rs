@@ -159,6 +159,7 @@ impl Helm {
             mode_pairs: Vec::new(),
             decide_time: std::time::Duration::ZERO,
             decide_count: 0,
+            subs_signature: 0,
             config,
         }
     }

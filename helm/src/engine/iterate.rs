@@ -104,7 +104,11 @@ impl Helm {
             self.last_refresh = now;
             self.refresh_pending = false;
         }
-        self.register_all();
+        let sig = self.subscription_signature();
+        if sig != self.subs_signature {
+            self.subs_signature = sig;
+            self.register_all();
+        }
         self.publish_behavior_output(now);
         self.post_num("IVPHELM_IPF_CNT", summary.functions as f64);
         self.publish_behavior_lists();
@@ -117,6 +121,21 @@ impl Helm {
         }
         self.ib.clear_deltas();
         &self.outbox
+    }
+
+    /// Changes whenever a behavior could need a new subscription (new behavior, new
+    /// info variable, condition or flag through an update): registering is then redone.
+    fn subscription_signature(&self) -> usize {
+        self.behaviors
+            .iter()
+            .map(|b| {
+                1 + b.core.info_vars.len()
+                    + b.core.conditions.len()
+                    + b.core.flags.all().iter().map(|l| l.len()).sum::<usize>()
+                    + usize::from(!b.core.updates_var.is_empty())
+                    + usize::from(b.core.duration_reset.is_some())
+            })
+            .sum()
     }
 
     fn post_turn_rate(&mut self, now: f64) {

@@ -89,6 +89,8 @@ pub struct Helm {
     /// Time spent in the engine's decision step (what the C++ timing measures), and count.
     pub(crate) decide_time: std::time::Duration,
     pub(crate) decide_count: u64,
+    /// See `subscription_signature`.
+    pub(crate) subs_signature: usize,
     /// Mode variable values of this iteration, sorted by variable.
     pub(crate) mode_pairs: Vec<(String, String)>,
 }
