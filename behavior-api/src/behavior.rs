@@ -39,6 +39,8 @@ pub trait Behavior: Send {
     fn on_run(&mut self, ctx: HelmCtx<'_>) -> CallResult<ROption<FunctionData>>;
     /// Expand the type's own macros in a flag value (`$[NI]`, ...).
     fn expand_macros(&self, text: RStr<'_>) -> CallResult<RString>;
+    /// The type's default for the common `duration` parameter (negative: no limit).
+    fn default_duration(&self) -> CallResult<f64>;
     /// Collective parameter check after configuration: `Ok("")` when fine.
     #[sabi(last_prefix_field)]
     fn collective_check(&mut self) -> CallResult<RString>;

@@ -274,6 +274,11 @@ pub trait IvpBehavior: Send + 'static {
     fn expand_macros(&self, _text: &str) -> Option<String> {
         None
     }
+    /// Default of the common `duration` parameter for this type (`None`: no limit).
+    /// BHV_ConstantSpeed and friends default to 0.
+    fn default_duration(&self) -> Option<f64> {
+        None
+    }
     /// Collective check after configuration: an error message, or empty when fine.
     fn collective_check(&mut self) -> String {
         String::new()
@@ -347,6 +352,9 @@ impl<B: IvpBehavior> Behavior for Adapter<B> {
             Some(s) => RString::from(s),
             None => RString::from(text.as_str()),
         })
+    }
+    fn default_duration(&self) -> CallResult<f64> {
+        catching(|| self.0.default_duration().unwrap_or(-1.0))
     }
     fn collective_check(&mut self) -> CallResult<RString> {
         let b = &mut self.0;

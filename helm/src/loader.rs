@@ -2,7 +2,6 @@
 
 use std::path::{Path, PathBuf};
 
-use abi_stable::library::RootModule;
 use behavior_api::{BehaviorBox, BehaviorLibRef};
 
 /// A loaded behavior library and the types it offers.
@@ -71,7 +70,11 @@ pub fn load_dirs(
             .collect();
         files.sort();
         for path in files {
-            match BehaviorLibRef::load_from_file(&path) {
+            // Not `RootModule::load_from_file`: that caches one root module per process,
+            // and we load many libraries of the same root-module type.
+            let loaded = abi_stable::library::lib_header_from_path(&path)
+                .and_then(|h| h.init_root_module::<BehaviorLibRef>());
+            match loaded {
                 Ok(module) => {
                     let mut types: Vec<String> = (module.behavior_types())()
                         .into_iter()

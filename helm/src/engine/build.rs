@@ -69,6 +69,9 @@ impl Helm {
                 core: BehaviorCore::new(&bs.type_name, &default_name, ownship),
             };
             inst.core.empty_domain = empty_domain;
+            if let Ok(d) = inst.bhv.default_duration().into_result() {
+                inst.core.duration = d;
+            }
             apply_config_line(&mut inst, &env, &ib, "us", ownship);
             for line in &bs.lines {
                 if !apply_config_line(&mut inst, &env, &ib, &line.param, &line.value) {

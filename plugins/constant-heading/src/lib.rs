@@ -82,6 +82,12 @@ impl ConstantHeading {
 }
 
 impl IvpBehavior for ConstantHeading {
+    /// The Constant* types default the common `duration` to 0 (behaviors-plugins.md
+    /// §1.2): without a `duration` line they complete on their first run.
+    fn default_duration(&self) -> Option<f64> {
+        Some(0.0)
+    }
+
     fn domain(&self) -> String {
         self.domain.clone()
     }

@@ -69,6 +69,12 @@ impl ConstantSpeed {
 }
 
 impl IvpBehavior for ConstantSpeed {
+    /// The Constant* types default the common `duration` to 0 (behaviors-plugins.md
+    /// §1.2): without a `duration` line they complete on their first run.
+    fn default_duration(&self) -> Option<f64> {
+        Some(0.0)
+    }
+
     fn domain(&self) -> String {
         self.domain.clone()
     }
