@@ -8,12 +8,14 @@
 //! - a decision is solved in [`engine`] (`Helm::iterate` → `decide` → `ivp::Solver`);
 //! - conformance cases are replayed by [`conform`].
 
+pub mod app;
 pub mod config;
 pub mod conform;
 pub mod engine;
 pub mod factory;
 pub mod info_buffer;
 pub mod loader;
+pub mod mission;
 pub mod posting;
 pub mod runtime;
 

@@ -18,6 +18,48 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run the helm on a mission, as pHelmIvP does.
+    ///
+    /// Connects to the MOOSDB named by ServerHost/ServerPort in MISSION. With
+    /// --embedded, starts a MOOSDB and a vehicle simulator in this process first, so the
+    /// mission runs on one machine with nothing else installed.
+    ///
+    /// Example: helm run --embedded missions/alpha/alpha.moos
+    Run {
+        /// The mission file (`.moos`).
+        mission: PathBuf,
+        /// Extra behavior files (`.bhv`).
+        bhv: Vec<PathBuf>,
+        /// The app name whose ProcessConfig block is read.
+        #[arg(long, default_value = "pHelmIvP")]
+        alias: String,
+        /// Start an embedded MOOSDB and vehicle simulator.
+        #[arg(long)]
+        embedded: bool,
+        /// Stop after this many seconds.
+        #[arg(long)]
+        duration: Option<f64>,
+        /// No terminal heartbeat or summary.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Read a mission as the helm would and report every configuration problem.
+    ///
+    /// Reads the `ProcessConfig = <alias>` block of MISSION, the `.bhv` files it names
+    /// (`behaviors = ...`) and those given here, and the behavior libraries in
+    /// IVP_BEHAVIOR_DIRS and `ivp_behavior_dir` lines. Prints each problem with its file
+    /// and line, and exits 1 if the helm would be MALCONFIG (it would never drive).
+    ///
+    /// Example: helm check missions/alpha/alpha.moos
+    Check {
+        /// The mission file (`.moos`).
+        mission: PathBuf,
+        /// Extra behavior files (`.bhv`), as on the pHelmIvP command line.
+        bhv: Vec<PathBuf>,
+        /// The app name whose ProcessConfig block is read.
+        #[arg(long, default_value = "pHelmIvP")]
+        alias: String,
+    },
     /// Replay conformance cases recorded from the real C++ helm and compare.
     ///
     /// PATH is a case file (`*.toml`) or a folder of them. Prints one line per
@@ -34,8 +76,42 @@ enum Command {
     },
 }
 
+fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCode {
+    let loaded = match helm::mission::load(mission, bhv, alias) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    for line in &loaded.library_report {
+        println!("{line}");
+    }
+    let files = loaded.bhv_files.clone();
+    let (helm, _) = loaded.into_helm();
+    for f in &files {
+        println!("Behavior file: {}", f.display());
+    }
+    if helm.config_warnings().is_empty() {
+        println!(
+            "ok: {} behavior(s): {}",
+            helm.behavior_names().len(),
+            helm.behavior_names().join(", ")
+        );
+        ExitCode::SUCCESS
+    } else {
+        for w in helm.config_warnings() {
+            println!("{w}");
+        }
+        println!(
+            "MALCONFIG: {} configuration problem(s); the helm would not drive",
+            helm.config_warnings().len()
+        );
+        ExitCode::FAILURE
+    }
+}
+
 fn factory_from_env() -> BehaviorFactory {
-    let mut factory = BehaviorFactory::with_builtins();
     let dirs: Vec<PathBuf> = std::env::var("IVP_BEHAVIOR_DIRS")
         .unwrap_or_default()
         .split(':')
@@ -43,14 +119,9 @@ fn factory_from_env() -> BehaviorFactory {
         .filter(|d| !d.is_empty())
         .map(PathBuf::from)
         .collect();
-    factory.searched_dirs = dirs.iter().map(|d| d.display().to_string()).collect();
-    let builtin = |t: &str| BehaviorFactory::with_builtins().is_builtin(t);
-    let (libs, events) = helm::loader::load_dirs(&dirs, &builtin);
-    for e in events {
-        tracing::info!("{e:?}");
-    }
-    for l in libs {
-        factory.add_library(l);
+    let (factory, report) = helm::mission::factory_for(&dirs);
+    for line in report {
+        tracing::info!("{line}");
     }
     factory
 }
@@ -124,5 +195,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Conform { bench, paths } => conform_cmd(bench, &paths),
+        Command::Check {
+            mission,
+            bhv,
+            alias,
+        } => check_cmd(&mission, &bhv, &alias),
     }
 }

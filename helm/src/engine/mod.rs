@@ -121,6 +121,11 @@ impl Helm {
         self.registered.iter().any(|v| v == var)
     }
 
+    /// Set the MOOS app name (the source of its own postings, `pHelmIvP` by default).
+    pub fn set_app_name(&mut self, name: &str) {
+        self.app_name = name.to_string();
+    }
+
     /// Name of the helm as a MOOS app (the source of its postings).
     pub fn app_name(&self) -> &str {
         &self.app_name

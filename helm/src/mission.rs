@@ -1,0 +1,187 @@
+//! Reading a mission: the `.moos` file's pHelmIvP block and globals, the `.bhv` files,
+//! the behavior libraries (helm.md §1-§2, §5).
+//!
+//! Every problem is collected as one readable line naming the file and line; any
+//! problem makes the helm MALCONFIG (it never drives), as the real helm does.
+
+use std::path::{Path, PathBuf};
+
+use crate::config::{BlockLine, HelmConfig};
+use crate::engine::Helm;
+use crate::factory::BehaviorFactory;
+use crate::loader::{load_dirs, LoadEvent};
+
+/// A fatal error before the helm exists (the mission file itself cannot be read).
+#[derive(Debug, thiserror::Error)]
+pub enum MissionLoadError {
+    #[error("{0}")]
+    Mission(#[from] moos::mission::MissionError),
+}
+
+/// Everything read for one helm.
+pub struct LoadedMission {
+    pub mission: moos::mission::MissionFile,
+    pub app_name: String,
+    pub ownship: String,
+    pub config: HelmConfig,
+    pub bhv_files: Vec<PathBuf>,
+    /// Start-up text about behavior libraries (`Loading behavior dynamic libraries....`).
+    pub library_report: Vec<String>,
+    pub factory: BehaviorFactory,
+    pub warnings: Vec<String>,
+}
+
+impl LoadedMission {
+    /// Build the helm from what was read (MALCONFIG if there were warnings).
+    pub fn into_helm(self) -> (Helm, moos::mission::MissionFile) {
+        let mut warnings = self.warnings;
+        let spec = match bhv::reader::read_files(&self.bhv_files) {
+            Ok(spec) => spec,
+            Err(e) => {
+                warnings.push(e.to_string());
+                bhv::reader::SetSpec::default()
+            }
+        };
+        let mut helm = Helm::new(self.config, spec, &self.factory, &self.ownship, warnings);
+        helm.set_app_name(&self.app_name);
+        (helm, self.mission)
+    }
+}
+
+fn resolve(mission_dir: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() || p.exists() {
+        p.to_path_buf()
+    } else {
+        let alt = mission_dir.join(p);
+        if alt.exists() {
+            alt
+        } else {
+            p.to_path_buf()
+        }
+    }
+}
+
+/// Read `mission` for the app `app_name` (block `ProcessConfig = <app_name>`), plus the
+/// `.bhv` files named on the command line.
+pub fn load(
+    mission: &Path,
+    extra_bhv: &[PathBuf],
+    app_name: &str,
+) -> Result<LoadedMission, MissionLoadError> {
+    let file = moos::mission::MissionFile::read(mission)?;
+    let shown = mission.display().to_string();
+    let dir = mission.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut warnings = Vec::new();
+
+    let lines: Vec<BlockLine> = match file.process_config(app_name) {
+        Some(lines) => lines
+            .into_iter()
+            .filter(|l| l.raw.contains('='))
+            .map(|l| BlockLine {
+                line: l.line,
+                name: l.name,
+                value: l.value,
+            })
+            .collect(),
+        None => {
+            warnings.push(format!(
+                "{shown}: No mission config block found for {app_name}"
+            ));
+            Vec::new()
+        }
+    };
+    let (config, cfg_warnings) = HelmConfig::from_lines(&lines);
+    for w in cfg_warnings {
+        warnings.push(format!("{shown}:{}: {}", w.line, w.text));
+    }
+    let ownship = match file.global("Community") {
+        Some(c) if !c.is_empty() => c,
+        _ => {
+            warnings.push(format!(
+                "{shown}: Community/Vehicle name not found in mission file"
+            ));
+            String::new()
+        }
+    };
+    if file.global("LatOrigin").is_none() {
+        warnings.push(format!("{shown}: No LatOrigin in *.moos file"));
+    }
+    if file.global("LongOrigin").is_none() {
+        warnings.push(format!("{shown}: No LongOrigin set in *.moos file"));
+    }
+
+    let mut bhv_files: Vec<PathBuf> = Vec::new();
+    for p in config.behaviors.iter().chain(extra_bhv.iter()) {
+        let r = resolve(&dir, p);
+        if bhv_files.contains(&r) {
+            warnings.push(format!(
+                "{shown}: behavior file named twice: {}",
+                p.display()
+            ));
+        } else {
+            bhv_files.push(r);
+        }
+    }
+
+    let mut dirs: Vec<PathBuf> = std::env::var("IVP_BEHAVIOR_DIRS")
+        .unwrap_or_default()
+        .split(':')
+        .map(str::trim)
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .collect();
+    dirs.extend(config.behavior_dirs.iter().map(|d| resolve(&dir, d)));
+    let (factory, library_report) = factory_for(&dirs);
+    Ok(LoadedMission {
+        mission: file,
+        app_name: app_name.to_string(),
+        ownship,
+        config,
+        bhv_files,
+        library_report,
+        factory,
+        warnings,
+    })
+}
+
+/// Built-in behaviors plus every library found in `dirs`, and the start-up report.
+/// A missing directory is reported, not fatal: it only matters if a behavior the
+/// `.bhv` files need is then not found (that error names the directories searched).
+pub fn factory_for(dirs: &[PathBuf]) -> (BehaviorFactory, Vec<String>) {
+    let mut factory = BehaviorFactory::with_builtins();
+    factory.searched_dirs = dirs.iter().map(|d| d.display().to_string()).collect();
+    let builtin = |t: &str| factory.is_builtin(t);
+    let (libs, events) = load_dirs(dirs, &builtin);
+    let mut report = vec!["Loading behavior dynamic libraries....".to_string()];
+    for e in &events {
+        match e {
+            LoadEvent::Directory(d) => report.push(format!("  Loading directory: {}", d.display())),
+            LoadEvent::MissingDirectory(d) => report.push(format!(
+                "  Could not find behavior directory: {}",
+                d.display()
+            )),
+            LoadEvent::Loaded { path, types } => {
+                for t in types {
+                    report.push(format!("    {t}  ({})", path.display()));
+                }
+            }
+            LoadEvent::Refused { path, reason } => {
+                report.push(format!("    skipped {}: {reason}", path.display()))
+            }
+            LoadEvent::Duplicate {
+                type_name,
+                kept,
+                ignored,
+            } => report.push(format!(
+                "    warning: {type_name} offered by {} and {}: using the first",
+                kept.display(),
+                ignored.display()
+            )),
+        }
+    }
+    report.push("Loading behavior dynamic libraries.... FINISHED.".to_string());
+    for l in libs {
+        factory.add_library(l);
+    }
+    (factory, report)
+}
