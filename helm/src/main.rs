@@ -200,5 +200,29 @@ fn main() -> ExitCode {
             bhv,
             alias,
         } => check_cmd(&mission, &bhv, &alias),
+        Command::Run {
+            mission,
+            bhv,
+            alias,
+            embedded,
+            duration,
+            quiet,
+        } => {
+            let opts = helm::app::RunOptions {
+                mission,
+                bhv,
+                alias,
+                embedded,
+                duration,
+                quiet,
+            };
+            match helm::app::run(&opts) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
     }
 }
