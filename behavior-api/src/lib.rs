@@ -39,6 +39,9 @@ pub mod module;
 pub mod sdk;
 pub mod value;
 
+#[doc = include_str!("../TUTORIAL.md")]
+pub mod tutorial {}
+
 pub use abi_stable;
 pub use behavior::{BehaviorBox, CallResult};
 pub use context::HelmCtx;
