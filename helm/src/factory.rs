@@ -8,6 +8,7 @@ use behavior_api::BehaviorBox;
 pub type BuiltinCtor = fn(&HelmDomain) -> BehaviorBox;
 
 /// Creates behaviors by type name.
+#[derive(Clone)]
 pub struct BehaviorFactory {
     builtins: Vec<(&'static str, BuiltinCtor)>,
     libraries: Vec<crate::loader::LoadedLibrary>,

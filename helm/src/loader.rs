@@ -4,7 +4,9 @@ use std::path::{Path, PathBuf};
 
 use behavior_api::{BehaviorBox, BehaviorLibRef};
 
-/// A loaded behavior library and the types it offers.
+/// A loaded behavior library and the types it offers (never unloaded: behaviors from it
+/// may live as long as the process).
+#[derive(Clone)]
 pub struct LoadedLibrary {
     pub path: PathBuf,
     pub types: Vec<String>,

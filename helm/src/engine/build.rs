@@ -48,46 +48,17 @@ impl Helm {
         if config.domain.size() == 0 {
             warnings.push("No decision domain: add `domain = name:low:high:points` lines".into());
         }
+        let mut templates = Vec::new();
         for bs in &spec.behaviors {
-            let where_ = format!("{}:{}", bs.file.display(), bs.line);
-            let Some(bhv) = factory.create(&bs.type_name, &env.helm_domain) else {
-                let dirs = if factory.searched_dirs.is_empty() {
-                    "none (set IVP_BEHAVIOR_DIRS or ivp_behavior_dir)".to_string()
-                } else {
-                    factory.searched_dirs.join(", ")
-                };
-                warnings.push(format!(
-                    "{where_}: unknown behavior type {} (directories searched: {dirs})",
-                    bs.type_name
-                ));
-                continue;
-            };
-            let default_name = bhv.default_name().to_string();
-            let empty_domain = bhv.domain().is_empty();
-            let mut inst = BehaviorInstance {
-                bhv,
-                core: BehaviorCore::new(&bs.type_name, &default_name, ownship),
-            };
-            inst.core.empty_domain = empty_domain;
-            if let Ok(d) = inst.bhv.default_duration().into_result() {
-                inst.core.duration = d;
-            }
-            apply_config_line(&mut inst, &env, &ib, "us", ownship);
-            for line in &bs.lines {
-                if !apply_config_line(&mut inst, &env, &ib, &line.param, &line.value) {
-                    warnings.push(format!(
-                        "{}:{}: bad behavior parameter: {}",
-                        bs.file.display(),
-                        line.line,
-                        line.raw.trim()
-                    ));
+            let inst = match make_instance(bs, factory, &env, &ib, ownship) {
+                Ok(inst) => inst,
+                Err(errs) => {
+                    warnings.extend(errs);
+                    continue;
                 }
-            }
-            match inst.bhv.collective_check().into_result() {
-                Ok(msg) if !msg.is_empty() => warnings.push(format!("{where_}: {msg}")),
-                Ok(_) => {}
-                Err(p) => warnings.push(format!("{where_}: behavior panicked while checking: {p}")),
-            }
+            };
+            let mut inst = inst;
+            let where_ = format!("{}:{}", bs.file.display(), bs.line);
             let hook = {
                 let (b, core) = (&mut inst.bhv, &mut inst.core);
                 crate::runtime::with_ctx_pub(core, &env, &ib, |ctx| b.on_helm_start(ctx))
@@ -98,14 +69,16 @@ impl Helm {
             for m in inst.core.messages.drain(..) {
                 startup_messages.push((m.var, m.value));
             }
+            if bs.templating != Templating::Disallow {
+                templates.push(super::spawn::Template::new(bs.clone()));
+            }
             if bs.templating == Templating::Spawn {
                 continue;
             }
-            if let Some(other) = behaviors
+            if behaviors
                 .iter()
-                .find(|b| names_conflict(&b.core.name, &inst.core.name))
+                .any(|b| names_conflict(&b.core.name, &inst.core.name))
             {
-                let _ = other;
                 warnings.push(format!(
                     "{where_}: Duplicate behavior name found: {}",
                     inst.core.name
@@ -160,6 +133,8 @@ impl Helm {
             turn_samples: Vec::new(),
             functions: Vec::new(),
             mode_pairs: Vec::new(),
+            templates,
+            factory: factory.clone(),
             decide_time: std::time::Duration::ZERO,
             decide_count: 0,
             subs_signature: 0,
@@ -264,6 +239,61 @@ impl Helm {
         for v in vars {
             self.register(&v);
         }
+    }
+}
+
+/// Build one behavior from its `.bhv` block: create it, set `us`, apply the lines in
+/// order, run the collective check. Every problem is one line naming file and line.
+pub(crate) fn make_instance(
+    bs: &bhv::reader::BehaviorSpec,
+    factory: &BehaviorFactory,
+    env: &HostEnv,
+    ib: &InfoBuffer,
+    ownship: &str,
+) -> Result<BehaviorInstance, Vec<String>> {
+    let where_ = format!("{}:{}", bs.file.display(), bs.line);
+    let Some(bhv) = factory.create(&bs.type_name, &env.helm_domain) else {
+        let dirs = if factory.searched_dirs.is_empty() {
+            "none (set IVP_BEHAVIOR_DIRS or ivp_behavior_dir)".to_string()
+        } else {
+            factory.searched_dirs.join(", ")
+        };
+        return Err(vec![format!(
+            "{where_}: unknown behavior type {} (directories searched: {dirs})",
+            bs.type_name
+        )]);
+    };
+    let mut errors = Vec::new();
+    let default_name = bhv.default_name().to_string();
+    let empty_domain = bhv.domain().is_empty();
+    let mut inst = BehaviorInstance {
+        bhv,
+        core: BehaviorCore::new(&bs.type_name, &default_name, ownship),
+    };
+    inst.core.empty_domain = empty_domain;
+    if let Ok(d) = inst.bhv.default_duration().into_result() {
+        inst.core.duration = d;
+    }
+    apply_config_line(&mut inst, env, ib, "us", ownship);
+    for line in &bs.lines {
+        if !apply_config_line(&mut inst, env, ib, &line.param, &line.value) {
+            errors.push(format!(
+                "{}:{}: bad behavior parameter: {}",
+                bs.file.display(),
+                line.line,
+                line.raw.trim()
+            ));
+        }
+    }
+    match inst.bhv.collective_check().into_result() {
+        Ok(msg) if !msg.is_empty() => errors.push(format!("{where_}: {msg}")),
+        Ok(_) => {}
+        Err(p) => errors.push(format!("{where_}: behavior panicked while checking: {p}")),
+    }
+    if errors.is_empty() {
+        Ok(inst)
+    } else {
+        Err(errors)
     }
 }
 

@@ -165,6 +165,7 @@ impl Helm {
         self.env.helm_iteration += 1;
         let iter = self.env.helm_iteration;
         let mut summary = DecisionSummary::default();
+        self.process_spawns(now);
 
         // Modes, before any behavior runs.
         let pairs: Vec<(String, String)> = self.modes.evaluate(&self.ib).to_vec();

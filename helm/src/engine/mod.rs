@@ -9,6 +9,7 @@ mod build;
 mod iterate;
 mod mail;
 mod publish;
+mod spawn;
 
 use std::collections::BTreeMap;
 
@@ -91,6 +92,10 @@ pub struct Helm {
     pub(crate) decide_count: u64,
     /// See `subscription_signature`.
     pub(crate) subs_signature: usize,
+    /// `.bhv` blocks with `templating = spawn|clone`.
+    pub(crate) templates: Vec<spawn::Template>,
+    /// Kept for spawning behaviors at run time.
+    pub(crate) factory: crate::factory::BehaviorFactory,
     /// Mode variable values of this iteration, sorted by variable.
     pub(crate) mode_pairs: Vec<(String, String)>,
 }

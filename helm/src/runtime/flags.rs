@@ -17,7 +17,6 @@ pub enum FlagKind {
     Inactive,
     Idle,
     End,
-    #[allow(dead_code)] // spawnflags: posted when templating spawns a behavior
     Spawn,
     Spawnx,
     Config,

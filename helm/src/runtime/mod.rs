@@ -93,6 +93,8 @@ pub struct BehaviorCore {
     pub ownship: String,
     /// The behavior's own domain is empty ("Null IvPDomain").
     pub empty_domain: bool,
+    /// For behaviors spawned from a template: the template's name prefix.
+    pub spawn_prefix: Option<String>,
     /// Disabled after a panic or a function that could not be trusted.
     pub faulted: bool,
 
@@ -158,6 +160,7 @@ impl BehaviorCore {
             ownship: ownship.to_string(),
             empty_domain: false,
             faulted: false,
+            spawn_prefix: None,
             state: RunState::Fresh,
             completed: false,
             ok: true,
@@ -301,4 +304,4 @@ pub struct BehaviorInstance {
 }
 
 pub use context::with_ctx as with_ctx_pub;
-pub use step::{fault as fault_pub, step};
+pub use step::{fault as fault_pub, spawned, step};

@@ -310,3 +310,10 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     }
     outcome
 }
+
+/// A behavior just spawned from a template: its hooks, then its spawnflags.
+pub fn spawned(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) {
+    call(inst, env, ib, |b, c| b.on_params_complete(c));
+    call(inst, env, ib, |b, c| b.on_spawn(c));
+    post_flags(inst, env, ib, FlagKind::Spawn, true);
+}

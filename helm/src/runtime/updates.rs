@@ -52,7 +52,11 @@ fn apply_update(
             None => (part.trim(), ""),
         };
         if p == "name" {
-            if v != inst.core.name {
+            let expected = match &inst.core.spawn_prefix {
+                Some(prefix) => format!("{prefix}{v}"),
+                None => v.to_string(),
+            };
+            if expected != inst.core.name {
                 return "name_mismatch";
             }
             continue;
