@@ -1,7 +1,40 @@
 //! The helm as a MOOS app: connect to a MOOSDB (or start an embedded one with a vehicle
 //! simulator), and each AppTick: mail → `Helm::handle_mail` → `Helm::iterate` → postings.
+//!
+//! `helm run MISSION [BHV...]`:
+//! 1. reads the mission ([`crate::mission::load`]); prints the library report; a
+//!    MALCONFIG helm has its problems printed (file:line) and a box saying it will never
+//!    drive — it still runs and posts `IVPHELM_STATE=MALCONFIG`, as pHelmIvP does, and
+//!    `helm run` then ends with an error (exit 1) when it stops;
+//! 2. with `--embedded`, starts a MOOSDB on the mission's ServerPort (Community,
+//!    MOOSTimeWarp from the mission) and the `uSimMarine` simulator ([`sim`]);
+//! 3. connects as `--alias` (ServerHost/ServerPort), runs `startup`, registers every
+//!    variable the helm lists (posting `IVPHELM_REGISTER=<var>` for each, and again for
+//!    variables that appear later), then loops at the block's AppTick (default 5 Hz, in
+//!    MOOS time, so a time warp speeds it up): fetch → mail → iterate → publish;
+//! 4. prints the heartbeat (`$` DRIVE, `*` PARK) and a summary line every 5 s
+//!    ([`terminal`]), unless `--quiet`; always a last `final: ...` line;
+//! 5. stops after `--duration` MOOS seconds, or, with `--embedded`, once the mission is
+//!    over ([`status::EndWatch`]: after a first clear decision, the all-stop stayed
+//!    non-clear for 5 MOOS seconds). Ctrl-C ends the process (default signal action).
+
+pub mod moos_io;
+pub mod sim;
+pub mod status;
+pub mod terminal;
 
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use moos::client::{Client, ClientError};
+use moos::db::{Db, DbConfig, DbError};
+use moos::wire::Message;
+
+use crate::posting::{Posting, Value};
+use crate::Helm;
+use moos_io::{AlogSink, AppSettings, Registrar};
+use status::Status;
+use terminal::Terminal;
 
 /// How `helm run` was asked to run.
 #[derive(Clone, Debug)]
@@ -19,16 +52,305 @@ pub struct RunOptions {
     pub quiet: bool,
 }
 
+/// Options of `helm run` beyond [`RunOptions`] (kept apart so that adding one does not
+/// change how `RunOptions` is built).
+#[derive(Clone, Debug, Default)]
+pub struct RunExtras {
+    /// Write an `.alog` of every posting and every mail from other apps.
+    pub alog: Option<PathBuf>,
+}
+
 /// Errors that stop `helm run`.
 #[derive(Debug, thiserror::Error)]
 pub enum AppError {
     #[error("{0}")]
     Mission(#[from] crate::mission::MissionLoadError),
+    #[error(
+        "port {port} is busy: another MOOSDB (or program) listens on it. Stop it, or set \
+         another ServerPort in the mission"
+    )]
+    PortBusy { port: u16 },
+    #[error("cannot start the embedded MOOSDB: {0}")]
+    Db(#[source] DbError),
+    #[error("cannot start the simulator uSimMarine: {0}")]
+    Sim(#[source] ClientError),
+    #[error("cannot connect to the MOOSDB at {host}:{port} as {name}: {source}")]
+    Connect {
+        host: String,
+        port: u16,
+        name: String,
+        #[source]
+        source: ClientError,
+    },
+    #[error("cannot write the alog {}: {source}", path.display())]
+    Alog {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("the helm was MALCONFIG for the whole run ({problems} configuration problem(s)); it never drove")]
+    Malconfig { problems: usize },
     #[error("not implemented yet: {0}")]
     NotYet(String),
 }
 
+/// Why the loop ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StopReason {
+    Duration,
+    MissionOver,
+}
+
+impl StopReason {
+    fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Duration => "duration",
+            StopReason::MissionOver => "mission-over",
+        }
+    }
+}
+
 /// Run the helm until the duration ends or the process is interrupted.
-pub fn run(_opts: &RunOptions) -> Result<(), AppError> {
-    Err(AppError::NotYet("helm run".into()))
+pub fn run(opts: &RunOptions) -> Result<(), AppError> {
+    run_with(opts, &RunExtras::default())
+}
+
+/// [`run`] with the extra options.
+pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
+    let loaded = crate::mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
+    for line in &loaded.library_report {
+        println!("{line}");
+    }
+    let (mut helm, mission) = loaded.into_helm();
+    let problems = helm.config_warnings().len();
+    if problems > 0 {
+        for w in helm.config_warnings() {
+            eprintln!("{w}");
+        }
+        eprintln!("{}", terminal::malconfig_box(problems));
+    }
+
+    let mut settings = AppSettings::read(&mission, &opts.alias, 5.0);
+    let (db, sim) = if opts.embedded {
+        settings.host = "127.0.0.1".into();
+        let db = start_db(&mission)?;
+        println!(
+            "Embedded MOOSDB on 127.0.0.1:{} (community {}, time warp {})",
+            db.port(),
+            mission.global("Community").unwrap_or_else(|| "#1".into()),
+            settings.time_warp
+        );
+        let sim = sim::Sim::start(&mission).map_err(AppError::Sim)?;
+        (Some(db), Some(sim))
+    } else {
+        (None, None)
+    };
+
+    let client = connect(&settings, &opts.alias, opts.embedded)?;
+    let outcome = drive(&mut helm, &client, &settings, opts, extras);
+    // Stop the simulator and the DB after the helm's client is gone.
+    client.close();
+    if let Some(s) = sim {
+        s.stop();
+    }
+    if let Some(d) = db {
+        d.shutdown();
+    }
+    outcome?;
+    if problems > 0 {
+        return Err(AppError::Malconfig { problems });
+    }
+    Ok(())
+}
+
+fn start_db(mission: &moos::mission::MissionFile) -> Result<Db, AppError> {
+    let mut cfg = DbConfig::default();
+    cfg.apply_mission(mission);
+    if mission.global_f64("ServerPort").is_none() {
+        cfg.port = 9000;
+    }
+    let port = cfg.port;
+    Db::start(cfg).map_err(|e| match e {
+        DbError::Bind { source, .. } if source.kind() == std::io::ErrorKind::AddrInUse => {
+            AppError::PortBusy { port }
+        }
+        e => AppError::Db(e),
+    })
+}
+
+/// Connect as `name`. An embedded DB is already up, so failing is final; an external
+/// one may come later, so wait for it (saying so) as a MOOS app does.
+fn connect(settings: &AppSettings, name: &str, embedded: bool) -> Result<Client, AppError> {
+    let err = |source| AppError::Connect {
+        host: settings.host.clone(),
+        port: settings.port,
+        name: name.to_string(),
+        source,
+    };
+    let cfg = settings.client_config(name);
+    if embedded {
+        return Client::connect(cfg).map_err(err);
+    }
+    let client = Client::start(cfg).map_err(err)?;
+    let mut told = false;
+    loop {
+        match client.wait_connected(Duration::from_secs(2)) {
+            Ok(()) => return Ok(client),
+            Err(ClientError::Timeout(_)) if !told => {
+                told = true;
+                eprintln!(
+                    "waiting for the MOOSDB at {}:{} (start one with `moosdb MISSION`, or use \
+                     `helm run --embedded`)...",
+                    settings.host, settings.port
+                );
+            }
+            Err(ClientError::Timeout(_)) => {}
+            Err(e) => return Err(err(e)),
+        }
+    }
+}
+
+/// Everything the loop needs besides the helm and the client.
+struct Run<'a> {
+    client: &'a Client,
+    app: String,
+    status: Status,
+    alog: Option<AlogSink>,
+}
+
+impl Run<'_> {
+    fn publish(&mut self, p: &Posting, now: f64) {
+        if let Err(e) = moos_io::publish(self.client, p, now) {
+            tracing::warn!(var = %p.var, "not posted: {e}");
+        }
+        self.status.on_posting(p, now);
+        if let Some(a) = &mut self.alog {
+            if let Err(e) = a.posting(p, now) {
+                tracing::error!("alog {} stopped: {e}", a.path().display());
+                self.alog = None;
+            }
+        }
+    }
+
+    fn log_mail(&mut self, msgs: &[Message]) {
+        if let Some(a) = &mut self.alog {
+            for m in msgs {
+                if let Err(e) = a.mail(m) {
+                    tracing::error!("alog {} stopped: {e}", a.path().display());
+                    self.alog = None;
+                    return;
+                }
+            }
+        }
+    }
+
+    fn register_new(&mut self, reg: &mut Registrar, subs: &[String], now: f64) {
+        for var in reg.sync(self.client, subs) {
+            let p = Posting {
+                var: "IVPHELM_REGISTER".into(),
+                value: Value::Str(var),
+                source_aux: String::new(),
+            };
+            self.publish(&p, now);
+        }
+    }
+}
+
+fn drive(
+    helm: &mut Helm,
+    client: &Client,
+    settings: &AppSettings,
+    opts: &RunOptions,
+    extras: &RunExtras,
+) -> Result<(), AppError> {
+    let start = client.moos_time();
+    let alog = match &extras.alog {
+        Some(path) => Some(
+            AlogSink::create(path, start, &opts.alias).map_err(|source| AppError::Alog {
+                path: path.clone(),
+                source,
+            })?,
+        ),
+        None => None,
+    };
+    let mut run = Run {
+        client,
+        app: opts.alias.clone(),
+        status: Status::default(),
+        alog,
+    };
+    let mut reg = Registrar::default();
+    let mut term = Terminal::new(opts.quiet);
+    tracing::info!(app = %run.app, host = %settings.host, port = settings.port, "helm connected");
+
+    // Start-up: register first, so the helm's own postings come back to it as mail.
+    let posts: Vec<Posting> = helm.startup(start).to_vec();
+    run.register_new(&mut reg, helm.subscriptions(), start);
+    for p in &posts {
+        run.publish(p, start);
+    }
+
+    let period = settings.period();
+    let deadline = opts.duration.map(|d| start + d.max(0.0));
+    let mut inbox: Vec<Message> = Vec::new();
+    let mut next = Instant::now();
+    let mut disconnected_told = false;
+    let reason = loop {
+        next += period;
+        match next.checked_duration_since(Instant::now()) {
+            Some(wait) => std::thread::sleep(wait),
+            None => next = Instant::now(),
+        }
+        let now = client.moos_time();
+        if deadline.is_some_and(|d| now >= d) {
+            break StopReason::Duration;
+        }
+        if opts.embedded && run.status.end.is_over(now) {
+            break StopReason::MissionOver;
+        }
+
+        inbox.clear();
+        client.fetch(&mut inbox);
+        run.log_mail(&inbox);
+        let mail = moos_io::to_mail(&inbox);
+        for m in &mail {
+            run.status.on_mail(m);
+        }
+        if !mail.is_empty() {
+            helm.handle_mail(now, &mail);
+        }
+        // As CMOOSApp: no Iterate while disconnected.
+        if !client.is_connected() {
+            if !disconnected_told {
+                disconnected_told = true;
+                tracing::warn!("lost the MOOSDB; waiting to reconnect");
+            }
+            continue;
+        }
+        disconnected_told = false;
+        run.status.iterations += 1;
+        for p in helm.iterate(now) {
+            run.publish(p, now);
+        }
+        run.register_new(&mut reg, helm.subscriptions(), now);
+        term.heartbeat(helm.state());
+        if term.summary_due() {
+            term.summary(&run.status.summary(now - start, helm.state().as_str()));
+            if let Some(a) = &mut run.alog {
+                let _ = a.flush();
+            }
+        }
+    };
+    let end = client.moos_time();
+    term.line(
+        &run.status
+            .final_line(reason.as_str(), end - start, helm.state().as_str()),
+    );
+    if let Some(a) = &mut run.alog {
+        a.flush().map_err(|source| AppError::Alog {
+            path: a.path().to_path_buf(),
+            source,
+        })?;
+    }
+    Ok(())
 }

@@ -157,7 +157,10 @@ mod tests {
     fn defaults_without_globals() {
         let m = MissionFile::parse("Community = a\n", Path::new("t.moos")).expect("parses");
         let s = AppSettings::read(&m, "pHelmIvP", 5.0);
-        assert_eq!((s.host.as_str(), s.port, s.time_warp), ("127.0.0.1", 9000, 1.0));
+        assert_eq!(
+            (s.host.as_str(), s.port, s.time_warp),
+            ("127.0.0.1", 9000, 1.0)
+        );
         assert_eq!(s.app_tick, 5.0);
     }
 
@@ -171,7 +174,10 @@ mod tests {
         assert_eq!(mail[0].var, "A");
         assert_eq!(mail[0].value, Value::Num(1.5));
         assert_eq!(mail[1].value, Value::Str("x".into()));
-        assert_eq!((mail[1].source.as_str(), mail[1].source_aux.as_str()), ("p", "aux"));
+        assert_eq!(
+            (mail[1].source.as_str(), mail[1].source_aux.as_str()),
+            ("p", "aux")
+        );
     }
 
     #[test]

@@ -25,11 +25,8 @@ pub fn malconfig_box(problems: usize) -> String {
     let bar = "!".repeat(78);
     let lines = [
         "The helm is MALCONFIG: it will NEVER DRIVE (no DESIRED_* will be posted).".to_string(),
-        format!(
-            "{problems} configuration problem(s), listed above with file and line."
-        ),
-        "Fix them and start again (`helm check MISSION` lists them without running)."
-            .to_string(),
+        format!("{problems} configuration problem(s), listed above with file and line."),
+        "Fix them and start again (`helm check MISSION` lists them without running).".to_string(),
         "It keeps running and posts IVPHELM_STATE=MALCONFIG, as pHelmIvP does.".to_string(),
     ];
     let mut s = format!("{bar}\n");
@@ -70,13 +67,20 @@ impl Terminal {
         }
     }
 
-    /// Whether a summary line is due (then the clock restarts).
+    /// Whether a summary is due (then the clock restarts); also when quiet.
     pub fn summary_due(&mut self) -> bool {
         if self.last_summary.elapsed() < SUMMARY_EVERY {
             return false;
         }
         self.last_summary = Instant::now();
-        !self.quiet
+        true
+    }
+
+    /// A summary line (not when quiet).
+    pub fn summary(&mut self, text: &str) {
+        if !self.quiet {
+            self.line(text);
+        }
     }
 
     /// Print a whole line, after ending the heartbeat line if one is open.
