@@ -5,6 +5,12 @@
 //! `conformance/helm/plugin_*.toml` case. Also checks that bad library folders and files
 //! are reported without crashing the helm. (With IVP_BEHAVIOR_DIRS unset, the plugin
 //! cases fail with `unknown behavior type`: asserted in conformance.rs.)
+//!
+//! Isolation (the second half): `BHV_TestFailure` (plugins/test-failure) fails on purpose
+//! (panics, NaN, bad pieces, unknown variable) next to a BHV_Waypoint, driven through the
+//! helm's library API; and a library built against another `behavior-api` version.
+//! Tests marked `HOST GAP` assert the stated outcome the host does not give yet; they are
+//! `#[ignore]`d with the reason until the host is fixed (`cargo test -- --ignored`).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -17,6 +23,9 @@ const PLUGINS: &[&str] = &[
     "bhv-station-keep",
     "bhv-template",
 ];
+
+/// Built with the others, kept in a folder of its own (`failure_dir`).
+const FAILURE_PLUGIN: &str = "bhv-test-failure";
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -36,7 +45,7 @@ fn plugin_dir() -> &'static Path {
             .arg("build")
             .arg("--quiet")
             .env("CARGO_TARGET_DIR", &target);
-        for p in PLUGINS {
+        for p in PLUGINS.iter().chain([&FAILURE_PLUGIN]) {
             cmd.arg("-p").arg(p);
         }
         let out = cmd.output().expect("run cargo build");
@@ -57,8 +66,18 @@ fn plugin_dir() -> &'static Path {
             let name = format!("lib{}.so", p.replace('-', "_"));
             std::fs::copy(dir.join(&name), only.join(&name)).unwrap();
         }
+        let failure = Path::new(env!("CARGO_TARGET_TMPDIR")).join("failure-lib");
+        std::fs::create_dir_all(&failure).unwrap();
+        let name = format!("lib{}.so", FAILURE_PLUGIN.replace('-', "_"));
+        std::fs::copy(dir.join(&name), failure.join(&name)).unwrap();
         only
     })
+}
+
+/// The folder holding only `libbhv_test_failure.so`.
+fn failure_dir() -> PathBuf {
+    plugin_dir();
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("failure-lib")
 }
 
 fn helm_conform(case: &Path, dirs: Option<&str>) -> Output {
@@ -190,4 +209,424 @@ fn bad_library_files_are_skipped() {
     let out = helm_conform(&case, Some(d.to_str().unwrap()));
     let t = text(&out);
     assert!(t.contains("1 passed, 0 failed"), "{t}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Isolation: deliberately failing behaviors, through the helm's library API.
+// ---------------------------------------------------------------------------------------
+
+use helm::config::{BlockLine, HelmConfig};
+use helm::posting::{Posting, Value};
+use helm::{Helm, HelmState, Mail};
+
+const T0: f64 = 1000.0;
+
+/// The helm built from `bhv` text with the libraries of `dirs`, and its config warnings.
+fn build(bhv_text: &str, dirs: &[PathBuf]) -> Helm {
+    let (factory, _report) = helm::mission::factory_for(dirs);
+    let lines: Vec<BlockLine> = [
+        ("domain", "course:0:359:360"),
+        ("domain", "speed:0:4:41"),
+        ("start_in_drive", "true"),
+    ]
+    .iter()
+    .enumerate()
+    .map(|(i, (n, v))| BlockLine {
+        line: i + 1,
+        name: n.to_string(),
+        value: v.to_string(),
+    })
+    .collect();
+    let (config, warnings) = HelmConfig::from_lines(&lines);
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let spec = bhv::reader::parse_str(bhv_text, Path::new("isolation.bhv")).expect("bhv parses");
+    Helm::new(config, spec, &factory, "alpha", vec![])
+}
+
+/// Drives a helm as the conformance runner does: start-up at T0, then one iteration every
+/// 0.25 s with fresh navigation mail, the helm's own subscribed postings echoed back first.
+struct Drive {
+    helm: Helm,
+    step: usize,
+    echo: Vec<Posting>,
+    /// What each iteration published, in order.
+    log: Vec<Vec<Posting>>,
+}
+
+impl Drive {
+    fn start(mut helm: Helm) -> Drive {
+        let echo = helm.startup(T0).to_vec();
+        Drive {
+            helm,
+            step: 0,
+            echo,
+            log: Vec::new(),
+        }
+    }
+
+    fn now(&self) -> f64 {
+        T0 + 0.25 * self.step as f64
+    }
+
+    /// One iteration; returns its index in `log`.
+    fn iterate(&mut self) -> usize {
+        let now = self.now();
+        let mut mail: Vec<Mail> = self
+            .echo
+            .iter()
+            .filter(|p| self.helm.is_subscribed(&p.var))
+            .map(|p| Mail {
+                var: p.var.clone(),
+                value: p.value.clone(),
+                time: now,
+                source: self.helm.app_name().to_string(),
+                source_aux: p.source_aux.clone(),
+            })
+            .collect();
+        // Ownship sits still at the origin, heading north.
+        for var in ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"] {
+            mail.push(Mail {
+                var: var.into(),
+                value: Value::Num(0.0),
+                time: now,
+                source: "uSimMarine".into(),
+                source_aux: String::new(),
+            });
+        }
+        self.helm.handle_mail(now, &mail);
+        let out = self.helm.iterate(now).to_vec();
+        self.echo = out.clone();
+        self.log.push(out);
+        self.step += 1;
+        self.log.len() - 1
+    }
+
+    /// Iterate until the `n`th decision (first decision = 1); returns its log index.
+    fn until_decision(&mut self, n: usize) -> usize {
+        let mut seen = 0;
+        loop {
+            let i = self.iterate();
+            if self.decided(i) {
+                seen += 1;
+                if seen == n {
+                    return i;
+                }
+            }
+            assert!(self.step < 200, "no decision {n} after 200 iterations");
+        }
+    }
+
+    /// Whether iteration `i` went through the decision step (it posts IVPHELM_IPF_CNT).
+    fn decided(&self, i: usize) -> bool {
+        self.get(i, "IVPHELM_IPF_CNT").is_some()
+    }
+
+    /// The last value iteration `i` posted for `var`.
+    fn get(&self, i: usize, var: &str) -> Option<&Value> {
+        self.log[i]
+            .iter()
+            .rev()
+            .find(|p| p.var == var)
+            .map(|p| &p.value)
+    }
+
+    fn strs(&self, i: usize, var: &str) -> Vec<String> {
+        self.log[i]
+            .iter()
+            .filter(|p| p.var == var)
+            .filter_map(|p| match &p.value {
+                Value::Str(s) => Some(s.clone()),
+                Value::Num(_) => None,
+            })
+            .collect()
+    }
+
+    fn num(&self, i: usize, var: &str) -> Option<f64> {
+        match self.get(i, var) {
+            Some(Value::Num(v)) => Some(*v),
+            _ => None,
+        }
+    }
+
+    fn str_(&self, i: usize, var: &str) -> Option<String> {
+        match self.get(i, var) {
+            Some(Value::Str(s)) => Some(s.clone()),
+            _ => None,
+        }
+    }
+
+    /// The latest value of `var` posted at or before iteration `i`.
+    fn latest(&self, i: usize, var: &str) -> Option<String> {
+        (0..=i).rev().find_map(|k| match self.get(k, var) {
+            Some(Value::Str(s)) => Some(s.clone()),
+            Some(Value::Num(v)) => Some(format!("{v}")),
+            None => None,
+        })
+    }
+
+    fn dump(&self, from: usize) -> String {
+        let mut out = String::new();
+        for (k, posts) in self.log.iter().enumerate().skip(from) {
+            out.push_str(&format!("--- iteration {k} (t={})\n", T0 + 0.25 * k as f64));
+            for p in posts {
+                if p.var == "BHV_IPF" || p.var == "IVPHELM_SUMMARY" {
+                    continue;
+                }
+                out.push_str(&format!("  {} = {:?}\n", p.var, p.value));
+            }
+        }
+        out
+    }
+}
+
+/// A waypoint that keeps the vehicle going, and the failing behavior `tester` after it.
+fn mission(failure_lines: &str) -> String {
+    format!(
+        "initialize DEPLOY = true
+
+Behavior = BHV_Waypoint
+{{
+  name      = steer
+  pwt       = 100
+  condition = DEPLOY = true
+  speed     = 1.2
+  points    = 60,60 : 100,0
+}}
+
+Behavior = BHV_TestFailure
+{{
+  name      = tester
+  pwt       = 50
+  condition = DEPLOY = true
+  speed     = 2
+{failure_lines}
+}}
+"
+    )
+}
+
+/// The stated outcome of a run-time failure at the `fail_at`-th decision: BHV_ERROR naming
+/// `tester` (and containing each of `error_has`), IVPHELM_ALLSTOP=BehaviorError with zeros,
+/// then `tester` disabled and the waypoint driving again (ALLSTOP back to clear).
+fn assert_isolated_run_failure(failure: &str, error_has: &[&str]) {
+    let lines = format!("  failure   = {failure}\n  fail_at   = 3");
+    let helm = build(&mission(&lines), &[failure_dir()]);
+    assert!(
+        helm.config_warnings().is_empty(),
+        "{:?}",
+        helm.config_warnings()
+    );
+    let mut d = Drive::start(helm);
+    // Two good decisions: both behaviors active, the decision is posted.
+    for n in 1..=2 {
+        let i = d.until_decision(n);
+        assert_eq!(d.num(i, "IVPHELM_IPF_CNT"), Some(2.0), "{}", d.dump(0));
+        assert!(d.num(i, "DESIRED_SPEED").is_some(), "{}", d.dump(0));
+        assert_eq!(
+            d.latest(i, "IVPHELM_ALLSTOP").as_deref(),
+            Some("clear"),
+            "{}",
+            d.dump(0)
+        );
+    }
+    // The failing decision.
+    let bad = d.until_decision(3);
+    let errors = d.strs(bad, "BHV_ERROR");
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains("tester") && error_has.iter().all(|h| e.contains(h))),
+        "{failure}: BHV_ERROR naming tester and {error_has:?} expected, got {errors:?}\n{}",
+        d.dump(bad)
+    );
+    assert_eq!(
+        d.str_(bad, "IVPHELM_ALLSTOP").as_deref(),
+        Some("BehaviorError"),
+        "{failure}\n{}",
+        d.dump(bad)
+    );
+    assert_eq!(d.num(bad, "DESIRED_SPEED"), Some(0.0), "{}", d.dump(bad));
+    assert_eq!(d.num(bad, "DESIRED_HEADING"), Some(0.0), "{}", d.dump(bad));
+    // Afterwards: tester disabled, never running or active again; the waypoint drives.
+    let after = d.until_decision(4);
+    assert_eq!(
+        d.latest(after, "IVPHELM_BHV_DISABLED").as_deref(),
+        Some("tester"),
+        "{failure}: tester should be disabled\n{}",
+        d.dump(bad)
+    );
+    assert_eq!(
+        d.str_(after, "IVPHELM_ALLSTOP").as_deref(),
+        Some("clear"),
+        "{failure}: the helm should recover\n{}",
+        d.dump(bad)
+    );
+    for _ in 0..6 {
+        d.iterate();
+    }
+    let last = d.log.len() - 1;
+    for i in after..=last {
+        assert_eq!(d.num(i, "IVPHELM_IPF_CNT"), Some(1.0), "{}", d.dump(bad));
+        // The waypoint alone: its own speed, towards its first point (north-east).
+        assert_eq!(d.num(i, "DESIRED_SPEED"), Some(1.2), "{}", d.dump(bad));
+        let h = d.num(i, "DESIRED_HEADING").expect("DESIRED_HEADING posted");
+        assert!((h - 45.0).abs() <= 1.0, "heading {h}\n{}", d.dump(bad));
+        assert!(d.strs(i, "BHV_ERROR").is_empty(), "{}", d.dump(bad));
+        for var in ["IVPHELM_BHV_RUNNING", "IVPHELM_BHV_ACTIVE"] {
+            let v = d.latest(i, var).unwrap_or_default();
+            assert!(!v.contains("tester"), "{var}={v}\n{}", d.dump(bad));
+        }
+    }
+    assert_eq!(
+        d.latest(last, "IVPHELM_BHV_DISABLED").as_deref(),
+        Some("tester")
+    );
+    assert_eq!(d.latest(last, "IVPHELM_ALLSTOP").as_deref(), Some("clear"));
+    assert_eq!(d.helm.state(), HelmState::Drive);
+}
+
+#[test]
+fn isolation_panic_on_run_disables_the_behavior_and_the_helm_keeps_driving() {
+    assert_isolated_run_failure(
+        "panic_on_run",
+        &["BHV_TestFailure deliberate panic in on_run (run 3)"],
+    );
+}
+
+#[test]
+fn isolation_bad_pieces_are_rejected_and_the_behavior_disabled() {
+    assert_isolated_run_failure("bad_pieces", &["rejected"]);
+}
+
+#[test]
+fn isolation_bounds_out_of_range_are_rejected_and_the_behavior_disabled() {
+    assert_isolated_run_failure("bad_bounds", &["rejected"]);
+}
+
+#[test]
+fn isolation_unknown_variable_is_rejected_and_the_behavior_disabled() {
+    assert_isolated_run_failure("unknown_var", &["warp_factor"]);
+}
+
+#[test]
+#[ignore = "HOST GAP: a NaN function posts BHV_ERROR and halts but does not disable the \
+            behavior (step.rs validate uses post_error, not fault): the helm stays in \
+            BehaviorError for as long as the behavior keeps producing NaN"]
+fn isolation_nan_is_rejected_and_the_behavior_disabled() {
+    assert_isolated_run_failure("nan", &["NaN"]);
+}
+
+/// What the host does today with a NaN function (see the ignored test above): rejected
+/// with BHV_ERROR and a BehaviorError all-stop, the helm never crashes, but the behavior
+/// is not disabled, so the all-stop lasts while the NaN does.
+#[test]
+fn isolation_nan_is_never_trusted() {
+    let helm = build(
+        &mission("  failure   = nan\n  fail_at   = 3"),
+        &[failure_dir()],
+    );
+    let mut d = Drive::start(helm);
+    let bad = d.until_decision(3);
+    assert!(
+        d.strs(bad, "BHV_ERROR")
+            .iter()
+            .any(|e| e.starts_with("tester: ") && e.contains("NaN")),
+        "{}",
+        d.dump(bad)
+    );
+    assert_eq!(
+        d.str_(bad, "IVPHELM_ALLSTOP").as_deref(),
+        Some("BehaviorError")
+    );
+    assert_eq!(d.num(bad, "DESIRED_SPEED"), Some(0.0));
+    for _ in 0..8 {
+        let i = d.iterate();
+        // Never a decision made from the NaN function.
+        assert_ne!(d.num(i, "DESIRED_SPEED").unwrap_or(0.0), 2.0);
+    }
+}
+
+/// Configuration-time failures: the helm is MALCONFIG with a problem naming `isolation.bhv`
+/// and the line, iterates without driving, and nothing crashes.
+fn assert_config_problem(bhv_text: &str, line: usize, has: &[&str]) -> Vec<String> {
+    let helm = build(bhv_text, &[failure_dir()]);
+    let warnings = helm.config_warnings().to_vec();
+    let at = format!("isolation.bhv:{line}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains(&at) && has.iter().all(|h| w.contains(h))),
+        "a problem at {at} with {has:?} expected, got {warnings:?}"
+    );
+    assert_eq!(helm.state(), HelmState::Malconfig);
+    let mut d = Drive::start(helm);
+    for _ in 0..8 {
+        let i = d.iterate();
+        assert!(d.get(i, "DESIRED_SPEED").is_none(), "{}", d.dump(0));
+    }
+    assert_eq!(d.helm.state(), HelmState::Malconfig);
+    warnings
+}
+
+#[test]
+fn isolation_panic_on_param_is_a_configuration_problem() {
+    // `failure = panic_on_param` is line 18 of the mission text.
+    let text = mission("  failure   = panic_on_param");
+    assert_eq!(
+        text.lines().nth(17).unwrap().trim(),
+        "failure   = panic_on_param"
+    );
+    assert_config_problem(&text, 18, &["failure"]);
+}
+
+#[test]
+fn isolation_panic_on_create_is_a_configuration_problem() {
+    // Panics at the end of creation (after all parameters): reported at the block.
+    let text = mission("  failure   = panic_on_create");
+    assert_eq!(
+        text.lines().nth(11).unwrap().trim(),
+        "Behavior = BHV_TestFailure"
+    );
+    assert_config_problem(
+        &text,
+        12,
+        &["BHV_TestFailure deliberate panic while being created"],
+    );
+    let text = mission("  failure   = panic_on_helm_start");
+    assert_config_problem(
+        &text,
+        12,
+        &["BHV_TestFailure deliberate panic in on_helm_start"],
+    );
+}
+
+fn ctor_mission() -> String {
+    mission("").replace("BHV_TestFailure\n", "BHV_TestFailureCtor\n")
+}
+
+#[test]
+fn isolation_panicking_constructor_is_a_configuration_problem() {
+    assert_config_problem(&ctor_mission(), 12, &["BHV_TestFailureCtor"]);
+}
+
+#[test]
+#[ignore = "HOST GAP: panic messages at configuration are lost: a panicking constructor \
+            is reported as `unknown behavior type` (the ABI's create returns ROption, \
+            boxed_catching drops the message) and a panicking set_param as `bad behavior \
+            parameter` (apply_config_line: unwrap_or(false))"]
+fn isolation_configuration_panics_name_the_panic_message() {
+    let w = assert_config_problem(
+        &ctor_mission(),
+        12,
+        &["BHV_TestFailureCtor deliberate panic in the constructor"],
+    );
+    assert!(
+        !w.iter().any(|w| w.contains("unknown behavior type")),
+        "{w:?}"
+    );
+    assert_config_problem(
+        &mission("  failure   = panic_on_param"),
+        18,
+        &["BHV_TestFailure deliberate panic in set_param(failure = panic_on_param)"],
+    );
 }

@@ -28,13 +28,21 @@ const TEMPLATE: &str = "Behavior = BHV_Timer\n{\n  name = tmr_\n  templating = s
 fn spawn_requests_create_named_behaviors_up_to_the_limit() {
     let c = case(
         TEMPLATE,
-        &[(6, "name=a # duration=100"), (8, "name=b"), (10, "name=a"), (12, "name=c")],
+        &[
+            (6, "name=a # duration=100"),
+            (8, "name=b"),
+            (10, "name=a"),
+            (12, "name=c"),
+        ],
         16,
     );
     let factory = BehaviorFactory::with_builtins();
     let file = std::path::PathBuf::from("spawn.toml");
     let mut helm = build_helm(&c, &file, &factory).expect("helm builds");
-    assert!(helm.behavior_names().is_empty(), "a spawn template is not an instance");
+    assert!(
+        helm.behavior_names().is_empty(),
+        "a spawn template is not an instance"
+    );
     replay(&c, &mut helm, false);
     assert_eq!(helm.behavior_names(), vec!["tmr_a", "tmr_b"]);
 }

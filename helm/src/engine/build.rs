@@ -133,6 +133,17 @@ impl Helm {
             turn_samples: Vec::new(),
             functions: Vec::new(),
             mode_pairs: Vec::new(),
+            desired_names: config
+                .domain
+                .vars()
+                .iter()
+                .map(|v| {
+                    (
+                        super::iterate::desired_var(&config.helm_prefix, &v.name),
+                        super::iterate::desired_var("", &v.name),
+                    )
+                })
+                .collect(),
             templates,
             factory: factory.clone(),
             decide_time: std::time::Duration::ZERO,

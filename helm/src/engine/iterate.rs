@@ -293,7 +293,7 @@ impl Helm {
         self.all_stop("clear");
         for i in 0..self.config.domain.size() {
             if let Some(v) = self.decision.values.get(i).copied().flatten() {
-                let var = desired_var(&self.config.helm_prefix, &self.config.domain.var(i).name);
+                let var = self.desired_names[i].0.clone();
                 self.post_num(&var, v);
             }
         }
@@ -331,14 +331,14 @@ impl Helm {
             return;
         }
         for i in 0..self.config.domain.size() {
-            let var = desired_var("", &self.config.domain.var(i).name);
+            let var = self.desired_names[i].1.clone();
             self.post_num(&var, 0.0);
         }
     }
 }
 
 /// `DESIRED_<UPPER(name)>`, with course published as heading.
-fn desired_var(prefix: &str, name: &str) -> String {
+pub(crate) fn desired_var(prefix: &str, name: &str) -> String {
     let up = name.to_ascii_uppercase();
     let up = if up == "COURSE" {
         "HEADING".to_string()

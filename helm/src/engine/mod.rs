@@ -92,6 +92,8 @@ pub struct Helm {
     pub(crate) decide_count: u64,
     /// See `subscription_signature`.
     pub(crate) subs_signature: usize,
+    /// Per domain variable: `<prefix>DESIRED_<VAR>` and the unprefixed all-stop name.
+    pub(crate) desired_names: Vec<(String, String)>,
     /// `.bhv` blocks with `templating = spawn|clone`.
     pub(crate) templates: Vec<spawn::Template>,
     /// Kept for spawning behaviors at run time.
