@@ -24,10 +24,10 @@ pub fn heartbeat_char(state: HelmState) -> Option<char> {
 pub fn malconfig_box(problems: usize) -> String {
     let bar = "!".repeat(78);
     let lines = [
-        "The helm is MALCONFIG: it will NEVER DRIVE (no DESIRED_* will be posted).".to_string(),
+        "The helm is MALCONFIG: it will NEVER DRIVE (it posts no DESIRED_*).".to_string(),
         format!("{problems} configuration problem(s), listed above with file and line."),
-        "Fix them and start again (`helm check MISSION` lists them without running).".to_string(),
-        "It keeps running and posts IVPHELM_STATE=MALCONFIG, as pHelmIvP does.".to_string(),
+        "Fix them and restart; `helm check MISSION` lists them too.".to_string(),
+        "It keeps running, posting IVPHELM_STATE=MALCONFIG, as pHelmIvP does.".to_string(),
     ];
     let mut s = format!("{bar}\n");
     for l in lines {

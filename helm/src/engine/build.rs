@@ -133,6 +133,9 @@ impl Helm {
             turn_samples: Vec::new(),
             functions: Vec::new(),
             mode_pairs: Vec::new(),
+            apps_seen: Vec::new(),
+            nav_warned: false,
+            last_decide_secs: 0.0,
             desired_names: config
                 .domain
                 .vars()

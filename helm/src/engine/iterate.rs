@@ -35,6 +35,13 @@ impl Helm {
             self.ib.set_curr_time(now);
         }
         self.mail_this_cycle = false;
+        // Helm-start messages held back until every `hold_on_apps` app is connected.
+        if !self.startup_messages.is_empty() && self.hold_apps_seen() {
+            for (var, value) in std::mem::take(&mut self.startup_messages) {
+                self.ib.set_value(&var, &value, now);
+                self.post(&var, value, "HELM_STARTUP_MSG");
+            }
+        }
 
         // Status update (§3).
         if self.enabled() {
@@ -58,6 +65,10 @@ impl Helm {
             return &self.outbox;
         }
         if !self.nav_ready() {
+            if now - self.start_time > self.config.nav_grace && !self.nav_warned {
+                self.nav_warned = true;
+                tracing::warn!("Waiting for Helm Nav Solution");
+            }
             return &self.outbox;
         }
         if self.helm_state_seen && !self.deferred_done {
@@ -88,7 +99,9 @@ impl Helm {
 
         let t0 = std::time::Instant::now();
         let summary = self.decide(now);
-        self.decide_time += t0.elapsed();
+        let took = t0.elapsed();
+        self.last_decide_secs = took.as_secs_f64();
+        self.decide_time += took;
         self.decide_count += 1;
 
         let results: Vec<String> = self
@@ -111,6 +124,12 @@ impl Helm {
         }
         self.publish_behavior_output(now);
         self.post_num("IVPHELM_IPF_CNT", summary.functions as f64);
+        let pieces: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
+        self.post_num("IVPHELM_TOTAL_PCS_FORMED", pieces as f64);
+        self.post_num("IVPHELM_TOTAL_PCS_CACHED", 0.0);
+        let secs = self.last_decide_secs;
+        self.post_num("IVPHELM_CREATE_CPU", secs);
+        self.post_num("IVPHELM_LOOP_CPU", secs);
         self.publish_behavior_lists();
         self.decide_all_stop(&summary);
         if self.config.park_on_allstop

@@ -42,6 +42,14 @@ impl Helm {
         }
     }
 
+    /// Every app named by `hold_on_apps` has appeared in DB_CLIENTS (helm.md §11).
+    pub(crate) fn hold_apps_seen(&self) -> bool {
+        self.config
+            .hold_on_apps
+            .iter()
+            .all(|h| self.apps_seen.iter().any(|a| a == h))
+    }
+
     fn is_own_posting(&self, m: &Mail) -> bool {
         m.source == self.app_name
     }
@@ -91,7 +99,19 @@ impl Helm {
                     }
                 }
             }
-            "DB_CLIENTS" | "RESTART_HELM" | "IVPHELM_REJOURNAL" | "BHV_ABLE_FILTER" => {}
+            "DB_CLIENTS" => {
+                if let Value::Str(list) = &m.value {
+                    for app in list.split(',').map(str::trim).filter(|a| !a.is_empty()) {
+                        if !self.apps_seen.iter().any(|a| a == app) {
+                            self.apps_seen.push(app.to_string());
+                        }
+                    }
+                }
+                if !self.startup_messages.is_empty() && !self.hold_apps_seen() {
+                    tracing::warn!("Not all HoldOnApps have been detected");
+                }
+            }
+            "RESTART_HELM" | "IVPHELM_REJOURNAL" | "BHV_ABLE_FILTER" => {}
             "NODE_REPORT_LOCAL" => {}
             "HELM_MAP_CLEAR" => self.refresh_pending = true,
             _ => {

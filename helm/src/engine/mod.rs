@@ -92,6 +92,10 @@ pub struct Helm {
     pub(crate) decide_count: u64,
     /// See `subscription_signature`.
     pub(crate) subs_signature: usize,
+    pub(crate) nav_warned: bool,
+    pub(crate) last_decide_secs: f64,
+    /// Apps seen in DB_CLIENTS (for `hold_on_apps`).
+    pub(crate) apps_seen: Vec<String>,
     /// Per domain variable: `<prefix>DESIRED_<VAR>` and the unprefixed all-stop name.
     pub(crate) desired_names: Vec<(String, String)>,
     /// `.bhv` blocks with `templating = spawn|clone`.
