@@ -135,6 +135,7 @@ impl Helm {
             mode_pairs: Vec::new(),
             apps_seen: Vec::new(),
             nav_warned: false,
+            summary_last: Default::default(),
             last_decide_secs: 0.0,
             desired_names: config
                 .domain

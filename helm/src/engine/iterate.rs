@@ -123,6 +123,7 @@ impl Helm {
             self.register_all();
         }
         self.publish_behavior_output(now);
+        self.post_summary(now, &summary);
         self.post_num("IVPHELM_IPF_CNT", summary.functions as f64);
         let pieces: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
         self.post_num("IVPHELM_TOTAL_PCS_FORMED", pieces as f64);

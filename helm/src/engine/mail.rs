@@ -111,7 +111,8 @@ impl Helm {
                     tracing::warn!("Not all HoldOnApps have been detected");
                 }
             }
-            "RESTART_HELM" | "IVPHELM_REJOURNAL" | "BHV_ABLE_FILTER" => {}
+            "IVPHELM_REJOURNAL" => self.summary_last.clear(),
+            "RESTART_HELM" | "BHV_ABLE_FILTER" => {}
             "NODE_REPORT_LOCAL" => {}
             "HELM_MAP_CLEAR" => self.refresh_pending = true,
             _ => {

@@ -10,6 +10,7 @@ mod iterate;
 mod mail;
 mod publish;
 mod spawn;
+mod summary;
 
 use std::collections::BTreeMap;
 
@@ -93,6 +94,8 @@ pub struct Helm {
     /// See `subscription_signature`.
     pub(crate) subs_signature: usize,
     pub(crate) nav_warned: bool,
+    /// Fields of the last IVPHELM_SUMMARY (empty: the next one is full).
+    pub(crate) summary_last: std::collections::HashMap<&'static str, String>,
     pub(crate) last_decide_secs: f64,
     /// Apps seen in DB_CLIENTS (for `hold_on_apps`).
     pub(crate) apps_seen: Vec<String>,

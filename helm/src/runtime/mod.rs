@@ -22,6 +22,7 @@ use crate::posting::Value;
 
 pub use common_params::apply_config_line;
 pub use context::HostEnv;
+pub use macros::fmt3;
 pub use step::StepOutcome;
 
 /// Run states as reported in BHV_STATUS and the behavior lists.
