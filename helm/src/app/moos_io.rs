@@ -130,6 +130,51 @@ impl Registrar {
     }
 }
 
+/// An `.alog` of a run: every posting of the helm and every mail it received from
+/// other apps (its own postings that come back as mail are not logged twice).
+pub struct AlogSink {
+    w: moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>,
+    path: std::path::PathBuf,
+    app: String,
+}
+
+impl AlogSink {
+    pub fn create(path: &std::path::Path, start: f64, app: &str) -> std::io::Result<AlogSink> {
+        let f = std::fs::File::create(path)?;
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let w = moos::alog::AlogWriter::new(std::io::BufWriter::new(f), start, &name)?;
+        Ok(AlogSink {
+            w,
+            path: path.to_path_buf(),
+            app: app.to_string(),
+        })
+    }
+
+    pub fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+
+    pub fn posting(&mut self, p: &Posting, time: f64) -> std::io::Result<()> {
+        let mut m = to_message(p, time);
+        m.source = self.app.clone();
+        self.w.write(&m)
+    }
+
+    pub fn mail(&mut self, m: &Message) -> std::io::Result<()> {
+        if m.msg_type != MsgType::NOTIFY || m.source == self.app {
+            return Ok(());
+        }
+        self.w.write(m)
+    }
+
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.w.flush()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -199,50 +244,5 @@ mod tests {
             3.0,
         );
         assert!(n.is_double() && n.dval == 2.0);
-    }
-}
-
-/// An `.alog` of a run: every posting of the helm and every mail it received from
-/// other apps (its own postings that come back as mail are not logged twice).
-pub struct AlogSink {
-    w: moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>,
-    path: std::path::PathBuf,
-    app: String,
-}
-
-impl AlogSink {
-    pub fn create(path: &std::path::Path, start: f64, app: &str) -> std::io::Result<AlogSink> {
-        let f = std::fs::File::create(path)?;
-        let name = path.file_name().map_or_else(
-            || path.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        let w = moos::alog::AlogWriter::new(std::io::BufWriter::new(f), start, &name)?;
-        Ok(AlogSink {
-            w,
-            path: path.to_path_buf(),
-            app: app.to_string(),
-        })
-    }
-
-    pub fn path(&self) -> &std::path::Path {
-        &self.path
-    }
-
-    pub fn posting(&mut self, p: &Posting, time: f64) -> std::io::Result<()> {
-        let mut m = to_message(p, time);
-        m.source = self.app.clone();
-        self.w.write(&m)
-    }
-
-    pub fn mail(&mut self, m: &Message) -> std::io::Result<()> {
-        if m.msg_type != MsgType::NOTIFY || m.source == self.app {
-            return Ok(());
-        }
-        self.w.write(m)
-    }
-
-    pub fn flush(&mut self) -> std::io::Result<()> {
-        self.w.flush()
     }
 }
