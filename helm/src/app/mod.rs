@@ -90,8 +90,6 @@ pub enum AppError {
     },
     #[error("the helm was MALCONFIG for the whole run ({problems} configuration problem(s)); it never drove")]
     Malconfig { problems: usize },
-    #[error("not implemented yet: {0}")]
-    NotYet(String),
 }
 
 /// Why the loop ended.
