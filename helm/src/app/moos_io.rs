@@ -109,23 +109,30 @@ pub fn publish(client: &Client, p: &Posting, time: f64) -> Result<(), ClientErro
     client.notify_with_aux(to_message(p, time), &p.source_aux)
 }
 
-/// Keeps the DB subscriptions in step with the helm's list (which only grows).
+/// Keeps the DB subscriptions in step with the helm's list: every variable in it is
+/// registered once (the list normally only grows; a variable that reappears after a
+/// restart is not registered twice).
 #[derive(Debug, Default)]
 pub struct Registrar {
-    done: usize,
+    done: std::collections::HashSet<String>,
 }
 
 impl Registrar {
     /// Register the variables of `subs` not registered yet; returns the new ones.
     pub fn sync(&mut self, client: &Client, subs: &[String]) -> Vec<String> {
         let mut new = Vec::new();
-        for var in subs.iter().skip(self.done) {
+        for var in subs {
+            if self.done.contains(var) {
+                continue;
+            }
             match client.register(var, 0.0) {
-                Ok(()) => new.push(var.clone()),
+                Ok(()) => {
+                    self.done.insert(var.clone());
+                    new.push(var.clone());
+                }
                 Err(e) => tracing::warn!(%var, "cannot register: {e}"),
             }
         }
-        self.done = subs.len().max(self.done);
         new
     }
 }
