@@ -42,6 +42,9 @@ enum Command {
         /// No terminal heartbeat or summary.
         #[arg(long)]
         quiet: bool,
+        /// Log every posting and every mail from other apps to this `.alog` file.
+        #[arg(long)]
+        alog: Option<PathBuf>,
     },
     /// Read a mission as the helm would and report every configuration problem.
     ///
@@ -207,6 +210,7 @@ fn main() -> ExitCode {
             embedded,
             duration,
             quiet,
+            alog,
         } => {
             let opts = helm::app::RunOptions {
                 mission,
@@ -216,7 +220,20 @@ fn main() -> ExitCode {
                 duration,
                 quiet,
             };
-            match helm::app::run(&opts) {
+            // First Ctrl-C ends the run cleanly (final line, alog flushed); a second one
+            // ends the process at once.
+            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+            let flag = stop.clone();
+            let _ = ctrlc::set_handler(move || {
+                if flag.swap(true, std::sync::atomic::Ordering::Relaxed) {
+                    std::process::exit(130);
+                }
+            });
+            let extras = helm::app::RunExtras {
+                alog,
+                stop: Some(stop),
+            };
+            match helm::app::run_with(&opts, &extras) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");

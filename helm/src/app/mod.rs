@@ -58,6 +58,17 @@ pub struct RunOptions {
 pub struct RunExtras {
     /// Write an `.alog` of every posting and every mail from other apps.
     pub alog: Option<PathBuf>,
+    /// Set (e.g. by a Ctrl-C handler) to end the run cleanly: final line, alog flushed,
+    /// embedded DB shut down.
+    pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+}
+
+impl RunExtras {
+    fn stopped(&self) -> bool {
+        self.stop
+            .as_ref()
+            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 /// Errors that stop `helm run`.
@@ -90,6 +101,8 @@ pub enum AppError {
     },
     #[error("the helm was MALCONFIG for the whole run ({problems} configuration problem(s)); it never drove")]
     Malconfig { problems: usize },
+    #[error("interrupted before the MOOSDB answered")]
+    Interrupted,
 }
 
 /// Why the loop ended.
@@ -97,6 +110,7 @@ pub enum AppError {
 enum StopReason {
     Duration,
     MissionOver,
+    Interrupted,
 }
 
 impl StopReason {
@@ -104,6 +118,7 @@ impl StopReason {
         match self {
             StopReason::Duration => "duration",
             StopReason::MissionOver => "mission-over",
+            StopReason::Interrupted => "interrupted",
         }
     }
 }
@@ -144,7 +159,7 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
         (None, None)
     };
 
-    let client = connect(&settings, &opts.alias, opts.embedded)?;
+    let client = connect(&settings, &opts.alias, opts.embedded, extras)?;
     let outcome = drive(&mut helm, &client, &settings, opts, extras);
     // Stop the simulator and the DB after the helm's client is gone.
     client.close();
@@ -178,7 +193,12 @@ fn start_db(mission: &moos::mission::MissionFile) -> Result<Db, AppError> {
 
 /// Connect as `name`. An embedded DB is already up, so failing is final; an external
 /// one may come later, so wait for it (saying so) as a MOOS app does.
-fn connect(settings: &AppSettings, name: &str, embedded: bool) -> Result<Client, AppError> {
+fn connect(
+    settings: &AppSettings,
+    name: &str,
+    embedded: bool,
+    extras: &RunExtras,
+) -> Result<Client, AppError> {
     let err = |source| AppError::Connect {
         host: settings.host.clone(),
         port: settings.port,
@@ -192,6 +212,9 @@ fn connect(settings: &AppSettings, name: &str, embedded: bool) -> Result<Client,
     let client = Client::start(cfg).map_err(err)?;
     let mut told = false;
     loop {
+        if extras.stopped() {
+            return Err(AppError::Interrupted);
+        }
         match client.wait_connected(Duration::from_secs(2)) {
             Ok(()) => return Ok(client),
             Err(ClientError::Timeout(_)) if !told => {
@@ -302,6 +325,9 @@ fn drive(
         let now = client.moos_time();
         if deadline.is_some_and(|d| now >= d) {
             break StopReason::Duration;
+        }
+        if extras.stopped() {
+            break StopReason::Interrupted;
         }
         if opts.embedded && run.status.end.is_over(now) {
             break StopReason::MissionOver;
