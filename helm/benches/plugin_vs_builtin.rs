@@ -100,10 +100,15 @@ fn plugin_vs_builtin(c: &mut Criterion) {
     assert!(factory.knows("BHV_WaypointLib") && factory.knows("BHV_ConstantSpeed"));
     let variants = variants(&file, &factory);
 
+    // PLUGIN_BENCH_REVERSE=1 measures `library` first (to see an order effect).
+    let mut order: Vec<&Variant> = variants.iter().collect();
+    if std::env::var_os("PLUGIN_BENCH_REVERSE").is_some() {
+        order.reverse();
+    }
     let mut group = c.benchmark_group("plugin_vs_builtin");
     group.measurement_time(Duration::from_secs(5));
     group.warm_up_time(Duration::from_secs(1));
-    for v in &variants {
+    for v in order {
         group.bench_function(v.name, |b| {
             b.iter_custom(|iters| {
                 let mut total = Duration::ZERO;
