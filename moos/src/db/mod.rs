@@ -187,7 +187,7 @@ impl Db {
 
     /// Names of the connected clients.
     pub fn client_names(&self) -> Vec<String> {
-        let mut v: Vec<String> = self.inner.lock().clients.keys().cloned().collect();
+        let mut v: Vec<String> = self.inner.lock().client_names();
         v.sort();
         v
     }
@@ -205,7 +205,7 @@ impl Db {
     pub fn stats(&self) -> DbStats {
         let s = self.inner.lock();
         DbStats {
-            clients: s.clients.len(),
+            clients: s.client_count(),
             overflows: s.overflows,
             delivered: s.delivered,
             queued_bytes: s.queued_bytes(),
@@ -222,10 +222,7 @@ impl Db {
         if let Some(h) = self.acceptor.take() {
             let _ = h.join();
         }
-        let s = self.inner.lock();
-        for c in s.clients.values() {
-            c.out.close();
-        }
+        self.inner.lock().close_all();
     }
 }
 

@@ -64,6 +64,37 @@ impl Outbox {
         Ok(queued)
     }
 
+    /// Queue the finished packet in `pkt` (same cap rule as [`Outbox::push_with`]). When
+    /// nothing is waiting, the buffers are swapped instead of copied; either way `pkt` is
+    /// left empty (keeping some capacity) for the caller to reuse.
+    pub fn push_packet(&self, pkt: &mut Vec<u8>) -> Result<usize, Overflow> {
+        let mut q = self.lock();
+        if q.closed {
+            pkt.clear();
+            return Ok(0);
+        }
+        let was_empty = q.buf.is_empty();
+        let queued = q.buf.len() + pkt.len() + q.inflight;
+        if queued > self.cap {
+            drop(q);
+            pkt.clear();
+            self.close();
+            tracing::debug!(queued, cap = self.cap, "outbox over cap");
+            return Err(Overflow);
+        }
+        if was_empty {
+            std::mem::swap(&mut q.buf, pkt);
+        } else {
+            q.buf.extend_from_slice(pkt);
+        }
+        drop(q);
+        pkt.clear();
+        if was_empty {
+            self.cv.notify_one();
+        }
+        Ok(queued)
+    }
+
     pub fn cap(&self) -> usize {
         self.cap
     }

@@ -2,6 +2,7 @@
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpListener, TcpStream};
+use std::ops::Range;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -152,22 +153,16 @@ fn read_loop(
         return "socket error";
     }
     let mut last_rx = Instant::now();
-    let mut batch: Vec<Vec<Message>> = Vec::new();
+    // Every packet complete after one read is decoded in place (views into the read
+    // buffer), then all are processed under one lock. A bad packet ends the connection
+    // before any of that read's packets are processed.
+    let mut frames: Vec<Range<usize>> = Vec::new();
+    let mut ends: Vec<usize> = Vec::new();
     loop {
+        frames.clear();
         loop {
             match fr.next_frame() {
-                Ok(Some(r)) => match wire::decode_packet_lenient(fr.frame(r), usize::MAX) {
-                    Ok((msgs, err)) => {
-                        if let Some(e) = err {
-                            tracing::warn!(client = %name, "malformed message dropped: {e}");
-                        }
-                        batch.push(msgs);
-                    }
-                    Err(e) => {
-                        tracing::warn!(client = %name, "malformed packet: {e}");
-                        return "malformed packet";
-                    }
-                },
+                Ok(Some(r)) => frames.push(r),
                 Ok(None) => break,
                 Err(e) => {
                     tracing::warn!(client = %name, "bad packet framing: {e}");
@@ -175,11 +170,29 @@ fn read_loop(
                 }
             }
         }
-        if !batch.is_empty() {
+        if !frames.is_empty() {
+            let mut views = Vec::new();
+            ends.clear();
+            for r in &frames {
+                match wire::decode_packet_views(fr.frame(r.clone()), usize::MAX, &mut views) {
+                    Ok(err) => {
+                        if let Some(e) = err {
+                            tracing::warn!(client = %name, "malformed message dropped: {e}");
+                        }
+                        ends.push(views.len());
+                    }
+                    Err(e) => {
+                        tracing::warn!(client = %name, "malformed packet: {e}");
+                        return "malformed packet";
+                    }
+                }
+            }
             let now = inner.now();
             let mut st = inner.lock();
-            for msgs in batch.drain(..) {
-                st.process(name, msgs, now, now);
+            let mut start = 0;
+            for &end in &ends {
+                st.process(name, &views[start..end], now, now);
+                start = end;
             }
         }
         if inner.stop.load(Ordering::Relaxed) {

@@ -7,9 +7,12 @@ use std::sync::Arc;
 
 use super::outbox::Outbox;
 use crate::text::{find_value, format_g, wildcard_match};
-use crate::wire::{DataType, Message, MsgType, PacketBuilder};
+use crate::wire::{DataType, Message, MsgType, MsgView, PacketBuilder, PACKET_HEADER_LEN};
 
 const REFRESH_PERIOD: f64 = 2.0;
+
+/// Held mail starts with room for the packet header, filled in when it is sent.
+const HDR: usize = PACKET_HEADER_LEN;
 
 /// FNV-1a: variable and client names are short, and SipHash showed up in profiles.
 /// (MOOS communities are trusted networks; hash flooding is not a concern here.)
@@ -41,6 +44,9 @@ pub(crate) struct Sub {
     client: Arc<str>,
     interval: f64,
     last_sent: f64,
+    /// The client's slot, resolved by name when `slot_gen` was the clients generation.
+    slot: Option<usize>,
+    slot_gen: u64,
 }
 
 pub(crate) struct Var {
@@ -56,6 +62,8 @@ pub(crate) struct Var {
     writers: FastSet<String>,
     freq: f64,
     subs: Vec<Sub>,
+    /// Connection that last published this variable (its `published` set has the name).
+    last_pub: u64,
 }
 
 impl Var {
@@ -73,6 +81,7 @@ impl Var {
             writers: FastSet::default(),
             freq: 0.0,
             subs: Vec::new(),
+            last_pub: 0,
         }
     }
 
@@ -110,8 +119,11 @@ struct Filter {
 }
 
 pub(crate) struct ClientRec {
+    name: Arc<str>,
     pub conn_id: u64,
     is_async: bool,
+    /// Mail waiting for this client: a packet-header gap, then the encoded messages
+    /// (empty when `held_count` is 0).
     held: Vec<u8>,
     held_count: usize,
     filters: Vec<Filter>,
@@ -136,15 +148,21 @@ pub(crate) struct State {
     start: f64,
     last_refresh: f64,
     vars: FastMap<String, Var>,
-    pub clients: FastMap<String, ClientRec>,
+    /// Client name → slot in `slots`.
+    clients: FastMap<String, usize>,
+    slots: Vec<Option<ClientRec>>,
+    free_slots: Vec<usize>,
+    /// Bumped whenever a client connects or leaves (invalidates `Sub::slot`).
+    client_gen: u64,
     /// Newest connection last.
     order: Vec<String>,
-    dirty: Vec<String>,
+    /// Slots that may have held mail to push.
+    dirty: Vec<usize>,
     to_drop: Vec<(String, &'static str)>,
     response: Vec<(String, f64)>,
     scratch: Vec<u8>,
     encoded: Vec<u8>,
-    targets: Vec<Arc<str>>,
+    targets: Vec<usize>,
     pub overflows: u64,
     pub delivered: u64,
 }
@@ -174,6 +192,9 @@ impl State {
             last_refresh: now,
             vars,
             clients: FastMap::default(),
+            slots: Vec::new(),
+            free_slots: Vec::new(),
+            client_gen: 1,
             order: Vec::new(),
             dirty: Vec::new(),
             to_drop: Vec::new(),
@@ -217,21 +238,31 @@ impl State {
             .find(|(p, _)| wildcard_match(p, &name))
             .map(|(_, ms)| ms / 1000.0)
             .unwrap_or(0.0);
-        self.clients.insert(
-            name.clone(),
-            ClientRec {
-                conn_id,
-                is_async,
-                held: Vec::new(),
-                held_count: 0,
-                filters: Vec::new(),
-                out,
-                queued_hint: 0,
-                consolidation,
-                qos: None,
-                published: FastSet::default(),
-            },
-        );
+        let rec = ClientRec {
+            name: Arc::from(name.as_str()),
+            conn_id,
+            is_async,
+            held: Vec::new(),
+            held_count: 0,
+            filters: Vec::new(),
+            out,
+            queued_hint: 0,
+            consolidation,
+            qos: None,
+            published: FastSet::default(),
+        };
+        let slot = match self.free_slots.pop() {
+            Some(i) => {
+                self.slots[i] = Some(rec);
+                i
+            }
+            None => {
+                self.slots.push(Some(rec));
+                self.slots.len() - 1
+            }
+        };
+        self.clients.insert(name.clone(), slot);
+        self.client_gen += 1;
         self.order.push(name.clone());
         tracing::info!(client = %name, asynchronous = is_async, "client connected");
         self.db_notify_str("DB_EVENT", &format!("connected={name}"), now);
@@ -241,7 +272,7 @@ impl State {
 
     /// Connection `conn_id` of `name` closed (EOF, error or timeout): spec §5.5.
     pub fn disconnect(&mut self, name: &str, conn_id: u64, reason: &str, now: f64) {
-        match self.clients.get(name) {
+        match self.client(name) {
             Some(c) if c.conn_id == conn_id => {}
             _ => return,
         }
@@ -250,9 +281,14 @@ impl State {
     }
 
     fn remove_client(&mut self, name: &str, reason: &str, now: f64) {
-        let Some(c) = self.clients.remove(name) else {
+        let Some(slot) = self.clients.remove(name) else {
             return;
         };
+        let Some(c) = self.slots[slot].take() else {
+            return;
+        };
+        self.free_slots.push(slot);
+        self.client_gen += 1;
         c.out.close();
         self.order.retain(|n| n != name);
         for v in self.vars.values_mut() {
@@ -264,7 +300,7 @@ impl State {
 
     fn finish_drops(&mut self, now: f64) {
         while let Some((name, why)) = self.to_drop.pop() {
-            if self.clients.contains_key(&name) {
+            if self.clients.contains_key(name.as_str()) {
                 self.overflows += 1;
                 tracing::warn!(client = %name, why, "dropping client: outgoing queue over its byte cap");
                 self.db_notify_str("DB_EVENT", &format!("overflow={name}"), now);
@@ -273,51 +309,79 @@ impl State {
         }
     }
 
+    fn client(&self, name: &str) -> Option<&ClientRec> {
+        self.clients
+            .get(name)
+            .and_then(|&i| self.slots.get(i)?.as_ref())
+    }
+
+    fn client_mut(&mut self, name: &str) -> Option<&mut ClientRec> {
+        self.clients
+            .get(name)
+            .and_then(|&i| self.slots.get_mut(i)?.as_mut())
+    }
+
+    fn recs(&self) -> impl Iterator<Item = &ClientRec> {
+        self.slots.iter().flatten()
+    }
+
+    /// Names of the connected clients (any order).
+    pub fn client_names(&self) -> Vec<String> {
+        self.clients.keys().cloned().collect()
+    }
+
+    pub fn client_count(&self) -> usize {
+        self.clients.len()
+    }
+
+    /// Close every client's outbox and socket.
+    pub fn close_all(&self) {
+        for c in self.recs() {
+            c.out.close();
+        }
+    }
+
     /// Total bytes held or queued for all clients.
     pub fn queued_bytes(&self) -> usize {
-        self.clients
-            .values()
-            .map(|c| c.held.len() + c.out.queued())
-            .sum()
+        self.recs().map(|c| c.held_bytes() + c.out.queued()).sum()
     }
 
     pub fn client_queued(&self, name: &str) -> Option<usize> {
-        self.clients
-            .get(name)
-            .map(|c| c.held.len() + c.out.queued())
+        self.client(name).map(|c| c.held_bytes() + c.out.queued())
     }
 
-    /// One packet from client `name` (spec §5.3).
-    pub fn process(&mut self, name: &str, mut msgs: Vec<Message>, local: f64, now: f64) {
+    /// One packet from client `name` (spec §5.3), decoded in place.
+    pub fn process(&mut self, name: &str, msgs: &[MsgView<'_>], local: f64, now: f64) {
         if msgs.is_empty() {
             tracing::debug!(client = %name, "packet with no content");
             return;
         }
-        let Some(consolidation) = self.clients.get(name).map(|c| c.consolidation) else {
+        let Some(&slot) = self.clients.get(name) else {
+            return;
+        };
+        let Some((consolidation, conn_id)) = self.slots[slot]
+            .as_ref()
+            .map(|c| (c.consolidation, c.conn_id))
+        else {
             return;
         };
         let has_notify = msgs.iter().any(|m| m.msg_type == MsgType::NOTIFY);
         let mut timing = None;
+        let mut rest = msgs;
         if msgs[0].msg_type == MsgType::TIMING {
-            let mut t = msgs.remove(0);
+            let mut t = msgs[0].to_message();
+            rest = &msgs[1..];
             t.dval = local;
             t.dval2 = consolidation;
             self.record_qos(name, (t.dval - t.time) * 1000.0);
             timing = Some(t);
         }
         let mut q_replies: Vec<Message> = Vec::new();
-        for m in msgs.iter_mut() {
+        for m in rest {
             match m.msg_type {
-                MsgType::NOTIFY => {
-                    if let Some(c) = self.clients.get_mut(name) {
-                        if !c.published.contains(&m.key) {
-                            c.published.insert(m.key.clone());
-                        }
-                    }
-                    self.notify(m, now);
-                }
-                MsgType::REGISTER => self.register(&m.source, &m.key, m.dval, now),
-                MsgType::UNREGISTER => self.unregister(&m.source, &m.key),
+                MsgType::NOTIFY => self.notify(m, Some((slot, conn_id)), now),
+                MsgType::REGISTER => self.register(m.source, m.key, m.dval, now),
+                MsgType::UNREGISTER => self.unregister(m.source, m.key),
                 MsgType::WILDCARD_REGISTER => self.wildcard_register(m, now),
                 MsgType::WILDCARD_UNREGISTER => self.wildcard_unregister(m),
                 MsgType::SERVER_REQUEST => self.server_request(m, now, &mut q_replies),
@@ -327,7 +391,11 @@ impl State {
         if now - self.last_refresh > REFRESH_PERIOD {
             self.refresh(now);
         }
-        let Some(c) = self.clients.get_mut(name) else {
+        let c = match self.clients.get(name) {
+            Some(&i) => self.slots.get_mut(i).and_then(Option::as_mut),
+            None => None,
+        };
+        let Some(c) = c else {
             self.finish_drops(now);
             return;
         };
@@ -335,7 +403,7 @@ impl State {
             dval: local,
             ..Message::default()
         });
-        let take_held = !msgs.is_empty() || !c.is_async;
+        let take_held = !rest.is_empty() || !c.is_async;
         let mut buf = std::mem::take(&mut self.scratch);
         buf.clear();
         let mut p = PacketBuilder::new(&mut buf);
@@ -345,7 +413,9 @@ impl State {
             let _ = p.push(t);
         }
         if take_held {
-            p.push_encoded(&c.held, c.held_count);
+            if c.held_count > 0 {
+                p.push_encoded(&c.held[HDR..], c.held_count);
+            }
             self.delivered += c.held_count as u64;
             c.held.clear();
             c.held_count = 0;
@@ -371,74 +441,90 @@ impl State {
     /// Send every asynchronous client's held mail as one packet each.
     fn push_all(&mut self) {
         let dirty = std::mem::take(&mut self.dirty);
-        for name in &dirty {
-            let Some(c) = self.clients.get_mut(name) else {
+        for &slot in &dirty {
+            let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
                 continue;
             };
             if !c.is_async || c.held_count == 0 {
                 continue;
             }
-            let (held, count) = (&c.held, c.held_count);
-            let r = c.out.push_with(|b| {
-                let mut p = PacketBuilder::new(b);
-                p.push_encoded(held, count);
-                let _ = p.finish();
-            });
+            let count = c.held_count;
+            finish_header(&mut c.held, count);
+            let r = c.out.push_packet(&mut c.held);
             self.delivered += count as u64;
             c.held.clear();
             c.held_count = 0;
             match r {
                 Ok(q) => c.queued_hint = q,
-                Err(_) => self.to_drop.push((name.clone(), "push")),
+                Err(_) => self.to_drop.push((c.name.to_string(), "push")),
             }
         }
         self.dirty = dirty;
         self.dirty.clear();
     }
 
-    fn hold(&mut self, client: &str, encoded: &[u8]) {
-        let Some(c) = self.clients.get_mut(client) else {
+    /// Add one encoded message to the held mail of the client in `slot`.
+    fn hold(&mut self, slot: usize, encoded: &[u8]) {
+        let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
             return;
         };
         if c.held_count == 0 {
-            self.dirty.push(client.to_owned());
+            self.dirty.push(slot);
+            c.held.clear();
+            c.held.extend_from_slice(&[0u8; HDR]);
         }
         c.held.extend_from_slice(encoded);
         c.held_count += 1;
         let cap = c.out_cap();
-        if c.held.len() + c.queued_hint > cap && c.held.len() + c.out.queued() > cap {
+        let held = c.held_bytes();
+        if held + c.queued_hint > cap && held + c.out.queued() > cap {
             c.held = Vec::new();
             c.held_count = 0;
             c.out.close();
-            self.to_drop.push((client.to_owned(), "held mail"));
+            self.to_drop.push((c.name.to_string(), "held mail"));
         }
     }
 
-    /// `N` (spec §5.4.1). `m` is turned into the forwarded copy in place.
-    fn notify(&mut self, m: &mut Message, now: f64) {
-        let first = self.vars.get(&m.key).is_none_or(|v| v.write_count == 0);
-        if first {
-            if !self.vars.contains_key(&m.key) {
-                self.vars.insert(m.key.clone(), Var::new(m.data_type));
+    /// `N` (spec §5.4.1). `from` is the publishing client's slot and connection id (None
+    /// for the DB's own variables). The forwarded copy is `m` with type `N` and the DB's
+    /// community when `m` has none.
+    fn notify(&mut self, m: &MsgView<'_>, from: Option<(usize, u64)>, now: f64) {
+        let mut var = self.vars.get_mut(m.key);
+        // The publisher's PUBLISHED list (kept even if the write is refused below).
+        let known_pub = matches!((from, &var), (Some((_, id)), Some(v)) if v.last_pub == id);
+        if let (Some((slot, _)), false) = (from, known_pub) {
+            if let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) {
+                if !c.published.contains(m.key) {
+                    c.published.insert(m.key.to_owned());
+                }
+            }
+        }
+        if var.as_ref().is_none_or(|v| v.write_count == 0) {
+            if !self.vars.contains_key(m.key) {
+                self.vars.insert(m.key.to_owned(), Var::new(m.data_type));
             }
             let mut matches = Vec::new();
-            for (cname, c) in &self.clients {
+            for c in self.slots.iter().flatten() {
                 for f in &c.filters {
-                    if wildcard_match(&f.app, &m.source) && wildcard_match(&f.var, &m.key) {
-                        matches.push((cname.clone(), f.interval));
+                    if wildcard_match(&f.app, m.source) && wildcard_match(&f.var, m.key) {
+                        matches.push((c.name.clone(), f.interval));
                     }
                 }
             }
-            if let Some(v) = self.vars.get_mut(&m.key) {
+            var = self.vars.get_mut(m.key);
+            if let Some(v) = var.as_mut() {
                 v.data_type = m.data_type;
                 for (cname, interval) in matches {
                     add_sub(v, &cname, interval);
                 }
             }
         }
-        let Some(v) = self.vars.get_mut(&m.key) else {
+        let Some(v) = var else {
             return;
         };
+        if let Some((_, id)) = from {
+            v.last_pub = id;
+        }
         if v.data_type != m.data_type {
             tracing::warn!(var = %m.key, have = %(v.data_type.0 as char), got = %(m.data_type.0 as char), source = %m.source, "type mismatch: notification dropped");
             return;
@@ -447,43 +533,60 @@ impl State {
             v.dval = m.dval;
         } else {
             v.sval.clear();
-            v.sval.extend_from_slice(&m.sval);
+            v.sval.extend_from_slice(m.sval);
         }
         if v.written_db > 0.0 && now > v.written_db {
             v.freq = 0.9 * v.freq + 0.1 / (now - v.written_db);
         }
         v.time = m.time;
+        // After any write, `writers` holds the latest source (DB_CLEAR resets both).
+        let known_writer = v.write_count > 0 && v.source == m.source;
         if v.source != m.source {
-            v.source.clone_from(&m.source);
+            v.source.clear();
+            v.source.push_str(m.source);
         }
         if v.source_aux != m.source_aux {
-            v.source_aux.clone_from(&m.source_aux);
+            v.source_aux.clear();
+            v.source_aux.push_str(m.source_aux);
         }
         v.written_db = now;
-        if !v.writers.contains(&m.source) {
-            v.writers.insert(m.source.clone());
+        if !known_writer && !v.writers.contains(m.source) {
+            v.writers.insert(m.source.to_owned());
         }
         v.write_count += 1;
-        if m.community.is_empty() {
-            m.community.clone_from(&self.community);
+        let community = if m.community.is_empty() {
+            self.community.as_str()
+        } else {
+            m.community
+        };
+        if v.community != community {
+            v.community.clear();
+            v.community.push_str(community);
         }
-        if v.community != m.community {
-            v.community.clone_from(&m.community);
-        }
-        m.msg_type = MsgType::NOTIFY;
         let mut targets = std::mem::take(&mut self.targets);
         targets.clear();
         for s in v.subs.iter_mut() {
             if s.interval == 0.0 || now - s.last_sent >= s.interval {
                 s.last_sent = now;
-                targets.push(s.client.clone());
+                if s.slot_gen != self.client_gen {
+                    s.slot = self.clients.get(&*s.client).copied();
+                    s.slot_gen = self.client_gen;
+                }
+                if let Some(i) = s.slot {
+                    targets.push(i);
+                }
             }
         }
         if !targets.is_empty() {
+            let fwd = MsgView {
+                msg_type: MsgType::NOTIFY,
+                community,
+                ..*m
+            };
             let mut enc = std::mem::take(&mut self.encoded);
             enc.clear();
-            let _ = m.encode_into(&mut enc);
-            for t in &targets {
+            let _ = fwd.encode_into(&mut enc);
+            for &t in &targets {
                 self.hold(t, &enc);
             }
             self.encoded = enc;
@@ -497,17 +600,22 @@ impl State {
             tracing::warn!(var = key, "register with empty source refused");
             return;
         }
-        let v = self
-            .vars
-            .entry(key.to_owned())
-            .or_insert_with(|| Var::new(DataType::NOT_SET));
+        let v = match self.vars.get_mut(key) {
+            Some(v) => v,
+            None => self
+                .vars
+                .entry(key.to_owned())
+                .or_insert_with(|| Var::new(DataType::NOT_SET)),
+        };
         let last = add_sub(v, client, interval);
         if v.write_count > 0 {
             v.subs[last].last_sent = now;
             let cur = v.current(key);
             let mut enc = Vec::with_capacity(cur.encoded_len());
             let _ = cur.encode_into(&mut enc);
-            self.hold(client, &enc);
+            if let Some(&slot) = self.clients.get(client) {
+                self.hold(slot, &enc);
+            }
         }
     }
 
@@ -518,7 +626,7 @@ impl State {
     }
 
     /// `*` (spec §5.4.5).
-    fn wildcard_register(&mut self, m: &Message, now: f64) {
+    fn wildcard_register(&mut self, m: &MsgView<'_>, now: f64) {
         let s = m.string();
         let app = find_value(&s, "AppPattern", false).unwrap_or_default();
         let var = find_value(&s, "VarPattern", false).unwrap_or_default();
@@ -526,7 +634,7 @@ impl State {
             .map(|i| crate::text::atof(&i))
             .filter(|i| i.is_finite())
             .unwrap_or(0.0);
-        let Some(c) = self.clients.get_mut(&m.source) else {
+        let Some(c) = self.client_mut(m.source) else {
             return;
         };
         if !c.filters.iter().any(|f| f.app == app && f.var == var) {
@@ -544,12 +652,12 @@ impl State {
             .collect();
         hits.sort();
         for k in hits {
-            self.register(&m.source, &k, interval, now);
+            self.register(m.source, &k, interval, now);
         }
     }
 
     /// `/` (spec §5.4.6): the filter itself stays.
-    fn wildcard_unregister(&mut self, m: &Message) {
+    fn wildcard_unregister(&mut self, m: &MsgView<'_>) {
         let s = m.string();
         let app = find_value(&s, "AppPattern", false).unwrap_or_default();
         let var = find_value(&s, "VarPattern", false).unwrap_or_default();
@@ -561,7 +669,7 @@ impl State {
     }
 
     fn record_qos(&mut self, name: &str, ms: f64) {
-        if let Some(c) = self.clients.get_mut(name) {
+        if let Some(c) = self.client_mut(name) {
             let q = c.qos.get_or_insert_with(|| Qos {
                 min: f64::INFINITY,
                 ..Qos::default()
@@ -575,8 +683,8 @@ impl State {
     }
 
     /// `Q` (spec §5.8). Replies are generated in walk order; the caller reverses them.
-    fn server_request(&mut self, m: &Message, now: f64, out: &mut Vec<Message>) {
-        let key = m.key.as_str();
+    fn server_request(&mut self, m: &MsgView<'_>, now: f64, out: &mut Vec<Message>) {
+        let key = m.key;
         let reply = |key: &str, time: f64, sval: String| Message {
             id: m.id,
             msg_type: MsgType::NOTIFY,
@@ -613,7 +721,7 @@ impl State {
             let uptime = now - self.start;
             let mut rs = Vec::new();
             for name in self.order.iter().rev() {
-                let Some(c) = self.clients.get(name) else {
+                let Some(c) = self.client(name) else {
                     continue;
                 };
                 let mut subs: Vec<&String> = self
@@ -655,7 +763,7 @@ impl State {
                 v.write_count = 0;
                 v.freq = 0.0;
             }
-            for c in self.clients.values_mut() {
+            for c in self.slots.iter_mut().flatten() {
                 c.held.clear();
                 c.held_count = 0;
             }
@@ -667,7 +775,7 @@ impl State {
         m.source = self.db_name.clone();
         m.community = self.community.clone();
         m.time = now;
-        self.notify(&mut m, now);
+        self.notify(&m.view(), None, now);
     }
 
     fn db_notify_str(&mut self, key: &str, val: &str, now: f64) {
@@ -690,7 +798,7 @@ impl State {
         names.sort();
         let mut qos = String::new();
         for n in names {
-            match &self.clients[n].qos {
+            match self.client(n).and_then(|c| c.qos.as_ref()) {
                 Some(q) => qos.push_str(&format!(
                     "{n}={}:{}:{}:{},",
                     format_g(q.recent),
@@ -715,8 +823,7 @@ impl State {
                     .collect();
                 subs.sort();
                 let mut pubs: Vec<&str> = self
-                    .clients
-                    .get(n)
+                    .client(n)
                     .map(|c| c.published.iter().map(String::as_str).collect())
                     .unwrap_or_default();
                 pubs.sort();
@@ -769,6 +876,19 @@ impl ClientRec {
     fn out_cap(&self) -> usize {
         self.out.cap()
     }
+
+    /// Bytes of held mail (without the header gap).
+    fn held_bytes(&self) -> usize {
+        self.held.len().saturating_sub(HDR)
+    }
+}
+
+/// Write the packet header into the gap at the start of held mail.
+fn finish_header(held: &mut [u8], count: usize) {
+    let len = held.len() as i32;
+    held[0..4].copy_from_slice(&len.to_le_bytes());
+    held[4..8].copy_from_slice(&(count as i32).to_le_bytes());
+    held[8] = 0;
 }
 
 fn add_sub(v: &mut Var, client: &str, interval: f64) -> usize {
@@ -781,6 +901,8 @@ fn add_sub(v: &mut Var, client: &str, interval: f64) -> usize {
             client: Arc::from(client),
             interval,
             last_sent: 0.0,
+            slot: None,
+            slot_gen: 0,
         });
         v.subs.len() - 1
     }

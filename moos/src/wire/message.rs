@@ -159,22 +159,7 @@ impl Message {
     ///
     /// Fails only when the message is too long for an i32 length.
     pub fn encode_into(&self, out: &mut Vec<u8>) -> Result<(), WireError> {
-        let len = self.encoded_len();
-        let len32 = i32::try_from(len).map_err(|_| WireError::TooLong("message"))?;
-        out.reserve(len);
-        out.extend_from_slice(&len32.to_le_bytes());
-        out.extend_from_slice(&self.id.to_le_bytes());
-        out.push(self.msg_type.0);
-        out.push(self.data_type.0);
-        put_str(out, self.source.as_bytes());
-        put_str(out, self.source_aux.as_bytes());
-        put_str(out, self.community.as_bytes());
-        put_str(out, self.key.as_bytes());
-        out.extend_from_slice(&self.time.to_le_bytes());
-        out.extend_from_slice(&self.dval.to_le_bytes());
-        out.extend_from_slice(&self.dval2.to_le_bytes());
-        put_str(out, &self.sval);
-        Ok(())
+        self.view().encode_into(out)
     }
 
     /// Serialize into a fresh buffer.
@@ -188,6 +173,49 @@ impl Message {
     /// enclosing packet. Returns the message and the declared `msg_len` (the number of
     /// bytes the caller must skip, spec §2.5).
     pub fn decode(buf: &[u8]) -> Result<(Message, usize), WireError> {
+        let (v, used) = MsgView::parse(buf)?;
+        Ok((v.to_message(), used))
+    }
+
+    /// Borrow this message as a [`MsgView`].
+    pub fn view(&self) -> MsgView<'_> {
+        MsgView {
+            id: self.id,
+            msg_type: self.msg_type,
+            data_type: self.data_type,
+            source: &self.source,
+            source_aux: &self.source_aux,
+            community: &self.community,
+            key: &self.key,
+            time: self.time,
+            dval: self.dval,
+            dval2: self.dval2,
+            sval: &self.sval,
+        }
+    }
+}
+
+/// A message decoded in place: the same fields as [`Message`], borrowing the packet bytes
+/// (no allocation). [`MsgView::parse`] applies exactly the checks of [`Message::decode`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MsgView<'a> {
+    pub id: i32,
+    pub msg_type: MsgType,
+    pub data_type: DataType,
+    pub source: &'a str,
+    pub source_aux: &'a str,
+    pub community: &'a str,
+    pub key: &'a str,
+    pub time: f64,
+    pub dval: f64,
+    pub dval2: f64,
+    pub sval: &'a [u8],
+}
+
+impl<'a> MsgView<'a> {
+    /// Decode one message from the start of `buf` (everything left in the packet).
+    /// Returns the view and the declared `msg_len` (spec §2.5).
+    pub fn parse(buf: &'a [u8]) -> Result<(MsgView<'a>, usize), WireError> {
         let mut c = Cursor { buf, pos: 0 };
         let len = c.i32("msg_len")?;
         if len < MESSAGE_OVERHEAD as i32 {
@@ -203,14 +231,14 @@ impl Message {
         let id = c.i32("id")?;
         let msg_type = MsgType(c.u8("msg_type")?);
         let data_type = DataType(c.u8("data_type")?);
-        let source = c.string("source")?;
-        let source_aux = c.string("source_aux")?;
-        let community = c.string("community")?;
-        let key = c.string("key")?;
+        let source = c.str("source")?;
+        let source_aux = c.str("source_aux")?;
+        let community = c.str("community")?;
+        let key = c.str("key")?;
         let time = c.f64("time")?;
         let dval = c.f64("dval")?;
         let dval2 = c.f64("dval2")?;
-        let sval = c.bytes("sval")?.to_vec();
+        let sval = c.bytes("sval")?;
         if c.pos > declared {
             return Err(WireError::FieldsExceedLength {
                 parsed: c.pos,
@@ -218,7 +246,7 @@ impl Message {
             });
         }
         Ok((
-            Message {
+            MsgView {
                 id,
                 msg_type,
                 data_type,
@@ -233,6 +261,58 @@ impl Message {
             },
             declared,
         ))
+    }
+
+    /// An owned copy.
+    pub fn to_message(&self) -> Message {
+        Message {
+            id: self.id,
+            msg_type: self.msg_type,
+            data_type: self.data_type,
+            source: self.source.to_owned(),
+            source_aux: self.source_aux.to_owned(),
+            community: self.community.to_owned(),
+            key: self.key.to_owned(),
+            time: self.time,
+            dval: self.dval,
+            dval2: self.dval2,
+            sval: self.sval.to_vec(),
+        }
+    }
+
+    /// The payload as text (lossy for non-UTF-8 bytes).
+    pub fn string(&self) -> Cow<'a, str> {
+        String::from_utf8_lossy(self.sval)
+    }
+
+    /// Serialized size: `54 + Σ string lengths` (spec §2.1).
+    pub fn encoded_len(&self) -> usize {
+        MESSAGE_OVERHEAD
+            + self.source.len()
+            + self.source_aux.len()
+            + self.community.len()
+            + self.key.len()
+            + self.sval.len()
+    }
+
+    /// Append the serialized message to `out` (same bytes as [`Message::encode_into`]).
+    pub fn encode_into(&self, out: &mut Vec<u8>) -> Result<(), WireError> {
+        let len = self.encoded_len();
+        let len32 = i32::try_from(len).map_err(|_| WireError::TooLong("message"))?;
+        out.reserve(len);
+        out.extend_from_slice(&len32.to_le_bytes());
+        out.extend_from_slice(&self.id.to_le_bytes());
+        out.push(self.msg_type.0);
+        out.push(self.data_type.0);
+        put_str(out, self.source.as_bytes());
+        put_str(out, self.source_aux.as_bytes());
+        put_str(out, self.community.as_bytes());
+        put_str(out, self.key.as_bytes());
+        out.extend_from_slice(&self.time.to_le_bytes());
+        out.extend_from_slice(&self.dval.to_le_bytes());
+        out.extend_from_slice(&self.dval2.to_le_bytes());
+        put_str(out, self.sval);
+        Ok(())
     }
 }
 
@@ -283,10 +363,8 @@ impl<'a> Cursor<'a> {
         }
         self.take(field, len as usize)
     }
-    fn string(&mut self, field: &'static str) -> Result<String, WireError> {
+    fn str(&mut self, field: &'static str) -> Result<&'a str, WireError> {
         let b = self.bytes(field)?;
-        std::str::from_utf8(b)
-            .map(str::to_owned)
-            .map_err(|_| WireError::NonUtf8(field))
+        std::str::from_utf8(b).map_err(|_| WireError::NonUtf8(field))
     }
 }

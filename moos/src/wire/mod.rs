@@ -11,10 +11,10 @@ mod packet;
 
 pub use error::WireError;
 pub use frame::FrameReader;
-pub use message::{DataType, Message, MsgType, MESSAGE_OVERHEAD};
+pub use message::{DataType, Message, MsgType, MsgView, MESSAGE_OVERHEAD};
 pub use packet::{
-    decode_packet, decode_packet_lenient, encode_packet, PacketBuilder, PacketHeader,
-    PACKET_HEADER_LEN,
+    decode_packet, decode_packet_lenient, decode_packet_views, encode_packet, PacketBuilder,
+    PacketHeader, PACKET_HEADER_LEN,
 };
 
 /// The 32-byte protocol banner a client sends first (23 ASCII bytes + 9 NULs).

@@ -1,5 +1,5 @@
 use super::message::MESSAGE_OVERHEAD;
-use super::{Message, WireError};
+use super::{Message, MsgView, WireError};
 
 /// Bytes of the packet header: i32 pkt_len, i32 count, u8 compressed flag.
 pub const PACKET_HEADER_LEN: usize = 9;
@@ -87,6 +87,29 @@ pub fn decode_packet_lenient(
         }
     }
     Ok((msgs, None))
+}
+
+/// [`decode_packet_lenient`] without allocation per message: the kept messages are
+/// appended to `out` as views into `buf`. Returns the error that stopped decoding, if any.
+pub fn decode_packet_views<'a>(
+    buf: &'a [u8],
+    max_packet: usize,
+    out: &mut Vec<MsgView<'a>>,
+) -> Result<Option<WireError>, WireError> {
+    let h = PacketHeader::parse(buf, max_packet)?;
+    let body = &buf[PACKET_HEADER_LEN..h.len];
+    out.reserve(h.count);
+    let mut pos = 0;
+    for _ in 0..h.count {
+        match MsgView::parse(&body[pos..]) {
+            Ok((m, used)) => {
+                out.push(m);
+                pos += used;
+            }
+            Err(e) => return Ok(Some(e)),
+        }
+    }
+    Ok(None)
 }
 
 /// Encode `msgs` as one packet appended to `out`.
