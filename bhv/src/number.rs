@@ -234,6 +234,14 @@ pub fn typed_value(s: &str) -> Value {
 /// Compact number formatting: at most `decimals` decimals, trailing zeros
 /// and a trailing point removed (`3.000` → `3`, `2.50` → `2.5`).
 pub fn compact(v: f64, decimals: usize) -> String {
+    // Whole numbers print the same at any precision (flag macros, mode values).
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        return if v == 0.0 {
+            "0".to_string()
+        } else {
+            (v as i64).to_string()
+        };
+    }
     let mut s = format!("{v:.decimals$}");
     if s.contains('.') {
         while s.ends_with('0') {

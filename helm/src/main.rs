@@ -115,13 +115,7 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
 }
 
 fn factory_from_env() -> BehaviorFactory {
-    let dirs: Vec<PathBuf> = std::env::var("IVP_BEHAVIOR_DIRS")
-        .unwrap_or_default()
-        .split(':')
-        .map(str::trim)
-        .filter(|d| !d.is_empty())
-        .map(PathBuf::from)
-        .collect();
+    let dirs = helm::mission::behavior_dirs_from_env();
     let (factory, report) = helm::mission::factory_for(&dirs);
     for line in report {
         tracing::info!("{line}");

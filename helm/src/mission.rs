@@ -123,13 +123,7 @@ pub fn load(
         }
     }
 
-    let mut dirs: Vec<PathBuf> = std::env::var("IVP_BEHAVIOR_DIRS")
-        .unwrap_or_default()
-        .split(':')
-        .map(str::trim)
-        .filter(|d| !d.is_empty())
-        .map(PathBuf::from)
-        .collect();
+    let mut dirs = behavior_dirs_from_env();
     dirs.extend(config.behavior_dirs.iter().map(|d| resolve(&dir, d)));
     let (factory, library_report) = factory_for(&dirs);
     Ok(LoadedMission {
@@ -142,6 +136,17 @@ pub fn load(
         factory,
         warnings,
     })
+}
+
+/// The directories of `IVP_BEHAVIOR_DIRS` (colon-separated, blanks trimmed).
+pub fn behavior_dirs_from_env() -> Vec<PathBuf> {
+    std::env::var("IVP_BEHAVIOR_DIRS")
+        .unwrap_or_default()
+        .split(':')
+        .map(str::trim)
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .collect()
 }
 
 /// Built-in behaviors plus every library found in `dirs`, and the start-up report.

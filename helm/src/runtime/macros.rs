@@ -5,19 +5,7 @@ use crate::info_buffer::InfoBuffer;
 
 /// `%.3f` with trailing zeros and a trailing point removed.
 pub fn fmt3(v: f64) -> String {
-    let mut s = format!("{v:.3}");
-    if s.contains('.') {
-        while s.ends_with('0') {
-            s.pop();
-        }
-        if s.ends_with('.') {
-            s.pop();
-        }
-    }
-    if s == "-0" {
-        s = "0".into();
-    }
-    s
+    bhv::number::compact(v, 3)
 }
 
 fn replace_both(text: &mut String, name: &str, value: &str) {
