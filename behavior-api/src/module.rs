@@ -3,7 +3,7 @@
 use abi_stable::library::RootModule;
 use abi_stable::package_version_strings;
 use abi_stable::sabi_types::VersionStrings;
-use abi_stable::std_types::{ROption, RStr, RString, RVec};
+use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
 use abi_stable::StableAbi;
 
 use crate::behavior::BehaviorBox;
@@ -22,9 +22,13 @@ pub struct BehaviorLib {
     /// The behavior types (`BHV_...`) this library can create.
     pub behavior_types: extern "C" fn() -> RVec<RString>,
     /// Create a behavior of `type_name` for the helm domain `helm_domain`
-    /// (`name,low,high,points` joined by `:`); `None` for an unknown type or a panic.
+    /// (`name,low,high,points` joined by `:`): `None` for a type this library does not
+    /// offer, `Some(Err(message))` when the constructor panicked.
     #[sabi(last_prefix_field)]
-    pub create: extern "C" fn(type_name: RStr<'_>, helm_domain: RStr<'_>) -> ROption<BehaviorBox>,
+    pub create: extern "C" fn(
+        type_name: RStr<'_>,
+        helm_domain: RStr<'_>,
+    ) -> ROption<RResult<BehaviorBox, RString>>,
 }
 
 impl RootModule for BehaviorLibRef {
@@ -63,11 +67,18 @@ macro_rules! export_behaviors {
             extern "C" fn create(
                 type_name: ::abi_stable::std_types::RStr<'_>,
                 helm_domain: ::abi_stable::std_types::RStr<'_>,
-            ) -> ::abi_stable::std_types::ROption<$crate::behavior::BehaviorBox> {
+            ) -> ::abi_stable::std_types::ROption<
+                ::abi_stable::std_types::RResult<
+                    $crate::behavior::BehaviorBox,
+                    ::abi_stable::std_types::RString,
+                >,
+            > {
                 let domain = $crate::sdk::HelmDomain::new(helm_domain.as_str());
                 $(
                     if type_name.as_str() == $type_name {
-                        return $crate::sdk::boxed_catching(|| $ctor(&domain));
+                        return ::abi_stable::std_types::ROption::RSome(
+                            $crate::sdk::boxed_catching(|| $ctor(&domain)),
+                        );
                     }
                 )+
                 ::abi_stable::std_types::ROption::RNone

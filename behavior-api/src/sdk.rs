@@ -367,12 +367,9 @@ pub fn boxed<B: IvpBehavior>(b: B) -> BehaviorBox {
     Behavior_TO::from_value(Adapter(b), TD_Opaque)
 }
 
-/// Construct and box a behavior, catching a panicking constructor.
-pub fn boxed_catching<B: IvpBehavior>(ctor: impl FnOnce() -> B) -> ROption<BehaviorBox> {
-    match catching(ctor) {
-        RResult::ROk(b) => ROption::RSome(boxed(b)),
-        RResult::RErr(_) => ROption::RNone,
-    }
+/// Construct and box a behavior; a panicking constructor gives its message.
+pub fn boxed_catching<B: IvpBehavior>(ctor: impl FnOnce() -> B) -> RResult<BehaviorBox, RString> {
+    catching(ctor).map(boxed)
 }
 
 /// Convert a function built with the `ivp` builders into the ABI form (no deep copy).

@@ -43,10 +43,16 @@ impl BehaviorFactory {
         self.is_builtin(type_name) || self.libraries.iter().any(|l| l.offers(type_name))
     }
 
-    /// A new behavior of `type_name` for the helm domain (`name,low,high,points:...`).
-    pub fn create(&self, type_name: &str, helm_domain: &str) -> Option<BehaviorBox> {
+    /// A new behavior of `type_name` for the helm domain (`name,low,high,points:...`):
+    /// `None` if no source offers the type, `Some(Err(message))` if its constructor
+    /// panicked.
+    pub fn create(
+        &self,
+        type_name: &str,
+        helm_domain: &str,
+    ) -> Option<Result<BehaviorBox, String>> {
         if let Some((_, ctor)) = self.builtins.iter().find(|(n, _)| *n == type_name) {
-            return Some(ctor(&HelmDomain::new(helm_domain)));
+            return Some(Ok(ctor(&HelmDomain::new(helm_domain))));
         }
         self.libraries
             .iter()

@@ -18,8 +18,15 @@ impl LoadedLibrary {
         self.types.iter().any(|t| t == type_name)
     }
 
-    pub fn create(&self, type_name: &str, helm_domain: &str) -> Option<BehaviorBox> {
-        (self.module.create())(type_name.into(), helm_domain.into()).into_option()
+    /// `None`: not offered here; `Some(Err)`: the constructor panicked (its message).
+    pub fn create(
+        &self,
+        type_name: &str,
+        helm_domain: &str,
+    ) -> Option<Result<BehaviorBox, String>> {
+        (self.module.create())(type_name.into(), helm_domain.into())
+            .into_option()
+            .map(|r| r.into_result().map_err(String::from))
     }
 }
 
@@ -48,6 +55,75 @@ fn is_library(p: &Path) -> bool {
         .is_some_and(|e| e == "so" || e == "dylib" || e == "dll")
 }
 
+/// Open one library: check the `behavior-api` version it was built against, then let
+/// abi_stable check every type layout. The reason for a refusal is one line.
+fn load_one(path: &Path) -> Result<BehaviorLibRef, String> {
+    let header = abi_stable::library::lib_header_from_path(path).map_err(|e| first_line(&e))?;
+    let theirs = header.version_strings().version.as_str().to_string();
+    let ours = behavior_api::API_VERSION;
+    if !versions_compatible(&theirs, ours) {
+        return Err(format!(
+            "built against behavior-api {theirs}, this helm has behavior-api {ours} \
+             (rebuild the library against {ours})"
+        ));
+    }
+    // Not `RootModule::load_from_file`: that caches one root module per process, and we
+    // load many libraries of the same root-module type.
+    header.init_root_module::<BehaviorLibRef>().map_err(|e| {
+        format!(
+            "incompatible with this helm's behavior-api {ours}: {}",
+            first_line(&e)
+        )
+    })
+}
+
+fn first_line(e: &dyn std::fmt::Display) -> String {
+    let text = e.to_string();
+    let line = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("");
+    line.to_string()
+}
+
+/// abi_stable's rule: same major; for 0.x, same minor; the library's minor (or patch
+/// for 0.x) may not be newer than ours.
+fn versions_compatible(theirs: &str, ours: &str) -> bool {
+    let parse = |v: &str| -> Option<(u32, u32, u32)> {
+        let mut it = v.split('.').map(|p| p.parse::<u32>().ok());
+        Some((it.next()??, it.next()??, it.next()??))
+    };
+    match (parse(theirs), parse(ours)) {
+        (Some((a, b, c)), Some((x, y, z))) => {
+            if a != x {
+                false
+            } else if a == 0 {
+                b == y && c <= z
+            } else {
+                b <= y
+            }
+        }
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::versions_compatible;
+
+    #[test]
+    fn version_rule() {
+        assert!(versions_compatible("0.1.0", "0.1.0"));
+        assert!(versions_compatible("0.1.0", "0.1.3"));
+        assert!(!versions_compatible("0.1.4", "0.1.3"));
+        assert!(!versions_compatible("0.2.0", "0.1.0"));
+        assert!(versions_compatible("1.0.0", "1.2.0"));
+        assert!(!versions_compatible("1.3.0", "1.2.0"));
+        assert!(!versions_compatible("2.0.0", "1.2.0"));
+    }
+}
+
 /// Load every behavior library in `dirs`, in order; a type offered twice keeps the first.
 pub fn load_dirs(
     dirs: &[PathBuf],
@@ -72,11 +148,7 @@ pub fn load_dirs(
             .collect();
         files.sort();
         for path in files {
-            // Not `RootModule::load_from_file`: that caches one root module per process,
-            // and we load many libraries of the same root-module type.
-            let loaded = abi_stable::library::lib_header_from_path(&path)
-                .and_then(|h| h.init_root_module::<BehaviorLibRef>());
-            match loaded {
+            match load_one(&path) {
                 Ok(module) => {
                     let mut types: Vec<String> = (module.behavior_types())()
                         .into_iter()
@@ -106,9 +178,9 @@ pub fn load_dirs(
                         module,
                     });
                 }
-                Err(e) => events.push(LoadEvent::Refused {
+                Err(reason) => events.push(LoadEvent::Refused {
                     path: path.clone(),
-                    reason: e.to_string(),
+                    reason,
                 }),
             }
         }

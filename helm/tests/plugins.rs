@@ -9,8 +9,6 @@
 //! Isolation (the second half): `BHV_TestFailure` (plugins/test-failure) fails on purpose
 //! (panics, NaN, bad pieces, unknown variable) next to a BHV_Waypoint, driven through the
 //! helm's library API; and a library built against another `behavior-api` version.
-//! Tests marked `HOST GAP` assert the stated outcome the host does not give yet; they are
-//! `#[ignore]`d with the reason until the host is fixed (`cargo test -- --ignored`).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -508,16 +506,12 @@ fn isolation_unknown_variable_is_rejected_and_the_behavior_disabled() {
 }
 
 #[test]
-#[ignore = "HOST GAP: a NaN function posts BHV_ERROR and halts but does not disable the \
-            behavior (step.rs validate uses post_error, not fault): the helm stays in \
-            BehaviorError for as long as the behavior keeps producing NaN"]
 fn isolation_nan_is_rejected_and_the_behavior_disabled() {
     assert_isolated_run_failure("nan", &["NaN"]);
 }
 
-/// What the host does today with a NaN function (see the ignored test above): rejected
-/// with BHV_ERROR and a BehaviorError all-stop, the helm never crashes, but the behavior
-/// is not disabled, so the all-stop lasts while the NaN does.
+/// A NaN function: rejected with BHV_ERROR and a BehaviorError all-stop; the helm never
+/// crashes.
 #[test]
 fn isolation_nan_is_never_trusted() {
     let helm = build(
@@ -609,10 +603,6 @@ fn isolation_panicking_constructor_is_a_configuration_problem() {
 }
 
 #[test]
-#[ignore = "HOST GAP: panic messages at configuration are lost: a panicking constructor \
-            is reported as `unknown behavior type` (the ABI's create returns ROption, \
-            boxed_catching drops the message) and a panicking set_param as `bad behavior \
-            parameter` (apply_config_line: unwrap_or(false))"]
 fn isolation_configuration_panics_name_the_panic_message() {
     let w = assert_config_problem(
         &ctor_mission(),
@@ -654,7 +644,13 @@ fn copy_dir(from: &Path, to: &Path) {
 
 /// Builds `libbhv_abi_future.so` (BHV_FromTheFuture, a copy of the template) against a copy
 /// of behavior-api whose version is 0.2.0; `None` if cargo cannot build it offline.
+/// Built once per test run: two tests use it, and they run in parallel.
 fn future_abi_library() -> Option<PathBuf> {
+    static LIB: OnceLock<Option<PathBuf>> = OnceLock::new();
+    LIB.get_or_init(build_future_abi_library).clone()
+}
+
+fn build_future_abi_library() -> Option<PathBuf> {
     let root = scratch("abi-future");
     let ws = workspace();
     // behavior-api 0.2.0: the same code, a standalone manifest.
@@ -797,9 +793,6 @@ fn library_built_against_another_api_version_is_refused() {
 }
 
 #[test]
-#[ignore = "HOST GAP: the refusal of a library built against behavior-api 0.2.0 is \
-            abi_stable's whole layout comparison (~3,500 lines) in the start-up report; \
-            both versions are in it, but the report should be one line per file"]
 fn library_built_against_another_api_version_is_refused_in_one_line() {
     plugin_dir();
     let Some(future) = future_abi_library() else {

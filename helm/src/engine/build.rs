@@ -267,7 +267,14 @@ pub(crate) fn make_instance(
     ownship: &str,
 ) -> Result<BehaviorInstance, Vec<String>> {
     let where_ = format!("{}:{}", bs.file.display(), bs.line);
-    let Some(bhv) = factory.create(&bs.type_name, &env.helm_domain) else {
+    let created = factory.create(&bs.type_name, &env.helm_domain);
+    if let Some(Err(panic)) = &created {
+        return Err(vec![format!(
+            "{where_}: {} could not be created: the constructor panicked: {panic}",
+            bs.type_name
+        )]);
+    }
+    let Some(Ok(bhv)) = created else {
         let dirs = if factory.searched_dirs.is_empty() {
             "none (set IVP_BEHAVIOR_DIRS or ivp_behavior_dir)".to_string()
         } else {
@@ -289,15 +296,22 @@ pub(crate) fn make_instance(
     if let Ok(d) = inst.bhv.default_duration().into_result() {
         inst.core.duration = d;
     }
-    apply_config_line(&mut inst, env, ib, "us", ownship);
+    let _ = apply_config_line(&mut inst, env, ib, "us", ownship);
     for line in &bs.lines {
-        if !apply_config_line(&mut inst, env, ib, &line.param, &line.value) {
-            errors.push(format!(
+        match apply_config_line(&mut inst, env, ib, &line.param, &line.value) {
+            Ok(true) => {}
+            Ok(false) => errors.push(format!(
                 "{}:{}: bad behavior parameter: {}",
                 bs.file.display(),
                 line.line,
                 line.raw.trim()
-            ));
+            )),
+            Err(panic) => errors.push(format!(
+                "{}:{}: behavior panicked on this parameter: {} ({panic})",
+                bs.file.display(),
+                line.line,
+                line.raw.trim()
+            )),
         }
     }
     match inst.bhv.collective_check().into_result() {

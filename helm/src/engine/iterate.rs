@@ -266,11 +266,25 @@ impl Helm {
     /// A function from a behavior, placed on the helm domain's variables.
     fn to_ivp(&self, fd: behavior_api::FunctionData) -> Result<ivp::IvpFunction, String> {
         let mut vars = Vec::new();
-        for name in fd.var_names() {
-            match self.config.domain.index_of(name) {
-                Some(i) => vars.push(self.config.domain.var(i).clone()),
-                None => return Err(format!("DomainVar {name} not recognized ")),
+        for spec in fd.domain.as_str().split(':').filter(|s| !s.is_empty()) {
+            let mut f = spec.split(',');
+            let name = f.next().unwrap_or("");
+            let Some(i) = self.config.domain.index_of(name) else {
+                return Err(format!("DomainVar {name} not recognized "));
+            };
+            let var = self.config.domain.var(i);
+            // The function must be on the helm's grid for that variable, not only share
+            // its name.
+            let num = |s: Option<&str>| s.and_then(|s| s.parse::<f64>().ok());
+            let same = num(f.next()).is_some_and(|v| (v - var.low).abs() <= 1e-5)
+                && num(f.next()).is_some_and(|v| (v - var.high).abs() <= 1e-5)
+                && num(f.next()).is_some_and(|v| v == f64::from(var.points));
+            if !same {
+                return Err(format!(
+                    "IvP function rejected: its variable `{spec}` is not the helm's `{name}` grid"
+                ));
             }
+            vars.push(var.clone());
         }
         let raw = ivp::RawFunction {
             vars,

@@ -136,9 +136,9 @@ impl Helm {
                 } else {
                     format!("{prefix}{n}")
                 };
-                apply_config_line(&mut inst, &self.env, &self.ib, "name", &name)
+                apply_config_line(&mut inst, &self.env, &self.ib, "name", &name) == Ok(true)
             } else {
-                apply_config_line(&mut inst, &self.env, &self.ib, k, v)
+                apply_config_line(&mut inst, &self.env, &self.ib, k, v) == Ok(true)
             };
             if !ok {
                 return Err(format!(

@@ -8,29 +8,30 @@ use super::context::{with_ctx, HostEnv};
 use super::{BehaviorCore, BehaviorInstance};
 use crate::info_buffer::InfoBuffer;
 
-/// Apply one `param = value` line (from the `.bhv` or an update): name first, then the
-/// common handler, then the type's own. `false` means the line is not accepted.
+/// Apply one `param = value` line (from the `.bhv` or a spawn): name first, then the
+/// common handler, then the type's own. `Ok(false)`: the line is not accepted;
+/// `Err(message)`: the behavior panicked on it.
 pub fn apply_config_line(
     inst: &mut BehaviorInstance,
     env: &HostEnv,
     ib: &InfoBuffer,
     param: &str,
     value: &str,
-) -> bool {
+) -> Result<bool, String> {
     let value = value.trim();
     let lower = param.to_ascii_lowercase();
     if lower == "name" || lower == "descriptor" {
-        return set_name(&mut inst.core, value);
+        return Ok(set_name(&mut inst.core, value));
     }
     let common = lower.strip_prefix('_').unwrap_or(&lower);
     if let Some(ok) = apply_common(&mut inst.core, common, value) {
-        return ok;
+        return Ok(ok);
     }
     let (bhv, core) = (&mut inst.bhv, &mut inst.core);
     with_ctx(core, env, ib, |ctx| {
         bhv.set_param(ctx, param.into(), value.into())
             .into_result()
-            .unwrap_or(false)
+            .map_err(String::from)
     })
 }
 
@@ -217,10 +218,15 @@ pub fn apply_update_pair(
 ) -> bool {
     let (bhv, core) = (&mut inst.bhv, &mut inst.core);
     let by_type = with_ctx(core, env, ib, |ctx| {
-        bhv.set_param(ctx, param.into(), value.into())
-            .into_result()
-            .unwrap_or(false)
+        bhv.set_param(ctx, param.into(), value.into()).into_result()
     });
+    let by_type = match by_type {
+        Ok(b) => b,
+        Err(panic) => {
+            super::step::fault(&mut inst.core, &format!("behavior panicked: {panic}"));
+            return false;
+        }
+    };
     if by_type {
         return true;
     }

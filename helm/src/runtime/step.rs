@@ -25,6 +25,10 @@ fn call<R: Default>(
     ib: &InfoBuffer,
     f: impl FnOnce(&mut behavior_api::BehaviorBox, HelmCtx<'_>) -> CallResult<R>,
 ) -> R {
+    // A behavior that misbehaved is never called again.
+    if inst.core.faulted {
+        return R::default();
+    }
     let (bhv, core) = (&mut inst.bhv, &mut inst.core);
     let result = with_ctx(core, env, ib, |ctx| f(bhv, ctx));
     let out = match result.into_result() {
@@ -179,7 +183,8 @@ fn accumulate(core: &mut BehaviorCore, now: f64, running: bool) {
 /// Checks a function from a behavior before the helm trusts it.
 fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<FunctionData> {
     if f.weights.iter().any(|w| w.is_nan()) || f.pwt.is_nan() {
-        core.post_error("NaN detected in IvP Function");
+        // Never trusted again: disabled, like a panic (the C++ helm only discards it).
+        fault(core, "NaN detected in IvP Function");
         return None;
     }
     if f.piece_count().is_none() {

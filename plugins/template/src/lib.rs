@@ -109,7 +109,9 @@ mod tests {
             .collect();
         assert_eq!(types, vec!["BHV_Template"]);
         assert_eq!((lib.api_version())().as_str(), behavior_api::API_VERSION);
-        let b = (lib.create())("BHV_Template".into(), "speed,0,4,41".into()).unwrap();
+        let b = (lib.create())("BHV_Template".into(), "speed,0,4,41".into())
+            .unwrap()
+            .unwrap();
         assert_eq!(b.domain().as_str(), "speed,0,4,41");
         assert!((lib.create())("BHV_Other".into(), "speed,0,4,41".into()).is_none());
     }

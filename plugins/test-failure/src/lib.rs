@@ -262,11 +262,19 @@ mod tests {
             ["BHV_TestFailure", "BHV_TestFailureCtor", "BHV_WaypointLib"]
         );
         let dom = "course,0,359,360:speed,0,4,41";
-        let b = (lib.create())("BHV_TestFailure".into(), dom.into()).unwrap();
+        let b = (lib.create())("BHV_TestFailure".into(), dom.into())
+            .unwrap()
+            .unwrap();
         assert_eq!(b.domain().as_str(), "speed,0,4,41");
         // The panicking constructor is caught inside the library.
-        assert!((lib.create())("BHV_TestFailureCtor".into(), dom.into()).is_none());
-        let w = (lib.create())("BHV_WaypointLib".into(), dom.into()).unwrap();
+        let ctor = (lib.create())("BHV_TestFailureCtor".into(), dom.into()).unwrap();
+        assert!(
+            ctor.into_result().is_err(),
+            "a panicking constructor gives its message"
+        );
+        let w = (lib.create())("BHV_WaypointLib".into(), dom.into())
+            .unwrap()
+            .unwrap();
         assert_eq!(w.default_name().as_str(), "bhv_waypoint");
     }
 }
