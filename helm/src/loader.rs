@@ -108,22 +108,6 @@ fn versions_compatible(theirs: &str, ours: &str) -> bool {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::versions_compatible;
-
-    #[test]
-    fn version_rule() {
-        assert!(versions_compatible("0.1.0", "0.1.0"));
-        assert!(versions_compatible("0.1.0", "0.1.3"));
-        assert!(!versions_compatible("0.1.4", "0.1.3"));
-        assert!(!versions_compatible("0.2.0", "0.1.0"));
-        assert!(versions_compatible("1.0.0", "1.2.0"));
-        assert!(!versions_compatible("1.3.0", "1.2.0"));
-        assert!(!versions_compatible("2.0.0", "1.2.0"));
-    }
-}
-
 /// Load every behavior library in `dirs`, in order; a type offered twice keeps the first.
 pub fn load_dirs(
     dirs: &[PathBuf],
@@ -186,4 +170,20 @@ pub fn load_dirs(
         }
     }
     (libs, events)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::versions_compatible;
+
+    #[test]
+    fn version_rule() {
+        assert!(versions_compatible("0.1.0", "0.1.0"));
+        assert!(versions_compatible("0.1.0", "0.1.3"));
+        assert!(!versions_compatible("0.1.4", "0.1.3"));
+        assert!(!versions_compatible("0.2.0", "0.1.0"));
+        assert!(versions_compatible("1.0.0", "1.2.0"));
+        assert!(!versions_compatible("1.3.0", "1.2.0"));
+        assert!(!versions_compatible("2.0.0", "1.2.0"));
+    }
 }
