@@ -92,11 +92,17 @@ fn subscribers(
 /// `prefix` (Linux only; 0 elsewhere). Used to report the DB's own CPU per delivery,
 /// which is far less noisy than the rate on a shared machine.
 fn thread_cpu(prefix: &str) -> f64 {
+    let (u, s) = thread_cpu_split(prefix);
+    u + s
+}
+
+/// [`thread_cpu`] as (user, system) seconds.
+fn thread_cpu_split(prefix: &str) -> (f64, f64) {
     let Ok(dir) = std::fs::read_dir("/proc/self/task") else {
-        return 0.0;
+        return (0.0, 0.0);
     };
     let tick = 100.0; // USER_HZ
-    let mut total = 0.0;
+    let (mut user, mut sys) = (0.0, 0.0);
     for e in dir.flatten() {
         let p = e.path();
         let name = std::fs::read_to_string(p.join("comm")).unwrap_or_default();
@@ -111,12 +117,14 @@ fn thread_cpu(prefix: &str) -> f64 {
         let f: Vec<&str> = rest.split_whitespace().collect();
         let ut: f64 = f.get(11).and_then(|v| v.parse().ok()).unwrap_or(0.0);
         let st: f64 = f.get(12).and_then(|v| v.parse().ok()).unwrap_or(0.0);
-        total += (ut + st) / tick;
+        user += ut / tick;
+        sys += st / tick;
     }
-    total
+    (user, sys)
 }
 
-fn throughput(port: u16, secs: f64) -> (f64, f64, f64) {
+/// Delivered/s, then CPU ns per delivery: DB user, DB system, whole process.
+fn throughput(port: u16, secs: f64) -> (f64, f64, f64, f64) {
     let stop = Arc::new(AtomicBool::new(false));
     let count = Arc::new(AtomicU64::new(0));
     let subs = subscribers(port, 4, &stop, &count, false);
@@ -146,11 +154,11 @@ fn throughput(port: u16, secs: f64) -> (f64, f64, f64) {
         .collect();
     std::thread::sleep(Duration::from_millis(500));
     let c0 = count.load(Ordering::Relaxed);
-    let (db0, all0) = (thread_cpu("moosdb-"), thread_cpu(""));
+    let (db0, all0) = (thread_cpu_split("moosdb-"), thread_cpu(""));
     let t0 = Instant::now();
     std::thread::sleep(Duration::from_secs_f64(secs));
     let c1 = count.load(Ordering::Relaxed);
-    let (db1, all1) = (thread_cpu("moosdb-"), thread_cpu(""));
+    let (db1, all1) = (thread_cpu_split("moosdb-"), thread_cpu(""));
     let n = (c1 - c0) as f64;
     let rate = n / t0.elapsed().as_secs_f64();
     stop.store(true, Ordering::Relaxed);
@@ -160,7 +168,8 @@ fn throughput(port: u16, secs: f64) -> (f64, f64, f64) {
     for h in subs {
         let _ = h.join();
     }
-    (rate, (db1 - db0) / n * 1e9, (all1 - all0) / n * 1e9)
+    let ns = |a: f64, b: f64| (b - a) / n * 1e9;
+    (rate, ns(db0.0, db1.0), ns(db0.1, db1.1), ns(all0, all1))
 }
 
 fn latency(port: u16, secs: f64) -> (f64, f64, usize) {
@@ -217,11 +226,13 @@ fn db_bench() {
         ..DbConfig::default()
     })
     .expect("db");
-    let (rate, db_ns, all_ns) = throughput(db.port(), secs);
+    let (rate, db_user, db_sys, all_ns) = throughput(db.port(), secs);
     println!(
         "db_throughput/4pub_4sub: {:.3} M delivered notifications/s ({secs} s); \
-         CPU per delivery: DB threads {db_ns:.0} ns, whole process {all_ns:.0} ns",
-        rate / 1e6
+         CPU per delivery: DB threads {:.0} ns (user {db_user:.0}, sys {db_sys:.0}), \
+         whole process {all_ns:.0} ns",
+        rate / 1e6,
+        db_user + db_sys
     );
     drop(db);
     let db = Db::start(DbConfig {

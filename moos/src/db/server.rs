@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use super::outbox::Outbox;
 use super::state::Admit;
 use super::Inner;
-use crate::wire::{self, DataType, FrameReader, Message, MsgType};
+use crate::wire::{self, DataType, FrameReader, Message, MsgType, MsgView};
 
 pub(crate) fn accept_loop(inner: Arc<Inner>, listener: TcpListener) {
     while !inner.stop.load(Ordering::SeqCst) {
@@ -158,6 +158,7 @@ fn read_loop(
     // before any of that read's packets are processed.
     let mut frames: Vec<Range<usize>> = Vec::new();
     let mut ends: Vec<usize> = Vec::new();
+    let mut spare_views: Vec<MsgView<'static>> = Vec::new();
     loop {
         frames.clear();
         loop {
@@ -171,7 +172,7 @@ fn read_loop(
             }
         }
         if !frames.is_empty() {
-            let mut views = Vec::new();
+            let mut views = recycle(std::mem::take(&mut spare_views));
             ends.clear();
             for r in &frames {
                 match wire::decode_packet_views(fr.frame(r.clone()), usize::MAX, &mut views) {
@@ -194,6 +195,8 @@ fn read_loop(
                 st.process(name, &views[start..end], now, now);
                 start = end;
             }
+            drop(st);
+            spare_views = recycle(views);
         }
         if inner.stop.load(Ordering::Relaxed) {
             return "shutdown";
@@ -211,6 +214,13 @@ fn read_loop(
             Err(_) => return "socket error",
         }
     }
+}
+
+/// An empty vector of views with another lifetime, keeping the allocation (the standard
+/// library collects in place when the element layout is the same).
+fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!()).collect()
 }
 
 fn writer(out: Arc<Outbox>, mut stream: TcpStream, send_timeout: Duration) {

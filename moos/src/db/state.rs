@@ -539,13 +539,14 @@ impl State {
             v.freq = 0.9 * v.freq + 0.1 / (now - v.written_db);
         }
         v.time = m.time;
+        let same_source = same(&v.source, m.source);
         // After any write, `writers` holds the latest source (DB_CLEAR resets both).
-        let known_writer = v.write_count > 0 && v.source == m.source;
-        if v.source != m.source {
+        let known_writer = same_source && v.write_count > 0;
+        if !same_source {
             v.source.clear();
             v.source.push_str(m.source);
         }
-        if v.source_aux != m.source_aux {
+        if !same(&v.source_aux, m.source_aux) {
             v.source_aux.clear();
             v.source_aux.push_str(m.source_aux);
         }
@@ -559,7 +560,7 @@ impl State {
         } else {
             m.community
         };
-        if v.community != community {
+        if !same(&v.community, community) {
             v.community.clear();
             v.community.push_str(community);
         }
@@ -881,6 +882,19 @@ impl ClientRec {
     fn held_bytes(&self) -> usize {
         self.held.len().saturating_sub(HDR)
     }
+}
+
+/// String equality for the short names on the hot path, without a `memcmp` call.
+#[inline]
+fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    if a.len() > 16 {
+        return a == b;
+    }
+    a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
 }
 
 /// Write the packet header into the gap at the start of held mail.

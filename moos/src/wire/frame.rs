@@ -9,9 +9,12 @@ const CHUNK: usize = 64 * 1024;
 ///
 /// TCP may split or merge packets; this buffers as bytes arrive and never reserves more
 /// than one read chunk ahead, so a lying `pkt_len` costs nothing until the bytes come.
+/// The buffer is zeroed only when it grows, not on every read.
 pub struct FrameReader {
+    /// `buf[start..end]` is buffered data; `buf[end..]` is initialized spare room.
     buf: Vec<u8>,
     start: usize,
+    end: usize,
     max_packet: usize,
 }
 
@@ -20,34 +23,31 @@ impl FrameReader {
         FrameReader {
             buf: Vec::new(),
             start: 0,
+            end: 0,
             max_packet,
         }
     }
 
     /// Read once from `r`, appending what arrives. Returns the bytes read (0 = EOF).
     pub fn fill<R: Read>(&mut self, r: &mut R) -> io::Result<usize> {
-        if self.start > 0 && (self.start == self.buf.len() || self.start >= CHUNK) {
-            self.buf.drain(..self.start);
+        if self.start > 0 && (self.start == self.end || self.start >= CHUNK) {
+            self.buf.copy_within(self.start..self.end, 0);
+            self.end -= self.start;
             self.start = 0;
         }
-        let old = self.buf.len();
-        self.buf.resize(old + CHUNK, 0);
-        match r.read(&mut self.buf[old..]) {
-            Ok(n) => {
-                self.buf.truncate(old + n);
-                Ok(n)
-            }
-            Err(e) => {
-                self.buf.truncate(old);
-                Err(e)
-            }
+        let old = self.end;
+        if self.buf.len() < old + CHUNK {
+            self.buf.resize(old + CHUNK, 0);
         }
+        let n = r.read(&mut self.buf[old..old + CHUNK])?;
+        self.end = old + n;
+        Ok(n)
     }
 
     /// The range of the next complete packet, if one is buffered. The header's length
     /// is validated as soon as 4 bytes are present (so an oversize packet fails early).
     pub fn next_frame(&mut self) -> Result<Option<Range<usize>>, WireError> {
-        let avail = &self.buf[self.start..];
+        let avail = &self.buf[self.start..self.end];
         if avail.len() < 4 {
             return Ok(None);
         }
@@ -85,6 +85,6 @@ impl FrameReader {
 
     /// Buffered bytes not yet returned as frames.
     pub fn pending(&self) -> usize {
-        self.buf.len() - self.start
+        self.end - self.start
     }
 }
