@@ -1,5 +1,12 @@
 //! Per-client outgoing byte queue with a byte cap, drained by the client's writer thread.
+//!
+//! Fan-out from a publisher's reader thread first tries a non-blocking send of the queued
+//! bytes itself ([`Outbox::try_flush`], after the DB lock is released), which saves the
+//! writer thread's wake-up; whatever the socket does not take at once is left to the
+//! writer, which does the blocking writes (with the send timeout). Only one of them writes
+//! at a time (`writing`), so bytes stay in order.
 
+use std::io::{ErrorKind, Write};
 use std::net::{Shutdown, TcpStream};
 use std::sync::{Condvar, Mutex, MutexGuard};
 
@@ -7,6 +14,10 @@ struct OutQ {
     buf: Vec<u8>,
     inflight: usize,
     closed: bool,
+    /// The writer thread or a direct flush owns the socket's send side.
+    writing: bool,
+    /// An empty buffer kept for the next direct flush.
+    spare: Vec<u8>,
 }
 
 /// Bytes waiting to be written to one client. Producers never block: a push that would
@@ -29,6 +40,8 @@ impl Outbox {
                 buf: Vec::new(),
                 inflight: 0,
                 closed: false,
+                writing: false,
+                spare: Vec::new(),
             }),
             cv: Condvar::new(),
             cap,
@@ -67,11 +80,14 @@ impl Outbox {
     /// Queue the finished packet in `pkt` (same cap rule as [`Outbox::push_with`]). When
     /// nothing is waiting, the buffers are swapped instead of copied; either way `pkt` is
     /// left empty (keeping some capacity) for the caller to reuse.
-    pub fn push_packet(&self, pkt: &mut Vec<u8>) -> Result<usize, Overflow> {
+    /// With `wake` false the writer thread is not woken: when the returned flag says the
+    /// queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands the
+    /// bytes to the writer if it cannot send them all).
+    pub fn push_packet(&self, pkt: &mut Vec<u8>, wake: bool) -> Result<(usize, bool), Overflow> {
         let mut q = self.lock();
         if q.closed {
             pkt.clear();
-            return Ok(0);
+            return Ok((0, false));
         }
         let was_empty = q.buf.is_empty();
         let queued = q.buf.len() + pkt.len() + q.inflight;
@@ -89,10 +105,72 @@ impl Outbox {
         }
         drop(q);
         pkt.clear();
-        if was_empty {
+        if was_empty && wake {
             self.cv.notify_one();
         }
-        Ok(queued)
+        Ok((queued, was_empty))
+    }
+
+    /// Send the queued bytes now without blocking, unless a write is already under way
+    /// (that writer picks them up). Bytes the socket does not take are put back in front
+    /// and the writer thread is woken for them.
+    pub fn try_flush(&self) {
+        let mut q = self.lock();
+        if q.closed || q.writing || q.buf.is_empty() {
+            return;
+        }
+        q.writing = true;
+        let mut data = std::mem::take(&mut q.spare);
+        std::mem::swap(&mut data, &mut q.buf);
+        q.inflight = data.len();
+        drop(q);
+        let mut sent = 0;
+        let mut failed = None;
+        if self.stream.set_nonblocking(true).is_ok() {
+            while sent < data.len() {
+                match (&self.stream).write(&data[sent..]) {
+                    Ok(0) => {
+                        failed = Some(ErrorKind::WriteZero);
+                        break;
+                    }
+                    Ok(n) => sent += n,
+                    Err(e) if e.kind() == ErrorKind::Interrupted => {}
+                    Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                    Err(e) => {
+                        failed = Some(e.kind());
+                        break;
+                    }
+                }
+            }
+            if self.stream.set_nonblocking(false).is_err() {
+                failed = Some(ErrorKind::Other);
+            }
+        }
+        let mut q = self.lock();
+        q.writing = false;
+        q.inflight = 0;
+        if let Some(kind) = failed {
+            drop(q);
+            tracing::debug!("write to client failed: {kind:?}");
+            self.close();
+            return;
+        }
+        if q.closed {
+            return;
+        }
+        if sent < data.len() {
+            data.drain(..sent);
+            data.extend_from_slice(&q.buf);
+            q.buf.clear();
+            std::mem::swap(&mut q.buf, &mut data);
+        }
+        data.clear();
+        q.spare = data;
+        let pending = !q.buf.is_empty();
+        drop(q);
+        if pending {
+            self.cv.notify_one();
+        }
     }
 
     pub fn cap(&self) -> usize {
@@ -117,17 +195,21 @@ impl Outbox {
     }
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).
-    /// Returns false when closed.
-    pub fn take(&self, spare: &mut Vec<u8>) -> bool {
+    /// `done`: the bytes of the previous `take` are written. Returns false when closed.
+    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> bool {
         let mut q = self.lock();
-        q.inflight = 0;
+        if done {
+            q.inflight = 0;
+            q.writing = false;
+        }
         loop {
             if q.closed {
                 return false;
             }
-            if !q.buf.is_empty() {
+            if !q.buf.is_empty() && !q.writing {
                 std::mem::swap(&mut q.buf, spare);
                 q.inflight = spare.len();
+                q.writing = true;
                 return true;
             }
             q = self.cv.wait(q).unwrap_or_else(|p| p.into_inner());

@@ -159,6 +159,7 @@ fn read_loop(
     let mut frames: Vec<Range<usize>> = Vec::new();
     let mut ends: Vec<usize> = Vec::new();
     let mut spare_views: Vec<MsgView<'static>> = Vec::new();
+    let mut flush = Vec::new();
     loop {
         frames.clear();
         loop {
@@ -195,8 +196,12 @@ fn read_loop(
                 st.process(name, &views[start..end], now, now);
                 start = end;
             }
+            std::mem::swap(&mut flush, &mut st.flush);
             drop(st);
             spare_views = recycle(views);
+            for o in flush.drain(..) {
+                o.try_flush();
+            }
         }
         if inner.stop.load(Ordering::Relaxed) {
             return "shutdown";
@@ -226,7 +231,9 @@ fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
 fn writer(out: Arc<Outbox>, mut stream: TcpStream, send_timeout: Duration) {
     let _ = stream.set_write_timeout(Some(send_timeout));
     let mut spare = Vec::new();
-    while out.take(&mut spare) {
+    let mut done = false;
+    while out.take(&mut spare, done) {
+        done = true;
         if let Err(e) = stream.write_all(&spare) {
             tracing::debug!("write to client failed: {e}");
             out.close();

@@ -163,6 +163,9 @@ pub(crate) struct State {
     scratch: Vec<u8>,
     encoded: Vec<u8>,
     targets: Vec<usize>,
+    /// Outboxes given bytes without waking their writer: the reader thread must
+    /// [`Outbox::try_flush`] them once the state lock is released.
+    pub flush: Vec<Arc<Outbox>>,
     pub overflows: u64,
     pub delivered: u64,
 }
@@ -202,6 +205,7 @@ impl State {
             scratch: Vec::new(),
             encoded: Vec::new(),
             targets: Vec::new(),
+            flush: Vec::new(),
             overflows: 0,
             delivered: 0,
         }
@@ -450,12 +454,17 @@ impl State {
             }
             let count = c.held_count;
             finish_header(&mut c.held, count);
-            let r = c.out.push_packet(&mut c.held);
+            let r = c.out.push_packet(&mut c.held, false);
             self.delivered += count as u64;
             c.held.clear();
             c.held_count = 0;
             match r {
-                Ok(q) => c.queued_hint = q,
+                Ok((q, was_empty)) => {
+                    c.queued_hint = q;
+                    if was_empty {
+                        self.flush.push(c.out.clone());
+                    }
+                }
                 Err(_) => self.to_drop.push((c.name.to_string(), "push")),
             }
         }
