@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use criterion::{criterion_group, Criterion};
 use moos::client::{Client, ClientConfig};
 use moos::db::{Db, DbConfig};
-use moos::wire::{self, Message};
+use moos::wire::{self, Message, MsgView};
 
 fn codec(c: &mut Criterion) {
     let mut d = Message::notify_double("NAV_X", 12.5, 1700000000.25);
@@ -33,11 +33,22 @@ fn codec(c: &mut Criterion) {
     c.bench_function("decode_notify_string", |b| {
         b.iter(|| Message::decode(black_box(&enc_s)).expect("decode"))
     });
+    // The DB's path: decoded in place, no allocation.
+    c.bench_function("decode_view_notify_double", |b| {
+        b.iter(|| MsgView::parse(black_box(&enc)).expect("decode"))
+    });
     let batch: Vec<Message> = (0..100).map(|_| d.clone()).collect();
     let mut pkt = Vec::new();
     wire::encode_packet(&batch, &mut pkt).expect("encode");
     c.bench_function("decode_packet_100_msgs", |b| {
         b.iter(|| wire::decode_packet(black_box(&pkt), 1 << 24).expect("decode"))
+    });
+    let mut views = Vec::with_capacity(100);
+    c.bench_function("decode_packet_views_100_msgs", |b| {
+        b.iter(|| {
+            views.clear();
+            wire::decode_packet_views(black_box(&pkt), 1 << 24, &mut views).expect("decode")
+        })
     });
 }
 
