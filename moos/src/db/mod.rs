@@ -7,10 +7,14 @@
 //! db.shutdown();
 //! ```
 //!
-//! Threads: one acceptor, and per client one reader (decodes packets, then processes them
-//! under the single state lock, so packets are handled one at a time as in C++) and one
-//! writer draining that client's byte-capped outbox. A slow subscriber therefore never
-//! blocks publishers: its outbox grows until the cap, then it is dropped.
+//! Threads: one acceptor, and per client one reader (decodes packets in place, then
+//! processes them under the single state lock, so packets are handled one at a time as in
+//! C++) and one writer for that client's byte-capped outbox. Each notification is encoded
+//! once per incoming packet and copied into every subscriber's held mail; after the lock
+//! is released the publisher's reader sends each subscriber's new packet itself with a
+//! non-blocking write, and only what the socket does not take is left to that
+//! subscriber's writer thread (blocking writes, send timeout). A slow subscriber therefore
+//! never blocks publishers: its outbox grows until the cap, then it is dropped.
 
 mod outbox;
 mod server;
