@@ -216,6 +216,63 @@ impl<'a> MsgView<'a> {
     /// Decode one message from the start of `buf` (everything left in the packet).
     /// Returns the view and the declared `msg_len` (spec §2.5).
     pub fn parse(buf: &'a [u8]) -> Result<(MsgView<'a>, usize), WireError> {
+        // A well-formed message lies within its declared length: parse that quickly, and
+        // on any problem re-parse with the checked path for the exact error.
+        if let Some(ok) = Self::parse_fast(buf) {
+            return Ok(ok);
+        }
+        Self::parse_checked(buf)
+    }
+
+    fn parse_fast(buf: &'a [u8]) -> Option<(MsgView<'a>, usize)> {
+        let len = i32::from_le_bytes(buf.get(..4)?.try_into().ok()?);
+        if len < MESSAGE_OVERHEAD as i32 {
+            return None;
+        }
+        let declared = len as usize;
+        let mut c = Fast {
+            buf: buf.get(..declared)?,
+            pos: 4,
+        };
+        let id = i32::from_le_bytes(c.array()?);
+        let [t, d] = c.array()?;
+        // The four names, with their short (< 128, so ASCII) length prefixes between
+        // them, are valid UTF-8 together exactly when each is: one validation call.
+        let start = c.pos;
+        let mut spans = [(0usize, 0usize); 4];
+        for sp in &mut spans {
+            let b = c.bytes()?;
+            if b.len() >= 128 {
+                return None;
+            }
+            *sp = (c.pos - b.len() - start, c.pos - start);
+        }
+        let names = std::str::from_utf8(&c.buf[start..c.pos]).ok()?;
+        let [source, source_aux, community, key] = spans.map(|(a, b)| names.get(a..b));
+        let (source, source_aux, community, key) = (source?, source_aux?, community?, key?);
+        let time = f64::from_le_bytes(c.array()?);
+        let dval = f64::from_le_bytes(c.array()?);
+        let dval2 = f64::from_le_bytes(c.array()?);
+        let sval = c.bytes()?;
+        Some((
+            MsgView {
+                id,
+                msg_type: MsgType(t),
+                data_type: DataType(d),
+                source,
+                source_aux,
+                community,
+                key,
+                time,
+                dval,
+                dval2,
+                sval,
+            },
+            declared,
+        ))
+    }
+
+    fn parse_checked(buf: &'a [u8]) -> Result<(MsgView<'a>, usize), WireError> {
         let mut c = Cursor { buf, pos: 0 };
         let len = c.i32("msg_len")?;
         if len < MESSAGE_OVERHEAD as i32 {
@@ -322,6 +379,30 @@ fn put_str(out: &mut Vec<u8>, s: &[u8]) {
     out.extend_from_slice(s);
 }
 
+/// Reads within a declared message; `None` on anything unusual.
+struct Fast<'a> {
+    buf: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Fast<'a> {
+    #[inline]
+    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
+        let s = self.buf.get(self.pos..self.pos.checked_add(n)?)?;
+        self.pos += n;
+        Some(s)
+    }
+    #[inline]
+    fn array<const N: usize>(&mut self) -> Option<[u8; N]> {
+        self.take(N)?.try_into().ok()
+    }
+    #[inline]
+    fn bytes(&mut self) -> Option<&'a [u8]> {
+        let n = i32::from_le_bytes(self.array()?);
+        self.take(usize::try_from(n).ok()?)
+    }
+}
+
 struct Cursor<'a> {
     buf: &'a [u8],
     pos: usize,
@@ -366,5 +447,46 @@ impl<'a> Cursor<'a> {
     fn str(&mut self, field: &'static str) -> Result<&'a str, WireError> {
         let b = self.bytes(field)?;
         std::str::from_utf8(b).map_err(|_| WireError::NonUtf8(field))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fast path agrees with the checked path on every single-byte mutation.
+    #[test]
+    fn fast_parse_matches_checked_parse() {
+        let m = Message {
+            id: 7,
+            msg_type: MsgType::NOTIFY,
+            data_type: DataType::STRING,
+            source: "pNav".into(),
+            source_aux: "é€".into(),
+            community: "#1".into(),
+            key: "DEPTH".into(),
+            time: 1.5,
+            dval: 2.5,
+            dval2: -1.0,
+            sval: b"SURVEY".to_vec(),
+        };
+        let enc = m.encode().expect("encode");
+        for i in 0..enc.len() {
+            for v in [0u8, 1, 3, 0x7f, 0x80, 0xa9, 0xc3, 0xff] {
+                let mut b = enc.clone();
+                b[i] = v;
+                b.extend_from_slice(&[0xff; 3]);
+                // Compared as Debug text so that NaN fields compare equal.
+                let checked = format!("{:?}", MsgView::parse_checked(&b));
+                if let Some(fast) = MsgView::parse_fast(&b) {
+                    assert_eq!(format!("{:?}", Ok::<_, WireError>(fast)), checked);
+                }
+                assert_eq!(
+                    format!("{:?}", MsgView::parse(&b)),
+                    checked,
+                    "byte {i} = {v:#x}"
+                );
+            }
+        }
     }
 }
