@@ -37,6 +37,7 @@ pub mod context;
 pub mod function;
 pub mod module;
 pub mod sdk;
+pub mod testing;
 pub mod value;
 
 #[doc = include_str!("../TUTORIAL.md")]

@@ -6,9 +6,6 @@ pub mod loiter;
 pub mod timer;
 pub mod waypoint;
 
-#[cfg(test)]
-mod testctx;
-
 use behavior_api::sdk::{boxed, HelmDomain};
 use behavior_api::BehaviorBox;
 

@@ -78,14 +78,14 @@ impl IvpBehavior for BhvTimer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testctx::MockHost;
+    use behavior_api::testing::MockHelm as MockHost;
 
     #[test]
     fn timer_posts_durations() {
         let helm = HelmDomain::new("course,0,359,360:speed,0,2,21");
         let mut t = BhvTimer::new(&helm);
         assert_eq!(t.domain(), "course,0,359,360:speed,0,2,21");
-        let mut h = MockHost::new();
+        let mut h = MockHost::new("wpt");
         assert!(h.with(|c| t.set_param(c, "status_suffix", "a")));
         assert!(!h.with(|c| t.set_param(c, "var_status_idle", "A B")));
         assert!(h.with(|c| t.set_param(c, "var_status_running", "RUN")));

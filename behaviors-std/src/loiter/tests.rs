@@ -1,7 +1,7 @@
 //! BHV_Loiter behavior tests with a mock host.
 
 use super::*;
-use crate::testctx::MockHost;
+use behavior_api::testing::MockHelm as MockHost;
 
 fn behavior(h: &mut MockHost, params: &[(&str, &str)]) -> BhvLoiter {
     let helm = HelmDomain::new("course,0,359,360:speed,0,2,21");
@@ -15,7 +15,7 @@ fn behavior(h: &mut MockHost, params: &[(&str, &str)]) -> BhvLoiter {
 
 #[test]
 fn spec_example_first_run() {
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     h.name = "loiter".into();
     let mut b = behavior(
         &mut h,
@@ -60,7 +60,7 @@ fn spec_example_first_run() {
 
 #[test]
 fn parameters_and_macros() {
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     let mut b = behavior(&mut h, &[("polygon", "pts={0,0:0,10:10,10:10,0}")]);
     for (p, v) in [
         ("polygon", "0,0 : 5,2 : 10,0 : 5,10"),
@@ -94,7 +94,7 @@ fn parameters_and_macros() {
 
 #[test]
 fn slingshot_completes() {
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     let mut b = behavior(
         &mut h,
         &[

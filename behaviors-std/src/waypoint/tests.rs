@@ -1,7 +1,7 @@
 //! BHV_Waypoint behavior-level tests with a mock host.
 
 use super::*;
-use crate::testctx::MockHost;
+use behavior_api::testing::MockHelm as MockHost;
 
 fn helm() -> HelmDomain {
     HelmDomain::new("course,0,359,360:speed,0,2,21")
@@ -29,7 +29,7 @@ fn decision(f: &FunctionData) -> (u32, u32) {
 #[test]
 fn parameter_validation() {
     let mut b = BhvWaypoint::new(&helm());
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     let bad = [
         ("speed", "-1"),
         ("speed", "fast"),
@@ -95,7 +95,7 @@ fn parameter_validation() {
 #[test]
 fn survey_run_like_spec_example() {
     let mut b = BhvWaypoint::new(&helm());
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     configure(
         &mut h,
         &mut b,
@@ -162,7 +162,7 @@ fn survey_run_like_spec_example() {
 #[test]
 fn reverse_repeat_flags_and_macros() {
     let mut b = BhvWaypoint::new(&helm());
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     configure(
         &mut h,
         &mut b,
@@ -220,7 +220,7 @@ fn reverse_repeat_flags_and_macros() {
 #[test]
 fn lead_track_point_and_lead_condition() {
     let mut b = BhvWaypoint::new(&helm());
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     configure(
         &mut h,
         &mut b,
@@ -251,7 +251,7 @@ fn lead_track_point_and_lead_condition() {
 #[test]
 fn missing_nav_and_idle_transitions() {
     let mut b = BhvWaypoint::new(&helm());
-    let mut h = MockHost::new();
+    let mut h = MockHost::new("wpt");
     configure(
         &mut h,
         &mut b,

@@ -120,13 +120,9 @@ behavior_api::export_behaviors! {
 }
 
 #[cfg(test)]
-#[path = "../../common/testhost.rs"]
-mod testhost;
-
-#[cfg(test)]
 mod tests {
     use super::*;
-    use testhost::MockHost;
+    use behavior_api::testing::MockHelm as MockHost;
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,2,21")

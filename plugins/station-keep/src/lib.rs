@@ -523,8 +523,4 @@ behavior_api::export_behaviors! {
 }
 
 #[cfg(test)]
-#[path = "../../common/testhost.rs"]
-mod testhost;
-
-#[cfg(test)]
 mod tests;

@@ -3,7 +3,7 @@
 use super::*;
 use behavior_api::ivp::function::RawFunction;
 use behavior_api::ivp::solver::Solver;
-use testhost::MockHost;
+use behavior_api::testing::MockHelm as MockHost;
 
 const HELM: &str = "course,0,359,360:speed,0,2,21";
 

@@ -1,50 +1,69 @@
-//! A minimal host for unit tests: an info buffer of numbers and strings and a record of
-//! everything posted (variable, value, key).
-
-#![allow(dead_code)]
+//! A mock helm for unit-testing behaviors without the host: an info buffer of numbers
+//! and strings you set, and a record of everything the behavior posts.
+//!
+//! ```
+//! use behavior_api::testing::MockHelm;
+//! let mut helm = MockHelm::new("my_bhv");
+//! helm.nav(0.0, 0.0, 90.0, 1.5);
+//! let speed = helm.with(|ctx| ctx.get_buffer_double_val("NAV_SPEED"));
+//! assert_eq!(speed, Some(1.5));
+//! helm.with(|ctx| ctx.post_message("DONE", "yes"));
+//! assert_eq!(helm.last("DONE").as_deref(), Some("yes"));
+//! ```
 
 use std::collections::HashMap;
 
-use behavior_api::abi_stable::sabi_trait::TD_Opaque;
-use behavior_api::abi_stable::sabi_types::RMut;
-use behavior_api::abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
-use behavior_api::context::{HelmContext, HelmContext_TO};
-use behavior_api::sdk::Ctx;
-use behavior_api::PostValue;
+use crate::context::{HelmContext, HelmContext_TO};
+use crate::sdk::Ctx;
+use crate::PostValue;
+use abi_stable::sabi_trait::TD_Opaque;
+use abi_stable::sabi_types::RMut;
+use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
 
-pub struct MockHost {
+/// The mock: fields are public so a test can set and inspect anything.
+#[derive(Default)]
+pub struct MockHelm {
     pub nums: HashMap<String, f64>,
     pub strs: HashMap<String, String>,
     pub posts: Vec<(String, String, String)>,
-    pub completes: u32,
+    pub flags: Vec<(String, bool)>,
     pub perpetual: bool,
+    pub completes: u32,
     pub platform: (f64, f64, f64, f64),
     pub time: f64,
+    pub run_time: f64,
+    pub idle_time: f64,
     pub name: String,
     pub priority: f64,
 }
 
-impl MockHost {
+impl MockHelm {
+    /// A mock helm for a behavior named `name` (priority 100, time 1000).
     pub fn new(name: &str) -> Self {
-        MockHost {
-            nums: HashMap::new(),
-            strs: HashMap::new(),
-            posts: Vec::new(),
-            completes: 0,
-            perpetual: false,
-            platform: (0.0, 0.0, 0.0, 0.0),
-            time: 1000.0,
+        MockHelm {
             name: name.into(),
+            time: 1000.0,
             priority: 100.0,
+            ..Default::default()
         }
     }
+    /// Set a numeric variable.
     pub fn set(&mut self, var: &str, v: f64) {
         self.nums.insert(var.into(), v);
     }
+    /// Forget a variable.
     pub fn unset(&mut self, var: &str) {
         self.nums.remove(var);
         self.strs.remove(var);
     }
+    /// Set NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED.
+    pub fn nav(&mut self, x: f64, y: f64, h: f64, v: f64) {
+        self.nums.insert("NAV_X".into(), x);
+        self.nums.insert("NAV_Y".into(), y);
+        self.nums.insert("NAV_HEADING".into(), h);
+        self.nums.insert("NAV_SPEED".into(), v);
+    }
+    /// Run `f` with a behavior context backed by this mock.
     pub fn with<R>(&mut self, f: impl FnOnce(&mut Ctx<'_>) -> R) -> R {
         let to = HelmContext_TO::from_ptr(RMut::new(self), TD_Opaque);
         let mut ctx = Ctx::new(to);
@@ -63,10 +82,11 @@ impl MockHost {
     }
     pub fn clear(&mut self) {
         self.posts.clear();
+        self.flags.clear();
     }
 }
 
-impl HelmContext for MockHost {
+impl HelmContext for MockHelm {
     fn curr_time(&self) -> f64 {
         self.time
     }
@@ -92,24 +112,26 @@ impl HelmContext for MockHost {
         self.perpetual = perpetual;
     }
     fn dur_run_time(&self) -> f64 {
-        0.0
+        self.run_time
     }
     fn dur_idle_time(&self) -> f64 {
-        0.0
+        self.idle_time
     }
     fn double_val(&mut self, var: RStr<'_>, warn: bool) -> ROption<f64> {
-        if let Some(v) = self.nums.get(var.as_str()) {
-            return ROption::RSome(*v);
+        match self.nums.get(var.as_str()) {
+            Some(v) => ROption::RSome(*v),
+            None => {
+                if warn {
+                    let msg = format!(
+                        "{}: {} dbl info not found in helm info_buffer",
+                        self.name, var
+                    );
+                    self.posts
+                        .push(("BHV_WARNING".into(), msg, "repeatable".into()));
+                }
+                ROption::RNone
+            }
         }
-        if warn {
-            let msg = format!(
-                "{}: {} dbl info not found in helm info_buffer",
-                self.name, var
-            );
-            self.posts
-                .push(("BHV_WARNING".into(), msg, "repeatable".into()));
-        }
-        ROption::RNone
     }
     fn string_val(&mut self, var: RStr<'_>, _warn: bool) -> ROption<RString> {
         self.strs
@@ -140,12 +162,25 @@ impl HelmContext for MockHost {
         };
         self.posts.push((var.to_string(), v, key.to_string()));
     }
-    fn post_flag(&mut self, _flag: RStr<'_>, _repeatable: bool) {}
+    fn post_flag(&mut self, flag: RStr<'_>, repeatable: bool) {
+        self.flags.push((flag.to_string(), repeatable));
+    }
     fn expand_common_macros(&mut self, text: RStr<'_>) -> RString {
         text.into()
     }
-    fn eval_condition(&mut self, _condition: RStr<'_>) -> RResult<bool, RString> {
-        RResult::ROk(true)
+    /// Only `VAR = value` (string equality) is understood; anything else, or a text
+    /// containing `BAD`, fails to parse.
+    fn eval_condition(&mut self, condition: RStr<'_>) -> RResult<bool, RString> {
+        let c = condition.as_str();
+        if c.contains("BAD") {
+            return RResult::RErr("bad condition".into());
+        }
+        match c.split_once('=') {
+            Some((var, val)) => {
+                RResult::ROk(self.strs.get(var.trim()).map(String::as_str) == Some(val.trim()))
+            }
+            None => RResult::RErr("no operator".into()),
+        }
     }
     fn set_complete(&mut self) {
         self.completes += 1;
