@@ -16,5 +16,5 @@ pub use points::{dist, dist_point_to_seg, perp_seg_int_pt, project_point, segmen
 pub use polygon::Polygon;
 pub use spec::{
     fmt_x, is_color, point_erase_spec, point_spec, pts_spec, seglist_erase_spec, seglist_spec,
-    Attrs, Vertex,
+    Attrs, SeglistSpecCache, Vertex,
 };

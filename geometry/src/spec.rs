@@ -358,6 +358,34 @@ pub fn pts_spec(pts: &[Vertex], precision: usize) -> String {
 }
 
 /// Seglist or polygon spec: the vertices then the attributes.
+/// Remembers the last seglist spec built, so a path that does not change (most
+/// iterations) is not formatted again.
+#[derive(Clone, Debug, Default)]
+pub struct SeglistSpecCache {
+    pts: Vec<Vertex>,
+    precision: usize,
+    attrs: Attrs,
+    spec: String,
+}
+
+impl SeglistSpecCache {
+    /// [`seglist_spec`] of these inputs, built only when they differ from the last call.
+    pub fn get(&mut self, pts: &[Vertex], precision: usize, attrs: &Attrs) -> &str {
+        if self.spec.is_empty()
+            || self.pts != pts
+            || self.precision != precision
+            || self.attrs != *attrs
+        {
+            self.pts.clear();
+            self.pts.extend_from_slice(pts);
+            self.precision = precision;
+            self.attrs = attrs.clone();
+            self.spec = seglist_spec(pts, precision, attrs);
+        }
+        &self.spec
+    }
+}
+
 pub fn seglist_spec(pts: &[Vertex], precision: usize, attrs: &Attrs) -> String {
     let mut s = pts_spec(pts, precision);
     s.push_str(&attrs.spec());

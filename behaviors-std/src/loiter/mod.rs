@@ -80,6 +80,8 @@ impl Hints {
 /// The BHV_Loiter behavior.
 pub struct BhvLoiter {
     domain: String,
+    /// The path spec, formatted again only when the path or its look changes.
+    view_cache: geometry::SeglistSpecCache,
     ivp_domain: Option<ivp::Domain>,
     speed_high: Option<f64>,
     poly: Polygon,
@@ -115,6 +117,7 @@ impl BhvLoiter {
         engine.set_perpetual(true);
         engine.set_repeats_endless(true);
         BhvLoiter {
+            view_cache: Default::default(),
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
             speed_high: helm.var("speed").map(|v| v.high),
@@ -261,7 +264,7 @@ impl BhvLoiter {
         ctx.post_message("VIEW_POLYGON", &poly);
     }
 
-    fn post_views(&self, ctx: &mut Ctx<'_>) {
+    fn post_views(&mut self, ctx: &mut Ctx<'_>) {
         let attrs = Attrs {
             label: self.poly_label(ctx, false),
             label_color: self.hints.label_color.clone(),
@@ -271,8 +274,8 @@ impl BhvLoiter {
             edge_size: Some(self.hints.edge_size),
             ..Attrs::default()
         };
-        let poly = geometry::seglist_spec(self.engine.points(), 1, &attrs);
-        ctx.post_message("VIEW_POLYGON", &poly);
+        let poly = self.view_cache.get(self.engine.points(), 1, &attrs);
+        ctx.post_message("VIEW_POLYGON", poly);
         let attrs = Attrs {
             label: format!("{}_waypoint", ctx.ownship()),
             label_color: self.hints.nextpt_lcolor.clone(),

@@ -19,6 +19,8 @@ use params::WptHints;
 /// The BHV_Waypoint behavior.
 pub struct BhvWaypoint {
     domain: String,
+    /// The path spec, formatted again only when the path or its look changes.
+    view_cache: geometry::SeglistSpecCache,
     ivp_domain: Option<ivp::Domain>,
     speed_high: Option<f64>,
     pub(crate) engine: WaypointEngine,
@@ -79,6 +81,7 @@ struct Efficiency {
 impl BhvWaypoint {
     pub fn new(helm: &HelmDomain) -> Self {
         BhvWaypoint {
+            view_cache: Default::default(),
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
             speed_high: helm.var("speed").map(|v| v.high),
@@ -348,7 +351,7 @@ impl BhvWaypoint {
         }
     }
 
-    fn post_views(&self, ctx: &mut Ctx<'_>) {
+    fn post_views(&mut self, ctx: &mut Ctx<'_>) {
         let own = ctx.ownship();
         let name = ctx.name();
         let off = matches!(
@@ -367,7 +370,9 @@ impl BhvWaypoint {
                 edge_size: Some(self.hints.edge_size),
                 ..Attrs::default()
             };
-            seglist_spec(self.engine.points(), 3, &attrs)
+            self.view_cache
+                .get(self.engine.points(), 3, &attrs)
+                .to_string()
         };
         ctx.post_message("VIEW_SEGLIST", &seg);
         if self.draw_path_loop {

@@ -15,6 +15,57 @@ struct Component {
     maxutil: f64,
 }
 
+/// A component's utility shape with its loop-invariant quotients computed once: the
+/// same IEEE operations on the same operands as computing them per sample, so the
+/// values are bit-identical, without two divisions per sample.
+struct Shape {
+    pwidth: f64,
+    reach: f64,
+    sd: f64,
+    peak_slope: f64,
+    edge: f64,
+    base_slope: f64,
+    minutil: f64,
+    maxutil: f64,
+}
+
+impl Shape {
+    fn of(c: &Component) -> Shape {
+        let sd = if c.pwidth > 0.0 { c.delta } else { 0.0 };
+        let edge = c.maxutil - sd;
+        Shape {
+            pwidth: c.pwidth,
+            reach: c.pwidth + c.bwidth,
+            sd,
+            peak_slope: sd / c.pwidth,
+            edge,
+            base_slope: (edge - c.minutil) / c.bwidth,
+            minutil: c.minutil,
+            maxutil: c.maxutil,
+        }
+    }
+
+    /// Utility at distance `dist` from the summit (spec §3.1).
+    fn utility(&self, dist: f64) -> f64 {
+        let val = if dist <= self.pwidth {
+            if self.sd <= 0.0 {
+                self.maxutil
+            } else {
+                self.maxutil - self.peak_slope * dist
+            }
+        } else if dist <= self.reach {
+            self.edge - self.base_slope * (dist - self.pwidth)
+        } else {
+            self.minutil
+        };
+        if val > self.maxutil {
+            self.maxutil
+        } else {
+            val
+        }
+    }
+}
+
 impl Default for Component {
     fn default() -> Self {
         Component {
@@ -205,9 +256,10 @@ impl ZaicPeak {
         let mut total = vec![0.0f64; n];
         let mut vals = vec![0.0f64; n];
         for (k, c) in self.comps.iter().enumerate() {
+            let shape = Shape::of(c);
             for (i, v) in vals.iter_mut().enumerate() {
                 let x = i as f64 * delta + var.low;
-                *v = self.utility(c, self.dist(c.summit, x, var.low, var.high, delta));
+                *v = shape.utility(self.dist(c.summit, x, var.low, var.high, delta));
             }
             if self.summit_insist && vals.iter().all(|&v| v == c.minutil) && n > 0 {
                 let ix = if c.summit < var.low {
@@ -260,24 +312,4 @@ impl ZaicPeak {
         }
     }
 
-    fn utility(&self, c: &Component, dist: f64) -> f64 {
-        let sd = if c.pwidth > 0.0 { c.delta } else { 0.0 };
-        let val = if dist <= c.pwidth {
-            if sd <= 0.0 {
-                c.maxutil
-            } else {
-                c.maxutil - (sd / c.pwidth) * dist
-            }
-        } else if dist <= c.pwidth + c.bwidth {
-            let edge = c.maxutil - sd;
-            edge - ((edge - c.minutil) / c.bwidth) * (dist - c.pwidth)
-        } else {
-            c.minutil
-        };
-        if val > c.maxutil {
-            c.maxutil
-        } else {
-            val
-        }
-    }
 }
