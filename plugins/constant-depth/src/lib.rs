@@ -1,119 +1,31 @@
 //! BHV_ConstantDepth (behaviors-plugins.md §4): a ZAIC_PEAK over `depth` around a
 //! desired depth, every running iteration, plus an optional mismatch posting.
 //!
-//! The host handles the common parameters; note that this type's duration default is 0
-//! (§1.2), which the host must apply for it (see the crate README in `plugins/`).
+//! The body is shared with the other Constant* value behaviors (`plugins/common/
+//! constant.rs`); this crate names the variable and its defaults.
 
-use behavior_api::ivp::{self, zaic::ZaicPeak};
-use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::FunctionData;
-
+#[path = "../../common/constant.rs"]
+mod constant;
 #[path = "../../common/util.rs"]
 mod util;
-use util::{no_white, parse_number};
+
+use constant::{ConstantValue, Kind};
+
+/// The depth variant.
+pub struct DepthKind;
+
+impl Kind for DepthKind {
+    const VAR: &'static str = "depth";
+    const NAV: &'static str = "NAV_DEPTH";
+    const WHAT: &'static str = "DEPTH";
+    const MISMATCH_PARAM: &'static str = "depth_mismatch_var";
+    const PEAKWIDTH: f64 = 3.0;
+    const BASEWIDTH: f64 = 100.0;
+    const SUMMITDELTA: f64 = 50.0;
+}
 
 /// BHV_ConstantDepth.
-pub struct ConstantDepth {
-    domain: String,
-    ivp_domain: Option<ivp::Domain>,
-    depth: f64,
-    peakwidth: f64,
-    basewidth: f64,
-    summitdelta: f64,
-    mismatch_var: String,
-}
-
-impl ConstantDepth {
-    pub fn new(helm_domain: &HelmDomain) -> Self {
-        ConstantDepth {
-            domain: helm_domain.sub_domain(&["depth"]),
-            ivp_domain: helm_domain.ivp_domain(&["depth"]),
-            depth: 0.0,
-            peakwidth: 3.0,
-            basewidth: 100.0,
-            summitdelta: 50.0,
-            mismatch_var: String::new(),
-        }
-    }
-
-    /// Read NAV_DEPTH (idle and running iterations): warnings or the mismatch posting.
-    fn read_ownship(&mut self, ctx: &mut Ctx<'_>) {
-        match ctx.get_buffer_double_val("NAV_DEPTH") {
-            None => ctx.post_wmessage("No ownship DEPTH info in info_buffer."),
-            Some(os) => {
-                if !self.mismatch_var.is_empty() {
-                    let mut delta = os - self.depth;
-                    if delta < 0.0 {
-                        delta = -delta;
-                    }
-                    ctx.post_message_num(&self.mismatch_var, delta);
-                }
-            }
-        }
-    }
-
-    /// The objective function (§4.3), without pwt.
-    fn build(&self) -> Result<ivp::IvpFunction, &'static str> {
-        let dom = self
-            .ivp_domain
-            .as_ref()
-            .ok_or("No 'depth' variable in the helm domain")?;
-        let err = "Unable to generate constant-depth IvP function";
-        let mut z = ZaicPeak::new(dom, "depth").map_err(|_| err)?;
-        z.set_summit(self.depth, 0);
-        z.set_base_width(self.basewidth, 0);
-        z.set_peak_width(self.peakwidth, 0);
-        z.set_summit_delta(self.summitdelta, 0);
-        z.extract(true).ok_or(err)
-    }
-}
-
-impl IvpBehavior for ConstantDepth {
-    /// The Constant* types default the common `duration` to 0 (behaviors-plugins.md
-    /// §1.2): without a `duration` line they complete on their first run.
-    fn default_duration(&self) -> Option<f64> {
-        Some(0.0)
-    }
-
-    fn domain(&self) -> String {
-        self.domain.clone()
-    }
-
-    fn default_name(&self) -> String {
-        // The reference's attempt to set a descriptor fails silently (§1.3).
-        "???".into()
-    }
-
-    fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
-        match param {
-            "depth" => parse_number(value).map(|v| self.depth = v.max(0.0)),
-            "peakwidth" => parse_number(value).map(|v| self.peakwidth = v.max(0.0)),
-            "basewidth" => parse_number(value).map(|v| self.basewidth = v.max(0.0)),
-            "summitdelta" => parse_number(value).map(|v| self.summitdelta = v.clamp(0.0, 100.0)),
-            "depth_mismatch_var" => no_white(value).map(|v| self.mismatch_var = v.to_string()),
-            _ => None,
-        }
-        .is_some()
-    }
-
-    fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
-        self.read_ownship(ctx);
-    }
-
-    fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
-        self.read_ownship(ctx);
-        match self.build() {
-            Ok(mut f) => {
-                f.set_pwt(ctx.priority());
-                Some(function_data(f))
-            }
-            Err(msg) => {
-                ctx.post_emessage(msg);
-                None
-            }
-        }
-    }
-}
+pub type ConstantDepth = ConstantValue<DepthKind>;
 
 behavior_api::export_behaviors! {
     "BHV_ConstantDepth" => ConstantDepth::new,
@@ -122,7 +34,9 @@ behavior_api::export_behaviors! {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
+    use behavior_api::FunctionData;
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,2,21:depth,0,100,101")
@@ -182,7 +96,7 @@ mod tests {
     fn parameters() {
         let (mut b, mut host) = bhv(&[]);
         assert_eq!(
-            (b.depth, b.peakwidth, b.basewidth, b.summitdelta),
+            (b.value, b.peakwidth, b.basewidth, b.summitdelta),
             (0.0, 3.0, 100.0, 50.0)
         );
         host.with(|ctx| {
@@ -197,7 +111,7 @@ mod tests {
             assert!(!b.set_param(ctx, "speed", "1"));
         });
         assert_eq!(
-            (b.depth, b.peakwidth, b.basewidth, b.summitdelta),
+            (b.value, b.peakwidth, b.basewidth, b.summitdelta),
             (0.0, 0.0, 0.0, 0.0)
         );
         assert_eq!(b.mismatch_var, "DERR");
