@@ -65,11 +65,14 @@ enum Command {
     },
     /// Replay conformance cases recorded from the real C++ helm and compare.
     ///
-    /// PATH is a case file (`*.toml`) or a folder of them. Prints one line per
-    /// difference (case, step, variable, expected, got) and ends with
+    /// PATH is a case file (`*.toml`) or a folder of them. Prints one line per failing
+    /// case (case, step, variable, expected, got: its first difference) and ends with
     /// `N passed, M failed`; exits 1 if any case failed. Behavior libraries are
     /// loaded from the colon-separated directories in IVP_BEHAVIOR_DIRS.
     Conform {
+        /// Print every difference, not only the first of each failing case.
+        #[arg(long)]
+        all: bool,
         /// Replay each case for at least 2 s and print `bench <case> <µs>`: the mean time
         /// of the decision step (modes, behaviors, solve), as the C++ timings measure it.
         #[arg(long)]
@@ -123,7 +126,7 @@ fn factory_from_env() -> BehaviorFactory {
     factory
 }
 
-fn conform_cmd(bench: bool, paths: &[PathBuf]) -> ExitCode {
+fn conform_cmd(bench: bool, all: bool, paths: &[PathBuf]) -> ExitCode {
     let files = match conform::collect(paths) {
         Ok(f) => f,
         Err(e) => {
@@ -166,9 +169,17 @@ fn conform_cmd(bench: bool, paths: &[PathBuf]) -> ExitCode {
         if let Some(e) = &r.error {
             println!("{}: error: {e}", r.name);
         }
-        for m in &r.mismatches {
+        // One line per failing case (its first difference); --all lists every one.
+        let shown = if all { r.mismatches.len() } else { 1 };
+        for m in r.mismatches.iter().take(shown) {
+            let more = r.mismatches.len() - shown;
+            let tail = if more > 0 {
+                format!(" (+{more} more differences; --all lists them)")
+            } else {
+                String::new()
+            };
             println!(
-                "{} step {} {}: expected {} got {}",
+                "{} step {} {}: expected {} got {}{tail}",
                 r.name, m.step, m.var, m.expected, m.got
             );
         }
@@ -191,7 +202,7 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     match cli.command {
-        Command::Conform { bench, paths } => conform_cmd(bench, &paths),
+        Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
         Command::Check {
             mission,
             bhv,

@@ -84,3 +84,29 @@ fn plugin_cases_need_their_libraries() {
         );
     }
 }
+
+#[test]
+fn a_case_that_differs_fails_with_case_step_variable_expected_and_got() {
+    let src = cases_dir().join("timer_gate.toml");
+    let text = std::fs::read_to_string(&src).expect("timer_gate case");
+    assert!(
+        text.contains("GO = \"true\""),
+        "the case changed: pick another value"
+    );
+    let tampered = text.replacen("GO = \"true\"", "GO = \"later\"", 1);
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("conform-tampered");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let file = dir.join("timer_gate.toml");
+    std::fs::write(&file, tampered).expect("write case");
+    let (ok, text) = conform(&file);
+    assert!(!ok, "a tampered case must fail:\n{text}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("timer_gate step "))
+        .unwrap_or_else(|| panic!("no difference line:\n{text}"));
+    assert!(
+        line.contains(" GO: expected \"later\" got \"true\""),
+        "{line}"
+    );
+    assert!(text.trim_end().ends_with("0 passed, 1 failed"), "{text}");
+}
