@@ -311,5 +311,4 @@ impl ZaicPeak {
             b
         }
     }
-
 }
