@@ -97,12 +97,16 @@ impl Helm {
         };
         let has_control = config.start_in_drive && state != HelmState::Malconfig;
         let bhv_files = spec.files.iter().map(|f| f.display().to_string()).collect();
+        let source = spec.behaviors.clone();
         Helm {
             app_name: "pHelmIvP".into(),
             env,
             bhv_cnt_ever: behaviors.len(),
             behaviors,
             inits: spec.inits,
+            source,
+            restart: None,
+            restarted: false,
             modes: spec.modes,
             bhv_files,
             startup_messages,
@@ -331,5 +335,66 @@ fn init_value(v: &Value) -> Value {
     match v {
         Value::Str(s) if s.is_empty() => Value::Num(0.0),
         other => other.clone(),
+    }
+}
+
+impl Helm {
+    /// RESTART_HELM (helm.md §13): behaviors rebuilt from their blocks, duplicate filter
+    /// cleared, deferred initializations re-armed, start time reset (1 s warm-up again);
+    /// `type2` re-posts the non-deferred initializations. The info buffer is kept and
+    /// helm-start messages are not posted again.
+    pub(crate) fn restart_behaviors(&mut self, now: f64, kind: &str) {
+        tracing::warn!("pHelmIvP has been re-started!! ({kind})");
+        let ownship = self.env.ownship.clone();
+        let mut rebuilt = Vec::new();
+        for bs in self
+            .source
+            .iter()
+            .filter(|b| b.templating != Templating::Spawn)
+        {
+            match make_instance(bs, &self.factory, &self.env, &self.ib, &ownship) {
+                Ok(mut inst) => {
+                    let (b, core) = (&mut inst.bhv, &mut inst.core);
+                    let _ = crate::runtime::with_ctx_pub(core, &self.env, &self.ib, |ctx| {
+                        b.on_helm_start(ctx)
+                    });
+                    inst.core.messages.clear();
+                    let (b, core) = (&mut inst.bhv, &mut inst.core);
+                    let _ = crate::runtime::with_ctx_pub(core, &self.env, &self.ib, |ctx| {
+                        b.on_params_complete(ctx)
+                    });
+                    rebuilt.push(inst);
+                }
+                Err(errs) => {
+                    for e in errs {
+                        tracing::error!("restart: {e}");
+                    }
+                }
+            }
+        }
+        self.behaviors = rebuilt;
+        self.bhv_cnt_ever += self.behaviors.len();
+        self.filter.clear();
+        self.last_posted.clear();
+        self.summary_last.clear();
+        self.deferred_done = false;
+        self.start_time = now;
+        self.allstop.clear();
+        if kind == "type2" {
+            let inits = std::mem::take(&mut self.inits);
+            for init in inits.iter().filter(|i| !i.deferred) {
+                let value = init_value(&init.value);
+                self.ib.set_value(&init.var, &value, now);
+                self.post(&init.var, value, "HELM_VAR_INIT");
+            }
+            self.inits = inits;
+        }
+        for inst in &self.behaviors {
+            self.life_events.push(format!(
+                "bname={}, btype={}, event=spawn, seed=helm_restart",
+                inst.core.name, inst.core.type_name
+            ));
+        }
+        self.restarted = true;
     }
 }

@@ -35,6 +35,9 @@ impl Helm {
             self.ib.set_curr_time(now);
         }
         self.mail_this_cycle = false;
+        if let Some(kind) = self.restart.take() {
+            self.restart_behaviors(now, &kind);
+        }
         // Helm-start messages held back until every `hold_on_apps` app is connected.
         if !self.startup_messages.is_empty() && self.hold_apps_seen() {
             for (var, value) in std::mem::take(&mut self.startup_messages) {
@@ -94,6 +97,9 @@ impl Helm {
         }
         if now - self.start_time < 1.0 {
             return &self.outbox;
+        }
+        if std::mem::take(&mut self.restarted) {
+            self.post_str("IVPHELM_RESTARTED", "true");
         }
         self.post_turn_rate(now);
 

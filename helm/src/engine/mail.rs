@@ -112,7 +112,15 @@ impl Helm {
                 }
             }
             "IVPHELM_REJOURNAL" => self.summary_last.clear(),
-            "RESTART_HELM" | "BHV_ABLE_FILTER" => {}
+            "RESTART_HELM" => {
+                if let Value::Str(t) = &m.value {
+                    let t = t.trim().to_ascii_lowercase();
+                    if t == "type1" || t == "type2" {
+                        self.restart = Some(t);
+                    }
+                }
+            }
+            "BHV_ABLE_FILTER" => {}
             "NODE_REPORT_LOCAL" => {}
             "HELM_MAP_CLEAR" => self.refresh_pending = true,
             _ => {

@@ -54,6 +54,12 @@ pub struct Helm {
     pub(crate) env: HostEnv,
     pub(crate) behaviors: Vec<BehaviorInstance>,
     pub(crate) inits: Vec<Init>,
+    /// The `.bhv` blocks, kept to rebuild the behavior set on RESTART_HELM.
+    pub(crate) source: Vec<bhv::reader::BehaviorSpec>,
+    /// A RESTART_HELM request (`type1`/`type2`) to carry out at the next iteration.
+    pub(crate) restart: Option<String>,
+    /// Post IVPHELM_RESTARTED at the next decision.
+    pub(crate) restarted: bool,
     pub(crate) modes: ModeSet,
     pub(crate) bhv_files: Vec<String>,
     /// Messages behaviors queued while being built (published once at start-up).
