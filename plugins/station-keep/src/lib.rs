@@ -40,8 +40,14 @@ enum Transit {
     NotedProgressEnd,
 }
 
+/// (label, radius bits, active, station x bits, station y bits)
+type CircleKey = (String, u64, bool, u64, u64);
+
 /// BHV_StationKeep.
 pub struct StationKeep {
+    /// Circle specs already formatted, by (label, radius, active, station): they change
+    /// only when the station or a parameter does (parameters clear it).
+    circle_cache: std::cell::RefCell<Vec<(CircleKey, String)>>,
     domain: String,
     ivp_domain: Option<ivp::Domain>,
     // station actually held
@@ -77,6 +83,7 @@ pub struct StationKeep {
 impl StationKeep {
     pub fn new(helm_domain: &HelmDomain) -> Self {
         StationKeep {
+            circle_cache: Default::default(),
             domain: helm_domain.sub_domain(&["course", "speed"]),
             ivp_domain: helm_domain.ivp_domain(&["course", "speed"]),
             station: (0.0, 0.0),
@@ -179,8 +186,26 @@ impl StationKeep {
     }
 
     fn post_circle(&self, ctx: &mut Ctx<'_>, label: &str, key: &str, radius: f64, active: bool) {
-        let s = self.circle(ctx, label, radius, active);
-        ctx.post_message_key("VIEW_POLYGON", PostValue::from(s.as_str()), key);
+        let ck: CircleKey = (
+            label.to_string(),
+            radius.to_bits(),
+            active,
+            self.station.0.to_bits(),
+            self.station.1.to_bits(),
+        );
+        let mut cache = self.circle_cache.borrow_mut();
+        let idx = match cache.iter().position(|(k, _)| *k == ck) {
+            Some(i) => i,
+            None => {
+                let spec = self.circle(ctx, label, radius, active);
+                cache.push((ck, spec));
+                if cache.len() > 8 {
+                    cache.remove(0);
+                }
+                cache.len() - 1
+            }
+        };
+        ctx.post_message_key("VIEW_POLYGON", PostValue::from(cache[idx].1.as_str()), key);
     }
 
     fn post_visuals(&self, ctx: &mut Ctx<'_>) {
@@ -371,6 +396,8 @@ impl IvpBehavior for StationKeep {
     }
 
     fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        // Colors, sizes and radii may change what the circles look like.
+        self.circle_cache.borrow_mut().clear();
         let param = param.to_ascii_lowercase();
         let value = value.trim();
         match param.as_str() {
