@@ -21,6 +21,10 @@ pub struct BhvWaypoint {
     domain: String,
     /// The path spec, formatted again only when the path or its look changes.
     view_cache: geometry::SeglistSpecCache,
+    /// The next-point spec and the trackpt erase spec, by the point they show: both stay
+    /// the same for as long as the vehicle heads to one waypoint (parameters clear them).
+    nextpt_spec: Option<((u64, u64), String)>,
+    trk_erase_spec: Option<String>,
     ivp_domain: Option<ivp::Domain>,
     speed_high: Option<f64>,
     pub(crate) engine: WaypointEngine,
@@ -82,6 +86,8 @@ impl BhvWaypoint {
     pub fn new(helm: &HelmDomain) -> Self {
         BhvWaypoint {
             view_cache: Default::default(),
+            nextpt_spec: None,
+            trk_erase_spec: None,
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
             speed_high: helm.var("speed").map(|v| v.high),
@@ -388,8 +394,14 @@ impl BhvWaypoint {
             }
         }
         let (nx, ny) = self.nextpt.unwrap_or((0.0, 0.0));
-        let np = point_spec(nx, ny, None, &self.nextpt_attrs(&own, true));
-        ctx.post_message_key("VIEW_POINT", PostValue::from(np.as_str()), "wpt");
+        let key = (nx.to_bits(), ny.to_bits());
+        if self.nextpt_spec.as_ref().is_none_or(|(k, _)| *k != key) {
+            let spec = point_spec(nx, ny, None, &self.nextpt_attrs(&own, true));
+            self.nextpt_spec = Some((key, spec));
+        }
+        if let Some((_, np)) = &self.nextpt_spec {
+            ctx.post_message_key("VIEW_POINT", PostValue::from(np.as_str()), "wpt");
+        }
         let (tx, ty) = self.trackpt;
         let trk = if dist(tx, ty, nx, ny) > 5.0 {
             let attrs = Attrs {
@@ -402,7 +414,9 @@ impl BhvWaypoint {
             };
             point_spec(tx, ty, None, &attrs)
         } else {
-            geometry::point_erase_spec(&format!("{own}'s trackpt"))
+            self.trk_erase_spec
+                .get_or_insert_with(|| geometry::point_erase_spec(&format!("{own}'s trackpt")))
+                .clone()
         };
         ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
     }
@@ -546,6 +560,9 @@ impl IvpBehavior for BhvWaypoint {
     }
 
     fn set_param(&mut self, ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        // Hints and names may change what the cached point specs say.
+        self.nextpt_spec = None;
+        self.trk_erase_spec = None;
         self.set_wpt_param(ctx, param, value)
     }
 
