@@ -64,6 +64,6 @@ pub use domain::{Domain, DomainVar, Snap};
 pub use error::IvpError;
 pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};
 pub use ipf::ipf_packets;
-pub use reflector::{Aof, AofWaypoint, Reflector};
+pub use reflector::{Aof, Reflector};
 pub use solver::{Decision, Solver};
 pub use zaic::{ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};

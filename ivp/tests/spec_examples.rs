@@ -23,7 +23,7 @@ fn waypoint(dom: &Domain, bearing: f64, heading: f64, cruise: f64) -> ivp::IvpFu
 #[test]
 fn example_a_waypoint() {
     let dom = Domain::parse("course:0:359:360,speed:0:2:21").unwrap();
-    let bearing = ivp::reflector::rel_ang(0.0, 0.0, 100.0, 50.0);
+    let bearing = geometry::rel_ang(0.0, 0.0, 100.0, 50.0);
     assert!((bearing - 63.4349488229).abs() < 1e-9);
     let mut f = waypoint(&dom, bearing, 90.0, 2.0);
     assert_eq!(f.piece_count(), 14);
@@ -84,7 +84,7 @@ fn example_table_waypoints() {
     ];
     for ((ox, oy, h), (tx, ty), cruise, spd, pieces, (dc, ds)) in cases {
         let dom = Domain::parse(&format!("course:0:359:360,{spd}")).unwrap();
-        let mut f = waypoint(&dom, ivp::reflector::rel_ang(ox, oy, tx, ty), h, cruise);
+        let mut f = waypoint(&dom, geometry::rel_ang(ox, oy, tx, ty), h, cruise);
         assert_eq!(f.piece_count(), pieces);
         f.set_pwt(100.0);
         let d = Solver::new().solve(&dom, &[&f]).unwrap().unwrap();
