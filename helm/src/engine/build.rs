@@ -1,6 +1,5 @@
 //! Building the helm: configuration, the behavior set, start-up (helm.md §5).
 
-use bhv::number::Value;
 use bhv::reader::{SetSpec, Templating};
 
 use super::{Helm, HelmState};
@@ -139,6 +138,8 @@ impl Helm {
             mode_pairs: Vec::new(),
             apps_seen: Vec::new(),
             nav_warned: false,
+            last_heartbeat: None,
+            statevars_dirty: true,
             summary_last: Default::default(),
             last_decide_secs: 0.0,
             desired_names: config
@@ -185,9 +186,9 @@ impl Helm {
                 self.register(&init.var);
                 continue;
             }
-            let value = init_value(&init.value);
-            self.ib.set_value(&init.var, &value, now);
-            self.post(&init.var, value, "HELM_VAR_INIT");
+            // The reader already typed the value (an empty string is the number 0).
+            self.ib.set_value(&init.var, &init.value, now);
+            self.post(&init.var, init.value.clone(), "HELM_VAR_INIT");
         }
         self.inits = inits;
         self.register("IVPHELM_STATE");
@@ -330,14 +331,6 @@ pub(crate) fn make_instance(
     }
 }
 
-/// An initialization value; an empty string is posted as the number 0 (quirk).
-fn init_value(v: &Value) -> Value {
-    match v {
-        Value::Str(s) if s.is_empty() => Value::Num(0.0),
-        other => other.clone(),
-    }
-}
-
 impl Helm {
     /// RESTART_HELM (helm.md §13): behaviors rebuilt from their blocks, duplicate filter
     /// cleared, deferred initializations re-armed, start time reset (1 s warm-up again);
@@ -383,9 +376,8 @@ impl Helm {
         if kind == "type2" {
             let inits = std::mem::take(&mut self.inits);
             for init in inits.iter().filter(|i| !i.deferred) {
-                let value = init_value(&init.value);
-                self.ib.set_value(&init.var, &value, now);
-                self.post(&init.var, value, "HELM_VAR_INIT");
+                self.ib.set_value(&init.var, &init.value, now);
+                self.post(&init.var, init.value.clone(), "HELM_VAR_INIT");
             }
             self.inits = inits;
         }

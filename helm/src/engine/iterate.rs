@@ -82,10 +82,6 @@ impl Helm {
                     continue;
                 }
                 let (var, value) = (init.var.clone(), init.value.clone());
-                let value = match value {
-                    Value::Str(s) if s.is_empty() => Value::Num(0.0),
-                    v => v,
-                };
                 self.ib.set_value(&var, &value, now);
                 self.post(&var, value, "HELM_VAR_INIT");
             }
@@ -127,6 +123,7 @@ impl Helm {
         if sig != self.subs_signature {
             self.subs_signature = sig;
             self.register_all();
+            self.statevars_dirty = true;
         }
         self.publish_behavior_output(now);
         self.post_summary(now, &summary);
@@ -310,9 +307,10 @@ impl Helm {
         if s.halted.is_some() {
             msg = "BehaviorError".into();
         } else if s.functions == 0 {
+            // Every behavior we run is a goal behavior (none is a constraint), so with
+            // goals_mandatory "no active goal" is exactly this case, and NothingToDo
+            // comes first in the spec's order.
             msg = "NothingToDo".into();
-        } else if self.config.goals_mandatory && s.functions == 0 {
-            msg = "NoGoalBehavior".into();
         } else {
             let missing: Vec<String> = (0..self.config.domain.size())
                 .filter(|&i| {

@@ -28,15 +28,13 @@ impl Helm {
         self.ib.set_string("COMMS_POLICY", "open", now);
         if self.state == HelmState::Standby {
             // A standby helm takes over once the primary has gone quiet.
-            if let (Some(t), Some(last)) = (self.config.standby, self.last_posted.get("__hb")) {
-                if let Ok(last) = last.parse::<f64>() {
-                    if now - last > t {
-                        self.state = if self.has_control {
-                            HelmState::Drive
-                        } else {
-                            HelmState::Park
-                        };
-                    }
+            if let (Some(t), Some(last)) = (self.config.standby, self.last_heartbeat) {
+                if now - last > t {
+                    self.state = if self.has_control {
+                        HelmState::Drive
+                    } else {
+                        HelmState::Park
+                    };
                 }
             }
         }
@@ -89,7 +87,7 @@ impl Helm {
                 if !self.is_own_posting(m) {
                     if self.config.standby.is_some() {
                         if self.state == HelmState::Standby {
-                            self.last_posted.insert("__hb", format!("{now}"));
+                            self.last_heartbeat = Some(now);
                         } else {
                             self.refresh_pending = true;
                         }

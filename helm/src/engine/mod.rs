@@ -100,6 +100,10 @@ pub struct Helm {
     /// See `subscription_signature`.
     pub(crate) subs_signature: usize,
     pub(crate) nav_warned: bool,
+    /// Last IVPHELM_STATE heard from the primary helm (standby helm only).
+    pub(crate) last_heartbeat: Option<f64>,
+    /// The behavior set's conditions or flags changed: IVPHELM_STATEVARS may grow.
+    pub(crate) statevars_dirty: bool,
     /// Fields of the last IVPHELM_SUMMARY (empty: the next one is full).
     pub(crate) summary_last: std::collections::HashMap<&'static str, String>,
     pub(crate) last_decide_secs: f64,

@@ -50,17 +50,21 @@ impl Helm {
             self.behaviors[i].core.messages = messages;
         }
 
-        let mut vars: Vec<String> = self
-            .behaviors
-            .iter()
-            .flat_map(|b| b.core.state_vars())
-            .collect();
-        vars.sort();
-        vars.dedup();
-        if vars.len() > self.statevars.len() {
-            self.statevars = vars;
-            let s = self.statevars.join(",");
-            self.post_str("IVPHELM_STATEVARS", &s);
+        // The state-space variables change only with the behavior set's conditions and
+        // flags (tracked by the subscription signature), not every iteration.
+        if std::mem::take(&mut self.statevars_dirty) {
+            let mut vars: Vec<String> = self
+                .behaviors
+                .iter()
+                .flat_map(|b| b.core.state_vars())
+                .collect();
+            vars.sort();
+            vars.dedup();
+            if vars.len() > self.statevars.len() {
+                self.statevars = vars;
+                let s = self.statevars.join(",");
+                self.post_str("IVPHELM_STATEVARS", &s);
+            }
         }
 
         let pending = self
