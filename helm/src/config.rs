@@ -91,7 +91,9 @@ impl std::fmt::Display for ConfigWarning {
     }
 }
 
-fn parse_bool(v: &str) -> Option<bool> {
+/// MOOS-IvP booleans: `true/false/yes/no/on/off`, any case (config lines and behavior
+/// parameters alike).
+pub fn parse_bool(v: &str) -> Option<bool> {
     match v.to_ascii_lowercase().as_str() {
         "true" | "yes" | "on" => Some(true),
         "false" | "no" | "off" => Some(false),

@@ -6,6 +6,7 @@ use bhv::number::{atof, is_number};
 
 use super::context::{with_ctx, HostEnv};
 use super::{BehaviorCore, BehaviorInstance};
+use crate::config::parse_bool;
 use crate::info_buffer::InfoBuffer;
 
 /// Apply one `param = value` line (from the `.bhv` or a spawn): name first, then the
@@ -19,14 +20,30 @@ pub fn apply_config_line(
     value: &str,
 ) -> Result<bool, String> {
     let value = value.trim();
-    let lower = param.to_ascii_lowercase();
-    if lower == "name" || lower == "descriptor" {
+    if param.eq_ignore_ascii_case("name") || param.eq_ignore_ascii_case("descriptor") {
         return Ok(set_name(&mut inst.core, value));
     }
-    let common = lower.strip_prefix('_').unwrap_or(&lower);
-    if let Some(ok) = apply_common(&mut inst.core, common, value) {
+    if let Some(ok) = common_param(&mut inst.core, param, value) {
         return Ok(ok);
     }
+    type_param(inst, env, ib, param, value)
+}
+
+/// The common handler, named as behavior-common.md §1 says: lower-cased, one leading
+/// `_` ignored. `None` when `param` is not a common parameter.
+fn common_param(core: &mut BehaviorCore, param: &str, value: &str) -> Option<bool> {
+    let lower = param.to_ascii_lowercase();
+    apply_common(core, lower.strip_prefix('_').unwrap_or(&lower), value)
+}
+
+/// The behavior type's own handler, with the name as given. `Err`: it panicked.
+fn type_param(
+    inst: &mut BehaviorInstance,
+    env: &HostEnv,
+    ib: &InfoBuffer,
+    param: &str,
+    value: &str,
+) -> Result<bool, String> {
     let (bhv, core) = (&mut inst.bhv, &mut inst.core);
     with_ctx(core, env, ib, |ctx| {
         bhv.set_param(ctx, param.into(), value.into())
@@ -123,28 +140,27 @@ fn apply_common(core: &mut BehaviorCore, param: &str, value: &str) -> Option<boo
                 false
             }
         }
-        "build_info" => {
-            if value.eq_ignore_ascii_case("clear") {
-                core.build_info.clear();
-            } else if core.build_info.is_empty() {
-                core.build_info = value.to_string();
-            } else {
-                core.build_info = format!("{value}#{}", core.build_info);
-            }
+        "build_info" if value.eq_ignore_ascii_case("clear") => {
+            core.build_info.clear();
             true
         }
+        "build_info" => prepend_build_info(core, value),
         "precision" => {
-            let v = format!("precision={}", value.to_ascii_lowercase());
-            if core.build_info.is_empty() {
-                core.build_info = v;
-            } else {
-                core.build_info = format!("{v}#{}", core.build_info);
-            }
-            true
+            prepend_build_info(core, &format!("precision={}", value.to_ascii_lowercase()))
         }
         _ => return None,
     };
     Some(ok)
+}
+
+/// `build_info` entries are prepended, `#`-separated.
+fn prepend_build_info(core: &mut BehaviorCore, entry: &str) -> bool {
+    core.build_info = if core.build_info.is_empty() {
+        entry.to_string()
+    } else {
+        format!("{entry}#{}", core.build_info)
+    };
+    true
 }
 
 fn add_flag(list: &mut Vec<FlagSpec>, value: &str) -> bool {
@@ -198,15 +214,6 @@ fn set_duration(core: &mut BehaviorCore, value: &str) -> bool {
     }
 }
 
-/// MOOS-IvP booleans: `true/false/yes/no/on/off`, any case.
-pub fn parse_bool(value: &str) -> Option<bool> {
-    match value.to_ascii_lowercase().as_str() {
-        "true" | "yes" | "on" => Some(true),
-        "false" | "no" | "off" => Some(false),
-        _ => None,
-    }
-}
-
 /// One `param=value` pair of an update string (§5): the type's handler first (name as
 /// given), then the common handler (name lower-cased).
 pub fn apply_update_pair(
@@ -216,21 +223,12 @@ pub fn apply_update_pair(
     param: &str,
     value: &str,
 ) -> bool {
-    let (bhv, core) = (&mut inst.bhv, &mut inst.core);
-    let by_type = with_ctx(core, env, ib, |ctx| {
-        bhv.set_param(ctx, param.into(), value.into()).into_result()
-    });
-    let by_type = match by_type {
-        Ok(b) => b,
+    match type_param(inst, env, ib, param, value) {
+        Ok(true) => true,
+        Ok(false) => common_param(&mut inst.core, param, value).unwrap_or(false),
         Err(panic) => {
             super::step::fault(&mut inst.core, &format!("behavior panicked: {panic}"));
-            return false;
+            false
         }
-    };
-    if by_type {
-        return true;
     }
-    let lower = param.to_ascii_lowercase();
-    let common = lower.strip_prefix('_').unwrap_or(&lower);
-    apply_common(&mut inst.core, common, value).unwrap_or(false)
 }

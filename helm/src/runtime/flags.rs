@@ -153,7 +153,7 @@ fn post_remote(
         core.name
     ));
     match value {
-        Value::Num(v) => msg.push_str(&format!("double_val={}", compact6(*v))),
+        Value::Num(v) => msg.push_str(&format!("double_val={}", bhv::number::compact(*v, 6))),
         Value::Str(s) if s.contains(',') && !s.starts_with('"') => {
             msg.push_str(&format!("string_val=\"{s}\",string_val_quoted=true"))
         }
@@ -169,17 +169,4 @@ fn post_remote(
         value: Value::Str(msg),
         key,
     });
-}
-
-fn compact6(v: f64) -> String {
-    let mut s = format!("{v:.6}");
-    if s.contains('.') {
-        while s.ends_with('0') {
-            s.pop();
-        }
-        if s.ends_with('.') {
-            s.pop();
-        }
-    }
-    s
 }
