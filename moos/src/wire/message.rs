@@ -147,12 +147,7 @@ impl Message {
 
     /// Serialized size: `54 + Σ string lengths` (spec §2.1).
     pub fn encoded_len(&self) -> usize {
-        MESSAGE_OVERHEAD
-            + self.source.len()
-            + self.source_aux.len()
-            + self.community.len()
-            + self.key.len()
-            + self.sval.len()
+        self.view().encoded_len()
     }
 
     /// Append the serialized message to `out`.
