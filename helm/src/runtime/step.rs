@@ -208,8 +208,8 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     inst.core.ok = true;
     inst.core.status_info.clear();
     inst.core.status_info.push_str("name=");
-    let name = inst.core.name.clone();
-    inst.core.status_info.push_str(&name);
+    let core = &mut inst.core;
+    core.status_info.push_str(&core.name);
 
     if process_updates(inst, env, ib) {
         inst.core.config_posted = false;
