@@ -63,8 +63,8 @@ impl ZaicSpd {
 
     /// `setParams(med, low, hgh, low_util, hgh_util, min_util, max_util, max_util_total)`.
     /// Speeds are clipped into the domain, utilities into `[0, max_util_total]`.
-    /// Returns false when `low` is above or `hgh` below the median speed in force
-    /// *before* the call (what the reference reports; the values are still used).
+    /// Returns true exactly when the adjustment step changed something (see
+    /// [`ZaicSpd::adjust`]); false also when a value is not finite (nothing built then).
     #[allow(clippy::too_many_arguments)]
     pub fn set_params(
         &mut self,
@@ -94,7 +94,6 @@ impl ZaicSpd {
         if !all_finite {
             return false;
         }
-        let old_med = self.med;
         self.max_util = max_util.max(0.0);
         self.med = self.clip_speed(med);
         self.low = self.clip_speed(low);
@@ -103,7 +102,51 @@ impl ZaicSpd {
         self.hgh_util = self.clip_util(hgh_util);
         self.min_util = self.clip_util(min_util);
         self.max_spd_util = self.clip_util(max_spd_util);
-        self.low <= old_med && self.hgh >= old_med
+        self.adjust()
+    }
+
+    /// The adjustment step (spec §3.2), applied to the stored parameters: the median
+    /// into the domain, low/high speeds on their side of it, utilities at most
+    /// `max_util`, and the low (high) utility overridden by `min_spd_util`
+    /// (`max_spd_util`) when the low (high) speed is the domain's edge. Returns whether
+    /// it changed something, the override counting as a change even when the value
+    /// stays: that is `setParams`' answer in the real builder.
+    fn adjust(&mut self) -> bool {
+        let var = self.domain.var(0);
+        let (dlow, dhigh) = (var.low, var.high);
+        let before = self.params();
+        self.med = self.med.max(dlow).min(dhigh);
+        self.low = self.low.max(dlow).min(self.med);
+        self.hgh = self.hgh.max(self.med).min(dhigh);
+        let mu = self.max_util;
+        self.min_util = self.min_util.min(mu);
+        self.low_util = self.low_util.min(mu);
+        self.hgh_util = self.hgh_util.min(mu);
+        self.max_spd_util = self.max_spd_util.min(mu);
+        let mut overridden = false;
+        if self.low == dlow {
+            self.low_util = self.min_util;
+            overridden = true;
+        }
+        if self.hgh == dhigh {
+            self.hgh_util = self.max_spd_util;
+            overridden = true;
+        }
+        overridden || before != self.params()
+    }
+
+    /// The parameters the adjustment may change, compared bit for bit.
+    fn params(&self) -> [u64; 7] {
+        [
+            self.med,
+            self.low,
+            self.hgh,
+            self.min_util,
+            self.low_util,
+            self.hgh_util,
+            self.max_spd_util,
+        ]
+        .map(f64::to_bits)
     }
 
     /// `setParams` with the C++ defaults `min_util = 0, max_util = 0, max_util_total = 100`.
@@ -125,21 +168,23 @@ impl ZaicSpd {
         self.med = self.clip_speed(v);
         true
     }
-    /// Returns false if `v` is above the median speed (value still stored, clipped to the domain).
+    /// Always true for a finite value: the real setter fails only without a domain
+    /// (the value is clipped to the domain; its side of the median is settled by the
+    /// adjustment).
     pub fn set_low_speed(&mut self, v: f64) -> bool {
         if !self.finite("low_spd", v) {
             return false;
         }
         self.low = self.clip_speed(v);
-        self.low <= self.med
+        true
     }
-    /// Returns false if `v` is below the median speed (value still stored, clipped to the domain).
+    /// Always true for a finite value (as [`ZaicSpd::set_low_speed`]).
     pub fn set_hgh_speed(&mut self, v: f64) -> bool {
         if !self.finite("hgh_spd", v) {
             return false;
         }
         self.hgh = self.clip_speed(v);
-        self.hgh >= self.med
+        true
     }
     pub fn set_low_speed_util(&mut self, v: f64) -> bool {
         if !self.finite("low_spd_util", v) {
@@ -190,23 +235,12 @@ impl ZaicSpd {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
+        self.adjust();
         let var = self.domain.var(0).clone();
-        let (dlow, dhigh) = (var.low, var.high);
-        // Adjustment.
-        let med = self.med.max(dlow).min(dhigh);
-        let low = self.low.max(dlow).min(med);
-        let hgh = self.hgh.max(med).min(dhigh);
-        let mu = self.max_util;
-        let min_u = self.min_util.min(mu);
-        let mut low_u = self.low_util.min(mu);
-        let mut hgh_u = self.hgh_util.min(mu);
-        let max_u = self.max_spd_util.min(mu);
-        if low == dlow {
-            low_u = min_u;
-        }
-        if hgh == dhigh {
-            hgh_u = max_u;
-        }
+        let dlow = var.low;
+        let (med, low, hgh) = (self.med, self.low, self.hgh);
+        let (mu, min_u, low_u) = (self.max_util, self.min_util, self.low_util);
+        let (hgh_u, max_u) = (self.hgh_util, self.max_spd_util);
         let n = var.points as i32;
         let delta = var.delta();
         let idx = |s: f64| -> i32 {
@@ -243,5 +277,42 @@ impl ZaicSpd {
             reason: "not strictly increasing from 0 to N-1".into(),
         })?;
         Ok(p.finish(self.domain.clone()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn speed_domain() -> Domain {
+        Domain::parse("speed:0:5:51").expect("domain")
+    }
+
+    #[test]
+    fn set_params_reports_whether_the_adjustment_changed_something() {
+        // hgh_spd at the domain's high edge: its utility is overridden (a change).
+        let mut z = ZaicSpd::new(&speed_domain(), "speed").expect("builder");
+        assert!(z.set_params5(4.9, 4.8, 5.0, 30.0, 30.0));
+        assert!(z.extract().is_some());
+        // Nothing to adjust: false, and the function is still built.
+        let mut z = ZaicSpd::new(&speed_domain(), "speed").expect("builder");
+        assert!(!z.set_params5(2.0, 1.0, 3.0, 50.0, 50.0));
+        assert!(z.extract().is_some());
+        // low_spd above the median is clipped to it: a change.
+        let mut z = ZaicSpd::new(&speed_domain(), "speed").expect("builder");
+        assert!(z.set_params5(2.0, 3.0, 4.0, 50.0, 50.0));
+        // low_spd at the domain's low edge: overridden even though min_spd_util = 0
+        // leaves the utility where a 0 argument put it.
+        let mut z = ZaicSpd::new(&speed_domain(), "speed").expect("builder");
+        assert!(z.set_params5(2.0, 0.0, 3.0, 0.0, 50.0));
+    }
+
+    #[test]
+    fn setters_succeed_on_either_side_of_the_median() {
+        let mut z = ZaicSpd::new(&speed_domain(), "speed").expect("builder");
+        assert!(z.set_med_speed(2.0));
+        assert!(z.set_low_speed(3.0));
+        assert!(z.set_hgh_speed(1.0));
+        assert!(!z.set_low_speed(f64::NAN));
     }
 }
