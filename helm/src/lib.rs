@@ -9,6 +9,7 @@
 //! - conformance cases are replayed by [`conform`].
 
 pub mod app;
+pub mod appcast;
 pub mod config;
 pub mod conform;
 pub mod engine;
@@ -16,6 +17,7 @@ pub mod factory;
 pub mod info_buffer;
 pub mod loader;
 pub mod mission;
+pub mod phelmivp;
 pub mod posting;
 pub mod runtime;
 

@@ -10,7 +10,19 @@ use helm::factory::BehaviorFactory;
 
 /// The IvP Helm (pHelmIvP) rebuilt in Rust: behavior-based autonomy with plugin behaviors.
 #[derive(Parser)]
-#[command(name = "helm", version, about, long_about = None)]
+#[command(
+    name = "helm",
+    version,
+    about = "The IvP Helm of MOOS-IvP (pHelmIvP), rebuilt in Rust, with plugin behaviors",
+    long_about = None,
+    after_help = "As a drop-in for pHelmIvP (what pAntler runs):\n  \
+        helm MISSION.moos [FILE.bhv]... [NAME] [--alias=NAME] [--verbose=verbose|terse|quiet]\n  \
+        helm -v | -e | -i | -w | -help    (version, example block, interface, docs, help)\n\n\
+        Examples:\n  \
+        helm run --embedded missions/alpha/alpha.moos   a mission on this machine alone\n  \
+        helm check missions/alpha/alpha.moos            every configuration problem\n  \
+        helm alpha.moos pHelmIvP                        as pAntler starts pHelmIvP"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -200,6 +212,10 @@ fn main() -> ExitCode {
         )
         .with_writer(std::io::stderr)
         .init();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if helm::phelmivp::is_phelmivp_form(&args) {
+        return phelmivp_main(&args[1..]);
+    }
     let cli = Cli::parse();
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
@@ -225,26 +241,100 @@ fn main() -> ExitCode {
                 duration,
                 quiet,
             };
-            // First Ctrl-C ends the run cleanly (final line, alog flushed); a second one
-            // ends the process at once.
-            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-            let flag = stop.clone();
-            let _ = ctrlc::set_handler(move || {
-                if flag.swap(true, std::sync::atomic::Ordering::Relaxed) {
-                    std::process::exit(130);
-                }
-            });
             let extras = helm::app::RunExtras {
                 alog,
-                stop: Some(stop),
+                ..Default::default()
             };
-            match helm::app::run_with(&opts, &extras) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::FAILURE
-                }
-            }
+            run_app(&opts, extras)
         }
     }
+}
+
+/// Run the helm until the mission, the duration or a signal ends it.
+fn run_app(opts: &helm::app::RunOptions, mut extras: helm::app::RunExtras) -> ExitCode {
+    // The first SIGINT/SIGTERM ends the run cleanly (final line, alog flushed); a
+    // second one ends the process at once.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = stop.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, std::sync::atomic::Ordering::Relaxed) {
+            std::process::exit(130);
+        }
+    });
+    extras.stop = Some(stop);
+    match helm::app::run_with(opts, &extras) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `helm MISSION.moos [FILE.bhv]... [NAME] [--alias=NAME] [--verbose=...]`: pHelmIvP.
+fn phelmivp_main(args: &[std::ffi::OsString]) -> ExitCode {
+    use helm::phelmivp::{self, Action, ArgError};
+    let run = match phelmivp::parse(args) {
+        Ok(Action::Run(r)) => r,
+        Ok(Action::Version) => {
+            println!("{}", phelmivp::version_text());
+            return ExitCode::SUCCESS;
+        }
+        Ok(Action::Example) => {
+            print!("{}", phelmivp::EXAMPLE);
+            return ExitCode::SUCCESS;
+        }
+        Ok(Action::Help) => {
+            print!("{}", phelmivp::help_text());
+            return ExitCode::SUCCESS;
+        }
+        Ok(Action::Interface) => {
+            print!("{}", phelmivp::interface_text());
+            return ExitCode::SUCCESS;
+        }
+        Ok(Action::Web) => {
+            println!("{}", phelmivp::WEB);
+            return ExitCode::SUCCESS;
+        }
+        Err(e @ ArgError::IllegalVerbose(_)) => {
+            println!("{e}");
+            return ExitCode::FAILURE;
+        }
+        Err(ArgError::NoMission) => {
+            // pHelmIvP prints its help when no mission file is given.
+            print!("{}", phelmivp::help_text());
+            return ExitCode::FAILURE;
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    for a in &run.ignored {
+        eprintln!("pHelmIvP: ignoring argument {a:?} (not a pHelmIvP option)");
+    }
+    let env = match std::env::var("HELM_VERBOSE") {
+        Ok(v) => match phelmivp::parse_verbose(&v) {
+            Some(v) => Some(v),
+            None => {
+                println!("Illegal verbose setting. Exiting now.");
+                eprintln!("(HELM_VERBOSE={v:?}: use verbose, terse or quiet)");
+                return ExitCode::FAILURE;
+            }
+        },
+        Err(_) => None,
+    };
+    let opts = helm::app::RunOptions {
+        mission: run.mission,
+        bhv: run.bhv,
+        alias: run.name,
+        embedded: false,
+        duration: None,
+        quiet: false,
+    };
+    let extras = helm::app::RunExtras {
+        phelmivp_verbose: Some((run.verbose, env)),
+        ..Default::default()
+    };
+    run_app(&opts, extras)
 }

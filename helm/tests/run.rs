@@ -261,7 +261,7 @@ fn alog_records_postings_and_mail() {
     let log = m.with_file_name("run.alog");
     let extras = helm::app::RunExtras {
         alog: Some(log.clone()),
-        stop: None,
+        ..Default::default()
     };
     helm::app::run_with(&options(&m), &extras).expect("run ends well");
     let e = alog_entries(&log);
@@ -288,7 +288,7 @@ fn alog_of_malconfig_run_has_no_desired() {
     let log = m.with_file_name("run.alog");
     let extras = helm::app::RunExtras {
         alog: Some(log.clone()),
-        stop: None,
+        ..Default::default()
     };
     let r = helm::app::run_with(&options(&m), &extras);
     assert!(

@@ -30,6 +30,8 @@ use moos::client::{Client, ClientError};
 use moos::db::{Db, DbConfig, DbError};
 use moos::wire::Message;
 
+use crate::appcast::{AppCast, Caster};
+use crate::config::Verbose;
 use crate::posting::{Posting, Value};
 use crate::Helm;
 use moos_io::{AlogSink, AppSettings, Registrar};
@@ -61,6 +63,10 @@ pub struct RunExtras {
     /// Set (e.g. by a Ctrl-C handler) to end the run cleanly: final line, alog flushed,
     /// embedded DB shut down.
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// Terminal output as pHelmIvP's (helm.md §12): the `--verbose=` and `HELM_VERBOSE`
+    /// settings, resolved with the block's `verbose =`. None: `helm run`'s heartbeat and
+    /// summary lines.
+    pub phelmivp_verbose: Option<(Option<Verbose>, Option<Verbose>)>,
 }
 
 impl RunExtras {
@@ -159,8 +165,9 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
         (None, None)
     };
 
+    let term = terminal_setup(&helm, &mission, opts, extras);
     let client = connect(&settings, &opts.alias, opts.embedded, extras)?;
-    let outcome = drive(&mut helm, &client, &settings, opts, extras);
+    let outcome = drive(&mut helm, &client, &settings, opts, extras, term);
     // Stop the simulator and the DB after the helm's client is gone.
     client.close();
     if let Some(s) = sim {
@@ -174,6 +181,49 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
         return Err(AppError::Malconfig { problems });
     }
     Ok(())
+}
+
+/// How the run talks to the terminal, and who it is for AppCasting.
+struct TermSetup {
+    mode: terminal::Mode,
+    closing: bool,
+    /// Appcasts are printed (verbose mode on a terminal, or `TERM_REPORTING = true`).
+    term_reporting: bool,
+    community: String,
+}
+
+fn terminal_setup(
+    helm: &Helm,
+    mission: &moos::mission::MissionFile,
+    opts: &RunOptions,
+    extras: &RunExtras,
+) -> TermSetup {
+    use std::io::IsTerminal;
+    let community = mission.global("Community").unwrap_or_default();
+    let (mode, closing) = match extras.phelmivp_verbose {
+        None if opts.quiet => (terminal::Mode::Quiet, true),
+        None => (terminal::Mode::Summary, true),
+        Some((cli, env)) => {
+            let v = crate::phelmivp::resolve_verbose(cli, env, helm.configured_verbose());
+            let mode = match v {
+                Verbose::Verbose => terminal::Mode::Report,
+                Verbose::Terse => terminal::Mode::Terse,
+                Verbose::Quiet => terminal::Mode::Quiet,
+            };
+            (mode, false)
+        }
+    };
+    let forced = mission
+        .global("TERM_REPORTING")
+        .and_then(|v| crate::config::parse_bool(&v));
+    let term_reporting =
+        mode == terminal::Mode::Report && forced.unwrap_or_else(|| std::io::stdout().is_terminal());
+    TermSetup {
+        mode,
+        closing,
+        term_reporting,
+        community,
+    }
 }
 
 fn start_db(mission: &moos::mission::MissionFile) -> Result<Db, AppError> {
@@ -235,6 +285,7 @@ fn connect(
 struct Run<'a> {
     client: &'a Client,
     app: String,
+    community: String,
     status: Status,
     alog: Option<AlogSink>,
 }
@@ -266,10 +317,52 @@ impl Run<'_> {
     }
 
     fn register_new(&mut self, reg: &mut Registrar, subs: &[String], now: f64) {
-        for var in reg.sync(self.client, subs) {
+        let vars = reg.sync(self.client, subs);
+        self.announce(vars, now);
+    }
+
+    /// A registration round of the real helm: every variable of `vars` again.
+    fn register_again(&mut self, reg: &mut Registrar, vars: &[String], now: f64) {
+        let vars = reg.again(self.client, vars);
+        self.announce(vars, now);
+    }
+
+    fn announce(&mut self, vars: Vec<String>, now: f64) {
+        for var in vars {
             let p = Posting {
                 var: "IVPHELM_REGISTER".into(),
                 value: Value::Str(var),
+                source_aux: String::new(),
+            };
+            self.publish(&p, now);
+        }
+    }
+
+    /// The AppCasting step after an iteration: print and/or post the report.
+    fn appcast(&mut self, helm: &mut Helm, caster: &mut Caster, term: &mut Terminal, now: f64) {
+        let due = caster.after_iterate(helm.appcast_warnings(), now);
+        if !due.print && !due.post {
+            return;
+        }
+        let body = helm.appcast_body(now, caster.comms_policy);
+        let malconfig = helm.state() == crate::HelmState::Malconfig;
+        let iteration = caster.iteration;
+        let warnings = helm.appcast_warnings().clone();
+        let cast = AppCast {
+            proc_name: &self.app,
+            community: &self.community,
+            iteration,
+            body: &body,
+            config_warnings: helm.config_warnings(),
+            warnings: &warnings,
+        };
+        if due.print {
+            term.report(&cast.terminal(), malconfig);
+        }
+        if due.post {
+            let p = Posting {
+                var: "APPCAST".into(),
+                value: Value::Str(cast.serialize()),
                 source_aux: String::new(),
             };
             self.publish(&p, now);
@@ -283,6 +376,7 @@ fn drive(
     settings: &AppSettings,
     opts: &RunOptions,
     extras: &RunExtras,
+    setup: TermSetup,
 ) -> Result<(), AppError> {
     let start = client.moos_time();
     let alog = match &extras.alog {
@@ -297,19 +391,31 @@ fn drive(
     let mut run = Run {
         client,
         app: opts.alias.clone(),
+        community: setup.community.clone(),
         status: Status::default(),
         alog,
     };
     let mut reg = Registrar::default();
-    let mut term = Terminal::new(opts.quiet);
+    let mut term = Terminal::new(setup.mode, setup.closing);
+    let mut caster = Caster::new(settings.time_warp, setup.term_reporting);
     tracing::info!(app = %run.app, host = %settings.host, port = settings.port, "helm connected");
 
-    // Start-up: register first, so the helm's own postings come back to it as mail.
+    // The AppCasting base's own variables (no IVPHELM_REGISTER for these).
+    for v in crate::appcast::BASE_VARS {
+        if let Err(e) = client.register(v, 0.0) {
+            tracing::warn!(var = v, "cannot register: {e}");
+        }
+    }
+    // At connection the helm registers its own variables; at the end of start-up
+    // everything again (helm.md §4.1). Register before posting, so the helm's own
+    // postings come back to it as mail.
+    run.register_again(&mut reg, &helm.helm_variables(), start);
     let posts: Vec<Posting> = helm.startup(start).to_vec();
-    run.register_new(&mut reg, helm.subscriptions(), start);
+    run.register_again(&mut reg, helm.subscriptions(), start);
     for p in &posts {
         run.publish(p, start);
     }
+    let mut decided = false;
 
     let period = settings.period();
     let deadline = opts.duration.map(|d| start + d.max(0.0));
@@ -336,7 +442,20 @@ fn drive(
         inbox.clear();
         client.fetch(&mut inbox);
         run.log_mail(&inbox);
-        let mail = moos_io::to_mail(&inbox);
+        let mut mail = moos_io::to_mail(&inbox);
+        // The AppCasting base's mail never reaches the helm.
+        mail.retain(|m| {
+            if !crate::appcast::BASE_VARS.contains(&m.var.as_str()) {
+                return true;
+            }
+            let text = match &m.value {
+                Value::Str(s) => s.clone(),
+                Value::Num(n) => n.to_string(),
+            };
+            let ids = (setup.community.as_str(), opts.alias.as_str());
+            caster.handle_mail(helm.appcast_warnings(), &m.var, &text, ids, now);
+            false
+        });
         for m in &mail {
             run.status.on_mail(m);
         }
@@ -356,7 +475,13 @@ fn drive(
         for p in helm.iterate(now) {
             run.publish(p, now);
         }
+        if !decided && helm.decision_timing().1 > 0 {
+            // The first decision registers every info variable once more.
+            decided = true;
+            run.register_again(&mut reg, &helm.info_variables(), now);
+        }
         run.register_new(&mut reg, helm.subscriptions(), now);
+        run.appcast(helm, &mut caster, &mut term, now);
         term.heartbeat(helm.state());
         if term.summary_due() {
             term.summary(&run.status.summary(now - start, helm.state().as_str()));
@@ -366,7 +491,7 @@ fn drive(
         }
     };
     let end = client.moos_time();
-    term.line(
+    term.last_line(
         &run.status
             .final_line(reason.as_str(), end - start, helm.state().as_str()),
     );

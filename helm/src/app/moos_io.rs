@@ -109,9 +109,12 @@ pub fn publish(client: &Client, p: &Posting, time: f64) -> Result<(), ClientErro
     client.notify_with_aux(to_message(p, time), &p.source_aux)
 }
 
-/// Keeps the DB subscriptions in step with the helm's list: every variable in it is
-/// registered once (the list normally only grows; a variable that reappears after a
-/// restart is not registered twice).
+/// Keeps the DB subscriptions in step with the helm's list.
+///
+/// The real helm registers (and posts `IVPHELM_REGISTER` for) its variables at
+/// connection, again at the end of start-up, and once more for every info variable at
+/// the first decision (helm.md §4.1); after that only variables that are new.
+/// [`Registrar::sync`] does the latter, [`Registrar::again`] the repeated rounds.
 #[derive(Debug, Default)]
 pub struct Registrar {
     done: std::collections::HashSet<String>,
@@ -120,20 +123,28 @@ pub struct Registrar {
 impl Registrar {
     /// Register the variables of `subs` not registered yet; returns the new ones.
     pub fn sync(&mut self, client: &Client, subs: &[String]) -> Vec<String> {
-        let mut new = Vec::new();
-        for var in subs {
-            if self.done.contains(var) {
-                continue;
-            }
+        let fresh: Vec<String> = subs
+            .iter()
+            .filter(|v| !self.done.contains(*v))
+            .cloned()
+            .collect();
+        self.again(client, &fresh)
+    }
+
+    /// Register every variable of `vars`, registered before or not; returns those
+    /// registered (each gets its `IVPHELM_REGISTER`).
+    pub fn again(&mut self, client: &Client, vars: &[String]) -> Vec<String> {
+        let mut out = Vec::new();
+        for var in vars.iter().filter(|v| !v.is_empty()) {
             match client.register(var, 0.0) {
                 Ok(()) => {
                     self.done.insert(var.clone());
-                    new.push(var.clone());
+                    out.push(var.clone());
                 }
                 Err(e) => tracing::warn!(%var, "cannot register: {e}"),
             }
         }
-        new
+        out
     }
 }
 

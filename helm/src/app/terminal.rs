@@ -37,18 +37,37 @@ pub fn malconfig_box(problems: usize) -> String {
     s
 }
 
+/// What the terminal shows during a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// `helm run`: heartbeat characters, a summary line every few seconds, a final line.
+    Summary,
+    /// pHelmIvP `verbose`: the appcast report (printed when the AppCasting rule says).
+    Report,
+    /// pHelmIvP `terse`: one `$` (DRIVE) or `*` (PARK) per iteration.
+    Terse,
+    /// Nothing but start-up text.
+    Quiet,
+}
+
 /// Heartbeat and summary printer.
 pub struct Terminal {
-    quiet: bool,
+    mode: Mode,
+    /// The MALCONFIG report was printed (it is printed once).
+    malconfig_shown: bool,
+    /// Print the run's last line (`helm run`, quiet or not; pHelmIvP prints none).
+    closing: bool,
     /// Characters printed since the last newline.
     column: usize,
     last_summary: Instant,
 }
 
 impl Terminal {
-    pub fn new(quiet: bool) -> Terminal {
+    pub fn new(mode: Mode, closing: bool) -> Terminal {
         Terminal {
-            quiet,
+            mode,
+            malconfig_shown: false,
+            closing,
             column: 0,
             last_summary: Instant::now(),
         }
@@ -56,7 +75,7 @@ impl Terminal {
 
     /// One iteration's character.
     pub fn heartbeat(&mut self, state: HelmState) {
-        if self.quiet {
+        if !matches!(self.mode, Mode::Summary | Mode::Terse) {
             return;
         }
         if let Some(c) = heartbeat_char(state) {
@@ -76,11 +95,30 @@ impl Terminal {
         true
     }
 
-    /// A summary line (not when quiet).
+    /// A summary line (`helm run` only).
     pub fn summary(&mut self, text: &str) {
-        if !self.quiet {
+        if self.mode == Mode::Summary {
             self.line(text);
         }
+    }
+
+    /// The last line of a run (`helm run` only: pHelmIvP prints none).
+    pub fn last_line(&mut self, text: &str) {
+        if self.closing {
+            self.line(text);
+        }
+    }
+
+    /// The appcast report in its terminal form, after 9 newlines as the AppCasting
+    /// base prints it. A MALCONFIG report is printed once.
+    pub fn report(&mut self, text: &str, malconfig: bool) {
+        if self.mode != Mode::Report || (malconfig && self.malconfig_shown) {
+            return;
+        }
+        self.malconfig_shown |= malconfig;
+        let mut out = std::io::stdout().lock();
+        let _ = write!(out, "{}{text}", "\n".repeat(9));
+        let _ = out.flush();
     }
 
     /// Print a whole line, after ending the heartbeat line if one is open.

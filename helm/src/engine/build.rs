@@ -158,6 +158,7 @@ impl Helm {
             decide_time: std::time::Duration::ZERO,
             decide_count: 0,
             subs_signature: 0,
+            report: Default::default(),
             config,
         }
     }
@@ -229,38 +230,54 @@ impl Helm {
 
     /// Every variable the helm needs (helm.md §4.1).
     pub(crate) fn register_all(&mut self) {
-        for v in [
-            "DB_CLIENTS",
-            "MOOS_MANUAL_OVERIDE",
-            "MOOS_MANUAL_OVERRIDE",
-            "RESTART_HELM",
-            "IVPHELM_REJOURNAL",
-            "BHV_ABLE_FILTER",
-            "NAV_X",
-            "NAV_Y",
-            "NAV_SPEED",
-            "NAV_HEADING",
-            "NAV_DEPTH",
-            "HELM_MAP_CLEAR",
-            "AIS_REPORT",
-            "NODE_REPORT",
-            "AIS_REPORT_LOCAL",
-            "NODE_REPORT_LOCAL",
-        ] {
-            self.register(v);
+        for v in self.helm_variables() {
+            self.register(&v);
         }
-        let other = self.config.other_override_var.clone();
-        self.register(&other);
+        for v in self.info_variables() {
+            self.register(&v);
+        }
+    }
+
+    /// The helm's own variables (helm.md §4.1), known before start-up: what a MOOS
+    /// connection registers first.
+    pub fn helm_variables(&self) -> Vec<String> {
+        let mut vars: Vec<String> = HELM_VARS.iter().map(|v| v.to_string()).collect();
+        if !self.config.other_override_var.is_empty() {
+            vars.push(self.config.other_override_var.clone());
+        }
+        vars
+    }
+
+    /// The behaviors' info variables and the mode-condition variables.
+    pub fn info_variables(&self) -> Vec<String> {
         let mut vars = Vec::new();
         for inst in &self.behaviors {
             vars.extend(inst.core.subscriptions());
         }
         vars.extend(self.modes.vars());
-        for v in vars {
-            self.register(&v);
-        }
+        vars
     }
 }
+
+/// The variables every helm registers for (helm.md §4.1, besides `other_override_var`).
+const HELM_VARS: [&str; 16] = [
+    "DB_CLIENTS",
+    "MOOS_MANUAL_OVERIDE",
+    "MOOS_MANUAL_OVERRIDE",
+    "RESTART_HELM",
+    "IVPHELM_REJOURNAL",
+    "BHV_ABLE_FILTER",
+    "NAV_X",
+    "NAV_Y",
+    "NAV_SPEED",
+    "NAV_HEADING",
+    "NAV_DEPTH",
+    "HELM_MAP_CLEAR",
+    "AIS_REPORT",
+    "NODE_REPORT",
+    "AIS_REPORT_LOCAL",
+    "NODE_REPORT_LOCAL",
+];
 
 /// Build one behavior from its `.bhv` block: create it, set `us`, apply the lines in
 /// order, run the collective check. Every problem is one line naming file and line.
@@ -337,7 +354,8 @@ impl Helm {
     /// `type2` re-posts the non-deferred initializations. The info buffer is kept and
     /// helm-start messages are not posted again.
     pub(crate) fn restart_behaviors(&mut self, now: f64, kind: &str) {
-        tracing::warn!("pHelmIvP has been re-started!! ({kind})");
+        tracing::info!("restart {kind}");
+        self.run_warning("pHelmIvP has been re-started!!");
         let ownship = self.env.ownship.clone();
         let mut rebuilt = Vec::new();
         for bs in self

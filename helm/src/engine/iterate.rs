@@ -4,6 +4,9 @@ use super::{Helm, HelmState};
 use crate::posting::{Posting, Value};
 use crate::runtime::step;
 
+/// The run warning while NAV_* are missing after `nav_grace` (retracted once they come).
+const NAV_WAIT: &str = "Waiting for Helm Nav Solution";
+
 /// What the decision step produced, for the all-stop evaluation.
 #[derive(Debug, Default)]
 pub(crate) struct DecisionSummary {
@@ -40,6 +43,7 @@ impl Helm {
         }
         // Helm-start messages held back until every `hold_on_apps` app is connected.
         if !self.startup_messages.is_empty() && self.hold_apps_seen() {
+            self.retract_run_warning(super::mail::HOLD_WAIT);
             for (var, value) in std::mem::take(&mut self.startup_messages) {
                 self.ib.set_value(&var, &value, now);
                 self.post(&var, value, "HELM_STARTUP_MSG");
@@ -70,9 +74,13 @@ impl Helm {
         if !self.nav_ready() {
             if now - self.start_time > self.config.nav_grace && !self.nav_warned {
                 self.nav_warned = true;
-                tracing::warn!("Waiting for Helm Nav Solution");
+                self.run_warning(NAV_WAIT);
             }
             return &self.outbox;
+        }
+        if self.nav_warned {
+            self.nav_warned = false;
+            self.retract_run_warning(NAV_WAIT);
         }
         if self.helm_state_seen && !self.deferred_done {
             self.deferred_done = true;
@@ -105,6 +113,10 @@ impl Helm {
         self.last_decide_secs = took.as_secs_f64();
         self.decide_time += took;
         self.decide_count += 1;
+        let (_, max) = self.report.loop_secs;
+        self.report.loop_secs = (self.last_decide_secs, max.max(self.last_decide_secs));
+        self.report.halted = summary.halted.is_some();
+        self.report.functions = summary.functions;
 
         let results: Vec<String> = self
             .behaviors

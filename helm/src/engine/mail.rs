@@ -14,6 +14,9 @@ pub struct Mail {
     pub source_aux: String,
 }
 
+/// The run warning while `hold_on_apps` are missing (retracted once they are seen).
+pub(crate) const HOLD_WAIT: &str = "Not all HoldOnApps have been detected";
+
 impl Helm {
     /// Take one batch of mail into the info buffer.
     pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
@@ -60,7 +63,7 @@ impl Helm {
                     "Helm ignores MOOS msg due to skew: {} Source={} Skew={:.2}",
                     m.var, m.source, skew
                 );
-                tracing::warn!("{text}");
+                self.run_warning(&text);
                 self.post_str("IVPHELM_SKEW", &format!("{text} curr_time: {now:.3}"));
                 return;
             }
@@ -71,6 +74,14 @@ impl Helm {
             || (!self.config.other_override_var.is_empty()
                 && var == self.config.other_override_var);
         if is_override {
+            if var != self.config.other_override_var {
+                let ev = format!(
+                    "var={var}:matter={}, skew={:.2}",
+                    self.config.allow_park,
+                    now - m.time
+                );
+                self.report.warnings.event(now - self.start_time, &ev);
+            }
             if let Value::Str(s) = &m.value {
                 if s.eq_ignore_ascii_case("false") {
                     self.has_control = true;
@@ -106,7 +117,7 @@ impl Helm {
                     }
                 }
                 if !self.startup_messages.is_empty() && !self.hold_apps_seen() {
-                    tracing::warn!("Not all HoldOnApps have been detected");
+                    self.run_warning(HOLD_WAIT);
                 }
             }
             "IVPHELM_REJOURNAL" => self.summary_last.clear(),

@@ -9,6 +9,7 @@ mod build;
 mod iterate;
 mod mail;
 mod publish;
+mod report;
 mod spawn;
 mod summary;
 
@@ -117,6 +118,8 @@ pub struct Helm {
     pub(crate) factory: crate::factory::BehaviorFactory,
     /// Mode variable values of this iteration, sorted by variable.
     pub(crate) mode_pairs: Vec<(String, String)>,
+    /// What the AppCasting report shows (run warnings, events, last postings).
+    pub(crate) report: report::ReportFeed,
 }
 
 impl Helm {
@@ -129,6 +132,11 @@ impl Helm {
     /// The current status.
     pub fn state(&self) -> HelmState {
         self.state
+    }
+
+    /// The `verbose =` setting of the pHelmIvP block.
+    pub fn configured_verbose(&self) -> crate::config::Verbose {
+        self.config.verbose
     }
 
     /// Configuration problems (non-empty means MALCONFIG).

@@ -32,9 +32,16 @@ impl Helm {
                         self.post(&m.var, m.value.clone(), &name);
                         continue;
                     }
-                    "BHV_WARNING" | "BHV_ERROR" => {
+                    "BHV_WARNING" | "BHV_ERROR" | "BHV_EVENT" => {
                         if let Value::Str(s) = &m.value {
-                            tracing::warn!("{}: {}", m.var, s);
+                            let text = format!("{}: {s}", m.var);
+                            if m.var == "BHV_EVENT" {
+                                self.report.warnings.event(now - self.start_time, s);
+                            } else if m.key.ends_with("retract") {
+                                self.retract_run_warning(&text);
+                            } else {
+                                self.run_warning(&text);
+                            }
                         }
                     }
                     _ => {}
@@ -42,6 +49,8 @@ impl Helm {
                 self.ib.set_value(&m.var, &m.value, now);
                 if self.filter.allow(&m.key, &m.value) {
                     self.post(&m.var, m.value.clone(), &aux);
+                    self.report
+                        .posted(&m.var, &name, now - self.start_time, iter, &m.value);
                 }
             }
             // Give the buffer back so its allocation is reused next iteration.
@@ -82,9 +91,11 @@ impl Helm {
         }
         let before = self.behaviors.len();
         let mut dead = Vec::new();
+        let report = &mut self.report;
         self.behaviors.retain(|b| {
             let done = b.core.state == RunState::Completed;
             if done {
+                report.completed(&b.core.name, now);
                 dead.push(format!(
                     "bname={}, btype={}, event=death",
                     b.core.name, b.core.type_name

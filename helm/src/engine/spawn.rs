@@ -109,7 +109,7 @@ impl Helm {
             }
         }
         for (i, w) in warnings.into_iter().enumerate() {
-            tracing::warn!("{w}");
+            self.run_warning(&w);
             self.post("IVPHELM_BHVSET_WARNING", Value::Str(format!("{i}:{w}")), "");
         }
         let _ = now;
