@@ -370,6 +370,26 @@ impl Run<'_> {
     }
 }
 
+/// A pause of the loop longer than this (real time) counts as a stall.
+const STALL: Duration = Duration::from_secs(1);
+
+/// After a stall: wait (at most 2 s) until the mail has caught up with the present, i.e.
+/// a message stamped within two periods of now has arrived. The mail stays in `inbox`
+/// for the iteration that follows.
+fn catch_up(client: &Client, inbox: &mut Vec<Message>, period: Duration, warp: f64) {
+    inbox.clear();
+    let present = client.moos_time() - 2.0 * period.as_secs_f64() * warp;
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_secs(2) && client.is_connected() {
+        client.wait_for_mail(period);
+        let before = inbox.len();
+        client.fetch(inbox);
+        if inbox[before..].iter().any(|m| m.time >= present) {
+            break;
+        }
+    }
+}
+
 fn drive(
     helm: &mut Helm,
     client: &Client,
@@ -421,12 +441,23 @@ fn drive(
     let deadline = opts.duration.map(|d| start + d.max(0.0));
     let mut inbox: Vec<Message> = Vec::new();
     let mut next = Instant::now();
+    let mut last_tick = Instant::now();
     let mut disconnected_told = false;
     let reason = loop {
         next += period;
         match next.checked_duration_since(Instant::now()) {
             Some(wait) => std::thread::sleep(wait),
             None => next = Instant::now(),
+        }
+        let stalled = last_tick.elapsed() > STALL.max(period * 5);
+        last_tick = Instant::now();
+        if stalled {
+            // The process was frozen (SIGSTOP, a debugger, a starved machine): read the
+            // mail that came meanwhile before deciding anything, so that, e.g., a
+            // standby helm that took over disables this one before it posts a stale
+            // decision.
+            catch_up(client, &mut inbox, period, settings.time_warp);
+            next = Instant::now();
         }
         let now = client.moos_time();
         if deadline.is_some_and(|d| now >= d) {
@@ -439,7 +470,9 @@ fn drive(
             break StopReason::MissionOver;
         }
 
-        inbox.clear();
+        if !stalled {
+            inbox.clear();
+        }
         client.fetch(&mut inbox);
         run.log_mail(&inbox);
         let mut mail = moos_io::to_mail(&inbox);

@@ -128,6 +128,7 @@ impl Helm {
             registered: Vec::new(),
             config_warnings: warnings,
             outbox: Vec::new(),
+            outbox_taken: false,
             last_posted: Default::default(),
             statevars: Vec::new(),
             completed_pending_last: None,
@@ -225,6 +226,7 @@ impl Helm {
                 inst.core.name, inst.core.type_name
             ));
         }
+        self.outbox_taken = true;
         &self.outbox
     }
 

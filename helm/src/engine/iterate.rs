@@ -30,9 +30,24 @@ impl Helm {
         ok
     }
 
-    /// One iteration at MOOS time `now`: returns what the helm publishes.
+    /// One iteration at MOOS time `now`: returns what the helm publishes, including
+    /// what it posted while handling this cycle's mail (a skew report, the all-stop of
+    /// a helm disabled by its standby), as the real helm posts those at once.
     pub fn iterate(&mut self, now: f64) -> &[Posting] {
-        self.outbox.clear();
+        self.fresh_outbox();
+        self.iterate_steps(now);
+        self.outbox_taken = true;
+        &self.outbox
+    }
+
+    /// Start a new batch of postings once the last one was handed out.
+    pub(crate) fn fresh_outbox(&mut self) {
+        if std::mem::take(&mut self.outbox_taken) {
+            self.outbox.clear();
+        }
+    }
+
+    fn iterate_steps(&mut self, now: f64) {
         self.iteration += 1;
         if !self.mail_this_cycle {
             self.ib.set_curr_time(now);
@@ -69,14 +84,14 @@ impl Helm {
         }
         if !self.enabled() {
             self.ib.clear_deltas();
-            return &self.outbox;
+            return;
         }
         if !self.nav_ready() {
             if now - self.start_time > self.config.nav_grace && !self.nav_warned {
                 self.nav_warned = true;
                 self.run_warning(NAV_WAIT);
             }
-            return &self.outbox;
+            return;
         }
         if self.nav_warned {
             self.nav_warned = false;
@@ -97,10 +112,10 @@ impl Helm {
         if self.state == HelmState::Park {
             self.all_stop("ManualOverride");
             self.ib.clear_deltas();
-            return &self.outbox;
+            return;
         }
         if now - self.start_time < 1.0 {
-            return &self.outbox;
+            return;
         }
         if std::mem::take(&mut self.restarted) {
             self.post_str("IVPHELM_RESTARTED", "true");
@@ -155,7 +170,6 @@ impl Helm {
             self.has_control = false;
         }
         self.ib.clear_deltas();
-        &self.outbox
     }
 
     /// Changes whenever a behavior could need a new subscription (new behavior, new

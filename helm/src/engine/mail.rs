@@ -20,6 +20,7 @@ pub(crate) const HOLD_WAIT: &str = "Not all HoldOnApps have been detected";
 impl Helm {
     /// Take one batch of mail into the info buffer.
     pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
+        self.fresh_outbox();
         if self.state == HelmState::Disabled {
             return;
         }

@@ -85,6 +85,8 @@ pub struct Helm {
     pub(crate) registered: Vec<String>,
     pub(crate) config_warnings: Vec<String>,
     pub(crate) outbox: Vec<Posting>,
+    /// The outbox was handed out: the next posting starts a new batch.
+    pub(crate) outbox_taken: bool,
     /// Last values of the helm's "on change" postings.
     pub(crate) last_posted: BTreeMap<&'static str, String>,
     pub(crate) statevars: Vec<String>,

@@ -161,6 +161,8 @@ impl Helm {
         };
         let (last, max) = f.loop_secs;
         let _ = writeln!(s, "  Comms Policy: {comms_policy}");
+        // Not in the real report: people reading uMAC want the state first.
+        let _ = writeln!(s, "  Helm State:      {}", self.state.as_str());
         let _ = writeln!(s, "  Helm Iteration:  {}", self.env.helm_iteration);
         let _ = writeln!(s, "  IvP Functions:   {}", f.functions);
         let _ = writeln!(s, "  Pieces (Formed): {pcs}");
