@@ -34,7 +34,10 @@
 //!   `seglist_spec`, `Attrs`, ...);
 //! - MOOS-IvP's number and colour rules from [`mbutil`], also at the top level:
 //!   [`is_number`], [`atof`], [`parse_number`], [`compact`] (the `%.Nf` formatter with
-//!   trailing zeros removed), [`parse_color`] / [`is_color`] (the helm's colour parser).
+//!   trailing zeros removed), [`parse_color`] / [`is_color`] (the helm's colour parser);
+//! - [`flag`]: the `.bhv` flag syntax (`[#dest ]VAR = VALUE [if CONDITION]`), to check a
+//!   behavior's own flag parameters (e.g. BHV_Waypoint's `wptflag`) the way the helm
+//!   checks `endflag`.
 //!
 //! ```
 //! assert_eq!(behavior_api::parse_number(" 1.5 "), Some(1.5));
@@ -52,6 +55,7 @@
 
 pub mod behavior;
 pub mod context;
+pub mod flag;
 pub mod function;
 pub mod module;
 pub mod sdk;
