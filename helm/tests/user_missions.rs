@@ -203,7 +203,7 @@ const REFUSED: &[(&str, &[&str])] = &[
         "BHV_Timer",
         &[
             "var_status_idle = A B",
-            "var_status_running = ",
+            "var_status_running = T RUN",
             "speed = 2",
         ],
     ),
@@ -240,6 +240,8 @@ const REFUSED: &[(&str, &[&str])] = &[
         "BHV_StationKeep",
         &[
             "station_pt = nowhere",
+            "station_pt = present_position",
+            "point = 1,2,3,4",
             "center_activate = yes",
             "hibernation_radius = 0",
             "hibernation_radius = -2",
