@@ -26,6 +26,27 @@
 //! assert_eq!(b.domain().as_str(), "speed,0,4,41");
 //! ```
 //!
+//! Everything a behavior needs comes through this crate, so a third party depends on
+//! `behavior-api` (and `abi_stable`) alone:
+//! - [`ivp`]: domains, ZAIC builders, coupler, reflector (the objective functions);
+//! - [`geometry`]: angles, points and segments, convex polygons, the point / seglist /
+//!   polygon strings, and the VIEW_* spec strings ([`geometry::spec`]: `point_spec`,
+//!   `seglist_spec`, `Attrs`, ...);
+//! - MOOS-IvP's number and colour rules from [`mbutil`], also at the top level:
+//!   [`is_number`], [`atof`], [`parse_number`], [`compact`] (the `%.Nf` formatter with
+//!   trailing zeros removed), [`parse_color`] / [`is_color`] (the helm's colour parser);
+//! - [`flag`]: the `.bhv` flag syntax (`[#dest ]VAR = VALUE [if CONDITION]`), to check a
+//!   behavior's own flag parameters (e.g. BHV_Waypoint's `wptflag`) the way the helm
+//!   checks `endflag`.
+//!
+//! ```
+//! assert_eq!(behavior_api::parse_number(" 1.5 "), Some(1.5));
+//! assert!(behavior_api::is_color("gray70"));
+//! assert_eq!(behavior_api::geometry::angle360(-90.0), 270.0);
+//! let attrs = behavior_api::geometry::spec::Attrs::default();
+//! assert_eq!(behavior_api::geometry::spec::point_spec(1.0, 2.5, None, &attrs), "x=1,y=2.5");
+//! ```
+//!
 //! Versioning: the root module carries this crate's version; abi_stable refuses a library
 //! built against an incompatible version and checks every type layout when loading.
 
@@ -34,6 +55,7 @@
 
 pub mod behavior;
 pub mod context;
+pub mod flag;
 pub mod function;
 pub mod module;
 pub mod sdk;
@@ -47,6 +69,9 @@ pub use abi_stable;
 pub use behavior::{BehaviorBox, CallResult};
 pub use context::HelmCtx;
 pub use function::FunctionData;
+pub use geometry;
 pub use ivp;
+pub use mbutil;
+pub use mbutil::{atof, compact, is_color, is_number, parse_color, parse_number, Color};
 pub use module::{BehaviorLibRef, API_VERSION};
 pub use value::PostValue;

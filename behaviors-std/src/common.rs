@@ -3,47 +3,9 @@
 
 use behavior_api::sdk::Ctx;
 
-/// The number test of bhv-format.md §8.6 followed by the value (`atof`).
-pub fn parse_number(s: &str) -> Option<f64> {
-    let t = s.trim();
-    let t = match t.strip_prefix('+') {
-        Some(r) if !r.is_empty() => r,
-        _ => t,
-    };
-    if t.is_empty() {
-        return None;
-    }
-    let mut digits = 0;
-    let mut dots = 0;
-    let mut seen_num = false;
-    for c in t.chars() {
-        match c {
-            '0'..='9' => {
-                digits += 1;
-                seen_num = true;
-            }
-            '.' => {
-                dots += 1;
-                seen_num = true;
-            }
-            '-' if !seen_num => {}
-            _ => return None,
-        }
-    }
-    if digits == 0 || dots > 1 {
-        return None;
-    }
-    // Leading minus signs: an odd count is negative (atof reads only one; more than one
-    // makes atof return 0).
-    let minus = t.chars().take_while(|c| *c == '-').count();
-    let body = &t[minus..];
-    let v: f64 = body.parse().ok()?;
-    Some(match minus {
-        0 => v,
-        1 => -v,
-        _ => 0.0,
-    })
-}
+/// The number test of bhv-format.md §8.6 followed by the value (`atof`): MOOS-IvP's one
+/// number parser, shared with the `.bhv` reader and every plugin.
+pub use behavior_api::parse_number;
 
 /// A non-negative number.
 pub fn parse_nonneg(s: &str) -> Option<f64> {

@@ -1,9 +1,9 @@
-//! Number recognition and typing of values (bhv-format.md §8.6).
+//! Typing of values in `.bhv` files (bhv-format.md §8.6).
 //!
-//! The helm's number test is stricter than C `atof`: after trimming blanks
-//! the text must be digits with at most one `.`, optional `-` signs before
-//! any digit or `.`, an optional leading `+`, and at least one digit. No
-//! exponents, no hex. The numeric value is then C `atof` of the text.
+//! The number test, C `atof` and the compact formatter are MOOS-IvP's shared utilities
+//! and live in `mbutil`; they are re-exported here so `bhv::number::...` keeps working.
+
+pub use mbutil::number::{atof, compact, is_number, strip_quotes};
 
 /// A typed value: a number or a string.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,188 +32,6 @@ impl Value {
     }
 }
 
-fn is_blank(c: char) -> bool {
-    c == ' ' || c == '\t' || c == '\r' || c == '\n'
-}
-
-/// The helm's number test (§8.6).
-///
-/// ```
-/// assert!(bhv::number::is_number(" -3.5 "));
-/// assert!(!bhv::number::is_number("1e5"));
-/// ```
-pub fn is_number(s: &str) -> bool {
-    let t = s.trim_matches(is_blank);
-    let t = match t.strip_prefix('+') {
-        Some(rest) if !rest.is_empty() => rest,
-        _ => t,
-    };
-    if t.is_empty() {
-        return false;
-    }
-    let mut digits = 0usize;
-    let mut dots = 0usize;
-    let mut seen_digit_or_dot = false;
-    for b in t.bytes() {
-        match b {
-            b'0'..=b'9' => {
-                digits += 1;
-                seen_digit_or_dot = true;
-            }
-            b'.' => {
-                dots += 1;
-                if dots > 1 {
-                    return false;
-                }
-                seen_digit_or_dot = true;
-            }
-            b'-' => {
-                if seen_digit_or_dot {
-                    return false;
-                }
-            }
-            _ => return false,
-        }
-    }
-    digits > 0
-}
-
-/// C `atof`: the value of the longest numeric prefix (after leading white
-/// space), or 0 when there is none. Accepts an optional sign, decimal digits
-/// with an optional fraction and exponent, `inf`/`infinity`/`nan`, and
-/// hexadecimal (`0x...`, with optional fraction and `p` exponent).
-///
-/// ```
-/// assert_eq!(bhv::number::atof("12.5abc"), 12.5);
-/// assert_eq!(bhv::number::atof("abc"), 0.0);
-/// ```
-pub fn atof(s: &str) -> f64 {
-    let b = s.as_bytes();
-    let mut i = 0;
-    while i < b.len() && matches!(b[i], b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c) {
-        i += 1;
-    }
-    let mut neg = false;
-    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
-        neg = b[i] == b'-';
-        i += 1;
-    }
-    let rest = &b[i..];
-    let lower_starts = |p: &[u8]| rest.len() >= p.len() && rest[..p.len()].eq_ignore_ascii_case(p);
-    let mag = if lower_starts(b"inf") {
-        f64::INFINITY
-    } else if lower_starts(b"nan") {
-        f64::NAN
-    } else if (lower_starts(b"0x"))
-        && rest.len() > 2
-        && (rest[2].is_ascii_hexdigit()
-            || (rest[2] == b'.' && rest.len() > 3 && rest[3].is_ascii_hexdigit()))
-    {
-        hex_prefix(&rest[2..])
-    } else {
-        decimal_prefix(rest)
-    };
-    if neg {
-        -mag
-    } else {
-        mag
-    }
-}
-
-fn decimal_prefix(b: &[u8]) -> f64 {
-    let mut i = 0;
-    let mut mant_digits = 0;
-    while i < b.len() && b[i].is_ascii_digit() {
-        i += 1;
-        mant_digits += 1;
-    }
-    if i < b.len() && b[i] == b'.' {
-        i += 1;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-            mant_digits += 1;
-        }
-    }
-    if mant_digits == 0 {
-        return 0.0;
-    }
-    let mant_end = i;
-    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
-        let mut j = i + 1;
-        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
-            j += 1;
-        }
-        let start = j;
-        while j < b.len() && b[j].is_ascii_digit() {
-            j += 1;
-        }
-        if j > start {
-            i = j;
-        }
-    }
-    let end = if i > mant_end { i } else { mant_end };
-    // The slice is ASCII digits/./e/sign only, so it is valid UTF-8 and a
-    // valid Rust float literal (Rust accepts "5." and ".5").
-    std::str::from_utf8(&b[..end])
-        .ok()
-        .and_then(|t| t.parse::<f64>().ok())
-        .unwrap_or(0.0)
-}
-
-fn hex_prefix(b: &[u8]) -> f64 {
-    let mut v = 0.0f64;
-    let mut i = 0;
-    while i < b.len() && b[i].is_ascii_hexdigit() {
-        v = v * 16.0 + f64::from(hex_val(b[i]));
-        i += 1;
-    }
-    if i < b.len() && b[i] == b'.' {
-        i += 1;
-        let mut scale = 1.0 / 16.0;
-        while i < b.len() && b[i].is_ascii_hexdigit() {
-            v += f64::from(hex_val(b[i])) * scale;
-            scale /= 16.0;
-            i += 1;
-        }
-    }
-    if i < b.len() && (b[i] == b'p' || b[i] == b'P') {
-        let mut j = i + 1;
-        let mut eneg = false;
-        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
-            eneg = b[j] == b'-';
-            j += 1;
-        }
-        let start = j;
-        let mut e: i32 = 0;
-        while j < b.len() && b[j].is_ascii_digit() {
-            e = e.saturating_mul(10).saturating_add(i32::from(b[j] - b'0'));
-            j += 1;
-        }
-        if j > start {
-            v *= 2f64.powi(if eneg { -e } else { e });
-        }
-    }
-    v
-}
-
-fn hex_val(c: u8) -> u8 {
-    match c {
-        b'0'..=b'9' => c - b'0',
-        b'a'..=b'f' => c - b'a' + 10,
-        b'A'..=b'F' => c - b'A' + 10,
-        _ => 0,
-    }
-}
-
-/// Removes one pair of surrounding double quotes, if present.
-pub fn strip_quotes(s: &str) -> &str {
-    if s.len() >= 2 && s.starts_with('"') && s.ends_with('"') {
-        &s[1..s.len() - 1]
-    } else {
-        s
-    }
-}
-
 /// Types a value as the helm does for inits, flags and constants: a number
 /// (§8.6) → [`Value::Num`]; wrapped in double quotes → [`Value::Str`]
 /// without the quotes; otherwise [`Value::Str`] as is.
@@ -231,72 +49,9 @@ pub fn typed_value(s: &str) -> Value {
     }
 }
 
-/// Compact number formatting: at most `decimals` decimals, trailing zeros
-/// and a trailing point removed (`3.000` → `3`, `2.50` → `2.5`).
-pub fn compact(v: f64, decimals: usize) -> String {
-    // Whole numbers print the same at any precision (flag macros, mode values).
-    if v.fract() == 0.0 && v.abs() < 1e15 {
-        return if v == 0.0 {
-            "0".to_string()
-        } else {
-            (v as i64).to_string()
-        };
-    }
-    let mut s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        while s.ends_with('0') {
-            s.pop();
-        }
-        if s.ends_with('.') {
-            s.pop();
-        }
-    }
-    if s == "-0" {
-        s = "0".to_string();
-    }
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn number_examples() {
-        for s in [
-            "0", "12", "-3", "+4", "3.5", ".5", "5.", "-.5", " 7 ", "\t8\t", "--5", "-0.0", "+-1",
-        ] {
-            assert!(is_number(s), "{s:?} should be a number");
-        }
-        for s in [
-            "", " ", "+", "-", ".", "-.", "1e5", "0x10", "1.2.3", "5-", "1-2", "abc", "12a", "++1",
-            "1 2", "inf", "nan", "\"3\"",
-        ] {
-            assert!(!is_number(s), "{s:?} should not be a number");
-        }
-    }
-
-    #[test]
-    fn atof_semantics() {
-        assert_eq!(atof("3.25"), 3.25);
-        assert_eq!(atof("  -2.5xyz"), -2.5);
-        assert_eq!(atof("+7"), 7.0);
-        assert_eq!(atof("1e3"), 1000.0);
-        assert_eq!(atof("1e"), 1.0);
-        assert_eq!(atof("1e+"), 1.0);
-        assert_eq!(atof(".5"), 0.5);
-        assert_eq!(atof("5."), 5.0);
-        assert_eq!(atof("--5"), 0.0);
-        assert_eq!(atof(""), 0.0);
-        assert_eq!(atof("abc"), 0.0);
-        assert_eq!(atof("."), 0.0);
-        assert_eq!(atof("0x10"), 16.0);
-        assert_eq!(atof("0x1p4"), 16.0);
-        assert_eq!(atof("0x"), 0.0);
-        assert!(atof("inf").is_infinite());
-        assert!(atof("-Infinity") < 0.0);
-        assert!(atof("nan").is_nan());
-    }
 
     #[test]
     fn typing() {
@@ -309,26 +64,9 @@ mod tests {
         assert_eq!(typed_value("\""), Value::Str("\"".into()));
     }
 
-    #[test]
-    fn compact_format() {
-        assert_eq!(compact(3.0, 6), "3");
-        assert_eq!(compact(2.5, 6), "2.5");
-        assert_eq!(compact(-0.0, 6), "0");
-        assert_eq!(compact(1.23456789, 3), "1.235");
-    }
-
     proptest::proptest! {
         #[test]
-        fn recognized_numbers_roundtrip(v in -1.0e6f64..1.0e6) {
-            let s = format!("{v:.4}");
-            proptest::prop_assert!(is_number(&s));
-            proptest::prop_assert!((atof(&s) - v).abs() < 1e-3);
-        }
-
-        #[test]
         fn never_panics(s in ".{0,20}") {
-            let _ = is_number(&s);
-            let _ = atof(&s);
             let _ = typed_value(&s);
         }
     }

@@ -4,13 +4,7 @@
 #![allow(dead_code)]
 
 /// The helm's number test (bhv-format.md §8.6) followed by the value (C `atof`).
-pub fn parse_number(s: &str) -> Option<f64> {
-    if bhv::number::is_number(s) {
-        Some(bhv::number::atof(s.trim()))
-    } else {
-        None
-    }
-}
+pub use behavior_api::parse_number;
 
 /// A string without white space (empty allowed).
 pub fn no_white(s: &str) -> Option<&str> {

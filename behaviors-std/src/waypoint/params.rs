@@ -35,7 +35,8 @@ impl Default for WptHints {
 }
 
 impl WptHints {
-    /// Apply `key=value,key=value`; all-or-nothing validation.
+    /// Apply `key=value,key=value`; all-or-nothing validation: a key containing `color`
+    /// needs a colour (`mbutil::color`), any other key a number (behaviors-std.md §2.1).
     pub fn apply(&mut self, spec: &str) -> bool {
         let mut next = self.clone();
         for part in spec.split(',') {
@@ -58,13 +59,15 @@ impl WptHints {
                     return false;
                 }
                 let v = v.to_string();
+                // Any key holding a valid colour is a hint (the distribution's own
+                // missions write `line_color=white`); the ones not drawn are kept nowhere.
                 match key.as_str() {
                     "vertex_color" => next.vertex_color = v,
                     "edge_color" => next.edge_color = v,
                     "label_color" => next.label_color = v,
                     "nextpt_color" => next.nextpt_color = v,
                     "nextpt_label_color" => next.nextpt_label_color = v,
-                    _ => return false,
+                    _ => {}
                 }
             } else {
                 let Some(n) = parse_number(v) else {
@@ -74,7 +77,7 @@ impl WptHints {
                     "vertex_size" => next.vertex_size = n,
                     "edge_size" => next.edge_size = n,
                     "nextpt_vertex_size" => next.nextpt_vertex_size = n,
-                    _ => return false,
+                    _ => {}
                 }
             }
         }
@@ -133,9 +136,9 @@ fn status_var(v: &str) -> Option<String> {
     })
 }
 
+/// A flag in the `.bhv` flag syntax (the same check as the common flags).
 fn flag_ok(v: &str) -> bool {
-    let t = v.trim();
-    t.eq_ignore_ascii_case("clearall") || t.contains('=')
+    behavior_api::flag::parse_flag(v).is_ok()
 }
 
 impl BhvWaypoint {
@@ -489,7 +492,9 @@ mod tests {
         assert_eq!(h.vertex_size, 4.0);
         assert!(!h.apply("vertex_size=4,edge_color=nocolor"));
         assert_eq!(h.edge_color, "white");
-        assert!(!h.apply("bogus=3"));
+        // Any key is a hint: a colour when its name says `color`, else a number.
+        assert!(h.apply("bogus=3"));
+        assert!(!h.apply("bogus=x"));
         assert!(h.apply("edge_color=off"));
     }
 
@@ -512,5 +517,52 @@ mod tests {
         assert_eq!(parse_end_spd("slow_dist=20,stop_dist=5"), Some((20.0, 5.0)));
         assert_eq!(parse_end_spd("slow_dist=5,stop_dist=20"), None);
         assert_eq!(parse_end_spd("slow_dist=0"), None);
+    }
+
+    #[test]
+    fn visual_hints_take_every_colour_form_and_any_hint_key() {
+        let mut h = WptHints::default();
+        // The alpha mission's hints, the misspelt and `_`/case forms, triples.
+        for spec in [
+            "nextpt_color=yellow",
+            "nextpt_vertex_size=8",
+            "nextpt_lcolor=gray70",
+            "vertex_color=dodger_blue, edge_color=white",
+            "vertex_size=5, edge_size=1",
+            "vertex_color=yellow, line_color=white",
+            "label_color=Dark_Khaki, edge_color=tomatao",
+            "vertex_color=0.5$0.25$1",
+            "edge_color=off",
+        ] {
+            assert!(h.apply(spec), "{spec}");
+        }
+        assert_eq!(h.nextpt_label_color, "gray70");
+        assert_eq!(h.nextpt_vertex_size, 8.0);
+        assert_eq!(h.label_color, "Dark_Khaki");
+        assert_eq!(h.vertex_color, "0.5$0.25$1");
+        assert_eq!(h.edge_color, "off");
+        // All or nothing: one bad entry refuses the line and changes nothing.
+        let before = h.clone();
+        for spec in [
+            "vertex_color=red, edge_color=gray71",
+            "vertex_size=2, edge_color=0,0,0",
+            "line_color=hex:00,00,00",
+            "label=tour",
+            "vertex_size=big",
+            "nextpt_color",
+        ] {
+            assert!(!h.apply(spec), "{spec}");
+            assert_eq!(h, before, "{spec}");
+        }
+    }
+
+    #[test]
+    fn flags_are_checked_like_the_common_flags() {
+        for ok in ["HIT = $[NI]", "#all+ X = 1", "clearall", "X = 1 [if] A = 2"] {
+            assert!(flag_ok(ok), "{ok}");
+        }
+        for bad in ["NOEQUALS", "X = ", " = 3", "X = 1 [if] ((A"] {
+            assert!(!flag_ok(bad), "{bad}");
+        }
     }
 }

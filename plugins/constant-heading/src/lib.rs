@@ -5,10 +5,10 @@
 //! The host handles the common parameters; note that this type's duration default is 0
 //! (§1.2), which the host must apply for it.
 
+use behavior_api::geometry::angles::{angle180, angle360};
 use behavior_api::ivp::{self, domain::Snap, zaic::ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
-use geometry::angles::{angle180, angle360};
 
 #[path = "../../common/util.rs"]
 mod util;

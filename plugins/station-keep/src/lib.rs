@@ -4,11 +4,11 @@
 
 use std::collections::VecDeque;
 
+use behavior_api::geometry::angles::{angle360, rel_ang};
+use behavior_api::geometry::spec::{fmt_x, is_color, Attrs};
 use behavior_api::ivp::{self, coupler::couple, zaic::ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{FunctionData, PostValue};
-use geometry::angles::{angle360, rel_ang};
-use geometry::spec::{fmt_x, is_color, Attrs};
 
 #[path = "../../common/util.rs"]
 mod util;
@@ -348,8 +348,8 @@ fn parse_station_point(s: &str) -> Option<(f64, f64)> {
             let (k, v) = f.split_once('=')?;
             let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
             match k.as_str() {
-                "x" => x = Some(bhv::number::atof(v)),
-                "y" => y = Some(bhv::number::atof(v)),
+                "x" => x = Some(behavior_api::atof(v)),
+                "y" => y = Some(behavior_api::atof(v)),
                 "shiftx" => sx = parse_number(v).unwrap_or(0.0),
                 "shifty" => sy = parse_number(v).unwrap_or(0.0),
                 "z" | "shiftz" | "heading" | "hdg" => {}

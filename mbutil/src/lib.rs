@@ -1,0 +1,17 @@
+//! `mbutil`: the small string, number and colour utilities every MOOS-IvP application
+//! shares (named after MOOS-IvP's `lib_mbutil`). A leaf crate: the `.bhv` reader (`bhv`),
+//! the geometry (`geometry`) and every behavior use the same number test, the same C
+//! `atof`, the same compact number formatter and the same colour parser, so a value a
+//! user writes means one thing wherever it appears.
+//!
+//! ```
+//! assert!(mbutil::is_number(" -3.5 "));
+//! assert_eq!(mbutil::compact(2.50, 2), "2.5");
+//! assert!(mbutil::is_color("Gray_70"));
+//! ```
+
+pub mod color;
+pub mod number;
+
+pub use color::{is_color, parse_color, Color};
+pub use number::{atof, compact, is_number, parse_number, strip_quotes};

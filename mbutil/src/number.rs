@@ -1,0 +1,312 @@
+//! Numbers as MOOS-IvP writes and reads them.
+//!
+//! The number test is stricter than C `atof`: after trimming blanks the text must be
+//! digits with at most one `.`, optional `-` signs before any digit or `.`, an optional
+//! leading `+`, and at least one digit. No exponents, no hex (bhv-format.md §8.6). The
+//! numeric value is then C `atof` of the text.
+
+fn is_blank(c: char) -> bool {
+    c == ' ' || c == '\t' || c == '\r' || c == '\n'
+}
+
+/// The helm's number test (§8.6).
+///
+/// ```
+/// assert!(mbutil::is_number(" -3.5 "));
+/// assert!(!mbutil::is_number("1e5"));
+/// ```
+pub fn is_number(s: &str) -> bool {
+    let t = s.trim_matches(is_blank);
+    let t = match t.strip_prefix('+') {
+        Some(rest) if !rest.is_empty() => rest,
+        _ => t,
+    };
+    if t.is_empty() {
+        return false;
+    }
+    let mut digits = 0usize;
+    let mut dots = 0usize;
+    let mut seen_digit_or_dot = false;
+    for b in t.bytes() {
+        match b {
+            b'0'..=b'9' => {
+                digits += 1;
+                seen_digit_or_dot = true;
+            }
+            b'.' => {
+                dots += 1;
+                if dots > 1 {
+                    return false;
+                }
+                seen_digit_or_dot = true;
+            }
+            b'-' => {
+                if seen_digit_or_dot {
+                    return false;
+                }
+            }
+            _ => return false,
+        }
+    }
+    digits > 0
+}
+
+/// C `atof`: the value of the longest numeric prefix (after leading white
+/// space), or 0 when there is none. Accepts an optional sign, decimal digits
+/// with an optional fraction and exponent, `inf`/`infinity`/`nan`, and
+/// hexadecimal (`0x...`, with optional fraction and `p` exponent).
+///
+/// ```
+/// assert_eq!(mbutil::atof("12.5abc"), 12.5);
+/// assert_eq!(mbutil::atof("abc"), 0.0);
+/// ```
+pub fn atof(s: &str) -> f64 {
+    let b = s.as_bytes();
+    let mut i = 0;
+    while i < b.len() && matches!(b[i], b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c) {
+        i += 1;
+    }
+    let mut neg = false;
+    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        neg = b[i] == b'-';
+        i += 1;
+    }
+    let rest = &b[i..];
+    let lower_starts = |p: &[u8]| rest.len() >= p.len() && rest[..p.len()].eq_ignore_ascii_case(p);
+    let mag = if lower_starts(b"inf") {
+        f64::INFINITY
+    } else if lower_starts(b"nan") {
+        f64::NAN
+    } else if (lower_starts(b"0x"))
+        && rest.len() > 2
+        && (rest[2].is_ascii_hexdigit()
+            || (rest[2] == b'.' && rest.len() > 3 && rest[3].is_ascii_hexdigit()))
+    {
+        hex_prefix(&rest[2..])
+    } else {
+        decimal_prefix(rest)
+    };
+    if neg {
+        -mag
+    } else {
+        mag
+    }
+}
+
+fn decimal_prefix(b: &[u8]) -> f64 {
+    let mut i = 0;
+    let mut mant_digits = 0;
+    while i < b.len() && b[i].is_ascii_digit() {
+        i += 1;
+        mant_digits += 1;
+    }
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        while i < b.len() && b[i].is_ascii_digit() {
+            i += 1;
+            mant_digits += 1;
+        }
+    }
+    if mant_digits == 0 {
+        return 0.0;
+    }
+    let mant_end = i;
+    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
+        let mut j = i + 1;
+        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
+            j += 1;
+        }
+        let start = j;
+        while j < b.len() && b[j].is_ascii_digit() {
+            j += 1;
+        }
+        if j > start {
+            i = j;
+        }
+    }
+    let end = if i > mant_end { i } else { mant_end };
+    // The slice is ASCII digits/./e/sign only, so it is valid UTF-8 and a
+    // valid Rust float literal (Rust accepts "5." and ".5").
+    std::str::from_utf8(&b[..end])
+        .ok()
+        .and_then(|t| t.parse::<f64>().ok())
+        .unwrap_or(0.0)
+}
+
+fn hex_prefix(b: &[u8]) -> f64 {
+    let mut v = 0.0f64;
+    let mut i = 0;
+    while i < b.len() && b[i].is_ascii_hexdigit() {
+        v = v * 16.0 + f64::from(hex_val(b[i]));
+        i += 1;
+    }
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        let mut scale = 1.0 / 16.0;
+        while i < b.len() && b[i].is_ascii_hexdigit() {
+            v += f64::from(hex_val(b[i])) * scale;
+            scale /= 16.0;
+            i += 1;
+        }
+    }
+    if i < b.len() && (b[i] == b'p' || b[i] == b'P') {
+        let mut j = i + 1;
+        let mut eneg = false;
+        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
+            eneg = b[j] == b'-';
+            j += 1;
+        }
+        let start = j;
+        let mut e: i32 = 0;
+        while j < b.len() && b[j].is_ascii_digit() {
+            e = e.saturating_mul(10).saturating_add(i32::from(b[j] - b'0'));
+            j += 1;
+        }
+        if j > start {
+            v *= 2f64.powi(if eneg { -e } else { e });
+        }
+    }
+    v
+}
+
+fn hex_val(c: u8) -> u8 {
+    match c {
+        b'0'..=b'9' => c - b'0',
+        b'a'..=b'f' => c - b'a' + 10,
+        b'A'..=b'F' => c - b'A' + 10,
+        _ => 0,
+    }
+}
+
+/// Removes one pair of surrounding double quotes, if present.
+pub fn strip_quotes(s: &str) -> &str {
+    if s.len() >= 2 && s.starts_with('"') && s.ends_with('"') {
+        &s[1..s.len() - 1]
+    } else {
+        s
+    }
+}
+
+/// The number test followed by the value: `Some(atof(s))` when [`is_number`] holds.
+///
+/// ```
+/// assert_eq!(mbutil::parse_number(" 2.5 "), Some(2.5));
+/// assert_eq!(mbutil::parse_number("1e3"), None);
+/// ```
+pub fn parse_number(s: &str) -> Option<f64> {
+    is_number(s).then(|| atof(s))
+}
+
+/// The compact number formatter (`fmtX` of behaviors-std.md §1.5, the helm's
+/// `doubleToStringX`): printf `%.<decimals>f`, then trailing zeros and a trailing `.`
+/// removed; `-0` becomes `0` (`3.000` → `3`, `2.50` → `2.5`).
+///
+/// ```
+/// assert_eq!(mbutil::compact(63.43494882, 3), "63.435");
+/// assert_eq!(mbutil::compact(-0.0001, 2), "0");
+/// ```
+pub fn compact(v: f64, decimals: usize) -> String {
+    // Whole numbers print the same at any precision (flag macros, mode values).
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        return if v == 0.0 {
+            "0".to_string()
+        } else {
+            (v as i64).to_string()
+        };
+    }
+    let mut s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        while s.ends_with('0') {
+            s.pop();
+        }
+        if s.ends_with('.') {
+            s.pop();
+        }
+    }
+    if s == "-0" {
+        s = "0".to_string();
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn number_examples() {
+        for s in [
+            "0", "12", "-3", "+4", "3.5", ".5", "5.", "-.5", " 7 ", "\t8\t", "--5", "-0.0", "+-1",
+        ] {
+            assert!(is_number(s), "{s:?} should be a number");
+        }
+        for s in [
+            "", " ", "+", "-", ".", "-.", "1e5", "0x10", "1.2.3", "5-", "1-2", "abc", "12a", "++1",
+            "1 2", "inf", "nan", "\"3\"",
+        ] {
+            assert!(!is_number(s), "{s:?} should not be a number");
+        }
+    }
+
+    #[test]
+    fn atof_semantics() {
+        assert_eq!(atof("3.25"), 3.25);
+        assert_eq!(atof("  -2.5xyz"), -2.5);
+        assert_eq!(atof("+7"), 7.0);
+        assert_eq!(atof("1e3"), 1000.0);
+        assert_eq!(atof("1e"), 1.0);
+        assert_eq!(atof("1e+"), 1.0);
+        assert_eq!(atof(".5"), 0.5);
+        assert_eq!(atof("5."), 5.0);
+        assert_eq!(atof("--5"), 0.0);
+        assert_eq!(atof(""), 0.0);
+        assert_eq!(atof("abc"), 0.0);
+        assert_eq!(atof("."), 0.0);
+        assert_eq!(atof("0x10"), 16.0);
+        assert_eq!(atof("0x1p4"), 16.0);
+        assert_eq!(atof("0x"), 0.0);
+        assert!(atof("inf").is_infinite());
+        assert!(atof("-Infinity") < 0.0);
+        assert!(atof("nan").is_nan());
+    }
+
+    #[test]
+    fn parse_number_is_test_then_atof() {
+        assert_eq!(parse_number("+4"), Some(4.0));
+        assert_eq!(parse_number("\t-.5 "), Some(-0.5));
+        assert_eq!(parse_number("12a"), None);
+        assert_eq!(parse_number(""), None);
+        assert_eq!(strip_quotes("\"a b\""), "a b");
+        assert_eq!(strip_quotes("\""), "\"");
+    }
+
+    #[test]
+    fn compact_format() {
+        assert_eq!(compact(3.0, 6), "3");
+        assert_eq!(compact(2.5, 6), "2.5");
+        assert_eq!(compact(-0.0, 6), "0");
+        assert_eq!(compact(1.23456789, 3), "1.235");
+        assert_eq!(compact(-0.0001, 2), "0");
+        assert_eq!(compact(-1.234, 1), "-1.2");
+        assert_eq!(compact(100.0, 0), "100");
+        assert_eq!(compact(63.43494882, 3), "63.435");
+        assert_eq!(compact(1e20, 2), "100000000000000000000");
+        assert_eq!(compact(-7.0, 0), "-7");
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn recognized_numbers_roundtrip(v in -1.0e6f64..1.0e6) {
+            let s = format!("{v:.4}");
+            proptest::prop_assert!(is_number(&s));
+            proptest::prop_assert!((atof(&s) - v).abs() < 1e-3);
+        }
+
+        #[test]
+        fn never_panics(s in ".{0,20}") {
+            let _ = is_number(&s);
+            let _ = atof(&s);
+            let _ = parse_number(&s);
+        }
+    }
+}
