@@ -2,6 +2,10 @@
 
 /// printf `%.<d>f`, then trailing zeros and a trailing `.` stripped; `-0` becomes `0`.
 pub fn fmt_x(v: f64, d: usize) -> String {
+    // glibc prints NaN as `nan` / `-nan` by its sign bit (Rust would print `NaN`).
+    if v.is_nan() {
+        return if v.is_sign_negative() { "-nan" } else { "nan" }.to_string();
+    }
     // Whole numbers print the same at any precision: skip float formatting for them.
     if v.fract() == 0.0 && v.abs() < 1e15 {
         return if v == 0.0 {
@@ -468,6 +472,15 @@ mod tests {
         assert_eq!(fmt_x(-1.234, 1), "-1.2");
         assert_eq!(fmt_x(100.0, 0), "100");
         assert_eq!(fmt_x(63.43494882, 3), "63.435");
+        // C printf: ties (exact binary halves) to even, otherwise the binary value decides.
+        assert_eq!(fmt_x(0.25, 1), "0.2");
+        assert_eq!(fmt_x(0.125, 2), "0.12");
+        assert_eq!(fmt_x(0.35, 1), "0.3");
+        assert_eq!(fmt_x(0.005, 2), "0.01");
+        assert_eq!(fmt_x(-0.05, 1), "-0.1");
+        assert_eq!(fmt_x(f64::NAN, 1), "nan");
+        assert_eq!(fmt_x(-f64::NAN, 1), "-nan");
+        assert_eq!(fmt_x(f64::NEG_INFINITY, 1), "-inf");
     }
 
     #[test]
