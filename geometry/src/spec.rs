@@ -422,6 +422,7 @@ pub fn object_spec(
 #[derive(Clone, Debug, Default)]
 pub struct SeglistSpecCache {
     pts: Vec<Vertex>,
+    tags: Vec<EdgeTag>,
     precision: usize,
     attrs: Attrs,
     spec: String,
@@ -430,16 +431,34 @@ pub struct SeglistSpecCache {
 impl SeglistSpecCache {
     /// [`seglist_spec`] of these inputs, built only when they differ from the last call.
     pub fn get(&mut self, pts: &[Vertex], precision: usize, attrs: &Attrs) -> &str {
+        self.get_tagged(pts, &[], precision, attrs)
+    }
+
+    /// [`seglist_spec`] with the edge tags after the vertices (`tags={…}`, §3.6 of
+    /// geometry-formats.md), built only when the inputs differ from the last call.
+    pub fn get_tagged(
+        &mut self,
+        pts: &[Vertex],
+        tags: &[EdgeTag],
+        precision: usize,
+        attrs: &Attrs,
+    ) -> &str {
         if self.spec.is_empty()
             || self.pts != pts
+            || self.tags != tags
             || self.precision != precision
             || self.attrs != *attrs
         {
             self.pts.clear();
             self.pts.extend_from_slice(pts);
+            self.tags = tags.to_vec();
             self.precision = precision;
             self.attrs = attrs.clone();
-            self.spec = seglist_spec(pts, precision, attrs);
+            self.spec = if tags.is_empty() || pts.is_empty() {
+                seglist_spec(pts, precision, attrs)
+            } else {
+                object_spec(pts, &[], tags, attrs, precision)
+            };
         }
         &self.spec
     }
