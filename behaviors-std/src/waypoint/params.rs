@@ -1,9 +1,7 @@
 //! BHV_Waypoint parameters (behaviors-std.md §2.1) and its BHV_SETTINGS report.
 
 use behavior_api::sdk::Ctx;
-use geometry::{
-    dist, fmt_x, is_color, parse_point, parse_polygon, parse_seglist, EdgeTag, Vertex,
-};
+use geometry::{dist, fmt_x, is_color, parse_point, parse_polygon, parse_seglist, EdgeTag, Vertex};
 
 use super::BhvWaypoint;
 use crate::common::{no_white, parse_bool, parse_nonneg, parse_number};
