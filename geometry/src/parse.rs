@@ -162,3 +162,66 @@ pub fn parse_seglist(input: &str) -> Option<Seglist> {
 pub fn parse_point(input: &str) -> Option<Point> {
     point::parse(input)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_radial_counts_that_loop_forever_in_cplusplus_are_invalid() {
+        for n in ["-4", "inf", "-inf", "nan", "0"] {
+            assert!(
+                parse_polygon(&format!("radial: 0, 0, 10, {n}")).is_none(),
+                "{n}"
+            );
+        }
+        assert_eq!(parse_polygon("radial: 0, 0, 10, 8.5").unwrap().size(), 8);
+    }
+
+    #[test]
+    fn seglist_prefixes_and_fallbacks() {
+        let s = parse_seglist("points: 1,2 : 3,4").unwrap();
+        assert_eq!(s.pts.len(), 2);
+        assert!(parse_seglist(" zigzag: 0,0,90,100,20,10").is_none());
+        assert_eq!(
+            parse_seglist("zigzag: 0,0,90,100,20,10").unwrap().pts.len(),
+            11
+        );
+        // Tags printed by a lawnmower do not survive a re-parse.
+        let mower =
+            parse_seglist("lawnmower: x=0, y=0, height=20, width=20, lane_width=10, rows=ns")
+                .unwrap();
+        assert_eq!(mower.tags.len(), mower.pts.len() / 2);
+        let again = parse_seglist(&mower.spec(3)).unwrap();
+        assert_eq!(again.pts, mower.pts);
+        assert!(again.tags.is_empty());
+        // The erase form is valid and prints only its attributes.
+        let erase = parse_seglist("label=foo,msg=m,edge_color=red,active=false").unwrap();
+        assert!(erase.pts.is_empty());
+        assert_eq!(erase.spec(1), "active=false,label=foo,msg=m,edge_color=red");
+    }
+
+    #[test]
+    fn properties_survive_polygon_operations() {
+        let mut p = parse_polygon("pts={0,0,1,a:10,0:5,5,0,c}").unwrap();
+        assert_eq!(p.spec(1), "pts={0,0,1,a:10,0:5,5,0,c}");
+        p.reverse();
+        assert_eq!(
+            p.props(),
+            &["c".to_string(), String::new(), "a".to_string()]
+        );
+        let mut s = Seglist::default();
+        s.push(Vertex::new(1.0, 2.0), "");
+        s.push(Vertex::new(3.0, 4.0), "p");
+        assert_eq!(s.props, vec![String::new(), "p".to_string()]);
+    }
+
+    #[test]
+    fn points() {
+        let p = parse_point("x=1,y=2,shiftx=10,shifty=-5,shiftz=2").unwrap();
+        assert_eq!((p.x, p.y, p.z), (11.0, -3.0, Some(2.0)));
+        assert_eq!(p.spec(), "x=11,y=-3,z=2");
+        assert!(parse_point("present_position").is_none());
+        assert_eq!(parse_point("7,8:9,10").unwrap().x, 9.0);
+    }
+}

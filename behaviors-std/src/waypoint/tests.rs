@@ -303,8 +303,8 @@ fn lawnmower_survey() {
     );
     let pts = b.engine.points().to_vec();
     assert_eq!(pts.len(), 36);
-    assert_eq!((pts[0].x, pts[0].y), (-54.000000000000007, -40.0));
-    assert_eq!((pts[1].x, pts[1].y), (-54.000000000000007, -140.0));
+    assert_eq!((pts[0].x, pts[0].y), (-54.00000000000001, -40.0));
+    assert_eq!((pts[1].x, pts[1].y), (-54.00000000000001, -140.0));
     assert_eq!((pts[35].x, pts[35].y), (150.0, -40.0));
     h.nav(0.0, 0.0, 0.0, 0.0);
     let f = h.with(|c| b.on_run(c)).expect("function");
