@@ -179,6 +179,27 @@ mod tests {
     }
 
     #[test]
+    fn counts_that_would_hang_are_invalid() {
+        for s in [
+            "format=radial, x=0, y=0, radius=10, pts=9223372036854775807",
+            "radial: 0, 0, 10, 1e300",
+            "format=ellipse, x=0, y=0, degs=0, major=4, minor=2, pts=1000000",
+            "format=wedge, x=0, y=0, lang=0, rang=90, range=10, pts=1000000000",
+            "format=rangewedge, x=0, y=0, lang=0, rang=90, range_min=1, range_max=10, pts=99999999",
+        ] {
+            assert!(parse_polygon(s).is_none(), "{s}");
+        }
+        for s in [
+            "zigzag: 0, 0, 90, 100000000000000000000, 1, 1",
+            "lawnmower: x=0, y=0, height=10, width=100000000, lane_width=0.001, rows=ns",
+        ] {
+            assert!(parse_seglist(s).is_none(), "{s}");
+        }
+        let big = parse_polygon("format=radial, x=0, y=0, radius=1000, pts=2000").unwrap();
+        assert_eq!(big.size(), 2000);
+    }
+
+    #[test]
     fn seglist_prefixes_and_fallbacks() {
         let s = parse_seglist("points: 1,2 : 3,4").unwrap();
         assert_eq!(s.pts.len(), 2);

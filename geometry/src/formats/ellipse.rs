@@ -1,7 +1,7 @@
 //! Ellipse polygons: `format=ellipse, …`, `ellipse:: …`, `ellipse: …` (§4.6). The
 //! rotation is mathematical (counter-clockwise from +x), not a compass bearing.
 
-use super::{failed, finish_convex, keyed_items, vertex};
+use super::{failed, finish_convex, keyed_items, vertex, MAX_VERTICES};
 use crate::angles::deg_to_radians;
 use crate::polygon::Polygon;
 use crate::spec::Attrs;
@@ -43,6 +43,9 @@ pub(crate) fn polygon(text: &str) -> Option<Polygon> {
     let Some(r) = rads.or_else(|| degs.map(deg_to_radians)) else {
         return failed(inactive);
     };
+    if n > MAX_VERTICES as i64 {
+        return failed(inactive);
+    }
     let (h, k) = (major / 2.0, minor / 2.0);
     let step = (2.0 * PI) / n as f64;
     let verts = (0..n)

@@ -2,7 +2,7 @@
 //! over a rotated block, entered at the lane end nearest the start point and driven
 //! back and forth; each lane is tagged `lane`. Unusable items are silently ignored.
 
-use super::{keyed_items, project, project_raw, snap, vertex};
+use super::{keyed_items, project, project_raw, snap, vertex, MAX_VERTICES};
 use crate::angles::angle360;
 use crate::parse::Seglist;
 use crate::spec::{Attrs, EdgeTag};
@@ -52,7 +52,11 @@ pub(crate) fn seglist(text: &str) -> Option<Seglist> {
     let s = if lane > 0.0 { lane } else { 10.0 };
     let a = if degs >= 1.0 { degs } else { 0.0 };
 
-    let n = (((w / s) + 1.0) + 0.99999) as usize;
+    let lanes = ((w / s) + 1.0) + 0.99999;
+    if !(lanes < (MAX_VERTICES / 2) as f64) {
+        return None;
+    }
+    let n = lanes as usize;
     let (p, q) = (angle360(a - 90.0), angle360(a + 90.0));
     let (e1, e2) = (angle360(a), angle360(a - 180.0));
     // Each lane's two ends: (end1, end2).

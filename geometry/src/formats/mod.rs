@@ -19,6 +19,11 @@ use crate::polygon::Polygon;
 use crate::spec::Vertex;
 use crate::text::{bite_x, split_q};
 
+/// The most vertices a generator may produce; more makes the string invalid. The C++
+/// generators have no limit and, with counts this large, effectively hang (an O(n²)
+/// convexity test, or an accumulated bearing that stops advancing).
+pub(crate) const MAX_VERTICES: usize = 10_000;
+
 /// A vertex with z stored only when it is not 0 (z = 0 is never printed).
 pub(crate) fn vertex(x: f64, y: f64, z: f64) -> Vertex {
     Vertex {

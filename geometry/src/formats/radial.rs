@@ -1,21 +1,25 @@
 //! Radial polygons: the keyed `format=radial, …` / `radial:: …` form (§4.4) and the
 //! short `radial: x, y, radius, pts[, snap[, label]]` form (§4.5).
 
-use super::{failed, finish_convex, keyed_items, project, vertex};
+use super::{failed, finish_convex, keyed_items, project, vertex, MAX_VERTICES};
 use crate::polygon::Polygon;
 use crate::spec::{Attrs, Vertex};
 use crate::text::{atof, atoi, is_number, split, trim};
 
-/// Vertices at bearings `delta/2`, `delta/2 + delta`, … (accumulated) below 360.
-fn ring(cx: f64, cy: f64, z: f64, radius: f64, delta: f64) -> Vec<Vertex> {
+/// Vertices at bearings `delta/2`, `delta/2 + delta`, … (accumulated) below 360;
+/// `None` beyond [`MAX_VERTICES`].
+fn ring(cx: f64, cy: f64, z: f64, radius: f64, delta: f64) -> Option<Vec<Vertex>> {
     let mut pts = Vec::new();
     let mut b = delta / 2.0;
     while b < 360.0 {
+        if pts.len() >= MAX_VERTICES {
+            return None;
+        }
         let (x, y) = project(b, radius, cx, cy);
         pts.push(vertex(x, y, z));
         b += delta;
     }
-    pts
+    Some(pts)
 }
 
 /// §4.4. Any item that is not accepted makes the string invalid; an `active=false`
@@ -49,7 +53,10 @@ pub(crate) fn keyed(text: &str) -> Option<Polygon> {
     let (Some(x), Some(y), Some(radius), Some(n)) = (x, y, radius, pts) else {
         return failed(inactive);
     };
-    let mut poly = Polygon::new(ring(x + sx, y + sy, z, radius, 360.0 / n as f64));
+    let Some(pts) = ring(x + sx, y + sy, z, radius, 360.0 / n as f64) else {
+        return failed(inactive);
+    };
+    let mut poly = Polygon::new(pts);
     poly.attrs = attrs;
     if inactive {
         poly.attrs.active = Some(false);
@@ -70,7 +77,7 @@ pub(crate) fn short(text: &str) -> Option<Polygon> {
     if radius <= 0.0 || !(n.is_finite() && n > 0.0) {
         return None;
     }
-    let mut poly = Polygon::new(ring(x, y, 0.0, radius, 360.0 / n));
+    let mut poly = Polygon::new(ring(x, y, 0.0, radius, 360.0 / n)?);
     if let Some(label) = f.get(5) {
         poly.attrs.label = label.to_string();
     }

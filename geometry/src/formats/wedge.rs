@@ -1,7 +1,7 @@
 //! Pie wedges (`format=wedge|piewedge`, `wedge:`, `piewedge:`, §4.7) and range wedges
 //! (`format=rangewedge`, `rangewedge:`, §4.8). Arcs run clockwise from `lang` to `rang`.
 
-use super::{finish_convex, keyed_items, project, vertex};
+use super::{finish_convex, keyed_items, project, vertex, MAX_VERTICES};
 use crate::angles::angle360;
 use crate::polygon::Polygon;
 use crate::spec::{Attrs, Vertex};
@@ -69,7 +69,7 @@ fn arc(lang: f64, rang: f64, pts: i64) -> (f64, f64, f64) {
 /// Points of the arc from L to R at `range`, after the first one (accumulated bearing).
 fn arc_forward(pts: &mut Vec<Vertex>, (l, r, delta): (f64, f64, f64), range: f64, x: f64, y: f64) {
     let mut b = l;
-    while b < r {
+    while b < r && pts.len() <= MAX_VERTICES {
         b += delta;
         if b > r {
             b = r;
@@ -88,6 +88,9 @@ pub(crate) fn pie(text: &str) -> Option<Polygon> {
     let (px, py) = project(a.0, range, x, y);
     pts.push(vertex(px, py, 0.0));
     arc_forward(&mut pts, a, range, x, y);
+    if pts.len() > MAX_VERTICES {
+        return None;
+    }
     let mut poly = Polygon::new(pts);
     poly.attrs = w.attrs;
     finish_convex(poly, w.snap)
@@ -108,13 +111,16 @@ pub(crate) fn range(text: &str) -> Option<Polygon> {
     let (px, py) = project(r, w.range_min, x, y);
     pts.push(vertex(px, py, 0.0));
     let mut b = r;
-    while b > l {
+    while b > l && pts.len() <= MAX_VERTICES {
         b -= delta;
         if b < l {
             b = l;
         }
         let (px, py) = project(b, w.range_min, x, y);
         pts.push(vertex(px, py, 0.0));
+    }
+    if pts.len() > MAX_VERTICES {
+        return None;
     }
     let mut poly = Polygon::new(pts);
     poly.attrs = w.attrs;

@@ -1,7 +1,7 @@
 //! Zigzag seglists `zigzag: startx, starty, angle, length, period, amplitude[, snap]`
 //! (§5.4). `format=zigzag, …` is always invalid: its `format` field is not a number.
 
-use super::{project, snap, vertex};
+use super::{project, snap, vertex, MAX_VERTICES};
 use crate::parse::Seglist;
 use crate::text::{atof, is_number, split};
 
@@ -21,6 +21,9 @@ pub(crate) fn seglist(text: &str) -> Option<Seglist> {
     out.push(vertex(sx, sy, 0.0), "");
     let (mut side, mut d) = (-90.0, period / 4.0);
     while d < length {
+        if out.pts.len() >= MAX_VERTICES {
+            return None;
+        }
         let (ax, ay) = project(angle, d, sx, sy);
         let (px, py) = project(angle + side, amplitude, ax, ay);
         out.push(vertex(px, py, 0.0), "");
