@@ -53,7 +53,7 @@ pub(crate) fn seglist(text: &str) -> Option<Seglist> {
     let a = if degs >= 1.0 { degs } else { 0.0 };
 
     let lanes = ((w / s) + 1.0) + 0.99999;
-    if !(lanes < (MAX_VERTICES / 2) as f64) {
+    if lanes.is_nan() || lanes >= (MAX_VERTICES / 2) as f64 {
         return None;
     }
     let n = lanes as usize;
