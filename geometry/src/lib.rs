@@ -1,6 +1,8 @@
 //! Marine geometry shared by the helm and its behaviors (behaviors-std.md §1): compass
-//! angles, points and segments, convex polygons, the point/seglist/polygon string
-//! formats and the VIEW_* spec formatting.
+//! angles, points and segments, convex polygons, every point/seglist/polygon string
+//! format a mission may write (specs/geometry-formats.md: `parse_polygon`,
+//! `parse_seglist`, `parse_point`, one module per format in `formats/`) and the VIEW_*
+//! spec formatting.
 
 pub mod angles;
 mod formats;
