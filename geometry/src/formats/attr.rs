@@ -54,11 +54,42 @@ impl Attrs {
     }
 }
 
-/// A colour as printed back: the three "invisible" spellings print `invisible`, other
-/// accepted colours print as given, unrecognised ones are dropped (§3.2).
+/// A colour as printed back: the three "invisible" spellings print `invisible` (their
+/// capitalised forms too: undefined in C++, §3.2 allows this), other accepted colours
+/// print as given, unrecognised ones are dropped.
 fn color_value(value: &str) -> Option<String> {
-    match value {
+    match value.to_ascii_lowercase().as_str() {
         "invisible" | "empty" | "off" => Some("invisible".to_string()),
         _ => is_color(value).then(|| value.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn set_attr_is_the_real_setter() {
+        let mut a = Attrs::default();
+        assert!(a.set_attr("edge_color", "Invisible"));
+        assert!(a.set_attr("vertex_color", "off"));
+        assert!(a.set_attr("label_color", "notacolor"));
+        assert!(a.set_attr("fill_color", "DarkKhaki"));
+        assert!(a.set_attr("vertex_size", "-2"));
+        assert!(a.set_attr("edge_size", "abc"));
+        assert!(a.set_attr("dur", "-5"));
+        assert!(a.set_attr("fill_transparency", "3"));
+        assert!(a.set_attr("type", "anything"));
+        assert!(!a.set_attr("active", "yes"));
+        assert!(!a.set_attr("LABEL", "x"), "keys are case-sensitive");
+        assert!(!a.set_attr("snap", "1"));
+        assert_eq!(
+            a.spec(),
+            ",edge_color=invisible,vertex_color=invisible,fill_color=DarkKhaki,duration=-1,edge_size=0,fill_transparency=1"
+        );
+        assert!(a.set_attr("active", "FALSE"));
+        assert_eq!(a.active, Some(false));
+        assert!(a.set_attr("active", "true"));
+        assert_eq!(a.active, None, "active is the default and is not printed");
     }
 }
