@@ -1,12 +1,16 @@
 //! Marine geometry shared by the helm and its behaviors (behaviors-std.md §1): compass
-//! angles, points and segments, convex polygons, the point/seglist/polygon string
-//! formats and the VIEW_* spec formatting.
+//! angles, points and segments, convex polygons, every point/seglist/polygon string
+//! format a mission may write (specs/geometry-formats.md: `parse_polygon`,
+//! `parse_seglist`, `parse_point`, one module per format in `formats/`) and the VIEW_*
+//! spec formatting.
 
 pub mod angles;
+mod formats;
 pub mod parse;
 pub mod points;
 pub mod polygon;
 pub mod spec;
+pub mod text;
 
 pub use angles::{
     angle180, angle360, angle_diff, angle_from_three_points, deg_to_radians, rel_ang, segment_angle,
@@ -15,6 +19,6 @@ pub use parse::{parse_point, parse_polygon, parse_seglist, Point, Seglist};
 pub use points::{dist, dist_point_to_seg, perp_seg_int_pt, project_point, segments_cross};
 pub use polygon::Polygon;
 pub use spec::{
-    fmt_x, is_color, point_erase_spec, point_spec, pts_spec, seglist_erase_spec, seglist_spec,
-    Attrs, SeglistSpecCache, Vertex,
+    fmt_x, is_color, object_spec, point_erase_spec, point_spec, pts_props_spec, pts_spec,
+    seglist_erase_spec, seglist_spec, Attrs, EdgeTag, SeglistSpecCache, Vertex,
 };

@@ -2,26 +2,28 @@
 
 use crate::angles::rel_ang;
 use crate::points::{dist, dist_point_to_seg, project_point, segments_cross};
-use crate::spec::{seglist_spec, Attrs, Vertex};
+use crate::spec::{object_spec, Attrs, Vertex};
 
 /// Which side of the line through (x1,y1)-(x2,y2) the point lies on: 0, 1, or -1 when on
-/// the line (line equation `y = m x + b`; vertical lines: right = 0, left = 1).
+/// the line, as geometry-formats.md §3.4 defines it: a degenerate edge (two equal
+/// points) has every point on its line; vertical edges: right = 0, left = 1; otherwise
+/// the line `y = m x + b` with `b = y2 - m x2`, above = 1, below = 0.
 fn side(x1: f64, y1: f64, x2: f64, y2: f64, px: f64, py: f64) -> i8 {
     if x1 == x2 {
-        return if px > x1 {
-            0
-        } else if px < x1 {
-            1
-        } else {
+        return if y1 == y2 || px == x1 {
             -1
+        } else if px > x1 {
+            0
+        } else {
+            1
         };
     }
     let m = (y2 - y1) / (x2 - x1);
-    let b = y1 - m * x1;
-    let v = m * px + b;
-    if py > v {
+    let b = y2 - m * x2;
+    let yl = m * px + b;
+    if yl > py {
         0
-    } else if py < v {
+    } else if yl < py {
         1
     } else {
         -1
@@ -32,6 +34,8 @@ fn side(x1: f64, y1: f64, x2: f64, y2: f64, px: f64, py: f64) -> i8 {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Polygon {
     pts: Vec<Vertex>,
+    /// Per-vertex property texts: empty, or one per vertex (geometry-formats.md §3.3).
+    props: Vec<String>,
     /// The "inside" side of each edge (-1 if the edge is not valid).
     sides: Vec<i8>,
     convex: bool,
@@ -42,12 +46,27 @@ impl Polygon {
     pub fn new(pts: Vec<Vertex>) -> Self {
         let mut p = Polygon {
             pts,
+            props: Vec::new(),
             sides: Vec::new(),
             convex: false,
             attrs: Attrs::default(),
         };
         p.determine_convexity();
         p
+    }
+
+    /// A polygon whose vertices carry property texts (`props` empty or one per vertex).
+    pub fn with_props(pts: Vec<Vertex>, props: Vec<String>) -> Self {
+        let mut p = Polygon::new(pts);
+        if p.pts.len() == props.len() {
+            p.props = props;
+        }
+        p
+    }
+
+    /// The per-vertex property texts: empty, or one per vertex.
+    pub fn props(&self) -> &[String] {
+        &self.props
     }
 
     pub fn from_xy(pts: &[(f64, f64)]) -> Self {
@@ -208,6 +227,7 @@ impl Polygon {
 
     pub fn reverse(&mut self) {
         self.pts.reverse();
+        self.props.reverse();
         self.determine_convexity();
     }
 
@@ -235,25 +255,16 @@ impl Polygon {
         self.determine_convexity();
     }
 
-    /// Round every coordinate to a multiple of `s`; undone if it breaks convexity.
+    /// Round x and y of every vertex to a multiple of `s` (never z); undone if it
+    /// breaks convexity (geometry-formats.md §2.5, §3.5).
     pub fn apply_snap(&mut self, s: f64) {
         if s <= 0.0 || !s.is_finite() {
             return;
         }
-        let snap = |v: f64| {
-            if v >= 0.0 {
-                (v / s + 0.5).trunc() * s
-            } else {
-                (v / s - 0.5).trunc() * s
-            }
-        };
         let saved = self.clone();
         for p in &mut self.pts {
-            p.x = snap(p.x);
-            p.y = snap(p.y);
-            if let Some(z) = p.z {
-                p.z = Some(snap(z));
-            }
+            p.x = crate::formats::snap(p.x, s);
+            p.y = crate::formats::snap(p.y, s);
         }
         self.determine_convexity();
         if saved.convex && !self.convex {
@@ -285,9 +296,10 @@ impl Polygon {
         count <= 2
     }
 
-    /// The polygon spec: `pts={..}` at `precision` then the attributes.
+    /// The polygon spec (geometry-formats.md §3.6): `pts={..}` at `precision` (only
+    /// if there are vertices) then the attributes.
     pub fn spec(&self, precision: usize) -> String {
-        seglist_spec(&self.pts, precision, &self.attrs)
+        object_spec(&self.pts, &self.props, &[], &self.attrs, precision)
     }
 }
 

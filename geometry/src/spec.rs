@@ -164,19 +164,74 @@ pub fn point_erase_spec(label: &str) -> String {
     s
 }
 
-/// `pts={x,y:x,y:...}` with `precision` decimals (compact).
+/// `pts={x,y:x,y:...}` with `precision` decimals (compact); z only when not 0.
 pub fn pts_spec(pts: &[Vertex], precision: usize) -> String {
+    pts_props_spec(pts, &[], precision)
+}
+
+/// [`pts_spec`] with per-vertex properties (`props` empty, or one per vertex): a vertex
+/// with a property prints `x,y,z,property` even when z is 0 (geometry-formats.md §3.6).
+pub fn pts_props_spec(pts: &[Vertex], props: &[String], precision: usize) -> String {
     let body: Vec<String> = pts
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(i, p)| {
             let mut v = format!("{},{}", fmt_x(p.x, precision), fmt_x(p.y, precision));
-            if let Some(z) = p.z {
+            let prop = props.get(i).map_or("", String::as_str);
+            let z = p.z.unwrap_or(0.0);
+            if z != 0.0 || !prop.is_empty() {
                 v.push_str(&format!(",{}", fmt_x(z, precision)));
+            }
+            if !prop.is_empty() {
+                v.push(',');
+                v.push_str(prop);
             }
             v
         })
         .collect();
     format!("pts={{{}}}", body.join(":"))
+}
+
+/// An edge tag of a seglist: the edge from vertex `from` to vertex `to` is tagged `tag`
+/// (the lawnmower tags each lane `lane`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EdgeTag {
+    pub from: usize,
+    pub to: usize,
+    pub tag: String,
+}
+
+/// The full printed form of a seglist or polygon (geometry-formats.md §3.6): vertices
+/// (only if any), edge tags (only if any), then the attributes; precision clipped to 6.
+pub fn object_spec(
+    pts: &[Vertex],
+    props: &[String],
+    tags: &[EdgeTag],
+    attrs: &Attrs,
+    precision: usize,
+) -> String {
+    let precision = precision.min(6);
+    let mut s = String::new();
+    if !pts.is_empty() {
+        s.push_str(&pts_props_spec(pts, props, precision));
+    }
+    if !tags.is_empty() {
+        let t: Vec<String> = tags
+            .iter()
+            .map(|t| format!("{}:{}:{}", t.from, t.to, t.tag))
+            .collect();
+        if !s.is_empty() {
+            s.push(',');
+        }
+        s.push_str(&format!("tags={{{}}}", t.join("#")));
+    }
+    let a = attrs.spec();
+    if s.is_empty() {
+        s.push_str(a.strip_prefix(',').unwrap_or(&a));
+    } else {
+        s.push_str(&a);
+    }
+    s
 }
 
 /// Seglist or polygon spec: the vertices then the attributes.
@@ -185,6 +240,7 @@ pub fn pts_spec(pts: &[Vertex], precision: usize) -> String {
 #[derive(Clone, Debug, Default)]
 pub struct SeglistSpecCache {
     pts: Vec<Vertex>,
+    tags: Vec<EdgeTag>,
     precision: usize,
     attrs: Attrs,
     spec: String,
@@ -193,16 +249,34 @@ pub struct SeglistSpecCache {
 impl SeglistSpecCache {
     /// [`seglist_spec`] of these inputs, built only when they differ from the last call.
     pub fn get(&mut self, pts: &[Vertex], precision: usize, attrs: &Attrs) -> &str {
+        self.get_tagged(pts, &[], precision, attrs)
+    }
+
+    /// [`seglist_spec`] with the edge tags after the vertices (`tags={…}`, §3.6 of
+    /// geometry-formats.md), built only when the inputs differ from the last call.
+    pub fn get_tagged(
+        &mut self,
+        pts: &[Vertex],
+        tags: &[EdgeTag],
+        precision: usize,
+        attrs: &Attrs,
+    ) -> &str {
         if self.spec.is_empty()
             || self.pts != pts
+            || self.tags != tags
             || self.precision != precision
             || self.attrs != *attrs
         {
             self.pts.clear();
             self.pts.extend_from_slice(pts);
+            self.tags = tags.to_vec();
             self.precision = precision;
             self.attrs = attrs.clone();
-            self.spec = seglist_spec(pts, precision, attrs);
+            self.spec = if tags.is_empty() || pts.is_empty() {
+                seglist_spec(pts, precision, attrs)
+            } else {
+                object_spec(pts, &[], tags, attrs, precision)
+            };
         }
         &self.spec
     }
@@ -235,6 +309,15 @@ mod tests {
         assert_eq!(fmt_x(-1.234, 1), "-1.2");
         assert_eq!(fmt_x(100.0, 0), "100");
         assert_eq!(fmt_x(63.43494882, 3), "63.435");
+        // C printf: ties (exact binary halves) to even, otherwise the binary value decides.
+        assert_eq!(fmt_x(0.25, 1), "0.2");
+        assert_eq!(fmt_x(0.125, 2), "0.12");
+        assert_eq!(fmt_x(0.35, 1), "0.3");
+        assert_eq!(fmt_x(0.005, 2), "0.01");
+        assert_eq!(fmt_x(-0.05, 1), "-0.1");
+        assert_eq!(fmt_x(f64::NAN, 1), "nan");
+        assert_eq!(fmt_x(-f64::NAN, 1), "-nan");
+        assert_eq!(fmt_x(f64::NEG_INFINITY, 1), "-inf");
     }
 
     #[test]

@@ -206,6 +206,10 @@ pub fn parse_number(s: &str) -> Option<f64> {
 /// assert_eq!(mbutil::compact(-0.0001, 2), "0");
 /// ```
 pub fn compact(v: f64, decimals: usize) -> String {
+    // glibc prints NaN as `nan` / `-nan` by its sign bit (Rust would print `NaN`).
+    if v.is_nan() {
+        return if v.is_sign_negative() { "-nan" } else { "nan" }.to_string();
+    }
     // Whole numbers print the same at any precision (flag macros, mode values).
     if v.fract() == 0.0 && v.abs() < 1e15 {
         return if v == 0.0 {

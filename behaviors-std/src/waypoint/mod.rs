@@ -21,6 +21,8 @@ pub struct BhvWaypoint {
     domain: String,
     /// The path spec, formatted again only when the path or its look changes.
     view_cache: geometry::SeglistSpecCache,
+    /// Edge tags of the loaded path (a lawnmower's lanes), posted in VIEW_SEGLIST.
+    path_tags: Vec<geometry::EdgeTag>,
     /// The next-point spec and the trackpt erase spec, by the point they show: both stay
     /// the same for as long as the vehicle heads to one waypoint (parameters clear them).
     nextpt_spec: Option<((u64, u64), String)>,
@@ -86,6 +88,7 @@ impl BhvWaypoint {
     pub fn new(helm: &HelmDomain) -> Self {
         BhvWaypoint {
             view_cache: Default::default(),
+            path_tags: Vec::new(),
             nextpt_spec: None,
             trk_erase_spec: None,
             domain: helm.sub_domain(&["course", "speed"]),
@@ -377,7 +380,7 @@ impl BhvWaypoint {
                 ..Attrs::default()
             };
             self.view_cache
-                .get(self.engine.points(), 3, &attrs)
+                .get_tagged(self.engine.points(), &self.path_tags, 3, &attrs)
                 .to_string()
         };
         ctx.post_message("VIEW_SEGLIST", &seg);

@@ -1,7 +1,7 @@
 //! BHV_Waypoint parameters (behaviors-std.md §2.1) and its BHV_SETTINGS report.
 
 use behavior_api::sdk::Ctx;
-use geometry::{dist, fmt_x, is_color, parse_point, parse_polygon, parse_seglist, Vertex};
+use geometry::{dist, fmt_x, is_color, parse_point, parse_polygon, parse_seglist, EdgeTag, Vertex};
 
 use super::BhvWaypoint;
 use crate::common::{no_white, parse_bool, parse_nonneg, parse_number};
@@ -89,9 +89,15 @@ impl WptHints {
 /// A seglist string, or a polygon converted to a seglist starting at the vertex nearest
 /// (x, y) and continuing in polygon order.
 pub fn points_from_string(s: &str, x: f64, y: f64) -> Option<Vec<Vertex>> {
+    path_from_string(s, x, y).map(|(pts, _)| pts)
+}
+
+/// [`points_from_string`] with the seglist's edge tags (a lawnmower's `lane` tags; a
+/// polygon has none). The tags are posted back in VIEW_SEGLIST.
+pub fn path_from_string(s: &str, x: f64, y: f64) -> Option<(Vec<Vertex>, Vec<EdgeTag>)> {
     if let Some(sl) = parse_seglist(s) {
         if !sl.pts.is_empty() {
-            return Some(sl.pts);
+            return Some((sl.pts, sl.tags));
         }
     }
     let poly = parse_polygon(s)?;
@@ -108,7 +114,8 @@ pub fn points_from_string(s: &str, x: f64, y: f64) -> Option<Vec<Vertex>> {
             best = i;
         }
     }
-    Some((0..v.len()).map(|k| v[(best + k) % v.len()]).collect())
+    let pts = (0..v.len()).map(|k| v[(best + k) % v.len()]).collect();
+    Some((pts, Vec::new()))
 }
 
 /// `slow_dist=..,stop_dist=..`.
@@ -175,11 +182,12 @@ impl BhvWaypoint {
                     self.start_intent = lower == "start";
                     return true;
                 }
-                let Some(pts) = points_from_string(v, self.plat.x, self.plat.y) else {
+                let Some((pts, tags)) = path_from_string(v, self.plat.x, self.plat.y) else {
                     return false;
                 };
                 self.start_intent = false;
                 self.load_points(pts, true);
+                self.path_tags = tags;
                 true
             }
             "xpoints" => {
@@ -202,6 +210,7 @@ impl BhvWaypoint {
                 };
                 self.start_intent = false;
                 self.load_points(vec![Vertex::new(p.x, p.y)], false);
+                self.path_tags.clear();
                 true
             }
             "newpt" => {

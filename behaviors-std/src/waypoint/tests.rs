@@ -282,3 +282,83 @@ fn missing_nav_and_idle_transitions() {
     h.with(|c| e.on_every_state(c));
     assert_eq!(e.engine.points(), &[Vertex::new(1.235, -7.0)]);
 }
+
+/// A mission lawnmower (s1_alpha_msurvey, geometry-formats.md SL-04): 18 east-west
+/// lanes entered at the end nearest (0,0); the lanes' edge tags are posted back.
+#[test]
+fn lawnmower_survey() {
+    let mut b = BhvWaypoint::new(&helm());
+    let mut h = MockHost::new("wpt");
+    configure(
+        &mut h,
+        &mut b,
+        &[
+            ("speed", "2"),
+            ("capture_radius", "3"),
+            (
+                "points",
+                "format=lawnmower, label=survey, x=50, y=-90, height=200, width=100, lane_width=12, degs=90",
+            ),
+        ],
+    );
+    let pts = b.engine.points().to_vec();
+    assert_eq!(pts.len(), 36);
+    assert_eq!((pts[0].x, pts[0].y), (-54.00000000000001, -40.0));
+    assert_eq!((pts[1].x, pts[1].y), (-54.00000000000001, -140.0));
+    assert_eq!((pts[35].x, pts[35].y), (150.0, -40.0));
+    h.nav(0.0, 0.0, 0.0, 0.0);
+    let f = h.with(|c| b.on_run(c)).expect("function");
+    // Toward the first vertex (bearing 233.47; the function's peak is a 1-degree piece).
+    let to_first = geometry::rel_ang(0.0, 0.0, pts[0].x, pts[0].y);
+    let course = f64::from(decision(&f).0);
+    assert!((course - to_first).abs() <= 1.0, "{course} vs {to_first}");
+    let seg = h.last("VIEW_SEGLIST").unwrap();
+    assert!(seg.starts_with("pts={-54,-40:-54,-140:-42,-140:"), "{seg}");
+    assert!(seg.contains(",tags={0:1:lane#2:3:lane#"), "{seg}");
+    assert!(seg.contains("#34:35:lane},label=abe_wpt"), "{seg}");
+    // At the first lane's north end: down the lane (south).
+    h.clear();
+    h.nav(-54.0, -40.0, 180.0, 2.0);
+    let f = h.with(|c| b.on_run(c)).expect("function");
+    assert_eq!(h.posted("WPT_INDEX"), vec!["1"]);
+    assert_eq!(decision(&f).0, 180);
+    // A plain point list replaces the path and its tags.
+    assert!(h.with(|c| b.set_param(c, "points", "0,0 : 10,0")));
+    h.clear();
+    h.with(|c| b.on_run(c)).expect("function");
+    assert!(!h.last("VIEW_SEGLIST").unwrap().contains("tags="));
+}
+
+/// Every seglist and polygon format is a waypoint list; invalid ones are rejected.
+#[test]
+fn geometry_formats_as_points() {
+    let mut h = MockHost::new("wpt");
+    for (value, n) in [
+        (
+            "format=bowtie, x=0, y=0, height=40, wid1=10, wid2=30, wid3=40",
+            10,
+        ),
+        ("zigzag: 0, 0, 90, 100, 20, 10", 11),
+        ("radial:: x=0, y=-75, radius=20, pts=6, snap=1", 6),
+        (
+            "format=ellipse, x=0, y=0, degs=0, major=40, minor=20, pts=12",
+            12,
+        ),
+        ("-40,-40,160", 1),
+    ] {
+        let mut b = BhvWaypoint::new(&helm());
+        assert!(h.with(|c| b.set_param(c, "points", value)), "{value}");
+        assert_eq!(b.engine.size(), n, "{value}");
+    }
+    let mut b = BhvWaypoint::new(&helm());
+    for bad in [
+        "format=radial, x=0, y=-75, radius=20, pts=6, snap=0",
+        "format=zigzag, 0, 0, 90, 100, 20, 10",
+        "format=lawnmower, x=0, y=0, height=100",
+        "label=foo,active=false",
+    ] {
+        assert!(!h.with(|c| b.set_param(c, "points", bad)), "{bad}");
+    }
+    assert!(h.with(|c| b.set_param(c, "point", "x=12,y=-92,heading=97")));
+    assert_eq!(b.engine.points(), &[Vertex::new(12.0, -92.0)]);
+}

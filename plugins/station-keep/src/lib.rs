@@ -5,7 +5,7 @@
 use std::collections::VecDeque;
 
 use behavior_api::geometry::angles::{angle360, rel_ang};
-use behavior_api::geometry::spec::{fmt_x, is_color, Attrs};
+use behavior_api::geometry::spec::{fmt_x, is_color};
 use behavior_api::ivp::{self, coupler::couple, zaic::ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{FunctionData, PostValue};
@@ -326,60 +326,10 @@ fn split_top(s: &str, sep: char) -> Vec<String> {
     out
 }
 
-/// Point strings accepted by `station_pt` (§5.1), tried in order.
+/// The station point of `station_pt` (§5.1): any point string the real `string2Point`
+/// accepts (geometry-formats.md §6); z and attributes are not used.
 fn parse_station_point(s: &str) -> Option<(f64, f64)> {
-    let t = s.trim();
-    let pair = |sep: char| -> Option<(f64, f64)> {
-        let (a, b) = t.split_once(sep)?;
-        if b.contains(sep) {
-            return None;
-        }
-        Some((parse_number(a)?, parse_number(b)?))
-    };
-    if let Some(p) = pair(',').or_else(|| pair(':')) {
-        return Some(p);
-    }
-    if t.contains('=') {
-        // Standard form: key=value fields; x and y required (atof).
-        let (mut x, mut y) = (None, None);
-        let (mut sx, mut sy) = (0.0, 0.0);
-        let mut attrs = Attrs::default();
-        for f in split_top(t, ',') {
-            let (k, v) = f.split_once('=')?;
-            let (k, v) = (k.trim().to_ascii_lowercase(), v.trim());
-            match k.as_str() {
-                "x" => x = Some(behavior_api::atof(v)),
-                "y" => y = Some(behavior_api::atof(v)),
-                "shiftx" => sx = parse_number(v).unwrap_or(0.0),
-                "shifty" => sy = parse_number(v).unwrap_or(0.0),
-                "z" | "shiftz" | "heading" | "hdg" => {}
-                _ => {
-                    if !attrs.set(&k, v) {
-                        return None;
-                    }
-                }
-            }
-        }
-        return Some((x? + sx, y? + sy));
-    }
-    // Abbreviated form: `:`-separated elements.
-    let mut vertex = None;
-    let mut attrs = Attrs::default();
-    for el in t.split(':') {
-        let parts: Vec<&str> = el.split(',').map(str::trim).collect();
-        if parts.len() == 2 && attrs.set(parts[0], parts[1]) {
-            continue;
-        }
-        if parts.len() == 2 || parts.len() == 3 {
-            let nums: Option<Vec<f64>> = parts.iter().map(|p| parse_number(p)).collect();
-            if let Some(n) = nums {
-                vertex = Some((n[0], n[1]));
-                continue;
-            }
-        }
-        return None;
-    }
-    vertex
+    behavior_api::geometry::parse_point(s).map(|p| (p.x, p.y))
 }
 
 fn positive(value: &str) -> Option<f64> {
