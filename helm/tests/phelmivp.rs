@@ -342,6 +342,52 @@ fn appcast_request_gets_the_report_with_state_behaviors_and_warnings() {
     assert!(!out.contains("Helm Iteration:"), "{out}");
 }
 
+#[test]
+fn verbose_mode_prints_the_report_and_helm_verbose_selects_terse() {
+    // Not a terminal here: `TERM_REPORTING = true` asks for the report anyway.
+    let mut b = Bench::new("verbose", 4.0, &block("pHelmIvP", ""));
+    let text = std::fs::read_to_string(&b.mission).expect("read mission");
+    std::fs::write(&b.mission, format!("TERM_REPORTING = true\n{text}")).expect("write");
+    let w = b.watcher("watcher", &["IVPHELM_STATE"]);
+    let mission = b.mission.display().to_string();
+    let h = b.spawn(&[&mission], "verbose");
+    let (_, ok) = read_until(&w, Duration::from_secs(20), |all| {
+        from(all, "IVPHELM_STATE", "pHelmIvP")
+            .iter()
+            .filter(|m| m.string() == "DRIVE")
+            .count()
+            > 8
+    });
+    assert!(ok, "helm did not drive\n{}", b.output("verbose"));
+    b.signal(h, "TERM");
+    assert_eq!(b.wait_exit(h, Duration::from_secs(5)), Some(0));
+    let out = b.output("verbose");
+    let rule = "=".repeat(62);
+    assert!(out.contains(&format!("{rule}\npHelmIvP alpha")), "{out}");
+    assert!(out.contains("  Helm Iteration:  "), "{out}");
+    assert!(out.contains("Behaviors Active: ---------- (1)"), "{out}");
+    assert!(!out.contains("$$"), "{out}");
+
+    // HELM_VERBOSE=terse: the heartbeat instead.
+    let out_f = std::fs::File::create(b.dir.join("terse.out")).expect("out");
+    let child = Command::new(HELM)
+        .arg(&mission)
+        .env("HELM_VERBOSE", "terse")
+        .current_dir(&b.dir)
+        .stdin(Stdio::null())
+        .stdout(out_f)
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start helm");
+    b.children.push(child);
+    let h2 = b.children.len() - 1;
+    std::thread::sleep(Duration::from_secs(3));
+    b.signal(h2, "TERM");
+    assert_eq!(b.wait_exit(h2, Duration::from_secs(5)), Some(0));
+    let out = b.output("terse");
+    assert!(out.contains("$$$") && !out.contains("Helm Iteration"), "{out}");
+}
+
 fn run_flag(args: &[&str]) -> Output {
     Command::new(HELM)
         .args(args)
