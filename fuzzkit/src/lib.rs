@@ -421,7 +421,11 @@ pub fn fuzz(
         seeds.len(),
         bytes.load(Ordering::Relaxed),
         t0.elapsed().as_secs_f64(),
-        if n < cases as u64 { " (time budget reached)" } else { "" }
+        match &result {
+            Err(_) => " (failed; shrinking included)",
+            Ok(()) if n < cases as u64 => " (time budget reached)",
+            Ok(()) => "",
+        }
     );
     if let Err(e) = result {
         panic!("fuzz {name}: {e}");
