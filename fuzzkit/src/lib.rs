@@ -25,12 +25,12 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use proptest::strategy::ValueTree;
+use proptest::test_runner::{Config, TestRunner};
 
 /// Longest a single case may run (debug build, loaded 2-core machine).
 pub const CASE_LIMIT: Duration = Duration::from_secs(10);
@@ -387,10 +387,8 @@ pub fn fuzz(
     check: impl Fn(&[u8]) + Send + Sync + 'static,
 ) {
     let (cases, secs) = budget(default_cases);
-    // Panics inside cases are caught and reported once, with the input, below.
     let check: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(check);
-    let ran = Arc::new(AtomicU64::new(0));
-    let bytes = Arc::new(AtomicU64::new(0));
+    quiet_case_panics();
     let t0 = Instant::now();
     // Every seed exactly as it is, first.
     for (i, s) in seeds.iter().enumerate() {
@@ -398,44 +396,83 @@ pub fn fuzz(
             panic!("fuzz {name}: seed {i} {e}\ninput: {}", show(s));
         }
     }
-    let mut runner = TestRunner::new(Config {
-        cases,
-        failure_persistence: None,
-        max_shrink_iters: 2000,
-        ..Config::default()
-    });
-    quiet_case_panics();
-    let result = runner.run(&case(), |c| {
-        if t0.elapsed() > secs {
-            return Ok(());
+    // proptest generates the cases (and shrinks a failing one); the loop is ours so
+    // that the time budget ends it.
+    let mut runner = TestRunner::new(Config::default());
+    let strategy = case();
+    let (mut ran, mut bytes) = (0u64, 0u64);
+    let mut failure = None;
+    while ran < u64::from(cases) && t0.elapsed() < secs {
+        let mut tree = match strategy.new_tree(&mut runner) {
+            Ok(t) => t,
+            Err(e) => panic!("fuzz {name}: cannot generate a case: {e}"),
+        };
+        let data = input(&tree.current(), seeds, dict);
+        ran += 1;
+        bytes += data.len() as u64;
+        if let Err(e) = run_one(&check, data.clone()) {
+            failure = Some(shrink(&check, &mut tree, seeds, dict, data, e));
+            break;
         }
-        let data = input(&c, seeds, dict);
-        ran.fetch_add(1, Ordering::Relaxed);
-        bytes.fetch_add(data.len() as u64, Ordering::Relaxed);
-        run_one(&check, data.clone())
-            .map_err(|e| TestCaseError::fail(format!("{e}\ninput: {}", show(&data))))
-    });
-    let n = ran.load(Ordering::Relaxed);
+    }
     println!(
-        "fuzz {name}: {n} cases ({} seeds, {} input bytes) in {:.1} s{}",
+        "fuzz {name}: {ran} cases ({} seeds, {bytes} input bytes) in {:.1} s{}",
         seeds.len(),
-        bytes.load(Ordering::Relaxed),
         t0.elapsed().as_secs_f64(),
-        match &result {
-            Err(_) => " (failed; shrinking included)",
-            Ok(()) if n < cases as u64 => " (time budget reached)",
-            Ok(()) => "",
+        if failure.is_none() && ran < u64::from(cases) {
+            " (time budget reached)"
+        } else {
+            ""
         }
     );
-    if let Err(e) = result {
-        panic!("fuzz {name}: {e}");
+    if let Some((data, e, c)) = failure {
+        panic!(
+            "fuzz {name}: {e}\ninput ({} bytes): {}\ncase: {c:?}",
+            data.len(),
+            show(&data)
+        );
     }
+}
+
+/// Shrink a failing case (proptest's simplify/complicate walk), at most 500 re-runs;
+/// a hang is reported as found (re-running hangs would take minutes).
+fn shrink(
+    check: &Arc<dyn Fn(&[u8]) + Send + Sync>,
+    tree: &mut impl ValueTree<Value = Case>,
+    seeds: &[Vec<u8>],
+    dict: &[&[u8]],
+    data: Vec<u8>,
+    e: String,
+) -> (Vec<u8>, String, Case) {
+    let mut best = (data, e, tree.current());
+    if best.1.contains("did not finish") {
+        return best;
+    }
+    let mut runs = 0;
+    'outer: while runs < 500 && tree.simplify() {
+        loop {
+            runs += 1;
+            let c = tree.current();
+            let d = input(&c, seeds, dict);
+            match run_one(check, d.clone()) {
+                Err(e) if !e.contains("did not finish") => {
+                    best = (d, e, c);
+                    break;
+                }
+                _ => {
+                    if runs >= 500 || !tree.complicate() {
+                        break 'outer;
+                    }
+                }
+            }
+        }
+    }
+    best
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proptest::strategy::ValueTree;
 
     #[test]
     fn mutations_apply_within_bounds() {
@@ -446,6 +483,20 @@ mod tests {
             let c = case().new_tree(&mut runner).expect("case").current();
             let _ = input(&c, &seeds, dict);
         }
+    }
+
+    #[test]
+    fn a_failure_is_found_and_shrunk() {
+        let seeds = vec![b"hello world, a seed line\nand another".to_vec()];
+        let r = std::panic::catch_unwind(|| {
+            fuzz("selftest", 5000, &seeds, &[b"{"], |d: &[u8]| {
+                assert!(!d.contains(&b'{'), "brace");
+            })
+        });
+        let msg = *r.expect_err("must fail").downcast::<String>().expect("text");
+        assert!(msg.contains("panicked: brace"), "{msg}");
+        // Shrunk to no seed and the one token.
+        assert!(msg.contains("input (1 bytes): \"{\""), "{msg}");
     }
 
     #[test]

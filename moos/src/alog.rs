@@ -154,7 +154,7 @@ pub fn read<R: BufRead>(r: R) -> Result<Alog, AlogError> {
             _ => AlogValue::String(rest.to_owned()),
         };
         let (source, source_aux) = match src.split_once(':') {
-            Some((s, a)) => (s.to_owned(), a.to_owned()),
+            Some((s, a)) => (uncolumn(s).to_owned(), a.to_owned()),
             None => (uncolumn(src).to_owned(), String::new()),
         };
         log.entries.push(AlogEntry {
@@ -178,7 +178,8 @@ impl<'a> Fields<'a> {
         if s.is_empty() {
             return None;
         }
-        let end = s.find([' ', '\t']).unwrap_or(s.len());
+        // Any white space separates columns (the writer puts none inside one).
+        let end = s.find(char::is_whitespace).unwrap_or(s.len());
         self.s = &s[end..];
         Some(&s[..end])
     }
@@ -239,6 +240,15 @@ mod tests {
         assert_eq!(log.entries[1].value, AlogValue::String("v".into()));
         assert_eq!(log.entries[2].key, "A_B");
         assert_eq!(log.entries[2].source, "my_app");
+        // Later finds of the same harness: a source `-:` (empty source, empty aux) and
+        // white space other than blanks inside a key.
+        let log = read("1.0 K -: v\n2.0 c\u{b}d src w\n".as_bytes()).unwrap();
+        assert_eq!((log.entries[0].source.as_str(), log.entries[0].source_aux.as_str()), ("", ""));
+        assert_eq!((log.entries[1].key.as_str(), log.entries[1].source.as_str()), ("c", "d"));
+        let mut w = AlogWriter::new(Vec::new(), 0.0, "t.alog").unwrap();
+        w.write(&Message::notify_string("c\u{b}d", "x", 1.0)).unwrap();
+        let log = read(&w.into_inner()[..]).unwrap();
+        assert_eq!(log.entries[0].key, "c_d");
     }
 
     #[test]
