@@ -61,6 +61,18 @@ pub enum BhvErrorKind {
     /// An else-value after a `set` block that is not a single word (§6.1).
     #[error("Bad mode else-value (must be a single word)")]
     BadElseValue,
+    /// A `#include`, `#define`, `#ifdef` ... line: an nsplug directive, which the helm
+    /// does not expand (§1).
+    #[error(
+        "{0} is an nsplug directive: the helm does not expand it (run nsplug on the file first)"
+    )]
+    Preprocessor(String),
+    /// Bytes that are not UTF-8 (the line is shown with U+FFFD in their place).
+    #[error("invalid UTF-8 (byte {0} of the file); save the file as UTF-8")]
+    InvalidUtf8(usize),
+    /// A file larger than [`crate::reader::MAX_FILE_BYTES`].
+    #[error("file is larger than {limit} bytes (a behavior file is a few kB); not read")]
+    TooLarge { limit: u64 },
 }
 
 /// An error reading a .bhv file: which file, which line, the line's text,
@@ -91,9 +103,11 @@ impl fmt::Display for BhvError {
                 }
                 Ok(())
             }
+            BhvErrorKind::TooLarge { .. } => write!(f, "{}: {}", self.file.display(), self.kind),
+            // One line: where, what, and the line as written.
             kind => write!(
                 f,
-                "{}:{}: {}\n    {}",
+                "{}:{}: {} (line: {})",
                 self.file.display(),
                 self.line,
                 kind,
@@ -109,7 +123,9 @@ impl BhvError {
     pub fn helm_warnings(&self) -> Vec<String> {
         let file = self.file.display();
         match &self.kind {
-            BhvErrorKind::FileNotFound(_) => vec![format!("Could not find File: {file}")],
+            BhvErrorKind::FileNotFound(_) | BhvErrorKind::TooLarge { .. } => {
+                vec![format!("Could not find File: {file}")]
+            }
             kind => {
                 let mut v = Vec::new();
                 let n = self.line.saturating_sub(1);

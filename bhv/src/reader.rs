@@ -89,6 +89,48 @@ pub struct ConfigLine {
     pub raw: String,
 }
 
+/// Largest behavior file read (16 MiB): real ones are a few kB; a bigger one is a
+/// mistake (a log or a binary named `.bhv`), refused at once instead of parsed for long.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// Read at most [`MAX_FILE_BYTES`] + 1 bytes (so `/dev/zero` or a huge file cannot
+/// exhaust memory); `Ok(None)` if there was more.
+fn read_capped(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
+    use std::io::Read;
+    let mut buf = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut buf)?;
+    Ok((buf.len() as u64 <= MAX_FILE_BYTES).then_some(buf))
+}
+
+/// The file's text, or the error naming the (joined) line of its first invalid byte.
+fn decode(bytes: Vec<u8>, file: &Path) -> Result<String, BhvError> {
+    let e = match String::from_utf8(bytes) {
+        Ok(text) => return Ok(text),
+        Err(e) => e,
+    };
+    let valid = e.utf8_error().valid_up_to();
+    let bytes = e.into_bytes();
+    let phys = bytes[..valid].iter().filter(|&&b| b == b'\n').count();
+    let text = String::from_utf8_lossy(&bytes);
+    let joined = text
+        .split('\n')
+        .take(phys)
+        .filter(|l| !l.trim_end_matches([' ', '\t', '\r']).ends_with('\\'))
+        .count();
+    let shown = join_lines(&text)
+        .get(joined)
+        .map(|l| trim(l).to_string())
+        .unwrap_or_default();
+    Err(BhvError {
+        file: file.to_path_buf(),
+        line: joined + 1,
+        text: shown,
+        kind: BhvErrorKind::InvalidUtf8(valid),
+    })
+}
+
 /// Reads behavior files: sorted by byte-wise file name, de-duplicated,
 /// parser state not reset between files.
 ///
@@ -106,8 +148,18 @@ pub fn read_files(paths: &[PathBuf]) -> Result<SetSpec, BhvError> {
     let mut r = Reader::default();
     let mut missing: Option<BhvError> = None;
     for f in &files {
-        match std::fs::read(f) {
-            Ok(bytes) => r.feed(&String::from_utf8_lossy(&bytes), f)?,
+        match read_capped(f) {
+            Ok(Some(bytes)) => r.feed(&decode(bytes, f)?, f)?,
+            Ok(None) => {
+                return Err(BhvError {
+                    file: f.clone(),
+                    line: 0,
+                    text: String::new(),
+                    kind: BhvErrorKind::TooLarge {
+                        limit: MAX_FILE_BYTES,
+                    },
+                })
+            }
             Err(e) => {
                 if missing.is_none() {
                     missing = Some(BhvError {
@@ -421,6 +473,23 @@ impl Reader {
                         .map_err(|le| err(BhvErrorKind::BadCondition(le)))?;
                 }
                 Ok(())
+            }
+            _ if line.starts_with('#') => {
+                let directive = line.split_whitespace().next().unwrap_or(line);
+                let known = [
+                    "#include",
+                    "#define",
+                    "#ifdef",
+                    "#ifndef",
+                    "#elseifdef",
+                    "#else",
+                    "#endif",
+                ];
+                if known.iter().any(|d| directive.eq_ignore_ascii_case(d)) {
+                    Err(err(BhvErrorKind::Preprocessor(directive.to_string())))
+                } else {
+                    Err(err(BhvErrorKind::UnexpectedLine))
+                }
             }
             _ => Err(err(BhvErrorKind::UnexpectedLine)),
         }

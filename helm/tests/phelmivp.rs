@@ -385,7 +385,10 @@ fn verbose_mode_prints_the_report_and_helm_verbose_selects_terse() {
     b.signal(h2, "TERM");
     assert_eq!(b.wait_exit(h2, Duration::from_secs(5)), Some(0));
     let out = b.output("terse");
-    assert!(out.contains("$$$") && !out.contains("Helm Iteration"), "{out}");
+    assert!(
+        out.contains("$$$") && !out.contains("Helm Iteration"),
+        "{out}"
+    );
 }
 
 fn run_flag(args: &[&str]) -> Output {

@@ -4,6 +4,11 @@
 //! column. Values are free text up to the end of the line; the format does not mark types,
 //! so a reader takes a value that parses as a number as a double (as the C++ alog tools
 //! do). Binary payloads are not text and are logged as `<binary N bytes>`.
+//!
+//! The columns are separated by blanks, so the writer keeps every line readable: an
+//! empty key or source is written as `-` (read back as empty), and blanks inside a key
+//! or source become `_` (an empty source once shifted the value into the source column;
+//! found by the round-trip fuzz harness).
 
 use std::io::{self, BufRead, Write};
 
@@ -66,17 +71,18 @@ impl<W: Write> AlogWriter<W> {
     /// Append one message.
     pub fn write(&mut self, m: &Message) -> io::Result<()> {
         let src = if m.source_aux.is_empty() {
-            m.source.clone()
+            column(&m.source)
         } else {
-            format!("{}:{}", m.source, m.source_aux)
+            column(&format!("{}:{}", m.source, m.source_aux))
         };
+        let key = column(&m.key);
         let value = match m.data_type {
             DataType::DOUBLE => format!("{}", m.dval),
             DataType::BINARY => format!("<binary {} bytes>", m.sval.len()),
             _ => m.string().replace(['\n', '\r'], " "),
         };
         let t = format!("{:.3}", m.time - self.start);
-        writeln!(self.w, "{t:<15} {:<20} {src:<15} {value}", m.key)
+        writeln!(self.w, "{t:<15} {key:<20} {src:<15} {value}")
     }
 
     pub fn flush(&mut self) -> io::Result<()> {
@@ -85,6 +91,24 @@ impl<W: Write> AlogWriter<W> {
 
     pub fn into_inner(self) -> W {
         self.w
+    }
+}
+
+/// A key or source as one column: `-` when empty, blanks replaced by `_`.
+fn column(s: &str) -> String {
+    if s.is_empty() {
+        "-".to_owned()
+    } else {
+        s.replace(|c: char| c.is_whitespace(), "_")
+    }
+}
+
+/// The reader's side of [`column`]: `-` is empty.
+fn uncolumn(s: &str) -> &str {
+    if s == "-" {
+        ""
+    } else {
+        s
     }
 }
 
@@ -130,12 +154,12 @@ pub fn read<R: BufRead>(r: R) -> Result<Alog, AlogError> {
             _ => AlogValue::String(rest.to_owned()),
         };
         let (source, source_aux) = match src.split_once(':') {
-            Some((s, a)) => (s.to_owned(), a.to_owned()),
-            None => (src.to_owned(), String::new()),
+            Some((s, a)) => (uncolumn(s).to_owned(), a.to_owned()),
+            None => (uncolumn(src).to_owned(), String::new()),
         };
         log.entries.push(AlogEntry {
             time,
-            key: key.to_owned(),
+            key: uncolumn(key).to_owned(),
             source,
             source_aux,
             value,
@@ -154,7 +178,8 @@ impl<'a> Fields<'a> {
         if s.is_empty() {
             return None;
         }
-        let end = s.find([' ', '\t']).unwrap_or(s.len());
+        // Any white space separates columns (the writer puts none inside one).
+        let end = s.find(char::is_whitespace).unwrap_or(s.len());
         self.s = &s[end..];
         Some(&s[..end])
     }
@@ -193,6 +218,54 @@ mod tests {
             log.entries[1].value,
             AlogValue::String("iter=3, mode=DRIVE".into())
         );
+    }
+
+    /// Reproducer from the fuzz harness: a message without a source (the DB's timing
+    /// echo has none) was written as `t KEY  VALUE` and read back with VALUE as the source.
+    #[test]
+    fn regression_empty_source_and_key_round_trip() {
+        let mut w = AlogWriter::new(Vec::new(), 0.0, "t.alog").unwrap();
+        w.write(&Message::notify_string(
+            "_async_timing",
+            "1795316330.46",
+            0.102,
+        ))
+        .unwrap();
+        w.write(&Message::notify_string("", "v", 1.0)).unwrap();
+        let mut spaced = Message::notify_double("A B", 2.0, 2.0);
+        spaced.source = "my app".into();
+        w.write(&spaced).unwrap();
+        let log = read(&w.into_inner()[..]).unwrap();
+        assert_eq!(log.entries.len(), 3);
+        assert_eq!(log.entries[0].key, "_async_timing");
+        assert_eq!(log.entries[0].source, "");
+        assert_eq!(log.entries[0].value, AlogValue::Double(1795316330.46));
+        assert_eq!(
+            (log.entries[1].key.as_str(), log.entries[1].source.as_str()),
+            ("", "")
+        );
+        assert_eq!(log.entries[1].value, AlogValue::String("v".into()));
+        assert_eq!(log.entries[2].key, "A_B");
+        assert_eq!(log.entries[2].source, "my_app");
+        // Later finds of the same harness: a source `-:` (empty source, empty aux) and
+        // white space other than blanks inside a key.
+        let log = read("1.0 K -: v\n2.0 c\u{b}d src w\n".as_bytes()).unwrap();
+        assert_eq!(
+            (
+                log.entries[0].source.as_str(),
+                log.entries[0].source_aux.as_str()
+            ),
+            ("", "")
+        );
+        assert_eq!(
+            (log.entries[1].key.as_str(), log.entries[1].source.as_str()),
+            ("c", "d")
+        );
+        let mut w = AlogWriter::new(Vec::new(), 0.0, "t.alog").unwrap();
+        w.write(&Message::notify_string("c\u{b}d", "x", 1.0))
+            .unwrap();
+        let log = read(&w.into_inner()[..]).unwrap();
+        assert_eq!(log.entries[0].key, "c_d");
     }
 
     #[test]

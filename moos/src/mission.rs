@@ -2,7 +2,9 @@
 //! blocks, `define:` lines, `${NAME}` expansion, quotes and `//` comments.
 //!
 //! There is no `#include`/`#define` handling and there are no `#` comments: those belong to
-//! the separate `nsplug` preprocessor.
+//! the separate `nsplug` preprocessor. A `#include` line is refused (the C++ reader
+//! skips it, silently losing what it names), as are bytes that are not UTF-8 and files
+//! over [`MAX_FILE_BYTES`]; every error names the file and line and shows the line.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -12,20 +14,40 @@ use thiserror::Error;
 /// Lines this long or longer break the C++ reader; we refuse them (spec §7.1).
 pub const MAX_LINE: usize = 2000;
 
+/// Largest mission file read (16 MiB; real ones are a few kB).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
 /// A mission file that could not be read.
 #[derive(Debug, Error)]
 pub enum MissionError {
+    #[error("{}: file is larger than {MAX_FILE_BYTES} bytes (a mission file is a few kB); not read", path.display())]
+    TooLarge { path: PathBuf },
+    #[error("{}:{line}: invalid UTF-8 (byte {byte} of the file); save the file as UTF-8 (line: {text})", path.display())]
+    InvalidUtf8 {
+        path: PathBuf,
+        line: usize,
+        byte: usize,
+        text: String,
+    },
+    #[error("{}:{line}: #include is an nsplug directive: MOOS does not expand it (run nsplug on the file first) (line: {text})", path.display())]
+    Include {
+        path: PathBuf,
+        line: usize,
+        text: String,
+    },
     #[error("cannot read mission file {}: {source}", path.display())]
     Io {
         path: PathBuf,
         #[source]
         source: std::io::Error,
     },
-    #[error("{}:{line}: line is {len} characters long (the limit is {MAX_LINE})", path.display())]
+    #[error("{}:{line}: line is {len} characters long (the limit is {MAX_LINE}) (line: {start}...)", path.display())]
     LineTooLong {
         path: PathBuf,
         line: usize,
         len: usize,
+        /// The first 40 characters.
+        start: String,
     },
 }
 
@@ -60,11 +82,44 @@ pub struct MissionFile {
 impl MissionFile {
     /// Read and parse a file. Errors name the file (and line where one applies).
     pub fn read(path: &Path) -> Result<MissionFile, MissionError> {
-        let bytes = std::fs::read(path).map_err(|source| MissionError::Io {
+        use std::io::Read;
+        let io = |source| MissionError::Io {
             path: path.to_owned(),
             source,
-        })?;
-        MissionFile::parse(&String::from_utf8_lossy(&bytes), path)
+        };
+        // At most one byte past the cap, so a huge file (or /dev/zero) is not slurped.
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .map_err(io)?
+            .take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(MissionError::TooLarge {
+                path: path.to_owned(),
+            });
+        }
+        let text = match String::from_utf8(bytes) {
+            Ok(t) => t,
+            Err(e) => {
+                let byte = e.utf8_error().valid_up_to();
+                let bytes = e.into_bytes();
+                let line = bytes[..byte].iter().filter(|&&b| b == b'\n').count();
+                let text = String::from_utf8_lossy(&bytes)
+                    .split('\n')
+                    .nth(line)
+                    .unwrap_or("")
+                    .trim()
+                    .to_string();
+                return Err(MissionError::InvalidUtf8 {
+                    path: path.to_owned(),
+                    line: line + 1,
+                    byte,
+                    text,
+                });
+            }
+        };
+        MissionFile::parse(&text, path)
     }
 
     /// Parse mission text; `path` is used in messages only.
@@ -77,6 +132,15 @@ impl MissionFile {
                     path: path.to_owned(),
                     line: i + 1,
                     len,
+                    start: l.trim().chars().take(40).collect(),
+                });
+            }
+            let t = l.trim();
+            if t.len() >= 8 && t.as_bytes()[..8].eq_ignore_ascii_case(b"#include") {
+                return Err(MissionError::Include {
+                    path: path.to_owned(),
+                    line: i + 1,
+                    text: t.to_string(),
                 });
             }
         }
@@ -402,5 +466,32 @@ ProcessConfig = other\n\
         assert!(s.contains("big.moos:2"), "{s}");
         let e = MissionFile::read(Path::new("/nonexistent/x.moos")).unwrap_err();
         assert!(e.to_string().contains("/nonexistent/x.moos"));
+        let e =
+            MissionFile::parse("a = 1\n  #include self.moos\n", Path::new("inc.moos")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "inc.moos:2: #include is an nsplug directive: MOOS does not expand it (run nsplug \
+             on the file first) (line: #include self.moos)"
+        );
+    }
+
+    #[test]
+    fn invalid_utf8_and_huge_files_are_refused() {
+        let dir = std::env::temp_dir().join(format!("mission-bad-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("bad.moos");
+        std::fs::write(&f, b"A = 1\nB = caf\xe9\n").unwrap();
+        let e = MissionFile::read(&f).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!("{}:2: invalid UTF-8", f.display())),
+            "{e}"
+        );
+        assert!(e.ends_with("(line: B = caf\u{fffd})"), "{e}");
+        let mut big = vec![b'\n'; MAX_FILE_BYTES as usize + 1];
+        big[0] = b'A';
+        std::fs::write(&f, &big).unwrap();
+        let e = MissionFile::read(&f).unwrap_err().to_string();
+        assert!(e.contains("larger than"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

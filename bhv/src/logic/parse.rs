@@ -11,6 +11,9 @@ pub(crate) fn parse_expression(text: &str) -> Result<(Node, Vec<String>), LogicE
         whole: text,
         vars: Vec::new(),
     };
+    if nesting(&pre).is_some_and(|d| d > MAX_DEPTH) {
+        return Err(p.err(format!("parentheses nested more than {MAX_DEPTH} deep")));
+    }
     let root = p.expr(&pre)?;
     Ok((root, p.vars))
 }
@@ -30,21 +33,31 @@ fn preprocess(text: &str) -> String {
     s.replace("$ (", "$(").trim().to_string()
 }
 
-fn balanced(e: &str) -> bool {
-    let mut depth: i64 = 0;
+/// Deepest parenthesis nesting accepted. The parser recurses once per level (and strips
+/// enclosing pairs in time proportional to depth × length), so without a bound a long
+/// enough condition line overflowed the stack and aborted the helm (found by fuzzing).
+/// Real conditions nest a few levels.
+pub(crate) const MAX_DEPTH: i64 = 100;
+
+/// Parentheses balance (`None` if not) and the deepest nesting.
+fn nesting(e: &str) -> Option<i64> {
+    let (mut depth, mut max): (i64, i64) = (0, 0);
     for b in e.bytes() {
         match b {
-            b'(' => depth += 1,
+            b'(' => {
+                depth += 1;
+                max = max.max(depth);
+            }
             b')' => {
                 depth -= 1;
                 if depth < 0 {
-                    return false;
+                    return None;
                 }
             }
             _ => {}
         }
     }
-    depth == 0
+    (depth == 0).then_some(max)
 }
 
 /// True if `e` is entirely enclosed by one matching pair of parentheses.
@@ -150,7 +163,7 @@ impl Parser<'_> {
 
     fn expr(&mut self, e: &str) -> Result<Node, LogicError> {
         let mut e = e.trim();
-        if !balanced(e) {
+        if nesting(e).is_none() {
             return Err(self.err(format!("unbalanced parentheses in [{e}]")));
         }
         while enclosed(e) {

@@ -88,8 +88,13 @@ fn comments() {
 #[test]
 fn hash_lines_are_not_comments() {
     let e = fail("#include foo.bhv\n");
-    assert!(matches!(e.kind, BhvErrorKind::UnexpectedLine));
+    assert_eq!(e.kind, BhvErrorKind::Preprocessor("#include".into()));
     assert_eq!((e.line, e.text.as_str()), (1, "#include foo.bhv"));
+    assert!(e.to_string().contains("nsplug"), "{e}");
+    assert!(matches!(
+        fail("# note\n").kind,
+        BhvErrorKind::UnexpectedLine
+    ));
     // inside a block: passed on as a (bad) configuration line
     let s = parse("Behavior = BHV_W\n{\n#define X\n}\n");
     assert_eq!(s.behaviors[0].lines[0].param, "#define x");
@@ -126,7 +131,8 @@ fn state_machine_errors() {
         assert_eq!((e.line, e.text.as_str()), (line, shown), "{text:?}: {e}");
         let msg = e.to_string();
         assert!(msg.starts_with(&format!("t.bhv:{line}: ")), "{msg}");
-        assert!(msg.ends_with(&format!("\n    {shown}")), "{msg}");
+        assert!(msg.ends_with(&format!(" (line: {shown})")), "{msg}");
+        assert!(!msg.contains('\n'), "one line: {msg}");
     }
     assert!(matches!(
         fail("}\n").kind,
@@ -480,4 +486,31 @@ proptest::proptest! {
         let _ = crate::logic::LogicCondition::parse(&t);
         let _ = crate::flag::parse_flag(&t);
     }
+}
+
+#[test]
+fn invalid_utf8_names_the_joined_line() {
+    let dir = std::env::temp_dir().join(format!("bhv-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("bad.bhv");
+    let mut bytes = b"initialize A = 1\nBehavior = BHV_W\n{\n  points = 0,0 : \\\n  1,1\n  name = x\xff\xfey\n}\n".to_vec();
+    std::fs::write(&f, &bytes).unwrap();
+    let e = read_files(std::slice::from_ref(&f)).unwrap_err();
+    assert!(matches!(e.kind, BhvErrorKind::InvalidUtf8(_)), "{e}");
+    // Physical line 6, joined line 5 (lines 4 and 5 are one).
+    assert_eq!(e.line, 5, "{e}");
+    assert_eq!(e.text, "name = x\u{fffd}\u{fffd}y");
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with(&format!("{}:5: invalid UTF-8", f.display())),
+        "{msg}"
+    );
+    assert!(!msg.contains('\n'));
+    // Too large: refused without reading it all.
+    bytes.resize(MAX_FILE_BYTES as usize + 10, b'\n');
+    std::fs::write(&f, &bytes).unwrap();
+    let e = read_files(std::slice::from_ref(&f)).unwrap_err();
+    assert!(matches!(e.kind, BhvErrorKind::TooLarge { .. }), "{e}");
+    assert!(e.to_string().contains("larger than"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -49,6 +49,14 @@ pub struct ClientConfig {
     pub heartbeat: Duration,
     /// Largest packet accepted from the DB.
     pub max_packet: usize,
+    /// Drop the connection (and reconnect) when nothing arrives from the DB for this
+    /// long, real time. A live DB answers every `T` heartbeat with an echo, so silence
+    /// means a hung DB or a peer that stopped mid-packet; the C++ client would wait on
+    /// it forever (spec §5.6), a helm at sea must not.
+    pub silence_timeout: Duration,
+    /// A write to the DB that blocks longer than this fails and drops the connection
+    /// (so a stalled DB cannot make queued posts pile up without bound).
+    pub send_timeout: Duration,
 }
 
 impl ClientConfig {
@@ -64,6 +72,8 @@ impl ClientConfig {
             connect_timeout: Duration::from_secs(5),
             heartbeat: Duration::from_secs(1),
             max_packet: crate::wire::DEFAULT_MAX_PACKET,
+            silence_timeout: Duration::from_secs(5),
+            send_timeout: Duration::from_secs(6),
         }
     }
 }

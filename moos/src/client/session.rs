@@ -194,6 +194,7 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
 }
 
 fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
+    let _ = stream.set_write_timeout(Some(sh.cfg.send_timeout));
     let wait = Duration::from_millis(333);
     let mut last_t: Option<Instant> = None;
     let mut batch: Vec<u8> = Vec::new();
@@ -261,7 +262,7 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
         }
         let _ = p.finish();
         if let Err(e) = stream.write_all(&batch) {
-            tracing::debug!("write to DB failed: {e}");
+            tracing::warn!(client = %sh.cfg.name, "write to the DB failed, dropping the connection: {e}");
             dead.store(true, Ordering::SeqCst);
             return;
         }
@@ -295,6 +296,7 @@ fn chunk_end(body: &[u8], pos: usize, max: usize) -> (usize, usize) {
 
 fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: Arc<AtomicBool>) {
     let _ = stream.set_read_timeout(Some(Duration::from_millis(250)));
+    let mut last_rx = Instant::now();
     loop {
         loop {
             let msgs = match fr.next_frame() {
@@ -306,13 +308,13 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
                         m
                     }
                     Err(e) => {
-                        tracing::warn!("malformed packet from DB: {e}");
+                        tracing::warn!(client = %sh.cfg.name, "malformed packet from DB, dropping the connection: {e}");
                         return finish(&sh, &dead);
                     }
                 },
                 Ok(None) => break,
                 Err(e) => {
-                    tracing::warn!("bad packet from DB: {e}");
+                    tracing::warn!(client = %sh.cfg.name, "bad packet from DB, dropping the connection: {e}");
                     return finish(&sh, &dead);
                 }
             };
@@ -323,12 +325,23 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
         }
         match fr.fill(&mut stream) {
             Ok(0) => return finish(&sh, &dead),
-            Ok(_) => {}
+            Ok(_) => last_rx = Instant::now(),
             Err(e)
                 if matches!(
                     e.kind(),
                     ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
-                ) => {}
+                ) =>
+            {
+                if last_rx.elapsed() > sh.cfg.silence_timeout {
+                    tracing::warn!(
+                        client = %sh.cfg.name,
+                        pending = fr.pending(),
+                        "nothing from the DB for {:?}: dropping the connection",
+                        sh.cfg.silence_timeout
+                    );
+                    return finish(&sh, &dead);
+                }
+            }
             Err(_) => return finish(&sh, &dead),
         }
     }

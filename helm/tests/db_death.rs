@@ -1,0 +1,379 @@
+//! The helm survives its MOOSDB and its simulator (issue 10, point 3), with the real
+//! binaries: the `helm` binary (not embedded) and the `moosdb` binary on a free port
+//! of 127.0.0.1, the alpha mission at MOOSTimeWarp 20, and the `uSimMarine` simulator of
+//! `helm run --embedded` running in this test process as a separate MOOS client (so it
+//! can be killed and restarted on its own). An observer client records what reaches
+//! the DB.
+//!
+//! 1. Mid-survey the `moosdb` process is killed (SIGKILL) and, 3 s later, a new one is
+//!    started on the same port.
+//! 2. Later the simulator is stopped for 2 s and restarted where the vehicle was.
+//! 3. The mission must complete (`MISSION = complete`, the return behavior's endflag).
+//!
+//! What the helm does while its DB is gone, as chosen from the specs: helm.md has no
+//! staleness rule for navigation (its only nav rule is the start-up hold until every
+//! NAV_* was received once) and moos-wire.md §5.6 says a MOOS app notices a dead DB by
+//! the socket and reconnects; like CMOOSApp, the helm does not iterate while
+//! disconnected. So it *holds*: no iteration and no posting while there is no DB (so
+//! nothing is posted that cannot be delivered: the helm's alog, which records every
+//! posting, has none in the outage, and it never logs `not posted`), then it
+//! reconnects to the new DB, its client re-registers every variable (it gets NAV_* again
+//! and finishes the mission) and it drives on. While the simulator is gone the DB is
+//! there, so the helm keeps iterating on the last navigation it has (no all-stop: the
+//! spec has none for stale navigation) and its DESIRED_* keep arriving.
+
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use moos::client::{Client, ClientConfig};
+use moos::mission::MissionFile;
+use moos::wire::Message;
+
+const ALPHA_MOOS: &str = include_str!("../../missions/alpha/alpha.moos");
+const ALPHA_BHV: &str = include_str!("../../missions/alpha/alpha.bhv");
+const WARP: f64 = 20.0;
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .expect("bind")
+        .local_addr()
+        .expect("addr")
+        .port()
+}
+
+/// The alpha mission with `port`, the warp, and the simulator starting at `start`.
+fn mission_text(port: u16, start: (f64, f64, f64, f64)) -> String {
+    ALPHA_MOOS
+        .lines()
+        .map(|l| {
+            let t = l.trim_start();
+            let key = t.split('=').next().unwrap_or("").trim();
+            match key {
+                "ServerPort" => format!("ServerPort = {port}"),
+                "MOOSTimeWarp" => format!("MOOSTimeWarp = {WARP}"),
+                "start_x" => format!("  start_x = {}", start.0),
+                "start_y" => format!("  start_y = {}", start.1),
+                "start_heading" => format!("  start_heading = {}", start.2),
+                "start_speed" => format!("  start_speed = {}", start.3),
+                _ => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The `moosdb` built next to the `helm` binary (`cargo test --workspace` builds both).
+fn moosdb_path() -> PathBuf {
+    let helm = Path::new(env!("CARGO_BIN_EXE_helm"));
+    helm.with_file_name(format!("moosdb{}", std::env::consts::EXE_SUFFIX))
+}
+
+/// A `moosdb` process, killed on drop.
+struct MoosDb {
+    child: Child,
+    log: PathBuf,
+}
+
+impl MoosDb {
+    fn start(mission: &Path, log: PathBuf) -> MoosDb {
+        let out = std::fs::File::create(&log).expect("db log");
+        let err = out.try_clone().expect("db log");
+        let child = Command::new(moosdb_path())
+            .arg(mission)
+            .arg("--bind=127.0.0.1")
+            .env("RUST_LOG", "info")
+            .env("NO_COLOR", "1")
+            .stdout(Stdio::from(out))
+            .stderr(Stdio::from(err))
+            .spawn()
+            .unwrap_or_else(|e| {
+                panic!(
+                    "cannot start {}: {e} (build it: cargo build -p moos)",
+                    moosdb_path().display()
+                )
+            });
+        MoosDb { child, log }
+    }
+
+    fn wait_listening(&self, port: u16) {
+        let t0 = Instant::now();
+        while TcpStream::connect(("127.0.0.1", port)).is_err() {
+            assert!(
+                t0.elapsed() < Duration::from_secs(10),
+                "moosdb not listening"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    fn log(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+}
+
+impl Drop for MoosDb {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+/// The helm process, interrupted (then killed) on drop.
+struct Helm(Child);
+
+impl Drop for Helm {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Everything the observer received, with its MOOS receive time.
+struct Observer {
+    c: Client,
+    seen: Vec<(f64, Message)>,
+}
+
+impl Observer {
+    fn new(port: u16) -> Observer {
+        let mut cfg = ClientConfig::new("127.0.0.1", port, "observer");
+        cfg.time_warp = WARP;
+        let c = Client::connect(cfg).expect("observer connects");
+        for v in [
+            "DESIRED_SPEED",
+            "DESIRED_HEADING",
+            "NAV_X",
+            "NAV_Y",
+            "NAV_HEADING",
+            "NAV_SPEED",
+            "MISSION",
+            "IVPHELM_STATE",
+            "IVPHELM_ALLSTOP",
+        ] {
+            c.register(v, 0.0).expect("register");
+        }
+        Observer {
+            c,
+            seen: Vec::new(),
+        }
+    }
+
+    fn poll(&mut self) {
+        let mut v = Vec::new();
+        self.c.wait_for_mail(Duration::from_millis(50));
+        self.c.fetch(&mut v);
+        let now = self.c.moos_time();
+        self.seen.extend(v.into_iter().map(|m| (now, m)));
+    }
+
+    /// Poll until `pred` holds for a message received after `since` (MOOS time).
+    fn wait_for(
+        &mut self,
+        what: &str,
+        since: f64,
+        limit: Duration,
+        pred: impl Fn(&Message) -> bool,
+    ) {
+        let t0 = Instant::now();
+        loop {
+            if self.seen.iter().any(|(t, m)| *t >= since && pred(m)) {
+                return;
+            }
+            assert!(t0.elapsed() < limit, "{what}: not seen within {limit:?}");
+            self.poll();
+        }
+    }
+
+    fn last(&self, key: &str) -> Option<f64> {
+        self.seen
+            .iter()
+            .rev()
+            .find(|(_, m)| m.key == key)
+            .map(|(_, m)| m.dval)
+    }
+
+    fn count_after(&self, key: &str, since: f64) -> usize {
+        self.seen
+            .iter()
+            .filter(|(t, m)| *t >= since && m.key == key)
+            .count()
+    }
+
+    fn now(&self) -> f64 {
+        self.c.moos_time()
+    }
+
+    fn pause(&mut self, real: Duration) {
+        let t0 = Instant::now();
+        while t0.elapsed() < real {
+            self.poll();
+        }
+    }
+}
+
+#[test]
+fn helm_survives_moosdb_death_and_simulator_restart() {
+    let dir = std::env::temp_dir().join(format!("helm-db-death-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let port = free_port();
+    let moos_path = dir.join("alpha.moos");
+    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
+    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let alog = dir.join("helm.alog");
+
+    let mut db = MoosDb::start(&moos_path, dir.join("db1.log"));
+    db.wait_listening(port);
+    let mission = MissionFile::read(&moos_path).expect("mission parses");
+    let mut sim = Some(helm::app::sim::Sim::start(&mission).expect("simulator connects"));
+    let mut obs = Observer::new(port);
+    let helm_out = dir.join("helm.out");
+    let mut helm = Helm(
+        Command::new(env!("CARGO_BIN_EXE_helm"))
+            .arg("run")
+            .arg(&moos_path)
+            .args(["--duration", "3000", "--quiet", "--alog"])
+            .arg(&alog)
+            .env("RUST_LOG", "warn")
+            .env("NO_COLOR", "1")
+            .stdout(Stdio::from(std::fs::File::create(&helm_out).expect("out")))
+            .stderr(Stdio::from(
+                std::fs::File::create(dir.join("helm.err")).expect("err"),
+            ))
+            .spawn()
+            .expect("start helm"),
+    );
+
+    // Driving: the helm commands speed and the vehicle moves east towards 60,-40.
+    obs.wait_for("driving", 0.0, Duration::from_secs(30), |m| {
+        m.key == "NAV_X" && m.dval > 15.0
+    });
+
+    // 1. The DB dies.
+    let killed = obs.now();
+    db.kill();
+    obs.pause(Duration::from_secs(3));
+    let restarted = obs.now();
+    let db = MoosDb::start(&moos_path, dir.join("db2.log"));
+    db.wait_listening(port);
+    obs.wait_for(
+        "helm drives again",
+        restarted,
+        Duration::from_secs(20),
+        |m| m.key == "DESIRED_SPEED" && m.dval > 0.0,
+    );
+    obs.wait_for(
+        "vehicle moves again",
+        restarted,
+        Duration::from_secs(20),
+        |m| m.key == "NAV_X",
+    );
+    assert!(
+        db.log().contains("pHelmIvP"),
+        "the helm did not connect to the new DB:\n{}",
+        db.log()
+    );
+
+    // 2. The simulator dies, and comes back where the vehicle was.
+    obs.pause(Duration::from_secs(2));
+    if let Some(s) = sim.take() {
+        s.stop();
+    }
+    let sim_gone = obs.now();
+    let at = (
+        obs.last("NAV_X").expect("x"),
+        obs.last("NAV_Y").expect("y"),
+        obs.last("NAV_HEADING").expect("heading"),
+        obs.last("NAV_SPEED").expect("speed"),
+    );
+    obs.pause(Duration::from_secs(2));
+    let sim_back = obs.now();
+    // With the DB up the helm keeps deciding on its last navigation (no staleness rule).
+    assert!(
+        obs.count_after("DESIRED_HEADING", sim_gone + 2.0) > 10,
+        "the helm stopped posting while the simulator was gone"
+    );
+    assert_eq!(
+        obs.count_after("NAV_X", sim_gone + 2.0),
+        0,
+        "the simulator still posts"
+    );
+    let restart_text = mission_text(port, at);
+    let restart_mission =
+        MissionFile::parse(&restart_text, &moos_path).expect("restart mission parses");
+    let _sim = helm::app::sim::Sim::start(&restart_mission).expect("simulator reconnects");
+
+    // 3. The mission completes.
+    obs.wait_for("mission complete", sim_back, Duration::from_secs(90), |m| {
+        m.key == "MISSION" && m.string() == "complete"
+    });
+
+    // End the helm cleanly (SIGINT: final line, alog flushed).
+    let pid = helm.0.id().to_string();
+    let _ = Command::new("kill").args(["-INT", &pid]).status();
+    let t0 = Instant::now();
+    while helm.0.try_wait().expect("wait").is_none() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "helm did not stop on SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let err = std::fs::read_to_string(dir.join("helm.err")).unwrap_or_default();
+    let out = std::fs::read_to_string(&helm_out).unwrap_or_default();
+    assert!(
+        err.contains("lost the MOOSDB"),
+        "no disconnect warning:\n{err}"
+    );
+    assert!(
+        !err.contains("not posted"),
+        "the helm tried to post without a DB:\n{err}"
+    );
+    assert!(out.contains("final:"), "{out}\n{err}");
+
+    // The helm's alog: postings before the kill, none during the outage, many after.
+    let f = std::fs::File::open(&alog).expect("alog written");
+    let log = moos::alog::read(std::io::BufReader::new(f)).expect("alog parses");
+    let start = log.log_start.expect("LOGSTART");
+    // The client sees the socket close within milliseconds: 0.25 s real of grace.
+    let grace = 0.25 * WARP;
+    let helm_posts: Vec<f64> = log
+        .entries
+        .iter()
+        .filter(|e| e.source == "pHelmIvP")
+        .map(|e| start + e.time)
+        .collect();
+    let during: Vec<f64> = helm_posts
+        .iter()
+        .copied()
+        .filter(|t| *t > killed + grace && *t < restarted)
+        .collect();
+    assert!(
+        during.is_empty(),
+        "{} postings while the DB was dead (killed {killed:.1}, restarted {restarted:.1}): {:?}",
+        during.len(),
+        &during[..during.len().min(5)]
+    );
+    println!(
+        "helm postings: {} before the kill, {} in the outage, {} after the new DB (outage {:.1} MOOS s)",
+        helm_posts.iter().filter(|t| **t < killed).count(),
+        during.len(),
+        helm_posts.iter().filter(|t| **t > restarted).count(),
+        restarted - killed
+    );
+    assert!(
+        helm_posts.iter().any(|t| *t < killed),
+        "nothing posted before the kill"
+    );
+    assert!(
+        helm_posts.iter().filter(|t| **t > restarted).count() > 100,
+        "too few postings after the DB came back"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,782 @@
+//! Hostile MOOS peers against the real `moosdb` binary (issue 10).
+//!
+//! Each test starts its own `moosdb` on 127.0.0.1 (a free port, `--moos_timeout=2`),
+//! connects two well-behaved watchers (a publisher and a subscriber of `PING`), lets a
+//! raw TCP peer misbehave, and then checks that:
+//! * the DB process is still running;
+//! * its resident memory (VmRSS of /proc/PID/status) stays under a bound;
+//! * the watchers are still connected on their first connection and `PING` still flows;
+//! * the offender's socket was closed by the DB, and the DB logged why (its log is the
+//!   process's stdout, kept in a temp file).
+//!
+//! Misbehaviours: a 2 GB length prefix (before and after the handshake), a truncated
+//! packet then silence, garbage after a valid handshake, a flood of connections (bounded:
+//! 200 idle sockets and 60 full handshakes), a name clash, and 1 MB strings (as value
+//! and as variable name).
+//!
+//! The second half turns it round: a fake DB (a raw listener on 127.0.0.1) that
+//! misbehaves towards the helm's client (`moos::Client`) after a valid welcome. The
+//! client must drop that connection (the fake sees it closed), log why, and reconnect
+//! (to the same fake, which then behaves), with its memory bounded; 1 MB strings from
+//! the DB arrive intact.
+//!
+//! The tests run one at a time (a lock): they measure memory, and the machine is small.
+
+use std::io::{Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use moos::client::{Client, ClientConfig};
+use moos::wire::{self, DataType, FrameReader, Message, MsgType};
+
+/// One test at a time (memory is measured; the machine has 2 cores).
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .expect("bind")
+        .local_addr()
+        .expect("addr")
+        .port()
+}
+
+/// A `moosdb` child process, killed on drop.
+struct MoosDb {
+    child: Child,
+    port: u16,
+    log: PathBuf,
+}
+
+impl MoosDb {
+    fn start(tag: &str) -> MoosDb {
+        static N: AtomicUsize = AtomicUsize::new(0);
+        let log = std::env::temp_dir().join(format!(
+            "moosdb-hostile-{tag}-{}-{}.log",
+            std::process::id(),
+            N.fetch_add(1, Ordering::SeqCst)
+        ));
+        let port = free_port();
+        let out = std::fs::File::create(&log).expect("log file");
+        let err = out.try_clone().expect("log file");
+        let child = Command::new(env!("CARGO_BIN_EXE_moosdb"))
+            .arg(format!("--moos_port={port}"))
+            .arg("--bind=127.0.0.1")
+            .arg("--moos_timeout=2")
+            .arg("--moos_community=hostile")
+            .env("RUST_LOG", "info")
+            .env("NO_COLOR", "1")
+            .stdout(Stdio::from(out))
+            .stderr(Stdio::from(err))
+            .spawn()
+            .expect("start moosdb");
+        let db = MoosDb { child, port, log };
+        let t0 = Instant::now();
+        while TcpStream::connect(("127.0.0.1", port)).is_err() {
+            assert!(
+                t0.elapsed() < Duration::from_secs(10),
+                "moosdb did not listen"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        db
+    }
+
+    fn alive(&mut self) -> bool {
+        matches!(self.child.try_wait(), Ok(None))
+    }
+
+    /// Resident memory in kB.
+    fn rss_kb(&self) -> u64 {
+        let s = std::fs::read_to_string(format!("/proc/{}/status", self.child.id()))
+            .expect("/proc/PID/status");
+        s.lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))
+            .and_then(|v| v.split_whitespace().next())
+            .and_then(|v| v.parse().ok())
+            .expect("VmRSS")
+    }
+
+    fn log(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+
+    /// Wait until the log contains every one of `words` on one line.
+    fn wait_log(&self, words: &[&str], limit: Duration) -> bool {
+        let t0 = Instant::now();
+        while t0.elapsed() < limit {
+            if self
+                .log()
+                .lines()
+                .any(|l| words.iter().all(|w| l.contains(w)))
+            {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        false
+    }
+}
+
+impl Drop for MoosDb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_file(&self.log);
+    }
+}
+
+/// Two good clients: `watch_pub` posts PING, `watch_sub` receives it.
+struct Watchers {
+    publ: Client,
+    sub: Client,
+    n: f64,
+}
+
+impl Watchers {
+    fn new(port: u16) -> Watchers {
+        let publ = Client::connect(ClientConfig::new("127.0.0.1", port, "watch_pub"))
+            .expect("watch_pub connects");
+        let sub = Client::connect(ClientConfig::new("127.0.0.1", port, "watch_sub"))
+            .expect("watch_sub connects");
+        sub.register("PING", 0.0).expect("register");
+        let mut w = Watchers { publ, sub, n: 0.0 };
+        w.assert_service("before the attack");
+        w
+    }
+
+    /// A fresh PING value reaches the subscriber within 5 s, on the first connections.
+    fn assert_service(&mut self, when: &str) {
+        self.n += 1.0;
+        let want = self.n;
+        let t0 = Instant::now();
+        let mut got = Vec::new();
+        loop {
+            let _ = self.publ.notify_double("PING", want, None);
+            self.sub.wait_for_mail(Duration::from_millis(200));
+            self.sub.fetch(&mut got);
+            if got.iter().any(|m| m.key == "PING" && m.dval == want) {
+                break;
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(5),
+                "{when}: PING {want} not delivered"
+            );
+        }
+        assert_eq!(
+            self.publ.connection_count(),
+            1,
+            "{when}: watch_pub reconnected"
+        );
+        assert_eq!(
+            self.sub.connection_count(),
+            1,
+            "{when}: watch_sub reconnected"
+        );
+    }
+}
+
+fn handshake_bytes(name: &str) -> Vec<u8> {
+    let hs = Message {
+        msg_type: MsgType::DATA,
+        data_type: DataType::STRING,
+        key: wire::ASYNC_KEY.into(),
+        time: moos::time::wall_time(),
+        sval: name.as_bytes().to_vec(),
+        ..Message::default()
+    };
+    let mut buf = wire::BANNER.to_vec();
+    wire::encode_packet(&[hs], &mut buf).expect("encode");
+    buf
+}
+
+/// A raw peer that completed the handshake; returns the stream and the welcome.
+fn raw_peer(port: u16, name: &str) -> (TcpStream, Message) {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    s.write_all(&handshake_bytes(name)).expect("send handshake");
+    s.set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
+    let mut fr = FrameReader::new(1 << 20);
+    loop {
+        if let Some(r) = fr.next_frame().expect("welcome frame") {
+            let m = wire::decode_packet(fr.frame(r), 1 << 20).expect("welcome packet");
+            return (s, m.into_iter().next().expect("welcome message"));
+        }
+        assert!(
+            fr.fill(&mut s).expect("read welcome") > 0,
+            "closed in handshake"
+        );
+    }
+}
+
+/// Wait until the DB closes `s` (EOF or reset), reading and discarding what it sends.
+fn closed_within(s: &mut TcpStream, limit: Duration) -> bool {
+    let t0 = Instant::now();
+    let _ = s.set_read_timeout(Some(Duration::from_millis(100)));
+    let mut buf = vec![0u8; 64 * 1024];
+    while t0.elapsed() < limit {
+        match s.read(&mut buf) {
+            Ok(0) => return true,
+            Ok(_) => {}
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) => {}
+            Err(_) => return true,
+        }
+    }
+    false
+}
+
+fn assert_healthy(db: &mut MoosDb, w: &mut Watchers, rss_limit_kb: u64, when: &str) {
+    assert!(db.alive(), "{when}: moosdb died\n{}", db.log());
+    let rss = db.rss_kb();
+    println!("{when}: moosdb VmRSS {rss} kB");
+    assert!(
+        rss < rss_limit_kb,
+        "{when}: moosdb VmRSS {rss} kB > {rss_limit_kb} kB"
+    );
+    w.assert_service(when);
+}
+
+#[test]
+fn two_gigabyte_length_prefix_is_refused_without_allocating() {
+    let _serial = serial();
+    let mut db = MoosDb::start("2gb");
+    let mut w = Watchers::new(db.port);
+    // After the handshake.
+    let (mut s, _) = raw_peer(db.port, "liar");
+    s.write_all(&0x7fff_fff0_i32.to_le_bytes()).expect("send");
+    s.write_all(&[0u8; 1024]).expect("send");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(5)),
+        "offender not dropped"
+    );
+    assert!(
+        db.wait_log(&["liar", "bad packet framing"], Duration::from_secs(3)),
+        "not logged:\n{}",
+        db.log()
+    );
+    // As the handshake packet itself.
+    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    s.write_all(&wire::BANNER).expect("banner");
+    s.write_all(&u32::MAX.wrapping_sub(1).to_le_bytes())
+        .expect("send");
+    s.write_all(&0x7fff_ffff_i32.to_le_bytes()).expect("send");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(7)),
+        "offender not dropped"
+    );
+    assert_healthy(&mut db, &mut w, 64 * 1024, "after 2 GB length prefixes");
+}
+
+#[test]
+fn truncated_packet_then_silence_is_dropped_at_the_timeout() {
+    let _serial = serial();
+    let mut db = MoosDb::start("trunc");
+    let mut w = Watchers::new(db.port);
+    let (mut s, _) = raw_peer(db.port, "halfway");
+    let m = Message::notify_string("X", &"y".repeat(5000), 1.0);
+    let mut pkt = Vec::new();
+    wire::encode_packet(&[m], &mut pkt).expect("encode");
+    s.write_all(&pkt[..pkt.len() / 2]).expect("send half");
+    let t0 = Instant::now();
+    assert!(
+        closed_within(&mut s, Duration::from_secs(8)),
+        "offender not dropped"
+    );
+    let took = t0.elapsed();
+    assert!(
+        took >= Duration::from_millis(1500),
+        "dropped too early: {took:?}"
+    );
+    assert!(
+        db.wait_log(&["halfway", "silent too long"], Duration::from_secs(3)),
+        "not logged:\n{}",
+        db.log()
+    );
+    // Half a handshake: closed at the handshake timeout (5 s).
+    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    let hs = handshake_bytes("half_hs");
+    s.write_all(&hs[..hs.len() - 10]).expect("send");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(9)),
+        "half handshake kept"
+    );
+    assert_healthy(&mut db, &mut w, 64 * 1024, "after truncated packets");
+}
+
+#[test]
+fn garbage_after_handshake_drops_the_offender() {
+    let _serial = serial();
+    let mut db = MoosDb::start("garbage");
+    let mut w = Watchers::new(db.port);
+    // Deterministic noise (xorshift), several flavours.
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut noise = |n: usize| -> Vec<u8> {
+        (0..n)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                x as u8
+            })
+            .collect()
+    };
+    let junk: Vec<(&str, Vec<u8>)> = vec![
+        ("noise", noise(64 * 1024)),
+        ("negative", (-5i32).to_le_bytes().repeat(100)),
+        ("badcount", {
+            let mut p = 100i32.to_le_bytes().to_vec();
+            p.extend_from_slice(&i32::MAX.to_le_bytes());
+            p.extend(noise(92));
+            p
+        }),
+        ("badmsg", {
+            let mut p = Vec::new();
+            wire::encode_packet(&[Message::notify_double("A", 1.0, 1.0)], &mut p).expect("encode");
+            p[9 + 10..9 + 14].copy_from_slice(&(-1i32).to_le_bytes());
+            p.extend(noise(4096));
+            p
+        }),
+    ];
+    for (name, bytes) in &junk {
+        let who = format!("garbage_{name}");
+        let (mut s, _) = raw_peer(db.port, &who);
+        let _ = s.write_all(bytes);
+        assert!(
+            closed_within(&mut s, Duration::from_secs(8)),
+            "{who} not dropped"
+        );
+        assert!(
+            db.wait_log(
+                &[who.as_str(), "client disconnected"],
+                Duration::from_secs(3)
+            ),
+            "{who}: not logged:\n{}",
+            db.log()
+        );
+    }
+    assert_healthy(&mut db, &mut w, 64 * 1024, "after garbage");
+}
+
+#[test]
+fn connection_flood_is_survived() {
+    let _serial = serial();
+    let mut db = MoosDb::start("flood");
+    let mut w = Watchers::new(db.port);
+    let base = db.rss_kb();
+    // 200 idle sockets: no banner at all.
+    let mut idle: Vec<TcpStream> = (0..200)
+        .filter_map(|_| TcpStream::connect(("127.0.0.1", db.port)).ok())
+        .collect();
+    assert!(
+        idle.len() >= 150,
+        "only {} connections accepted",
+        idle.len()
+    );
+    // 60 full handshakes with distinct names, then gone.
+    let peers: Vec<TcpStream> = (0..60)
+        .map(|i| raw_peer(db.port, &format!("flood{i}")).0)
+        .collect();
+    assert_healthy(&mut db, &mut w, base + 128 * 1024, "during the flood");
+    drop(peers);
+    assert!(
+        db.wait_log(&["flood59", "client disconnected"], Duration::from_secs(5)),
+        "flood clients not released:\n{}",
+        db.log()
+    );
+    // The idle ones are closed by the DB at the handshake timeout (5 s).
+    let t0 = Instant::now();
+    for s in &mut idle {
+        let left = Duration::from_secs(9).saturating_sub(t0.elapsed());
+        assert!(
+            closed_within(s, left.max(Duration::from_millis(200))),
+            "idle socket kept"
+        );
+    }
+    assert_healthy(&mut db, &mut w, base + 128 * 1024, "after the flood");
+}
+
+#[test]
+fn name_clash_is_refused_and_the_first_keeps_its_service() {
+    let _serial = serial();
+    let mut db = MoosDb::start("clash");
+    let mut w = Watchers::new(db.port);
+    let (mut s, welcome) = raw_peer(db.port, "watch_pub");
+    assert_eq!(welcome.msg_type, MsgType::POISON, "{welcome:?}");
+    assert!(welcome.string().contains("already exists"), "{welcome:?}");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(3)),
+        "clash not closed"
+    );
+    assert!(
+        db.wait_log(&["watch_pub", "handshake refused"], Duration::from_secs(3)),
+        "not logged:\n{}",
+        db.log()
+    );
+    assert_healthy(&mut db, &mut w, 64 * 1024, "after a name clash");
+}
+
+#[test]
+fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
+    let _serial = serial();
+    let mut db = MoosDb::start("big");
+    let mut w = Watchers::new(db.port);
+    let big = Client::connect(ClientConfig::new("127.0.0.1", db.port, "big_pub")).expect("big");
+    let rx = Client::connect(ClientConfig::new("127.0.0.1", db.port, "big_sub")).expect("rx");
+    rx.register("BIG", 0.0).expect("register");
+    std::thread::sleep(Duration::from_millis(300));
+    let mb = 1 << 20;
+    for i in 0..20u8 {
+        let v: String = std::iter::repeat(char::from(b'a' + i % 26))
+            .take(mb)
+            .collect();
+        big.notify_string("BIG", &v, None).expect("post big value");
+        // A 1 MB variable name too (each a new variable the DB keeps).
+        let key: String = std::iter::repeat(char::from(b'A' + i % 26))
+            .take(mb)
+            .collect();
+        big.notify_double(&format!("{key}{i}"), 1.0, None)
+            .expect("post big key");
+    }
+    let mut got = Vec::new();
+    let t0 = Instant::now();
+    while got.iter().filter(|m: &&Message| m.key == "BIG").count() < 20 {
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "big values not delivered"
+        );
+        rx.wait_for_mail(Duration::from_millis(200));
+        rx.fetch(&mut got);
+    }
+    for m in got.iter().filter(|m| m.key == "BIG") {
+        assert_eq!(m.sval.len(), mb);
+    }
+    // 20 MB of values passed, 20 MB of names kept: bounded well under 256 MB.
+    assert_healthy(&mut db, &mut w, 256 * 1024, "after 1 MB strings");
+}
+
+/// DB BUG (left for after the issue-12 merge; `moos/src/db/` is being rewritten): a peer
+/// that fails before or during the handshake (bad banner, oversize or truncated
+/// handshake packet) is closed, but only logged at `debug` level, so with the default
+/// `RUST_LOG=info` the DB's log says nothing about it. Expected: one `info`/`warn` line
+/// naming the peer address and the reason (server.rs `serve`/`read_handshake`).
+#[test]
+#[ignore = "DB bug: pre-handshake offenders are dropped but logged only at debug level"]
+fn pre_handshake_offenders_are_logged() {
+    let _serial = serial();
+    let db = MoosDb::start("prehs");
+    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    s.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n+++++")
+        .expect("send");
+    assert!(closed_within(&mut s, Duration::from_secs(7)));
+    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    s.write_all(&wire::BANNER).expect("banner");
+    s.write_all(&0x7fff_ffff_i32.to_le_bytes()).expect("send");
+    assert!(closed_within(&mut s, Duration::from_secs(7)));
+    let log = db.log();
+    assert!(log.contains("banner"), "bad banner not logged:\n{log}");
+    assert!(
+        log.contains("handshake"),
+        "bad handshake not logged:\n{log}"
+    );
+}
+
+/// DB BUG (left for after the issue-12 merge): every connection may buffer up to
+/// `max_packet` (64 MiB) of a packet that never completes, with no limit on the number
+/// of connections or on the total, so a few peers that each send most of a 64 MiB
+/// packet and then stay (until the 2 s timeout here, 5 s by default) take the DB's
+/// memory to peers × 64 MiB. Expected: a total cap on partial-packet bytes (or on
+/// connections), refusing or dropping the excess.
+#[test]
+#[ignore = "DB bug: per-connection 64 MiB partial packets are not capped in total"]
+fn partial_packets_from_many_peers_stay_within_a_total_bound() {
+    let _serial = serial();
+    let db = MoosDb::start("partial");
+    let chunk = vec![0u8; 1 << 20];
+    let mut peers = Vec::new();
+    for i in 0..4 {
+        let (mut s, _) = raw_peer(db.port, &format!("hog{i}"));
+        s.write_all(&(63i32 << 20).to_le_bytes()).expect("send");
+        for _ in 0..48 {
+            if s.write_all(&chunk).is_err() {
+                break;
+            }
+        }
+        peers.push(s);
+    }
+    let rss = db.rss_kb();
+    println!("moosdb VmRSS with 4 partial 48 MiB packets: {rss} kB");
+    assert!(rss < 128 * 1024, "moosdb VmRSS {rss} kB");
+}
+
+// ---------------------------------------------------------------------------------------
+// A hostile DB against the helm's client.
+
+/// Log lines of this test binary (the client logs through `tracing`).
+fn captured_log() -> String {
+    static LOG: std::sync::OnceLock<std::sync::Arc<std::sync::Mutex<Vec<u8>>>> =
+        std::sync::OnceLock::new();
+    let buf = LOG.get_or_init(|| {
+        let buf = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let b2 = buf.clone();
+        let _ = tracing_subscriber::fmt()
+            .with_ansi(false)
+            .with_env_filter(tracing_subscriber::EnvFilter::new("info"))
+            .with_writer(move || Capture(b2.clone()))
+            .try_init();
+        buf
+    });
+    String::from_utf8_lossy(&buf.lock().unwrap_or_else(|p| p.into_inner())).into_owned()
+}
+
+struct Capture(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
+
+impl Write for Capture {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .extend_from_slice(b);
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+fn wait_captured(words: &[&str], limit: Duration) -> bool {
+    let t0 = Instant::now();
+    while t0.elapsed() < limit {
+        if captured_log()
+            .lines()
+            .any(|l| words.iter().all(|w| l.contains(w)))
+        {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    false
+}
+
+fn self_rss_kb() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find_map(|l| l.strip_prefix("VmRSS:"))
+                .and_then(|v| v.split_whitespace().next())
+                .and_then(|v| v.parse().ok())
+        })
+        .expect("VmRSS")
+}
+
+/// Accept one client, read its banner and handshake, send a welcome.
+fn fake_welcome(l: &TcpListener) -> TcpStream {
+    let (mut s, _) = l.accept().expect("accept");
+    s.set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
+    let mut banner = [0u8; 32];
+    s.read_exact(&mut banner).expect("banner");
+    assert!(wire::banner_ok(&banner));
+    let mut fr = FrameReader::new(1 << 20);
+    while fr.next_frame().expect("handshake").is_none() {
+        assert!(fr.fill(&mut s).expect("read handshake") > 0);
+    }
+    let welcome = Message {
+        msg_type: MsgType::WELCOME,
+        data_type: DataType::DOUBLE,
+        source_aux: "hostname=fake-db".into(),
+        community: "fake".into(),
+        time: moos::time::wall_time(),
+        dval: 0.0,
+        sval: wire::ASYNC_KEY.as_bytes().to_vec(),
+        ..Message::default()
+    };
+    let mut p = Vec::new();
+    wire::encode_packet(&[welcome], &mut p).expect("encode");
+    s.write_all(&p).expect("welcome");
+    s
+}
+
+/// Answer every packet of `s` with a timing echo until it closes or `limit` passes.
+fn behave(mut s: TcpStream, limit: Duration) {
+    let _ = s.set_read_timeout(Some(Duration::from_millis(100)));
+    let mut fr = FrameReader::new(1 << 24);
+    let t0 = Instant::now();
+    while t0.elapsed() < limit {
+        while let Ok(Some(_)) = fr.next_frame() {
+            let echo = Message {
+                msg_type: MsgType::TIMING,
+                data_type: DataType::DOUBLE,
+                key: wire::TIMING_KEY.into(),
+                time: moos::time::wall_time(),
+                dval: moos::time::wall_time(),
+                ..Message::default()
+            };
+            let mut p = Vec::new();
+            let _ = wire::encode_packet(&[echo], &mut p);
+            if s.write_all(&p).is_err() {
+                return;
+            }
+        }
+        match fr.fill(&mut s) {
+            Ok(0) => return,
+            Ok(_) => {}
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) => {}
+            Err(_) => return,
+        }
+    }
+}
+
+/// Run `misbehave` on the client's first connection; the second behaves. Returns the
+/// client (reconnected) and the time the fake waited for the client to drop it.
+fn against_client(
+    name: &str,
+    silence: Duration,
+    misbehave: impl FnOnce(&mut TcpStream) + Send + 'static,
+) -> (Client, Duration) {
+    let _ = captured_log(); // installs the capturing subscriber before the client logs
+    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+    let port = l.local_addr().expect("addr").port();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let fake = std::thread::spawn(move || {
+        let mut s = fake_welcome(&l);
+        misbehave(&mut s);
+        let t0 = Instant::now();
+        let dropped = closed_within(&mut s, Duration::from_secs(15));
+        let _ = tx.send((dropped, t0.elapsed()));
+        behave(fake_welcome(&l), Duration::from_secs(5));
+    });
+    let mut cfg = ClientConfig::new("127.0.0.1", port, name);
+    cfg.silence_timeout = silence;
+    let c = Client::connect(cfg).expect("first connection");
+    let (dropped, took) = rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("fake reports");
+    assert!(dropped, "{name}: the client kept the hostile connection");
+    let t0 = Instant::now();
+    while c.connection_count() < 2 || !c.is_connected() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "{name}: no reconnect"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    drop(fake);
+    (c, took)
+}
+
+#[test]
+fn client_drops_a_db_with_a_two_gigabyte_length_prefix() {
+    let _serial = serial();
+    let before = self_rss_kb();
+    let (c, took) = against_client("victim_2gb", Duration::from_secs(5), |s| {
+        let _ = s.write_all(&0x7fff_fff0_i32.to_le_bytes());
+        let _ = s.write_all(&[0u8; 4096]);
+    });
+    assert!(took < Duration::from_secs(3), "{took:?}");
+    assert!(
+        wait_captured(
+            &["victim_2gb", "bad packet from DB"],
+            Duration::from_secs(2)
+        ),
+        "{}",
+        captured_log()
+    );
+    let grew = self_rss_kb().saturating_sub(before);
+    assert!(grew < 64 * 1024, "client grew by {grew} kB");
+    c.close();
+}
+
+#[test]
+fn client_drops_a_db_that_stops_mid_packet() {
+    let _serial = serial();
+    let (c, took) = against_client("victim_silent", Duration::from_secs(2), |s| {
+        let m = Message::notify_string("X", &"y".repeat(5000), 1.0);
+        let mut p = Vec::new();
+        wire::encode_packet(&[m], &mut p).expect("encode");
+        let _ = s.write_all(&p[..p.len() / 2]);
+    });
+    assert!(
+        (Duration::from_millis(1500)..Duration::from_secs(6)).contains(&took),
+        "dropped after {took:?}"
+    );
+    assert!(
+        wait_captured(
+            &["victim_silent", "nothing from the DB"],
+            Duration::from_secs(2)
+        ),
+        "{}",
+        captured_log()
+    );
+    c.close();
+}
+
+#[test]
+fn client_drops_a_db_that_sends_garbage() {
+    let _serial = serial();
+    let (c, _) = against_client("victim_garbage", Duration::from_secs(2), |s| {
+        let mut p = 20i32.to_le_bytes().to_vec();
+        p.extend_from_slice(&(-7i32).to_le_bytes());
+        p.extend((0..20_000u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8));
+        let _ = s.write_all(&p);
+    });
+    assert!(
+        wait_captured(
+            &["victim_garbage", "DB, dropping the connection"],
+            Duration::from_secs(2)
+        ),
+        "{}",
+        captured_log()
+    );
+    c.close();
+}
+
+#[test]
+fn client_receives_one_megabyte_strings_intact() {
+    let _serial = serial();
+    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+    let port = l.local_addr().expect("addr").port();
+    let mb = 1 << 20;
+    let fake = std::thread::spawn(move || {
+        let mut s = fake_welcome(&l);
+        let v = "z".repeat(mb);
+        let msgs: Vec<Message> = (0..5)
+            .map(|i| {
+                let mut m = Message::notify_string(&format!("BIG{i}"), &v, 1.0);
+                m.source = "fake".into();
+                m
+            })
+            .collect();
+        let mut p = Vec::new();
+        wire::encode_packet(&msgs, &mut p).expect("encode");
+        s.write_all(&p).expect("send");
+        behave(s, Duration::from_secs(3));
+    });
+    let c = Client::connect(ClientConfig::new("127.0.0.1", port, "victim_big")).expect("connect");
+    let mut got = Vec::new();
+    let t0 = Instant::now();
+    while got.len() < 5 {
+        assert!(t0.elapsed() < Duration::from_secs(10), "got {}", got.len());
+        c.wait_for_mail(Duration::from_millis(200));
+        c.fetch(&mut got);
+    }
+    assert!(got
+        .iter()
+        .all(|m| m.sval.len() == mb && m.sval.iter().all(|&b| b == b'z')));
+    assert!(c.is_connected());
+    c.close();
+    let _ = fake.join();
+}
