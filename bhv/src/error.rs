@@ -63,7 +63,9 @@ pub enum BhvErrorKind {
     BadElseValue,
     /// A `#include`, `#define`, `#ifdef` ... line: an nsplug directive, which the helm
     /// does not expand (§1).
-    #[error("{0} is an nsplug directive: the helm does not expand it (run nsplug on the file first)")]
+    #[error(
+        "{0} is an nsplug directive: the helm does not expand it (run nsplug on the file first)"
+    )]
     Preprocessor(String),
     /// Bytes that are not UTF-8 (the line is shown with U+FFFD in their place).
     #[error("invalid UTF-8 (byte {0} of the file); save the file as UTF-8")]

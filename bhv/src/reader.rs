@@ -477,7 +477,13 @@ impl Reader {
             _ if line.starts_with('#') => {
                 let directive = line.split_whitespace().next().unwrap_or(line);
                 let known = [
-                    "#include", "#define", "#ifdef", "#ifndef", "#elseifdef", "#else", "#endif",
+                    "#include",
+                    "#define",
+                    "#ifdef",
+                    "#ifndef",
+                    "#elseifdef",
+                    "#else",
+                    "#endif",
                 ];
                 if known.iter().any(|d| directive.eq_ignore_ascii_case(d)) {
                     Err(err(BhvErrorKind::Preprocessor(directive.to_string())))

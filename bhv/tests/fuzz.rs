@@ -111,7 +111,11 @@ fn check_reader(data: &[u8]) {
         }
         Err(e) => {
             assert_eq!(e.file, file);
-            assert!(e.line >= 1 && e.line <= lines, "error line {} of {lines}", e.line);
+            assert!(
+                e.line >= 1 && e.line <= lines,
+                "error line {} of {lines}",
+                e.line
+            );
             let shown = e.to_string();
             assert!(
                 shown.starts_with(&format!("fuzz.bhv:{}: ", e.line)),

@@ -130,7 +130,12 @@ pub enum Mutation {
     /// Delete one line.
     DeleteLine(prop::sample::Index),
     /// Insert a range of another seed.
-    Splice(prop::sample::Index, prop::sample::Index, prop::sample::Index, usize),
+    Splice(
+        prop::sample::Index,
+        prop::sample::Index,
+        prop::sample::Index,
+        usize,
+    ),
     /// Keep only a prefix.
     Truncate(prop::sample::Index),
 }
@@ -210,12 +215,22 @@ pub fn apply(seed: &[u8], muts: &[Mutation], seeds: &[Vec<u8>], dict: &[&[u8]]) 
                 let p = pos(i, len);
                 let e = (p + n).min(len);
                 let chunk = d[p..e].to_vec();
-                let rep: Vec<u8> = chunk.iter().copied().cycle().take(chunk.len() * t).collect();
+                let rep: Vec<u8> = chunk
+                    .iter()
+                    .copied()
+                    .cycle()
+                    .take(chunk.len() * t)
+                    .collect();
                 d.splice(p..e, rep);
             }
             Mutation::Nest(i, n, t, k) => {
-                const PAIRS: [(&[u8], &[u8]); 5] =
-                    [(b"(", b")"), (b"!(", b")"), (b"{", b"}"), (b"$(", b")"), (b"\"", b"\"")];
+                const PAIRS: [(&[u8], &[u8]); 5] = [
+                    (b"(", b")"),
+                    (b"!(", b")"),
+                    (b"{", b"}"),
+                    (b"$(", b")"),
+                    (b"\"", b"\""),
+                ];
                 let (open, close) = PAIRS[k.index(PAIRS.len())];
                 let p = pos(i, len);
                 let e = (p + n).min(len);
@@ -306,6 +321,9 @@ pub fn budget(default_cases: u32) -> (u32, Duration) {
     (cases, Duration::from_secs_f64(secs))
 }
 
+/// A harness's check function, shared with the case threads.
+pub type Check = Arc<dyn Fn(&[u8]) + Send + Sync>;
+
 /// What one case did, sent back by the worker.
 enum Outcome {
     Done { peak: usize },
@@ -314,7 +332,7 @@ enum Outcome {
 
 /// Run one input through `check` on a worker thread under the watchdog and the memory
 /// bound. `Err` describes the failure.
-pub fn run_one(check: &Arc<dyn Fn(&[u8]) + Send + Sync>, data: Vec<u8>) -> Result<(), String> {
+pub fn run_one(check: &Check, data: Vec<u8>) -> Result<(), String> {
     let (tx, rx) = mpsc::channel();
     let f = check.clone();
     let n = data.len();
@@ -322,9 +340,8 @@ pub fn run_one(check: &Arc<dyn Fn(&[u8]) + Send + Sync>, data: Vec<u8>) -> Resul
         .name("fuzz-case".into())
         .stack_size(8 << 20)
         .spawn(move || {
-            let r = peak_during(|| {
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&data)))
-            });
+            let r =
+                peak_during(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&data))));
             let out = match r {
                 (Ok(()), peak) => Outcome::Done { peak },
                 (Err(p), _) => Outcome::Panicked(
@@ -355,7 +372,10 @@ pub fn run_one(check: &Arc<dyn Fn(&[u8]) + Send + Sync>, data: Vec<u8>) -> Resul
 pub fn show(data: &[u8]) -> String {
     let s = String::from_utf8_lossy(data);
     if s.len() > 2000 {
-        let cut = (0..=2000).rev().find(|&i| s.is_char_boundary(i)).unwrap_or(0);
+        let cut = (0..=2000)
+            .rev()
+            .find(|&i| s.is_char_boundary(i))
+            .unwrap_or(0);
         format!("{:?}... ({} bytes)", &s[..cut], data.len())
     } else {
         format!("{s:?}")
@@ -387,7 +407,7 @@ pub fn fuzz(
     check: impl Fn(&[u8]) + Send + Sync + 'static,
 ) {
     let (cases, secs) = budget(default_cases);
-    let check: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(check);
+    let check: Check = Arc::new(check);
     quiet_case_panics();
     let t0 = Instant::now();
     // Every seed exactly as it is, first.
@@ -437,7 +457,7 @@ pub fn fuzz(
 /// Shrink a failing case (proptest's simplify/complicate walk), at most 500 re-runs;
 /// a hang is reported as found (re-running hangs would take minutes).
 fn shrink(
-    check: &Arc<dyn Fn(&[u8]) + Send + Sync>,
+    check: &Check,
     tree: &mut impl ValueTree<Value = Case>,
     seeds: &[Vec<u8>],
     dict: &[&[u8]],
@@ -493,7 +513,10 @@ mod tests {
                 assert!(!d.contains(&b'{'), "brace");
             })
         });
-        let msg = *r.expect_err("must fail").downcast::<String>().expect("text");
+        let msg = *r
+            .expect_err("must fail")
+            .downcast::<String>()
+            .expect("text");
         assert!(msg.contains("panicked: brace"), "{msg}");
         // Shrunk to no seed and the one token.
         assert!(msg.contains("input (1 bytes): \"{\""), "{msg}");
@@ -501,7 +524,7 @@ mod tests {
 
     #[test]
     fn watchdog_reports_panic_and_memory() {
-        let panics: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(|d: &[u8]| {
+        let panics: Check = Arc::new(|d: &[u8]| {
             if d.first() == Some(&b'x') {
                 panic!("boom")
             }
@@ -509,7 +532,7 @@ mod tests {
         assert!(run_one(&panics, b"a".to_vec()).is_ok());
         let e = run_one(&panics, b"x".to_vec()).unwrap_err();
         assert!(e.contains("boom"), "{e}");
-        let hog: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(|_: &[u8]| {
+        let hog: Check = Arc::new(|_: &[u8]| {
             let v = vec![1u8; 64 << 20];
             std::hint::black_box(&v);
         });

@@ -46,7 +46,11 @@ fn check(d: &Path) -> (i32, String, f64) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    (out.status.code().unwrap_or(-1), text, t0.elapsed().as_secs_f64())
+    (
+        out.status.code().unwrap_or(-1),
+        text,
+        t0.elapsed().as_secs_f64(),
+    )
 }
 
 /// The one output line that names `file` (with `:line` if given) and says `what`.
@@ -123,7 +127,10 @@ fn unreadable(p: &Path) -> bool {
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o000)).expect("chmod");
     if std::fs::read(p).is_ok() {
-        println!("skipped: running as root, chmod 000 does not make {} unreadable", p.display());
+        println!(
+            "skipped: running as root, chmod 000 does not make {} unreadable",
+            p.display()
+        );
         return false;
     }
     true

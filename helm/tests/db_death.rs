@@ -100,7 +100,10 @@ impl MoosDb {
     fn wait_listening(&self, port: u16) {
         let t0 = Instant::now();
         while TcpStream::connect(("127.0.0.1", port)).is_err() {
-            assert!(t0.elapsed() < Duration::from_secs(10), "moosdb not listening");
+            assert!(
+                t0.elapsed() < Duration::from_secs(10),
+                "moosdb not listening"
+            );
             std::thread::sleep(Duration::from_millis(20));
         }
     }
@@ -155,7 +158,10 @@ impl Observer {
         ] {
             c.register(v, 0.0).expect("register");
         }
-        Observer { c, seen: Vec::new() }
+        Observer {
+            c,
+            seen: Vec::new(),
+        }
     }
 
     fn poll(&mut self) {
@@ -167,7 +173,13 @@ impl Observer {
     }
 
     /// Poll until `pred` holds for a message received after `since` (MOOS time).
-    fn wait_for(&mut self, what: &str, since: f64, limit: Duration, pred: impl Fn(&Message) -> bool) {
+    fn wait_for(
+        &mut self,
+        what: &str,
+        since: f64,
+        limit: Duration,
+        pred: impl Fn(&Message) -> bool,
+    ) {
         let t0 = Instant::now();
         loop {
             if self.seen.iter().any(|(t, m)| *t >= since && pred(m)) {
@@ -179,11 +191,18 @@ impl Observer {
     }
 
     fn last(&self, key: &str) -> Option<f64> {
-        self.seen.iter().rev().find(|(_, m)| m.key == key).map(|(_, m)| m.dval)
+        self.seen
+            .iter()
+            .rev()
+            .find(|(_, m)| m.key == key)
+            .map(|(_, m)| m.dval)
     }
 
     fn count_after(&self, key: &str, since: f64) -> usize {
-        self.seen.iter().filter(|(t, m)| *t >= since && m.key == key).count()
+        self.seen
+            .iter()
+            .filter(|(t, m)| *t >= since && m.key == key)
+            .count()
     }
 
     fn now(&self) -> f64 {
@@ -243,12 +262,18 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
     let restarted = obs.now();
     let db = MoosDb::start(&moos_path, dir.join("db2.log"));
     db.wait_listening(port);
-    obs.wait_for("helm drives again", restarted, Duration::from_secs(20), |m| {
-        m.key == "DESIRED_SPEED" && m.dval > 0.0
-    });
-    obs.wait_for("vehicle moves again", restarted, Duration::from_secs(20), |m| {
-        m.key == "NAV_X"
-    });
+    obs.wait_for(
+        "helm drives again",
+        restarted,
+        Duration::from_secs(20),
+        |m| m.key == "DESIRED_SPEED" && m.dval > 0.0,
+    );
+    obs.wait_for(
+        "vehicle moves again",
+        restarted,
+        Duration::from_secs(20),
+        |m| m.key == "NAV_X",
+    );
     assert!(
         db.log().contains("pHelmIvP"),
         "the helm did not connect to the new DB:\n{}",
@@ -274,7 +299,11 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
         obs.count_after("DESIRED_HEADING", sim_gone + 2.0) > 10,
         "the helm stopped posting while the simulator was gone"
     );
-    assert_eq!(obs.count_after("NAV_X", sim_gone + 2.0), 0, "the simulator still posts");
+    assert_eq!(
+        obs.count_after("NAV_X", sim_gone + 2.0),
+        0,
+        "the simulator still posts"
+    );
     let restart_text = mission_text(port, at);
     let restart_mission =
         MissionFile::parse(&restart_text, &moos_path).expect("restart mission parses");
@@ -290,12 +319,18 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
     let _ = Command::new("kill").args(["-INT", &pid]).status();
     let t0 = Instant::now();
     while helm.0.try_wait().expect("wait").is_none() {
-        assert!(t0.elapsed() < Duration::from_secs(10), "helm did not stop on SIGINT");
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "helm did not stop on SIGINT"
+        );
         std::thread::sleep(Duration::from_millis(50));
     }
     let err = std::fs::read_to_string(dir.join("helm.err")).unwrap_or_default();
     let out = std::fs::read_to_string(&helm_out).unwrap_or_default();
-    assert!(err.contains("lost the MOOSDB"), "no disconnect warning:\n{err}");
+    assert!(
+        err.contains("lost the MOOSDB"),
+        "no disconnect warning:\n{err}"
+    );
     assert!(
         !err.contains("not posted"),
         "the helm tried to post without a DB:\n{err}"
@@ -332,7 +367,10 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
         helm_posts.iter().filter(|t| **t > restarted).count(),
         restarted - killed
     );
-    assert!(helm_posts.iter().any(|t| *t < killed), "nothing posted before the kill");
+    assert!(
+        helm_posts.iter().any(|t| *t < killed),
+        "nothing posted before the kill"
+    );
     assert!(
         helm_posts.iter().filter(|t| **t > restarted).count() > 100,
         "too few postings after the DB came back"

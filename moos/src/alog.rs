@@ -225,8 +225,12 @@ mod tests {
     #[test]
     fn regression_empty_source_and_key_round_trip() {
         let mut w = AlogWriter::new(Vec::new(), 0.0, "t.alog").unwrap();
-        w.write(&Message::notify_string("_async_timing", "1795316330.46", 0.102))
-            .unwrap();
+        w.write(&Message::notify_string(
+            "_async_timing",
+            "1795316330.46",
+            0.102,
+        ))
+        .unwrap();
         w.write(&Message::notify_string("", "v", 1.0)).unwrap();
         let mut spaced = Message::notify_double("A B", 2.0, 2.0);
         spaced.source = "my app".into();
@@ -236,17 +240,30 @@ mod tests {
         assert_eq!(log.entries[0].key, "_async_timing");
         assert_eq!(log.entries[0].source, "");
         assert_eq!(log.entries[0].value, AlogValue::Double(1795316330.46));
-        assert_eq!((log.entries[1].key.as_str(), log.entries[1].source.as_str()), ("", ""));
+        assert_eq!(
+            (log.entries[1].key.as_str(), log.entries[1].source.as_str()),
+            ("", "")
+        );
         assert_eq!(log.entries[1].value, AlogValue::String("v".into()));
         assert_eq!(log.entries[2].key, "A_B");
         assert_eq!(log.entries[2].source, "my_app");
         // Later finds of the same harness: a source `-:` (empty source, empty aux) and
         // white space other than blanks inside a key.
         let log = read("1.0 K -: v\n2.0 c\u{b}d src w\n".as_bytes()).unwrap();
-        assert_eq!((log.entries[0].source.as_str(), log.entries[0].source_aux.as_str()), ("", ""));
-        assert_eq!((log.entries[1].key.as_str(), log.entries[1].source.as_str()), ("c", "d"));
+        assert_eq!(
+            (
+                log.entries[0].source.as_str(),
+                log.entries[0].source_aux.as_str()
+            ),
+            ("", "")
+        );
+        assert_eq!(
+            (log.entries[1].key.as_str(), log.entries[1].source.as_str()),
+            ("c", "d")
+        );
         let mut w = AlogWriter::new(Vec::new(), 0.0, "t.alog").unwrap();
-        w.write(&Message::notify_string("c\u{b}d", "x", 1.0)).unwrap();
+        w.write(&Message::notify_string("c\u{b}d", "x", 1.0))
+            .unwrap();
         let log = read(&w.into_inner()[..]).unwrap();
         assert_eq!(log.entries[0].key, "c_d");
     }

@@ -466,8 +466,8 @@ ProcessConfig = other\n\
         assert!(s.contains("big.moos:2"), "{s}");
         let e = MissionFile::read(Path::new("/nonexistent/x.moos")).unwrap_err();
         assert!(e.to_string().contains("/nonexistent/x.moos"));
-        let e = MissionFile::parse("a = 1\n  #include self.moos\n", Path::new("inc.moos"))
-            .unwrap_err();
+        let e =
+            MissionFile::parse("a = 1\n  #include self.moos\n", Path::new("inc.moos")).unwrap_err();
         assert_eq!(
             e.to_string(),
             "inc.moos:2: #include is an nsplug directive: MOOS does not expand it (run nsplug \
@@ -482,7 +482,10 @@ ProcessConfig = other\n\
         let f = dir.join("bad.moos");
         std::fs::write(&f, b"A = 1\nB = caf\xe9\n").unwrap();
         let e = MissionFile::read(&f).unwrap_err().to_string();
-        assert!(e.starts_with(&format!("{}:2: invalid UTF-8", f.display())), "{e}");
+        assert!(
+            e.starts_with(&format!("{}:2: invalid UTF-8", f.display())),
+            "{e}"
+        );
         assert!(e.ends_with("(line: B = caf\u{fffd})"), "{e}");
         let mut big = vec![b'\n'; MAX_FILE_BYTES as usize + 1];
         big[0] = b'A';

@@ -43,7 +43,11 @@ fn packet_seeds() -> Vec<Vec<u8>> {
 
 fn mission_seeds() -> Vec<Vec<u8>> {
     let mut v = Vec::new();
-    for d in std::fs::read_dir(repo().join("missions")).into_iter().flatten().flatten() {
+    for d in std::fs::read_dir(repo().join("missions"))
+        .into_iter()
+        .flatten()
+        .flatten()
+    {
         for f in std::fs::read_dir(d.path()).into_iter().flatten().flatten() {
             if f.path().extension().is_some_and(|e| e == "moos") {
                 v.push(std::fs::read(f.path()).expect("read mission"));
@@ -107,7 +111,13 @@ fn check_mission(data: &[u8]) {
 
 #[test]
 fn fuzz_mission_reader() {
-    fuzzkit::fuzz("moos_mission", 6000, &mission_seeds(), MOOS_DICT, check_mission);
+    fuzzkit::fuzz(
+        "moos_mission",
+        6000,
+        &mission_seeds(),
+        MOOS_DICT,
+        check_mission,
+    );
 }
 
 /// Same value, NaN included.
@@ -119,8 +129,17 @@ fn same_msg(a: &Message, b: &Message) -> bool {
     a.id == b.id
         && a.msg_type == b.msg_type
         && a.data_type == b.data_type
-        && (a.source.as_str(), a.source_aux.as_str(), a.community.as_str(), a.key.as_str())
-            == (b.source.as_str(), b.source_aux.as_str(), b.community.as_str(), b.key.as_str())
+        && (
+            a.source.as_str(),
+            a.source_aux.as_str(),
+            a.community.as_str(),
+            a.key.as_str(),
+        ) == (
+            b.source.as_str(),
+            b.source_aux.as_str(),
+            b.community.as_str(),
+            b.key.as_str(),
+        )
         && same_f64(a.time, b.time)
         && same_f64(a.dval, b.dval)
         && same_f64(a.dval2, b.dval2)
@@ -238,7 +257,16 @@ fn alog_seeds() -> Vec<Vec<u8>> {
     v
 }
 
-const ALOG_DICT: &[&[u8]] = &[b"%%", b"LOGSTART", b" ", b"\t", b":", b"\n", b"NaN", b"1e400"];
+const ALOG_DICT: &[&[u8]] = &[
+    b"%%",
+    b"LOGSTART",
+    b" ",
+    b"\t",
+    b":",
+    b"\n",
+    b"NaN",
+    b"1e400",
+];
 
 /// An entry's value as the reader sees it once written back.
 fn value_text(v: &AlogValue) -> String {

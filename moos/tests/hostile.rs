@@ -78,7 +78,10 @@ impl MoosDb {
         let db = MoosDb { child, port, log };
         let t0 = Instant::now();
         while TcpStream::connect(("127.0.0.1", port)).is_err() {
-            assert!(t0.elapsed() < Duration::from_secs(10), "moosdb did not listen");
+            assert!(
+                t0.elapsed() < Duration::from_secs(10),
+                "moosdb did not listen"
+            );
             std::thread::sleep(Duration::from_millis(20));
         }
         db
@@ -107,7 +110,11 @@ impl MoosDb {
     fn wait_log(&self, words: &[&str], limit: Duration) -> bool {
         let t0 = Instant::now();
         while t0.elapsed() < limit {
-            if self.log().lines().any(|l| words.iter().all(|w| l.contains(w))) {
+            if self
+                .log()
+                .lines()
+                .any(|l| words.iter().all(|w| l.contains(w)))
+            {
                 return true;
             }
             std::thread::sleep(Duration::from_millis(50));
@@ -161,8 +168,16 @@ impl Watchers {
                 "{when}: PING {want} not delivered"
             );
         }
-        assert_eq!(self.publ.connection_count(), 1, "{when}: watch_pub reconnected");
-        assert_eq!(self.sub.connection_count(), 1, "{when}: watch_sub reconnected");
+        assert_eq!(
+            self.publ.connection_count(),
+            1,
+            "{when}: watch_pub reconnected"
+        );
+        assert_eq!(
+            self.sub.connection_count(),
+            1,
+            "{when}: watch_sub reconnected"
+        );
     }
 }
 
@@ -184,14 +199,18 @@ fn handshake_bytes(name: &str) -> Vec<u8> {
 fn raw_peer(port: u16, name: &str) -> (TcpStream, Message) {
     let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
     s.write_all(&handshake_bytes(name)).expect("send handshake");
-    s.set_read_timeout(Some(Duration::from_secs(5))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
     let mut fr = FrameReader::new(1 << 20);
     loop {
         if let Some(r) = fr.next_frame().expect("welcome frame") {
             let m = wire::decode_packet(fr.frame(r), 1 << 20).expect("welcome packet");
             return (s, m.into_iter().next().expect("welcome message"));
         }
-        assert!(fr.fill(&mut s).expect("read welcome") > 0, "closed in handshake");
+        assert!(
+            fr.fill(&mut s).expect("read welcome") > 0,
+            "closed in handshake"
+        );
     }
 }
 
@@ -219,7 +238,10 @@ fn assert_healthy(db: &mut MoosDb, w: &mut Watchers, rss_limit_kb: u64, when: &s
     assert!(db.alive(), "{when}: moosdb died\n{}", db.log());
     let rss = db.rss_kb();
     println!("{when}: moosdb VmRSS {rss} kB");
-    assert!(rss < rss_limit_kb, "{when}: moosdb VmRSS {rss} kB > {rss_limit_kb} kB");
+    assert!(
+        rss < rss_limit_kb,
+        "{when}: moosdb VmRSS {rss} kB > {rss_limit_kb} kB"
+    );
     w.assert_service(when);
 }
 
@@ -232,7 +254,10 @@ fn two_gigabyte_length_prefix_is_refused_without_allocating() {
     let (mut s, _) = raw_peer(db.port, "liar");
     s.write_all(&0x7fff_fff0_i32.to_le_bytes()).expect("send");
     s.write_all(&[0u8; 1024]).expect("send");
-    assert!(closed_within(&mut s, Duration::from_secs(5)), "offender not dropped");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(5)),
+        "offender not dropped"
+    );
     assert!(
         db.wait_log(&["liar", "bad packet framing"], Duration::from_secs(3)),
         "not logged:\n{}",
@@ -241,9 +266,13 @@ fn two_gigabyte_length_prefix_is_refused_without_allocating() {
     // As the handshake packet itself.
     let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
     s.write_all(&wire::BANNER).expect("banner");
-    s.write_all(&u32::MAX.wrapping_sub(1).to_le_bytes()).expect("send");
+    s.write_all(&u32::MAX.wrapping_sub(1).to_le_bytes())
+        .expect("send");
     s.write_all(&0x7fff_ffff_i32.to_le_bytes()).expect("send");
-    assert!(closed_within(&mut s, Duration::from_secs(7)), "offender not dropped");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(7)),
+        "offender not dropped"
+    );
     assert_healthy(&mut db, &mut w, 64 * 1024, "after 2 GB length prefixes");
 }
 
@@ -258,9 +287,15 @@ fn truncated_packet_then_silence_is_dropped_at_the_timeout() {
     wire::encode_packet(&[m], &mut pkt).expect("encode");
     s.write_all(&pkt[..pkt.len() / 2]).expect("send half");
     let t0 = Instant::now();
-    assert!(closed_within(&mut s, Duration::from_secs(8)), "offender not dropped");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(8)),
+        "offender not dropped"
+    );
     let took = t0.elapsed();
-    assert!(took >= Duration::from_millis(1500), "dropped too early: {took:?}");
+    assert!(
+        took >= Duration::from_millis(1500),
+        "dropped too early: {took:?}"
+    );
     assert!(
         db.wait_log(&["halfway", "silent too long"], Duration::from_secs(3)),
         "not logged:\n{}",
@@ -270,7 +305,10 @@ fn truncated_packet_then_silence_is_dropped_at_the_timeout() {
     let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
     let hs = handshake_bytes("half_hs");
     s.write_all(&hs[..hs.len() - 10]).expect("send");
-    assert!(closed_within(&mut s, Duration::from_secs(9)), "half handshake kept");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(9)),
+        "half handshake kept"
+    );
     assert_healthy(&mut db, &mut w, 64 * 1024, "after truncated packets");
 }
 
@@ -302,8 +340,7 @@ fn garbage_after_handshake_drops_the_offender() {
         }),
         ("badmsg", {
             let mut p = Vec::new();
-            wire::encode_packet(&[Message::notify_double("A", 1.0, 1.0)], &mut p)
-                .expect("encode");
+            wire::encode_packet(&[Message::notify_double("A", 1.0, 1.0)], &mut p).expect("encode");
             p[9 + 10..9 + 14].copy_from_slice(&(-1i32).to_le_bytes());
             p.extend(noise(4096));
             p
@@ -318,7 +355,10 @@ fn garbage_after_handshake_drops_the_offender() {
             "{who} not dropped"
         );
         assert!(
-            db.wait_log(&[who.as_str(), "client disconnected"], Duration::from_secs(3)),
+            db.wait_log(
+                &[who.as_str(), "client disconnected"],
+                Duration::from_secs(3)
+            ),
             "{who}: not logged:\n{}",
             db.log()
         );
@@ -336,9 +376,15 @@ fn connection_flood_is_survived() {
     let mut idle: Vec<TcpStream> = (0..200)
         .filter_map(|_| TcpStream::connect(("127.0.0.1", db.port)).ok())
         .collect();
-    assert!(idle.len() >= 150, "only {} connections accepted", idle.len());
+    assert!(
+        idle.len() >= 150,
+        "only {} connections accepted",
+        idle.len()
+    );
     // 60 full handshakes with distinct names, then gone.
-    let peers: Vec<TcpStream> = (0..60).map(|i| raw_peer(db.port, &format!("flood{i}")).0).collect();
+    let peers: Vec<TcpStream> = (0..60)
+        .map(|i| raw_peer(db.port, &format!("flood{i}")).0)
+        .collect();
     assert_healthy(&mut db, &mut w, base + 128 * 1024, "during the flood");
     drop(peers);
     assert!(
@@ -350,7 +396,10 @@ fn connection_flood_is_survived() {
     let t0 = Instant::now();
     for s in &mut idle {
         let left = Duration::from_secs(9).saturating_sub(t0.elapsed());
-        assert!(closed_within(s, left.max(Duration::from_millis(200))), "idle socket kept");
+        assert!(
+            closed_within(s, left.max(Duration::from_millis(200))),
+            "idle socket kept"
+        );
     }
     assert_healthy(&mut db, &mut w, base + 128 * 1024, "after the flood");
 }
@@ -363,7 +412,10 @@ fn name_clash_is_refused_and_the_first_keeps_its_service() {
     let (mut s, welcome) = raw_peer(db.port, "watch_pub");
     assert_eq!(welcome.msg_type, MsgType::POISON, "{welcome:?}");
     assert!(welcome.string().contains("already exists"), "{welcome:?}");
-    assert!(closed_within(&mut s, Duration::from_secs(3)), "clash not closed");
+    assert!(
+        closed_within(&mut s, Duration::from_secs(3)),
+        "clash not closed"
+    );
     assert!(
         db.wait_log(&["watch_pub", "handshake refused"], Duration::from_secs(3)),
         "not logged:\n{}",
@@ -383,16 +435,20 @@ fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
     std::thread::sleep(Duration::from_millis(300));
     let mb = 1 << 20;
     for i in 0..20u8 {
-        let v: String = std::iter::repeat(char::from(b'a' + i % 26)).take(mb).collect();
+        let v: String = char::from(b'a' + i % 26).to_string().repeat(mb);
         big.notify_string("BIG", &v, None).expect("post big value");
         // A 1 MB variable name too (each a new variable the DB keeps).
-        let key: String = std::iter::repeat(char::from(b'A' + i % 26)).take(mb).collect();
-        big.notify_double(&format!("{key}{i}"), 1.0, None).expect("post big key");
+        let key: String = char::from(b'A' + i % 26).to_string().repeat(mb);
+        big.notify_double(&format!("{key}{i}"), 1.0, None)
+            .expect("post big key");
     }
     let mut got = Vec::new();
     let t0 = Instant::now();
     while got.iter().filter(|m: &&Message| m.key == "BIG").count() < 20 {
-        assert!(t0.elapsed() < Duration::from_secs(20), "big values not delivered");
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "big values not delivered"
+        );
         rx.wait_for_mail(Duration::from_millis(200));
         rx.fetch(&mut got);
     }
@@ -414,7 +470,8 @@ fn pre_handshake_offenders_are_logged() {
     let _serial = serial();
     let db = MoosDb::start("prehs");
     let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
-    s.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n+++++").expect("send");
+    s.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n+++++")
+        .expect("send");
     assert!(closed_within(&mut s, Duration::from_secs(7)));
     let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
     s.write_all(&wire::BANNER).expect("banner");
@@ -422,7 +479,10 @@ fn pre_handshake_offenders_are_logged() {
     assert!(closed_within(&mut s, Duration::from_secs(7)));
     let log = db.log();
     assert!(log.contains("banner"), "bad banner not logged:\n{log}");
-    assert!(log.contains("handshake"), "bad handshake not logged:\n{log}");
+    assert!(
+        log.contains("handshake"),
+        "bad handshake not logged:\n{log}"
+    );
 }
 
 /// DB BUG (left for after the issue-12 merge): every connection may buffer up to
@@ -477,7 +537,10 @@ struct Capture(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
 
 impl Write for Capture {
     fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
-        self.0.lock().unwrap_or_else(|p| p.into_inner()).extend_from_slice(b);
+        self.0
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .extend_from_slice(b);
         Ok(b.len())
     }
     fn flush(&mut self) -> std::io::Result<()> {
@@ -488,7 +551,10 @@ impl Write for Capture {
 fn wait_captured(words: &[&str], limit: Duration) -> bool {
     let t0 = Instant::now();
     while t0.elapsed() < limit {
-        if captured_log().lines().any(|l| words.iter().all(|w| l.contains(w))) {
+        if captured_log()
+            .lines()
+            .any(|l| words.iter().all(|w| l.contains(w)))
+        {
             return true;
         }
         std::thread::sleep(Duration::from_millis(50));
@@ -511,7 +577,8 @@ fn self_rss_kb() -> u64 {
 /// Accept one client, read its banner and handshake, send a welcome.
 fn fake_welcome(l: &TcpListener) -> TcpStream {
     let (mut s, _) = l.accept().expect("accept");
-    s.set_read_timeout(Some(Duration::from_secs(5))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
     let mut banner = [0u8; 32];
     s.read_exact(&mut banner).expect("banner");
     assert!(wire::banner_ok(&banner));
@@ -559,7 +626,11 @@ fn behave(mut s: TcpStream, limit: Duration) {
         match fr.fill(&mut s) {
             Ok(0) => return,
             Ok(_) => {}
-            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {}
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) => {}
             Err(_) => return,
         }
     }
@@ -587,11 +658,16 @@ fn against_client(
     let mut cfg = ClientConfig::new("127.0.0.1", port, name);
     cfg.silence_timeout = silence;
     let c = Client::connect(cfg).expect("first connection");
-    let (dropped, took) = rx.recv_timeout(Duration::from_secs(20)).expect("fake reports");
+    let (dropped, took) = rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("fake reports");
     assert!(dropped, "{name}: the client kept the hostile connection");
     let t0 = Instant::now();
     while c.connection_count() < 2 || !c.is_connected() {
-        assert!(t0.elapsed() < Duration::from_secs(10), "{name}: no reconnect");
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "{name}: no reconnect"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     drop(fake);
@@ -608,7 +684,10 @@ fn client_drops_a_db_with_a_two_gigabyte_length_prefix() {
     });
     assert!(took < Duration::from_secs(3), "{took:?}");
     assert!(
-        wait_captured(&["victim_2gb", "bad packet from DB"], Duration::from_secs(2)),
+        wait_captured(
+            &["victim_2gb", "bad packet from DB"],
+            Duration::from_secs(2)
+        ),
         "{}",
         captured_log()
     );
@@ -631,7 +710,10 @@ fn client_drops_a_db_that_stops_mid_packet() {
         "dropped after {took:?}"
     );
     assert!(
-        wait_captured(&["victim_silent", "nothing from the DB"], Duration::from_secs(2)),
+        wait_captured(
+            &["victim_silent", "nothing from the DB"],
+            Duration::from_secs(2)
+        ),
         "{}",
         captured_log()
     );
@@ -648,7 +730,10 @@ fn client_drops_a_db_that_sends_garbage() {
         let _ = s.write_all(&p);
     });
     assert!(
-        wait_captured(&["victim_garbage", "DB, dropping the connection"], Duration::from_secs(2)),
+        wait_captured(
+            &["victim_garbage", "DB, dropping the connection"],
+            Duration::from_secs(2)
+        ),
         "{}",
         captured_log()
     );
@@ -684,7 +769,9 @@ fn client_receives_one_megabyte_strings_intact() {
         c.wait_for_mail(Duration::from_millis(200));
         c.fetch(&mut got);
     }
-    assert!(got.iter().all(|m| m.sval.len() == mb && m.sval.iter().all(|&b| b == b'z')));
+    assert!(got
+        .iter()
+        .all(|m| m.sval.len() == mb && m.sval.iter().all(|&b| b == b'z')));
     assert!(c.is_connected());
     c.close();
     let _ = fake.join();

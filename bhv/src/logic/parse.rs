@@ -12,9 +12,7 @@ pub(crate) fn parse_expression(text: &str) -> Result<(Node, Vec<String>), LogicE
         vars: Vec::new(),
     };
     if nesting(&pre).is_some_and(|d| d > MAX_DEPTH) {
-        return Err(p.err(format!(
-            "parentheses nested more than {MAX_DEPTH} deep"
-        )));
+        return Err(p.err(format!("parentheses nested more than {MAX_DEPTH} deep")));
     }
     let root = p.expr(&pre)?;
     Ok((root, p.vars))

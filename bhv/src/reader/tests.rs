@@ -91,7 +91,10 @@ fn hash_lines_are_not_comments() {
     assert_eq!(e.kind, BhvErrorKind::Preprocessor("#include".into()));
     assert_eq!((e.line, e.text.as_str()), (1, "#include foo.bhv"));
     assert!(e.to_string().contains("nsplug"), "{e}");
-    assert!(matches!(fail("# note\n").kind, BhvErrorKind::UnexpectedLine));
+    assert!(matches!(
+        fail("# note\n").kind,
+        BhvErrorKind::UnexpectedLine
+    ));
     // inside a block: passed on as a (bad) configuration line
     let s = parse("Behavior = BHV_W\n{\n#define X\n}\n");
     assert_eq!(s.behaviors[0].lines[0].param, "#define x");
@@ -498,7 +501,10 @@ fn invalid_utf8_names_the_joined_line() {
     assert_eq!(e.line, 5, "{e}");
     assert_eq!(e.text, "name = x\u{fffd}\u{fffd}y");
     let msg = e.to_string();
-    assert!(msg.starts_with(&format!("{}:5: invalid UTF-8", f.display())), "{msg}");
+    assert!(
+        msg.starts_with(&format!("{}:5: invalid UTF-8", f.display())),
+        "{msg}"
+    );
     assert!(!msg.contains('\n'));
     // Too large: refused without reading it all.
     bytes.resize(MAX_FILE_BYTES as usize + 10, b'\n');
