@@ -15,6 +15,9 @@
 //! silence (`silence_timeout`), so the helm stops posting into a DB that does not read;
 //! after SIGCONT it reconnects and drives again.
 //!
+//! A third starts a second helm with the same MOOS name: refused by the DB, it exits
+//! non-zero saying so, and the first keeps its connection.
+//!
 //! What the helm does while its DB is gone, as chosen from the specs: helm.md has no
 //! staleness rule for navigation (its only nav rule is the start-up hold until every
 //! NAV_* was received once) and moos-wire.md §5.6 says a MOOS app notices a dead DB by
@@ -472,5 +475,51 @@ fn helm_gives_up_on_a_frozen_moosdb_and_comes_back() {
     println!("helm postings: {before} before the freeze, {during} from 6 s in to the thaw, {after} after");
     assert_eq!(during, 0, "the helm kept posting into a frozen DB");
     assert!(before > 0 && after > 0, "{before} / {after}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A second helm with the same MOOS name: the DB refuses it, it says so and exits
+/// non-zero; the first helm keeps its connection.
+#[test]
+fn a_second_helm_with_the_same_name_is_refused() {
+    let _serial = serial();
+    let dir = scratch("db-clash");
+    let port = free_port();
+    let moos_path = dir.join("alpha.moos");
+    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
+    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let db = MoosDb::start(&moos_path, dir.join("db.log"));
+    db.wait_listening(port);
+    let first_dir = dir.join("first");
+    std::fs::create_dir_all(&first_dir).expect("dir");
+    let mut first = spawn_helm(&moos_path, &first_dir.join("helm.alog"), &first_dir);
+    let t0 = Instant::now();
+    while !db.log().contains("client connected client=pHelmIvP") {
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "first helm never connected"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .arg("run")
+        .arg(&moos_path)
+        .args(["--duration", "30", "--quiet"])
+        .output()
+        .expect("second helm");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "second helm ran:\n{err}");
+    assert!(err.contains("already exists"), "{err}");
+    assert!(
+        first.0.try_wait().expect("wait").is_none(),
+        "first helm died"
+    );
+    assert!(
+        !db.log().contains("client disconnected client=pHelmIvP"),
+        "{}",
+        db.log()
+    );
+    let (out, _) = interrupt(&mut first, &first_dir);
+    assert!(out.contains("final:"), "{out}");
     let _ = std::fs::remove_dir_all(&dir);
 }
