@@ -146,7 +146,7 @@ fn exercise(c: &mut LogicCondition) {
 #[test]
 fn fuzz_bhv_reader() {
     let seeds: Vec<Vec<u8>> = bhv_seeds().into_iter().map(String::into_bytes).collect();
-    fuzzkit::fuzz("bhv_reader", 4000, &seeds, BHV_DICT, check_reader);
+    fuzzkit::fuzz("bhv_reader", 8000, &seeds, BHV_DICT, check_reader);
 }
 
 /// Conditions, mode conditions and flags of the seed files.
@@ -194,7 +194,7 @@ fn check_logic(data: &[u8]) {
 
 #[test]
 fn fuzz_logic_conditions() {
-    fuzzkit::fuzz("logic", 6000, &logic_seeds(), BHV_DICT, check_logic);
+    fuzzkit::fuzz("logic", 8000, &logic_seeds(), BHV_DICT, check_logic);
 }
 
 // Reproducers of crashes the harnesses found, kept as regression tests.

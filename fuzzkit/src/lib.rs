@@ -321,6 +321,9 @@ pub fn budget(default_cases: u32) -> (u32, Duration) {
     (cases, Duration::from_secs_f64(secs))
 }
 
+/// A harness's check function, shared with the case threads.
+pub type Check = Arc<dyn Fn(&[u8]) + Send + Sync>;
+
 /// What one case did, sent back by the worker.
 enum Outcome {
     Done { peak: usize },
@@ -329,7 +332,7 @@ enum Outcome {
 
 /// Run one input through `check` on a worker thread under the watchdog and the memory
 /// bound. `Err` describes the failure.
-pub fn run_one(check: &Arc<dyn Fn(&[u8]) + Send + Sync>, data: Vec<u8>) -> Result<(), String> {
+pub fn run_one(check: &Check, data: Vec<u8>) -> Result<(), String> {
     let (tx, rx) = mpsc::channel();
     let f = check.clone();
     let n = data.len();
@@ -404,7 +407,7 @@ pub fn fuzz(
     check: impl Fn(&[u8]) + Send + Sync + 'static,
 ) {
     let (cases, secs) = budget(default_cases);
-    let check: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(check);
+    let check: Check = Arc::new(check);
     quiet_case_panics();
     let t0 = Instant::now();
     // Every seed exactly as it is, first.
@@ -454,7 +457,7 @@ pub fn fuzz(
 /// Shrink a failing case (proptest's simplify/complicate walk), at most 500 re-runs;
 /// a hang is reported as found (re-running hangs would take minutes).
 fn shrink(
-    check: &Arc<dyn Fn(&[u8]) + Send + Sync>,
+    check: &Check,
     tree: &mut impl ValueTree<Value = Case>,
     seeds: &[Vec<u8>],
     dict: &[&[u8]],
@@ -521,7 +524,7 @@ mod tests {
 
     #[test]
     fn watchdog_reports_panic_and_memory() {
-        let panics: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(|d: &[u8]| {
+        let panics: Check = Arc::new(|d: &[u8]| {
             if d.first() == Some(&b'x') {
                 panic!("boom")
             }
@@ -529,7 +532,7 @@ mod tests {
         assert!(run_one(&panics, b"a".to_vec()).is_ok());
         let e = run_one(&panics, b"x".to_vec()).unwrap_err();
         assert!(e.contains("boom"), "{e}");
-        let hog: Arc<dyn Fn(&[u8]) + Send + Sync> = Arc::new(|_: &[u8]| {
+        let hog: Check = Arc::new(|_: &[u8]| {
             let v = vec![1u8; 64 << 20];
             std::hint::black_box(&v);
         });

@@ -177,5 +177,5 @@ fn check(data: &[u8]) {
 
 #[test]
 fn fuzz_geometry_strings() {
-    fuzzkit::fuzz("geometry", 8000, &seeds(), DICT, check);
+    fuzzkit::fuzz("geometry", 12000, &seeds(), DICT, check);
 }

@@ -10,6 +10,14 @@
 //! 2. Later the simulator is stopped for 2 s and restarted where the vehicle was.
 //! 3. The mission must complete (`MISSION = complete`, the return behavior's endflag).
 //!
+//! A second test freezes the DB instead (SIGSTOP: the process is there, its sockets stay
+//! open, it answers nothing) for 8 s: the helm's client gives up on it after 5 s of
+//! silence (`silence_timeout`), so the helm stops posting into a DB that does not read;
+//! after SIGCONT it reconnects and drives again.
+//!
+//! A third starts a second helm with the same MOOS name: refused by the DB, it exits
+//! non-zero saying so, and the first keeps its connection.
+//!
 //! What the helm does while its DB is gone, as chosen from the specs: helm.md has no
 //! staleness rule for navigation (its only nav rule is the start-up hold until every
 //! NAV_* was received once) and moos-wire.md §5.6 says a MOOS app notices a dead DB by
@@ -182,7 +190,12 @@ impl Observer {
     ) {
         let t0 = Instant::now();
         loop {
-            if self.seen.iter().any(|(t, m)| *t >= since && pred(m)) {
+            // Received and stamped after `since` (mail queued before is not news).
+            if self
+                .seen
+                .iter()
+                .any(|(t, m)| *t >= since && m.time >= since && pred(m))
+            {
                 return;
             }
             assert!(t0.elapsed() < limit, "{what}: not seen within {limit:?}");
@@ -217,11 +230,74 @@ impl Observer {
     }
 }
 
-#[test]
-fn helm_survives_moosdb_death_and_simulator_restart() {
-    let dir = std::env::temp_dir().join(format!("helm-db-death-{}", std::process::id()));
+/// One of these tests at a time: each runs a helm, a DB and a simulator against the clock.
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// `helm run MISSION --alog ALOG` (not embedded), warnings to `dir/helm.err`.
+fn spawn_helm(moos_path: &Path, alog: &Path, dir: &Path) -> Helm {
+    Helm(
+        Command::new(env!("CARGO_BIN_EXE_helm"))
+            .arg("run")
+            .arg(moos_path)
+            .args(["--duration", "3000", "--quiet", "--alog"])
+            .arg(alog)
+            .env("RUST_LOG", "warn")
+            .env("NO_COLOR", "1")
+            .stdout(Stdio::from(
+                std::fs::File::create(dir.join("helm.out")).expect("out"),
+            ))
+            .stderr(Stdio::from(
+                std::fs::File::create(dir.join("helm.err")).expect("err"),
+            ))
+            .spawn()
+            .expect("start helm"),
+    )
+}
+
+/// End the helm cleanly (SIGINT: final line, alog flushed); its (stdout, stderr).
+fn interrupt(helm: &mut Helm, dir: &Path) -> (String, String) {
+    let pid = helm.0.id().to_string();
+    let _ = Command::new("kill").args(["-INT", &pid]).status();
+    let t0 = Instant::now();
+    while helm.0.try_wait().expect("wait").is_none() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "helm did not stop on SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    (
+        std::fs::read_to_string(dir.join("helm.out")).unwrap_or_default(),
+        std::fs::read_to_string(dir.join("helm.err")).unwrap_or_default(),
+    )
+}
+
+/// MOOS times of the helm's own postings, from its alog.
+fn helm_post_times(alog: &Path) -> Vec<f64> {
+    let f = std::fs::File::open(alog).expect("alog written");
+    let log = moos::alog::read(std::io::BufReader::new(f)).expect("alog parses");
+    let start = log.log_start.expect("LOGSTART");
+    log.entries
+        .iter()
+        .filter(|e| e.source == "pHelmIvP")
+        .map(|e| start + e.time)
+        .collect()
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("helm-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+#[test]
+fn helm_survives_moosdb_death_and_simulator_restart() {
+    let _serial = serial();
+    let dir = scratch("db-death");
     let port = free_port();
     let moos_path = dir.join("alpha.moos");
     std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
@@ -233,22 +309,7 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
     let mission = MissionFile::read(&moos_path).expect("mission parses");
     let mut sim = Some(helm::app::sim::Sim::start(&mission).expect("simulator connects"));
     let mut obs = Observer::new(port);
-    let helm_out = dir.join("helm.out");
-    let mut helm = Helm(
-        Command::new(env!("CARGO_BIN_EXE_helm"))
-            .arg("run")
-            .arg(&moos_path)
-            .args(["--duration", "3000", "--quiet", "--alog"])
-            .arg(&alog)
-            .env("RUST_LOG", "warn")
-            .env("NO_COLOR", "1")
-            .stdout(Stdio::from(std::fs::File::create(&helm_out).expect("out")))
-            .stderr(Stdio::from(
-                std::fs::File::create(dir.join("helm.err")).expect("err"),
-            ))
-            .spawn()
-            .expect("start helm"),
-    );
+    let mut helm = spawn_helm(&moos_path, &alog, &dir);
 
     // Driving: the helm commands speed and the vehicle moves east towards 60,-40.
     obs.wait_for("driving", 0.0, Duration::from_secs(30), |m| {
@@ -314,19 +375,7 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
         m.key == "MISSION" && m.string() == "complete"
     });
 
-    // End the helm cleanly (SIGINT: final line, alog flushed).
-    let pid = helm.0.id().to_string();
-    let _ = Command::new("kill").args(["-INT", &pid]).status();
-    let t0 = Instant::now();
-    while helm.0.try_wait().expect("wait").is_none() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(10),
-            "helm did not stop on SIGINT"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    let err = std::fs::read_to_string(dir.join("helm.err")).unwrap_or_default();
-    let out = std::fs::read_to_string(&helm_out).unwrap_or_default();
+    let (out, err) = interrupt(&mut helm, &dir);
     assert!(
         err.contains("lost the MOOSDB"),
         "no disconnect warning:\n{err}"
@@ -338,17 +387,9 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
     assert!(out.contains("final:"), "{out}\n{err}");
 
     // The helm's alog: postings before the kill, none during the outage, many after.
-    let f = std::fs::File::open(&alog).expect("alog written");
-    let log = moos::alog::read(std::io::BufReader::new(f)).expect("alog parses");
-    let start = log.log_start.expect("LOGSTART");
     // The client sees the socket close within milliseconds: 0.25 s real of grace.
     let grace = 0.25 * WARP;
-    let helm_posts: Vec<f64> = log
-        .entries
-        .iter()
-        .filter(|e| e.source == "pHelmIvP")
-        .map(|e| start + e.time)
-        .collect();
+    let helm_posts = helm_post_times(&alog);
     let during: Vec<f64> = helm_posts
         .iter()
         .copied()
@@ -375,5 +416,110 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
         helm_posts.iter().filter(|t| **t > restarted).count() > 100,
         "too few postings after the DB came back"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn signal(pid: u32, sig: &str) {
+    let ok = Command::new("kill")
+        .args([sig, &pid.to_string()])
+        .status()
+        .is_ok_and(|s| s.success());
+    assert!(ok, "kill {sig} {pid} failed");
+}
+
+#[test]
+fn helm_gives_up_on_a_frozen_moosdb_and_comes_back() {
+    let _serial = serial();
+    let dir = scratch("db-frozen");
+    let port = free_port();
+    let moos_path = dir.join("alpha.moos");
+    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
+    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let alog = dir.join("helm.alog");
+    let db = MoosDb::start(&moos_path, dir.join("db.log"));
+    db.wait_listening(port);
+    let mission = MissionFile::read(&moos_path).expect("mission parses");
+    let _sim = helm::app::sim::Sim::start(&mission).expect("simulator connects");
+    let mut obs = Observer::new(port);
+    let mut helm = spawn_helm(&moos_path, &alog, &dir);
+    obs.wait_for("driving", 0.0, Duration::from_secs(30), |m| {
+        m.key == "NAV_X" && m.dval > 15.0
+    });
+
+    // Frozen for 8 s real (160 MOOS s).
+    let frozen = obs.now();
+    signal(db.child.id(), "-STOP");
+    obs.pause(Duration::from_secs(8));
+    let thawed = moos::time::local_time(WARP);
+    signal(db.child.id(), "-CONT");
+    obs.wait_for("helm drives again", thawed, Duration::from_secs(30), |m| {
+        m.key == "DESIRED_SPEED" && m.dval > 0.0
+    });
+    let (out, err) = interrupt(&mut helm, &dir);
+    assert!(out.contains("final:"), "{out}\n{err}");
+    assert!(
+        err.contains("nothing from the DB"),
+        "the helm's client did not give up on the frozen DB:\n{err}"
+    );
+    assert!(err.contains("lost the MOOSDB"), "{err}");
+    // Posting stops once the client gives up (5 s of silence, and up to the 250 ms
+    // read tick): from 6 s real after the freeze to the thaw, nothing.
+    let posts = helm_post_times(&alog);
+    let quiet_from = frozen + 6.0 * WARP;
+    let during = posts
+        .iter()
+        .filter(|t| **t > quiet_from && **t < thawed)
+        .count();
+    let before = posts.iter().filter(|t| **t < frozen).count();
+    let after = posts.iter().filter(|t| **t > thawed).count();
+    println!("helm postings: {before} before the freeze, {during} from 6 s in to the thaw, {after} after");
+    assert_eq!(during, 0, "the helm kept posting into a frozen DB");
+    assert!(before > 0 && after > 0, "{before} / {after}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A second helm with the same MOOS name: the DB refuses it, it says so and exits
+/// non-zero; the first helm keeps its connection.
+#[test]
+fn a_second_helm_with_the_same_name_is_refused() {
+    let _serial = serial();
+    let dir = scratch("db-clash");
+    let port = free_port();
+    let moos_path = dir.join("alpha.moos");
+    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
+    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let db = MoosDb::start(&moos_path, dir.join("db.log"));
+    db.wait_listening(port);
+    let first_dir = dir.join("first");
+    std::fs::create_dir_all(&first_dir).expect("dir");
+    let mut first = spawn_helm(&moos_path, &first_dir.join("helm.alog"), &first_dir);
+    let t0 = Instant::now();
+    while !db.log().contains("client connected client=pHelmIvP") {
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "first helm never connected"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .arg("run")
+        .arg(&moos_path)
+        .args(["--duration", "30", "--quiet"])
+        .output()
+        .expect("second helm");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "second helm ran:\n{err}");
+    assert!(err.contains("already exists"), "{err}");
+    assert!(
+        first.0.try_wait().expect("wait").is_none(),
+        "first helm died"
+    );
+    assert!(
+        !db.log().contains("client disconnected client=pHelmIvP"),
+        "{}",
+        db.log()
+    );
+    let (out, _) = interrupt(&mut first, &first_dir);
+    assert!(out.contains("final:"), "{out}");
     let _ = std::fs::remove_dir_all(&dir);
 }

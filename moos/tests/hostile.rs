@@ -435,14 +435,10 @@ fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
     std::thread::sleep(Duration::from_millis(300));
     let mb = 1 << 20;
     for i in 0..20u8 {
-        let v: String = std::iter::repeat(char::from(b'a' + i % 26))
-            .take(mb)
-            .collect();
+        let v: String = char::from(b'a' + i % 26).to_string().repeat(mb);
         big.notify_string("BIG", &v, None).expect("post big value");
         // A 1 MB variable name too (each a new variable the DB keeps).
-        let key: String = std::iter::repeat(char::from(b'A' + i % 26))
-            .take(mb)
-            .collect();
+        let key: String = char::from(b'A' + i % 26).to_string().repeat(mb);
         big.notify_double(&format!("{key}{i}"), 1.0, None)
             .expect("post big key");
     }
@@ -777,6 +773,55 @@ fn client_receives_one_megabyte_strings_intact() {
         .iter()
         .all(|m| m.sval.len() == mb && m.sval.iter().all(|&b| b == b'z')));
     assert!(c.is_connected());
+    c.close();
+    let _ = fake.join();
+}
+
+/// A DB that still holds our previous connection (it was frozen, or the network
+/// dropped) refuses the reconnect as a name clash. Found with a frozen `moosdb` in
+/// helm/tests/db_death.rs: the client took that refusal as final and the helm never
+/// reconnected. A refused *reconnect* is now retried; a refused first connect stays final.
+#[test]
+fn client_retries_a_reconnect_refused_as_a_name_clash() {
+    let _serial = serial();
+    let _ = captured_log();
+    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+    let port = l.local_addr().expect("addr").port();
+    let fake = std::thread::spawn(move || {
+        let s = fake_welcome(&l);
+        drop(s); // the connection is lost
+                 // The reconnect: refused as a clash, twice.
+        for _ in 0..2 {
+            let (mut s, _) = l.accept().expect("accept");
+            let mut hs = vec![0u8; 4096];
+            let _ = s.set_read_timeout(Some(Duration::from_secs(2)));
+            let _ = s.read(&mut hs);
+            let m = Message {
+                msg_type: MsgType::POISON,
+                data_type: DataType::STRING,
+                sval: b"A client of this name (\"victim_clash\") already exists".to_vec(),
+                ..Message::default()
+            };
+            let mut p = Vec::new();
+            wire::encode_packet(&[m], &mut p).expect("encode");
+            let _ = s.write_all(&p);
+        }
+        behave(fake_welcome(&l), Duration::from_secs(5));
+    });
+    let c = Client::connect(ClientConfig::new("127.0.0.1", port, "victim_clash")).expect("first");
+    let t0 = Instant::now();
+    while c.connection_count() < 2 || !c.is_connected() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "no reconnect after refusals:\n{}",
+            captured_log()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(wait_captured(
+        &["victim_clash", "refused the reconnect"],
+        Duration::from_secs(1)
+    ));
     c.close();
     let _ = fake.join();
 }

@@ -12,6 +12,8 @@ use crate::wire::{self, DataType, FrameReader, Message, MsgType, PacketBuilder};
 enum End {
     /// Connection lost: reconnect.
     Lost,
+    /// A reconnect refused: retry with back-off.
+    Refused,
     /// Poisoned or stopping: finish.
     Final,
 }
@@ -24,6 +26,7 @@ pub(super) fn run(sh: Arc<Shared>) {
                 match session(&sh, stream) {
                     End::Final => break,
                     End::Lost => backoff = sh.cfg.reconnect_min,
+                    End::Refused => backoff = (backoff * 2).min(sh.cfg.reconnect_max),
                 }
                 if sh.stop.load(Ordering::SeqCst) {
                     break;
@@ -115,6 +118,13 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         Ok(w) => w,
         Err(e) => return e,
     };
+    if welcome.msg_type == MsgType::POISON && sh.lock().connects > 0 {
+        // A reconnect refused, typically "a client of this name already exists": the DB
+        // has not yet noticed that our previous connection is gone (it was frozen, or
+        // the network dropped). It will, so try again; only a first refusal is final.
+        tracing::warn!(client = %sh.cfg.name, reason = %welcome.string(), "DB refused the reconnect; retrying");
+        return End::Refused;
+    }
     if welcome.msg_type == MsgType::POISON {
         let reason = welcome.string().into_owned();
         tracing::error!(client = %sh.cfg.name, %reason, "DB refused the handshake");

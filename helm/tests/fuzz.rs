@@ -1,0 +1,247 @@
+//! Fuzz harness of the whole path a `.bhv` file takes into the helm (issue 10): the
+//! reader, then every behavior's parameters (`set_param`: speeds, points, polygons,
+//! flags, conditions, ...), then start-up and a few iterations with moving navigation
+//! and the files' own variables as mail. Seeds are every `.bhv` text of the golden helm
+//! cases and the missions; run by `cargo test` on a bounded budget (`FUZZ_CASES`,
+//! `FUZZ_SECS`; see the `fuzzkit` crate).
+//!
+//! Invariants: no panic (a behavior's panic is caught by the helm and posted as
+//! `BHV_ERROR ... behavior panicked`: that fails the case too), no hang, bounded memory.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use helm::config::{BlockLine, HelmConfig};
+use helm::factory::BehaviorFactory;
+use helm::posting::Value;
+use helm::{Helm, Mail};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn seeds() -> Vec<Vec<u8>> {
+    let mut v = Vec::new();
+    for d in std::fs::read_dir(repo().join("missions"))
+        .into_iter()
+        .flatten()
+        .flatten()
+    {
+        for f in std::fs::read_dir(d.path()).into_iter().flatten().flatten() {
+            if f.path().extension().is_some_and(|e| e == "bhv") {
+                v.push(std::fs::read(f.path()).expect("read mission bhv"));
+            }
+        }
+    }
+    let mut files: Vec<PathBuf> = std::fs::read_dir(repo().join("conformance").join("helm"))
+        .expect("conformance/helm")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    for p in files {
+        let doc: toml::Table =
+            toml::from_str(&std::fs::read_to_string(&p).expect("read case")).expect("toml");
+        if let Some(b) = doc.get("bhv").and_then(|b| b.as_str()) {
+            v.push(b.as_bytes().to_vec());
+        }
+    }
+    assert!(v.len() > 10);
+    v
+}
+
+const DICT: &[&[u8]] = &[
+    b"\n  speed = ",
+    b"\n  points = ",
+    b"\n  polygon = ",
+    b"\n  capture_radius = ",
+    b"\n  duration = ",
+    b"\n  pwt = ",
+    b"\n  endflag = ",
+    b"\n  condition = ",
+    b"\n  updates = ",
+    b"\n  templating = spawn",
+    b"\n  perpetual = true",
+    b"\n  repeat = ",
+    b"\n  order = reverse",
+    b"\n  lead = ",
+    b"\n  center_activate = true",
+    b"\n  clockwise = false",
+    b"\n  station_pt = ",
+    b"Behavior = BHV_Loiter\n{\n",
+    b"Behavior = BHV_Waypoint\n{\n",
+    b"Behavior = BHV_Timer\n{\n",
+    b"format=radial, x=0, y=0, radius=20, pts=8",
+    b"0,0 : 10,10 : 0,20",
+    b"1e308",
+    b"-1e308",
+    b"nan",
+    b"inf",
+    b"0",
+    b"-1",
+    b"4294967296",
+    b"$(X)",
+    b"$[NI]",
+    b",",
+    b":",
+    b"=",
+];
+
+fn mail(var: &str, value: Value, t: f64) -> Mail {
+    Mail {
+        var: var.into(),
+        value,
+        time: t,
+        source: "uSimMarine".into(),
+        source_aux: String::new(),
+    }
+}
+
+/// Longest behavior name the harness runs (see [`check`]).
+const LONG_NAME: usize = 1500;
+
+/// Cases that got past the reader, and those that also posted a decision.
+static BUILT: AtomicUsize = AtomicUsize::new(0);
+static DECIDED: AtomicUsize = AtomicUsize::new(0);
+
+fn check(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let Ok(spec) = bhv::parse_str(&text, Path::new("fuzz.bhv")) else {
+        return;
+    };
+    // Known, reported, not fixed here (ivp/ is not ours): a behavior name of 1950+
+    // characters leaves BHV_IPF packets a 1-character body, so one iteration posts
+    // thousands of 2 kB packets (see the ignored test below). Left out of the harness.
+    let long_name = spec
+        .behaviors
+        .iter()
+        .flat_map(|b| &b.lines)
+        .any(|l| l.param == "name" && l.value.len() > LONG_NAME);
+    if long_name {
+        return;
+    }
+    BUILT.fetch_add(1, Ordering::Relaxed);
+    let lines: Vec<BlockLine> = [
+        ("domain", "course:0:359:360"),
+        ("domain", "speed:0:4:41"),
+        ("start_in_drive", "true"),
+    ]
+    .iter()
+    .enumerate()
+    .map(|(i, (n, v))| BlockLine {
+        line: i + 1,
+        name: n.to_string(),
+        value: v.to_string(),
+    })
+    .collect();
+    let (config, _) = HelmConfig::from_lines(&lines);
+    let inits: Vec<(String, bhv::Value)> = spec
+        .inits
+        .iter()
+        .map(|i| (i.var.clone(), i.value.clone()))
+        .collect();
+    let mut helm = Helm::new(
+        config,
+        spec,
+        &BehaviorFactory::with_builtins(),
+        "alpha",
+        Vec::new(),
+    );
+    let mut posts = Vec::new();
+    posts.extend(helm.startup(1000.0).iter().cloned());
+    for k in 0..8 {
+        let t = 1001.0 + k as f64;
+        let mut m = vec![
+            mail("NAV_X", Value::Num(3.0 * k as f64), t),
+            mail("NAV_Y", Value::Num(-20.0 - 2.0 * k as f64), t),
+            mail("NAV_HEADING", Value::Num((40.0 * k as f64) % 360.0), t),
+            mail("NAV_SPEED", Value::Num(1.5), t),
+            mail("NAV_DEPTH", Value::Num(0.0), t),
+        ];
+        // The files' own variables, flipped now and then, to move conditions and modes.
+        for (i, (var, v)) in inits.iter().enumerate() {
+            let value = match v {
+                bhv::Value::Num(x) => Value::Num(*x + k as f64),
+                bhv::Value::Str(s) if (k + i) % 3 == 0 => Value::Str(format!("{s}x")),
+                bhv::Value::Str(s) => Value::Str(s.clone()),
+            };
+            m.push(mail(var, value, t));
+        }
+        helm.handle_mail(t, &m);
+        posts.extend(helm.iterate(t).iter().cloned());
+    }
+    if posts.iter().any(|p| p.var == "DESIRED_SPEED") {
+        DECIDED.fetch_add(1, Ordering::Relaxed);
+    }
+    for p in &posts {
+        if let Value::Str(s) = &p.value {
+            assert!(!s.contains("behavior panicked"), "{} = {s}", p.var);
+        }
+    }
+}
+
+#[test]
+fn fuzz_helm_behaviors() {
+    fuzzkit::fuzz("helm_behaviors", 4000, &seeds(), DICT, check);
+    let (built, decided) = (
+        BUILT.load(Ordering::Relaxed),
+        DECIDED.load(Ordering::Relaxed),
+    );
+    println!("helm_behaviors: {built} inputs read, {decided} of them drove (DESIRED_SPEED)");
+    assert!(
+        decided > 0,
+        "no case reached a decision: the harness tests nothing"
+    );
+}
+
+/// BUG (in `ivp::ipf::ipf_packets`, following ivp-solver.md §9.2 to the letter):
+/// `body = 2000 - (len(id) + 50)` is clamped to 1 when the id (behavior name ^
+/// iteration) is 1950 characters or more, so the function string goes out one character
+/// per 2 kB packet: with a 2000-character name, one iteration of one behavior posts
+/// ~3000 BHV_IPF packets (6 MB), every iteration, to the DB (a 4 kB name: 20 MB).
+/// Expected: a bounded number of packets (e.g. refuse such names as a configuration
+/// error, or keep a minimum body). Found by this harness.
+#[test]
+#[ignore = "bug in ivp::ipf::ipf_packets: names of 1950+ chars make one 2 kB packet per character"]
+fn long_behavior_names_do_not_multiply_bhv_ipf_packets() {
+    let base = std::fs::read_to_string(repo().join("missions/alpha/alpha.bhv")).expect("alpha");
+    let text = base.replacen("waypt_survey", &"l".repeat(2000), 1);
+    let spec = bhv::parse_str(&text, Path::new("long.bhv")).expect("parses");
+    let lines: Vec<BlockLine> = ["course:0:359:360", "speed:0:4:41"]
+        .iter()
+        .enumerate()
+        .map(|(i, d)| BlockLine {
+            line: i + 1,
+            name: "domain".into(),
+            value: d.to_string(),
+        })
+        .chain(std::iter::once(BlockLine {
+            line: 3,
+            name: "start_in_drive".into(),
+            value: "true".into(),
+        }))
+        .collect();
+    let (config, _) = HelmConfig::from_lines(&lines);
+    let mut helm = Helm::new(
+        config,
+        spec,
+        &BehaviorFactory::with_builtins(),
+        "alpha",
+        Vec::new(),
+    );
+    helm.startup(1000.0);
+    let nav = |t: f64| {
+        ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]
+            .iter()
+            .map(|v| mail(v, Value::Num(1.0), t))
+            .collect::<Vec<_>>()
+    };
+    helm.handle_mail(1001.0, &nav(1001.0));
+    let n = helm
+        .iterate(1001.0)
+        .iter()
+        .filter(|p| p.var == "BHV_IPF")
+        .count();
+    assert!(n < 10, "{n} BHV_IPF packets in one iteration");
+}
