@@ -316,7 +316,11 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
                     return finish(&sh, &dead);
                 }
             };
-            deliver(&sh, msgs);
+            if deliver(&sh, msgs) {
+                if let Some(cb) = &sh.on_mail {
+                    cb();
+                }
+            }
         }
         if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
             return finish(&sh, &dead);
@@ -340,10 +344,10 @@ fn finish(sh: &Shared, dead: &AtomicBool) {
     sh.out_cv.notify_all();
 }
 
-/// Spec §5.2: timing echo handling, then hand the mail over.
-fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
+/// Spec §5.2: timing echo handling, then hand the mail over. True if there was mail.
+fn deliver(sh: &Shared, mut msgs: Vec<Message>) -> bool {
     if msgs.is_empty() {
-        return;
+        return false;
     }
     let tr = sh.local_time();
     let mut st = sh.lock();
@@ -367,7 +371,7 @@ fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
     }
     msgs.retain(|m| m.msg_type != MsgType::NULL);
     if msgs.is_empty() {
-        return;
+        return false;
     }
     // Waiters only sleep on an empty inbox, so only that transition needs a wake-up.
     if st.inbox.is_empty() {
@@ -376,4 +380,5 @@ fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
     } else {
         st.inbox.append(&mut msgs);
     }
+    true
 }

@@ -1,14 +1,105 @@
-//! Per-client outgoing byte queue with a byte cap, drained by the client's writer thread.
+//! Per-client outgoing byte queue, drained by the client's writer thread, with flow
+//! control towards the publishers that fill it.
 //!
 //! Fan-out from a publisher's reader thread first tries a non-blocking send of the queued
 //! bytes itself ([`Outbox::try_flush`], after the DB lock is released), which saves the
 //! writer thread's wake-up; whatever the socket does not take at once is left to the
-//! writer, which does the blocking writes (with the send timeout). Only one of them writes
-//! at a time (`writing`), so bytes stay in order.
+//! writer, which does the blocking writes. Only one of them writes at a time (`writing`),
+//! so bytes stay in order.
+//!
+//! Nothing queued is ever dropped. Instead:
+//! * each push records how many bytes each publisher added recently (a window that is
+//!   halved every `high` bytes of traffic);
+//! * when the queue passes the high-water mark, the heaviest recent contributors (those
+//!   that together brought [`COVER`] of the window's bytes) get a hold on their [`Gate`]:
+//!   their reader threads stop reading their sockets, so TCP flow control reaches them.
+//!   A publisher that sent a few small messages has a negligible share and keeps going.
+//!   Each further `high / 2` of growth picks again among the publishers still running;
+//!   once the DB-wide total reaches its cap, every publisher still adding is held;
+//! * the holds are released when the queue drains below the low-water mark, or at once
+//!   when the outbox is closed (client gone or cut off as stalled).
+//!
+//! The outbox also keeps the stall clock: since when its socket has accepted no bytes
+//! while some were waiting ([`Outbox::stuck_for`]).
 
 use std::io::{ErrorKind, Write};
 use std::net::{Shutdown, TcpStream};
-use std::sync::{Condvar, Mutex, MutexGuard};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+/// Share of a queue's recent bytes whose senders are held back at each step.
+pub(crate) const COVER: f64 = 0.9;
+
+/// Buffers bigger than this are given back to the allocator once drained.
+const KEEP_CAPACITY: usize = 1 << 20;
+
+/// Whether a connection's reader may read from its socket: open unless some subscriber's
+/// queue holds this publisher back.
+pub(crate) struct Gate {
+    holds: AtomicUsize,
+    m: Mutex<()>,
+    cv: Condvar,
+}
+
+impl Gate {
+    pub fn new() -> Gate {
+        Gate {
+            holds: AtomicUsize::new(0),
+            m: Mutex::new(()),
+            cv: Condvar::new(),
+        }
+    }
+
+    pub fn is_open(&self) -> bool {
+        self.holds.load(Ordering::Acquire) == 0
+    }
+
+    fn hold(&self) {
+        self.holds.fetch_add(1, Ordering::AcqRel);
+    }
+
+    fn release(&self) {
+        if self.holds.fetch_sub(1, Ordering::AcqRel) == 1 {
+            // Taking the lock orders this wake-up after a waiter's check.
+            let _g = self.m.lock().unwrap_or_else(|p| p.into_inner());
+            self.cv.notify_all();
+        }
+    }
+
+    /// Wait until open, at most `timeout`. True if open.
+    pub fn wait_open(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        let mut g = self.m.lock().unwrap_or_else(|p| p.into_inner());
+        while !self.is_open() {
+            let Some(left) = deadline.checked_duration_since(Instant::now()) else {
+                return false;
+            };
+            g = self
+                .cv
+                .wait_timeout(g, left)
+                .unwrap_or_else(|p| p.into_inner())
+                .0;
+        }
+        true
+    }
+}
+
+/// Flow-control thresholds for one push (they depend on the DB cap and client count).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Marks {
+    /// Per-client high-water mark (bytes).
+    pub high: usize,
+    /// Per-client low-water mark: holds are released below it.
+    pub low: usize,
+    /// Cap on the bytes queued for all clients together.
+    pub total_cap: usize,
+}
+
+struct Contrib {
+    gate: Arc<Gate>,
+    bytes: usize,
+}
 
 struct OutQ {
     buf: Vec<u8>,
@@ -18,23 +109,123 @@ struct OutQ {
     writing: bool,
     /// An empty buffer kept for the next direct flush.
     spare: Vec<u8>,
+    /// Bytes held for this client outside the outbox (a synchronous client's held mail).
+    extra: usize,
+    /// What this outbox currently adds to the DB-wide total.
+    counted: usize,
+    /// Since when the socket has accepted nothing while bytes were waiting (`None`: it
+    /// took everything it was last offered).
+    stuck_since: Option<Instant>,
+    /// Publishers this client holds back.
+    holding: Vec<Arc<Gate>>,
+    low: usize,
+    /// Queue size at which more publishers are held back (0: at the high-water mark).
+    next_step: usize,
+    /// Recent bytes per publisher.
+    contrib: Vec<Contrib>,
+    contrib_sum: usize,
+    last_contrib: usize,
 }
 
-/// Bytes waiting to be written to one client. Producers never block: a push that would
-/// take the queue past `cap` closes the queue (and the socket) instead.
+impl OutQ {
+    fn queued(&self) -> usize {
+        self.buf.len() + self.inflight + self.extra
+    }
+
+    fn account(&mut self, from: &Arc<Gate>, n: usize, high: usize) {
+        let i = match self.contrib.get(self.last_contrib) {
+            Some(c) if Arc::ptr_eq(&c.gate, from) => self.last_contrib,
+            _ => match self.contrib.iter().position(|c| Arc::ptr_eq(&c.gate, from)) {
+                Some(i) => i,
+                None => {
+                    self.contrib.push(Contrib {
+                        gate: from.clone(),
+                        bytes: 0,
+                    });
+                    self.contrib.len() - 1
+                }
+            },
+        };
+        self.last_contrib = i;
+        self.contrib[i].bytes += n;
+        self.contrib_sum += n;
+        if self.contrib_sum > high {
+            // Halve the window: shares follow the last `high`..`2 high` bytes.
+            self.contrib_sum = 0;
+            for c in &mut self.contrib {
+                c.bytes /= 2;
+                self.contrib_sum += c.bytes;
+            }
+            self.contrib.retain(|c| c.bytes > 0);
+            self.last_contrib = 0;
+        }
+    }
+
+    /// Past the high-water mark (or the next step beyond it), hold back the heaviest
+    /// recent contributors not yet held; all of them if the DB-wide cap is reached.
+    fn regulate(&mut self, m: Marks, total: usize) {
+        let q = self.queued();
+        let hard = total >= m.total_cap;
+        if q < m.high || (q < self.next_step && !hard) {
+            return;
+        }
+        let mut cand: Vec<(usize, usize)> = self
+            .contrib
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.bytes > 0 && !self.holding.iter().any(|g| Arc::ptr_eq(g, &c.gate)))
+            .map(|(i, c)| (c.bytes, i))
+            .collect();
+        cand.sort_unstable_by(|a, b| b.cmp(a));
+        let sum: usize = cand.iter().map(|c| c.0).sum();
+        let want = if hard {
+            sum
+        } else {
+            (sum as f64 * COVER).ceil() as usize
+        };
+        let mut got = 0;
+        for (bytes, i) in cand {
+            if got >= want {
+                break;
+            }
+            got += bytes;
+            let g = self.contrib[i].gate.clone();
+            g.hold();
+            self.holding.push(g);
+        }
+        self.low = m.low;
+        self.next_step = q + m.high / 2;
+        // A fresh window: the next step sees only who kept adding.
+        self.contrib.clear();
+        self.contrib_sum = 0;
+        self.last_contrib = 0;
+    }
+
+    fn release_if_drained(&mut self) {
+        if !self.holding.is_empty() && self.queued() < self.low {
+            self.release_all();
+        }
+    }
+
+    fn release_all(&mut self) {
+        for g in self.holding.drain(..) {
+            g.release();
+        }
+        self.next_step = 0;
+    }
+}
+
+/// Bytes waiting to be written to one client.
 pub(crate) struct Outbox {
     q: Mutex<OutQ>,
     cv: Condvar,
-    cap: usize,
     stream: TcpStream,
+    /// Bytes queued for all clients of the DB.
+    total: Arc<AtomicUsize>,
 }
 
-/// The push would exceed the byte cap; the outbox is now closed.
-#[derive(Debug)]
-pub(crate) struct Overflow;
-
 impl Outbox {
-    pub fn new(stream: TcpStream, cap: usize) -> Outbox {
+    pub fn new(stream: TcpStream, total: Arc<AtomicUsize>) -> Outbox {
         Outbox {
             q: Mutex::new(OutQ {
                 buf: Vec::new(),
@@ -42,10 +233,19 @@ impl Outbox {
                 closed: false,
                 writing: false,
                 spare: Vec::new(),
+                extra: 0,
+                counted: 0,
+                stuck_since: None,
+                holding: Vec::new(),
+                low: 0,
+                next_step: 0,
+                contrib: Vec::new(),
+                contrib_sum: 0,
+                last_contrib: 0,
             }),
             cv: Condvar::new(),
-            cap,
             stream,
+            total,
         }
     }
 
@@ -53,62 +253,93 @@ impl Outbox {
         self.q.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// Append bytes built by `f`. On overflow the bytes are discarded and the outbox closed.
-    pub fn push_with(&self, f: impl FnOnce(&mut Vec<u8>)) -> Result<usize, Overflow> {
+    /// Bring the DB-wide total in line with this queue; returns the new total.
+    fn recount(&self, q: &mut OutQ) -> usize {
+        let now = if q.closed { 0 } else { q.queued() };
+        let before = q.counted;
+        q.counted = now;
+        if now >= before {
+            self.total.fetch_add(now - before, Ordering::Relaxed) + (now - before)
+        } else {
+            self.total.fetch_sub(before - now, Ordering::Relaxed) - (before - now)
+        }
+    }
+
+    /// Append bytes built by `f` (welcome and replies to the client's own requests;
+    /// they count towards the total but not towards any publisher).
+    pub fn push_with(&self, f: impl FnOnce(&mut Vec<u8>)) -> usize {
         let mut q = self.lock();
         if q.closed {
-            return Ok(0);
+            return 0;
         }
-        let before = q.buf.len();
+        let was_empty = q.buf.is_empty();
         f(&mut q.buf);
-        let queued = q.buf.len() + q.inflight;
-        if queued > self.cap {
-            q.buf.truncate(before);
-            drop(q);
-            self.close();
-            tracing::debug!(queued, cap = self.cap, "outbox over cap");
-            return Err(Overflow);
-        }
-        let was_empty = before == 0;
+        self.recount(&mut q);
+        let queued = q.queued();
         drop(q);
         if was_empty {
             self.cv.notify_one();
         }
-        Ok(queued)
+        queued
     }
 
-    /// Queue the finished packet in `pkt` (same cap rule as [`Outbox::push_with`]). When
+    /// Queue the finished packet in `pkt`, added by the publisher behind `from`. When
     /// nothing is waiting, the buffers are swapped instead of copied; either way `pkt` is
     /// left empty (keeping some capacity) for the caller to reuse.
     /// With `wake` false the writer thread is not woken: when the returned flag says the
     /// queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands the
     /// bytes to the writer if it cannot send them all).
-    pub fn push_packet(&self, pkt: &mut Vec<u8>, wake: bool) -> Result<(usize, bool), Overflow> {
+    pub fn push_packet(
+        &self,
+        pkt: &mut Vec<u8>,
+        wake: bool,
+        from: Option<&Arc<Gate>>,
+        marks: Marks,
+    ) -> (usize, bool) {
         let mut q = self.lock();
         if q.closed {
             pkt.clear();
-            return Ok((0, false));
+            return (0, false);
         }
+        let n = pkt.len();
         let was_empty = q.buf.is_empty();
-        let queued = q.buf.len() + pkt.len() + q.inflight;
-        if queued > self.cap {
-            drop(q);
-            pkt.clear();
-            self.close();
-            tracing::debug!(queued, cap = self.cap, "outbox over cap");
-            return Err(Overflow);
-        }
         if was_empty {
             std::mem::swap(&mut q.buf, pkt);
         } else {
             q.buf.extend_from_slice(pkt);
         }
-        drop(q);
         pkt.clear();
+        let total = self.recount(&mut q);
+        if let Some(g) = from {
+            q.account(g, n, marks.high);
+        }
+        q.regulate(marks, total);
+        let queued = q.queued();
+        drop(q);
         if was_empty && wake {
             self.cv.notify_one();
         }
-        Ok((queued, was_empty))
+        (queued, was_empty)
+    }
+
+    /// A synchronous client's held mail (kept by the DB state until it polls) is now
+    /// `held` bytes; `from` added what grew.
+    pub fn set_extra(&self, held: usize, from: Option<&Arc<Gate>>, marks: Marks) {
+        let mut q = self.lock();
+        if q.closed {
+            return;
+        }
+        let grew = held.saturating_sub(q.extra);
+        q.extra = held;
+        let total = self.recount(&mut q);
+        if grew > 0 {
+            if let Some(g) = from {
+                q.account(g, grew, marks.high);
+            }
+            q.regulate(marks, total);
+        } else {
+            q.release_if_drained();
+        }
     }
 
     /// Send the queued bytes now without blocking, unless a write is already under way
@@ -163,9 +394,19 @@ impl Outbox {
             data.extend_from_slice(&q.buf);
             q.buf.clear();
             std::mem::swap(&mut q.buf, &mut data);
+            if sent > 0 || q.stuck_since.is_none() {
+                q.stuck_since = Some(Instant::now());
+            }
+        } else if q.buf.is_empty() {
+            q.stuck_since = None;
         }
         data.clear();
+        if data.capacity() > KEEP_CAPACITY {
+            data = Vec::new();
+        }
         q.spare = data;
+        self.recount(&mut q);
+        q.release_if_drained();
         let pending = !q.buf.is_empty();
         drop(q);
         if pending {
@@ -173,22 +414,55 @@ impl Outbox {
         }
     }
 
-    pub fn cap(&self) -> usize {
-        self.cap
+    /// Writer side: `n` more bytes of the current chunk were accepted by the socket.
+    pub fn wrote(&self, n: usize) {
+        let mut q = self.lock();
+        q.inflight = q.inflight.saturating_sub(n);
+        q.stuck_since = (q.inflight > 0 || !q.buf.is_empty()).then(Instant::now);
+        self.recount(&mut q);
+        q.release_if_drained();
     }
 
-    /// Bytes queued or being written.
+    /// How long the socket has accepted no bytes while some were waiting (the clock
+    /// starts now if it was not running).
+    pub fn stuck_for(&self) -> Duration {
+        let mut q = self.lock();
+        match q.stuck_since {
+            Some(t) => t.elapsed(),
+            None => {
+                q.stuck_since = Some(Instant::now());
+                Duration::ZERO
+            }
+        }
+    }
+
+    /// Bytes queued, being written, or held for this client.
     pub fn queued(&self) -> usize {
-        let q = self.lock();
-        q.buf.len() + q.inflight
+        self.lock().queued()
     }
 
-    /// Close: the writer stops after this and the socket is shut down both ways.
+    /// Publishers this client currently holds back.
+    pub fn holding(&self) -> usize {
+        self.lock().holding.len()
+    }
+
+    pub fn is_closed(&self) -> bool {
+        self.lock().closed
+    }
+
+    /// Close: the writer stops after this, the memory is released, the publishers held
+    /// back for this client go on, and the socket is shut down both ways.
     pub fn close(&self) {
         {
             let mut q = self.lock();
             q.closed = true;
             q.buf = Vec::new();
+            q.spare = Vec::new();
+            q.extra = 0;
+            q.contrib = Vec::new();
+            q.contrib_sum = 0;
+            self.recount(&mut q);
+            q.release_all();
         }
         self.cv.notify_all();
         let _ = self.stream.shutdown(Shutdown::Both);
