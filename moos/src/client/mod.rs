@@ -177,7 +177,10 @@ impl Client {
         Ok(c)
     }
 
-    fn start_inner(cfg: ClientConfig, on_mail: Option<MailCallback>) -> Result<Client, ClientError> {
+    fn start_inner(
+        cfg: ClientConfig,
+        on_mail: Option<MailCallback>,
+    ) -> Result<Client, ClientError> {
         if cfg.name.is_empty() {
             return Err(ClientError::BadArgument("empty client name".into()));
         }

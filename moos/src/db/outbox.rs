@@ -105,6 +105,8 @@ struct OutQ {
     buf: Vec<u8>,
     inflight: usize,
     closed: bool,
+    /// Closed by the DB (both directions), not just by a failed write.
+    cut: bool,
     /// The writer thread or a direct flush owns the socket's send side.
     writing: bool,
     /// An empty buffer kept for the next direct flush.
@@ -193,6 +195,13 @@ impl OutQ {
             g.hold();
             self.holding.push(g);
         }
+        tracing::debug!(
+            queued = q,
+            total,
+            hard,
+            holding = self.holding.len(),
+            "queue past its mark: publishers held back"
+        );
         self.low = m.low;
         self.next_step = q + m.high / 2;
         // A fresh window: the next step sees only who kept adding.
@@ -208,6 +217,13 @@ impl OutQ {
     }
 
     fn release_all(&mut self) {
+        if !self.holding.is_empty() {
+            tracing::debug!(
+                queued = self.queued(),
+                released = self.holding.len(),
+                "publishers released"
+            );
+        }
         for g in self.holding.drain(..) {
             g.release();
         }
@@ -231,6 +247,7 @@ impl Outbox {
                 buf: Vec::new(),
                 inflight: 0,
                 closed: false,
+                cut: false,
                 writing: false,
                 spare: Vec::new(),
                 extra: 0,
@@ -383,7 +400,7 @@ impl Outbox {
         if let Some(kind) = failed {
             drop(q);
             tracing::debug!("write to client failed: {kind:?}");
-            self.close();
+            self.write_failed();
             return;
         }
         if q.closed {
@@ -446,16 +463,28 @@ impl Outbox {
         self.lock().holding.len()
     }
 
-    pub fn is_closed(&self) -> bool {
-        self.lock().closed
+    /// Closed by the DB: its reader should stop too.
+    pub fn is_cut(&self) -> bool {
+        self.lock().cut
     }
 
     /// Close: the writer stops after this, the memory is released, the publishers held
     /// back for this client go on, and the socket is shut down both ways.
     pub fn close(&self) {
+        self.shut(Shutdown::Both);
+    }
+
+    /// A write failed (the client closed its side): as [`Outbox::close`], but the socket
+    /// stays open for reading, so what the client sent before closing is still processed.
+    pub fn write_failed(&self) {
+        self.shut(Shutdown::Write);
+    }
+
+    fn shut(&self, how: Shutdown) {
         {
             let mut q = self.lock();
             q.closed = true;
+            q.cut |= how == Shutdown::Both;
             q.buf = Vec::new();
             q.spare = Vec::new();
             q.extra = 0;
@@ -465,7 +494,7 @@ impl Outbox {
             q.release_all();
         }
         self.cv.notify_all();
-        let _ = self.stream.shutdown(Shutdown::Both);
+        let _ = self.stream.shutdown(how);
     }
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).

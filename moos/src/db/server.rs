@@ -219,7 +219,7 @@ fn read_loop(
                 if inner.stop.load(Ordering::Relaxed) {
                     return "shutdown";
                 }
-                if out.is_closed() {
+                if out.is_cut() {
                     return "closed";
                 }
             }
@@ -254,7 +254,7 @@ fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
 /// stall in time: a client whose socket accepts nothing for the stall timeout is cut off.
 fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_id: u64) {
     let stall = inner.cfg.stall_timeout;
-    let tick = (stall / 4).clamp(Duration::from_millis(10), Duration::from_millis(250));
+    let tick = (stall / 10).clamp(Duration::from_millis(10), Duration::from_millis(100));
     let _ = stream.set_write_timeout(Some(tick));
     let mut spare = Vec::new();
     let mut done = false;
@@ -264,7 +264,7 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
         while sent < spare.len() {
             match stream.write(&spare[sent..]) {
                 Ok(0) => {
-                    out.close();
+                    out.write_failed();
                     return;
                 }
                 Ok(n) => {
@@ -287,7 +287,7 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                 Err(e) if e.kind() == ErrorKind::Interrupted => {}
                 Err(e) => {
                     tracing::debug!(client = %name, "write to client failed: {e}");
-                    out.close();
+                    out.write_failed();
                     return;
                 }
             }
