@@ -31,6 +31,11 @@ use std::time::{Duration, Instant};
 /// Share of a queue's recent bytes whose senders are held back at each step.
 pub(crate) const COVER: f64 = 0.9;
 
+/// An outbox reports its size to the DB-wide total only when it changed by this much
+/// (so the shared counter is not touched on every push of a healthy flow; the total is
+/// exact to within this per client).
+const COUNT_STEP: usize = 64 << 10;
+
 /// Buffers bigger than this are given back to the allocator once drained.
 const KEEP_CAPACITY: usize = 1 << 20;
 
@@ -165,10 +170,14 @@ impl OutQ {
 
     /// Past the high-water mark (or the next step beyond it), hold back the heaviest
     /// recent contributors not yet held; all of them if the DB-wide cap is reached.
-    fn regulate(&mut self, m: Marks, total: usize) {
+    fn regulate(&mut self, m: Marks, total: &AtomicUsize) {
         let q = self.queued();
+        if q < m.high {
+            return;
+        }
+        let total = total.load(Ordering::Relaxed);
         let hard = total >= m.total_cap;
-        if q < m.high || (q < self.next_step && !hard) {
+        if q < self.next_step && !hard {
             return;
         }
         let mut cand: Vec<(usize, usize)> = self
@@ -270,15 +279,18 @@ impl Outbox {
         self.q.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// Bring the DB-wide total in line with this queue; returns the new total.
-    fn recount(&self, q: &mut OutQ) -> usize {
+    /// Bring the DB-wide total in line with this queue (in steps of [`COUNT_STEP`]).
+    fn recount(&self, q: &mut OutQ) {
         let now = if q.closed { 0 } else { q.queued() };
         let before = q.counted;
+        if now.abs_diff(before) < COUNT_STEP && !(now == 0 && before > 0) {
+            return;
+        }
         q.counted = now;
         if now >= before {
-            self.total.fetch_add(now - before, Ordering::Relaxed) + (now - before)
+            self.total.fetch_add(now - before, Ordering::Relaxed);
         } else {
-            self.total.fetch_sub(before - now, Ordering::Relaxed) - (before - now)
+            self.total.fetch_sub(before - now, Ordering::Relaxed);
         }
     }
 
@@ -326,11 +338,11 @@ impl Outbox {
             q.buf.extend_from_slice(pkt);
         }
         pkt.clear();
-        let total = self.recount(&mut q);
+        self.recount(&mut q);
         if let Some(g) = from {
             q.account(g, n, marks.high);
         }
-        q.regulate(marks, total);
+        q.regulate(marks, &self.total);
         let queued = q.queued();
         drop(q);
         if was_empty && wake {
@@ -348,12 +360,12 @@ impl Outbox {
         }
         let grew = held.saturating_sub(q.extra);
         q.extra = held;
-        let total = self.recount(&mut q);
+        self.recount(&mut q);
         if grew > 0 {
             if let Some(g) = from {
                 q.account(g, grew, marks.high);
             }
-            q.regulate(marks, total);
+            q.regulate(marks, &self.total);
         } else {
             q.release_if_drained();
         }
@@ -431,26 +443,13 @@ impl Outbox {
         }
     }
 
-    /// Writer side: `n` more bytes of the current chunk were accepted by the socket.
+    /// Writer side: `n` more bytes of the current chunk were accepted by the socket
+    /// (reported in batches: it takes the lock the publishers push under).
     pub fn wrote(&self, n: usize) {
         let mut q = self.lock();
         q.inflight = q.inflight.saturating_sub(n);
-        q.stuck_since = (q.inflight > 0 || !q.buf.is_empty()).then(Instant::now);
         self.recount(&mut q);
         q.release_if_drained();
-    }
-
-    /// How long the socket has accepted no bytes while some were waiting (the clock
-    /// starts now if it was not running).
-    pub fn stuck_for(&self) -> Duration {
-        let mut q = self.lock();
-        match q.stuck_since {
-            Some(t) => t.elapsed(),
-            None => {
-                q.stuck_since = Some(Instant::now());
-                Duration::ZERO
-            }
-        }
     }
 
     /// Bytes queued, being written, or held for this client.
@@ -498,22 +497,27 @@ impl Outbox {
     }
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).
-    /// `done`: the bytes of the previous `take` are written. Returns false when closed.
-    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> bool {
+    /// `done`: the bytes of the previous `take` are written. Returns `None` when closed,
+    /// else since when the socket has accepted nothing (a direct flush may have found
+    /// it full already; otherwise now).
+    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> Option<Instant> {
         let mut q = self.lock();
         if done {
             q.inflight = 0;
             q.writing = false;
+            q.stuck_since = None;
+            self.recount(&mut q);
+            q.release_if_drained();
         }
         loop {
             if q.closed {
-                return false;
+                return None;
             }
             if !q.buf.is_empty() && !q.writing {
                 std::mem::swap(&mut q.buf, spare);
                 q.inflight = spare.len();
                 q.writing = true;
-                return true;
+                return Some(q.stuck_since.take().unwrap_or_else(Instant::now));
             }
             q = self.cv.wait(q).unwrap_or_else(|p| p.into_inner());
         }

@@ -250,6 +250,9 @@ fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
     v.into_iter().map(|_| unreachable!()).collect()
 }
 
+/// The writer tells the outbox about progress within a chunk this often (bytes).
+const REPORT_EVERY: usize = 256 << 10;
+
 /// Blocking writes of what the direct flushes left, in ticks short enough to notice a
 /// stall in time: a client whose socket accepts nothing for the stall timeout is cut off.
 fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_id: u64) {
@@ -258,9 +261,10 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
     let _ = stream.set_write_timeout(Some(tick));
     let mut spare = Vec::new();
     let mut done = false;
-    while out.take(&mut spare, done) {
+    while let Some(mut since) = out.take(&mut spare, done) {
         done = true;
         let mut sent = 0;
+        let mut unreported = 0;
         while sent < spare.len() {
             match stream.write(&spare[sent..]) {
                 Ok(0) => {
@@ -269,10 +273,16 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                 }
                 Ok(n) => {
                     sent += n;
-                    out.wrote(n);
+                    since = Instant::now();
+                    unreported += n;
+                    // Progress lets the queue fall below its low-water mark.
+                    if unreported >= REPORT_EVERY && sent < spare.len() {
+                        out.wrote(unreported);
+                        unreported = 0;
+                    }
                 }
                 Err(e) if is_timeout(&e) => {
-                    let stuck = out.stuck_for();
+                    let stuck = since.elapsed();
                     if stuck >= stall {
                         let why = format!("accepted no bytes for {:.1} s", stuck.as_secs_f64());
                         let now = inner.now();
