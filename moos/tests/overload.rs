@@ -132,7 +132,7 @@ fn flooders(
         .collect()
 }
 
-/// A subscriber that reads everything; a slow one's mail callback sleeps 1 ms per packet.
+/// A subscriber that reads everything; a slow one's mail callback sleeps 0.3 ms per packet.
 struct Reader {
     c: Client,
     next: Vec<usize>,
@@ -149,7 +149,7 @@ impl Reader {
         let c = if slow {
             Client::connect_with_mail_callback(
                 cfg,
-                Box::new(|| std::thread::sleep(Duration::from_millis(1))),
+                Box::new(|| std::thread::sleep(Duration::from_micros(300))),
             )
         } else {
             Client::connect(cfg)
