@@ -552,3 +552,29 @@ fn d_light_publisher_not_held_back_by_a_flooder() {
     assert_eq!(logger.next, posted, "logger incomplete");
     assert_eq!(logger_helm, n, "logger missed helm messages");
 }
+
+#[test]
+fn help_documents_caps_timeouts_and_events() {
+    let out = Command::new(env!("CARGO_BIN_EXE_moosdb"))
+        .arg("--help")
+        .output()
+        .expect("moosdb --help");
+    let help = String::from_utf8_lossy(&out.stdout);
+    for s in [
+        "--max_queue_mb",
+        "MaxQueueMB, default 64]",
+        "--stall_timeout",
+        "StallTimeout, default 5]",
+        "connected=<name>",
+        "disconnected=<name>",
+        "stalled=<name>,reason=accepted no bytes for <s> s",
+        "stalled=<name>,reason=sent nothing for <s> s",
+    ] {
+        assert!(help.contains(s), "--help lacks {s:?}:\n{help}");
+    }
+    let bad = Command::new(env!("CARGO_BIN_EXE_moosdb"))
+        .args(["--stall_timeout=0", "--moos_port=0", "--bind=127.0.0.1"])
+        .output()
+        .expect("moosdb");
+    assert_eq!(bad.status.code(), Some(2), "zero stall timeout accepted");
+}

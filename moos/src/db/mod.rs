@@ -308,3 +308,37 @@ pub fn hostname() -> String {
         .or_else(|| std::env::var("HOSTNAME").ok())
         .unwrap_or_else(|| "localhost".into())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn mission_sets_stall_timeout_and_queue_cap() {
+        let m = MissionFile::parse(
+            "ServerPort = 9001\nClientTimeout = 7\nStallTimeout = 2.5\nMaxQueueMB = 128\n",
+            Path::new("t.moos"),
+        )
+        .expect("parse");
+        let mut cfg = DbConfig::default();
+        assert_eq!(cfg.stall_timeout, Duration::from_secs(5));
+        assert_eq!(cfg.max_queue_bytes, 64 << 20);
+        cfg.apply_mission(&m);
+        assert_eq!(cfg.stall_timeout, Duration::from_millis(2500));
+        assert_eq!(cfg.max_queue_bytes, 128 << 20);
+        assert_eq!(cfg.client_timeout, Duration::from_secs(7));
+    }
+
+    #[test]
+    fn unusable_values_keep_the_defaults() {
+        let m = MissionFile::parse("StallTimeout = -1\nMaxQueueMB = 0.5\n", Path::new("t.moos"))
+            .expect("parse");
+        let mut cfg = DbConfig::default();
+        cfg.apply_mission(&m);
+        assert_eq!(cfg.stall_timeout, Duration::from_secs(5));
+        assert_eq!(cfg.max_queue_bytes, 64 << 20);
+        assert_eq!(mib_to_bytes(1.0), Some(1 << 20));
+        assert_eq!(mib_to_bytes(f64::NAN), None);
+    }
+}
