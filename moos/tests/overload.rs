@@ -98,8 +98,9 @@ fn client(port: u16, name: &str) -> Client {
 }
 
 /// Publishers posting `<p>:<i>:<payload>` to `var` as fast as their connection takes it,
-/// until `stop`. Each returns how many it posted, and its client (closing a client
-/// the DB still holds back would lose what it has not read yet).
+/// until `stop`. Each returns how many it posted, and its client, kept open until the
+/// check: a client closing waits at most 2 s for the DB to take its last bytes, and the
+/// DB may hold it back longer than that.
 fn flooders(
     port: u16,
     n: usize,

@@ -176,6 +176,20 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
     if reader.is_ok() {
         write_loop(sh, wstream, &dead);
     }
+    if let Ok(h) = &reader {
+        if !dead.load(Ordering::SeqCst) {
+            // Closing with unread data in the socket makes the kernel reset the
+            // connection and discard what the DB has not read yet (it may be holding this
+            // publisher back). So: end our side, and read until the DB, having processed
+            // everything, closes too; for at most LINGER.
+            let _ = stream.shutdown(Shutdown::Write);
+            let deadline = Instant::now() + LINGER;
+            while !h.is_finished() && Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+    }
+    dead.store(true, Ordering::SeqCst);
     let _ = stream.shutdown(Shutdown::Both);
     if let Ok(h) = reader {
         let _ = h.join();
@@ -192,6 +206,9 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         End::Lost
     }
 }
+
+/// How long a closing client waits for the DB to take what it sent.
+const LINGER: Duration = Duration::from_secs(2);
 
 fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
     let wait = Duration::from_millis(333);
@@ -220,7 +237,9 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
                     .unwrap_or_else(|p| p.into_inner())
                     .0;
             }
-            if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
+            // On stop, what was posted before still goes out.
+            if dead.load(Ordering::SeqCst) || (sh.stop.load(Ordering::SeqCst) && st.out_count == 0)
+            {
                 return;
             }
             body.clear();
@@ -322,7 +341,8 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
                 }
             }
         }
-        if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
+        // Not on `stop`: a closing client reads until the DB closes (see LINGER).
+        if dead.load(Ordering::SeqCst) {
             return finish(&sh, &dead);
         }
         match fr.fill(&mut stream) {
