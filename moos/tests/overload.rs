@@ -278,7 +278,7 @@ fn flood_and_check(db: &DbProc, reader: &mut Reader, idle_rss: usize, during: im
     let hwm = db.mem("VmHWM");
     eprintln!(
         "{total} messages ({} MB) in order; DB idle RSS {} MB, peak {} MB (cap {CAP_MB} MB)",
-        total * (PAYLOAD + 60) >> 20,
+        (total * (PAYLOAD + 60)) >> 20,
         idle_rss >> 20,
         hwm >> 20
     );

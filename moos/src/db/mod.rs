@@ -146,7 +146,9 @@ impl DbConfig {
 
 /// `mb` MiB in bytes, if it is a usable cap (at least 1 MiB).
 pub fn mib_to_bytes(mb: f64) -> Option<usize> {
-    (mb.is_finite() && mb >= 1.0 && mb <= 1e6).then(|| (mb * 1024.0 * 1024.0) as usize)
+    (1.0..=1e6)
+        .contains(&mb)
+        .then_some((mb * 1024.0 * 1024.0) as usize)
 }
 
 /// Why the DB could not start.
