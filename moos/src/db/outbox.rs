@@ -19,8 +19,8 @@
 //! * the holds are released when the queue drains below the low-water mark, or at once
 //!   when the outbox is closed (client gone or cut off as stalled).
 //!
-//! The outbox also keeps the stall clock: since when its socket has accepted no bytes
-//! while some were waiting ([`Outbox::stuck_for`]).
+//! The stall clock is the writer thread's (`server::writer`): it gets what the direct
+//! flushes could not send, so it is the one that sees a socket accept nothing.
 
 use std::io::{ErrorKind, Write};
 use std::net::{Shutdown, TcpStream};
@@ -120,9 +120,6 @@ struct OutQ {
     extra: usize,
     /// What this outbox currently adds to the DB-wide total.
     counted: usize,
-    /// Since when the socket has accepted nothing while bytes were waiting (`None`: it
-    /// took everything it was last offered).
-    stuck_since: Option<Instant>,
     /// Publishers this client holds back.
     holding: Vec<Arc<Gate>>,
     low: usize,
@@ -145,7 +142,6 @@ impl OutQ {
             spare: Vec::new(),
             extra: 0,
             counted: 0,
-            stuck_since: None,
             holding: Vec::new(),
             low: 0,
             next_step: 0,
@@ -427,11 +423,6 @@ impl Outbox {
             data.extend_from_slice(&q.buf);
             q.buf.clear();
             std::mem::swap(&mut q.buf, &mut data);
-            if sent > 0 || q.stuck_since.is_none() {
-                q.stuck_since = Some(Instant::now());
-            }
-        } else if q.buf.is_empty() {
-            q.stuck_since = None;
         }
         data.clear();
         if data.capacity() > KEEP_CAPACITY {
@@ -501,27 +492,24 @@ impl Outbox {
     }
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).
-    /// `done`: the bytes of the previous `take` are written. Returns `None` when closed,
-    /// else since when the socket has accepted nothing (a direct flush may have found
-    /// it full already; otherwise now).
-    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> Option<Instant> {
+    /// `done`: the bytes of the previous `take` are written. Returns false when closed.
+    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> bool {
         let mut q = self.lock();
         if done {
             q.inflight = 0;
             q.writing = false;
-            q.stuck_since = None;
             self.recount(&mut q);
             q.release_if_drained();
         }
         loop {
             if q.closed {
-                return None;
+                return false;
             }
             if !q.buf.is_empty() && !q.writing {
                 std::mem::swap(&mut q.buf, spare);
                 q.inflight = spare.len();
                 q.writing = true;
-                return Some(q.stuck_since.take().unwrap_or_else(Instant::now));
+                return true;
             }
             q = self.cv.wait(q).unwrap_or_else(|p| p.into_inner());
         }

@@ -261,10 +261,14 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
     let _ = stream.set_write_timeout(Some(tick));
     let mut spare = Vec::new();
     let mut done = false;
-    while let Some(mut since) = out.take(&mut spare, done) {
+    while out.take(&mut spare, done) {
         done = true;
+        // The stall clock: last progress, or when these bytes were handed over.
+        let mut since = Instant::now();
         let mut sent = 0;
         let mut unreported = 0;
+        // Progress since the last timeout (the clock is read only when a write times out).
+        let mut progressed = false;
         while sent < spare.len() {
             match stream.write(&spare[sent..]) {
                 Ok(0) => {
@@ -273,7 +277,7 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                 }
                 Ok(n) => {
                     sent += n;
-                    since = Instant::now();
+                    progressed = true;
                     unreported += n;
                     // Progress lets the queue fall below its low-water mark.
                     if unreported >= REPORT_EVERY && sent < spare.len() {
@@ -282,6 +286,9 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                     }
                 }
                 Err(e) if is_timeout(&e) => {
+                    if std::mem::take(&mut progressed) {
+                        since = Instant::now();
+                    }
                     let stuck = since.elapsed();
                     if stuck >= stall {
                         let why = format!("accepted no bytes for {:.1} s", stuck.as_secs_f64());
