@@ -307,3 +307,23 @@ fn server_request_var_summary() {
     assert_eq!(r.id, -2);
     assert!(r.string().contains("ZED"));
 }
+
+#[test]
+fn posts_made_just_before_close_are_delivered() {
+    let db = db();
+    let sub = client(&db, "sub");
+    sub.register("LAST", 0.0).expect("register");
+    std::thread::sleep(Duration::from_millis(100));
+    let pubr = client(&db, "leaver");
+    for i in 0..5000 {
+        pubr.notify_double("LAST", f64::from(i), None)
+            .expect("post");
+    }
+    drop(pubr); // at once: most of it is still in the client's queue or socket
+    let m = collect(&sub, Duration::from_secs(5), |m| {
+        keyed(m, "LAST").len() >= 5000
+    });
+    let got: Vec<f64> = keyed(&m, "LAST").iter().map(|m| m.dval).collect();
+    assert_eq!(got.len(), 5000, "lost posts on close");
+    assert!(got.iter().enumerate().all(|(i, v)| *v == i as f64));
+}

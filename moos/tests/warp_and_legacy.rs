@@ -132,3 +132,112 @@ fn synchronous_client_gets_null_first_and_held_mail() {
     assert_eq!(r[1].key, "SV");
     assert_eq!(r[1].string(), "v1");
 }
+
+/// A synchronous client only gets mail when it polls, so its held mail is its queue:
+/// polling slowly under a flood, it holds the flooder back and loses nothing.
+#[test]
+fn slow_polling_synchronous_client_holds_back_the_flooder() {
+    let cap = 4 << 20;
+    let db = Db::start(DbConfig {
+        port: 0,
+        max_queue_bytes: cap,
+        ..DbConfig::default()
+    })
+    .expect("db");
+    let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
+    s.set_read_timeout(Some(Duration::from_millis(100)))
+        .expect("timeout");
+    let hs = Message {
+        msg_type: MsgType::DATA,
+        data_type: DataType::STRING,
+        time: moos::time::wall_time(),
+        sval: b"legacy".to_vec(),
+        ..Message::default()
+    };
+    let mut buf = wire::BANNER.to_vec();
+    wire::encode_packet(&[hs], &mut buf).expect("encode");
+    s.write_all(&buf).expect("handshake");
+    let mut fr = FrameReader::new(64 << 20);
+    assert_eq!(read_packet(&mut s, &mut fr)[0].msg_type, MsgType::WELCOME);
+    let reg = Message {
+        msg_type: MsgType::REGISTER,
+        source: "legacy".into(),
+        key: "LOAD".into(),
+        ..Message::default()
+    };
+    let poll = |s: &mut TcpStream, fr: &mut FrameReader, m: &Message| {
+        let mut buf = Vec::new();
+        wire::encode_packet(std::slice::from_ref(m), &mut buf).expect("encode");
+        s.write_all(&buf).expect("poll");
+        let deadline = Instant::now() + Duration::from_secs(3);
+        while Instant::now() < deadline {
+            if let Ok(Some(r)) = fr.next_frame() {
+                return wire::decode_packet(fr.frame(r), usize::MAX).expect("decode");
+            }
+            let _ = fr.fill(s);
+        }
+        panic!("no reply");
+    };
+    poll(&mut s, &mut fr, &reg);
+    let null = Message {
+        source: "legacy".into(),
+        ..Message::default()
+    };
+    let flooder = Client::connect(ClientConfig::new("127.0.0.1", db.port(), "flood")).expect("pub");
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let st2 = stop.clone();
+    let pubt = std::thread::spawn(move || {
+        let payload = "x".repeat(200);
+        let mut i = 0usize;
+        while !st2.load(std::sync::atomic::Ordering::Relaxed) {
+            if flooder.unsent_bytes() > 256 << 10 {
+                std::thread::sleep(Duration::from_micros(300));
+                continue;
+            }
+            flooder
+                .notify_string("LOAD", &format!("{i}:{payload}"), None)
+                .expect("post");
+            i += 1;
+        }
+        (i, flooder)
+    });
+    let (mut next, mut held_back, mut max_q) = (0usize, false, 0usize);
+    let take = |r: Vec<Message>, next: &mut usize| {
+        for m in r.iter().filter(|m| m.key == "LOAD") {
+            let i: usize = m
+                .string()
+                .split(':')
+                .next()
+                .and_then(|x| x.parse().ok())
+                .expect("i");
+            assert_eq!(i, *next, "lost or out of order");
+            *next += 1;
+        }
+    };
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_millis(1500) {
+        std::thread::sleep(Duration::from_millis(200));
+        held_back |= db.client_holding("legacy").unwrap_or(0) > 0;
+        max_q = max_q.max(db.client_queued_bytes("legacy").unwrap_or(0));
+        let r = poll(&mut s, &mut fr, &null);
+        take(r, &mut next);
+    }
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    let (posted, _flooder) = pubt.join().expect("publisher");
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while next < posted && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(20));
+        let r = poll(&mut s, &mut fr, &null);
+        take(r, &mut next);
+    }
+    assert_eq!(
+        next, posted,
+        "the synchronous client did not get everything"
+    );
+    assert!(
+        held_back,
+        "the flooder was never held back ({posted} posted)"
+    );
+    assert!(max_q <= cap, "queue reached {max_q} B");
+    assert!(db.client_names().contains(&"legacy".to_string()));
+}

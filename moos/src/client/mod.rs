@@ -112,8 +112,13 @@ pub(crate) struct St {
     pub packets_received: u64,
 }
 
+/// Called on the client's reader thread each time mail arrives (libMOOS's on-mail
+/// callback). While it runs, the client reads nothing more from the DB.
+pub type MailCallback = Box<dyn Fn() + Send + Sync>;
+
 pub(crate) struct Shared {
     pub cfg: ClientConfig,
+    pub on_mail: Option<MailCallback>,
     pub st: Mutex<St>,
     /// Signals the writer: posts queued, connection lost, stop.
     pub out_cv: Condvar,
@@ -166,6 +171,26 @@ fn wildcard_payload(app: &str, var: &str, interval: f64) -> Vec<u8> {
 impl Client {
     /// Start the client in the background without waiting for the DB.
     pub fn start(cfg: ClientConfig) -> Result<Client, ClientError> {
+        Client::start_inner(cfg, None)
+    }
+
+    /// [`Client::connect`], calling `on_mail` on the reader thread whenever mail arrives
+    /// (it typically calls [`Client::fetch`] through a handle it shares). The client can
+    /// only close once the callback has returned.
+    pub fn connect_with_mail_callback(
+        cfg: ClientConfig,
+        on_mail: MailCallback,
+    ) -> Result<Client, ClientError> {
+        let t = cfg.connect_timeout;
+        let c = Client::start_inner(cfg, Some(on_mail))?;
+        c.wait_connected(t)?;
+        Ok(c)
+    }
+
+    fn start_inner(
+        cfg: ClientConfig,
+        on_mail: Option<MailCallback>,
+    ) -> Result<Client, ClientError> {
         if cfg.name.is_empty() {
             return Err(ClientError::BadArgument("empty client name".into()));
         }
@@ -177,6 +202,7 @@ impl Client {
         }
         let shared = Arc::new(Shared {
             cfg,
+            on_mail,
             st: Mutex::new(St {
                 connected: false,
                 poisoned: None,
@@ -414,6 +440,12 @@ impl Client {
             Vec::new(),
         );
         self.post(m)
+    }
+
+    /// Bytes of posts not yet handed to the socket (a publisher that must not outrun
+    /// the DB can wait while this is large).
+    pub fn unsent_bytes(&self) -> usize {
+        self.shared.lock().out.len()
     }
 
     /// Move all received mail, in arrival order, to the end of `out`. Returns how many.

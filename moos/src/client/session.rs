@@ -186,6 +186,20 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
     if reader.is_ok() {
         write_loop(sh, wstream, &dead);
     }
+    if let Ok(h) = &reader {
+        if !dead.load(Ordering::SeqCst) {
+            // Closing with unread data in the socket makes the kernel reset the
+            // connection and discard what the DB has not read yet (it may be holding this
+            // publisher back). So: end our side, and read until the DB, having processed
+            // everything, closes too; for at most LINGER.
+            let _ = stream.shutdown(Shutdown::Write);
+            let deadline = Instant::now() + LINGER;
+            while !h.is_finished() && Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+    }
+    dead.store(true, Ordering::SeqCst);
     let _ = stream.shutdown(Shutdown::Both);
     if let Ok(h) = reader {
         let _ = h.join();
@@ -202,6 +216,9 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         End::Lost
     }
 }
+
+/// How long a closing client waits for the DB to take what it sent.
+const LINGER: Duration = Duration::from_secs(2);
 
 fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
     let _ = stream.set_write_timeout(Some(sh.cfg.send_timeout));
@@ -231,7 +248,9 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
                     .unwrap_or_else(|p| p.into_inner())
                     .0;
             }
-            if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
+            // On stop, what was posted before still goes out.
+            if dead.load(Ordering::SeqCst) || (sh.stop.load(Ordering::SeqCst) && st.out_count == 0)
+            {
                 return;
             }
             body.clear();
@@ -328,9 +347,14 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
                     return finish(&sh, &dead);
                 }
             };
-            deliver(&sh, msgs);
+            if deliver(&sh, msgs) {
+                if let Some(cb) = &sh.on_mail {
+                    cb();
+                }
+            }
         }
-        if dead.load(Ordering::SeqCst) || sh.stop.load(Ordering::SeqCst) {
+        // Not on `stop`: a closing client reads until the DB closes (see LINGER).
+        if dead.load(Ordering::SeqCst) {
             return finish(&sh, &dead);
         }
         match fr.fill(&mut stream) {
@@ -363,10 +387,10 @@ fn finish(sh: &Shared, dead: &AtomicBool) {
     sh.out_cv.notify_all();
 }
 
-/// Spec §5.2: timing echo handling, then hand the mail over.
-fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
+/// Spec §5.2: timing echo handling, then hand the mail over. True if there was mail.
+fn deliver(sh: &Shared, mut msgs: Vec<Message>) -> bool {
     if msgs.is_empty() {
-        return;
+        return false;
     }
     let tr = sh.local_time();
     let mut st = sh.lock();
@@ -390,7 +414,7 @@ fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
     }
     msgs.retain(|m| m.msg_type != MsgType::NULL);
     if msgs.is_empty() {
-        return;
+        return false;
     }
     // Waiters only sleep on an empty inbox, so only that transition needs a wake-up.
     if st.inbox.is_empty() {
@@ -399,4 +423,5 @@ fn deliver(sh: &Shared, mut msgs: Vec<Message>) {
     } else {
         st.inbox.append(&mut msgs);
     }
+    true
 }

@@ -9,19 +9,44 @@
 //!
 //! Threads: one acceptor, and per client one reader (decodes packets in place, then
 //! processes them under the single state lock, so packets are handled one at a time as in
-//! C++) and one writer for that client's byte-capped outbox. Each notification is encoded
-//! once per incoming packet and copied into every subscriber's held mail; after the lock
-//! is released the publisher's reader sends each subscriber's new packet itself with a
+//! C++) and one writer for that client's outbox. Each notification is encoded once per
+//! incoming packet and copied into every subscriber's held mail; after the lock is
+//! released the publisher's reader sends each subscriber's new packet itself with a
 //! non-blocking write, and only what the socket does not take is left to that
-//! subscriber's writer thread (blocking writes, send timeout). A slow subscriber therefore
-//! never blocks publishers: its outbox grows until the cap, then it is dropped.
+//! subscriber's writer thread.
+//!
+//! # Overload
+//!
+//! The DB never drops a message for a subscriber that keeps reading, and its memory stays
+//! under [`DbConfig::max_queue_bytes`]:
+//!
+//! * **Slow but reading.** Each client's queue has a high-water mark: the cap divided
+//!   among the connected clients (`max_queue_bytes / (2 × clients)`, between 64 KiB and
+//!   8 MiB), and a low-water mark at half of it. Past the high-water mark the DB stops
+//!   reading from the publishers that filled the queue (the heaviest recent contributors,
+//!   90 % of its recent bytes; a publisher posting a few messages a second is not among
+//!   them), so TCP flow control slows them down, until the queue drains below the
+//!   low-water mark. Time a publisher is held back does not count as silence.
+//! * **Stalled.** A client whose socket accepts no bytes for [`DbConfig::stall_timeout`]
+//!   while some wait for it, or that sends nothing for [`DbConfig::client_timeout`], is
+//!   cut off: its memory is released and the publishers it held back go on at once. It
+//!   gets the current values again when it reconnects.
+//!
+//! # `DB_EVENT` values
+//!
+//! | value | when |
+//! |---|---|
+//! | `connected=<name>` | a client completed the handshake (as C++) |
+//! | `disconnected=<name>` | a client left, for whatever reason (as C++) |
+//! | `stalled=<name>,reason=accepted no bytes for <s> s` | posted just before `disconnected=`: its socket took nothing for `stall_timeout` |
+//! | `stalled=<name>,reason=sent nothing for <s> s` | posted just before `disconnected=`: silent for `client_timeout` |
 
 mod outbox;
 mod server;
 mod state;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -32,7 +57,7 @@ use crate::mission::MissionFile;
 use state::State;
 
 /// DB settings. `Default` gives port 9000 on 127.0.0.1, community `#1`, warp 1,
-/// 5 s client timeout, 64 MiB per-client queue cap.
+/// 5 s client timeout, 5 s stall timeout, 64 MiB queue cap for all clients together.
 #[derive(Clone, Debug)]
 pub struct DbConfig {
     /// TCP port; 0 picks an ephemeral one (see [`Db::port`]).
@@ -43,15 +68,20 @@ pub struct DbConfig {
     pub community: String,
     /// Time-warp factor, 0 < warp ≤ 400.
     pub time_warp: f64,
-    /// Drop a client after this much real time without receiving anything.
+    /// Drop a client after this much real time without receiving anything (mission
+    /// `ClientTimeout`).
     pub client_timeout: Duration,
-    /// Per-client cap on bytes held + queued for sending; past it the client is dropped.
+    /// Cut off a client whose socket accepted no bytes for this long while some were
+    /// waiting (mission `StallTimeout`, seconds).
+    pub stall_timeout: Duration,
+    /// Cap on the bytes held and queued for all clients together (mission `MaxQueueMB`,
+    /// MiB). Publishers are held back before it is reached; nothing is dropped.
     pub max_queue_bytes: usize,
     /// Largest packet accepted from a client.
     pub max_packet: usize,
     /// The handshake packet must arrive within this time.
     pub handshake_timeout: Duration,
-    /// A blocked write to a client fails after this time.
+    /// A blocked write of a handshake refusal fails after this time.
     pub send_timeout: Duration,
     /// Consolidation delays (`--response`): (client-name pattern, milliseconds).
     pub response: Vec<(String, f64)>,
@@ -67,6 +97,7 @@ impl Default for DbConfig {
             community: "#1".into(),
             time_warp: 1.0,
             client_timeout: Duration::from_secs(5),
+            stall_timeout: Duration::from_secs(5),
             max_queue_bytes: 64 * 1024 * 1024,
             max_packet: crate::wire::DEFAULT_MAX_PACKET,
             handshake_timeout: Duration::from_secs(5),
@@ -79,7 +110,8 @@ impl Default for DbConfig {
 
 impl DbConfig {
     /// Apply the mission globals the DB reads: `ServerPort`, `Community`,
-    /// `MOOSTimeWarp`, `ClientTimeout` (spec §7.2).
+    /// `MOOSTimeWarp`, `ClientTimeout` (spec §7.2), and this DB's own `StallTimeout`
+    /// (seconds) and `MaxQueueMB` (MiB).
     pub fn apply_mission(&mut self, m: &MissionFile) {
         if let Some(p) = m.global_f64("ServerPort") {
             if (0.0..=65535.0).contains(&p) {
@@ -99,7 +131,24 @@ impl DbConfig {
                 self.client_timeout = Duration::from_secs_f64(t);
             }
         }
+        if let Some(t) = m.global_f64("StallTimeout") {
+            if t > 0.0 && t.is_finite() {
+                self.stall_timeout = Duration::from_secs_f64(t);
+            }
+        }
+        if let Some(mb) = m.global_f64("MaxQueueMB") {
+            if let Some(b) = mib_to_bytes(mb) {
+                self.max_queue_bytes = b;
+            }
+        }
     }
+}
+
+/// `mb` MiB in bytes, if it is a usable cap (at least 1 MiB).
+pub fn mib_to_bytes(mb: f64) -> Option<usize> {
+    (1.0..=1e6)
+        .contains(&mb)
+        .then_some((mb * 1024.0 * 1024.0) as usize)
 }
 
 /// Why the DB could not start.
@@ -121,7 +170,8 @@ pub enum DbError {
 #[derive(Clone, Debug, Default)]
 pub struct DbStats {
     pub clients: usize,
-    pub overflows: u64,
+    /// Clients cut off because they stalled.
+    pub stalled: u64,
     pub delivered: u64,
     pub queued_bytes: usize,
 }
@@ -129,6 +179,8 @@ pub struct DbStats {
 pub(crate) struct Inner {
     state: Mutex<State>,
     cfg: DbConfig,
+    /// Bytes queued for all clients (kept by the outboxes).
+    total: Arc<AtomicUsize>,
     stop: AtomicBool,
     next_conn: AtomicU64,
 }
@@ -161,10 +213,17 @@ impl Db {
         listener.set_nonblocking(true)?;
         let hostname = cfg.hostname.clone().unwrap_or_else(hostname);
         let now = crate::time::local_time(cfg.time_warp);
-        let state = State::new(&cfg.community, &hostname, &cfg.response, now);
+        let state = State::new(
+            &cfg.community,
+            &hostname,
+            &cfg.response,
+            cfg.max_queue_bytes,
+            now,
+        );
         let inner = Arc::new(Inner {
             state: Mutex::new(state),
             cfg,
+            total: Arc::new(AtomicUsize::new(0)),
             stop: AtomicBool::new(false),
             next_conn: AtomicU64::new(1),
         });
@@ -206,11 +265,16 @@ impl Db {
         self.inner.lock().client_queued(name)
     }
 
+    /// How many publishers client `name`'s queue holds back (`None` if not connected).
+    pub fn client_holding(&self, name: &str) -> Option<usize> {
+        self.inner.lock().client_holding(name)
+    }
+
     pub fn stats(&self) -> DbStats {
         let s = self.inner.lock();
         DbStats {
             clients: s.client_count(),
-            overflows: s.overflows,
+            stalled: s.stalled,
             delivered: s.delivered,
             queued_bytes: s.queued_bytes(),
         }
@@ -245,4 +309,38 @@ pub fn hostname() -> String {
         .filter(|s| !s.is_empty())
         .or_else(|| std::env::var("HOSTNAME").ok())
         .unwrap_or_else(|| "localhost".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn mission_sets_stall_timeout_and_queue_cap() {
+        let m = MissionFile::parse(
+            "ServerPort = 9001\nClientTimeout = 7\nStallTimeout = 2.5\nMaxQueueMB = 128\n",
+            Path::new("t.moos"),
+        )
+        .expect("parse");
+        let mut cfg = DbConfig::default();
+        assert_eq!(cfg.stall_timeout, Duration::from_secs(5));
+        assert_eq!(cfg.max_queue_bytes, 64 << 20);
+        cfg.apply_mission(&m);
+        assert_eq!(cfg.stall_timeout, Duration::from_millis(2500));
+        assert_eq!(cfg.max_queue_bytes, 128 << 20);
+        assert_eq!(cfg.client_timeout, Duration::from_secs(7));
+    }
+
+    #[test]
+    fn unusable_values_keep_the_defaults() {
+        let m = MissionFile::parse("StallTimeout = -1\nMaxQueueMB = 0.5\n", Path::new("t.moos"))
+            .expect("parse");
+        let mut cfg = DbConfig::default();
+        cfg.apply_mission(&m);
+        assert_eq!(cfg.stall_timeout, Duration::from_secs(5));
+        assert_eq!(cfg.max_queue_bytes, 64 << 20);
+        assert_eq!(mib_to_bytes(1.0), Some(1 << 20));
+        assert_eq!(mib_to_bytes(f64::NAN), None);
+    }
 }

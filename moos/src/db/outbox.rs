@@ -1,51 +1,277 @@
-//! Per-client outgoing byte queue with a byte cap, drained by the client's writer thread.
+//! Per-client outgoing byte queue, drained by the client's writer thread, with flow
+//! control towards the publishers that fill it.
 //!
 //! Fan-out from a publisher's reader thread first tries a non-blocking send of the queued
 //! bytes itself ([`Outbox::try_flush`], after the DB lock is released), which saves the
 //! writer thread's wake-up; whatever the socket does not take at once is left to the
-//! writer, which does the blocking writes (with the send timeout). Only one of them writes
-//! at a time (`writing`), so bytes stay in order.
+//! writer, which does the blocking writes. Only one of them writes at a time (`writing`),
+//! so bytes stay in order.
+//!
+//! Nothing queued is ever dropped. Instead:
+//! * each push records how many bytes each publisher added recently (a window that is
+//!   halved every `high` bytes of traffic);
+//! * when the queue passes the high-water mark, the heaviest recent contributors (those
+//!   that together brought [`COVER`] of the window's bytes) get a hold on their [`Gate`]:
+//!   their reader threads stop reading their sockets, so TCP flow control reaches them.
+//!   A publisher that sent a few small messages has a negligible share and keeps going.
+//!   Each further `high / 2` of growth picks again among the publishers still running;
+//!   once the DB-wide total reaches its cap, every publisher still adding is held;
+//! * the holds are released when the queue drains below the low-water mark, or at once
+//!   when the outbox is closed (client gone or cut off as stalled).
+//!
+//! The stall clock is the writer thread's (`server::writer`): it gets what the direct
+//! flushes could not send, so it is the one that sees a socket accept nothing.
 
 use std::io::{ErrorKind, Write};
 use std::net::{Shutdown, TcpStream};
-use std::sync::{Condvar, Mutex, MutexGuard};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+/// Share of a queue's recent bytes whose senders are held back at each step.
+pub(crate) const COVER: f64 = 0.9;
+
+/// An outbox reports its size to the DB-wide total only when it changed by this much
+/// (so the shared counter is not touched on every push of a healthy flow; the total is
+/// exact to within this per client).
+const COUNT_STEP: usize = 64 << 10;
+
+/// Buffers bigger than this are given back to the allocator once drained.
+const KEEP_CAPACITY: usize = 1 << 20;
+
+/// Whether a connection's reader may read from its socket: open unless some subscriber's
+/// queue holds this publisher back.
+pub(crate) struct Gate {
+    holds: AtomicUsize,
+    m: Mutex<()>,
+    cv: Condvar,
+}
+
+impl Gate {
+    pub fn new() -> Gate {
+        Gate {
+            holds: AtomicUsize::new(0),
+            m: Mutex::new(()),
+            cv: Condvar::new(),
+        }
+    }
+
+    pub fn is_open(&self) -> bool {
+        self.holds.load(Ordering::Acquire) == 0
+    }
+
+    fn hold(&self) {
+        self.holds.fetch_add(1, Ordering::AcqRel);
+    }
+
+    fn release(&self) {
+        if self.holds.fetch_sub(1, Ordering::AcqRel) == 1 {
+            // Taking the lock orders this wake-up after a waiter's check.
+            let _g = self.m.lock().unwrap_or_else(|p| p.into_inner());
+            self.cv.notify_all();
+        }
+    }
+
+    /// Wait until open, at most `timeout`. True if open.
+    pub fn wait_open(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        let mut g = self.m.lock().unwrap_or_else(|p| p.into_inner());
+        while !self.is_open() {
+            let Some(left) = deadline.checked_duration_since(Instant::now()) else {
+                return false;
+            };
+            g = self
+                .cv
+                .wait_timeout(g, left)
+                .unwrap_or_else(|p| p.into_inner())
+                .0;
+        }
+        true
+    }
+}
+
+/// Flow-control thresholds for one push (they depend on the DB cap and client count).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Marks {
+    /// Per-client high-water mark (bytes).
+    pub high: usize,
+    /// Per-client low-water mark: holds are released below it.
+    pub low: usize,
+    /// Cap on the bytes queued for all clients together.
+    pub total_cap: usize,
+}
+
+struct Contrib {
+    gate: Arc<Gate>,
+    bytes: usize,
+}
 
 struct OutQ {
     buf: Vec<u8>,
     inflight: usize,
     closed: bool,
+    /// Closed by the DB (both directions), not just by a failed write.
+    cut: bool,
     /// The writer thread or a direct flush owns the socket's send side.
     writing: bool,
     /// An empty buffer kept for the next direct flush.
     spare: Vec<u8>,
+    /// Bytes held for this client outside the outbox (a synchronous client's held mail).
+    extra: usize,
+    /// What this outbox currently adds to the DB-wide total.
+    counted: usize,
+    /// Publishers this client holds back.
+    holding: Vec<Arc<Gate>>,
+    low: usize,
+    /// Queue size at which more publishers are held back (0: at the high-water mark).
+    next_step: usize,
+    /// Recent bytes per publisher.
+    contrib: Vec<Contrib>,
+    contrib_sum: usize,
+    last_contrib: usize,
 }
 
-/// Bytes waiting to be written to one client. Producers never block: a push that would
-/// take the queue past `cap` closes the queue (and the socket) instead.
+impl OutQ {
+    fn new() -> OutQ {
+        OutQ {
+            buf: Vec::new(),
+            inflight: 0,
+            closed: false,
+            cut: false,
+            writing: false,
+            spare: Vec::new(),
+            extra: 0,
+            counted: 0,
+            holding: Vec::new(),
+            low: 0,
+            next_step: 0,
+            contrib: Vec::new(),
+            contrib_sum: 0,
+            last_contrib: 0,
+        }
+    }
+
+    fn queued(&self) -> usize {
+        self.buf.len() + self.inflight + self.extra
+    }
+
+    fn account(&mut self, from: &Arc<Gate>, n: usize, high: usize) {
+        let i = match self.contrib.get(self.last_contrib) {
+            Some(c) if Arc::ptr_eq(&c.gate, from) => self.last_contrib,
+            _ => match self.contrib.iter().position(|c| Arc::ptr_eq(&c.gate, from)) {
+                Some(i) => i,
+                None => {
+                    self.contrib.push(Contrib {
+                        gate: from.clone(),
+                        bytes: 0,
+                    });
+                    self.contrib.len() - 1
+                }
+            },
+        };
+        self.last_contrib = i;
+        self.contrib[i].bytes += n;
+        self.contrib_sum += n;
+        if self.contrib_sum > high {
+            // Halve the window: shares follow the last `high`..`2 high` bytes.
+            self.contrib_sum = 0;
+            for c in &mut self.contrib {
+                c.bytes /= 2;
+                self.contrib_sum += c.bytes;
+            }
+            self.contrib.retain(|c| c.bytes > 0);
+            self.last_contrib = 0;
+        }
+    }
+
+    /// Past the high-water mark (or the next step beyond it), hold back the heaviest
+    /// recent contributors not yet held; all of them if the DB-wide cap is reached.
+    fn regulate(&mut self, m: Marks, total: &AtomicUsize) {
+        let q = self.queued();
+        if q < m.high {
+            return;
+        }
+        let total = total.load(Ordering::Relaxed);
+        let hard = total >= m.total_cap;
+        if q < self.next_step && !hard {
+            return;
+        }
+        let mut cand: Vec<(usize, usize)> = self
+            .contrib
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.bytes > 0 && !self.holding.iter().any(|g| Arc::ptr_eq(g, &c.gate)))
+            .map(|(i, c)| (c.bytes, i))
+            .collect();
+        cand.sort_unstable_by(|a, b| b.cmp(a));
+        let sum: usize = cand.iter().map(|c| c.0).sum();
+        let want = if hard {
+            sum
+        } else {
+            (sum as f64 * COVER).ceil() as usize
+        };
+        let mut got = 0;
+        for (bytes, i) in cand {
+            if got >= want {
+                break;
+            }
+            got += bytes;
+            let g = self.contrib[i].gate.clone();
+            g.hold();
+            self.holding.push(g);
+        }
+        tracing::debug!(
+            queued = q,
+            total,
+            hard,
+            holding = self.holding.len(),
+            "queue past its mark: publishers held back"
+        );
+        self.low = m.low;
+        self.next_step = q + m.high / 2;
+        // A fresh window: the next step sees only who kept adding.
+        self.contrib.clear();
+        self.contrib_sum = 0;
+        self.last_contrib = 0;
+    }
+
+    fn release_if_drained(&mut self) {
+        if !self.holding.is_empty() && self.queued() < self.low {
+            self.release_all();
+        }
+    }
+
+    fn release_all(&mut self) {
+        if !self.holding.is_empty() {
+            tracing::debug!(
+                queued = self.queued(),
+                released = self.holding.len(),
+                "publishers released"
+            );
+        }
+        for g in self.holding.drain(..) {
+            g.release();
+        }
+        self.next_step = 0;
+    }
+}
+
+/// Bytes waiting to be written to one client.
 pub(crate) struct Outbox {
     q: Mutex<OutQ>,
     cv: Condvar,
-    cap: usize,
     stream: TcpStream,
+    /// Bytes queued for all clients of the DB.
+    total: Arc<AtomicUsize>,
 }
 
-/// The push would exceed the byte cap; the outbox is now closed.
-#[derive(Debug)]
-pub(crate) struct Overflow;
-
 impl Outbox {
-    pub fn new(stream: TcpStream, cap: usize) -> Outbox {
+    pub fn new(stream: TcpStream, total: Arc<AtomicUsize>) -> Outbox {
         Outbox {
-            q: Mutex::new(OutQ {
-                buf: Vec::new(),
-                inflight: 0,
-                closed: false,
-                writing: false,
-                spare: Vec::new(),
-            }),
+            q: Mutex::new(OutQ::new()),
             cv: Condvar::new(),
-            cap,
             stream,
+            total,
         }
     }
 
@@ -53,62 +279,96 @@ impl Outbox {
         self.q.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// Append bytes built by `f`. On overflow the bytes are discarded and the outbox closed.
-    pub fn push_with(&self, f: impl FnOnce(&mut Vec<u8>)) -> Result<usize, Overflow> {
+    /// Bring the DB-wide total in line with this queue (in steps of [`COUNT_STEP`]).
+    fn recount(&self, q: &mut OutQ) {
+        let now = if q.closed { 0 } else { q.queued() };
+        let before = q.counted;
+        if now.abs_diff(before) < COUNT_STEP && !(now == 0 && before > 0) {
+            return;
+        }
+        q.counted = now;
+        if now >= before {
+            self.total.fetch_add(now - before, Ordering::Relaxed);
+        } else {
+            self.total.fetch_sub(before - now, Ordering::Relaxed);
+        }
+    }
+
+    /// Append bytes built by `f` (welcome and replies to the client's own requests;
+    /// they count towards the total but not towards any publisher).
+    pub fn push_with(&self, f: impl FnOnce(&mut Vec<u8>)) -> usize {
         let mut q = self.lock();
         if q.closed {
-            return Ok(0);
+            return 0;
         }
-        let before = q.buf.len();
+        let was_empty = q.buf.is_empty();
         f(&mut q.buf);
-        let queued = q.buf.len() + q.inflight;
-        if queued > self.cap {
-            q.buf.truncate(before);
-            drop(q);
-            self.close();
-            tracing::debug!(queued, cap = self.cap, "outbox over cap");
-            return Err(Overflow);
-        }
-        let was_empty = before == 0;
+        self.recount(&mut q);
+        let queued = q.queued();
         drop(q);
         if was_empty {
             self.cv.notify_one();
         }
-        Ok(queued)
+        queued
     }
 
-    /// Queue the finished packet in `pkt` (same cap rule as [`Outbox::push_with`]). When
+    /// Queue the finished packet in `pkt`, added by the publisher behind `from`. When
     /// nothing is waiting, the buffers are swapped instead of copied; either way `pkt` is
     /// left empty (keeping some capacity) for the caller to reuse.
     /// With `wake` false the writer thread is not woken: when the returned flag says the
     /// queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands the
     /// bytes to the writer if it cannot send them all).
-    pub fn push_packet(&self, pkt: &mut Vec<u8>, wake: bool) -> Result<(usize, bool), Overflow> {
+    pub fn push_packet(
+        &self,
+        pkt: &mut Vec<u8>,
+        wake: bool,
+        from: Option<&Arc<Gate>>,
+        marks: Marks,
+    ) -> (usize, bool) {
         let mut q = self.lock();
         if q.closed {
             pkt.clear();
-            return Ok((0, false));
+            return (0, false);
         }
+        let n = pkt.len();
         let was_empty = q.buf.is_empty();
-        let queued = q.buf.len() + pkt.len() + q.inflight;
-        if queued > self.cap {
-            drop(q);
-            pkt.clear();
-            self.close();
-            tracing::debug!(queued, cap = self.cap, "outbox over cap");
-            return Err(Overflow);
-        }
         if was_empty {
             std::mem::swap(&mut q.buf, pkt);
         } else {
             q.buf.extend_from_slice(pkt);
         }
-        drop(q);
         pkt.clear();
+        self.recount(&mut q);
+        if let Some(g) = from {
+            q.account(g, n, marks.high);
+        }
+        q.regulate(marks, &self.total);
+        let queued = q.queued();
+        drop(q);
         if was_empty && wake {
             self.cv.notify_one();
         }
-        Ok((queued, was_empty))
+        (queued, was_empty)
+    }
+
+    /// A synchronous client's held mail (kept by the DB state until it polls) is now
+    /// `held` bytes; `from` added what grew.
+    pub fn set_extra(&self, held: usize, from: Option<&Arc<Gate>>, marks: Marks) {
+        let mut q = self.lock();
+        if q.closed {
+            return;
+        }
+        let grew = held.saturating_sub(q.extra);
+        q.extra = held;
+        self.recount(&mut q);
+        if grew > 0 {
+            if let Some(g) = from {
+                q.account(g, grew, marks.high);
+            }
+            q.regulate(marks, &self.total);
+        } else {
+            q.release_if_drained();
+        }
     }
 
     /// Send the queued bytes now without blocking, unless a write is already under way
@@ -152,7 +412,7 @@ impl Outbox {
         if let Some(kind) = failed {
             drop(q);
             tracing::debug!("write to client failed: {kind:?}");
-            self.close();
+            self.write_failed();
             return;
         }
         if q.closed {
@@ -165,7 +425,12 @@ impl Outbox {
             std::mem::swap(&mut q.buf, &mut data);
         }
         data.clear();
+        if data.capacity() > KEEP_CAPACITY {
+            data = Vec::new();
+        }
         q.spare = data;
+        self.recount(&mut q);
+        q.release_if_drained();
         let pending = !q.buf.is_empty();
         drop(q);
         if pending {
@@ -173,25 +438,57 @@ impl Outbox {
         }
     }
 
-    pub fn cap(&self) -> usize {
-        self.cap
+    /// Writer side: `n` more bytes of the current chunk were accepted by the socket
+    /// (reported in batches: it takes the lock the publishers push under).
+    pub fn wrote(&self, n: usize) {
+        let mut q = self.lock();
+        q.inflight = q.inflight.saturating_sub(n);
+        self.recount(&mut q);
+        q.release_if_drained();
     }
 
-    /// Bytes queued or being written.
+    /// Bytes queued, being written, or held for this client.
     pub fn queued(&self) -> usize {
-        let q = self.lock();
-        q.buf.len() + q.inflight
+        self.lock().queued()
     }
 
-    /// Close: the writer stops after this and the socket is shut down both ways.
+    /// Publishers this client currently holds back.
+    pub fn holding(&self) -> usize {
+        self.lock().holding.len()
+    }
+
+    /// Closed by the DB: its reader should stop too.
+    pub fn is_cut(&self) -> bool {
+        self.lock().cut
+    }
+
+    /// Close: the writer stops after this, the memory is released, the publishers held
+    /// back for this client go on, and the socket is shut down both ways.
     pub fn close(&self) {
+        self.shut(Shutdown::Both);
+    }
+
+    /// A write failed (the client closed its side): as [`Outbox::close`], but the socket
+    /// stays open for reading, so what the client sent before closing is still processed.
+    pub fn write_failed(&self) {
+        self.shut(Shutdown::Write);
+    }
+
+    fn shut(&self, how: Shutdown) {
         {
             let mut q = self.lock();
             q.closed = true;
+            q.cut |= how == Shutdown::Both;
             q.buf = Vec::new();
+            q.spare = Vec::new();
+            q.extra = 0;
+            q.contrib = Vec::new();
+            q.contrib_sum = 0;
+            self.recount(&mut q);
+            q.release_all();
         }
         self.cv.notify_all();
-        let _ = self.stream.shutdown(Shutdown::Both);
+        let _ = self.stream.shutdown(how);
     }
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).
@@ -201,6 +498,8 @@ impl Outbox {
         if done {
             q.inflight = 0;
             q.writing = false;
+            self.recount(&mut q);
+            q.release_if_drained();
         }
         loop {
             if q.closed {
@@ -214,5 +513,160 @@ impl Outbox {
             }
             q = self.cv.wait(q).unwrap_or_else(|p| p.into_inner());
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::net::TcpListener;
+
+    const MARKS: Marks = Marks {
+        high: 1000,
+        low: 500,
+        total_cap: 1_000_000,
+    };
+
+    fn gates(n: usize) -> Vec<Arc<Gate>> {
+        (0..n).map(|_| Arc::new(Gate::new())).collect()
+    }
+
+    /// Add `n` bytes from `from` to the queue, as a push does.
+    fn add(q: &mut OutQ, from: &Arc<Gate>, n: usize) {
+        q.buf.extend(std::iter::repeat_n(0u8, n));
+        q.account(from, n, MARKS.high);
+    }
+
+    #[test]
+    fn only_the_heavy_contributor_is_held_back() {
+        let g = gates(2);
+        let (flood, helm) = (&g[0], &g[1]);
+        let mut q = OutQ::new();
+        let total = AtomicUsize::new(0);
+        for _ in 0..19 {
+            add(&mut q, flood, 50);
+            q.regulate(MARKS, &total);
+        }
+        add(&mut q, helm, 10);
+        q.regulate(MARKS, &total);
+        assert!(
+            flood.is_open() && helm.is_open(),
+            "below the high-water mark"
+        );
+        add(&mut q, flood, 50);
+        q.regulate(MARKS, &total);
+        assert!(!flood.is_open(), "the flooder fills the queue");
+        assert!(helm.is_open(), "a light publisher goes on");
+        // It drains: still above the low-water mark, then below it.
+        q.buf.truncate(600);
+        q.release_if_drained();
+        assert!(!flood.is_open());
+        q.buf.truncate(499);
+        q.release_if_drained();
+        assert!(flood.is_open());
+    }
+
+    #[test]
+    fn equal_heavy_contributors_are_all_held_back() {
+        let g = gates(3);
+        let mut q = OutQ::new();
+        let total = AtomicUsize::new(0);
+        for _ in 0..4 {
+            for p in &g {
+                add(&mut q, p, 100);
+            }
+        }
+        q.regulate(MARKS, &total);
+        assert!(g.iter().all(|p| !p.is_open()));
+    }
+
+    #[test]
+    fn growth_past_the_next_step_holds_who_kept_adding() {
+        let g = gates(3);
+        let (a, b, light) = (&g[0], &g[1], &g[2]);
+        let mut q = OutQ::new();
+        let total = AtomicUsize::new(0);
+        add(&mut q, a, 1000);
+        add(&mut q, light, 5);
+        q.regulate(MARKS, &total);
+        assert!(!a.is_open() && b.is_open() && light.is_open());
+        // b keeps filling while a is held: nothing more until the next step (high / 2).
+        add(&mut q, b, 400);
+        q.regulate(MARKS, &total);
+        assert!(b.is_open());
+        add(&mut q, b, 200);
+        q.regulate(MARKS, &total);
+        assert!(!b.is_open() && light.is_open());
+    }
+
+    #[test]
+    fn at_the_total_cap_every_contributor_is_held_back() {
+        let g = gates(2);
+        let (flood, helm) = (&g[0], &g[1]);
+        let mut q = OutQ::new();
+        let total = AtomicUsize::new(MARKS.total_cap);
+        add(&mut q, flood, 2000);
+        add(&mut q, helm, 10);
+        q.regulate(MARKS, &total);
+        assert!(!flood.is_open() && !helm.is_open());
+        q.release_all();
+        assert!(flood.is_open() && helm.is_open());
+    }
+
+    #[test]
+    fn window_halves_so_old_traffic_fades() {
+        let g = gates(2);
+        let mut q = OutQ::new();
+        add(&mut q, &g[0], 900);
+        add(&mut q, &g[1], 200); // sum 1100 > high: halved
+        assert_eq!(q.contrib_sum, 450 + 100);
+        assert_eq!(q.contrib.len(), 2);
+    }
+
+    #[test]
+    fn gate_wait_wakes_on_release() {
+        let g = Arc::new(Gate::new());
+        g.hold();
+        assert!(!g.wait_open(Duration::from_millis(20)));
+        let g2 = g.clone();
+        let t = std::thread::spawn(move || g2.wait_open(Duration::from_secs(5)));
+        std::thread::sleep(Duration::from_millis(20));
+        g.release();
+        assert!(t.join().expect("waiter"));
+    }
+
+    /// A real socket whose peer never reads: pushes past the high-water mark hold the
+    /// publisher; closing releases it and the memory, and the total goes back to 0.
+    #[test]
+    fn outbox_holds_then_close_releases_everything() {
+        let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+        let _peer = std::net::TcpStream::connect(l.local_addr().expect("addr")).expect("connect");
+        let (s, _) = l.accept().expect("accept");
+        let total = Arc::new(AtomicUsize::new(0));
+        let out = Outbox::new(s, total.clone());
+        let publisher = Arc::new(Gate::new());
+        let marks = Marks {
+            high: 4 << 20,
+            low: 2 << 20,
+            total_cap: 64 << 20,
+        };
+        let mut pkt = Vec::new();
+        for _ in 0..200 {
+            pkt.resize(64 << 10, 7);
+            out.push_packet(&mut pkt, false, Some(&publisher), marks);
+            out.try_flush();
+            if !publisher.is_open() {
+                break;
+            }
+        }
+        assert!(!publisher.is_open(), "never held back");
+        assert!(out.queued() >= marks.high);
+        assert!(total.load(Ordering::Relaxed) + COUNT_STEP >= out.queued());
+        assert_eq!(out.holding(), 1);
+        out.close();
+        assert!(publisher.is_open());
+        assert_eq!(out.queued(), 0);
+        assert_eq!(total.load(Ordering::Relaxed), 0);
+        assert!(out.is_cut());
     }
 }

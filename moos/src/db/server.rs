@@ -1,4 +1,8 @@
 //! Socket side of the DB: accept, handshake, per-client reader and writer threads.
+//!
+//! A reader stops reading while its connection's [`Gate`] is held (flow control, see
+//! `outbox`); a writer cuts its client off when the socket has accepted no bytes for the
+//! stall timeout.
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -7,7 +11,7 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::outbox::Outbox;
+use super::outbox::{Gate, Outbox};
 use super::state::Admit;
 use super::Inner;
 use crate::wire::{self, DataType, FrameReader, Message, MsgType, MsgView};
@@ -115,7 +119,8 @@ fn serve(inner: Arc<Inner>, mut stream: TcpStream, conn_id: u64) {
     let Ok(ostream) = stream.try_clone() else {
         return;
     };
-    let out = Arc::new(Outbox::new(ostream, inner.cfg.max_queue_bytes));
+    let out = Arc::new(Outbox::new(ostream, inner.total.clone()));
+    let gate = Arc::new(Gate::new());
     let name = String::from_utf8_lossy(&hs.sval).into_owned();
     let admitted = {
         let now = inner.now();
@@ -127,15 +132,14 @@ fn serve(inner: Arc<Inner>, mut stream: TcpStream, conn_id: u64) {
         let _ = stream.write_all(&poison_packet(&reason, inner.now()));
         return;
     }
-    let o2 = out.clone();
-    let send_timeout = inner.cfg.send_timeout;
+    let (o2, i2, n2) = (out.clone(), inner.clone(), name.clone());
     let spawned = std::thread::Builder::new()
         .name(format!("moosdb-write-{conn_id}"))
-        .spawn(move || writer(o2, wstream, send_timeout));
+        .spawn(move || writer(&i2, &o2, wstream, &n2, conn_id));
     let reason = if spawned.is_err() {
         "cannot spawn writer"
     } else {
-        read_loop(&inner, &mut stream, &mut fr, &name)
+        read_loop(&inner, &mut stream, &mut fr, &name, &gate, &out, conn_id)
     };
     let now = inner.now();
     inner.lock().disconnect(&name, conn_id, reason, now);
@@ -147,6 +151,9 @@ fn read_loop(
     stream: &mut TcpStream,
     fr: &mut FrameReader,
     name: &str,
+    gate: &Arc<Gate>,
+    out: &Outbox,
+    conn_id: u64,
 ) -> &'static str {
     let tick = inner.cfg.client_timeout.min(Duration::from_secs(1));
     if stream.set_read_timeout(Some(tick)).is_err() {
@@ -193,7 +200,7 @@ fn read_loop(
             let mut st = inner.lock();
             let mut start = 0;
             for &end in &ends {
-                st.process(name, &views[start..end], now, now);
+                st.process(name, &views[start..end], gate, now, now);
                 start = end;
             }
             std::mem::swap(&mut flush, &mut st.flush);
@@ -206,12 +213,27 @@ fn read_loop(
         if inner.stop.load(Ordering::Relaxed) {
             return "shutdown";
         }
+        if !gate.is_open() {
+            // Held back for a subscriber's queue: the time does not count as silence.
+            while !gate.wait_open(tick) {
+                if inner.stop.load(Ordering::Relaxed) {
+                    return "shutdown";
+                }
+                if out.is_cut() {
+                    return "closed";
+                }
+            }
+            last_rx = Instant::now();
+        }
         match fr.fill(stream) {
             Ok(0) => return "closed by client",
             Ok(_) => last_rx = Instant::now(),
             Err(e) if is_timeout(&e) => {
-                if last_rx.elapsed() > inner.cfg.client_timeout {
-                    tracing::info!(client = %name, "client silent too long: dropping");
+                let silent = last_rx.elapsed();
+                if silent > inner.cfg.client_timeout {
+                    let why = format!("sent nothing for {:.1} s", silent.as_secs_f64());
+                    let now = inner.now();
+                    inner.lock().cut_off(name, conn_id, &why, now);
                     return "timeout";
                 }
             }
@@ -228,17 +250,68 @@ fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
     v.into_iter().map(|_| unreachable!()).collect()
 }
 
-fn writer(out: Arc<Outbox>, mut stream: TcpStream, send_timeout: Duration) {
-    let _ = stream.set_write_timeout(Some(send_timeout));
+/// The writer tells the outbox about progress within a chunk this often (bytes).
+const REPORT_EVERY: usize = 256 << 10;
+
+/// Blocking writes of what the direct flushes left, in ticks short enough to notice a
+/// stall in time: a client whose socket accepts nothing for the stall timeout is cut off.
+fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_id: u64) {
+    let stall = inner.cfg.stall_timeout;
+    let tick = (stall / 10).clamp(Duration::from_millis(10), Duration::from_millis(100));
+    let _ = stream.set_write_timeout(Some(tick));
     let mut spare = Vec::new();
     let mut done = false;
     while out.take(&mut spare, done) {
         done = true;
-        if let Err(e) = stream.write_all(&spare) {
-            tracing::debug!("write to client failed: {e}");
-            out.close();
-            return;
+        // The stall clock: last progress, or when these bytes were handed over.
+        let mut since = Instant::now();
+        let mut sent = 0;
+        let mut unreported = 0;
+        // Progress since the last timeout (the clock is read only when a write times out).
+        let mut progressed = false;
+        while sent < spare.len() {
+            match stream.write(&spare[sent..]) {
+                Ok(0) => {
+                    out.write_failed();
+                    return;
+                }
+                Ok(n) => {
+                    sent += n;
+                    progressed = true;
+                    unreported += n;
+                    // Progress lets the queue fall below its low-water mark.
+                    if unreported >= REPORT_EVERY && sent < spare.len() {
+                        out.wrote(unreported);
+                        unreported = 0;
+                    }
+                }
+                Err(e) if is_timeout(&e) => {
+                    if std::mem::take(&mut progressed) {
+                        since = Instant::now();
+                    }
+                    let stuck = since.elapsed();
+                    if stuck >= stall {
+                        let why = format!("accepted no bytes for {:.1} s", stuck.as_secs_f64());
+                        let now = inner.now();
+                        inner.lock().cut_off(name, conn_id, &why, now);
+                        out.close();
+                        return;
+                    }
+                    if inner.stop.load(Ordering::Relaxed) {
+                        return;
+                    }
+                }
+                Err(e) if e.kind() == ErrorKind::Interrupted => {}
+                Err(e) => {
+                    tracing::debug!(client = %name, "write to client failed: {e}");
+                    out.write_failed();
+                    return;
+                }
+            }
         }
         spare.clear();
+        if spare.capacity() > 1 << 20 {
+            spare = Vec::new();
+        }
     }
 }

@@ -5,11 +5,16 @@ use std::collections::{HashMap, HashSet};
 use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::Arc;
 
-use super::outbox::Outbox;
+use super::outbox::{Gate, Marks, Outbox};
 use crate::text::{find_value, format_g, wildcard_match};
 use crate::wire::{DataType, Message, MsgType, MsgView, PacketBuilder, PACKET_HEADER_LEN};
 
 const REFRESH_PERIOD: f64 = 2.0;
+
+/// Largest per-client high-water mark: past a few MB a queue only adds latency.
+pub(crate) const MAX_HIGH_WATER: usize = 8 << 20;
+/// Smallest per-client high-water mark, however many clients share the cap.
+const MIN_HIGH_WATER: usize = 64 << 10;
 
 /// Held mail starts with room for the packet header, filled in when it is sent.
 const HDR: usize = PACKET_HEADER_LEN;
@@ -128,8 +133,8 @@ pub(crate) struct ClientRec {
     held_count: usize,
     filters: Vec<Filter>,
     pub out: Arc<Outbox>,
-    /// Outbox size seen at the last push (saves a lock per held message).
-    queued_hint: usize,
+    /// A synchronous client got held mail during the packet being processed.
+    touched: bool,
     consolidation: f64,
     qos: Option<Qos>,
     published: FastSet<String>,
@@ -158,7 +163,10 @@ pub(crate) struct State {
     order: Vec<String>,
     /// Slots that may have held mail to push.
     dirty: Vec<usize>,
-    to_drop: Vec<(String, &'static str)>,
+    /// Synchronous clients whose held mail grew during the packet being processed.
+    touched: Vec<usize>,
+    /// Cap on the bytes queued for all clients together.
+    max_queue: usize,
     response: Vec<(String, f64)>,
     scratch: Vec<u8>,
     encoded: Vec<u8>,
@@ -166,12 +174,19 @@ pub(crate) struct State {
     /// Outboxes given bytes without waking their writer: the reader thread must
     /// [`Outbox::try_flush`] them once the state lock is released.
     pub flush: Vec<Arc<Outbox>>,
-    pub overflows: u64,
+    /// Clients cut off because they stalled.
+    pub stalled: u64,
     pub delivered: u64,
 }
 
 impl State {
-    pub fn new(community: &str, hostname: &str, response: &[(String, f64)], now: f64) -> State {
+    pub fn new(
+        community: &str,
+        hostname: &str,
+        response: &[(String, f64)],
+        max_queue: usize,
+        now: f64,
+    ) -> State {
         let mut vars = FastMap::default();
         for (n, t) in [
             ("DB_TIME", DataType::DOUBLE),
@@ -200,13 +215,14 @@ impl State {
             client_gen: 1,
             order: Vec::new(),
             dirty: Vec::new(),
-            to_drop: Vec::new(),
+            touched: Vec::new(),
+            max_queue,
             response,
             scratch: Vec::new(),
             encoded: Vec::new(),
             targets: Vec::new(),
             flush: Vec::new(),
-            overflows: 0,
+            stalled: 0,
             delivered: 0,
         }
     }
@@ -231,7 +247,7 @@ impl State {
             sval: crate::wire::ASYNC_KEY.as_bytes().to_vec(),
             ..Message::default()
         };
-        let _ = out.push_with(|b| {
+        out.push_with(|b| {
             let mut p = PacketBuilder::new(b);
             let _ = p.push(&welcome);
             let _ = p.finish();
@@ -250,7 +266,7 @@ impl State {
             held_count: 0,
             filters: Vec::new(),
             out,
-            queued_hint: 0,
+            touched: false,
             consolidation,
             qos: None,
             published: FastSet::default(),
@@ -270,7 +286,6 @@ impl State {
         self.order.push(name.clone());
         tracing::info!(client = %name, asynchronous = is_async, "client connected");
         self.db_notify_str("DB_EVENT", &format!("connected={name}"), now);
-        self.finish_drops(now);
         Admit::Welcome
     }
 
@@ -281,7 +296,30 @@ impl State {
             _ => return,
         }
         self.remove_client(name, reason, now);
-        self.finish_drops(now);
+    }
+
+    /// The DB cuts off connection `conn_id` of `name` as stalled: `why` goes into the
+    /// `DB_EVENT` (`stalled=<name>,reason=<why>`) posted before `disconnected=<name>`.
+    pub fn cut_off(&mut self, name: &str, conn_id: u64, why: &str, now: f64) {
+        match self.client(name) {
+            Some(c) if c.conn_id == conn_id => {}
+            _ => return,
+        }
+        self.stalled += 1;
+        tracing::warn!(client = %name, why, "cutting off stalled client");
+        self.db_notify_str("DB_EVENT", &format!("stalled={name},reason={why}"), now);
+        self.remove_client(name, "stalled", now);
+    }
+
+    /// Flow-control marks: the cap shared by `n` connected clients.
+    fn marks_for(&self, n: usize) -> Marks {
+        let n = n.max(1);
+        let high = (self.max_queue / (2 * n)).clamp(MIN_HIGH_WATER, MAX_HIGH_WATER);
+        Marks {
+            high,
+            low: high / 2,
+            total_cap: self.max_queue,
+        }
     }
 
     fn remove_client(&mut self, name: &str, reason: &str, now: f64) {
@@ -300,17 +338,6 @@ impl State {
         }
         tracing::info!(client = %name, reason, "client disconnected");
         self.db_notify_str("DB_EVENT", &format!("disconnected={name}"), now);
-    }
-
-    fn finish_drops(&mut self, now: f64) {
-        while let Some((name, why)) = self.to_drop.pop() {
-            if self.clients.contains_key(name.as_str()) {
-                self.overflows += 1;
-                tracing::warn!(client = %name, why, "dropping client: outgoing queue over its byte cap");
-                self.db_notify_str("DB_EVENT", &format!("overflow={name}"), now);
-                self.remove_client(&name, why, now);
-            }
-        }
     }
 
     fn client(&self, name: &str) -> Option<&ClientRec> {
@@ -346,16 +373,30 @@ impl State {
     }
 
     /// Total bytes held or queued for all clients.
+    /// (A synchronous client's held mail counts as of the last packet processed.)
     pub fn queued_bytes(&self) -> usize {
-        self.recs().map(|c| c.held_bytes() + c.out.queued()).sum()
+        self.recs().map(|c| c.out.queued()).sum()
     }
 
     pub fn client_queued(&self, name: &str) -> Option<usize> {
-        self.client(name).map(|c| c.held_bytes() + c.out.queued())
+        self.client(name).map(|c| c.out.queued())
     }
 
-    /// One packet from client `name` (spec §5.3), decoded in place.
-    pub fn process(&mut self, name: &str, msgs: &[MsgView<'_>], local: f64, now: f64) {
+    /// Publishers held back by client `name`'s queue (`None` if not connected).
+    pub fn client_holding(&self, name: &str) -> Option<usize> {
+        self.client(name).map(|c| c.out.holding())
+    }
+
+    /// One packet from client `name` (spec §5.3), decoded in place. `gate` is the
+    /// sender's: the subscribers its messages fill may hold it back.
+    pub fn process(
+        &mut self,
+        name: &str,
+        msgs: &[MsgView<'_>],
+        gate: &Arc<Gate>,
+        local: f64,
+        now: f64,
+    ) {
         if msgs.is_empty() {
             tracing::debug!(client = %name, "packet with no content");
             return;
@@ -395,12 +436,12 @@ impl State {
         if now - self.last_refresh > REFRESH_PERIOD {
             self.refresh(now);
         }
+        let marks = self.marks_for(self.clients.len());
         let c = match self.clients.get(name) {
             Some(&i) => self.slots.get_mut(i).and_then(Option::as_mut),
             None => None,
         };
         let Some(c) = c else {
-            self.finish_drops(now);
             return;
         };
         let sync_null = (!c.is_async).then(|| Message {
@@ -423,6 +464,9 @@ impl State {
             self.delivered += c.held_count as u64;
             c.held.clear();
             c.held_count = 0;
+            if !c.is_async {
+                c.out.set_extra(0, None, marks);
+            }
         }
         for r in q_replies.iter().rev() {
             let _ = p.push(r);
@@ -430,20 +474,29 @@ impl State {
         let nonempty = p.count() > 0;
         let _ = p.finish();
         if nonempty {
-            match c.out.push_with(|b| b.extend_from_slice(&buf)) {
-                Ok(q) => c.queued_hint = q,
-                Err(_) => self.to_drop.push((name.to_owned(), "reply")),
-            }
+            c.out.push_with(|b| b.extend_from_slice(&buf));
         }
         self.scratch = buf;
         if has_notify {
-            self.push_all();
+            self.push_all(gate, marks);
         }
-        self.finish_drops(now);
+        let touched = std::mem::take(&mut self.touched);
+        for &t in &touched {
+            if let Some(c) = self.slots.get_mut(t).and_then(Option::as_mut) {
+                c.touched = false;
+                // A synchronous client drains only when it sends: never hold it back
+                // for its own held mail.
+                let from = (t != slot).then_some(gate);
+                c.out.set_extra(c.held_bytes(), from, marks);
+            }
+        }
+        self.touched = touched;
+        self.touched.clear();
     }
 
-    /// Send every asynchronous client's held mail as one packet each.
-    fn push_all(&mut self) {
+    /// Send every asynchronous client's held mail as one packet each (added by the
+    /// publisher behind `gate`).
+    fn push_all(&mut self, gate: &Arc<Gate>, marks: Marks) {
         let dirty = std::mem::take(&mut self.dirty);
         for &slot in &dirty {
             let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
@@ -454,18 +507,12 @@ impl State {
             }
             let count = c.held_count;
             finish_header(&mut c.held, count);
-            let r = c.out.push_packet(&mut c.held, false);
+            let (_, was_empty) = c.out.push_packet(&mut c.held, false, Some(gate), marks);
             self.delivered += count as u64;
             c.held.clear();
             c.held_count = 0;
-            match r {
-                Ok((q, was_empty)) => {
-                    c.queued_hint = q;
-                    if was_empty {
-                        self.flush.push(c.out.clone());
-                    }
-                }
-                Err(_) => self.to_drop.push((c.name.to_string(), "push")),
+            if was_empty {
+                self.flush.push(c.out.clone());
             }
         }
         self.dirty = dirty;
@@ -484,13 +531,9 @@ impl State {
         }
         c.held.extend_from_slice(encoded);
         c.held_count += 1;
-        let cap = c.out_cap();
-        let held = c.held_bytes();
-        if held + c.queued_hint > cap && held + c.out.queued() > cap {
-            c.held = Vec::new();
-            c.held_count = 0;
-            c.out.close();
-            self.to_drop.push((c.name.to_string(), "held mail"));
+        if !c.is_async && !c.touched {
+            c.touched = true;
+            self.touched.push(slot);
         }
     }
 
@@ -773,9 +816,13 @@ impl State {
                 v.write_count = 0;
                 v.freq = 0.0;
             }
+            let marks = self.marks_for(self.clients.len());
             for c in self.slots.iter_mut().flatten() {
                 c.held.clear();
                 c.held_count = 0;
+                if !c.is_async {
+                    c.out.set_extra(0, None, marks);
+                }
             }
             self.start = now;
         }
@@ -883,10 +930,6 @@ impl State {
 }
 
 impl ClientRec {
-    fn out_cap(&self) -> usize {
-        self.out.cap()
-    }
-
     /// Bytes of held mail (without the header gap).
     fn held_bytes(&self) -> usize {
         self.held.len().saturating_sub(HDR)
