@@ -18,5 +18,7 @@ pub mod loader;
 pub mod mission;
 pub mod posting;
 pub mod runtime;
+pub mod sim;
+pub mod vehicle;
 
 pub use engine::{Helm, HelmState, Mail};

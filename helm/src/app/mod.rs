@@ -18,6 +18,7 @@
 //!    over ([`status::EndWatch`]: after a first clear decision, the all-stop stayed
 //!    non-clear for 5 MOOS seconds). Ctrl-C ends the process (default signal action).
 
+pub mod cycle;
 pub mod moos_io;
 pub mod sim;
 pub mod status;
@@ -30,10 +31,10 @@ use moos::client::{Client, ClientError};
 use moos::db::{Db, DbConfig, DbError};
 use moos::wire::Message;
 
-use crate::posting::{Posting, Value};
+use crate::posting::Posting;
 use crate::Helm;
+use cycle::{Bus, HelmCycle};
 use moos_io::{AlogSink, AppSettings, Registrar};
-use status::Status;
 use terminal::Terminal;
 
 /// How `helm run` was asked to run.
@@ -235,16 +236,19 @@ fn connect(
 struct Run<'a> {
     client: &'a Client,
     app: String,
-    status: Status,
+    reg: Registrar,
     alog: Option<AlogSink>,
 }
 
-impl Run<'_> {
+impl Bus for Run<'_> {
+    fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
+        self.reg.sync(self.client, subs)
+    }
+
     fn publish(&mut self, p: &Posting, now: f64) {
         if let Err(e) = moos_io::publish(self.client, p, now) {
             tracing::warn!(var = %p.var, "not posted: {e}");
         }
-        self.status.on_posting(p, now);
         if let Some(a) = &mut self.alog {
             if let Err(e) = a.posting(p, now) {
                 tracing::error!("alog {} stopped: {e}", a.path().display());
@@ -252,7 +256,9 @@ impl Run<'_> {
             }
         }
     }
+}
 
+impl Run<'_> {
     fn log_mail(&mut self, msgs: &[Message]) {
         if let Some(a) = &mut self.alog {
             for m in msgs {
@@ -262,17 +268,6 @@ impl Run<'_> {
                     return;
                 }
             }
-        }
-    }
-
-    fn register_new(&mut self, reg: &mut Registrar, subs: &[String], now: f64) {
-        for var in reg.sync(self.client, subs) {
-            let p = Posting {
-                var: "IVPHELM_REGISTER".into(),
-                value: Value::Str(var),
-                source_aux: String::new(),
-            };
-            self.publish(&p, now);
         }
     }
 }
@@ -297,19 +292,13 @@ fn drive(
     let mut run = Run {
         client,
         app: opts.alias.clone(),
-        status: Status::default(),
+        reg: Registrar::default(),
         alog,
     };
-    let mut reg = Registrar::default();
     let mut term = Terminal::new(opts.quiet);
     tracing::info!(app = %run.app, host = %settings.host, port = settings.port, "helm connected");
 
-    // Start-up: register first, so the helm's own postings come back to it as mail.
-    let posts: Vec<Posting> = helm.startup(start).to_vec();
-    run.register_new(&mut reg, helm.subscriptions(), start);
-    for p in &posts {
-        run.publish(p, start);
-    }
+    let mut cycle = HelmCycle::startup(helm, &mut run, start);
 
     let period = settings.period();
     let deadline = opts.duration.map(|d| start + d.max(0.0));
@@ -329,7 +318,7 @@ fn drive(
         if extras.stopped() {
             break StopReason::Interrupted;
         }
-        if opts.embedded && run.status.end.is_over(now) {
+        if opts.embedded && cycle.status.end.is_over(now) {
             break StopReason::MissionOver;
         }
 
@@ -337,12 +326,7 @@ fn drive(
         client.fetch(&mut inbox);
         run.log_mail(&inbox);
         let mail = moos_io::to_mail(&inbox);
-        for m in &mail {
-            run.status.on_mail(m);
-        }
-        if !mail.is_empty() {
-            helm.handle_mail(now, &mail);
-        }
+        cycle.mail(helm, now, &mail);
         // As CMOOSApp: no Iterate while disconnected.
         if !client.is_connected() {
             if !disconnected_told {
@@ -352,14 +336,10 @@ fn drive(
             continue;
         }
         disconnected_told = false;
-        run.status.iterations += 1;
-        for p in helm.iterate(now) {
-            run.publish(p, now);
-        }
-        run.register_new(&mut reg, helm.subscriptions(), now);
+        cycle.iterate(helm, &mut run, now);
         term.heartbeat(helm.state());
         if term.summary_due() {
-            term.summary(&run.status.summary(now - start, helm.state().as_str()));
+            term.summary(&cycle.status.summary(now - start, helm.state().as_str()));
             if let Some(a) = &mut run.alog {
                 let _ = a.flush();
             }
@@ -367,7 +347,8 @@ fn drive(
     };
     let end = client.moos_time();
     term.line(
-        &run.status
+        &cycle
+            .status
             .final_line(reason.as_str(), end - start, helm.state().as_str()),
     );
     if let Some(a) = &mut run.alog {

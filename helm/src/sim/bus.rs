@@ -1,0 +1,211 @@
+//! The in-process MOOS bus of `helm sim`: what a MOOSDB does, where the helm can tell.
+//!
+//! - Each client (the helm, the simulator) has its subscriptions and an inbox.
+//! - A message posted at time `t` reaches the inbox of every client subscribed to its
+//!   variable, the helm's own postings included (source = the app name, as the DB
+//!   stamps them), and is fetched at the client's first tick strictly after `t`: mail
+//!   arrives the next cycle, never in the cycle that posted it.
+//! - Inboxes are in posting order, which is time order, so the helm's mail is sorted by
+//!   time as CMOOSApp sorts it.
+//! - Every message is also seen once by the [`Observer`] and, when asked, written to
+//!   the `.alog` (pLogger's layout) and kept in memory.
+//!
+//! Host measurements (`PHELMIVP_PID`, `IVPHELM_CREATE_CPU`, `IVPHELM_LOOP_CPU`) are
+//! posted as 0: they measure the machine, not the mission, and would make two runs'
+//! logs differ.
+
+use std::collections::HashSet;
+
+use moos::wire::Message;
+
+use super::observe::Observer;
+use crate::app::cycle;
+use crate::posting::{Posting, Value};
+use crate::Mail;
+
+/// Variables whose value is a measurement of the host, zeroed on the simulated bus.
+pub const HOST_MEASUREMENTS: [&str; 3] = ["PHELMIVP_PID", "IVPHELM_CREATE_CPU", "IVPHELM_LOOP_CPU"];
+
+/// One connected app.
+#[derive(Debug, Default)]
+pub struct Client {
+    pub name: String,
+    subs: HashSet<String>,
+    inbox: Vec<Mail>,
+}
+
+/// The bus. Client 0 is the helm (the [`cycle::Bus`] side).
+pub struct SimBus {
+    pub clients: Vec<Client>,
+    /// Posted in the current time step, delivered by [`SimBus::deliver`].
+    staged: Vec<Mail>,
+    pub observer: Observer,
+    pub alog: Option<moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>>,
+    /// Every message, when asked for (tests, replay).
+    pub record: Option<Vec<Mail>>,
+    /// The first alog write error (the run goes on; the error is reported at the end).
+    pub alog_error: Option<std::io::Error>,
+    /// Index of the helm among the clients.
+    pub helm: usize,
+}
+
+pub const HELM: usize = 0;
+
+impl SimBus {
+    pub fn new(names: &[&str], observer: Observer) -> SimBus {
+        SimBus {
+            clients: names
+                .iter()
+                .map(|n| Client {
+                    name: n.to_string(),
+                    ..Client::default()
+                })
+                .collect(),
+            staged: Vec::new(),
+            observer,
+            alog: None,
+            record: None,
+            alog_error: None,
+            helm: HELM,
+        }
+    }
+
+    pub fn subscribe(&mut self, client: usize, var: &str) -> bool {
+        let subs = &mut self.clients[client].subs;
+        if subs.contains(var) {
+            return false;
+        }
+        subs.insert(var.to_string());
+        true
+    }
+
+    fn wanted(&self, var: &str) -> bool {
+        self.record.is_some() || self.clients.iter().any(|c| c.subs.contains(var))
+    }
+
+    /// Post `var = value` from `source` (`aux` its source-aux) at `now`.
+    pub fn post(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
+        let zero = Value::Num(0.0);
+        let value = if HOST_MEASUREMENTS.contains(&var) {
+            &zero
+        } else {
+            value
+        };
+        self.observer.on_posting(var, value, now);
+        if self.alog.is_some() {
+            self.log(source, var, value, aux, now);
+        }
+        if self.wanted(var) {
+            self.staged.push(Mail {
+                var: var.to_string(),
+                value: value.clone(),
+                time: now,
+                source: source.to_string(),
+                source_aux: aux.to_string(),
+            });
+        }
+    }
+
+    fn log(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
+        let Some(w) = &mut self.alog else { return };
+        let mut m = match value {
+            Value::Num(v) => Message::notify_double(var, *v, now),
+            Value::Str(s) => Message::notify_string(var, s, now),
+        };
+        m.source = source.to_string();
+        m.source_aux = aux.to_string();
+        if let Err(e) = w.write(&m) {
+            self.alog = None;
+            self.alog_error = Some(e);
+        }
+    }
+
+    /// End of a time step: what was posted in it reaches the subscribers' inboxes.
+    pub fn deliver(&mut self) {
+        for m in self.staged.drain(..) {
+            for c in &mut self.clients {
+                if c.subs.contains(&m.var) {
+                    c.inbox.push(m.clone());
+                }
+            }
+            if let Some(r) = &mut self.record {
+                r.push(m);
+            }
+        }
+    }
+
+    /// Move `client`'s mail into `out` (cleared first); the inbox keeps its capacity.
+    pub fn fetch(&mut self, client: usize, out: &mut Vec<Mail>) {
+        out.clear();
+        std::mem::swap(&mut self.clients[client].inbox, out);
+    }
+}
+
+impl cycle::Bus for SimBus {
+    fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
+        let mut new = Vec::new();
+        for var in subs {
+            if self.subscribe(self.helm, var) {
+                new.push(var.clone());
+            }
+        }
+        new
+    }
+
+    fn publish(&mut self, p: &Posting, now: f64) {
+        // The source is the helm's app name; taken out and back to satisfy the borrow.
+        let name = std::mem::take(&mut self.clients[self.helm].name);
+        self.post(&name, &p.var, &p.value, &p.source_aux, now);
+        self.clients[self.helm].name = name;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::cycle::Bus;
+
+    #[test]
+    fn own_postings_come_back_next_step_to_subscribers_only() {
+        let mut bus = SimBus::new(&["pHelmIvP", "uSimMarine"], Observer::default());
+        assert_eq!(
+            bus.subscribe_new(&["A".into(), "A".into()]),
+            vec!["A".to_string()]
+        );
+        bus.subscribe(1, "B");
+        bus.publish(
+            &Posting {
+                var: "A".into(),
+                value: Value::Num(1.0),
+                source_aux: String::new(),
+            },
+            5.0,
+        );
+        bus.post("uSimMarine", "B", &Value::Num(2.0), "", 5.0);
+        let mut got = Vec::new();
+        bus.fetch(0, &mut got);
+        assert!(got.is_empty(), "nothing before the step ends");
+        bus.deliver();
+        bus.fetch(0, &mut got);
+        assert_eq!(got.len(), 1);
+        assert_eq!(
+            (got[0].var.as_str(), got[0].source.as_str()),
+            ("A", "pHelmIvP")
+        );
+        bus.fetch(1, &mut got);
+        assert_eq!(got[0].var, "B");
+        bus.fetch(1, &mut got);
+        assert!(got.is_empty());
+    }
+
+    #[test]
+    fn host_measurements_are_zeroed() {
+        let mut bus = SimBus::new(&["pHelmIvP"], Observer::default());
+        bus.subscribe(0, "PHELMIVP_PID");
+        bus.post("pHelmIvP", "PHELMIVP_PID", &Value::Num(4242.0), "", 1.0);
+        bus.deliver();
+        let mut got = Vec::new();
+        bus.fetch(0, &mut got);
+        assert_eq!(got[0].value, Value::Num(0.0));
+    }
+}
