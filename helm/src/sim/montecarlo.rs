@@ -85,7 +85,8 @@ pub struct Row {
     pub behavior_errors: usize,
     pub waypoints_reached: u64,
     pub start: StartShift,
-    /// Closest approach of the track to each labelled polygon and point, by label.
+    /// Closest approach of the track to each labelled polygon and point that stayed put
+    /// during the run (markers that move, e.g. a waypoint's next point, are left out).
     pub min_dist: BTreeMap<String, f64>,
 }
 
@@ -93,7 +94,7 @@ fn min_dists(o: &Outcome) -> BTreeMap<String, f64> {
     let track = o.observer.track.points();
     let mut out = BTreeMap::new();
     for ((kind, label), spec) in &o.observer.views {
-        if label.is_empty() {
+        if label.is_empty() || o.observer.moved.contains(&(*kind, label.clone())) {
             continue;
         }
         let d = match kind {
@@ -248,7 +249,10 @@ pub fn distribution(rows: &[Row]) -> String {
     let mut stops: BTreeMap<&str, usize> = BTreeMap::new();
     for r in rows {
         *reasons.entry(&r.end_reason).or_default() += 1;
-        for a in &r.allstops {
+        let mut seen: Vec<&str> = r.allstops.iter().map(String::as_str).collect();
+        seen.sort_unstable();
+        seen.dedup();
+        for a in seen {
             *stops.entry(a).or_default() += 1;
         }
     }
@@ -273,7 +277,7 @@ pub fn distribution(rows: &[Row]) -> String {
         rows.iter().map(|r| r.distance_m).collect(),
     ));
     s.push('\n');
-    let _ = writeln!(s, "  all-stops    {}", fmt(&stops));
+    let _ = writeln!(s, "  runs with all-stop  {}", fmt(&stops));
     let _ = write!(s, "  runs with behavior errors: {errors}");
     s
 }

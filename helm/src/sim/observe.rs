@@ -121,6 +121,8 @@ pub struct Observer {
     /// Last drawn version of each object, by kind and label (erasures keep the last
     /// drawn one, so the picture shows everything the run showed).
     pub views: BTreeMap<(ViewKind, String), String>,
+    /// Labels of objects that moved (were redrawn different) during the run.
+    pub moved: std::collections::BTreeSet<(ViewKind, String)>,
     pub allstops: Vec<AllStop>,
     last_allstop: String,
     pub behavior_errors: Vec<String>,
@@ -193,7 +195,12 @@ impl Observer {
                 let label = spec_label(spec);
                 match self.views.get_mut(&(kind, label.to_string())) {
                     Some(old) if old == spec => {}
-                    Some(old) => old.clone_from(spec),
+                    Some(old) => {
+                        old.clone_from(spec);
+                        if !self.moved.contains(&(kind, label.to_string())) {
+                            self.moved.insert((kind, label.to_string()));
+                        }
+                    }
                     None => {
                         self.views.insert((kind, label.to_string()), spec.clone());
                     }

@@ -243,15 +243,8 @@ pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
                 px + 4.0,
                 py + 4.0
             );
-            label_at(&mut o, &v, *x, *y, label, POINT);
+            label_above(&mut o, &v, *x, *y, label, POINT);
         }
-    }
-    if let Some((x, y)) = obs.track.first() {
-        let (px, py) = v.p(x, y);
-        let _ = writeln!(
-            o,
-            r##"<circle cx="{px:.1}" cy="{py:.1}" r="7" fill="{START}" stroke="#fff" stroke-width="1.5"/>"##
-        );
     }
     if let Some((x, y)) = obs.track.last() {
         let (px, py) = v.p(x, y);
@@ -260,6 +253,13 @@ pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
             r##"<rect x="{:.1}" y="{:.1}" width="12" height="12" fill="{END}" stroke="#fff" stroke-width="1.5"/>"##,
             px - 6.0,
             py - 6.0
+        );
+    }
+    if let Some((x, y)) = obs.track.first() {
+        let (px, py) = v.p(x, y);
+        let _ = writeln!(
+            o,
+            r##"<circle cx="{px:.1}" cy="{py:.1}" r="9" fill="none" stroke="{START}" stroke-width="3"/>"##
         );
     }
     // Scale bar, bottom left.
@@ -279,6 +279,20 @@ pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
     legend(&mut o, &shapes);
     o.push_str("</svg>\n");
     o
+}
+
+fn label_above(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) {
+    if label.is_empty() {
+        return;
+    }
+    let (px, py) = v.p(x, y);
+    let _ = writeln!(
+        o,
+        r#"<text x="{:.1}" y="{:.1}" font-size="10" fill="{color}" fill-opacity="0.8">{}</text>"#,
+        px + 8.0,
+        py - 8.0,
+        esc(label)
+    );
 }
 
 fn label_at(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) {
@@ -312,7 +326,7 @@ fn legend(o: &mut String, shapes: &[Shape]) {
                     x + 11.0
                 )
             },
-            "start",
+            "start (ring)",
         ),
         (
             |x, y| {

@@ -160,11 +160,13 @@ impl Prepared {
         let loaded = crate::mission::load(&mission, bhv, HELM_NAME)?;
         let library_report = loaded.library_report.clone();
         let (recipe, file) = loaded.into_recipe();
-        if !recipe.warnings.is_empty() {
-            let mut text = recipe.warnings.join("\n");
+        // Problems found while reading and while building the behavior set.
+        let problems = recipe.build().config_warnings().to_vec();
+        if !problems.is_empty() {
+            let mut text = problems.join("\n");
             text.push_str(&format!(
                 "\nMALCONFIG: {} configuration problem(s); the helm would never drive, nothing run",
-                recipe.warnings.len()
+                problems.len()
             ));
             return Err(SimError::Malconfig { problems: text });
         }
