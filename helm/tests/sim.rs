@@ -376,7 +376,7 @@ fn monte_carlo_table_is_reproducible() {
 
 /// The helm's mail, rebuilt from the bus log alone: what was posted in
 /// `[since, until)` on the variables `subs`.
-fn mail_between<'a>(log: &'a [Mail], since: f64, until: f64, subs: &[String]) -> Vec<Mail> {
+fn mail_between(log: &[Mail], since: f64, until: f64, subs: &[String]) -> Vec<Mail> {
     log.iter()
         .filter(|m| m.time >= since && m.time < until && subs.contains(&m.var))
         .cloned()

@@ -33,7 +33,7 @@ impl Track {
         if self.stride == 0 {
             self.stride = 1;
         }
-        if self.seen % self.stride == 0 {
+        if self.seen.is_multiple_of(self.stride) {
             if self.pts.len() >= TRACK_CAP {
                 let mut i = 0;
                 self.pts.retain(|_| {
@@ -151,25 +151,27 @@ impl Observer {
         if !matches!(var.as_bytes().first(), Some(b'V' | b'I' | b'B' | b'W')) {
             return;
         }
-        match (var, value) {
-            ("IVPHELM_ALLSTOP", Value::Str(s)) => {
-                if *s != self.last_allstop {
-                    self.last_allstop.clone_from(s);
-                    if !s.eq_ignore_ascii_case("clear") && self.allstops.len() < LIST_CAP {
-                        self.allstops.push(AllStop {
-                            time: now - self.start,
-                            reason: s.clone(),
-                        });
-                    }
-                }
+        if let Some(kind) = ViewKind::of(var) {
+            if let Value::Str(spec) = value {
+                self.on_view(kind, spec);
             }
-            ("BHV_ERROR", v) => {
-                if self.behavior_errors.len() < LIST_CAP {
-                    self.behavior_errors.push(match v {
-                        Value::Str(s) => s.clone(),
-                        Value::Num(n) => format!("{n}"),
+            return;
+        }
+        match (var, value) {
+            ("IVPHELM_ALLSTOP", Value::Str(s)) if *s != self.last_allstop => {
+                self.last_allstop.clone_from(s);
+                if !s.eq_ignore_ascii_case("clear") && self.allstops.len() < LIST_CAP {
+                    self.allstops.push(AllStop {
+                        time: now - self.start,
+                        reason: s.clone(),
                     });
                 }
+            }
+            ("BHV_ERROR", v) if self.behavior_errors.len() < LIST_CAP => {
+                self.behavior_errors.push(match v {
+                    Value::Str(s) => s.clone(),
+                    Value::Num(n) => format!("{n}"),
+                });
             }
             ("WPT_INDEX", v) => {
                 let n = match v {
@@ -180,33 +182,31 @@ impl Observer {
                     self.waypoints_reached += 1;
                 }
             }
-            ("WPT_STAT", Value::Str(s)) => {
-                if s.ends_with(",completed") || s.ends_with(",cycled") {
-                    self.waypoints_reached += 1;
-                }
-            }
-            (_, Value::Str(spec)) => {
-                let Some(kind) = ViewKind::of(var) else {
-                    return;
-                };
-                if is_erase(spec) {
-                    return;
-                }
-                let label = spec_label(spec);
-                match self.views.get_mut(&(kind, label.to_string())) {
-                    Some(old) if old == spec => {}
-                    Some(old) => {
-                        old.clone_from(spec);
-                        if !self.moved.contains(&(kind, label.to_string())) {
-                            self.moved.insert((kind, label.to_string()));
-                        }
-                    }
-                    None => {
-                        self.views.insert((kind, label.to_string()), spec.clone());
-                    }
-                }
+            ("WPT_STAT", Value::Str(s)) if s.ends_with(",completed") || s.ends_with(",cycled") => {
+                self.waypoints_reached += 1;
             }
             _ => {}
+        }
+    }
+
+    fn on_view(&mut self, kind: ViewKind, spec: &str) {
+        if is_erase(spec) {
+            return;
+        }
+        let label = spec_label(spec);
+        match self.views.get_mut(&(kind, label.to_string())) {
+            Some(old) if old == spec => {}
+            Some(old) => {
+                old.clear();
+                old.push_str(spec);
+                if !self.moved.contains(&(kind, label.to_string())) {
+                    self.moved.insert((kind, label.to_string()));
+                }
+            }
+            None => {
+                self.views
+                    .insert((kind, label.to_string()), spec.to_string());
+            }
         }
     }
 }

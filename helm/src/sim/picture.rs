@@ -432,7 +432,7 @@ mod tests {
             "station",
             "zone",
             "survey",
-            "100 m",
+            "20 m</text>",
             "t &amp; &lt;title&gt;",
             "VIEW_CIRCLE",
         ] {

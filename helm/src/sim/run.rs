@@ -111,20 +111,10 @@ pub struct RunOptions<'a> {
     pub alog: Option<PathBuf>,
     /// Keep every bus message in [`Outcome::log`].
     pub record: bool,
-    /// Keep every helm iteration's mail batch and postings in [`Outcome::iterations_log`].
-    pub record_iterations: bool,
     /// Override the scenario's max time.
     pub max_time: Option<f64>,
     /// Told the simulated seconds done, about once per simulated second.
     pub progress: Option<&'a (dyn Fn(f64) + Sync)>,
-}
-
-/// One helm iteration as the helm saw it (for replay checks).
-#[derive(Clone, Debug, PartialEq)]
-pub struct IterationRecord {
-    pub now: f64,
-    pub mail: Vec<Mail>,
-    pub postings: Vec<crate::posting::Posting>,
 }
 
 /// What a run did.
@@ -138,7 +128,6 @@ pub struct Outcome {
     pub start: crate::vehicle::Nav,
     pub end: crate::vehicle::Nav,
     pub log: Vec<Mail>,
-    pub iterations_log: Vec<IterationRecord>,
     pub helm_state: &'static str,
 }
 
@@ -247,7 +236,6 @@ impl Prepared {
         let mut last_sim = 0.0f64;
         let mut sim_in: Vec<Mail> = Vec::new();
         let mut helm_in: Vec<Mail> = Vec::new();
-        let mut iterations_log = Vec::new();
         let mut next_progress = 1.0;
         let mut off;
         let reason = loop {
@@ -298,19 +286,7 @@ impl Prepared {
                 }
                 bus.fetch(HELM, &mut helm_in);
                 cycle.mail(&mut helm, now, &helm_in);
-                if opts.record_iterations {
-                    iterations_log.push(IterationRecord {
-                        now,
-                        mail: helm_in.clone(),
-                        postings: Vec::new(),
-                    });
-                    let posts = helm_clone_postings(&mut cycle, &mut helm, &mut bus, now);
-                    if let Some(r) = iterations_log.last_mut() {
-                        r.postings = posts;
-                    }
-                } else {
-                    cycle.iterate(&mut helm, &mut bus, now);
-                }
+                cycle.iterate(&mut helm, &mut bus, now);
                 kh += 1;
             }
             bus.deliver();
@@ -338,36 +314,7 @@ impl Prepared {
             end: model.nav(),
             log: bus.record.take().unwrap_or_default(),
             observer: std::mem::take(&mut bus.observer),
-            iterations_log,
             helm_state: helm.state().as_str(),
         })
     }
-}
-
-/// [`HelmCycle::iterate`] through a bus that also keeps a copy of the postings.
-fn helm_clone_postings(
-    cycle: &mut HelmCycle,
-    helm: &mut crate::Helm,
-    bus: &mut SimBus,
-    now: f64,
-) -> Vec<crate::posting::Posting> {
-    struct Tee<'a> {
-        bus: &'a mut SimBus,
-        seen: Vec<crate::posting::Posting>,
-    }
-    impl crate::app::cycle::Bus for Tee<'_> {
-        fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
-            self.bus.subscribe_new(subs)
-        }
-        fn publish(&mut self, p: &crate::posting::Posting, now: f64) {
-            self.seen.push(p.clone());
-            self.bus.publish(p, now);
-        }
-    }
-    let mut tee = Tee {
-        bus,
-        seen: Vec::new(),
-    };
-    cycle.iterate(helm, &mut tee, now);
-    tee.seen
 }
