@@ -11,7 +11,8 @@
 //! 3. connects as `--alias` (ServerHost/ServerPort), runs `startup`, registers every
 //!    variable the helm lists (posting `IVPHELM_REGISTER=<var>` for each, and again for
 //!    variables that appear later), then loops at the block's AppTick (default 5 Hz, in
-//!    MOOS time, so a time warp speeds it up): fetch → mail → iterate → publish;
+//!    MOOS time, so a time warp speeds it up): fetch → mail → iterate → publish, through
+//!    [`cycle::HelmCycle`], the same code `helm sim` drives the helm with;
 //! 4. prints the heartbeat (`$` DRIVE, `*` PARK) and a summary line every 5 s
 //!    ([`terminal`]), unless `--quiet`; always a last `final: ...` line;
 //! 5. stops after `--duration` MOOS seconds, or, with `--embedded`, once the mission is

@@ -1,6 +1,6 @@
 //! The `helm sim` command line.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -23,7 +23,7 @@ pub struct SimArgs {
     #[arg(long)]
     pub scenario: Option<PathBuf>,
     /// Stop after this many simulated seconds (overrides the scenario's max_time).
-    #[arg(long)]
+    #[arg(long, value_parser = positive_secs)]
     pub max_time: Option<f64>,
     /// Monte Carlo: run the mission N times from perturbed starts, on all cores.
     #[arg(long, default_value_t = 1)]
@@ -34,6 +34,14 @@ pub struct SimArgs {
     /// Start perturbation, uniform in ± each amount: `x=5,y=5,heading=20` (m, m, deg).
     #[arg(long)]
     pub jitter: Option<Jitter>,
+}
+
+fn positive_secs(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .ok_or_else(|| format!("`{s}`: a number of seconds > 0"))
 }
 
 fn progress(len: u64, template: &str) -> ProgressBar {
@@ -57,13 +65,6 @@ pub fn main(args: &SimArgs) -> ExitCode {
 }
 
 fn run(args: &SimArgs) -> Result<(), SimError> {
-    if let Some(t) = args.max_time {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(SimError::Malconfig {
-                problems: format!("--max-time {t}: must be a number > 0"),
-            });
-        }
-    }
     let prep = Prepared::load(&args.mission, &args.bhv, args.scenario.as_deref())?;
     for line in &prep.library_report {
         tracing::info!("{line}");
@@ -140,13 +141,37 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
         rayon::current_num_threads()
     );
     println!("{}", montecarlo::distribution(&rows));
+    // The picture: the unperturbed run on top of every perturbed track.
+    let nominal = prep.run(
+        StartShift::default(),
+        &RunOptions {
+            max_time: args.max_time,
+            ..RunOptions::default()
+        },
+    )?;
+    let tracks: Vec<Vec<(f64, f64)>> = rows.iter().map(|r| r.track.clone()).collect();
+    let ok = rows
+        .iter()
+        .filter(|r| r.end_reason == nominal.end_reason)
+        .count();
+    let title = format!(
+        "{}: {} runs, jitter x={} y={} heading={}",
+        prep.name,
+        rows.len(),
+        jitter.x,
+        jitter.y,
+        jitter.heading
+    );
+    let sub = format!(
+        "{ok} of {} end like the unperturbed run ({} after {:.1} s); table: runs.csv",
+        rows.len(),
+        nominal.end_reason,
+        nominal.sim_time_s
+    );
+    let svg = super::picture::svg_with_tracks(&nominal.observer, &tracks, &title, &sub);
+    let picture = dir.join("runs.svg");
+    output::write(&picture, &svg)?;
+    println!("picture: {}", picture.display());
     println!("table:   {}", csv_path.display());
     Ok(())
-}
-
-/// The mission name used for output folders (for callers outside this module).
-pub fn mission_name(path: &Path) -> Option<String> {
-    super::find_mission(path)
-        .ok()
-        .and_then(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
 }

@@ -88,6 +88,23 @@ pub struct Row {
     /// Closest approach of the track to each labelled polygon and point that stayed put
     /// during the run (markers that move, e.g. a waypoint's next point, are left out).
     pub min_dist: BTreeMap<String, f64>,
+    /// The track, thinned to at most [`TRACK_POINTS`] points (for the picture).
+    pub track: Vec<(f64, f64)>,
+}
+
+/// Points kept of each run's track for the Monte-Carlo picture.
+pub const TRACK_POINTS: usize = 400;
+
+fn thin(pts: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let step = pts.len().div_ceil(TRACK_POINTS).max(1);
+    let last = pts.last().copied();
+    let mut v: Vec<(f64, f64)> = pts.into_iter().step_by(step).collect();
+    if let Some(l) = last {
+        if v.last() != Some(&l) {
+            v.push(l);
+        }
+    }
+    v
 }
 
 fn min_dists(o: &Outcome) -> BTreeMap<String, f64> {
@@ -174,6 +191,7 @@ pub fn run_all(
                 waypoints_reached: o.observer.waypoints_reached,
                 start: shift,
                 min_dist: min_dists(&o),
+                track: thin(o.observer.track.points()),
             })
         })
         .collect()

@@ -16,6 +16,7 @@ const PATH: &str = "#e07b00";
 const POLY: &str = "#8e44ad";
 const POINT: &str = "#2b2b2b";
 const CIRCLE: &str = "#7f8c8d";
+const OTHERS: &str = "#6baed6";
 const START: &str = "#1e9e46";
 const END: &str = "#d62728";
 
@@ -148,9 +149,22 @@ fn nice_length(width_m: f64) -> f64 {
 
 /// The picture, as SVG text. `title` is the first line (mission, end reason, time).
 pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
+    svg_with_tracks(obs, &[], title, subtitle)
+}
+
+/// [`svg`] with other runs' tracks drawn thin under this run's (Monte Carlo).
+pub fn svg_with_tracks(
+    obs: &Observer,
+    others: &[Vec<(f64, f64)>],
+    title: &str,
+    subtitle: &str,
+) -> String {
     let shapes = shapes(obs);
     let track = obs.track.points();
     let mut all: Vec<(f64, f64)> = track.clone();
+    for t in others {
+        all.extend(t);
+    }
     for s in &shapes {
         match s {
             Shape::Path(p, _) | Shape::Polygon(p, _) => all.extend(p),
@@ -225,6 +239,13 @@ pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
             }
         }
     }
+    for t in others.iter().filter(|t| t.len() > 1) {
+        let _ = writeln!(
+            o,
+            r#"<polyline points="{}" fill="none" stroke="{OTHERS}" stroke-opacity="0.25" stroke-width="0.8"/>"#,
+            poly_points(&v, t)
+        );
+    }
     if track.len() > 1 {
         let _ = writeln!(
             o,
@@ -276,7 +297,7 @@ pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
         bx + bw + 8.0,
         by + 4.0
     );
-    legend(&mut o, &shapes);
+    legend(&mut o, &shapes, !others.is_empty());
     o.push_str("</svg>\n");
     o
 }
@@ -309,7 +330,7 @@ fn label_at(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) 
     );
 }
 
-fn legend(o: &mut String, shapes: &[Shape]) {
+fn legend(o: &mut String, shapes: &[Shape], others: bool) {
     let x = W - 200.0;
     let top = MARGIN + 10.0;
     let has = |f: fn(&Shape) -> bool| shapes.iter().any(f);
@@ -339,6 +360,13 @@ fn legend(o: &mut String, shapes: &[Shape]) {
             "end",
         ),
     ];
+    if others {
+        items[0].1 = "track, unperturbed run";
+        items.push((
+            |x, y| format!(r#"<path d="M{x},{y} h22" stroke="{OTHERS}" stroke-width="1.5"/>"#),
+            "tracks, perturbed runs",
+        ));
+    }
     if has(|s| matches!(s, Shape::Path(..))) {
         items.push((
             |x, y| {
