@@ -5,6 +5,8 @@
 //!   variable, the helm's own postings included (source = the app name, as the DB
 //!   stamps them), and is fetched at the client's first tick strictly after `t`: mail
 //!   arrives the next cycle, never in the cycle that posted it.
+//! - Subscribing to a variable that has a value sends that value, as the MOOSDB does on
+//!   registration (unless a newer one, posted in this step, is on its way anyway).
 //! - Inboxes are in posting order, which is time order, so the helm's mail is sorted by
 //!   time as CMOOSApp sorts it.
 //! - Every message is also seen once by the [`Observer`] and, when asked, written to
@@ -14,7 +16,7 @@
 //! posted as 0: they measure the machine, not the mission, and would make two runs'
 //! logs differ.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use moos::wire::Message;
 
@@ -47,6 +49,8 @@ pub struct SimBus {
     pub alog_error: Option<std::io::Error>,
     /// Index of the helm among the clients.
     pub helm: usize,
+    /// The latest value of every variable (sent on registration).
+    last: HashMap<String, Mail>,
 }
 
 pub const HELM: usize = 0;
@@ -67,6 +71,7 @@ impl SimBus {
             record: None,
             alog_error: None,
             helm: HELM,
+            last: HashMap::new(),
         }
     }
 
@@ -76,7 +81,44 @@ impl SimBus {
             return false;
         }
         subs.insert(var.to_string());
+        if !self.staged.iter().any(|m| m.var == var) {
+            if let Some(m) = self.last.get(var) {
+                self.clients[client].inbox.push(m.clone());
+            }
+        }
         true
+    }
+
+    /// Keep `var`'s latest value, reusing the previous one's storage.
+    fn remember(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
+        match self.last.get_mut(var) {
+            Some(m) => {
+                m.time = now;
+                match (&mut m.value, value) {
+                    (Value::Str(old), Value::Str(new)) => {
+                        old.clear();
+                        old.push_str(new);
+                    }
+                    (old, new) => *old = new.clone(),
+                }
+                m.source.clear();
+                m.source.push_str(source);
+                m.source_aux.clear();
+                m.source_aux.push_str(aux);
+            }
+            None => {
+                self.last.insert(
+                    var.to_string(),
+                    Mail {
+                        var: var.to_string(),
+                        value: value.clone(),
+                        time: now,
+                        source: source.to_string(),
+                        source_aux: aux.to_string(),
+                    },
+                );
+            }
+        }
     }
 
     fn wanted(&self, var: &str) -> bool {
@@ -92,6 +134,7 @@ impl SimBus {
             value
         };
         self.observer.on_posting(var, value, now);
+        self.remember(source, var, value, aux, now);
         if self.alog.is_some() {
             self.log(source, var, value, aux, now);
         }
@@ -196,6 +239,26 @@ mod tests {
         assert_eq!(got[0].var, "B");
         bus.fetch(1, &mut got);
         assert!(got.is_empty());
+    }
+
+    #[test]
+    fn subscribing_sends_the_latest_value_once() {
+        let mut bus = SimBus::new(&["pHelmIvP", "uSimMarine"], Observer::default());
+        bus.post("uSimMarine", "X", &Value::Num(1.0), "", 1.0);
+        bus.post("uSimMarine", "X", &Value::Num(2.0), "", 2.0);
+        bus.deliver();
+        bus.subscribe(0, "X");
+        let mut got = Vec::new();
+        bus.fetch(0, &mut got);
+        assert_eq!((got.len(), &got[0].value), (1, &Value::Num(2.0)));
+        // Posted in the same step as the subscription: delivered once, by the step.
+        bus.subscribe(1, "Y");
+        bus.post("pHelmIvP", "Z", &Value::Num(3.0), "", 3.0);
+        bus.subscribe(1, "Z");
+        bus.deliver();
+        bus.fetch(1, &mut got);
+        assert_eq!(got.len(), 1);
+        assert_eq!(got[0].value, Value::Num(3.0));
     }
 
     #[test]

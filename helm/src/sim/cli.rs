@@ -26,8 +26,8 @@ pub struct SimArgs {
     #[arg(long, value_parser = positive_secs)]
     pub max_time: Option<f64>,
     /// Monte Carlo: run the mission N times from perturbed starts, on all cores.
-    #[arg(long, default_value_t = 1)]
-    pub runs: usize,
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub runs: u64,
     /// Seed of the first run (run i uses seed+i).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -124,7 +124,14 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
     );
     let wall = std::time::Instant::now();
     let done = || bar.inc(1);
-    let rows = montecarlo::run_all(prep, args.runs, args.seed, jitter, args.max_time, &done)?;
+    let rows = montecarlo::run_all(
+        prep,
+        args.runs as usize,
+        args.seed,
+        jitter,
+        args.max_time,
+        &done,
+    )?;
     bar.finish_and_clear();
     let csv_path = dir.join("runs.csv");
     output::write(&csv_path, &montecarlo::csv(&rows))?;
@@ -133,7 +140,7 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
         prep.name,
         rows.len(),
         args.seed,
-        args.seed.wrapping_add(args.runs as u64 - 1),
+        args.seed.wrapping_add(args.runs - 1),
         jitter.x,
         jitter.y,
         jitter.heading,
