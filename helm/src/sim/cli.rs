@@ -119,7 +119,7 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
     )?;
     let jitter = args.jitter.unwrap_or_default();
     let bar = progress(
-        args.runs as u64,
+        args.runs,
         "{spinner} runs {pos}/{len} [{bar:40}] {elapsed_precise} eta {eta}",
     );
     let wall = std::time::Instant::now();

@@ -1,11 +1,10 @@
 //! One simulated run: the helm, the vehicle and the pokes on the in-process bus, on a
 //! simulated clock (no sockets, no sleeping).
 //!
-//! Time steps are the union of three grids, each computed from an integer count (so
-//! no rounding accumulates): the simulator's ticks at `k / sim_AppTick` (k ≥ 0), the
+//! Time steps are the union of the simulator's ticks at `k / sim_AppTick` (k ≥ 0), the
 //! helm's at `k / helm_AppTick` (k ≥ 1; its start-up is at 0, as `helm run` iterates
 //! one period after start-up), the pokes' times, and the DB's `DB_CLIENTS` once per
-//! second. In a step, pokes are posted, then the simulator steps and posts `NAV_*`,
+//! second; tick times are computed from integer counts, so no rounding accumulates. In a step, pokes are posted, then the simulator steps and posts `NAV_*`,
 //! then the helm fetches its mail and iterates; what was posted in the step is
 //! delivered at its end (see [`super::bus`]), so the order inside a step only orders
 //! the log.
