@@ -163,18 +163,31 @@ impl SimBus {
         }
     }
 
-    /// End of a time step: what was posted in it reaches the subscribers' inboxes.
+    /// End of a time step: what was posted in it reaches the subscribers' inboxes (the
+    /// message itself goes to the last one, copies to the others).
     pub fn deliver(&mut self) {
-        for m in self.staged.drain(..) {
-            for c in &mut self.clients {
-                if c.subs.contains(&m.var) {
-                    c.inbox.push(m.clone());
+        let mut staged = std::mem::take(&mut self.staged);
+        for m in staged.drain(..) {
+            let last = self.clients.iter().rposition(|c| c.subs.contains(&m.var));
+            if let Some(last) = last {
+                for c in &mut self.clients[..last] {
+                    if c.subs.contains(&m.var) {
+                        c.inbox.push(m.clone());
+                    }
                 }
             }
-            if let Some(r) = &mut self.record {
-                r.push(m);
+            match (&mut self.record, last) {
+                (Some(r), Some(last)) => {
+                    self.clients[last].inbox.push(m.clone());
+                    r.push(m);
+                }
+                (Some(r), None) => r.push(m),
+                (None, Some(last)) => self.clients[last].inbox.push(m),
+                (None, None) => {}
             }
         }
+        // Keep the buffer's capacity for the next step.
+        self.staged = staged;
     }
 
     /// Move `client`'s mail into `out` (cleared first); the inbox keeps its capacity.
