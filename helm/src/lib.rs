@@ -20,5 +20,7 @@ pub mod mission;
 pub mod phelmivp;
 pub mod posting;
 pub mod runtime;
+pub mod sim;
+pub mod vehicle;
 
 pub use engine::{Helm, HelmState, Mail};

@@ -58,6 +58,15 @@ enum Command {
         #[arg(long)]
         alog: Option<PathBuf>,
     },
+    /// Run a mission in deterministic fast time: helm, simulator and bus in one process.
+    ///
+    /// Writes an .alog, an SVG picture and summary.json to runs/<mission>-<time>/ (or
+    /// --out); with --runs N, runs it N times from perturbed starts on all cores and
+    /// writes runs.csv. A scenario.toml beside the mission adds pokes, end conditions
+    /// and start overrides.
+    ///
+    /// Example: helm sim missions/alpha
+    Sim(helm::sim::cli::SimArgs),
     /// Read a mission as the helm would and report every configuration problem.
     ///
     /// Reads the `ProcessConfig = <alias>` block of MISSION, the `.bhv` files it names
@@ -219,6 +228,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
+        Command::Sim(args) => helm::sim::cli::main(&args),
         Command::Check {
             mission,
             bhv,

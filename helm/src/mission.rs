@@ -34,6 +34,13 @@ pub struct LoadedMission {
 impl LoadedMission {
     /// Build the helm from what was read (MALCONFIG if there were warnings).
     pub fn into_helm(self) -> (Helm, moos::mission::MissionFile) {
+        let (recipe, mission) = self.into_recipe();
+        (recipe.build(), mission)
+    }
+
+    /// What builds the helm, kept to build it again (e.g. once per simulated run):
+    /// the `.bhv` files are read here, once.
+    pub fn into_recipe(self) -> (HelmRecipe, moos::mission::MissionFile) {
         let mut warnings = self.warnings;
         let spec = match bhv::reader::read_files(&self.bhv_files) {
             Ok(spec) => spec,
@@ -42,9 +49,41 @@ impl LoadedMission {
                 bhv::reader::SetSpec::default()
             }
         };
-        let mut helm = Helm::new(self.config, spec, &self.factory, &self.ownship, warnings);
+        let recipe = HelmRecipe {
+            config: self.config,
+            spec,
+            factory: self.factory,
+            ownship: self.ownship,
+            app_name: self.app_name,
+            warnings,
+        };
+        (recipe, self.mission)
+    }
+}
+
+/// Everything [`Helm::new`] needs, read once; [`HelmRecipe::build`] makes a fresh helm.
+#[derive(Clone)]
+pub struct HelmRecipe {
+    pub config: HelmConfig,
+    pub spec: bhv::reader::SetSpec,
+    pub factory: BehaviorFactory,
+    pub ownship: String,
+    pub app_name: String,
+    /// Problems found while reading (non-empty: the helm is MALCONFIG).
+    pub warnings: Vec<String>,
+}
+
+impl HelmRecipe {
+    pub fn build(&self) -> Helm {
+        let mut helm = Helm::new(
+            self.config.clone(),
+            self.spec.clone(),
+            &self.factory,
+            &self.ownship,
+            self.warnings.clone(),
+        );
         helm.set_app_name(&self.app_name);
-        (helm, self.mission)
+        helm
     }
 }
 

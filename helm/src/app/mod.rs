@@ -11,13 +11,15 @@
 //! 3. connects as `--alias` (ServerHost/ServerPort), runs `startup`, registers every
 //!    variable the helm lists (posting `IVPHELM_REGISTER=<var>` for each, and again for
 //!    variables that appear later), then loops at the block's AppTick (default 5 Hz, in
-//!    MOOS time, so a time warp speeds it up): fetch → mail → iterate → publish;
+//!    MOOS time, so a time warp speeds it up): fetch → mail → iterate → publish, through
+//!    [`cycle::HelmCycle`], the same code `helm sim` drives the helm with;
 //! 4. prints the heartbeat (`$` DRIVE, `*` PARK) and a summary line every 5 s
 //!    ([`terminal`]), unless `--quiet`; always a last `final: ...` line;
 //! 5. stops after `--duration` MOOS seconds, or, with `--embedded`, once the mission is
 //!    over ([`status::EndWatch`]: after a first clear decision, the all-stop stayed
 //!    non-clear for 5 MOOS seconds). Ctrl-C ends the process (default signal action).
 
+pub mod cycle;
 pub mod moos_io;
 pub mod sim;
 pub mod status;
@@ -34,8 +36,8 @@ use crate::appcast::{AppCast, Caster};
 use crate::config::Verbose;
 use crate::posting::{Posting, Value};
 use crate::Helm;
+use cycle::{Bus, HelmCycle};
 use moos_io::{AlogSink, AppSettings, Registrar};
-use status::Status;
 use terminal::Terminal;
 
 /// How `helm run` was asked to run.
@@ -286,16 +288,23 @@ struct Run<'a> {
     client: &'a Client,
     app: String,
     community: String,
-    status: Status,
+    reg: Registrar,
     alog: Option<AlogSink>,
 }
 
-impl Run<'_> {
+impl Bus for Run<'_> {
+    fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
+        self.reg.sync(self.client, subs)
+    }
+
+    fn subscribe_again(&mut self, vars: &[String]) -> Vec<String> {
+        self.reg.again(self.client, vars)
+    }
+
     fn publish(&mut self, p: &Posting, now: f64) {
         if let Err(e) = moos_io::publish(self.client, p, now) {
             tracing::warn!(var = %p.var, "not posted: {e}");
         }
-        self.status.on_posting(p, now);
         if let Some(a) = &mut self.alog {
             if let Err(e) = a.posting(p, now) {
                 tracing::error!("alog {} stopped: {e}", a.path().display());
@@ -303,7 +312,9 @@ impl Run<'_> {
             }
         }
     }
+}
 
+impl Run<'_> {
     fn log_mail(&mut self, msgs: &[Message]) {
         if let Some(a) = &mut self.alog {
             for m in msgs {
@@ -313,28 +324,6 @@ impl Run<'_> {
                     return;
                 }
             }
-        }
-    }
-
-    fn register_new(&mut self, reg: &mut Registrar, subs: &[String], now: f64) {
-        let vars = reg.sync(self.client, subs);
-        self.announce(vars, now);
-    }
-
-    /// A registration round of the real helm: every variable of `vars` again.
-    fn register_again(&mut self, reg: &mut Registrar, vars: &[String], now: f64) {
-        let vars = reg.again(self.client, vars);
-        self.announce(vars, now);
-    }
-
-    fn announce(&mut self, vars: Vec<String>, now: f64) {
-        for var in vars {
-            let p = Posting {
-                var: "IVPHELM_REGISTER".into(),
-                value: Value::Str(var),
-                source_aux: String::new(),
-            };
-            self.publish(&p, now);
         }
     }
 
@@ -412,10 +401,9 @@ fn drive(
         client,
         app: opts.alias.clone(),
         community: setup.community.clone(),
-        status: Status::default(),
+        reg: Registrar::default(),
         alog,
     };
-    let mut reg = Registrar::default();
     let mut term = Terminal::new(setup.mode, setup.closing);
     let mut caster = Caster::new(settings.time_warp, setup.term_reporting);
     tracing::info!(app = %run.app, host = %settings.host, port = settings.port, "helm connected");
@@ -426,16 +414,7 @@ fn drive(
             tracing::warn!(var = v, "cannot register: {e}");
         }
     }
-    // At connection the helm registers its own variables; at the end of start-up
-    // everything again (helm.md §4.1). Register before posting, so the helm's own
-    // postings come back to it as mail.
-    run.register_again(&mut reg, &helm.helm_variables(), start);
-    let posts: Vec<Posting> = helm.startup(start).to_vec();
-    run.register_again(&mut reg, helm.subscriptions(), start);
-    for p in &posts {
-        run.publish(p, start);
-    }
-    let mut decided = false;
+    let mut cycle = HelmCycle::startup(helm, &mut run, start);
 
     let period = settings.period();
     let deadline = opts.duration.map(|d| start + d.max(0.0));
@@ -466,7 +445,7 @@ fn drive(
         if extras.stopped() {
             break StopReason::Interrupted;
         }
-        if opts.embedded && run.status.end.is_over(now) {
+        if opts.embedded && cycle.status.end.is_over(now) {
             break StopReason::MissionOver;
         }
 
@@ -489,12 +468,7 @@ fn drive(
             caster.handle_mail(helm.appcast_warnings(), &m.var, &text, ids, now);
             false
         });
-        for m in &mail {
-            run.status.on_mail(m);
-        }
-        if !mail.is_empty() {
-            helm.handle_mail(now, &mail);
-        }
+        cycle.mail(helm, now, &mail);
         // As CMOOSApp: no Iterate while disconnected.
         if !client.is_connected() {
             if !disconnected_told {
@@ -504,20 +478,11 @@ fn drive(
             continue;
         }
         disconnected_told = false;
-        run.status.iterations += 1;
-        for p in helm.iterate(now) {
-            run.publish(p, now);
-        }
-        if !decided && helm.decision_timing().1 > 0 {
-            // The first decision registers every info variable once more.
-            decided = true;
-            run.register_again(&mut reg, &helm.info_variables(), now);
-        }
-        run.register_new(&mut reg, helm.subscriptions(), now);
+        cycle.iterate(helm, &mut run, now);
         run.appcast(helm, &mut caster, &mut term, now);
         term.heartbeat(helm.state());
         if term.summary_due() {
-            term.summary(&run.status.summary(now - start, helm.state().as_str()));
+            term.summary(&cycle.status.summary(now - start, helm.state().as_str()));
             if let Some(a) = &mut run.alog {
                 let _ = a.flush();
             }
@@ -525,7 +490,8 @@ fn drive(
     };
     let end = client.moos_time();
     term.last_line(
-        &run.status
+        &cycle
+            .status
             .final_line(reason.as_str(), end - start, helm.state().as_str()),
     );
     if let Some(a) = &mut run.alog {

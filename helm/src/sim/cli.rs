@@ -1,0 +1,184 @@
+//! The `helm sim` command line.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::montecarlo::{self, Jitter};
+use super::output;
+use super::run::{Prepared, RunOptions, SimError, StartShift};
+
+/// `helm sim` arguments.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SimArgs {
+    /// The mission file (`.moos`), or a folder holding one.
+    pub mission: PathBuf,
+    /// Extra behavior files (`.bhv`).
+    pub bhv: Vec<PathBuf>,
+    /// Output folder (default: runs/<mission>-<UTC time>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Scenario file (default: scenario.toml beside the mission, if any).
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// Stop after this many simulated seconds (overrides the scenario's max_time).
+    #[arg(long, value_parser = positive_secs)]
+    pub max_time: Option<f64>,
+    /// Monte Carlo: run the mission N times from perturbed starts, on all cores.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub runs: u64,
+    /// Seed of the first run (run i uses seed+i).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Start perturbation, uniform in ± each amount: `x=5,y=5,heading=20` (m, m, deg).
+    #[arg(long)]
+    pub jitter: Option<Jitter>,
+}
+
+fn positive_secs(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .ok_or_else(|| format!("`{s}`: a number of seconds > 0"))
+}
+
+fn progress(len: u64, template: &str) -> ProgressBar {
+    // Hidden when stderr is not a terminal (indicatif checks), so logs stay clean.
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(template) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Run `helm sim`; prints the summary and where the outputs are.
+pub fn main(args: &SimArgs) -> ExitCode {
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: &SimArgs) -> Result<(), SimError> {
+    let prep = Prepared::load(&args.mission, &args.bhv, args.scenario.as_deref())?;
+    for line in &prep.library_report {
+        tracing::info!("{line}");
+    }
+    if args.runs > 1 {
+        return monte_carlo(args, &prep);
+    }
+    single(args, &prep)
+}
+
+fn single(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
+    let dir = output::out_dir(args.out.as_deref(), &prep.name)?;
+    let alog = dir.join(format!("{}.alog", prep.name));
+    let max = args.max_time.unwrap_or(prep.scenario.max_time);
+    let bar = progress(
+        max.ceil() as u64,
+        "{spinner} simulated {pos}/{len} s [{bar:40}] {elapsed_precise}",
+    );
+    let tick = |t: f64| bar.set_position(t as u64);
+    let shift = args
+        .jitter
+        .map_or_else(StartShift::default, |j| j.shift(args.seed));
+    let o = prep.run(
+        shift,
+        &RunOptions {
+            alog: Some(alog.clone()),
+            max_time: args.max_time,
+            progress: Some(&tick),
+            ..RunOptions::default()
+        },
+    )?;
+    bar.finish_and_clear();
+    let summary = output::Summary::of(&prep.name, &o);
+    let json = serde_json::to_string_pretty(&summary).unwrap_or_default();
+    let summary_path = dir.join("summary.json");
+    output::write(&summary_path, &(json + "\n"))?;
+    let (title, sub) = output::picture_titles(&prep.name, &o);
+    let svg = super::picture::svg(&o.observer, &title, &sub);
+    let picture = dir.join(format!("{}.svg", prep.name));
+    output::write(&picture, &svg)?;
+    println!("{}", output::terminal_summary(&prep.name, &o));
+    println!("picture: {}", picture.display());
+    println!("log:     {}", alog.display());
+    println!("summary: {}", summary_path.display());
+    Ok(())
+}
+
+fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
+    let dir = output::out_dir(
+        args.out.as_deref(),
+        &format!("{}-mc{}", prep.name, args.runs),
+    )?;
+    let jitter = args.jitter.unwrap_or_default();
+    let bar = progress(
+        args.runs,
+        "{spinner} runs {pos}/{len} [{bar:40}] {elapsed_precise} eta {eta}",
+    );
+    let wall = std::time::Instant::now();
+    let done = || bar.inc(1);
+    let rows = montecarlo::run_all(
+        prep,
+        args.runs as usize,
+        args.seed,
+        jitter,
+        args.max_time,
+        &done,
+    )?;
+    bar.finish_and_clear();
+    let csv_path = dir.join("runs.csv");
+    output::write(&csv_path, &montecarlo::csv(&rows))?;
+    println!(
+        "{}: {} runs (seeds {}..{}, jitter x={} y={} heading={}) in {:.1} s wall on {} thread(s)",
+        prep.name,
+        rows.len(),
+        args.seed,
+        args.seed.wrapping_add(args.runs - 1),
+        jitter.x,
+        jitter.y,
+        jitter.heading,
+        wall.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    println!("{}", montecarlo::distribution(&rows));
+    // The picture: the unperturbed run on top of every perturbed track.
+    let nominal = prep.run(
+        StartShift::default(),
+        &RunOptions {
+            max_time: args.max_time,
+            ..RunOptions::default()
+        },
+    )?;
+    let tracks: Vec<Vec<(f64, f64)>> = rows.iter().map(|r| r.track.clone()).collect();
+    let ok = rows
+        .iter()
+        .filter(|r| r.end_reason == nominal.end_reason)
+        .count();
+    let title = format!(
+        "{}: {} runs, jitter x={} y={} heading={}",
+        prep.name,
+        rows.len(),
+        jitter.x,
+        jitter.y,
+        jitter.heading
+    );
+    let sub = format!(
+        "{ok} of {} end like the unperturbed run ({} after {:.1} s); table: runs.csv",
+        rows.len(),
+        nominal.end_reason,
+        nominal.sim_time_s
+    );
+    let svg = super::picture::svg_with_tracks(&nominal.observer, &tracks, &title, &sub);
+    let picture = dir.join("runs.svg");
+    output::write(&picture, &svg)?;
+    println!("picture: {}", picture.display());
+    println!("table:   {}", csv_path.display());
+    Ok(())
+}
