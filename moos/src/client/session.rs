@@ -2,7 +2,7 @@
 
 use std::io::{ErrorKind, Write};
 use std::net::{Shutdown, SocketAddr, TcpStream, ToSocketAddrs};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -139,6 +139,11 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         return End::Lost;
     };
     let dead = Arc::new(AtomicBool::new(false));
+    // While the writer is inside a write: the time (ms, see `epoch_ms`) of its last
+    // progress; 0 when it is not writing. A DB that holds this publisher back (flow
+    // control) reads neither its data nor its heartbeats, so silence alone does not mean
+    // a dead DB while writes still progress.
+    let writing = Arc::new(AtomicU64::new(0));
     {
         let mut st = sh.lock();
         st.community = welcome.community.clone();
@@ -179,12 +184,12 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         sh.mail_cv.notify_all();
     }
     tracing::info!(client = %sh.cfg.name, community = %welcome.community, "connected to the DB");
-    let (sh2, d2) = (sh.clone(), dead.clone());
+    let (sh2, d2, w2) = (sh.clone(), dead.clone(), writing.clone());
     let reader = std::thread::Builder::new()
         .name(format!("moos-client-rd-{}", sh.cfg.name))
-        .spawn(move || read_loop(sh2, rstream, fr, d2));
+        .spawn(move || read_loop(sh2, rstream, fr, d2, w2));
     if reader.is_ok() {
-        write_loop(sh, wstream, &dead);
+        write_loop(sh, wstream, &dead, &writing);
     }
     if let Ok(h) = &reader {
         if !dead.load(Ordering::SeqCst) {
@@ -220,7 +225,40 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
 /// How long a closing client waits for the DB to take what it sent.
 const LINGER: Duration = Duration::from_secs(2);
 
-fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
+/// Milliseconds of the system clock, never 0.
+fn epoch_ms() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(1, |d| d.as_millis() as u64)
+        .max(1)
+}
+
+/// `write_all` that records its progress in `writing` (see `run_session`).
+fn write_tracked(
+    stream: &mut TcpStream,
+    mut buf: &[u8],
+    writing: &AtomicU64,
+) -> std::io::Result<()> {
+    writing.store(epoch_ms(), Ordering::SeqCst);
+    let r = loop {
+        if buf.is_empty() {
+            break Ok(());
+        }
+        match stream.write(buf) {
+            Ok(0) => break Err(std::io::Error::from(ErrorKind::WriteZero)),
+            Ok(n) => {
+                buf = &buf[n..];
+                writing.store(epoch_ms(), Ordering::SeqCst);
+            }
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) => break Err(e),
+        }
+    };
+    writing.store(0, Ordering::SeqCst);
+    r
+}
+
+fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool, writing: &AtomicU64) {
     let _ = stream.set_write_timeout(Some(sh.cfg.send_timeout));
     let wait = Duration::from_millis(333);
     let mut last_t: Option<Instant> = None;
@@ -290,7 +328,7 @@ fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool) {
             }
         }
         let _ = p.finish();
-        if let Err(e) = stream.write_all(&batch) {
+        if let Err(e) = write_tracked(&mut stream, &batch, writing) {
             tracing::warn!(client = %sh.cfg.name, "write to the DB failed, dropping the connection: {e}");
             dead.store(true, Ordering::SeqCst);
             return;
@@ -323,7 +361,13 @@ fn chunk_end(body: &[u8], pos: usize, max: usize) -> (usize, usize) {
     (end, n)
 }
 
-fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: Arc<AtomicBool>) {
+fn read_loop(
+    sh: Arc<Shared>,
+    mut stream: TcpStream,
+    mut fr: FrameReader,
+    dead: Arc<AtomicBool>,
+    writing: Arc<AtomicU64>,
+) {
     let _ = stream.set_read_timeout(Some(Duration::from_millis(250)));
     let mut last_rx = Instant::now();
     loop {
@@ -366,7 +410,10 @@ fn read_loop(sh: Arc<Shared>, mut stream: TcpStream, mut fr: FrameReader, dead: 
                     ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
                 ) =>
             {
-                if last_rx.elapsed() > sh.cfg.silence_timeout {
+                let w = writing.load(Ordering::SeqCst);
+                let held_but_moving = w != 0
+                    && epoch_ms().saturating_sub(w) < sh.cfg.silence_timeout.as_millis() as u64;
+                if last_rx.elapsed() > sh.cfg.silence_timeout && !held_but_moving {
                     tracing::warn!(
                         client = %sh.cfg.name,
                         pending = fr.pending(),
