@@ -65,6 +65,13 @@ impl Drop for DbProc {
 
 /// The port from the DB's "listening on port N" line; the rest of its output (logs go
 /// to stdout too) is passed on to stderr, so the pipe never fills or breaks.
+/// The flood tests run one at a time: each saturates the machine on purpose, and two
+/// at once on 2 cores measure the machine rather than the DB.
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 fn read_port(out: ChildStdout) -> u16 {
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
@@ -294,6 +301,7 @@ fn flood_and_check(db: &DbProc, reader: &mut Reader, idle_rss: usize, during: im
 
 #[test]
 fn a_flat_out_publishers_one_healthy_subscriber() {
+    let _serial = serial();
     let db = DbProc::start();
     let mut reader = Reader::new(db.port, "logger", &["LOAD"], 3);
     std::thread::sleep(Duration::from_millis(200));
@@ -346,6 +354,7 @@ impl Drop for Blocked {
 
 #[test]
 fn b_blocked_callback_is_cut_off_healthy_subscriber_complete() {
+    let _serial = serial();
     let db = DbProc::start();
     let events = Events::watch(db.port);
     let mut reader = Reader::new(db.port, "logger", &["LOAD"], 3);
@@ -426,6 +435,7 @@ impl Drop for ChildSub {
 /// that is full; with traffic paced by a slow reader, that alone would take seconds.
 #[test]
 fn c_sigstopped_child_is_cut_off_healthy_subscriber_complete() {
+    let _serial = serial();
     let db = DbProc::start();
     let events = Events::watch(db.port);
     let mut reader = Reader::with(db.port, "logger", &["LOAD"], 3, false);
@@ -469,6 +479,7 @@ fn c_sigstopped_child_is_cut_off_healthy_subscriber_complete() {
 
 #[test]
 fn d_light_publisher_not_held_back_by_a_flooder() {
+    let _serial = serial();
     let db = DbProc::start();
     // The logger takes both and reads slowly: its queue fills and holds the flooders.
     let mut logger = Reader::new(db.port, "logger", &["LOAD", "HELM"], 3);

@@ -225,6 +225,9 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
 /// How long a closing client waits for the DB to take what it sent.
 const LINGER: Duration = Duration::from_secs(2);
 
+/// How long a write may make no progress before the DB is taken for dead.
+const HELD_LIMIT: Duration = Duration::from_secs(60);
+
 /// Milliseconds of the system clock, never 0.
 fn epoch_ms() -> u64 {
     std::time::SystemTime::now()
@@ -251,6 +254,13 @@ fn write_tracked(
                 writing.store(epoch_ms(), Ordering::SeqCst);
             }
             Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            // A DB applying flow control may hold this publisher for a while (slow
+            // subscribers drain slowly on a loaded machine): keep waiting while the hold
+            // is shorter than HELD_LIMIT; only then is the DB taken for dead.
+            Err(e)
+                if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut)
+                    && epoch_ms().saturating_sub(writing.load(Ordering::SeqCst))
+                        < HELD_LIMIT.as_millis() as u64 => {}
             Err(e) => break Err(e),
         }
     };
@@ -410,10 +420,10 @@ fn read_loop(
                     ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
                 ) =>
             {
-                let w = writing.load(Ordering::SeqCst);
-                let held_but_moving = w != 0
-                    && epoch_ms().saturating_sub(w) < sh.cfg.silence_timeout.as_millis() as u64;
-                if last_rx.elapsed() > sh.cfg.silence_timeout && !held_but_moving {
+                // While a write is under way the DB may be holding us back (it reads
+                // neither our data nor our heartbeats): the writer judges that case.
+                let writing_now = writing.load(Ordering::SeqCst) != 0;
+                if last_rx.elapsed() > sh.cfg.silence_timeout && !writing_now {
                     tracing::warn!(
                         client = %sh.cfg.name,
                         pending = fr.pending(),
