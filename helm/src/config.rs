@@ -183,24 +183,16 @@ impl HelmConfig {
                         false
                     }
                 }
-                "verbose" => {
-                    let v = match value.to_ascii_lowercase().as_str() {
-                        "verbose" | "true" => Some(Verbose::Verbose),
-                        "terse" | "false" => Some(Verbose::Terse),
-                        "quiet" => Some(Verbose::Quiet),
-                        _ => None,
-                    };
-                    match v {
-                        Some(v) => {
-                            if !verbose_locked && v != Verbose::Verbose {
-                                cfg.verbose = v;
-                                verbose_locked = true;
-                            }
-                            true
+                "verbose" => match crate::phelmivp::parse_verbose(&value) {
+                    Some(v) => {
+                        if !verbose_locked && v != Verbose::Verbose {
+                            cfg.verbose = v;
+                            verbose_locked = true;
                         }
-                        None => false,
+                        true
                     }
-                }
+                    None => false,
+                },
                 "start_engaged" | "active_start" | "start_indrive" | "start_in_drive" => {
                     set_bool(&mut cfg.start_in_drive, &value)
                 }
