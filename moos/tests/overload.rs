@@ -300,9 +300,6 @@ fn flood_and_check(db: &DbProc, reader: &mut Reader, idle_rss: usize, during: im
 }
 
 #[test]
-#[ignore = "loses messages when the whole workspace's tests have loaded the machine \
-            (passes alone: cargo test -p moos --test overload -- --include-ignored); open \
-            question after the issue 10/12 merge"]
 fn a_flat_out_publishers_one_healthy_subscriber() {
     let _serial = serial();
     let db = DbProc::start();
@@ -356,9 +353,6 @@ impl Drop for Blocked {
 }
 
 #[test]
-#[ignore = "loses messages when the whole workspace's tests have loaded the machine \
-            (passes alone: cargo test -p moos --test overload -- --include-ignored); open \
-            question after the issue 10/12 merge"]
 fn b_blocked_callback_is_cut_off_healthy_subscriber_complete() {
     let _serial = serial();
     let db = DbProc::start();
@@ -484,9 +478,6 @@ fn c_sigstopped_child_is_cut_off_healthy_subscriber_complete() {
 }
 
 #[test]
-#[ignore = "loses flooder messages to the slow logger when the whole workspace's tests \
-            have loaded the machine (passes alone: cargo test -p moos --test overload -- \
-            --include-ignored); open question after the issue 10/12 merge"]
 fn d_light_publisher_not_held_back_by_a_flooder() {
     let _serial = serial();
     let db = DbProc::start();

@@ -139,11 +139,9 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         return End::Lost;
     };
     let dead = Arc::new(AtomicBool::new(false));
-    // While the writer is inside a write: the time (ms, see `epoch_ms`) of its last
-    // progress; 0 when it is not writing. A DB that holds this publisher back (flow
-    // control) reads neither its data nor its heartbeats, so silence alone does not mean
-    // a dead DB while writes still progress.
-    let writing = Arc::new(AtomicU64::new(0));
+    // A DB that holds this publisher back (flow control) reads neither its data nor its
+    // heartbeats, so silence alone does not mean a dead DB: see `WriteState`.
+    let writing = Arc::new(WriteState::default());
     {
         let mut st = sh.lock();
         st.community = welcome.community.clone();
@@ -236,20 +234,40 @@ fn epoch_ms() -> u64 {
         .max(1)
 }
 
-/// `write_all` that records its progress in `writing` (see `run_session`).
-fn write_tracked(
-    stream: &mut TcpStream,
-    mut buf: &[u8],
-    writing: &AtomicU64,
-) -> std::io::Result<()> {
+/// What the reader needs to know of the writer to tell a DB that holds us back from a
+/// dead one.
+#[derive(Default)]
+struct WriteState {
+    /// While the writer is inside a write: the time (ms, see `epoch_ms`) of its last
+    /// progress; 0 when it is not writing. The writer itself judges a write that makes
+    /// no progress (HELD_LIMIT).
+    in_write: AtomicU64,
+    /// When a write that had to wait for room in the socket (the DB was not reading us)
+    /// last went through (the DB took bytes again: held back, not dead); 0 never. After
+    /// the writes end, what they queued can still wait behind the DB's flow control with
+    /// nothing coming back for longer than the silence timeout: for HELD_LIMIT after
+    /// such a write, silence is not death. (A frozen DB takes nothing: no such write.)
+    held_at: AtomicU64,
+}
+
+/// A write call that took this long waited for room in the socket.
+const WAITED: Duration = Duration::from_millis(20);
+
+/// `write_all` that records its progress in `w` (see `WriteState`).
+fn write_tracked(stream: &mut TcpStream, mut buf: &[u8], w: &WriteState) -> std::io::Result<()> {
+    let writing = &w.in_write;
     writing.store(epoch_ms(), Ordering::SeqCst);
     let r = loop {
         if buf.is_empty() {
             break Ok(());
         }
+        let t = Instant::now();
         match stream.write(buf) {
             Ok(0) => break Err(std::io::Error::from(ErrorKind::WriteZero)),
             Ok(n) => {
+                if t.elapsed() >= WAITED {
+                    w.held_at.store(epoch_ms(), Ordering::SeqCst);
+                }
                 buf = &buf[n..];
                 writing.store(epoch_ms(), Ordering::SeqCst);
             }
@@ -268,7 +286,7 @@ fn write_tracked(
     r
 }
 
-fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool, writing: &AtomicU64) {
+fn write_loop(sh: &Shared, mut stream: TcpStream, dead: &AtomicBool, writing: &WriteState) {
     let _ = stream.set_write_timeout(Some(sh.cfg.send_timeout));
     let wait = Duration::from_millis(333);
     let mut last_t: Option<Instant> = None;
@@ -376,7 +394,7 @@ fn read_loop(
     mut stream: TcpStream,
     mut fr: FrameReader,
     dead: Arc<AtomicBool>,
-    writing: Arc<AtomicU64>,
+    writing: Arc<WriteState>,
 ) {
     let _ = stream.set_read_timeout(Some(Duration::from_millis(250)));
     let mut last_rx = Instant::now();
@@ -422,13 +440,22 @@ fn read_loop(
             {
                 // While a write is under way the DB may be holding us back (it reads
                 // neither our data nor our heartbeats): the writer judges that case.
-                let writing_now = writing.load(Ordering::SeqCst) != 0;
-                if last_rx.elapsed() > sh.cfg.silence_timeout && !writing_now {
+                // Soon after a write had to wait, the bytes it queued may still be held.
+                let writing_now = writing.in_write.load(Ordering::SeqCst) != 0;
+                let held = writing.held_at.load(Ordering::SeqCst);
+                let limit = if held != 0
+                    && epoch_ms().saturating_sub(held) < HELD_LIMIT.as_millis() as u64
+                {
+                    HELD_LIMIT.max(sh.cfg.silence_timeout)
+                } else {
+                    sh.cfg.silence_timeout
+                };
+                if last_rx.elapsed() > limit && !writing_now {
                     tracing::warn!(
                         client = %sh.cfg.name,
                         pending = fr.pending(),
                         "nothing from the DB for {:?}: dropping the connection",
-                        sh.cfg.silence_timeout
+                        limit
                     );
                     return finish(&sh, &dead);
                 }
