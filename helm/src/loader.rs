@@ -108,10 +108,12 @@ fn versions_compatible(theirs: &str, ours: &str) -> bool {
     }
 }
 
-/// Load every behavior library in `dirs`, in order; a type offered twice keeps the first.
+/// Load every behavior library in `dirs` that `wanted` accepts, in order; a type offered
+/// twice keeps the first; a type `taken` says is had already is not offered at all.
 pub fn load_dirs(
     dirs: &[PathBuf],
-    builtin: &dyn Fn(&str) -> bool,
+    taken: &dyn Fn(&str) -> bool,
+    wanted: &dyn Fn(&Path) -> bool,
 ) -> (Vec<LoadedLibrary>, Vec<LoadEvent>) {
     let mut libs: Vec<LoadedLibrary> = Vec::new();
     let mut events = Vec::new();
@@ -128,7 +130,7 @@ pub fn load_dirs(
         events.push(LoadEvent::Directory(dir.clone()));
         let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_file() && is_library(p))
+            .filter(|p| p.is_file() && is_library(p) && wanted(p))
             .collect();
         files.sort();
         for path in files {
@@ -139,7 +141,7 @@ pub fn load_dirs(
                         .map(String::from)
                         .collect();
                     types.retain(|t| {
-                        if builtin(t) {
+                        if taken(t) {
                             return false;
                         }
                         if let Some(first) = libs.iter().find(|l| l.offers(t)) {

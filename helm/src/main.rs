@@ -71,7 +71,8 @@ enum Command {
     ///
     /// Reads the `ProcessConfig = <alias>` block of MISSION, the `.bhv` files it names
     /// (`behaviors = ...`) and those given here, and the behavior libraries in
-    /// IVP_BEHAVIOR_DIRS and `ivp_behavior_dir` lines. Prints each problem with its file
+    /// IVP_BEHAVIOR_DIRS, `ivp_behavior_dir` lines and (for types still missing) beside
+    /// the helm binary (IVP_HELM_BUNDLED_DIR overrides). Prints each problem with its file
     /// and line, and exits 1 if the helm would be MALCONFIG (it would never drive).
     ///
     /// Example: helm check missions/alpha/alpha.moos
@@ -89,7 +90,8 @@ enum Command {
     /// PATH is a case file (`*.toml`) or a folder of them. Prints one line per failing
     /// case (case, step, variable, expected, got: its first difference) and ends with
     /// `N passed, M failed`; exits 1 if any case failed. Behavior libraries are
-    /// loaded from the colon-separated directories in IVP_BEHAVIOR_DIRS.
+    /// loaded from the colon-separated directories in IVP_BEHAVIOR_DIRS, then beside
+    /// the helm binary.
     Conform {
         /// Print every difference, not only the first of each failing case.
         #[arg(long)]
@@ -140,7 +142,7 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
 
 fn factory_from_env() -> BehaviorFactory {
     let dirs = helm::mission::behavior_dirs_from_env();
-    let (factory, report) = helm::mission::factory_for(&dirs);
+    let (factory, report) = helm::mission::factory_with_bundled(&dirs);
     for line in report {
         tracing::info!("{line}");
     }

@@ -164,7 +164,7 @@ pub fn load(
 
     let mut dirs = behavior_dirs_from_env();
     dirs.extend(config.behavior_dirs.iter().map(|d| resolve(&dir, d)));
-    let (factory, library_report) = factory_for(&dirs);
+    let (factory, library_report) = factory_with_bundled(&dirs);
     Ok(LoadedMission {
         mission: file,
         app_name: app_name.to_string(),
@@ -188,16 +188,89 @@ pub fn behavior_dirs_from_env() -> Vec<PathBuf> {
         .collect()
 }
 
-/// Built-in behaviors plus every library found in `dirs`, and the start-up report.
-/// A missing directory is reported, not fatal: it only matters if a behavior the
+/// Where the behavior libraries shipped with the helm are (ConstantSpeed, StationKeep,
+/// ...: compiled into the C++ helm, plugins here). They are searched after every
+/// configured directory, so an unchanged MOOS-IvP mission finds them with no
+/// `ivp_behavior_dir`. `IVP_HELM_BUNDLED_DIR` names the folders (empty: none); by
+/// default the helm binary's own folder (where cargo puts the plugins) and
+/// `../lib/ivp-helm` beside it.
+pub fn bundled_dirs() -> Vec<PathBuf> {
+    if let Some(v) = std::env::var_os("IVP_HELM_BUNDLED_DIR") {
+        return std::env::split_paths(&v)
+            .filter(|d| !d.as_os_str().is_empty())
+            .collect();
+    }
+    let Some(bin_dir) = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.canonicalize().ok())
+        .and_then(|e| e.parent().map(Path::to_path_buf))
+    else {
+        return Vec::new();
+    };
+    let installed = bin_dir.join("../lib/ivp-helm");
+    vec![bin_dir, installed]
+}
+
+/// Only our own libraries (`libbhv_*`) are opened in a bundled folder: other shared
+/// objects next to the binary are not behavior libraries.
+fn is_bundled_library(p: &Path) -> bool {
+    p.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("libbhv_"))
+}
+
+/// [`factory_for`] `dirs`, then the [`bundled_dirs`] for the types still missing.
+pub fn factory_with_bundled(dirs: &[PathBuf]) -> (BehaviorFactory, Vec<String>) {
+    factory_from(dirs, &bundled_dirs())
+}
+
+/// Built-in behaviors plus every library found in `dirs` (only those), and the start-up
+/// report. A missing directory is reported, not fatal: it only matters if a behavior the
 /// `.bhv` files need is then not found (that error names the directories searched).
 pub fn factory_for(dirs: &[PathBuf]) -> (BehaviorFactory, Vec<String>) {
+    factory_from(dirs, &[])
+}
+
+fn factory_from(dirs: &[PathBuf], bundled: &[PathBuf]) -> (BehaviorFactory, Vec<String>) {
     let mut factory = BehaviorFactory::with_builtins();
-    factory.searched_dirs = dirs.iter().map(|d| d.display().to_string()).collect();
     let builtin = |t: &str| factory.is_builtin(t);
-    let (libs, events) = load_dirs(dirs, &builtin);
+    let (mut libs, events) = load_dirs(dirs, &builtin, &|_| true);
     let mut report = vec!["Loading behavior dynamic libraries....".to_string()];
-    for e in &events {
+    report_events(&events, &mut report);
+    let canonical = |d: &Path| d.canonicalize().unwrap_or_else(|_| d.to_path_buf());
+    let configured: Vec<PathBuf> = dirs.iter().map(|d| canonical(d)).collect();
+    let mut searched: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+    for dir in bundled {
+        // A folder also configured was loaded above; a missing one is just not installed.
+        if configured.contains(&canonical(dir)) || !dir.is_dir() {
+            continue;
+        }
+        // A type a configured library offers stays with it, silently.
+        let taken = |t: &str| factory.is_builtin(t) || libs.iter().any(|l| l.offers(t));
+        let (found, events) = load_dirs(std::slice::from_ref(dir), &taken, &is_bundled_library);
+        searched.push(format!("{} (bundled)", dir.display()));
+        report.push(format!("  Loading bundled directory: {}", dir.display()));
+        let events: Vec<LoadEvent> = events
+            .into_iter()
+            .filter(|e| match e {
+                LoadEvent::Directory(_) => false,
+                LoadEvent::Loaded { types, .. } => !types.is_empty(),
+                _ => true,
+            })
+            .collect();
+        report_events(&events, &mut report);
+        libs.extend(found.into_iter().filter(|l| !l.types.is_empty()));
+    }
+    factory.searched_dirs = searched;
+    report.push("Loading behavior dynamic libraries.... FINISHED.".to_string());
+    for l in libs {
+        factory.add_library(l);
+    }
+    (factory, report)
+}
+
+fn report_events(events: &[LoadEvent], report: &mut Vec<String>) {
+    for e in events {
         match e {
             LoadEvent::Directory(d) => report.push(format!("  Loading directory: {}", d.display())),
             LoadEvent::MissingDirectory(d) => report.push(format!(
@@ -223,9 +296,4 @@ pub fn factory_for(dirs: &[PathBuf]) -> (BehaviorFactory, Vec<String>) {
             )),
         }
     }
-    report.push("Loading behavior dynamic libraries.... FINISHED.".to_string());
-    for l in libs {
-        factory.add_library(l);
-    }
-    (factory, report)
 }

@@ -229,6 +229,8 @@ Options:
 
 Environment:
   IVP_BEHAVIOR_DIRS        colon-separated directories of behavior libraries
+  IVP_HELM_BUNDLED_DIR     where the libraries shipped with the helm are (default:
+                           beside the binary, then ../lib/ivp-helm; empty: none)
   HELM_VERBOSE             verbose, terse or quiet (as --verbose=)
   RUST_LOG                 log filter for the helm's logs on stderr (default: error)
 

@@ -1,7 +1,8 @@
 //! The golden helm cases, replayed through the real `helm` binary.
 //!
 //! Cases whose behaviors are all built in must pass; the `plugin_*` cases need behavior
-//! libraries and, without IVP_BEHAVIOR_DIRS, must fail with a clear unknown-type error.
+//! libraries and, without IVP_BEHAVIOR_DIRS and bundled libraries, must fail with a clear
+//! unknown-type error.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -27,6 +28,7 @@ fn conform(file: &PathBuf) -> (bool, String) {
         .arg("conform")
         .arg(file)
         .env_remove("IVP_BEHAVIOR_DIRS")
+        .env("IVP_HELM_BUNDLED_DIR", "")
         .output()
         .expect("run helm");
     let text = String::from_utf8_lossy(&out.stdout).to_string();

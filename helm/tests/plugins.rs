@@ -80,7 +80,11 @@ fn failure_dir() -> PathBuf {
 
 fn helm_conform(case: &Path, dirs: Option<&str>) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
-    cmd.current_dir(workspace()).arg("conform").arg(case);
+    // Exactly the folders given: no bundled libraries from next to the binary.
+    cmd.current_dir(workspace())
+        .arg("conform")
+        .arg(case)
+        .env("IVP_HELM_BUNDLED_DIR", "");
     match dirs {
         Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
         None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
@@ -814,4 +818,84 @@ fn library_built_against_another_api_version_is_refused_in_one_line() {
         !line.contains('\n') && line.contains("0.1.0") && line.contains("0.2.0"),
         "{line}"
     );
+}
+
+/// The helm binary copied into `<root>/bin` with `libs` in `<root>/<lib_sub>`.
+fn installed_helm(root: &Path, lib_sub: &str, libs: &[&str]) -> PathBuf {
+    let bin = root.join("bin");
+    let lib = root.join(lib_sub);
+    std::fs::create_dir_all(&bin).unwrap();
+    std::fs::create_dir_all(&lib).unwrap();
+    let helm = bin.join("helm");
+    std::fs::copy(env!("CARGO_BIN_EXE_helm"), &helm).unwrap();
+    for name in libs {
+        std::fs::copy(plugin_dir().join(name), lib.join(name)).unwrap();
+    }
+    helm
+}
+
+fn check_plugins_mission(helm: &Path, dirs: Option<&str>) -> Output {
+    let mut cmd = Command::new(helm);
+    cmd.current_dir(workspace())
+        .arg("check")
+        .arg("missions/plugins/plugins.moos")
+        .env_remove("IVP_HELM_BUNDLED_DIR");
+    match dirs {
+        Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
+        None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
+    };
+    cmd.output().expect("run helm check")
+}
+
+const ALL_FOUR: [&str; 4] = [
+    "libbhv_constant_speed.so",
+    "libbhv_constant_heading.so",
+    "libbhv_constant_depth.so",
+    "libbhv_station_keep.so",
+];
+
+#[test]
+fn bundled_libraries_next_to_the_binary_need_no_configuration() {
+    // An unchanged MOOS-IvP mission names BHV_ConstantSpeed with no ivp_behavior_dir:
+    // the libraries shipped beside the helm are found.
+    let root = scratch("bundled-beside");
+    let helm = installed_helm(&root, "bin", &ALL_FOUR);
+    // A shared object that is not ours is not opened.
+    std::fs::write(root.join("bin/libother.so"), b"not a library").unwrap();
+    let out = check_plugins_mission(&helm, None);
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    assert!(!t.contains("libother"), "{t}");
+
+    // The installed layout: bin/helm and lib/ivp-helm/.
+    let root = scratch("bundled-installed");
+    let helm = installed_helm(&root, "lib/ivp-helm", &ALL_FOUR);
+    let out = check_plugins_mission(&helm, None);
+    assert!(out.status.success(), "{}", text(&out));
+
+    // Without them, the error names where it looked.
+    let root = scratch("bundled-none");
+    let helm = installed_helm(&root, "bin", &ALL_FOUR[1..]);
+    let out = check_plugins_mission(&helm, None);
+    let t = text(&out);
+    assert!(!out.status.success(), "{t}");
+    assert!(t.contains("unknown behavior type BHV_ConstantSpeed"), "{t}");
+    assert!(t.contains("(bundled)"), "{t}");
+}
+
+#[test]
+fn configured_folders_come_before_the_bundled_ones() {
+    // ConstantSpeed from the configured folder, the rest from beside the binary; the
+    // type both offer is not a duplicate warning (the configured one is simply used).
+    let root = scratch("bundled-order");
+    let helm = installed_helm(&root, "bin", &ALL_FOUR);
+    let mine = scratch("bundled-order-mine");
+    std::fs::copy(plugin_dir().join(ALL_FOUR[0]), mine.join(ALL_FOUR[0])).unwrap();
+    let out = check_plugins_mission(&helm, Some(mine.to_str().unwrap()));
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    assert!(!t.contains("offered by"), "{t}");
+    let from_mine = format!("BHV_ConstantSpeed  ({}", mine.display());
+    assert!(t.contains(&from_mine), "{t}");
+    assert!(t.contains("BHV_StationKeep  ("), "{t}");
 }

@@ -37,7 +37,7 @@ fn temp_dir(tag: &str) -> PathBuf {
 
 fn helm_sim(args: &[&str], dirs: Option<&Path>) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
-    cmd.arg("sim").args(args);
+    cmd.arg("sim").args(args).env("IVP_HELM_BUNDLED_DIR", "");
     match dirs {
         Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
         None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
