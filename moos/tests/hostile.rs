@@ -459,13 +459,9 @@ fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
     assert_healthy(&mut db, &mut w, 256 * 1024, "after 1 MB strings");
 }
 
-/// DB BUG (left for after the issue-12 merge; `moos/src/db/` is being rewritten): a peer
-/// that fails before or during the handshake (bad banner, oversize or truncated
-/// handshake packet) is closed, but only logged at `debug` level, so with the default
-/// `RUST_LOG=info` the DB's log says nothing about it. Expected: one `info`/`warn` line
-/// naming the peer address and the reason (server.rs `serve`/`read_handshake`).
+/// A peer that fails before or during the handshake (bad banner, oversize handshake
+/// packet) is closed with one log line naming its address and the reason.
 #[test]
-#[ignore = "DB bug: pre-handshake offenders are dropped but logged only at debug level"]
 fn pre_handshake_offenders_are_logged() {
     let _serial = serial();
     let db = MoosDb::start("prehs");
@@ -483,16 +479,13 @@ fn pre_handshake_offenders_are_logged() {
         log.contains("handshake"),
         "bad handshake not logged:\n{log}"
     );
+    assert!(log.contains("127.0.0.1:"), "peer not named:\n{log}");
 }
 
-/// DB BUG (left for after the issue-12 merge): every connection may buffer up to
-/// `max_packet` (64 MiB) of a packet that never completes, with no limit on the number
-/// of connections or on the total, so a few peers that each send most of a 64 MiB
-/// packet and then stay (until the 2 s timeout here, 5 s by default) take the DB's
-/// memory to peers × 64 MiB. Expected: a total cap on partial-packet bytes (or on
-/// connections), refusing or dropping the excess.
+/// Every connection may start a packet of up to `max_packet` (64 MiB) and stall; a few
+/// such peers would take the DB's memory to peers × 64 MiB. Partial packets are capped in
+/// total (`max_queue_mb`): past it, a peer holding a big one is dropped, with a log line.
 #[test]
-#[ignore = "DB bug: per-connection 64 MiB partial packets are not capped in total"]
 fn partial_packets_from_many_peers_stay_within_a_total_bound() {
     let _serial = serial();
     let db = MoosDb::start("partial");
@@ -511,6 +504,8 @@ fn partial_packets_from_many_peers_stay_within_a_total_bound() {
     let rss = db.rss_kb();
     println!("moosdb VmRSS with 4 partial 48 MiB packets: {rss} kB");
     assert!(rss < 128 * 1024, "moosdb VmRSS {rss} kB");
+    let log = db.log();
+    assert!(log.contains("partial packet"), "no drop logged:\n{log}");
 }
 
 // ---------------------------------------------------------------------------------------

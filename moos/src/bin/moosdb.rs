@@ -61,7 +61,9 @@ struct Args {
     #[arg(long, default_value = "0.0.0.0", value_name = "ADDR")]
     bind: IpAddr,
     /// Cap in MiB on the bytes queued for all clients together; publishers are held back
-    /// before it is reached [mission MaxQueueMB, default 64].
+    /// before it is reached [mission MaxQueueMB, default 64]. Incoming packets not yet
+    /// complete have the same cap of their own: past it, a peer holding a large one (an
+    /// eighth of the cap) is dropped.
     #[arg(long = "max_queue_mb", value_name = "MIB")]
     max_queue_mb: Option<f64>,
     /// Cut off a client whose socket accepted no bytes for this many seconds while some

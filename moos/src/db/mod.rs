@@ -181,6 +181,9 @@ pub(crate) struct Inner {
     cfg: DbConfig,
     /// Bytes queued for all clients (kept by the outboxes).
     total: Arc<AtomicUsize>,
+    /// Bytes buffered in incomplete packets, all connections together (see
+    /// `server::PartialShare`).
+    partial: AtomicUsize,
     stop: AtomicBool,
     next_conn: AtomicU64,
 }
@@ -224,6 +227,7 @@ impl Db {
             state: Mutex::new(state),
             cfg,
             total: Arc::new(AtomicUsize::new(0)),
+            partial: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
             next_conn: AtomicU64::new(1),
         });

@@ -5,7 +5,7 @@
 //! stall timeout.
 
 use std::io::{ErrorKind, Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::ops::Range;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -24,7 +24,7 @@ pub(crate) fn accept_loop(inner: Arc<Inner>, listener: TcpListener) {
                 let i2 = inner.clone();
                 let r = std::thread::Builder::new()
                     .name(format!("moosdb-conn-{id}"))
-                    .spawn(move || serve(i2, stream, id));
+                    .spawn(move || serve(i2, stream, peer, id));
                 if let Err(e) = r {
                     tracing::error!(%peer, "cannot spawn connection thread: {e}");
                 }
@@ -54,44 +54,109 @@ pub(crate) fn poison_packet(reason: &str, now: f64) -> Vec<u8> {
     out
 }
 
+/// Largest handshake packet (a client's name and options; real ones are a few hundred
+/// bytes): a peer that starts a bigger one is not a MOOS client.
+const MAX_HANDSHAKE: usize = 64 * 1024;
+
+/// One connection's part of [`Inner::partial`]: the bytes it buffers for packets not yet
+/// complete. Any peer may start a packet of up to `max_packet` (64 MiB) and then stall,
+/// so together they are capped at `max_queue_bytes`: past that, a connection holding a
+/// large partial packet (an eighth of the cap or more) is dropped; small packets, which
+/// every live client sends, never are.
+struct PartialShare<'a> {
+    total: &'a std::sync::atomic::AtomicUsize,
+    cap: usize,
+    mine: usize,
+}
+
+impl<'a> PartialShare<'a> {
+    fn new(inner: &'a Inner) -> Self {
+        PartialShare {
+            total: &inner.partial,
+            cap: inner.cfg.max_queue_bytes,
+            mine: 0,
+        }
+    }
+
+    /// Record that this connection now buffers `pending` bytes; `Err` with the reason
+    /// if it must be dropped.
+    fn update(&mut self, pending: usize) -> Result<(), String> {
+        if pending >= self.mine {
+            self.total.fetch_add(pending - self.mine, Ordering::Relaxed);
+        } else {
+            self.total.fetch_sub(self.mine - pending, Ordering::Relaxed);
+        }
+        self.mine = pending;
+        let total = self.total.load(Ordering::Relaxed);
+        if total > self.cap && pending >= (self.cap / 8).max(1 << 20) {
+            return Err(format!(
+                "a partial packet of {} MiB with {} MiB buffered by all clients (cap {} MiB)",
+                pending >> 20,
+                total >> 20,
+                self.cap >> 20
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Drop for PartialShare<'_> {
+    fn drop(&mut self) {
+        self.total.fetch_sub(self.mine, Ordering::Relaxed);
+    }
+}
+
 fn is_timeout(e: &std::io::Error) -> bool {
     matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut)
 }
 
-/// Read the handshake packet within the deadline.
+/// Read the handshake packet within the deadline; `Err` says why there is none (the
+/// peer is dropped and that is logged).
 fn read_handshake(
     inner: &Inner,
     stream: &mut TcpStream,
     fr: &mut FrameReader,
-) -> Option<Vec<Message>> {
+) -> Result<Vec<Message>, String> {
     let deadline = Instant::now() + inner.cfg.handshake_timeout;
     loop {
         match fr.next_frame() {
             Ok(Some(r)) => {
                 return match wire::decode_packet_lenient(fr.frame(r), usize::MAX) {
-                    Ok((msgs, _)) => Some(msgs),
-                    Err(_) => Some(Vec::new()),
+                    Ok((msgs, _)) => Ok(msgs),
+                    Err(_) => Ok(Vec::new()),
                 };
             }
             Ok(None) => {}
-            Err(e) => {
-                tracing::debug!("bad handshake packet: {e}");
-                return None;
-            }
+            Err(e) => return Err(format!("bad handshake packet: {e}")),
         }
-        let left = deadline.checked_duration_since(Instant::now())?;
+        if fr.pending() > MAX_HANDSHAKE {
+            return Err(format!(
+                "handshake packet larger than {} KiB",
+                MAX_HANDSHAKE >> 10
+            ));
+        }
+        let timeout = || {
+            format!(
+                "no complete handshake packet within {:.1} s",
+                inner.cfg.handshake_timeout.as_secs_f64()
+            )
+        };
+        let left = deadline
+            .checked_duration_since(Instant::now())
+            .ok_or_else(timeout)?;
         if left.is_zero() || stream.set_read_timeout(Some(left)).is_err() {
-            return None;
+            return Err(timeout());
         }
         match fr.fill(stream) {
-            Ok(0) => return None,
+            Ok(0) => return Err("closed during the handshake".into()),
             Ok(_) => {}
-            Err(_) => return None,
+            Err(e) if is_timeout(&e) => return Err(timeout()),
+            Err(e) => return Err(format!("socket error during the handshake: {e}")),
         }
     }
 }
 
-fn serve(inner: Arc<Inner>, mut stream: TcpStream, conn_id: u64) {
+fn serve(inner: Arc<Inner>, mut stream: TcpStream, peer: SocketAddr, conn_id: u64) {
     let _ = stream.set_nodelay(true);
     if stream
         .set_read_timeout(Some(inner.cfg.handshake_timeout))
@@ -100,13 +165,26 @@ fn serve(inner: Arc<Inner>, mut stream: TcpStream, conn_id: u64) {
         return;
     }
     let mut banner = [0u8; 32];
-    if stream.read_exact(&mut banner).is_err() || !wire::banner_ok(&banner) {
-        tracing::debug!(conn_id, "bad or missing banner: closing");
-        return;
+    match stream.read_exact(&mut banner) {
+        Ok(()) if wire::banner_ok(&banner) => {}
+        Ok(()) => {
+            tracing::warn!(%peer, "not a MOOS client (bad banner): closing");
+            return;
+        }
+        Err(e) => {
+            // A port probe or a health check that connects and closes: worth a line, not
+            // a warning.
+            tracing::info!(%peer, "no banner ({e}): closing");
+            return;
+        }
     }
     let mut fr = FrameReader::new(inner.cfg.max_packet);
-    let Some(hs) = read_handshake(&inner, &mut stream, &mut fr) else {
-        return;
+    let hs = match read_handshake(&inner, &mut stream, &mut fr) {
+        Ok(hs) => hs,
+        Err(why) => {
+            tracing::warn!(%peer, "dropped before the handshake ended: {why}");
+            return;
+        }
     };
     let Some(hs) = hs.into_iter().next() else {
         let p = poison_packet("Failed to read receive client's name", inner.now());
@@ -160,6 +238,7 @@ fn read_loop(
         return "socket error";
     }
     let mut last_rx = Instant::now();
+    let mut partial = PartialShare::new(inner);
     // Every packet complete after one read is decoded in place (views into the read
     // buffer), then all are processed under one lock. A bad packet ends the connection
     // before any of that read's packets are processed.
@@ -178,6 +257,11 @@ fn read_loop(
                     return "malformed packet";
                 }
             }
+        }
+        // Every complete packet is taken: what is left is one partial packet.
+        if let Err(why) = partial.update(fr.pending()) {
+            tracing::warn!(client = %name, "dropped: {why}");
+            return "partial packets over the cap";
         }
         if !frames.is_empty() {
             let mut views = recycle(std::mem::take(&mut spare_views));

@@ -5,6 +5,9 @@ use super::{PacketHeader, WireError, PACKET_HEADER_LEN};
 
 const CHUNK: usize = 64 * 1024;
 
+/// Room above this is given back once it holds nothing.
+const BIG: usize = 1 << 20;
+
 /// Accumulates bytes from a stream and yields complete packets.
 ///
 /// TCP may split or merge packets; this buffers as bytes arrive and never reserves more
@@ -30,6 +33,12 @@ impl FrameReader {
 
     /// Read once from `r`, appending what arrives. Returns the bytes read (0 = EOF).
     pub fn fill<R: Read>(&mut self, r: &mut R) -> io::Result<usize> {
+        if self.start == self.end && self.buf.len() > BIG {
+            // A big packet has been taken: do not keep its room for the connection's life.
+            self.buf = Vec::new();
+            self.start = 0;
+            self.end = 0;
+        }
         if self.start > 0 && (self.start == self.end || self.start >= CHUNK) {
             self.buf.copy_within(self.start..self.end, 0);
             self.end -= self.start;
@@ -86,5 +95,34 @@ impl FrameReader {
     /// Buffered bytes not yet returned as frames.
     pub fn pending(&self) -> usize {
         self.end - self.start
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A packet of `len` bytes: a valid length prefix, then filler.
+    fn packet(len: usize) -> Vec<u8> {
+        let mut p = vec![0u8; len];
+        p[..4].copy_from_slice(&(len as i32).to_le_bytes());
+        p
+    }
+
+    #[test]
+    fn room_for_a_big_packet_is_given_back_once_it_is_taken() {
+        let mut fr = FrameReader::new(64 << 20);
+        let big = packet(3 << 20);
+        let mut src: &[u8] = &big;
+        while fr.next_frame().expect("frame").is_none() {
+            assert!(fr.fill(&mut src).expect("read") > 0);
+        }
+        assert!(fr.buf.len() >= 3 << 20);
+        let small = packet(100);
+        let mut src: &[u8] = &small;
+        fr.fill(&mut src).expect("read");
+        assert!(fr.buf.len() <= 2 * CHUNK, "kept {} bytes", fr.buf.len());
+        let r = fr.next_frame().expect("frame").expect("complete");
+        assert_eq!(fr.frame(r).len(), 100);
     }
 }
