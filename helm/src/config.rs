@@ -32,7 +32,8 @@ pub struct HelmConfig {
     /// Per domain variable: a missing decision does not cause an all-stop.
     pub optional: Vec<bool>,
     pub behaviors: Vec<PathBuf>,
-    pub behavior_dirs: Vec<PathBuf>,
+    /// `ivp_behavior_dir` values, with their lines.
+    pub behavior_dirs: Vec<(PathBuf, usize)>,
     pub bhv_dir_not_found_ok: bool,
     pub ok_skew: Option<f64>,
     pub verbose: Verbose,
@@ -241,7 +242,7 @@ impl HelmConfig {
                     }
                 }
                 "ivp_behavior_dir" | "ivp_behavior_dirs" => {
-                    cfg.behavior_dirs.push(PathBuf::from(&value));
+                    cfg.behavior_dirs.push((PathBuf::from(&value), l.line));
                     true
                 }
                 "bhv_dir_not_found_ok" | "bhv_dirs_not_found_ok" => {

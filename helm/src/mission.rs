@@ -163,7 +163,20 @@ pub fn load(
     }
 
     let mut dirs = behavior_dirs_from_env();
-    dirs.extend(config.behavior_dirs.iter().map(|d| resolve(&dir, d)));
+    // A configured directory that does not exist is a configuration problem, unless
+    // `bhv_dir_not_found_ok` (helm.md §2.1); then it is not mentioned at all.
+    for (d, line) in &config.behavior_dirs {
+        let r = resolve(&dir, d);
+        if r.is_dir() {
+            dirs.push(r);
+        } else if !config.bhv_dir_not_found_ok {
+            warnings.push(format!(
+                "{shown}:{line}: behavior directory not found: {} \
+                 (bhv_dir_not_found_ok = true allows it)",
+                d.display()
+            ));
+        }
+    }
     let (factory, library_report) = factory_with_bundled(&dirs);
     Ok(LoadedMission {
         mission: file,

@@ -149,3 +149,37 @@ fn a_missing_mission_file_is_an_error_naming_it() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/dir/x.moos"));
 }
+
+#[test]
+fn a_missing_behavior_directory_is_a_problem_unless_allowed() {
+    // helm.md §2.1: a configured ivp_behavior_dir that does not exist is a config warning
+    // (MALCONFIG); `bhv_dir_not_found_ok = true` lets it pass without a word.
+    let with_dir = MISSION.replace(
+        "  AppTick = 4\n",
+        "  AppTick = 4\n  ivp_behavior_dir = /no/such/dir\n",
+    );
+    let (code, text, d) = check("missing-dir", &with_dir, GOOD_BHV);
+    assert_eq!(code, 1, "{text}");
+    let m = d.join("m.moos").display().to_string();
+    assert!(
+        text.contains(&format!(
+            "{m}:10: behavior directory not found: /no/such/dir"
+        )),
+        "{text}"
+    );
+    let allowed = with_dir.replace(
+        "  AppTick = 4\n",
+        "  AppTick = 4\n  bhv_dir_not_found_ok = true\n",
+    );
+    let (code, text, _) = check("missing-dir-ok", &allowed, GOOD_BHV);
+    assert_eq!(code, 0, "{text}");
+    assert!(!text.contains("/no/such/dir"), "{text}");
+    // An existing one is loaded (and named in the report).
+    let here = MISSION.replace(
+        "  AppTick = 4\n",
+        &format!("  AppTick = 4\n  ivp_behavior_dir = {}\n", d.display()),
+    );
+    let (code, text, _) = check("existing-dir", &here, GOOD_BHV);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("Loading directory:"), "{text}");
+}
