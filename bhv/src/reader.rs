@@ -96,12 +96,7 @@ pub const MAX_FILE_BYTES: u64 = 16 << 20;
 /// Read at most [`MAX_FILE_BYTES`] + 1 bytes (so `/dev/zero` or a huge file cannot
 /// exhaust memory); `Ok(None)` if there was more.
 fn read_capped(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
-    use std::io::Read;
-    let mut buf = Vec::new();
-    std::fs::File::open(path)?
-        .take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut buf)?;
-    Ok((buf.len() as u64 <= MAX_FILE_BYTES).then_some(buf))
+    mbutil::file::read_capped(path, MAX_FILE_BYTES)
 }
 
 /// The file's text, or the error naming the (joined) line of its first invalid byte.

@@ -23,8 +23,21 @@ fn scratch(name: &str) -> PathBuf {
 
 /// `helm check DIR/m.moos`: (exit code, stdout + stderr, seconds taken).
 fn check(d: &Path) -> (i32, String, f64) {
+    check_as(d, None)
+}
+
+/// As [`check`], run through `wrapper` (a command and its arguments) if given.
+fn check_as(d: &Path, wrapper: Option<&[&str]>) -> (i32, String, f64) {
     let t0 = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
+    let mut cmd = match wrapper {
+        Some([w, args @ ..]) => {
+            let mut c = Command::new(w);
+            c.args(args).arg(env!("CARGO_BIN_EXE_helm"));
+            c
+        }
+        _ => Command::new(env!("CARGO_BIN_EXE_helm")),
+    };
+    let mut child = cmd
         .arg("check")
         .arg(d.join("m.moos"))
         .env_remove("IVP_BEHAVIOR_DIRS")
@@ -122,18 +135,35 @@ fn files_that_include_themselves() {
     assert!(l.contains("(line: #include m.moos)"), "{l}");
 }
 
-/// chmod 000 does not stop root from reading: then there is nothing to test.
-fn unreadable(p: &Path) -> bool {
+/// chmod 000 does not stop root from reading: as root, the helm runs as `nobody`
+/// (setpriv) to see the file unreadable. `None`: nothing can make it unreadable here.
+fn unreadable(p: &Path) -> Option<Option<&'static [&'static str]>> {
     use std::os::unix::fs::PermissionsExt;
+    const NOBODY: &[&str] = &[
+        "setpriv",
+        "--reuid=65534",
+        "--regid=65534",
+        "--clear-groups",
+    ];
     std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o000)).expect("chmod");
-    if std::fs::read(p).is_ok() {
-        println!(
-            "skipped: running as root, chmod 000 does not make {} unreadable",
-            p.display()
-        );
-        return false;
+    if std::fs::read(p).is_err() {
+        return Some(None);
     }
-    true
+    // Root: can `nobody` run the helm (setpriv present, the path open to others)?
+    let runs = Command::new(NOBODY[0])
+        .args(&NOBODY[1..])
+        .arg(env!("CARGO_BIN_EXE_helm"))
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if runs {
+        return Some(Some(NOBODY));
+    }
+    println!(
+        "skipped: running as root without a way to run as nobody, {} stays readable",
+        p.display()
+    );
+    None
 }
 
 #[test]
@@ -142,13 +172,15 @@ fn unreadable_files() {
     let d = scratch("unreadable");
     std::fs::write(d.join("m.moos"), MISSION).expect("write");
     std::fs::write(d.join("m.bhv"), GOOD_BHV).expect("write");
-    if unreadable(&d.join("m.bhv")) {
-        let (code, text, _) = check(&d);
+    // The folder readable by all (for the nobody run); the files not.
+    std::fs::set_permissions(&d, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    if let Some(wrapper) = unreadable(&d.join("m.bhv")) {
+        let (code, text, _) = check_as(&d, wrapper);
         assert_eq!(code, 1, "{text}");
         error_line(&text, &d.join("m.bhv"), None, "ermission denied");
     }
-    if unreadable(&d.join("m.moos")) {
-        let (code, text, _) = check(&d);
+    if let Some(wrapper) = unreadable(&d.join("m.moos")) {
+        let (code, text, _) = check_as(&d, wrapper);
         assert_eq!(code, 2, "{text}");
         error_line(&text, &d.join("m.moos"), None, "ermission denied");
     }
@@ -161,4 +193,30 @@ fn unreadable_files() {
     let (code, text, _) = check(&d);
     assert_eq!(code, 1, "{text}");
     error_line(&text, &d.join("m.bhv"), None, "Could not find File");
+}
+
+#[test]
+fn a_fifo_is_refused_not_waited_on() {
+    // Opening a FIFO waits for a writer, possibly forever: refused at once instead.
+    let d = scratch("fifo");
+    std::fs::write(d.join("m.moos"), MISSION).expect("write");
+    let mkfifo = |p: &Path| {
+        Command::new("mkfifo")
+            .arg(p)
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if !mkfifo(&d.join("m.bhv")) {
+        println!("skipped: no mkfifo");
+        return;
+    }
+    let (code, text, secs) = check(&d);
+    assert_eq!(code, 1, "{text}");
+    error_line(&text, &d.join("m.bhv"), None, "FIFO");
+    assert!(secs < 10.0, "took {secs} s");
+    std::fs::remove_file(d.join("m.moos")).expect("rm");
+    assert!(mkfifo(&d.join("m.moos")));
+    let (code, text, _) = check(&d);
+    assert_eq!(code, 2, "{text}");
+    error_line(&text, &d.join("m.moos"), None, "FIFO");
 }

@@ -11,6 +11,7 @@
 //! ```
 
 pub mod color;
+pub mod file;
 pub mod number;
 
 pub use color::{is_color, parse_color, Color};

@@ -82,23 +82,16 @@ pub struct MissionFile {
 impl MissionFile {
     /// Read and parse a file. Errors name the file (and line where one applies).
     pub fn read(path: &Path) -> Result<MissionFile, MissionError> {
-        use std::io::Read;
         let io = |source| MissionError::Io {
             path: path.to_owned(),
             source,
         };
         // At most one byte past the cap, so a huge file (or /dev/zero) is not slurped.
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .map_err(io)?
-            .take(MAX_FILE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(io)?;
-        if bytes.len() as u64 > MAX_FILE_BYTES {
+        let Some(bytes) = mbutil::file::read_capped(path, MAX_FILE_BYTES).map_err(io)? else {
             return Err(MissionError::TooLarge {
                 path: path.to_owned(),
             });
-        }
+        };
         let text = match String::from_utf8(bytes) {
             Ok(t) => t,
             Err(e) => {
