@@ -81,14 +81,22 @@ impl<'a> PartialShare<'a> {
     /// Record that this connection now buffers `pending` bytes; `Err` with the reason
     /// if it must be dropped.
     fn update(&mut self, pending: usize) -> Result<(), String> {
-        if pending >= self.mine {
+        // Most reads end on a packet boundary: no change, and no touching the counter
+        // every connection shares.
+        if pending == self.mine {
+            return Ok(());
+        }
+        if pending > self.mine {
             self.total.fetch_add(pending - self.mine, Ordering::Relaxed);
         } else {
             self.total.fetch_sub(self.mine - pending, Ordering::Relaxed);
         }
         self.mine = pending;
+        if pending < (self.cap / 8).max(1 << 20) {
+            return Ok(());
+        }
         let total = self.total.load(Ordering::Relaxed);
-        if total > self.cap && pending >= (self.cap / 8).max(1 << 20) {
+        if total > self.cap {
             return Err(format!(
                 "a partial packet of {} MiB with {} MiB buffered by all clients (cap {} MiB)",
                 pending >> 20,
