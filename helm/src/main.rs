@@ -227,6 +227,9 @@ fn main() -> ExitCode {
     if helm::phelmivp::is_phelmivp_form(&args) {
         return phelmivp_main(&args[1..]);
     }
+    if args.get(1).is_none_or(|a| a != "run") {
+        end_quietly_when_output_closes();
+    }
     let cli = Cli::parse();
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
@@ -284,9 +287,25 @@ fn run_app(opts: &helm::app::RunOptions, mut extras: helm::app::RunExtras) -> Ex
 }
 
 /// `helm MISSION.moos [FILE.bhv]... [NAME] [--alias=NAME] [--verbose=...]`: pHelmIvP.
+/// Offline commands (`check`, `sim`, `conform`, help texts) end quietly when their
+/// reader goes away (`helm sim ... | head`), as `cat` does: the default SIGPIPE action.
+/// Never for a running helm: its sockets must see a closed peer as an error to handle,
+/// not as the end of the process.
+fn end_quietly_when_output_closes() {
+    #[cfg(unix)]
+    // SAFETY: sets a signal's disposition to the default, before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn phelmivp_main(args: &[std::ffi::OsString]) -> ExitCode {
     use helm::phelmivp::{self, Action, ArgError};
-    let run = match phelmivp::parse(args) {
+    let parsed = phelmivp::parse(args);
+    if !matches!(parsed, Ok(Action::Run(_))) {
+        end_quietly_when_output_closes();
+    }
+    let run = match parsed {
         Ok(Action::Run(r)) => r,
         Ok(Action::Version) => {
             println!("{}", phelmivp::version_text());

@@ -25,6 +25,7 @@ pub mod sim;
 pub mod status;
 pub mod terminal;
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -139,9 +140,12 @@ pub fn run(opts: &RunOptions) -> Result<(), AppError> {
 /// [`run`] with the extra options.
 pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
     let loaded = crate::mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
+    // A closed stdout must not stop a helm (`helm run ... | head`): write errors are ignored.
+    let mut out = std::io::stdout().lock();
     for line in &loaded.library_report {
-        println!("{line}");
+        let _ = writeln!(out, "{line}");
     }
+    drop(out);
     let (mut helm, mission) = loaded.into_helm();
     let problems = helm.config_warnings().len();
     if problems > 0 {
@@ -155,7 +159,8 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
     let (db, sim) = if opts.embedded {
         settings.host = "127.0.0.1".into();
         let db = start_db(&mission)?;
-        println!(
+        let _ = writeln!(
+            std::io::stdout(),
             "Embedded MOOSDB on 127.0.0.1:{} (community {}, time warp {})",
             db.port(),
             mission.global("Community").unwrap_or_else(|| "#1".into()),
