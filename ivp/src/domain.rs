@@ -85,27 +85,10 @@ fn perr(spec: &str, field: &str, reason: &str) -> IvpError {
     }
 }
 
-/// Compact number format: 5 decimals, trailing zeros and a trailing `.` removed.
+/// Compact number format: 5 decimals, trailing zeros and a trailing `.` removed (the one
+/// formatter of MOOS-IvP's number strings).
 pub(crate) fn compact(v: f64) -> String {
-    // Whole numbers (the usual domain bounds and weights) need no float formatting.
-    if v.fract() == 0.0 && v.abs() < 1e15 {
-        return if v == 0.0 {
-            "0".to_string()
-        } else {
-            (v as i64).to_string()
-        };
-    }
-    let s = format!("{v:.5}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".to_string()
-    } else {
-        s
-    }
+    mbutil::compact(v, 5)
 }
 
 impl Domain {
