@@ -76,3 +76,57 @@ fn a_standby_helm_takes_over_when_the_primary_goes_quiet() {
     h.iterate(1005.5);
     assert_eq!(h.state(), HelmState::Drive);
 }
+
+#[test]
+fn create_and_loop_times_are_measured_separately() {
+    // IVPHELM_CREATE_CPU covers the behaviors, IVPHELM_LOOP_CPU also the solver: on every
+    // decision the first is positive and not above the second; the appcast report gives
+    // each active behavior its own step time.
+    let bhv = "initialize DEPLOY = true\nBehavior = BHV_Waypoint\n{\n  name = w\n  condition = DEPLOY = true\n  speed = 2\n  points = 0,100 : 100,100\n}\n";
+    let text = format!(
+        "name = \"times\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n[[step]]\ntime = 1000.0\n"
+    );
+    let c: Case = toml::from_str(&text).expect("case parses");
+    let mut h = build_helm(
+        &c,
+        std::path::Path::new("times.toml"),
+        &BehaviorFactory::with_builtins(),
+    )
+    .expect("helm builds");
+    h.startup(1000.0);
+    let mut pairs = 0;
+    let mut solver_seen = false;
+    for k in 0..12 {
+        let t = 1000.0 + 0.25 * k as f64;
+        h.handle_mail(t, &nav(t));
+        let posts = h.iterate(t);
+        let num = |var: &str| {
+            posts.iter().find(|p| p.var == var).map(|p| match p.value {
+                Value::Num(x) => x,
+                Value::Str(_) => panic!("{var} is a string"),
+            })
+        };
+        if let (Some(create), Some(lp)) = (num("IVPHELM_CREATE_CPU"), num("IVPHELM_LOOP_CPU")) {
+            assert!(create > 0.0 && create <= lp, "create {create} loop {lp}");
+            solver_seen |= create < lp;
+            pairs += 1;
+        }
+    }
+    assert!(pairs >= 8, "only {pairs} decisions");
+    assert!(solver_seen, "the loop time never exceeded the create time");
+    let body = h.appcast_body(1003.0, "open");
+    for l in ["SolveTime:", "CreateTime:", "LoopTime:"] {
+        assert!(body.contains(l), "{body}");
+    }
+    let line = body
+        .lines()
+        .find(|l| l.trim_start().starts_with("w ["))
+        .unwrap_or_else(|| panic!("no active line for w:\n{body}"));
+    let cpu: f64 = line
+        .split("(cpu=")
+        .nth(1)
+        .and_then(|r| r.split(')').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no cpu in {line}"));
+    assert!(cpu > 0.0, "{line}");
+}

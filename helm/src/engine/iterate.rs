@@ -13,6 +13,14 @@ pub(crate) struct DecisionSummary {
     pub halted: Option<String>,
     pub functions: usize,
     pub solved: bool,
+    /// Seconds spent building the functions (behaviors) and solving.
+    pub create_secs: f64,
+    pub solve_secs: f64,
+}
+
+/// `(last, max)` with a new last value.
+fn last_and_max(pair: &mut (f64, f64), last: f64) {
+    *pair = (last, pair.1.max(last));
 }
 
 impl Helm {
@@ -128,8 +136,9 @@ impl Helm {
         self.last_decide_secs = took.as_secs_f64();
         self.decide_time += took;
         self.decide_count += 1;
-        let (_, max) = self.report.loop_secs;
-        self.report.loop_secs = (self.last_decide_secs, max.max(self.last_decide_secs));
+        last_and_max(&mut self.report.loop_secs, self.last_decide_secs);
+        last_and_max(&mut self.report.create_secs, summary.create_secs);
+        last_and_max(&mut self.report.solve_secs, summary.solve_secs);
         self.report.halted = summary.halted.is_some();
         self.report.functions = summary.functions;
 
@@ -158,9 +167,8 @@ impl Helm {
         let pieces: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
         self.post_num("IVPHELM_TOTAL_PCS_FORMED", pieces as f64);
         self.post_num("IVPHELM_TOTAL_PCS_CACHED", 0.0);
-        let secs = self.last_decide_secs;
-        self.post_num("IVPHELM_CREATE_CPU", secs);
-        self.post_num("IVPHELM_LOOP_CPU", secs);
+        self.post_num("IVPHELM_CREATE_CPU", summary.create_secs);
+        self.post_num("IVPHELM_LOOP_CPU", self.last_decide_secs);
         self.publish_behavior_lists();
         self.decide_all_stop(&summary);
         if self.config.park_on_allstop
@@ -225,7 +233,9 @@ impl Helm {
         self.mode_pairs = pairs;
 
         self.functions.clear();
+        let created = std::time::Instant::now();
         for i in 0..self.behaviors.len() {
+            let t = std::time::Instant::now();
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
                 let name = self.behaviors[i].core.name.clone();
@@ -254,6 +264,7 @@ impl Helm {
                     }
                 }
             }
+            self.behaviors[i].core.step_secs = t.elapsed().as_secs_f64();
             if !self.behaviors[i].core.ok {
                 let last = self.behaviors[i]
                     .core
@@ -276,9 +287,11 @@ impl Helm {
             }
         }
         summary.functions = self.functions.len();
+        summary.create_secs = created.elapsed().as_secs_f64();
         if summary.halted.is_some() || self.functions.is_empty() {
             return summary;
         }
+        let solving = std::time::Instant::now();
         self.functions
             .sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
         let refs: Vec<&ivp::IvpFunction> = self.functions.iter().map(|(_, f)| f).collect();
@@ -289,6 +302,7 @@ impl Helm {
             Ok(found) => summary.solved = found,
             Err(e) => summary.halted = Some(e.to_string()),
         }
+        summary.solve_secs = solving.elapsed().as_secs_f64();
         summary
     }
 

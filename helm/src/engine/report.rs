@@ -31,8 +31,11 @@ pub(crate) struct ReportFeed {
     /// The last decision step's halt reason and function count.
     pub halted: bool,
     pub functions: usize,
-    /// Decision-step seconds: last and max.
+    /// Seconds, last and max, of the decision step (loop), of its behavior part
+    /// (create: the functions built) and of the solver (solve).
     pub loop_secs: (f64, f64),
+    pub create_secs: (f64, f64),
+    pub solve_secs: (f64, f64),
 }
 
 fn compact(v: f64) -> String {
@@ -159,7 +162,6 @@ impl Helm {
         } else {
             self.modes.summary()
         };
-        let (last, max) = f.loop_secs;
         let _ = writeln!(s, "  Comms Policy: {comms_policy}");
         // Not in the real report: people reading uMAC want the state first.
         let _ = writeln!(s, "  Helm State:      {}", self.state.as_str());
@@ -168,9 +170,13 @@ impl Helm {
         let _ = writeln!(s, "  Pieces (Formed): {pcs}");
         let _ = writeln!(s, "  Pieces (Cached): 0");
         let _ = writeln!(s, "  Mode(s):         {modes}");
-        let _ = writeln!(s, "  SolveTime:   {last:.2}   (max={max:.2})");
-        let _ = writeln!(s, "  CreateTime:  {last:.2}   (max={max:.2})");
-        let _ = writeln!(s, "  LoopTime:    {last:.2}   (max={max:.2})");
+        for (label, (last, max)) in [
+            ("SolveTime: ", f.solve_secs),
+            ("CreateTime:", f.create_secs),
+            ("LoopTime:  ", f.loop_secs),
+        ] {
+            let _ = writeln!(s, "  {label}  {last:.2}   (max={max:.2})");
+        }
         let _ = writeln!(
             s,
             "  Halted:         {}   ({} warnings)",
@@ -240,10 +246,11 @@ impl Helm {
             };
             let _ = writeln!(
                 s,
-                "  {} [{:.2}] (pwt={}) (pcs={pcs}) (cpu=0) (upd={upd})",
+                "  {} [{:.2}] (pwt={}) (pcs={pcs}) (cpu={:.5}) (upd={upd})",
                 b.core.name,
                 since(b.core.state_entry_time),
-                compact(b.core.pwt)
+                compact(b.core.pwt),
+                b.core.step_secs
             );
         }
         for (title, st) in [

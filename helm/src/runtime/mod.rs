@@ -120,6 +120,9 @@ pub struct BehaviorCore {
     pub last_update: String,
     pub good_updates: u32,
     pub bad_updates: u32,
+    /// Seconds its last decision step took (its run hook and its function's placement):
+    /// the appcast report's `cpu=`.
+    pub step_secs: f64,
     pub update_results: Vec<String>,
 
     /// `name=<name>[,pc=..][,pwt=..,pcs=..]` built during the step.
@@ -178,6 +181,7 @@ impl BehaviorCore {
             last_update: String::new(),
             good_updates: 0,
             bad_updates: 0,
+            step_secs: 0.0,
             update_results: Vec::new(),
             status_info: String::new(),
             messages: Vec::new(),
