@@ -327,3 +327,50 @@ fn posts_made_just_before_close_are_delivered() {
     assert_eq!(got.len(), 5000, "lost posts on close");
     assert!(got.iter().enumerate().all(|(i, v)| *v == i as f64));
 }
+
+#[test]
+fn a_client_that_does_not_fetch_holds_a_bounded_inbox_and_loses_nothing() {
+    // The subscriber's inbox is capped at 1 MiB: past it, it stops reading and the DB
+    // holds the publisher back. 20 MB are posted; once fetched, every message is there,
+    // in order.
+    let db = db();
+    let mut cfg = ClientConfig::new("127.0.0.1", db.port(), "slowapp");
+    cfg.max_inbox_bytes = 1 << 20;
+    let sub = Client::connect(cfg).expect("connect");
+    sub.register("BULK", 0.0).expect("register");
+    std::thread::sleep(Duration::from_millis(200));
+    let publisher = client(&db, "bulk");
+    let payload = "p".repeat(10_000);
+    let n = 2000;
+    let posting = std::thread::spawn(move || {
+        for i in 0..n {
+            publisher
+                .notify_string("BULK", &format!("{i}:{payload}"), None)
+                .expect("post");
+        }
+        publisher
+    });
+    std::thread::sleep(Duration::from_millis(1500));
+    let held = sub.pending_mail_bytes();
+    assert!(held < 3 << 20, "inbox grew to {held} bytes");
+    let mut got = 0;
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let mut mail = Vec::new();
+    while got < n && Instant::now() < deadline {
+        sub.wait_for_mail(Duration::from_millis(50));
+        mail.clear();
+        sub.fetch(&mut mail);
+        for m in keyed(&mail, "BULK") {
+            let s = m.string();
+            let i: usize = s
+                .split(':')
+                .next()
+                .and_then(|x| x.parse().ok())
+                .expect("index");
+            assert_eq!(i, got, "lost or out of order");
+            got += 1;
+        }
+    }
+    assert_eq!(got, n, "incomplete");
+    let _publisher = posting.join().expect("publisher");
+}

@@ -57,6 +57,10 @@ pub struct ClientConfig {
     /// A write to the DB that blocks longer than this fails and drops the connection
     /// (so a stalled DB cannot make queued posts pile up without bound).
     pub send_timeout: Duration,
+    /// Mail held for the application, at most (bytes, about): past it the client stops
+    /// reading from the DB until [`Client::fetch`] makes room, so the DB's flow control
+    /// holds the publishers back instead of this process growing without bound.
+    pub max_inbox_bytes: usize,
 }
 
 impl ClientConfig {
@@ -74,6 +78,7 @@ impl ClientConfig {
             max_packet: crate::wire::DEFAULT_MAX_PACKET,
             silence_timeout: Duration::from_secs(5),
             send_timeout: Duration::from_secs(6),
+            max_inbox_bytes: 64 << 20,
         }
     }
 }
@@ -101,6 +106,8 @@ pub(crate) struct St {
     pub out: Vec<u8>,
     pub out_count: usize,
     pub inbox: Vec<Message>,
+    /// About how many bytes `inbox` holds (see `ClientConfig::max_inbox_bytes`).
+    pub inbox_bytes: usize,
     pub regs: BTreeMap<String, f64>,
     pub wilds: Vec<(String, String, f64)>,
     pub next_id: i32,
@@ -124,6 +131,8 @@ pub(crate) struct Shared {
     pub out_cv: Condvar,
     /// Signals mail or connection changes to the application.
     pub mail_cv: Condvar,
+    /// Signals the reader: the application fetched (room in the inbox), or stop.
+    pub room_cv: Condvar,
     pub stop: AtomicBool,
 }
 
@@ -210,6 +219,7 @@ impl Client {
                 out: Vec::new(),
                 out_count: 0,
                 inbox: Vec::new(),
+                inbox_bytes: 0,
                 regs: BTreeMap::new(),
                 wilds: Vec::new(),
                 next_id: 0,
@@ -222,6 +232,7 @@ impl Client {
             }),
             out_cv: Condvar::new(),
             mail_cv: Condvar::new(),
+            room_cv: Condvar::new(),
             stop: AtomicBool::new(false),
         });
         let s2 = shared.clone();
@@ -448,6 +459,12 @@ impl Client {
         self.shared.lock().out.len()
     }
 
+    /// About how many bytes of received mail wait for [`Client::fetch`] (bounded by
+    /// `ClientConfig::max_inbox_bytes` plus one read).
+    pub fn pending_mail_bytes(&self) -> usize {
+        self.shared.lock().inbox_bytes
+    }
+
     /// Move all received mail, in arrival order, to the end of `out`. Returns how many.
     pub fn fetch(&self, out: &mut Vec<Message>) -> usize {
         let mut st = self.shared.lock();
@@ -457,6 +474,8 @@ impl Client {
         } else {
             out.append(&mut st.inbox);
         }
+        st.inbox_bytes = 0;
+        self.shared.room_cv.notify_all();
         n
     }
 
@@ -486,6 +505,7 @@ impl Client {
     fn stop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);
         self.shared.out_cv.notify_all();
+        self.shared.room_cv.notify_all();
         if let Some(h) = self.io.take() {
             let _ = h.join();
         }

@@ -425,6 +425,10 @@ fn read_loop(
                 }
             }
         }
+        if wait_for_room(&sh, &dead) {
+            // We chose not to read: that silence is ours, not the DB's.
+            last_rx = Instant::now();
+        }
         // Not on `stop`: a closing client reads until the DB closes (see LINGER).
         if dead.load(Ordering::SeqCst) {
             return finish(&sh, &dead);
@@ -465,6 +469,37 @@ fn read_loop(
     }
 }
 
+/// While the inbox is over its cap, read nothing (TCP then holds the DB back) until the
+/// application fetches, the connection dies or the client stops. True if it waited.
+fn wait_for_room(sh: &Shared, dead: &AtomicBool) -> bool {
+    let mut st = sh.lock();
+    if st.inbox_bytes <= sh.cfg.max_inbox_bytes {
+        return false;
+    }
+    tracing::debug!(client = %sh.cfg.name, bytes = st.inbox_bytes, "inbox full: not reading until mail is fetched");
+    while st.inbox_bytes > sh.cfg.max_inbox_bytes / 2
+        && !dead.load(Ordering::SeqCst)
+        && !sh.stop.load(Ordering::SeqCst)
+    {
+        st = sh
+            .room_cv
+            .wait_timeout(st, Duration::from_millis(250))
+            .unwrap_or_else(|p| p.into_inner())
+            .0;
+    }
+    true
+}
+
+/// About what a message costs in the inbox.
+fn inbox_cost(m: &Message) -> usize {
+    std::mem::size_of::<Message>()
+        + m.key.len()
+        + m.sval.len()
+        + m.source.len()
+        + m.source_aux.len()
+        + m.community.len()
+}
+
 fn finish(sh: &Shared, dead: &AtomicBool) {
     dead.store(true, Ordering::SeqCst);
     let _g = sh.lock();
@@ -500,6 +535,7 @@ fn deliver(sh: &Shared, mut msgs: Vec<Message>) -> bool {
     if msgs.is_empty() {
         return false;
     }
+    st.inbox_bytes += msgs.iter().map(inbox_cost).sum::<usize>();
     // Waiters only sleep on an empty inbox, so only that transition needs a wake-up.
     if st.inbox.is_empty() {
         st.inbox = msgs;
