@@ -47,6 +47,8 @@ pub enum AlogError {
 pub struct AlogWriter<W: Write> {
     w: W,
     start: f64,
+    /// The line being written, kept between calls (no allocation per line).
+    line: String,
 }
 
 impl<W: Write> AlogWriter<W> {
@@ -61,6 +63,7 @@ impl<W: Write> AlogWriter<W> {
         Ok(AlogWriter {
             w,
             start: log_start,
+            line: String::with_capacity(256),
         })
     }
 
@@ -70,19 +73,37 @@ impl<W: Write> AlogWriter<W> {
 
     /// Append one message.
     pub fn write(&mut self, m: &Message) -> io::Result<()> {
-        let src = if m.source_aux.is_empty() {
-            column(&m.source)
+        use std::fmt::Write as _;
+        let line = &mut self.line;
+        line.clear();
+        let _ = write!(line, "{:.3}", m.time - self.start);
+        // The time is ASCII: its length is its width.
+        let pad = 15usize.saturating_sub(line.len());
+        line.extend(std::iter::repeat_n(' ', pad));
+        line.push(' ');
+        push_column(line, &[&m.key], 20);
+        line.push(' ');
+        if m.source_aux.is_empty() {
+            push_column(line, &[&m.source], 15);
         } else {
-            column(&format!("{}:{}", m.source, m.source_aux))
-        };
-        let key = column(&m.key);
-        let value = match m.data_type {
-            DataType::DOUBLE => format!("{}", m.dval),
-            DataType::BINARY => format!("<binary {} bytes>", m.sval.len()),
-            _ => m.string().replace(['\n', '\r'], " "),
-        };
-        let t = format!("{:.3}", m.time - self.start);
-        writeln!(self.w, "{t:<15} {key:<20} {src:<15} {value}")
+            push_column(line, &[&m.source, ":", &m.source_aux], 15);
+        }
+        line.push(' ');
+        match m.data_type {
+            DataType::DOUBLE => {
+                let _ = write!(line, "{}", m.dval);
+            }
+            DataType::BINARY => {
+                let _ = write!(line, "<binary {} bytes>", m.sval.len());
+            }
+            _ => line.extend(
+                m.string()
+                    .chars()
+                    .map(|c| if c == '\n' || c == '\r' { ' ' } else { c }),
+            ),
+        }
+        line.push('\n');
+        self.w.write_all(line.as_bytes())
     }
 
     pub fn flush(&mut self) -> io::Result<()> {
@@ -94,13 +115,19 @@ impl<W: Write> AlogWriter<W> {
     }
 }
 
-/// A key or source as one column: `-` when empty, blanks replaced by `_`.
-fn column(s: &str) -> String {
-    if s.is_empty() {
-        "-".to_owned()
-    } else {
-        s.replace(|c: char| c.is_whitespace(), "_")
+/// A key or source (the concatenation of `parts`) as one column padded to `width`
+/// characters: `-` when empty, blanks replaced by `_`.
+fn push_column(line: &mut String, parts: &[&str], width: usize) {
+    let mut n = 0;
+    for c in parts.iter().flat_map(|p| p.chars()) {
+        line.push(if c.is_whitespace() { '_' } else { c });
+        n += 1;
     }
+    if n == 0 {
+        line.push('-');
+        n = 1;
+    }
+    line.extend(std::iter::repeat_n(' ', width.saturating_sub(n)));
 }
 
 /// The reader's side of [`column`]: `-` is empty.
@@ -188,6 +215,44 @@ impl<'a> Fields<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lines_are_laid_out_in_padded_columns() {
+        let mut w = AlogWriter::new(Vec::new(), 100.0, "t.alog").expect("header");
+        let msg = |key: &str, src: &str, aux: &str, s: &str| Message {
+            data_type: DataType::STRING,
+            key: key.into(),
+            source: src.into(),
+            source_aux: aux.into(),
+            time: 112.3456,
+            sval: s.as_bytes().to_vec(),
+            ..Message::default()
+        };
+        w.write(&msg("DEPLOY", "pHelmIvP", "", "true"))
+            .expect("write");
+        w.write(&msg("WPT STAT", "", "", "a\nb")).expect("write");
+        w.write(&msg("ÉTAT", "p", "x y", "v")).expect("write");
+        let num = Message {
+            data_type: DataType::DOUBLE,
+            key: "NAV_X".into(),
+            source: "uSim".into(),
+            time: 100.0,
+            dval: -2.5,
+            ..Message::default()
+        };
+        w.write(&num).expect("write");
+        let text = String::from_utf8(w.into_inner()).expect("utf8");
+        let lines: Vec<&str> = text.lines().skip(5).collect();
+        assert_eq!(
+            lines,
+            [
+                "12.346          DEPLOY               pHelmIvP        true",
+                "12.346          WPT_STAT             -               a b",
+                "12.346          ÉTAT                 p:x_y           v",
+                "0.000           NAV_X                uSim            -2.5",
+            ]
+        );
+    }
 
     #[test]
     fn round_trip() {
