@@ -142,6 +142,23 @@ pub fn load(
             String::new()
         }
     };
+    // helm.md §2.2: globals the helm reads whose bad values are config warnings (an app
+    // would otherwise fall back to a default without a word).
+    if let Some(v) = file.global("TERM_REPORTING") {
+        if crate::config::parse_bool(&v).is_none() {
+            warnings.push(format!(
+                "{shown}: TERM_REPORTING = {v}: not a boolean (true or false)"
+            ));
+        }
+    }
+    if let Some(v) = file.global("MOOSTimeWarp") {
+        let ok = moos::mission::config_f64(&v).is_some_and(moos::time::warp_ok);
+        if !ok {
+            warnings.push(format!(
+                "{shown}: MOOSTimeWarp = {v}: not a time warp (above 0, at most 400)"
+            ));
+        }
+    }
     if file.global("LatOrigin").is_none() {
         warnings.push(format!("{shown}: No LatOrigin in *.moos file"));
     }

@@ -183,3 +183,32 @@ fn a_missing_behavior_directory_is_a_problem_unless_allowed() {
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("Loading directory:"), "{text}");
 }
+
+#[test]
+fn bad_term_reporting_and_time_warp_are_problems() {
+    // helm.md §2.2: an invalid TERM_REPORTING and a MOOSTimeWarp <= 0 are config
+    // warnings, not values quietly replaced by defaults.
+    let bad = MISSION.replace(
+        "Community = alpha\n",
+        "Community = alpha\nTERM_REPORTING = maybe\nMOOSTimeWarp = -2\n",
+    );
+    let (code, text, d) = check("bad-globals", &bad, GOOD_BHV);
+    assert_eq!(code, 1, "{text}");
+    let m = d.join("m.moos").display().to_string();
+    assert!(
+        text.contains(&format!("{m}: TERM_REPORTING = maybe: not a boolean")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "{m}: MOOSTimeWarp = -2: not a time warp (above 0, at most 400)"
+        )),
+        "{text}"
+    );
+    let good = MISSION.replace(
+        "Community = alpha\n",
+        "Community = alpha\nTERM_REPORTING = false\nMOOSTimeWarp = 10\n",
+    );
+    let (code, text, _) = check("good-globals", &good, GOOD_BHV);
+    assert_eq!(code, 0, "{text}");
+}
