@@ -8,11 +8,8 @@
 use behavior_api::geometry::angles::{angle180, angle360};
 use behavior_api::ivp::{self, domain::Snap, zaic::ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::FunctionData;
-
-#[path = "../../common/util.rs"]
-mod util;
-use util::{no_white, parse_number};
+use behavior_api::{parse_number, FunctionData};
+use bhv_plugin_common::no_white;
 
 /// BHV_ConstantHeading.
 pub struct ConstantHeading {

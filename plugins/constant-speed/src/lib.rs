@@ -1,15 +1,11 @@
 //! BHV_ConstantSpeed (behaviors-plugins.md §2): a ZAIC_PEAK over `speed` around a
 //! desired speed, every running iteration, plus an optional mismatch posting.
 //!
-//! The body is shared with the other Constant* value behaviors (`plugins/common/
-//! constant.rs`); this crate names the variable and its defaults.
+//! The body is shared with the other Constant* value behaviors (`bhv-plugin-common`,
+//! `plugins/common`); this crate names the variable and its defaults.
 
-#[path = "../../common/constant.rs"]
-mod constant;
-#[path = "../../common/util.rs"]
-mod util;
-
-use constant::{ConstantValue, Kind};
+use bhv_plugin_common::constant::{ConstantValue, Kind};
+use bhv_plugin_common::peak::PeakShape;
 
 /// The speed variant.
 pub struct SpeedKind;
@@ -19,9 +15,8 @@ impl Kind for SpeedKind {
     const NAV: &'static str = "NAV_SPEED";
     const WHAT: &'static str = "SPEED";
     const MISMATCH_PARAM: &'static str = "speed_mismatch_var";
-    const PEAKWIDTH: f64 = 0.0;
-    const BASEWIDTH: f64 = 0.2;
-    const SUMMITDELTA: f64 = 0.0;
+    // peakwidth, basewidth, summitdelta
+    const SHAPE: PeakShape = PeakShape::new(0.0, 0.2, 0.0);
 }
 
 /// BHV_ConstantSpeed.
@@ -84,11 +79,9 @@ mod tests {
             ("summitdelta", "150"),
             ("speed_mismatch_var", "SPD_MM"),
         ]);
-        assert_eq!(
-            (b.value, b.peakwidth, b.basewidth, b.summitdelta),
-            (0.0, 0.0, 0.0, 100.0)
-        );
-        assert_eq!(b.mismatch_var, "SPD_MM");
+        assert_eq!(b.settings().value, 0.0);
+        assert_eq!(b.settings().shape, PeakShape::new(0.0, 0.0, 100.0));
+        assert_eq!(b.settings().mismatch_var, "SPD_MM");
         host.with(|ctx| {
             assert!(!b.set_param(ctx, "speed", "fast"));
             assert!(!b.set_param(ctx, "speed", "1e3"));
@@ -99,7 +92,10 @@ mod tests {
             assert!(b.set_param(ctx, "summitdelta", "-4"));
             assert!(b.set_param(ctx, "speed", " +2.5 "));
         });
-        assert_eq!((b.value, b.summitdelta), (2.5, 0.0));
+        assert_eq!(
+            (b.settings().value, b.settings().shape.summitdelta),
+            (2.5, 0.0)
+        );
     }
 
     #[test]

@@ -4,11 +4,13 @@
 
 use std::marker::PhantomData;
 
-use behavior_api::ivp::{self, zaic::ZaicPeak};
+use behavior_api::ivp;
+use behavior_api::parse_number;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
-use super::util::{no_white, parse_number};
+use crate::no_white;
+use crate::peak::PeakShape;
 
 /// What distinguishes one Constant* type from another.
 pub trait Kind: Send + 'static {
@@ -21,20 +23,24 @@ pub trait Kind: Send + 'static {
     /// The parameter naming the mismatch variable.
     const MISMATCH_PARAM: &'static str;
     /// Default ZAIC_PEAK shape.
-    const PEAKWIDTH: f64;
-    const BASEWIDTH: f64;
-    const SUMMITDELTA: f64;
+    const SHAPE: PeakShape;
+}
+
+/// The type parameters of a Constant* behavior, as configured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// The desired value.
+    pub value: f64,
+    pub shape: PeakShape,
+    /// Where the distance from the desired value is posted (empty: nowhere).
+    pub mismatch_var: String,
 }
 
 /// A behavior that holds one decision variable at a value.
 pub struct ConstantValue<K: Kind> {
     domain: String,
     ivp_domain: Option<ivp::Domain>,
-    pub(crate) value: f64,
-    pub(crate) peakwidth: f64,
-    pub(crate) basewidth: f64,
-    pub(crate) summitdelta: f64,
-    pub(crate) mismatch_var: String,
+    settings: Settings,
     kind: PhantomData<K>,
 }
 
@@ -43,13 +49,17 @@ impl<K: Kind> ConstantValue<K> {
         ConstantValue {
             domain: helm_domain.sub_domain(&[K::VAR]),
             ivp_domain: helm_domain.ivp_domain(&[K::VAR]),
-            value: 0.0,
-            peakwidth: K::PEAKWIDTH,
-            basewidth: K::BASEWIDTH,
-            summitdelta: K::SUMMITDELTA,
-            mismatch_var: String::new(),
+            settings: Settings {
+                value: 0.0,
+                shape: K::SHAPE,
+                mismatch_var: String::new(),
+            },
             kind: PhantomData,
         }
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
     }
 
     /// Read the navigation variable (idle and running iterations): a warning when it is
@@ -58,12 +68,12 @@ impl<K: Kind> ConstantValue<K> {
         match ctx.get_buffer_double_val(K::NAV) {
             None => ctx.post_wmessage(&format!("No ownship {} info in info_buffer.", K::WHAT)),
             Some(os) => {
-                if !self.mismatch_var.is_empty() {
-                    let mut delta = os - self.value;
+                if !self.settings.mismatch_var.is_empty() {
+                    let mut delta = os - self.settings.value;
                     if delta < 0.0 {
                         delta = -delta;
                     }
-                    ctx.post_message_num(&self.mismatch_var, delta);
+                    ctx.post_message_num(&self.settings.mismatch_var, delta);
                 }
             }
         }
@@ -75,13 +85,10 @@ impl<K: Kind> ConstantValue<K> {
             .ivp_domain
             .as_ref()
             .ok_or_else(|| format!("No '{}' variable in the helm domain", K::VAR))?;
-        let err = || format!("Unable to generate constant-{} IvP function", K::VAR);
-        let mut z = ZaicPeak::new(dom, K::VAR).map_err(|_| err())?;
-        z.set_summit(self.value, 0);
-        z.set_base_width(self.basewidth, 0);
-        z.set_peak_width(self.peakwidth, 0);
-        z.set_summit_delta(self.summitdelta, 0);
-        z.extract(true).ok_or_else(err)
+        self.settings
+            .shape
+            .function(dom, K::VAR, self.settings.value, false)
+            .ok_or_else(|| format!("Unable to generate constant-{} IvP function", K::VAR))
     }
 }
 
@@ -102,23 +109,16 @@ impl<K: Kind> IvpBehavior for ConstantValue<K> {
     }
 
     fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        let s = &mut self.settings;
         if param == K::VAR {
-            return parse_number(value)
-                .map(|v| self.value = v.max(0.0))
-                .is_some();
+            return parse_number(value).map(|v| s.value = v.max(0.0)).is_some();
         }
         if param == K::MISMATCH_PARAM {
             return no_white(value)
-                .map(|v| self.mismatch_var = v.to_string())
+                .map(|v| s.mismatch_var = v.to_string())
                 .is_some();
         }
-        match param {
-            "peakwidth" => parse_number(value).map(|v| self.peakwidth = v.max(0.0)),
-            "basewidth" => parse_number(value).map(|v| self.basewidth = v.max(0.0)),
-            "summitdelta" => parse_number(value).map(|v| self.summitdelta = v.clamp(0.0, 100.0)),
-            _ => None,
-        }
-        .is_some()
+        s.shape.set_param(param, value).unwrap_or(false)
     }
 
     fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
