@@ -1,6 +1,8 @@
-//! The shared body of BHV_ConstantSpeed and BHV_ConstantDepth (behaviors-plugins.md §2,
-//! §4): a ZAIC_PEAK over one variable around a desired value, every running iteration,
-//! plus an optional mismatch posting. Each plugin names its variable through [`Kind`].
+//! The shared body of BHV_ConstantSpeed, BHV_ConstantHeading and BHV_ConstantDepth
+//! (behaviors-plugins.md §2-§4): a ZAIC_PEAK over one decision variable around a desired
+//! value, every running iteration, an optional mismatch posting and, for the types that
+//! take one, a completion threshold. Each plugin names its variable and defaults
+//! through [`Kind`].
 
 use std::marker::PhantomData;
 
@@ -14,8 +16,13 @@ use crate::peak::PeakShape;
 
 /// What distinguishes one Constant* type from another.
 pub trait Kind: Send + 'static {
-    /// The decision variable and the parameter holding the desired value.
-    const VAR: &'static str;
+    /// The parameter holding the desired value; also names the type in the
+    /// "Unable to generate constant-<PARAM> IvP function" error.
+    const PARAM: &'static str;
+    /// The decision variable.
+    const VAR: &'static str = Self::PARAM;
+    /// The variable's name in the "No '<...>' variable in the helm domain" error.
+    const DOMAIN_NAME: &'static str = Self::VAR;
     /// The navigation variable compared with the desired value.
     const NAV: &'static str;
     /// Upper-case name in the missing-navigation warning.
@@ -24,6 +31,26 @@ pub trait Kind: Send + 'static {
     const MISMATCH_PARAM: &'static str;
     /// Default ZAIC_PEAK shape.
     const SHAPE: PeakShape;
+    /// Whether the peak wraps around the ends of the variable's range.
+    const WRAP: bool = false;
+    /// Whether the type takes `complete_thresh`.
+    const COMPLETE_THRESH: bool = false;
+
+    /// The desired value given the number in its parameter and the behavior's domain;
+    /// `None` rejects the parameter. By default a negative value becomes 0.
+    fn desired(_domain: Option<&ivp::Domain>, v: f64) -> Option<f64> {
+        Some(v.max(0.0))
+    }
+
+    /// How far ownship's value `os` is from the desired value (posted as the mismatch,
+    /// compared with `complete_thresh`).
+    fn mismatch(os: f64, desired: f64) -> f64 {
+        let mut delta = os - desired;
+        if delta < 0.0 {
+            delta = -delta;
+        }
+        delta
+    }
 }
 
 /// The type parameters of a Constant* behavior, as configured.
@@ -32,6 +59,8 @@ pub struct Settings {
     /// The desired value.
     pub value: f64,
     pub shape: PeakShape,
+    /// Completes the behavior once the mismatch is below it (-1, the default: never).
+    pub complete_thresh: f64,
     /// Where the distance from the desired value is posted (empty: nowhere).
     pub mismatch_var: String,
 }
@@ -41,6 +70,8 @@ pub struct ConstantValue<K: Kind> {
     domain: String,
     ivp_domain: Option<ivp::Domain>,
     settings: Settings,
+    /// The mismatch at the last successful read of the navigation variable (0 before).
+    mismatch: f64,
     kind: PhantomData<K>,
 }
 
@@ -52,8 +83,10 @@ impl<K: Kind> ConstantValue<K> {
             settings: Settings {
                 value: 0.0,
                 shape: K::SHAPE,
+                complete_thresh: -1.0,
                 mismatch_var: String::new(),
             },
+            mismatch: 0.0,
             kind: PhantomData,
         }
     }
@@ -68,12 +101,9 @@ impl<K: Kind> ConstantValue<K> {
         match ctx.get_buffer_double_val(K::NAV) {
             None => ctx.post_wmessage(&format!("No ownship {} info in info_buffer.", K::WHAT)),
             Some(os) => {
+                self.mismatch = K::mismatch(os, self.settings.value);
                 if !self.settings.mismatch_var.is_empty() {
-                    let mut delta = os - self.settings.value;
-                    if delta < 0.0 {
-                        delta = -delta;
-                    }
-                    ctx.post_message_num(&self.settings.mismatch_var, delta);
+                    ctx.post_message_num(&self.settings.mismatch_var, self.mismatch);
                 }
             }
         }
@@ -84,11 +114,11 @@ impl<K: Kind> ConstantValue<K> {
         let dom = self
             .ivp_domain
             .as_ref()
-            .ok_or_else(|| format!("No '{}' variable in the helm domain", K::VAR))?;
+            .ok_or_else(|| format!("No '{}' variable in the helm domain", K::DOMAIN_NAME))?;
         self.settings
             .shape
-            .function(dom, K::VAR, self.settings.value, false)
-            .ok_or_else(|| format!("Unable to generate constant-{} IvP function", K::VAR))
+            .function(dom, K::VAR, self.settings.value, K::WRAP)
+            .ok_or_else(|| format!("Unable to generate constant-{} IvP function", K::PARAM))
     }
 }
 
@@ -110,8 +140,14 @@ impl<K: Kind> IvpBehavior for ConstantValue<K> {
 
     fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
         let s = &mut self.settings;
-        if param == K::VAR {
-            return parse_number(value).map(|v| s.value = v.max(0.0)).is_some();
+        if param == K::PARAM {
+            return parse_number(value)
+                .and_then(|v| K::desired(self.ivp_domain.as_ref(), v))
+                .map(|v| s.value = v)
+                .is_some();
+        }
+        if K::COMPLETE_THRESH && param == "complete_thresh" {
+            return parse_number(value).map(|v| s.complete_thresh = v).is_some();
         }
         if param == K::MISMATCH_PARAM {
             return no_white(value)
@@ -127,6 +163,11 @@ impl<K: Kind> IvpBehavior for ConstantValue<K> {
 
     fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         self.read_ownship(ctx);
+        // Strictly below: a threshold of 0 never completes (the default -1 neither).
+        if self.mismatch < self.settings.complete_thresh {
+            ctx.set_complete();
+            return None;
+        }
         match self.build() {
             Ok(mut f) => {
                 f.set_pwt(ctx.priority());

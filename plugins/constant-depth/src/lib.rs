@@ -11,7 +11,7 @@ use bhv_plugin_common::peak::PeakShape;
 pub struct DepthKind;
 
 impl Kind for DepthKind {
-    const VAR: &'static str = "depth";
+    const PARAM: &'static str = "depth";
     const NAV: &'static str = "NAV_DEPTH";
     const WHAT: &'static str = "DEPTH";
     const MISMATCH_PARAM: &'static str = "depth_mismatch_var";

@@ -11,7 +11,7 @@ use bhv_plugin_common::peak::PeakShape;
 pub struct SpeedKind;
 
 impl Kind for SpeedKind {
-    const VAR: &'static str = "speed";
+    const PARAM: &'static str = "speed";
     const NAV: &'static str = "NAV_SPEED";
     const WHAT: &'static str = "SPEED";
     const MISMATCH_PARAM: &'static str = "speed_mismatch_var";
@@ -89,6 +89,8 @@ mod tests {
             assert!(!b.set_param(ctx, "speed_mismatch_var", "A B"));
             assert!(!b.set_param(ctx, "Speed", "1"));
             assert!(!b.set_param(ctx, "heading", "1"));
+            // complete_thresh is BHV_ConstantHeading's alone.
+            assert!(!b.set_param(ctx, "complete_thresh", "1"));
             assert!(b.set_param(ctx, "summitdelta", "-4"));
             assert!(b.set_param(ctx, "speed", " +2.5 "));
         });
