@@ -7,6 +7,7 @@
 
 pub mod constant;
 pub mod peak;
+pub mod testing;
 
 /// A parameter value without white space (empty allowed), such as a MOOS variable name.
 pub fn no_white(s: &str) -> Option<&str> {

@@ -32,32 +32,14 @@ mod tests {
     use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
     use behavior_api::FunctionData;
+    use bhv_plugin_common::testing::{configured, pieces};
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,2,21:depth,0,100,101")
     }
 
     fn bhv(params: &[(&str, &str)]) -> (ConstantDepth, MockHost) {
-        let mut b = ConstantDepth::new(&helm());
-        let mut host = MockHost::new("cd");
-        for (p, v) in params {
-            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
-        }
-        (b, host)
-    }
-
-    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
-        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
-        (0..f.piece_count().unwrap())
-            .map(|k| {
-                (
-                    f.bounds[2 * k],
-                    f.bounds[2 * k + 1],
-                    r(f.weights[2 * k]),
-                    r(f.weights[2 * k + 1]),
-                )
-            })
-            .collect()
+        configured(ConstantDepth::new(&helm()), "cd", params)
     }
 
     /// The best grid index, scaling by pwt like the helm (slope and intercept separately)

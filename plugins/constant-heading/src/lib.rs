@@ -52,35 +52,16 @@ mod tests {
     use super::*;
     use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
-    use behavior_api::FunctionData;
+    use bhv_plugin_common::testing::{configured, pieces};
 
     const HELM: &str = "course,0,359,360:speed,0,2,21";
 
     fn bhv_in(domain: &str, params: &[(&str, &str)]) -> (ConstantHeading, MockHost) {
-        let mut b = ConstantHeading::new(&HelmDomain::new(domain));
-        let mut host = MockHost::new("ch");
-        for (p, v) in params {
-            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
-        }
-        (b, host)
+        configured(ConstantHeading::new(&HelmDomain::new(domain)), "ch", params)
     }
 
     fn bhv(params: &[(&str, &str)]) -> (ConstantHeading, MockHost) {
         bhv_in(HELM, params)
-    }
-
-    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
-        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
-        (0..f.piece_count().unwrap())
-            .map(|k| {
-                (
-                    f.bounds[2 * k],
-                    f.bounds[2 * k + 1],
-                    r(f.weights[2 * k]),
-                    r(f.weights[2 * k + 1]),
-                )
-            })
-            .collect()
     }
 
     #[test]

@@ -31,34 +31,14 @@ mod tests {
     use super::*;
     use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
-    use behavior_api::FunctionData;
+    use bhv_plugin_common::testing::{configured, pieces};
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,2,21")
     }
 
     fn bhv(params: &[(&str, &str)]) -> (ConstantSpeed, MockHost) {
-        let mut b = ConstantSpeed::new(&helm());
-        let mut host = MockHost::new("cs");
-        for (p, v) in params {
-            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
-        }
-        (b, host)
-    }
-
-    /// (lo, hi, slope, intercept) per piece, slopes/intercepts rounded to 4 decimals.
-    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
-        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
-        (0..f.piece_count().unwrap())
-            .map(|k| {
-                (
-                    f.bounds[2 * k],
-                    f.bounds[2 * k + 1],
-                    r(f.weights[2 * k]),
-                    r(f.weights[2 * k + 1]),
-                )
-            })
-            .collect()
+        configured(ConstantSpeed::new(&helm()), "cs", params)
     }
 
     #[test]
