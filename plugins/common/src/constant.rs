@@ -23,10 +23,9 @@ pub trait Kind: Send + 'static {
     const VAR: &'static str = Self::PARAM;
     /// The variable's name in the "No '<...>' variable in the helm domain" error.
     const DOMAIN_NAME: &'static str = Self::VAR;
-    /// The navigation variable compared with the desired value.
+    /// The navigation variable compared with the desired value (`NAV_<WHAT>`: the
+    /// missing-navigation warning names it by `<WHAT>`).
     const NAV: &'static str;
-    /// Upper-case name in the missing-navigation warning.
-    const WHAT: &'static str;
     /// The parameter naming the mismatch variable.
     const MISMATCH_PARAM: &'static str;
     /// Default ZAIC_PEAK shape.
@@ -99,7 +98,10 @@ impl<K: Kind> ConstantValue<K> {
     /// missing, else the mismatch posting.
     fn read_ownship(&mut self, ctx: &mut Ctx<'_>) {
         match ctx.get_buffer_double_val(K::NAV) {
-            None => ctx.post_wmessage(&format!("No ownship {} info in info_buffer.", K::WHAT)),
+            None => {
+                let what = K::NAV.strip_prefix("NAV_").unwrap_or(K::NAV);
+                ctx.post_wmessage(&format!("No ownship {what} info in info_buffer."));
+            }
             Some(os) => {
                 self.mismatch = K::mismatch(os, self.settings.value);
                 if !self.settings.mismatch_var.is_empty() {

@@ -13,7 +13,6 @@ pub struct DepthKind;
 impl Kind for DepthKind {
     const PARAM: &'static str = "depth";
     const NAV: &'static str = "NAV_DEPTH";
-    const WHAT: &'static str = "DEPTH";
     const MISMATCH_PARAM: &'static str = "depth_mismatch_var";
     // peakwidth, basewidth, summitdelta
     const SHAPE: PeakShape = PeakShape::new(3.0, 100.0, 50.0);

@@ -19,7 +19,6 @@ impl Kind for HeadingKind {
     const VAR: &'static str = "course";
     const DOMAIN_NAME: &'static str = "heading/course";
     const NAV: &'static str = "NAV_HEADING";
-    const WHAT: &'static str = "HEADING";
     const MISMATCH_PARAM: &'static str = "heading_mismatch_var";
     // peakwidth, basewidth, summitdelta
     const SHAPE: PeakShape = PeakShape::new(10.0, 170.0, 25.0);

@@ -13,7 +13,6 @@ pub struct SpeedKind;
 impl Kind for SpeedKind {
     const PARAM: &'static str = "speed";
     const NAV: &'static str = "NAV_SPEED";
-    const WHAT: &'static str = "SPEED";
     const MISMATCH_PARAM: &'static str = "speed_mismatch_var";
     // peakwidth, basewidth, summitdelta
     const SHAPE: PeakShape = PeakShape::new(0.0, 0.2, 0.0);
