@@ -1,27 +1,21 @@
 //! BHV_ConstantDepth (behaviors-plugins.md §4): a ZAIC_PEAK over `depth` around a
 //! desired depth, every running iteration, plus an optional mismatch posting.
 //!
-//! The body is shared with the other Constant* value behaviors (`plugins/common/
-//! constant.rs`); this crate names the variable and its defaults.
+//! The body is shared with the other Constant* value behaviors (`bhv-plugin-common`,
+//! `plugins/common`); this crate names the variable and its defaults.
 
-#[path = "../../common/constant.rs"]
-mod constant;
-#[path = "../../common/util.rs"]
-mod util;
-
-use constant::{ConstantValue, Kind};
+use bhv_plugin_common::constant::{ConstantValue, Kind};
+use bhv_plugin_common::peak::PeakShape;
 
 /// The depth variant.
 pub struct DepthKind;
 
 impl Kind for DepthKind {
-    const VAR: &'static str = "depth";
+    const PARAM: &'static str = "depth";
     const NAV: &'static str = "NAV_DEPTH";
-    const WHAT: &'static str = "DEPTH";
     const MISMATCH_PARAM: &'static str = "depth_mismatch_var";
-    const PEAKWIDTH: f64 = 3.0;
-    const BASEWIDTH: f64 = 100.0;
-    const SUMMITDELTA: f64 = 50.0;
+    // peakwidth, basewidth, summitdelta
+    const SHAPE: PeakShape = PeakShape::new(3.0, 100.0, 50.0);
 }
 
 /// BHV_ConstantDepth.
@@ -37,32 +31,14 @@ mod tests {
     use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
     use behavior_api::FunctionData;
+    use bhv_plugin_common::testing::{configured, pieces};
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,2,21:depth,0,100,101")
     }
 
     fn bhv(params: &[(&str, &str)]) -> (ConstantDepth, MockHost) {
-        let mut b = ConstantDepth::new(&helm());
-        let mut host = MockHost::new("cd");
-        for (p, v) in params {
-            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
-        }
-        (b, host)
-    }
-
-    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
-        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
-        (0..f.piece_count().unwrap())
-            .map(|k| {
-                (
-                    f.bounds[2 * k],
-                    f.bounds[2 * k + 1],
-                    r(f.weights[2 * k]),
-                    r(f.weights[2 * k + 1]),
-                )
-            })
-            .collect()
+        configured(ConstantDepth::new(&helm()), "cd", params)
     }
 
     /// The best grid index, scaling by pwt like the helm (slope and intercept separately)
@@ -95,10 +71,8 @@ mod tests {
     #[test]
     fn parameters() {
         let (mut b, mut host) = bhv(&[]);
-        assert_eq!(
-            (b.value, b.peakwidth, b.basewidth, b.summitdelta),
-            (0.0, 3.0, 100.0, 50.0)
-        );
+        assert_eq!(b.settings().value, 0.0);
+        assert_eq!(b.settings().shape, PeakShape::new(3.0, 100.0, 50.0));
         host.with(|ctx| {
             assert!(ctx.name() == "cd");
             assert!(b.set_param(ctx, "depth", "-5"));
@@ -110,11 +84,9 @@ mod tests {
             assert!(!b.set_param(ctx, "depth_mismatch_var", "D ERR"));
             assert!(!b.set_param(ctx, "speed", "1"));
         });
-        assert_eq!(
-            (b.value, b.peakwidth, b.basewidth, b.summitdelta),
-            (0.0, 0.0, 0.0, 0.0)
-        );
-        assert_eq!(b.mismatch_var, "DERR");
+        assert_eq!(b.settings().value, 0.0);
+        assert_eq!(b.settings().shape, PeakShape::new(0.0, 0.0, 0.0));
+        assert_eq!(b.settings().mismatch_var, "DERR");
     }
 
     #[test]

@@ -2,138 +2,45 @@
 //! around a desired heading snapped to the course grid, an optional mismatch posting and
 //! an optional completion threshold.
 //!
-//! The host handles the common parameters; note that this type's duration default is 0
-//! (§1.2), which the host must apply for it.
+//! The body is shared with the other Constant* value behaviors (`bhv-plugin-common`,
+//! `plugins/common`); this crate names the variable and its defaults, and how a heading
+//! is snapped and compared.
 
 use behavior_api::geometry::angles::{angle180, angle360};
-use behavior_api::ivp::{self, domain::Snap, zaic::ZaicPeak};
-use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::FunctionData;
+use behavior_api::ivp::{Domain, Snap};
+use bhv_plugin_common::constant::{ConstantValue, Kind};
+use bhv_plugin_common::peak::PeakShape;
 
-#[path = "../../common/util.rs"]
-mod util;
-use util::{no_white, parse_number};
+/// The heading variant.
+pub struct HeadingKind;
 
-/// BHV_ConstantHeading.
-pub struct ConstantHeading {
-    domain: String,
-    ivp_domain: Option<ivp::Domain>,
-    heading: f64,
-    peakwidth: f64,
-    basewidth: f64,
-    summitdelta: f64,
-    complete_thresh: f64,
-    mismatch_var: String,
-    /// |angle180(NAV_HEADING - heading)| from the last successful read (0 initially).
-    heading_delta: f64,
-}
-
-impl ConstantHeading {
-    pub fn new(helm_domain: &HelmDomain) -> Self {
-        ConstantHeading {
-            domain: helm_domain.sub_domain(&["course"]),
-            ivp_domain: helm_domain.ivp_domain(&["course"]),
-            heading: 0.0,
-            peakwidth: 10.0,
-            basewidth: 170.0,
-            summitdelta: 25.0,
-            complete_thresh: -1.0,
-            mismatch_var: String::new(),
-            heading_delta: 0.0,
-        }
-    }
+impl Kind for HeadingKind {
+    const PARAM: &'static str = "heading";
+    const VAR: &'static str = "course";
+    const DOMAIN_NAME: &'static str = "heading/course";
+    const NAV: &'static str = "NAV_HEADING";
+    const MISMATCH_PARAM: &'static str = "heading_mismatch_var";
+    // peakwidth, basewidth, summitdelta
+    const SHAPE: PeakShape = PeakShape::new(10.0, 170.0, 25.0);
+    const WRAP: bool = true;
+    const COMPLETE_THRESH: bool = true;
 
     /// Snap a heading onto the course grid (§3.2): angle360, nearest index (ties down),
     /// `low + delta*index`. `None` without a course variable.
-    fn snap_heading(&self, h: f64) -> Option<f64> {
-        let dom = self.ivp_domain.as_ref()?;
+    fn desired(domain: Option<&Domain>, h: f64) -> Option<f64> {
+        let dom = domain?;
         let idx = dom.snap(0, angle360(h), Snap::Nearest);
         Some(dom.value(0, idx))
     }
 
-    /// Read NAV_HEADING (idle and running iterations).
-    fn read_ownship(&mut self, ctx: &mut Ctx<'_>) {
-        match ctx.get_buffer_double_val("NAV_HEADING") {
-            None => ctx.post_wmessage("No ownship HEADING info in info_buffer."),
-            Some(os) => {
-                self.heading_delta = angle180(os - self.heading).abs();
-                if !self.mismatch_var.is_empty() {
-                    ctx.post_message_num(&self.mismatch_var, self.heading_delta);
-                }
-            }
-        }
-    }
-
-    /// The objective function (§3.4), without pwt.
-    fn build(&self) -> Result<ivp::IvpFunction, &'static str> {
-        let dom = self
-            .ivp_domain
-            .as_ref()
-            .ok_or("No 'heading/course' variable in the helm domain")?;
-        let err = "Unable to generate constant-heading IvP function";
-        let mut z = ZaicPeak::new(dom, "course").map_err(|_| err)?;
-        z.set_summit(self.heading, 0);
-        z.set_base_width(self.basewidth, 0);
-        z.set_peak_width(self.peakwidth, 0);
-        z.set_summit_delta(self.summitdelta, 0);
-        z.set_value_wrap(true);
-        z.extract(true).ok_or(err)
+    /// The angle between ownship's heading and the desired one, in [0, 180].
+    fn mismatch(os: f64, desired: f64) -> f64 {
+        angle180(os - desired).abs()
     }
 }
 
-impl IvpBehavior for ConstantHeading {
-    /// The Constant* types default the common `duration` to 0 (behaviors-plugins.md
-    /// §1.2): without a `duration` line they complete on their first run.
-    fn default_duration(&self) -> Option<f64> {
-        Some(0.0)
-    }
-
-    fn domain(&self) -> String {
-        self.domain.clone()
-    }
-
-    fn default_name(&self) -> String {
-        // The reference's attempt to set a descriptor fails silently (§1.3).
-        "???".into()
-    }
-
-    fn set_param(&mut self, _ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
-        match param {
-            "heading" => parse_number(value)
-                .and_then(|v| self.snap_heading(v))
-                .map(|h| self.heading = h),
-            "peakwidth" => parse_number(value).map(|v| self.peakwidth = v.max(0.0)),
-            "basewidth" => parse_number(value).map(|v| self.basewidth = v.max(0.0)),
-            "summitdelta" => parse_number(value).map(|v| self.summitdelta = v.clamp(0.0, 100.0)),
-            "complete_thresh" => parse_number(value).map(|v| self.complete_thresh = v),
-            "heading_mismatch_var" => no_white(value).map(|v| self.mismatch_var = v.to_string()),
-            _ => None,
-        }
-        .is_some()
-    }
-
-    fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
-        self.read_ownship(ctx);
-    }
-
-    fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
-        self.read_ownship(ctx);
-        if self.heading_delta < self.complete_thresh {
-            ctx.set_complete();
-            return None;
-        }
-        match self.build() {
-            Ok(mut f) => {
-                f.set_pwt(ctx.priority());
-                Some(function_data(f))
-            }
-            Err(msg) => {
-                ctx.post_emessage(msg);
-                None
-            }
-        }
-    }
-}
+/// BHV_ConstantHeading.
+pub type ConstantHeading = ConstantValue<HeadingKind>;
 
 behavior_api::export_behaviors! {
     "BHV_ConstantHeading" => ConstantHeading::new,
@@ -142,35 +49,18 @@ behavior_api::export_behaviors! {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
+    use bhv_plugin_common::testing::{configured, pieces};
 
     const HELM: &str = "course,0,359,360:speed,0,2,21";
 
     fn bhv_in(domain: &str, params: &[(&str, &str)]) -> (ConstantHeading, MockHost) {
-        let mut b = ConstantHeading::new(&HelmDomain::new(domain));
-        let mut host = MockHost::new("ch");
-        for (p, v) in params {
-            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
-        }
-        (b, host)
+        configured(ConstantHeading::new(&HelmDomain::new(domain)), "ch", params)
     }
 
     fn bhv(params: &[(&str, &str)]) -> (ConstantHeading, MockHost) {
         bhv_in(HELM, params)
-    }
-
-    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
-        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
-        (0..f.piece_count().unwrap())
-            .map(|k| {
-                (
-                    f.bounds[2 * k],
-                    f.bounds[2 * k + 1],
-                    r(f.weights[2 * k]),
-                    r(f.weights[2 * k + 1]),
-                )
-            })
-            .collect()
     }
 
     #[test]
@@ -178,6 +68,8 @@ mod tests {
         let b = ConstantHeading::new(&HelmDomain::new(HELM));
         assert_eq!(b.domain(), "course,0,359,360");
         assert_eq!(b.default_name(), "???");
+        assert_eq!(b.settings().shape, PeakShape::new(10.0, 170.0, 25.0));
+        assert_eq!(b.settings().complete_thresh, -1.0);
     }
 
     #[test]
@@ -191,10 +83,10 @@ mod tests {
             ("0", 0.0),
         ] {
             let (b, _) = bhv(&[("heading", given)]);
-            assert_eq!(b.heading, want, "{given}");
+            assert_eq!(b.settings().value, want, "{given}");
         }
         let (b, _) = bhv_in("course,0,359,72", &[("heading", "90")]);
-        assert_eq!(b.heading, 91.014_084_507_042_26);
+        assert_eq!(b.settings().value, 91.014_084_507_042_26);
         // Without a course variable the heading is rejected.
         let mut b = ConstantHeading::new(&HelmDomain::new("speed,0,2,21"));
         let mut host = MockHost::new("ch");
@@ -211,10 +103,8 @@ mod tests {
             ("complete_thresh", "-7"),
             ("heading_mismatch_var", "HM"),
         ]);
-        assert_eq!(
-            (b.peakwidth, b.basewidth, b.summitdelta, b.complete_thresh),
-            (0.0, 0.0, 100.0, -7.0)
-        );
+        assert_eq!(b.settings().shape, PeakShape::new(0.0, 0.0, 100.0));
+        assert_eq!(b.settings().complete_thresh, -7.0);
         host.with(|ctx| {
             assert!(!b.set_param(ctx, "heading", "east"));
             assert!(!b.set_param(ctx, "complete_thresh", "x"));
@@ -317,5 +207,17 @@ mod tests {
         );
         assert!(host.with(|ctx| b.on_run(ctx)).is_none());
         assert_eq!(host.completes, 1);
+    }
+
+    #[test]
+    fn missing_course_variable_is_an_error() {
+        let (mut b, mut host) = bhv_in("speed,0,2,21", &[("complete_thresh", "0")]);
+        host.set("NAV_HEADING", 90.0);
+        assert!(host.with(|ctx| b.on_run(ctx)).is_none());
+        assert_eq!(
+            host.posted("BHV_ERROR"),
+            vec!["ch: No 'heading/course' variable in the helm domain"]
+        );
+        assert_eq!(host.completes, 0);
     }
 }

@@ -1,27 +1,21 @@
 //! BHV_ConstantSpeed (behaviors-plugins.md §2): a ZAIC_PEAK over `speed` around a
 //! desired speed, every running iteration, plus an optional mismatch posting.
 //!
-//! The body is shared with the other Constant* value behaviors (`plugins/common/
-//! constant.rs`); this crate names the variable and its defaults.
+//! The body is shared with the other Constant* value behaviors (`bhv-plugin-common`,
+//! `plugins/common`); this crate names the variable and its defaults.
 
-#[path = "../../common/constant.rs"]
-mod constant;
-#[path = "../../common/util.rs"]
-mod util;
-
-use constant::{ConstantValue, Kind};
+use bhv_plugin_common::constant::{ConstantValue, Kind};
+use bhv_plugin_common::peak::PeakShape;
 
 /// The speed variant.
 pub struct SpeedKind;
 
 impl Kind for SpeedKind {
-    const VAR: &'static str = "speed";
+    const PARAM: &'static str = "speed";
     const NAV: &'static str = "NAV_SPEED";
-    const WHAT: &'static str = "SPEED";
     const MISMATCH_PARAM: &'static str = "speed_mismatch_var";
-    const PEAKWIDTH: f64 = 0.0;
-    const BASEWIDTH: f64 = 0.2;
-    const SUMMITDELTA: f64 = 0.0;
+    // peakwidth, basewidth, summitdelta
+    const SHAPE: PeakShape = PeakShape::new(0.0, 0.2, 0.0);
 }
 
 /// BHV_ConstantSpeed.
@@ -36,34 +30,14 @@ mod tests {
     use super::*;
     use behavior_api::sdk::{HelmDomain, IvpBehavior};
     use behavior_api::testing::MockHelm as MockHost;
-    use behavior_api::FunctionData;
+    use bhv_plugin_common::testing::{configured, pieces};
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,2,21")
     }
 
     fn bhv(params: &[(&str, &str)]) -> (ConstantSpeed, MockHost) {
-        let mut b = ConstantSpeed::new(&helm());
-        let mut host = MockHost::new("cs");
-        for (p, v) in params {
-            assert!(host.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
-        }
-        (b, host)
-    }
-
-    /// (lo, hi, slope, intercept) per piece, slopes/intercepts rounded to 4 decimals.
-    fn pieces(f: &FunctionData) -> Vec<(i32, i32, f64, f64)> {
-        let r = |x: f64| (x * 1e4).round() / 1e4 + 0.0;
-        (0..f.piece_count().unwrap())
-            .map(|k| {
-                (
-                    f.bounds[2 * k],
-                    f.bounds[2 * k + 1],
-                    r(f.weights[2 * k]),
-                    r(f.weights[2 * k + 1]),
-                )
-            })
-            .collect()
+        configured(ConstantSpeed::new(&helm()), "cs", params)
     }
 
     #[test]
@@ -84,11 +58,9 @@ mod tests {
             ("summitdelta", "150"),
             ("speed_mismatch_var", "SPD_MM"),
         ]);
-        assert_eq!(
-            (b.value, b.peakwidth, b.basewidth, b.summitdelta),
-            (0.0, 0.0, 0.0, 100.0)
-        );
-        assert_eq!(b.mismatch_var, "SPD_MM");
+        assert_eq!(b.settings().value, 0.0);
+        assert_eq!(b.settings().shape, PeakShape::new(0.0, 0.0, 100.0));
+        assert_eq!(b.settings().mismatch_var, "SPD_MM");
         host.with(|ctx| {
             assert!(!b.set_param(ctx, "speed", "fast"));
             assert!(!b.set_param(ctx, "speed", "1e3"));
@@ -96,10 +68,15 @@ mod tests {
             assert!(!b.set_param(ctx, "speed_mismatch_var", "A B"));
             assert!(!b.set_param(ctx, "Speed", "1"));
             assert!(!b.set_param(ctx, "heading", "1"));
+            // complete_thresh is BHV_ConstantHeading's alone.
+            assert!(!b.set_param(ctx, "complete_thresh", "1"));
             assert!(b.set_param(ctx, "summitdelta", "-4"));
             assert!(b.set_param(ctx, "speed", " +2.5 "));
         });
-        assert_eq!((b.value, b.summitdelta), (2.5, 0.0));
+        assert_eq!(
+            (b.settings().value, b.settings().shape.summitdelta),
+            (2.5, 0.0)
+        );
     }
 
     #[test]

@@ -8,11 +8,7 @@ use behavior_api::geometry::angles::{angle360, rel_ang};
 use behavior_api::geometry::spec::{fmt_x, is_color};
 use behavior_api::ivp::{self, coupler::couple, zaic::ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::{FunctionData, PostValue};
-
-#[path = "../../common/util.rs"]
-mod util;
-use util::parse_number;
+use behavior_api::{parse_number, FunctionData, PostValue};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Mode {

@@ -25,9 +25,10 @@
 //! (the `plugin_vs_builtin` bench compares it with the built-in one).
 
 use behavior_api::abi_stable::std_types::RVec;
-use behavior_api::ivp::{self, zaic::ZaicPeak};
+use behavior_api::ivp;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
+use bhv_plugin_common::peak::PeakShape;
 
 /// What goes wrong, and when.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,13 +88,12 @@ impl TestFailure {
         self.failure
     }
 
-    /// The valid function: a ZAIC_PEAK at `speed`.
+    /// The valid function: a ZAIC_PEAK at `speed`, base width `tolerance`, no peak width
+    /// or summit delta.
     fn good_function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         let dom = self.ivp_domain.as_ref()?;
-        let mut z = ZaicPeak::new(dom, "speed").ok()?;
-        z.set_summit(self.speed, 0);
-        z.set_base_width(self.tolerance, 0);
-        let mut f = z.extract(true)?;
+        let shape = PeakShape::new(0.0, self.tolerance, 0.0);
+        let mut f = shape.function(dom, "speed", self.speed, false)?;
         f.set_pwt(ctx.priority());
         Some(function_data(f))
     }
@@ -248,6 +248,30 @@ mod tests {
             assert_eq!(Failure::parse(s), Some(f), "{s}");
         }
         assert_eq!(Failure::parse("sometimes"), None);
+    }
+
+    /// Without a failure: the ZAIC_PEAK of `speed` and `tolerance` alone, at priority pwt.
+    #[test]
+    fn good_function_is_the_speed_peak() {
+        use behavior_api::ivp::zaic::ZaicPeak;
+        use behavior_api::testing::MockHelm;
+
+        let helm_domain = HelmDomain::new("course,0,359,360:speed,0,4,41");
+        let mut b = TestFailure::new(&helm_domain);
+        let mut helm = MockHelm::new("tf");
+        helm.with(|ctx| {
+            assert!(b.set_param(ctx, "speed", "1.5"));
+            assert!(b.set_param(ctx, "tolerance", "0.3"));
+        });
+        let got = helm.with(|ctx| b.on_run(ctx)).unwrap();
+
+        let dom = helm_domain.ivp_domain(&["speed"]).unwrap();
+        let mut z = ZaicPeak::new(&dom, "speed").unwrap();
+        z.set_summit(1.5, 0);
+        z.set_base_width(0.3, 0);
+        let mut want = z.extract(true).unwrap();
+        want.set_pwt(100.0);
+        assert_eq!(got, function_data(want));
     }
 
     #[test]
