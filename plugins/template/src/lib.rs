@@ -32,7 +32,8 @@ impl Template {
 }
 
 fn number(s: &str) -> Option<f64> {
-    s.trim().parse::<f64>().ok().filter(|v| v.is_finite())
+    // The helm's own number test: what the helm calls a number, nothing else.
+    behavior_api::parse_number(s)
 }
 
 impl IvpBehavior for Template {

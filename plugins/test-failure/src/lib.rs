@@ -100,7 +100,8 @@ impl TestFailure {
 }
 
 fn number(s: &str) -> Option<f64> {
-    s.trim().parse::<f64>().ok().filter(|v| v.is_finite())
+    // The helm's own number test: what the helm calls a number, nothing else.
+    behavior_api::parse_number(s)
 }
 
 /// The message of every deliberate panic starts with this.
