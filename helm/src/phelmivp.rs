@@ -130,7 +130,11 @@ pub fn parse(args: &[OsString]) -> Result<Action, ArgError> {
         }
         if let Some(v) = a.strip_prefix("--verbose=") {
             verbose = Some(parse_verbose(v).ok_or_else(|| ArgError::IllegalVerbose(v.into()))?);
-        } else if let Some(n) = a.strip_prefix("--alias=") {
+        } else if let Some(n) = a
+            .strip_prefix("--alias=")
+            // MOOS V10's own option for every app's name: the same thing.
+            .or_else(|| a.strip_prefix("--moos_name="))
+        {
             if n.trim().is_empty() {
                 return Err(ArgError::EmptyAlias);
             }
@@ -217,7 +221,7 @@ block, or a link to `helm` named `pHelmIvP`.
 
 Options:
   NAME                     the MOOS name (the second argument, as pAntler passes it)
-  --alias=NAME             the MOOS name, given anywhere
+  --alias=NAME             the MOOS name, given anywhere (also --moos_name=NAME)
   --verbose=MODE           verbose (the appcast report, on a terminal), terse (one
                            `$` DRIVE / `*` PARK per iteration) or quiet; overrides
                            `verbose =` of the block and HELM_VERBOSE
@@ -352,6 +356,10 @@ mod tests {
         assert_eq!(r.name, "helm2");
         assert_eq!(r.verbose, Some(Verbose::Terse));
         assert_eq!(r.ignored, vec!["-x".to_string()]);
+        let Action::Run(r) = parse(&os(&["m.moos", "--moos_name=helm3"])).expect("ok") else {
+            panic!("not a run")
+        };
+        assert_eq!(r.name, "helm3");
         assert_eq!(parse(&os(&["m.moos", "-v"])), Ok(Action::Version));
         assert_eq!(parse(&os(&["-e"])), Ok(Action::Example));
         assert_eq!(
