@@ -18,26 +18,13 @@ fn repo() -> PathBuf {
 
 /// Every `.bhv` text of the repo: mission files and golden cases.
 fn bhv_seeds() -> Vec<String> {
-    let mut v = Vec::new();
-    let missions = repo().join("missions");
-    for d in std::fs::read_dir(&missions).into_iter().flatten().flatten() {
-        for f in std::fs::read_dir(d.path()).into_iter().flatten().flatten() {
-            if f.path().extension().is_some_and(|e| e == "bhv") {
-                v.push(std::fs::read_to_string(f.path()).expect("read mission bhv"));
-            }
-        }
-    }
-    let cases = repo().join("conformance").join("helm");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&cases)
-        .expect("conformance/helm")
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+    let mut v: Vec<String> = fuzzkit::seed_files(&repo().join("missions"), "bhv")
+        .into_iter()
+        .map(|b| String::from_utf8(b).expect("a mission bhv is UTF-8"))
         .collect();
-    files.sort();
-    for p in files {
-        let doc: toml::Table =
-            toml::from_str(&std::fs::read_to_string(&p).expect("read case")).expect("toml");
+    for case in fuzzkit::seed_files(&repo().join("conformance/helm"), "toml") {
+        let case = String::from_utf8(case).expect("a golden case is UTF-8");
+        let doc: toml::Table = toml::from_str(&case).expect("toml");
         if let Some(b) = doc.get("bhv").and_then(|b| b.as_str()) {
             v.push(b.to_string());
         }

@@ -25,6 +25,7 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::path::{Path, PathBuf};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
@@ -308,6 +309,34 @@ pub fn input(c: &Case, seeds: &[Vec<u8>], dict: &[&[u8]]) -> Vec<u8> {
 }
 
 // ---------------------------------------------------------------------------------------
+// Seeds.
+
+/// The contents of the files named `*.{ext}` in `dir` and in its direct subfolders (the
+/// repo's `missions/NAME/NAME.moos` and `conformance/helm/CASE.toml` layouts), in path
+/// order. Panics (failing the harness) if a folder or file cannot be read.
+pub fn seed_files(dir: &Path, ext: &str) -> Vec<Vec<u8>> {
+    let entries = |d: &Path| -> Vec<PathBuf> {
+        std::fs::read_dir(d)
+            .and_then(|rd| rd.map(|e| e.map(|e| e.path())).collect())
+            .unwrap_or_else(|e| panic!("seed folder {}: {e}", d.display()))
+    };
+    let mut files = Vec::new();
+    for p in entries(dir) {
+        if p.is_dir() {
+            files.extend(entries(&p));
+        } else {
+            files.push(p);
+        }
+    }
+    files.retain(|p| p.is_file() && p.extension().is_some_and(|e| e == ext));
+    files.sort();
+    files
+        .iter()
+        .map(|p| std::fs::read(p).unwrap_or_else(|e| panic!("seed {}: {e}", p.display())))
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------
 // The runner.
 
 fn env_num(name: &str) -> Option<f64> {
@@ -493,6 +522,29 @@ fn shrink(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn seed_files_are_read_from_a_folder_and_its_subfolders_in_path_order() {
+        let root = std::env::temp_dir().join(format!("fuzzkit-seeds-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        for d in ["b", "a", "a/deeper"] {
+            std::fs::create_dir_all(root.join(d)).expect("mkdir");
+        }
+        for (f, text) in [
+            ("top.bhv", "top"),
+            ("b/two.bhv", "b2"),
+            ("a/one.bhv", "a1"),
+            ("a/one.moos", "not a seed"),
+            ("a/deeper/three.bhv", "too deep"),
+        ] {
+            std::fs::write(root.join(f), text).expect("write");
+        }
+        let seeds = seed_files(&root, "bhv");
+        let _ = std::fs::remove_dir_all(&root);
+        assert_eq!(seeds, [b"a1".to_vec(), b"b2".to_vec(), b"top".to_vec()]);
+        let missing = std::panic::catch_unwind(|| seed_files(Path::new("/no/such/dir"), "bhv"));
+        assert!(missing.is_err(), "a missing seed folder fails the harness");
+    }
 
     #[test]
     fn mutations_apply_within_bounds() {

@@ -42,18 +42,7 @@ fn packet_seeds() -> Vec<Vec<u8>> {
 }
 
 fn mission_seeds() -> Vec<Vec<u8>> {
-    let mut v = Vec::new();
-    for d in std::fs::read_dir(repo().join("missions"))
-        .into_iter()
-        .flatten()
-        .flatten()
-    {
-        for f in std::fs::read_dir(d.path()).into_iter().flatten().flatten() {
-            if f.path().extension().is_some_and(|e| e == "moos") {
-                v.push(std::fs::read(f.path()).expect("read mission"));
-            }
-        }
-    }
+    let mut v = fuzzkit::seed_files(&repo().join("missions"), "moos");
     v.push(
         b"ServerHost = localhost\nServerPort = 9000\ndefine: V = alpha\n\
           ProcessConfig = pHelmIvP\n{\n  behaviors = ${V}.bhv // c\n  url = \"a//b\"\n\
