@@ -8,17 +8,14 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod common;
+
 const MISSION: &str = "ServerHost = localhost\nServerPort = 9000\nCommunity = alpha\nLatOrigin = 43.8\nLongOrigin = -70.3\n\nProcessConfig = pHelmIvP\n{\n  AppTick = 4\n  behaviors = m.bhv\n  domain = course:0:359:360\n  domain = speed:0:4:41\n}\n";
 
 const GOOD_BHV: &str = "initialize DEPLOY = true\n\nBehavior = BHV_Waypoint\n{\n  name = go\n  condition = DEPLOY = true\n  speed = 2\n  points = 0,0 : 10,10\n}\n";
 
 fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("bad_input")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("scratch dir");
-    d
+    common::scratch(Path::new("bad_input").join(name))
 }
 
 /// `helm check DIR/m.moos`: (exit code, stdout + stderr, seconds taken).
@@ -54,14 +51,9 @@ fn check_as(d: &Path, wrapper: Option<&[&str]>) -> (i32, String, f64) {
         std::thread::sleep(Duration::from_millis(20));
     }
     let out = child.wait_with_output().expect("output");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
     (
         out.status.code().unwrap_or(-1),
-        text,
+        common::text(&out),
         t0.elapsed().as_secs_f64(),
     )
 }

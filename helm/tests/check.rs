@@ -3,14 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("check")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("scratch dir");
-    d
-}
+mod common;
 
 const MISSION: &str = "ServerHost = localhost\nServerPort = 9000\nCommunity = alpha\nLatOrigin = 43.8\nLongOrigin = -70.3\n\nProcessConfig = pHelmIvP\n{\n  AppTick = 4\n  behaviors = m.bhv\n  domain = course:0:359:360\n  domain = speed:0:4:41\n}\n";
 
@@ -18,7 +11,7 @@ const GOOD_BHV: &str = "initialize DEPLOY = true\n\nBehavior = BHV_Waypoint\n{\n
 
 /// Write a mission and its .bhv, run `helm check`, return (exit code, stdout+stderr).
 fn check(name: &str, mission: &str, bhv: &str) -> (i32, String, PathBuf) {
-    let d = scratch(name);
+    let d = common::scratch(Path::new("check").join(name));
     std::fs::write(d.join("m.moos"), mission).expect("write mission");
     std::fs::write(d.join("m.bhv"), bhv).expect("write bhv");
     let out = Command::new(env!("CARGO_BIN_EXE_helm"))
@@ -27,12 +20,7 @@ fn check(name: &str, mission: &str, bhv: &str) -> (i32, String, PathBuf) {
         .env_remove("IVP_BEHAVIOR_DIRS")
         .output()
         .expect("run helm");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (out.status.code().unwrap_or(-1), text, d)
+    (out.status.code().unwrap_or(-1), common::text(&out), d)
 }
 
 fn bhv_path(d: &Path) -> String {

@@ -2,13 +2,13 @@
 //! `cat` does, instead of panicking on the broken pipe.
 
 use std::os::unix::process::ExitStatusExt;
-use std::path::Path;
 use std::process::{Command, Stdio};
 
+mod common;
+
 fn ends_quietly(args: &[&str]) {
-    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
-        .current_dir(&workspace)
+        .current_dir(common::workspace())
         .args(args)
         .env("IVP_HELM_BUNDLED_DIR", "")
         .stdout(Stdio::piped())

@@ -4,26 +4,22 @@
 //! libraries and, without IVP_BEHAVIOR_DIRS and bundled libraries, must fail with a clear
 //! unknown-type error.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn cases_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../conformance/helm")
+mod common;
+
+/// The golden cases that need behavior libraries (`plugin_*`), or those that do not:
+/// (file name, path).
+fn cases(plugin: bool) -> Vec<(String, PathBuf)> {
+    common::helm_cases()
+        .into_iter()
+        .map(|f| (common::file_name(&f), f))
+        .filter(|(name, _)| name.starts_with("plugin_") == plugin)
+        .collect()
 }
 
-fn case_files() -> Vec<PathBuf> {
-    let dir = cases_dir();
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("conformance folder {} missing: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "no cases in {}", dir.display());
-    files
-}
-
-fn conform(file: &PathBuf) -> (bool, String) {
+fn conform(file: &Path) -> (bool, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_helm"))
         .arg("conform")
         .arg(file)
@@ -39,15 +35,7 @@ fn conform(file: &PathBuf) -> (bool, String) {
 fn builtin_cases_match_the_real_helm() {
     let mut failures = Vec::new();
     let mut n = 0;
-    for f in case_files() {
-        let name = f
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .to_string();
-        if name.starts_with("plugin_") {
-            continue;
-        }
+    for (name, f) in cases(false) {
         n += 1;
         let (ok, text) = conform(&f);
         if !ok {
@@ -65,15 +53,7 @@ fn builtin_cases_match_the_real_helm() {
 
 #[test]
 fn plugin_cases_need_their_libraries() {
-    for f in case_files() {
-        let name = f
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .to_string();
-        if !name.starts_with("plugin_") {
-            continue;
-        }
+    for (name, f) in cases(true) {
         let (ok, text) = conform(&f);
         assert!(!ok, "{name} passed without its behavior libraries");
         assert!(
@@ -89,7 +69,7 @@ fn plugin_cases_need_their_libraries() {
 
 #[test]
 fn a_case_that_differs_fails_with_case_step_variable_expected_and_got() {
-    let src = cases_dir().join("timer_gate.toml");
+    let src = common::workspace().join("conformance/helm/timer_gate.toml");
     let text = std::fs::read_to_string(&src).expect("timer_gate case");
     assert!(
         text.contains("GO = \"true\""),

@@ -30,46 +30,33 @@
 //! there, so the helm keeps iterating on the last navigation it has (no all-stop: the
 //! spec has none for stale navigation) and its DESIRED_* keep arriving.
 
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::{free_port, ALPHA_BHV, ALPHA_MOOS};
 use moos::client::{Client, ClientConfig};
 use moos::mission::MissionFile;
 use moos::wire::Message;
 
-const ALPHA_MOOS: &str = include_str!("../../missions/alpha/alpha.moos");
-const ALPHA_BHV: &str = include_str!("../../missions/alpha/alpha.bhv");
-const WARP: f64 = 20.0;
+mod common;
 
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .expect("bind")
-        .local_addr()
-        .expect("addr")
-        .port()
-}
+const WARP: f64 = 20.0;
 
 /// The alpha mission with `port`, the warp, and the simulator starting at `start`.
 fn mission_text(port: u16, start: (f64, f64, f64, f64)) -> String {
-    ALPHA_MOOS
-        .lines()
-        .map(|l| {
-            let t = l.trim_start();
-            let key = t.split('=').next().unwrap_or("").trim();
-            match key {
-                "ServerPort" => format!("ServerPort = {port}"),
-                "MOOSTimeWarp" => format!("MOOSTimeWarp = {WARP}"),
-                "start_x" => format!("  start_x = {}", start.0),
-                "start_y" => format!("  start_y = {}", start.1),
-                "start_heading" => format!("  start_heading = {}", start.2),
-                "start_speed" => format!("  start_speed = {}", start.3),
-                _ => l.to_string(),
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+    common::with_params(
+        ALPHA_MOOS,
+        &[
+            ("ServerPort", port.to_string()),
+            ("MOOSTimeWarp", WARP.to_string()),
+            ("start_x", start.0.to_string()),
+            ("start_y", start.1.to_string()),
+            ("start_heading", start.2.to_string()),
+            ("start_speed", start.3.to_string()),
+        ],
+    )
 }
 
 /// The `moosdb` built next to the `helm` binary (`cargo test --workspace` builds both).
@@ -288,24 +275,29 @@ fn helm_post_times(alog: &Path) -> Vec<f64> {
 }
 
 fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("helm-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+    common::fresh_dir(std::env::temp_dir().join(format!("helm-{tag}-{}", std::process::id())))
+}
+
+/// The alpha mission written into `dir` for a DB on a free port, the vehicle at its
+/// usual start, and that DB started (its log `dir/db_log`) and listening: (the mission
+/// file, the port, the DB).
+fn alpha_with_db(dir: &Path, db_log: &str) -> (PathBuf, u16, MoosDb) {
+    let port = free_port();
+    let moos_path = dir.join("alpha.moos");
+    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
+    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let db = MoosDb::start(&moos_path, dir.join(db_log));
+    db.wait_listening(port);
+    (moos_path, port, db)
 }
 
 #[test]
 fn helm_survives_moosdb_death_and_simulator_restart() {
     let _serial = serial();
     let dir = scratch("db-death");
-    let port = free_port();
-    let moos_path = dir.join("alpha.moos");
-    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
-    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let (moos_path, port, mut db) = alpha_with_db(&dir, "db1.log");
     let alog = dir.join("helm.alog");
 
-    let mut db = MoosDb::start(&moos_path, dir.join("db1.log"));
-    db.wait_listening(port);
     let mission = MissionFile::read(&moos_path).expect("mission parses");
     let mut sim = Some(helm::app::sim::Sim::start(&mission).expect("simulator connects"));
     let mut obs = Observer::new(port);
@@ -431,13 +423,8 @@ fn signal(pid: u32, sig: &str) {
 fn helm_gives_up_on_a_frozen_moosdb_and_comes_back() {
     let _serial = serial();
     let dir = scratch("db-frozen");
-    let port = free_port();
-    let moos_path = dir.join("alpha.moos");
-    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
-    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
+    let (moos_path, port, db) = alpha_with_db(&dir, "db.log");
     let alog = dir.join("helm.alog");
-    let db = MoosDb::start(&moos_path, dir.join("db.log"));
-    db.wait_listening(port);
     let mission = MissionFile::read(&moos_path).expect("mission parses");
     let _sim = helm::app::sim::Sim::start(&mission).expect("simulator connects");
     let mut obs = Observer::new(port);
@@ -484,12 +471,7 @@ fn helm_gives_up_on_a_frozen_moosdb_and_comes_back() {
 fn a_second_helm_with_the_same_name_is_refused() {
     let _serial = serial();
     let dir = scratch("db-clash");
-    let port = free_port();
-    let moos_path = dir.join("alpha.moos");
-    std::fs::write(&moos_path, mission_text(port, (0.0, -20.0, 180.0, 0.0))).expect("mission");
-    std::fs::write(dir.join("alpha.bhv"), ALPHA_BHV).expect("bhv");
-    let db = MoosDb::start(&moos_path, dir.join("db.log"));
-    db.wait_listening(port);
+    let (moos_path, _, db) = alpha_with_db(&dir, "db.log");
     let first_dir = dir.join("first");
     std::fs::create_dir_all(&first_dir).expect("dir");
     let mut first = spawn_helm(&moos_path, &first_dir.join("helm.alog"), &first_dir);

@@ -1,10 +1,11 @@
 //! Engine bookkeeping driven through the library API: IVPHELM_STATEVARS and the
 //! standby helm's take-over.
 
-use helm::conform::{build_helm, Case};
-use helm::factory::BehaviorFactory;
+use helm::conform::Case;
 use helm::posting::Value;
 use helm::{Helm, HelmState, Mail};
+
+mod common;
 
 fn case(config: &str) -> Case {
     let bhv = "initialize DEPLOY = true\nBehavior = BHV_Timer\n{\n  name = t\n  condition = DEPLOY = true\n  runflag = T_RUN = yes\n}\n";
@@ -32,13 +33,7 @@ fn nav(t: f64) -> Vec<Mail> {
 }
 
 fn helm(config: &str) -> Helm {
-    let c = case(config);
-    build_helm(
-        &c,
-        std::path::Path::new("engine.toml"),
-        &BehaviorFactory::with_builtins(),
-    )
-    .expect("helm builds")
+    common::builtin_case_helm(&case(config), "engine.toml")
 }
 
 #[test]
@@ -87,12 +82,7 @@ fn create_and_loop_times_are_measured_separately() {
         "name = \"times\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n[[step]]\ntime = 1000.0\n"
     );
     let c: Case = toml::from_str(&text).expect("case parses");
-    let mut h = build_helm(
-        &c,
-        std::path::Path::new("times.toml"),
-        &BehaviorFactory::with_builtins(),
-    )
-    .expect("helm builds");
+    let mut h = common::builtin_case_helm(&c, "times.toml");
     h.startup(1000.0);
     let mut pairs = 0;
     let mut solver_seen = false;

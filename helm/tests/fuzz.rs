@@ -8,41 +8,23 @@
 //! Invariants: no panic (a behavior's panic is caught by the helm and posted as
 //! `BHV_ERROR ... behavior panicked`: that fails the case too), no hang, bounded memory.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use helm::config::{BlockLine, HelmConfig};
+use helm::config::HelmConfig;
 use helm::factory::BehaviorFactory;
 use helm::posting::Value;
 use helm::{Helm, Mail};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+mod common;
 
+/// Every `.bhv` text of the repo: mission files and golden cases.
 fn seeds() -> Vec<Vec<u8>> {
-    let mut v = Vec::new();
-    for d in std::fs::read_dir(repo().join("missions"))
-        .into_iter()
-        .flatten()
-        .flatten()
-    {
-        for f in std::fs::read_dir(d.path()).into_iter().flatten().flatten() {
-            if f.path().extension().is_some_and(|e| e == "bhv") {
-                v.push(std::fs::read(f.path()).expect("read mission bhv"));
-            }
-        }
-    }
-    let mut files: Vec<PathBuf> = std::fs::read_dir(repo().join("conformance").join("helm"))
-        .expect("conformance/helm")
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    for p in files {
-        let doc: toml::Table =
-            toml::from_str(&std::fs::read_to_string(&p).expect("read case")).expect("toml");
+    let repo = common::workspace();
+    let mut v = fuzzkit::seed_files(&repo.join("missions"), "bhv");
+    for case in fuzzkit::seed_files(&repo.join("conformance/helm"), "toml") {
+        let case = String::from_utf8(case).expect("a golden case is UTF-8");
+        let doc: toml::Table = toml::from_str(&case).expect("toml");
         if let Some(b) = doc.get("bhv").and_then(|b| b.as_str()) {
             v.push(b.as_bytes().to_vec());
         }
@@ -88,6 +70,18 @@ const DICT: &[&[u8]] = &[
     b"=",
 ];
 
+/// The helm of `spec` with the built-in behaviors, in drive at once.
+fn builtin_helm(spec: bhv::SetSpec) -> Helm {
+    let (config, _) = HelmConfig::from_lines(&common::block_lines(&common::DRIVE_BLOCK));
+    Helm::new(
+        config,
+        spec,
+        &BehaviorFactory::with_builtins(),
+        "alpha",
+        Vec::new(),
+    )
+}
+
 fn mail(var: &str, value: Value, t: f64) -> Mail {
     Mail {
         var: var.into(),
@@ -122,32 +116,12 @@ fn check(data: &[u8]) {
         return;
     }
     BUILT.fetch_add(1, Ordering::Relaxed);
-    let lines: Vec<BlockLine> = [
-        ("domain", "course:0:359:360"),
-        ("domain", "speed:0:4:41"),
-        ("start_in_drive", "true"),
-    ]
-    .iter()
-    .enumerate()
-    .map(|(i, (n, v))| BlockLine {
-        line: i + 1,
-        name: n.to_string(),
-        value: v.to_string(),
-    })
-    .collect();
-    let (config, _) = HelmConfig::from_lines(&lines);
     let inits: Vec<(String, bhv::Value)> = spec
         .inits
         .iter()
         .map(|i| (i.var.clone(), i.value.clone()))
         .collect();
-    let mut helm = Helm::new(
-        config,
-        spec,
-        &BehaviorFactory::with_builtins(),
-        "alpha",
-        Vec::new(),
-    );
+    let mut helm = builtin_helm(spec);
     let mut posts = Vec::new();
     posts.extend(helm.startup(1000.0).iter().cloned());
     for k in 0..8 {
@@ -205,31 +179,10 @@ fn fuzz_helm_behaviors() {
 #[test]
 #[ignore = "bug in ivp::ipf::ipf_packets: names of 1950+ chars make one 2 kB packet per character"]
 fn long_behavior_names_do_not_multiply_bhv_ipf_packets() {
-    let base = std::fs::read_to_string(repo().join("missions/alpha/alpha.bhv")).expect("alpha");
+    let base = common::ALPHA_BHV;
     let text = base.replacen("waypt_survey", &"l".repeat(2000), 1);
     let spec = bhv::parse_str(&text, Path::new("long.bhv")).expect("parses");
-    let lines: Vec<BlockLine> = ["course:0:359:360", "speed:0:4:41"]
-        .iter()
-        .enumerate()
-        .map(|(i, d)| BlockLine {
-            line: i + 1,
-            name: "domain".into(),
-            value: d.to_string(),
-        })
-        .chain(std::iter::once(BlockLine {
-            line: 3,
-            name: "start_in_drive".into(),
-            value: "true".into(),
-        }))
-        .collect();
-    let (config, _) = HelmConfig::from_lines(&lines);
-    let mut helm = Helm::new(
-        config,
-        spec,
-        &BehaviorFactory::with_builtins(),
-        "alpha",
-        Vec::new(),
-    );
+    let mut helm = builtin_helm(spec);
     helm.startup(1000.0);
     let nav = |t: f64| {
         ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]

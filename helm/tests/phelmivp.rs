@@ -4,16 +4,17 @@
 //! in a second process taking over from a killed or frozen primary (helm.md §1, §10,
 //! §12, contacts-appcast.md §5).
 
-use std::net::TcpListener;
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+use common::free_port;
 use moos::client::{Client, ClientConfig};
 use moos::db::{Db, DbConfig};
 use moos::mission::MissionFile;
 use moos::wire::Message;
+
+mod common;
 
 const HELM: &str = env!("CARGO_BIN_EXE_helm");
 
@@ -37,21 +38,8 @@ Behavior = BHV_Waypoint
 }
 ";
 
-fn free_port() -> u16 {
-    let l = TcpListener::bind("127.0.0.1:0").expect("bind an ephemeral port");
-    l.local_addr().expect("local addr").port()
-}
-
 fn temp_dir(tag: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let d = std::env::temp_dir().join(format!(
-        "helm-phelmivp-{tag}-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("create temp dir");
-    d
+    common::temp_dir(&format!("helm-phelmivp-{tag}"))
 }
 
 /// A helm block named `name` (extra lines added), for the mission below.

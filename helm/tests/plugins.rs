@@ -14,6 +14,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
+use common::{scratch, text, workspace};
+
+mod common;
+
 const PLUGINS: &[&str] = &[
     "bhv-constant-speed",
     "bhv-constant-heading",
@@ -25,49 +29,15 @@ const PLUGINS: &[&str] = &[
 /// Built with the others, kept in a folder of its own (`failure_dir`).
 const FAILURE_PLUGIN: &str = "bhv-test-failure";
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
 /// Build the plugins once per test binary; returns the folder holding the `.so` files.
 fn plugin_dir() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugins-target");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.current_dir(workspace())
-            .arg("build")
-            .arg("--quiet")
-            .env("CARGO_TARGET_DIR", &target);
-        for p in PLUGINS.iter().chain([&FAILURE_PLUGIN]) {
-            cmd.arg("-p").arg(p);
-        }
-        let out = cmd.output().expect("run cargo build");
-        assert!(
-            out.status.success(),
-            "building the plugins failed:\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let dir = target.join("debug");
-        for p in PLUGINS {
-            let so = dir.join(format!("lib{}.so", p.replace('-', "_")));
-            assert!(so.is_file(), "{} not built", so.display());
-        }
+        let all: Vec<&str> = PLUGINS.iter().copied().chain([FAILURE_PLUGIN]).collect();
+        let built = common::build_plugins(&all);
         // Only the behavior libraries: the debug folder also holds deps/, build/ ...
-        let only = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugins-lib");
-        std::fs::create_dir_all(&only).unwrap();
-        for p in PLUGINS {
-            let name = format!("lib{}.so", p.replace('-', "_"));
-            std::fs::copy(dir.join(&name), only.join(&name)).unwrap();
-        }
-        let failure = Path::new(env!("CARGO_TARGET_TMPDIR")).join("failure-lib");
-        std::fs::create_dir_all(&failure).unwrap();
-        let name = format!("lib{}.so", FAILURE_PLUGIN.replace('-', "_"));
-        std::fs::copy(dir.join(&name), failure.join(&name)).unwrap();
+        let only = common::lib_folder(&built, PLUGINS, "plugins-lib");
+        common::lib_folder(&built, &[FAILURE_PLUGIN], "failure-lib");
         only
     })
 }
@@ -85,40 +55,15 @@ fn helm_conform(case: &Path, dirs: Option<&str>) -> Output {
         .arg("conform")
         .arg(case)
         .env("IVP_HELM_BUNDLED_DIR", "");
-    match dirs {
-        Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
-        None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
-    };
+    common::behavior_dirs(&mut cmd, dirs);
     cmd.output().expect("run helm")
 }
 
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
 fn plugin_cases() -> Vec<PathBuf> {
-    let dir = workspace().join("conformance/helm");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            let n = p.file_name().unwrap().to_string_lossy();
-            n.starts_with("plugin_") && n.ends_with(".toml")
-        })
-        .collect();
-    v.sort();
-    v
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::helm_cases()
+        .into_iter()
+        .filter(|p| common::file_name(p).starts_with("plugin_"))
+        .collect()
 }
 
 #[test]
@@ -144,8 +89,8 @@ fn each_library_alone_offers_its_own_type() {
     let lib = plugin_dir();
     let mut dirs = Vec::new();
     for p in ["bhv-constant-heading", "bhv-constant-speed"] {
-        let d = scratch(&format!("alone-{p}"));
-        let name = format!("lib{}.so", p.replace('-', "_"));
+        let d = scratch(format!("alone-{p}"));
+        let name = common::lib_name(p);
         std::fs::copy(lib.join(&name), d.join(&name)).unwrap();
         dirs.push(d.to_str().unwrap().to_string());
     }
@@ -217,7 +162,7 @@ fn bad_library_files_are_skipped() {
 // Isolation: deliberately failing behaviors, through the helm's library API.
 // ---------------------------------------------------------------------------------------
 
-use helm::config::{BlockLine, HelmConfig};
+use helm::config::HelmConfig;
 use helm::posting::{Posting, Value};
 use helm::{Helm, HelmState, Mail};
 
@@ -226,20 +171,7 @@ const T0: f64 = 1000.0;
 /// The helm built from `bhv` text with the libraries of `dirs`, and its config warnings.
 fn build(bhv_text: &str, dirs: &[PathBuf]) -> Helm {
     let (factory, _report) = helm::mission::factory_for(dirs);
-    let lines: Vec<BlockLine> = [
-        ("domain", "course:0:359:360"),
-        ("domain", "speed:0:4:41"),
-        ("start_in_drive", "true"),
-    ]
-    .iter()
-    .enumerate()
-    .map(|(i, (n, v))| BlockLine {
-        line: i + 1,
-        name: n.to_string(),
-        value: v.to_string(),
-    })
-    .collect();
-    let (config, warnings) = HelmConfig::from_lines(&lines);
+    let (config, warnings) = HelmConfig::from_lines(&common::block_lines(&common::DRIVE_BLOCK));
     assert!(warnings.is_empty(), "{warnings:?}");
     let spec = bhv::reader::parse_str(bhv_text, Path::new("isolation.bhv")).expect("bhv parses");
     Helm::new(config, spec, &factory, "alpha", vec![])
@@ -696,7 +628,7 @@ fn build_future_abi_library() -> Option<PathBuf> {
     .unwrap();
     // The workspace's lock file: the same abi_stable, resolvable offline.
     std::fs::copy(ws.join("Cargo.lock"), plugin.join("Cargo.lock")).unwrap();
-    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugins-target");
+    let target = common::plugins_target();
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
         .current_dir(&plugin)
@@ -757,18 +689,10 @@ fn library_built_against_another_api_version_is_refused() {
 
     // The helm built on that folder: the good type works, the bad one is unknown.
     let good_bhv = "Behavior = BHV_Template\n{\n  name = t\n  speed = 1.5\n}\n";
-    let (config, _) = HelmConfig::from_lines(&[
-        BlockLine {
-            line: 1,
-            name: "domain".into(),
-            value: "course:0:359:360".into(),
-        },
-        BlockLine {
-            line: 2,
-            name: "domain".into(),
-            value: "speed:0:4:41".into(),
-        },
-    ]);
+    let (config, _) = HelmConfig::from_lines(&common::block_lines(&[
+        ("domain", "course:0:359:360"),
+        ("domain", "speed:0:4:41"),
+    ]));
     let spec = bhv::reader::parse_str(good_bhv, Path::new("abi.bhv")).unwrap();
     let helm = Helm::new(config, spec, &factory, "alpha", vec![]);
     assert!(
@@ -781,11 +705,7 @@ fn library_built_against_another_api_version_is_refused() {
         Path::new("abi.bhv"),
     )
     .unwrap();
-    let (config, _) = HelmConfig::from_lines(&[BlockLine {
-        line: 1,
-        name: "domain".into(),
-        value: "speed:0:4:41".into(),
-    }]);
+    let (config, _) = HelmConfig::from_lines(&common::block_lines(&[("domain", "speed:0:4:41")]));
     let helm = Helm::new(config, spec, &factory, "alpha", vec![]);
     let w = helm.config_warnings().join("\n");
     assert!(
@@ -840,10 +760,7 @@ fn check_plugins_mission(helm: &Path, dirs: Option<&str>) -> Output {
         .arg("check")
         .arg("missions/plugins/plugins.moos")
         .env_remove("IVP_HELM_BUNDLED_DIR");
-    match dirs {
-        Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
-        None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
-    };
+    common::behavior_dirs(&mut cmd, dirs);
     cmd.output().expect("run helm check")
 }
 

@@ -1,30 +1,22 @@
 //! RESTART_HELM: the behavior set is rebuilt from its blocks.
 
-use helm::conform::{build_helm, replay, Case};
-use helm::factory::BehaviorFactory;
+use helm::conform::{replay, Case};
+
+mod common;
 
 fn case(restart_at: Option<usize>, steps: usize) -> Case {
     let bhv = "initialize DEPLOY = true\nBehavior = BHV_Timer\n{\n  name = t\n  condition = DEPLOY = true\n  duration = 3\n}\n";
-    let mut text = format!(
-        "name = \"restart\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n"
-    );
-    for k in 0..steps {
-        let t = 1000.0 + 0.25 * k as f64;
-        text.push_str(&format!(
-            "[[step]]\ntime = {t}\nmail = [[\"NAV_X\", 0.0], [\"NAV_Y\", 0.0], [\"NAV_HEADING\", 0.0], [\"NAV_SPEED\", 0.0]"
-        ));
+    common::nav_case("restart", bhv, steps, |k| {
         if restart_at == Some(k) {
-            text.push_str(", [\"RESTART_HELM\", \"type1\"]");
+            ", [\"RESTART_HELM\", \"type1\"]".into()
+        } else {
+            String::new()
         }
-        text.push_str("]\n");
-    }
-    toml::from_str(&text).expect("case parses")
+    })
 }
 
 fn names_after(c: &Case) -> Vec<String> {
-    let factory = BehaviorFactory::with_builtins();
-    let file = std::path::PathBuf::from("restart.toml");
-    let mut helm = build_helm(c, &file, &factory).expect("helm builds");
+    let mut helm = common::builtin_case_helm(c, "restart.toml");
     replay(c, &mut helm, false);
     helm.behavior_names()
 }

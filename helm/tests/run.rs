@@ -7,56 +7,33 @@
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-const ALPHA_MOOS: &str = include_str!("../../missions/alpha/alpha.moos");
-const ALPHA_BHV: &str = include_str!("../../missions/alpha/alpha.bhv");
+use common::{free_port, ALPHA_BHV, ALPHA_MOOS};
 
-/// A port nobody listens on right now.
-fn free_port() -> u16 {
-    let l = TcpListener::bind("127.0.0.1:0").expect("bind an ephemeral port");
-    l.local_addr().expect("local addr").port()
-}
-
-fn temp_dir(tag: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let d = std::env::temp_dir().join(format!(
-        "helm-run-{tag}-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("create temp dir");
-    d
-}
+mod common;
 
 /// The alpha mission with its own port and time warp (and `bhv` as its behavior file).
 fn mission(tag: &str, port: u16, warp: f64, bhv: &str) -> PathBuf {
-    let dir = temp_dir(tag);
-    let text: String = ALPHA_MOOS
-        .lines()
-        .map(|l| {
-            let t = l.trim_start();
-            if t.starts_with("ServerPort") {
-                format!("ServerPort = {port}")
-            } else if t.starts_with("MOOSTimeWarp") {
-                format!("MOOSTimeWarp = {warp}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
+    let dir = common::temp_dir(&format!("helm-run-{tag}"));
+    let text = common::with_params(
+        ALPHA_MOOS,
+        &[
+            ("ServerPort", port.to_string()),
+            ("MOOSTimeWarp", warp.to_string()),
+        ],
+    );
     std::fs::write(dir.join("alpha.moos"), text).expect("write mission");
     std::fs::write(dir.join("alpha.bhv"), bhv).expect("write bhv");
     dir.join("alpha.moos")
 }
 
-/// Run `helm run ARGS`, killing it if it outlives `limit`.
-fn helm_run(args: &[&str], limit: Duration) -> Output {
+/// Run `helm run --embedded MISSION ARGS`, killing it if it outlives `limit`; its output
+/// with stdout and stderr as text.
+fn run_embedded(mission: &Path, args: &[&str], limit: Duration) -> (Output, String, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
-        .arg("run")
+        .args(["run", "--embedded"])
+        .arg(mission)
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -78,7 +55,9 @@ fn helm_run(args: &[&str], limit: Duration) -> Output {
             None => std::thread::sleep(Duration::from_millis(50)),
         }
     }
-    child.wait_with_output().expect("collect output")
+    let out = child.wait_with_output().expect("collect output");
+    let (stdout, stderr) = text(&out);
+    (out, stdout, stderr)
 }
 
 /// The `key=value` words of the `final:` line.
@@ -118,17 +97,11 @@ fn text(o: &Output) -> (String, String) {
 #[test]
 fn embedded_alpha_mission_completes_and_returns_home() {
     let m = mission("alpha", free_port(), 25.0, ALPHA_BHV);
-    let out = helm_run(
-        &[
-            "--embedded",
-            m.to_str().expect("utf-8 path"),
-            "--duration",
-            "600",
-            "--quiet",
-        ],
+    let (out, stdout, stderr) = run_embedded(
+        &m,
+        &["--duration", "600", "--quiet"],
         Duration::from_secs(90),
     );
-    let (stdout, stderr) = text(&out);
     assert!(
         out.status.success(),
         "exit {:?}\n{stdout}\n{stderr}",
@@ -154,16 +127,7 @@ fn embedded_alpha_mission_completes_and_returns_home() {
 #[test]
 fn embedded_run_stops_at_duration_with_heartbeat() {
     let m = mission("short", free_port(), 10.0, ALPHA_BHV);
-    let out = helm_run(
-        &[
-            "--embedded",
-            m.to_str().expect("utf-8 path"),
-            "--duration",
-            "30",
-        ],
-        Duration::from_secs(60),
-    );
-    let (stdout, stderr) = text(&out);
+    let (out, stdout, stderr) = run_embedded(&m, &["--duration", "30"], Duration::from_secs(60));
     assert!(
         out.status.success(),
         "exit {:?}\n{stdout}\n{stderr}",
@@ -198,17 +162,8 @@ fn malconfig_mission_reports_file_line_and_never_drives() {
         .expect("bad line present")
         + 1;
     let m = mission("malconfig", free_port(), 10.0, &bad);
-    let out = helm_run(
-        &[
-            "--embedded",
-            m.to_str().expect("utf-8 path"),
-            "--duration",
-            "5",
-            "--quiet",
-        ],
-        Duration::from_secs(60),
-    );
-    let (stdout, stderr) = text(&out);
+    let (out, stdout, stderr) =
+        run_embedded(&m, &["--duration", "5", "--quiet"], Duration::from_secs(60));
     assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
     assert!(stderr.contains(&format!("alpha.bhv:{line}:")), "{stderr}");
     assert!(stderr.contains("bogus_param"), "{stderr}");
@@ -226,11 +181,7 @@ fn busy_port_is_a_clear_error() {
     let taken = TcpListener::bind("127.0.0.1:0").expect("bind");
     let port = taken.local_addr().expect("addr").port();
     let m = mission("busy", port, 1.0, ALPHA_BHV);
-    let out = helm_run(
-        &["--embedded", m.to_str().expect("utf-8 path"), "--quiet"],
-        Duration::from_secs(20),
-    );
-    let (stdout, stderr) = text(&out);
+    let (out, stdout, stderr) = run_embedded(&m, &["--quiet"], Duration::from_secs(20));
     assert!(!out.status.success(), "{stdout}\n{stderr}");
     assert!(stderr.contains(&format!("port {port} is busy")), "{stderr}");
     drop(taken);

@@ -5,43 +5,26 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
 use helm::posting::Value;
 use helm::sim::{Prepared, RunOptions, StartShift};
 use helm::Mail;
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace")
-        .to_path_buf()
-}
+mod common;
 
 fn mission(name: &str) -> PathBuf {
-    workspace().join("missions").join(name)
+    common::workspace().join("missions").join(name)
 }
 
 fn temp_dir(tag: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let d = std::env::temp_dir().join(format!(
-        "helm-sim-{tag}-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("create temp dir");
-    d
+    common::temp_dir(&format!("helm-sim-{tag}"))
 }
 
 fn helm_sim(args: &[&str], dirs: Option<&Path>) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
     cmd.arg("sim").args(args).env("IVP_HELM_BUNDLED_DIR", "");
-    match dirs {
-        Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
-        None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
-    };
+    common::behavior_dirs(&mut cmd, dirs);
     cmd.output().expect("run helm sim")
 }
 
@@ -183,8 +166,8 @@ fn charlie_loiters_then_returns() {
     assert!(svg.contains("<polygon"), "the loiter polygon is drawn");
 }
 
-/// The plugin libraries, built as helm/tests/plugins.rs builds them (same folder, so
-/// the build is shared).
+/// The plugin libraries, built as helm/tests/plugins.rs builds them (same target
+/// folder, so the build is shared).
 fn plugin_dir() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
@@ -194,28 +177,11 @@ fn plugin_dir() -> &'static Path {
             "bhv-constant-depth",
             "bhv-station-keep",
         ];
-        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugins-target");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.current_dir(workspace())
-            .args(["build", "--quiet"])
-            .env("CARGO_TARGET_DIR", &target);
-        for p in PLUGINS {
-            cmd.arg("-p").arg(p);
-        }
-        let out = cmd.output().expect("run cargo build");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let only = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sim-plugins-lib");
-        std::fs::create_dir_all(&only).expect("mkdir");
-        for p in PLUGINS {
-            let name = format!("lib{}.so", p.replace('-', "_"));
-            std::fs::copy(target.join("debug").join(&name), only.join(&name)).expect("copy");
-        }
-        only
+        common::lib_folder(
+            &common::build_plugins(&PLUGINS),
+            &PLUGINS,
+            "sim-plugins-lib",
+        )
     })
 }
 

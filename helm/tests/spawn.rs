@@ -1,25 +1,22 @@
 //! Templating: behaviors spawned at run time from `templating = spawn|clone` blocks.
 
-use helm::conform::{build_helm, replay, Case};
-use helm::factory::BehaviorFactory;
+use helm::conform::{replay, Case};
+use helm::Helm;
+
+mod common;
 
 fn case(bhv: &str, spawn_mail: &[(usize, &str)], steps: usize) -> Case {
-    let mut text = format!(
-        "name = \"spawn\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}\n'''\n[config]\nstart_in_drive = \"true\"\n"
-    );
-    for k in 0..steps {
-        let t = 1000.0 + 0.25 * k as f64;
-        text.push_str(&format!(
-            "[[step]]\ntime = {t}\nmail = [[\"NAV_X\", 0.0], [\"NAV_Y\", 0.0], [\"NAV_HEADING\", 0.0], [\"NAV_SPEED\", 0.0]"
-        ));
-        for (at, m) in spawn_mail {
-            if *at == k {
-                text.push_str(&format!(", [\"TMR_SPAWN\", \"{m}\"]"));
-            }
-        }
-        text.push_str("]\n");
-    }
-    toml::from_str(&text).expect("case parses")
+    common::nav_case("spawn", &format!("{bhv}\n"), steps, |k| {
+        spawn_mail
+            .iter()
+            .filter(|(at, _)| *at == k)
+            .map(|(_, m)| format!(", [\"TMR_SPAWN\", \"{m}\"]"))
+            .collect()
+    })
+}
+
+fn helm_of(c: &Case) -> Helm {
+    common::builtin_case_helm(c, "spawn.toml")
 }
 
 const TEMPLATE: &str = "Behavior = BHV_Timer\n{\n  name = tmr_\n  templating = spawn\n  max_spawnings = 2\n  updates = TMR_SPAWN\n}\n";
@@ -36,9 +33,7 @@ fn spawn_requests_create_named_behaviors_up_to_the_limit() {
         ],
         16,
     );
-    let factory = BehaviorFactory::with_builtins();
-    let file = std::path::PathBuf::from("spawn.toml");
-    let mut helm = build_helm(&c, &file, &factory).expect("helm builds");
+    let mut helm = helm_of(&c);
     assert!(
         helm.behavior_names().is_empty(),
         "a spawn template is not an instance"
@@ -50,9 +45,7 @@ fn spawn_requests_create_named_behaviors_up_to_the_limit() {
 #[test]
 fn a_bad_pair_aborts_the_spawn() {
     let c = case(TEMPLATE, &[(6, "name=a # nonsense=1")], 10);
-    let factory = BehaviorFactory::with_builtins();
-    let file = std::path::PathBuf::from("spawn.toml");
-    let mut helm = build_helm(&c, &file, &factory).expect("helm builds");
+    let mut helm = helm_of(&c);
     replay(&c, &mut helm, false);
     assert!(helm.behavior_names().is_empty());
 }
@@ -61,9 +54,7 @@ fn a_bad_pair_aborts_the_spawn() {
 fn clone_templates_are_instances_too() {
     let bhv = TEMPLATE.replace("templating = spawn", "templating = clone");
     let c = case(&bhv, &[(6, "name=x")], 10);
-    let factory = BehaviorFactory::with_builtins();
-    let file = std::path::PathBuf::from("spawn.toml");
-    let mut helm = build_helm(&c, &file, &factory).expect("helm builds");
+    let mut helm = helm_of(&c);
     replay(&c, &mut helm, false);
     assert_eq!(helm.behavior_names(), vec!["tmr_", "tmr_x"]);
 }

@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
+mod common;
+
 const PLUGINS: &[&str] = &[
     "bhv-constant-speed",
     "bhv-constant-heading",
@@ -19,49 +21,20 @@ const PLUGINS: &[&str] = &[
     "bhv-station-keep",
 ];
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace")
-        .to_path_buf()
-}
-
 /// The four plugin libraries, built once per test binary into a folder of their own.
 fn plugin_dir() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugins-target");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.current_dir(workspace())
-            .args(["build", "--quiet"])
-            .env("CARGO_TARGET_DIR", &target);
-        for p in PLUGINS {
-            cmd.arg("-p").arg(p);
-        }
-        let out = cmd.output().expect("run cargo build");
-        assert!(
-            out.status.success(),
-            "building the plugins failed:\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let only = Path::new(env!("CARGO_TARGET_TMPDIR")).join("user-missions-lib");
-        std::fs::create_dir_all(&only).expect("lib dir");
-        for p in PLUGINS {
-            let name = format!("lib{}.so", p.replace('-', "_"));
-            std::fs::copy(target.join("debug").join(&name), only.join(&name)).expect("copy .so");
-        }
-        only
+        common::lib_folder(
+            &common::build_plugins(PLUGINS),
+            PLUGINS,
+            "user-missions-lib",
+        )
     })
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("user_missions")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("scratch dir");
-    d
+    common::scratch(Path::new("user_missions").join(name))
 }
 
 /// `helm check` of a mission whose helm block reads `bhv`; (exit code, all output).
@@ -82,12 +55,7 @@ fn check(name: &str, bhv: &Path) -> (i32, String) {
         .env("IVP_BEHAVIOR_DIRS", plugin_dir())
         .output()
         .expect("run helm");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (out.status.code().unwrap_or(-1), text)
+    (out.status.code().unwrap_or(-1), common::text(&out))
 }
 
 fn ours(file: &str) -> PathBuf {

@@ -1,0 +1,204 @@
+//! Helpers shared by the integration tests of the `helm` crate (`mod common;` in each).
+
+// Each test binary compiles this module on its own and uses only some of it.
+#![allow(dead_code)]
+
+use std::ffi::OsStr;
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use helm::config::BlockLine;
+use helm::conform::{build_helm, Case};
+use helm::factory::BehaviorFactory;
+use helm::Helm;
+
+/// The alpha mission of the repo, as shipped.
+pub const ALPHA_MOOS: &str = include_str!("../../../missions/alpha/alpha.moos");
+pub const ALPHA_BHV: &str = include_str!("../../../missions/alpha/alpha.bhv");
+
+/// The root of the workspace (the repo).
+pub fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace")
+        .to_path_buf()
+}
+
+/// The golden helm cases, `conformance/helm/*.toml`, sorted.
+pub fn helm_cases() -> Vec<PathBuf> {
+    let dir = workspace().join("conformance/helm");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("conformance folder {} missing: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no cases in {}", dir.display());
+    files
+}
+
+/// The file name of `p`, as text.
+pub fn file_name(p: &Path) -> String {
+    p.file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// `d`, emptied: removed if it was there, then created.
+pub fn fresh_dir(d: PathBuf) -> PathBuf {
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("create scratch dir");
+    d
+}
+
+/// `CARGO_TARGET_TMPDIR/<rel>`, emptied.
+pub fn scratch(rel: impl AsRef<Path>) -> PathBuf {
+    fresh_dir(Path::new(env!("CARGO_TARGET_TMPDIR")).join(rel))
+}
+
+/// A new empty folder `<prefix>-<pid>-<n>` in the system temp dir (`n` counts the calls
+/// of this test binary, so every call gets its own).
+pub fn temp_dir(prefix: &str) -> PathBuf {
+    static N: AtomicUsize = AtomicUsize::new(0);
+    fresh_dir(std::env::temp_dir().join(format!(
+        "{prefix}-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::SeqCst)
+    )))
+}
+
+/// A port of 127.0.0.1 nobody listens on right now.
+pub fn free_port() -> u16 {
+    let l = TcpListener::bind("127.0.0.1:0").expect("bind an ephemeral port");
+    l.local_addr().expect("local addr").port()
+}
+
+/// What a process wrote: stdout, then stderr.
+pub fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// Set IVP_BEHAVIOR_DIRS of `cmd` to `dirs`, or unset it for `None`.
+pub fn behavior_dirs<D: AsRef<OsStr>>(cmd: &mut Command, dirs: Option<D>) -> &mut Command {
+    match dirs {
+        Some(d) => cmd.env("IVP_BEHAVIOR_DIRS", d),
+        None => cmd.env_remove("IVP_BEHAVIOR_DIRS"),
+    }
+}
+
+/// `moos` (a mission file's text) with each line that sets one of `params` (the name
+/// before `=`) setting it to the given value instead, indentation kept.
+pub fn with_params(moos: &str, params: &[(&str, String)]) -> String {
+    moos.lines()
+        .map(|l| {
+            let t = l.trim_start();
+            let name = t.split('=').next().unwrap_or("").trim();
+            match params.iter().find(|(p, _)| *p == name) {
+                Some((p, v)) => format!("{}{p} = {v}", &l[..l.len() - t.len()]),
+                None => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The helm block of the library-level tests: course and speed domains, in drive at once.
+pub const DRIVE_BLOCK: [(&str, &str); 3] = [
+    ("domain", "course:0:359:360"),
+    ("domain", "speed:0:4:41"),
+    ("start_in_drive", "true"),
+];
+
+/// Helm block lines `name = value`, numbered from 1.
+pub fn block_lines(lines: &[(&str, &str)]) -> Vec<BlockLine> {
+    lines
+        .iter()
+        .enumerate()
+        .map(|(i, (name, value))| BlockLine {
+            line: i + 1,
+            name: name.to_string(),
+            value: value.to_string(),
+        })
+        .collect()
+}
+
+/// The target folder of the plugin builds, one for every test binary of this crate (so
+/// a plugin is compiled once per `cargo test`).
+pub fn plugins_target() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugins-target")
+}
+
+/// The library a plugin package builds: `bhv-constant-speed` gives
+/// `libbhv_constant_speed.so`.
+pub fn lib_name(package: &str) -> String {
+    format!("lib{}.so", package.replace('-', "_"))
+}
+
+/// Build the plugin `packages` of the workspace into [`plugins_target`]; returns the
+/// folder holding their libraries (with cargo's deps/, build/ ... beside them).
+pub fn build_plugins(packages: &[&str]) -> PathBuf {
+    let target = plugins_target();
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(workspace())
+        .args(["build", "--quiet"])
+        .env("CARGO_TARGET_DIR", &target);
+    for p in packages {
+        cmd.arg("-p").arg(p);
+    }
+    let out = cmd.output().expect("run cargo build");
+    assert!(
+        out.status.success(),
+        "building the plugins failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let built = target.join("debug");
+    for p in packages {
+        let so = built.join(lib_name(p));
+        assert!(so.is_file(), "{} not built", so.display());
+    }
+    built
+}
+
+/// Copy the libraries of `packages` from `built` into `CARGO_TARGET_TMPDIR/<folder>`, a
+/// folder of behavior libraries only; returns it.
+pub fn lib_folder(built: &Path, packages: &[&str], folder: &str) -> PathBuf {
+    let only = Path::new(env!("CARGO_TARGET_TMPDIR")).join(folder);
+    std::fs::create_dir_all(&only).expect("create the library folder");
+    for p in packages {
+        let name = lib_name(p);
+        std::fs::copy(built.join(&name), only.join(&name)).expect("copy the library");
+    }
+    only
+}
+
+/// A golden case (the conformance format) named `name`: `bhv` in drive with course and
+/// speed domains, then `steps` iterations 0.25 s apart from 1000 s, each mailed zero
+/// navigation and the mail entries `extra` gives for its step (TOML text, each entry
+/// `, ["VAR", value]`).
+pub fn nav_case(name: &str, bhv: &str, steps: usize, extra: impl Fn(usize) -> String) -> Case {
+    let mut text = format!(
+        "name = \"{name}\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n"
+    );
+    for k in 0..steps {
+        let t = 1000.0 + 0.25 * k as f64;
+        text.push_str(&format!(
+            "[[step]]\ntime = {t}\nmail = [[\"NAV_X\", 0.0], [\"NAV_Y\", 0.0], [\"NAV_HEADING\", 0.0], [\"NAV_SPEED\", 0.0]"
+        ));
+        text.push_str(&extra(k));
+        text.push_str("]\n");
+    }
+    toml::from_str(&text).expect("case parses")
+}
+
+/// The helm of case `c` (read from `file`, for messages) with the built-in behaviors.
+pub fn builtin_case_helm(c: &Case, file: &str) -> Helm {
+    build_helm(c, Path::new(file), &BehaviorFactory::with_builtins()).expect("helm builds")
+}
