@@ -93,13 +93,7 @@ impl MoosDb {
 
     /// Resident memory in kB.
     fn rss_kb(&self) -> u64 {
-        let s = std::fs::read_to_string(format!("/proc/{}/status", self.child.id()))
-            .expect("/proc/PID/status");
-        s.lines()
-            .find_map(|l| l.strip_prefix("VmRSS:"))
-            .and_then(|v| v.split_whitespace().next())
-            .and_then(|v| v.parse().ok())
-            .expect("VmRSS")
+        vm_rss_kb(&format!("/proc/{}/status", self.child.id()))
     }
 
     fn log(&self) -> String {
@@ -108,19 +102,65 @@ impl MoosDb {
 
     /// Wait until the log contains every one of `words` on one line.
     fn wait_log(&self, words: &[&str], limit: Duration) -> bool {
-        let t0 = Instant::now();
-        while t0.elapsed() < limit {
-            if self
-                .log()
-                .lines()
-                .any(|l| words.iter().all(|w| l.contains(w)))
-            {
-                return true;
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        false
+        wait_line(|| self.log(), words, limit)
     }
+
+    /// The log gets a line with every one of `words` within `limit`; else fail, saying
+    /// `what` and showing the log.
+    fn assert_logged(&self, words: &[&str], limit: Duration, what: &str) {
+        assert!(self.wait_log(words, limit), "{what}:\n{}", self.log());
+    }
+}
+
+/// VmRSS, in kB, of a `/proc/.../status` file.
+fn vm_rss_kb(status: &str) -> u64 {
+    std::fs::read_to_string(status)
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find_map(|l| l.strip_prefix("VmRSS:"))
+                .and_then(|v| v.split_whitespace().next())
+                .and_then(|v| v.parse().ok())
+        })
+        .unwrap_or_else(|| panic!("no VmRSS in {status}"))
+}
+
+/// Wait until `text()` has a line containing every one of `words`.
+fn wait_line(text: impl Fn() -> String, words: &[&str], limit: Duration) -> bool {
+    let t0 = Instant::now();
+    while t0.elapsed() < limit {
+        if text().lines().any(|l| words.iter().all(|w| l.contains(w))) {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    false
+}
+
+/// A read that only timed out (the peer is still there).
+fn timed_out(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+    )
+}
+
+/// A raw TCP connection to the DB, nothing sent yet.
+fn connect(port: u16) -> TcpStream {
+    TcpStream::connect(("127.0.0.1", port)).expect("connect")
+}
+
+/// `msgs` as one packet.
+fn packet(msgs: &[Message]) -> Vec<u8> {
+    let mut p = Vec::new();
+    wire::encode_packet(msgs, &mut p).expect("encode");
+    p
+}
+
+/// The first half of a packet holding a 5000-byte string: a peer that stops mid-packet.
+fn half_packet() -> Vec<u8> {
+    let p = packet(&[Message::notify_string("X", &"y".repeat(5000), 1.0)]);
+    p[..p.len() / 2].to_vec()
 }
 
 impl Drop for MoosDb {
@@ -190,14 +230,12 @@ fn handshake_bytes(name: &str) -> Vec<u8> {
         sval: name.as_bytes().to_vec(),
         ..Message::default()
     };
-    let mut buf = wire::BANNER.to_vec();
-    wire::encode_packet(&[hs], &mut buf).expect("encode");
-    buf
+    [wire::BANNER.to_vec(), packet(&[hs])].concat()
 }
 
 /// A raw peer that completed the handshake; returns the stream and the welcome.
 fn raw_peer(port: u16, name: &str) -> (TcpStream, Message) {
-    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    let mut s = connect(port);
     s.write_all(&handshake_bytes(name)).expect("send handshake");
     s.set_read_timeout(Some(Duration::from_secs(5)))
         .expect("timeout");
@@ -223,15 +261,43 @@ fn closed_within(s: &mut TcpStream, limit: Duration) -> bool {
         match s.read(&mut buf) {
             Ok(0) => return true,
             Ok(_) => {}
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                ) => {}
+            Err(e) if timed_out(&e) => {}
             Err(_) => return true,
         }
     }
     false
+}
+
+/// The DB closes `s` within `secs` seconds; else fail, saying `what`.
+fn assert_closed(s: &mut TcpStream, secs: u64, what: &str) {
+    assert!(closed_within(s, Duration::from_secs(secs)), "{what}");
+}
+
+/// The start of every attack on the DB: the test lock, a fresh `moosdb` (`tag` names
+/// its log) and its two watchers, served.
+fn attack(tag: &str) -> (std::sync::MutexGuard<'static, ()>, MoosDb, Watchers) {
+    let serial = serial();
+    let db = MoosDb::start(tag);
+    let w = Watchers::new(db.port);
+    (serial, db, w)
+}
+
+/// The mail of `c` from now until `enough` holds for it; fails, saying `what`, after
+/// `limit`.
+fn mail_until(
+    c: &Client,
+    limit: Duration,
+    what: &str,
+    enough: impl Fn(&[Message]) -> bool,
+) -> Vec<Message> {
+    let mut got = Vec::new();
+    let t0 = Instant::now();
+    while !enough(&got) {
+        assert!(t0.elapsed() < limit, "{what}: got {}", got.len());
+        c.wait_for_mail(Duration::from_millis(200));
+        c.fetch(&mut got);
+    }
+    got
 }
 
 fn assert_healthy(db: &mut MoosDb, w: &mut Watchers, rss_limit_kb: u64, when: &str) {
@@ -247,76 +313,55 @@ fn assert_healthy(db: &mut MoosDb, w: &mut Watchers, rss_limit_kb: u64, when: &s
 
 #[test]
 fn two_gigabyte_length_prefix_is_refused_without_allocating() {
-    let _serial = serial();
-    let mut db = MoosDb::start("2gb");
-    let mut w = Watchers::new(db.port);
+    let (_serial, mut db, mut w) = attack("2gb");
     // After the handshake.
     let (mut s, _) = raw_peer(db.port, "liar");
     s.write_all(&0x7fff_fff0_i32.to_le_bytes()).expect("send");
     s.write_all(&[0u8; 1024]).expect("send");
-    assert!(
-        closed_within(&mut s, Duration::from_secs(5)),
-        "offender not dropped"
-    );
-    assert!(
-        db.wait_log(&["liar", "bad packet framing"], Duration::from_secs(3)),
-        "not logged:\n{}",
-        db.log()
+    assert_closed(&mut s, 5, "offender not dropped");
+    db.assert_logged(
+        &["liar", "bad packet framing"],
+        Duration::from_secs(3),
+        "not logged",
     );
     // As the handshake packet itself.
-    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    let mut s = connect(db.port);
     s.write_all(&wire::BANNER).expect("banner");
     s.write_all(&u32::MAX.wrapping_sub(1).to_le_bytes())
         .expect("send");
     s.write_all(&0x7fff_ffff_i32.to_le_bytes()).expect("send");
-    assert!(
-        closed_within(&mut s, Duration::from_secs(7)),
-        "offender not dropped"
-    );
+    assert_closed(&mut s, 7, "offender not dropped");
     assert_healthy(&mut db, &mut w, 64 * 1024, "after 2 GB length prefixes");
 }
 
 #[test]
 fn truncated_packet_then_silence_is_dropped_at_the_timeout() {
-    let _serial = serial();
-    let mut db = MoosDb::start("trunc");
-    let mut w = Watchers::new(db.port);
+    let (_serial, mut db, mut w) = attack("trunc");
     let (mut s, _) = raw_peer(db.port, "halfway");
-    let m = Message::notify_string("X", &"y".repeat(5000), 1.0);
-    let mut pkt = Vec::new();
-    wire::encode_packet(&[m], &mut pkt).expect("encode");
-    s.write_all(&pkt[..pkt.len() / 2]).expect("send half");
+    s.write_all(&half_packet()).expect("send half");
     let t0 = Instant::now();
-    assert!(
-        closed_within(&mut s, Duration::from_secs(8)),
-        "offender not dropped"
-    );
+    assert_closed(&mut s, 8, "offender not dropped");
     let took = t0.elapsed();
     assert!(
         took >= Duration::from_millis(1500),
         "dropped too early: {took:?}"
     );
-    assert!(
-        db.wait_log(&["halfway", "sent nothing for"], Duration::from_secs(3)),
-        "not logged:\n{}",
-        db.log()
+    db.assert_logged(
+        &["halfway", "sent nothing for"],
+        Duration::from_secs(3),
+        "not logged",
     );
     // Half a handshake: closed at the handshake timeout (5 s).
-    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    let mut s = connect(db.port);
     let hs = handshake_bytes("half_hs");
     s.write_all(&hs[..hs.len() - 10]).expect("send");
-    assert!(
-        closed_within(&mut s, Duration::from_secs(9)),
-        "half handshake kept"
-    );
+    assert_closed(&mut s, 9, "half handshake kept");
     assert_healthy(&mut db, &mut w, 64 * 1024, "after truncated packets");
 }
 
 #[test]
 fn garbage_after_handshake_drops_the_offender() {
-    let _serial = serial();
-    let mut db = MoosDb::start("garbage");
-    let mut w = Watchers::new(db.port);
+    let (_serial, mut db, mut w) = attack("garbage");
     // Deterministic noise (xorshift), several flavours.
     let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
     let mut noise = |n: usize| -> Vec<u8> {
@@ -339,8 +384,7 @@ fn garbage_after_handshake_drops_the_offender() {
             p
         }),
         ("badmsg", {
-            let mut p = Vec::new();
-            wire::encode_packet(&[Message::notify_double("A", 1.0, 1.0)], &mut p).expect("encode");
+            let mut p = packet(&[Message::notify_double("A", 1.0, 1.0)]);
             p[9 + 10..9 + 14].copy_from_slice(&(-1i32).to_le_bytes());
             p.extend(noise(4096));
             p
@@ -350,17 +394,11 @@ fn garbage_after_handshake_drops_the_offender() {
         let who = format!("garbage_{name}");
         let (mut s, _) = raw_peer(db.port, &who);
         let _ = s.write_all(bytes);
-        assert!(
-            closed_within(&mut s, Duration::from_secs(8)),
-            "{who} not dropped"
-        );
-        assert!(
-            db.wait_log(
-                &[who.as_str(), "client disconnected"],
-                Duration::from_secs(3)
-            ),
-            "{who}: not logged:\n{}",
-            db.log()
+        assert_closed(&mut s, 8, &format!("{who} not dropped"));
+        db.assert_logged(
+            &[who.as_str(), "client disconnected"],
+            Duration::from_secs(3),
+            &format!("{who}: not logged"),
         );
     }
     assert_healthy(&mut db, &mut w, 64 * 1024, "after garbage");
@@ -368,9 +406,7 @@ fn garbage_after_handshake_drops_the_offender() {
 
 #[test]
 fn connection_flood_is_survived() {
-    let _serial = serial();
-    let mut db = MoosDb::start("flood");
-    let mut w = Watchers::new(db.port);
+    let (_serial, mut db, mut w) = attack("flood");
     let base = db.rss_kb();
     // 200 idle sockets: no banner at all.
     let mut idle: Vec<TcpStream> = (0..200)
@@ -387,10 +423,10 @@ fn connection_flood_is_survived() {
         .collect();
     assert_healthy(&mut db, &mut w, base + 128 * 1024, "during the flood");
     drop(peers);
-    assert!(
-        db.wait_log(&["flood59", "client disconnected"], Duration::from_secs(5)),
-        "flood clients not released:\n{}",
-        db.log()
+    db.assert_logged(
+        &["flood59", "client disconnected"],
+        Duration::from_secs(5),
+        "flood clients not released",
     );
     // The idle ones are closed by the DB at the handshake timeout (5 s).
     let t0 = Instant::now();
@@ -406,29 +442,22 @@ fn connection_flood_is_survived() {
 
 #[test]
 fn name_clash_is_refused_and_the_first_keeps_its_service() {
-    let _serial = serial();
-    let mut db = MoosDb::start("clash");
-    let mut w = Watchers::new(db.port);
+    let (_serial, mut db, mut w) = attack("clash");
     let (mut s, welcome) = raw_peer(db.port, "watch_pub");
     assert_eq!(welcome.msg_type, MsgType::POISON, "{welcome:?}");
     assert!(welcome.string().contains("already exists"), "{welcome:?}");
-    assert!(
-        closed_within(&mut s, Duration::from_secs(3)),
-        "clash not closed"
-    );
-    assert!(
-        db.wait_log(&["watch_pub", "handshake refused"], Duration::from_secs(3)),
-        "not logged:\n{}",
-        db.log()
+    assert_closed(&mut s, 3, "clash not closed");
+    db.assert_logged(
+        &["watch_pub", "handshake refused"],
+        Duration::from_secs(3),
+        "not logged",
     );
     assert_healthy(&mut db, &mut w, 64 * 1024, "after a name clash");
 }
 
 #[test]
 fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
-    let _serial = serial();
-    let mut db = MoosDb::start("big");
-    let mut w = Watchers::new(db.port);
+    let (_serial, mut db, mut w) = attack("big");
     let big = Client::connect(ClientConfig::new("127.0.0.1", db.port, "big_pub")).expect("big");
     let rx = Client::connect(ClientConfig::new("127.0.0.1", db.port, "big_sub")).expect("rx");
     rx.register("BIG", 0.0).expect("register");
@@ -442,16 +471,12 @@ fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
         big.notify_double(&format!("{key}{i}"), 1.0, None)
             .expect("post big key");
     }
-    let mut got = Vec::new();
-    let t0 = Instant::now();
-    while got.iter().filter(|m: &&Message| m.key == "BIG").count() < 20 {
-        assert!(
-            t0.elapsed() < Duration::from_secs(20),
-            "big values not delivered"
-        );
-        rx.wait_for_mail(Duration::from_millis(200));
-        rx.fetch(&mut got);
-    }
+    let got = mail_until(
+        &rx,
+        Duration::from_secs(20),
+        "big values not delivered",
+        |got| got.iter().filter(|m| m.key == "BIG").count() >= 20,
+    );
     for m in got.iter().filter(|m| m.key == "BIG") {
         assert_eq!(m.sval.len(), mb);
     }
@@ -465,14 +490,14 @@ fn one_megabyte_strings_are_delivered_and_memory_stays_bounded() {
 fn pre_handshake_offenders_are_logged() {
     let _serial = serial();
     let db = MoosDb::start("prehs");
-    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    let mut s = connect(db.port);
     s.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n+++++")
         .expect("send");
-    assert!(closed_within(&mut s, Duration::from_secs(7)));
-    let mut s = TcpStream::connect(("127.0.0.1", db.port)).expect("connect");
+    assert_closed(&mut s, 7, "bad banner kept");
+    let mut s = connect(db.port);
     s.write_all(&wire::BANNER).expect("banner");
     s.write_all(&0x7fff_ffff_i32.to_le_bytes()).expect("send");
-    assert!(closed_within(&mut s, Duration::from_secs(7)));
+    assert_closed(&mut s, 7, "bad handshake kept");
     let log = db.log();
     assert!(log.contains("banner"), "bad banner not logged:\n{log}");
     assert!(
@@ -544,29 +569,37 @@ impl Write for Capture {
 }
 
 fn wait_captured(words: &[&str], limit: Duration) -> bool {
-    let t0 = Instant::now();
-    while t0.elapsed() < limit {
-        if captured_log()
-            .lines()
-            .any(|l| words.iter().all(|w| l.contains(w)))
-        {
-            return true;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    false
+    wait_line(captured_log, words, limit)
+}
+
+/// The client logged a line with every one of `words` within 2 s; else fail, showing
+/// the log.
+fn assert_captured(words: &[&str]) {
+    assert!(
+        wait_captured(words, Duration::from_secs(2)),
+        "{}",
+        captured_log()
+    );
 }
 
 fn self_rss_kb() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find_map(|l| l.strip_prefix("VmRSS:"))
-                .and_then(|v| v.split_whitespace().next())
-                .and_then(|v| v.parse().ok())
-        })
-        .expect("VmRSS")
+    vm_rss_kb("/proc/self/status")
+}
+
+/// A fake DB: a listener on a free port of 127.0.0.1.
+fn fake_db() -> (TcpListener, u16) {
+    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+    let port = l.local_addr().expect("addr").port();
+    (l, port)
+}
+
+/// `c` reconnects within 10 s (its second connection, up); else fail, saying `what()`.
+fn wait_reconnected(c: &Client, what: impl Fn() -> String) {
+    let t0 = Instant::now();
+    while c.connection_count() < 2 || !c.is_connected() {
+        assert!(t0.elapsed() < Duration::from_secs(10), "{}", what());
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// Accept one client, read its banner and handshake, send a welcome.
@@ -591,9 +624,7 @@ fn fake_welcome(l: &TcpListener) -> TcpStream {
         sval: wire::ASYNC_KEY.as_bytes().to_vec(),
         ..Message::default()
     };
-    let mut p = Vec::new();
-    wire::encode_packet(&[welcome], &mut p).expect("encode");
-    s.write_all(&p).expect("welcome");
+    s.write_all(&packet(&[welcome])).expect("welcome");
     s
 }
 
@@ -621,11 +652,7 @@ fn behave(mut s: TcpStream, limit: Duration) {
         match fr.fill(&mut s) {
             Ok(0) => return,
             Ok(_) => {}
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                ) => {}
+            Err(e) if timed_out(&e) => {}
             Err(_) => return,
         }
     }
@@ -639,8 +666,7 @@ fn against_client(
     misbehave: impl FnOnce(&mut TcpStream) + Send + 'static,
 ) -> (Client, Duration) {
     let _ = captured_log(); // installs the capturing subscriber before the client logs
-    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
-    let port = l.local_addr().expect("addr").port();
+    let (l, port) = fake_db();
     let (tx, rx) = std::sync::mpsc::channel();
     let fake = std::thread::spawn(move || {
         let mut s = fake_welcome(&l);
@@ -657,14 +683,7 @@ fn against_client(
         .recv_timeout(Duration::from_secs(20))
         .expect("fake reports");
     assert!(dropped, "{name}: the client kept the hostile connection");
-    let t0 = Instant::now();
-    while c.connection_count() < 2 || !c.is_connected() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(10),
-            "{name}: no reconnect"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    wait_reconnected(&c, || format!("{name}: no reconnect"));
     drop(fake);
     (c, took)
 }
@@ -678,14 +697,7 @@ fn client_drops_a_db_with_a_two_gigabyte_length_prefix() {
         let _ = s.write_all(&[0u8; 4096]);
     });
     assert!(took < Duration::from_secs(3), "{took:?}");
-    assert!(
-        wait_captured(
-            &["victim_2gb", "bad packet from DB"],
-            Duration::from_secs(2)
-        ),
-        "{}",
-        captured_log()
-    );
+    assert_captured(&["victim_2gb", "bad packet from DB"]);
     let grew = self_rss_kb().saturating_sub(before);
     assert!(grew < 64 * 1024, "client grew by {grew} kB");
     c.close();
@@ -695,23 +707,13 @@ fn client_drops_a_db_with_a_two_gigabyte_length_prefix() {
 fn client_drops_a_db_that_stops_mid_packet() {
     let _serial = serial();
     let (c, took) = against_client("victim_silent", Duration::from_secs(2), |s| {
-        let m = Message::notify_string("X", &"y".repeat(5000), 1.0);
-        let mut p = Vec::new();
-        wire::encode_packet(&[m], &mut p).expect("encode");
-        let _ = s.write_all(&p[..p.len() / 2]);
+        let _ = s.write_all(&half_packet());
     });
     assert!(
         (Duration::from_millis(1500)..Duration::from_secs(6)).contains(&took),
         "dropped after {took:?}"
     );
-    assert!(
-        wait_captured(
-            &["victim_silent", "nothing from the DB"],
-            Duration::from_secs(2)
-        ),
-        "{}",
-        captured_log()
-    );
+    assert_captured(&["victim_silent", "nothing from the DB"]);
     c.close();
 }
 
@@ -724,22 +726,14 @@ fn client_drops_a_db_that_sends_garbage() {
         p.extend((0..20_000u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8));
         let _ = s.write_all(&p);
     });
-    assert!(
-        wait_captured(
-            &["victim_garbage", "DB, dropping the connection"],
-            Duration::from_secs(2)
-        ),
-        "{}",
-        captured_log()
-    );
+    assert_captured(&["victim_garbage", "DB, dropping the connection"]);
     c.close();
 }
 
 #[test]
 fn client_receives_one_megabyte_strings_intact() {
     let _serial = serial();
-    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
-    let port = l.local_addr().expect("addr").port();
+    let (l, port) = fake_db();
     let mb = 1 << 20;
     let fake = std::thread::spawn(move || {
         let mut s = fake_welcome(&l);
@@ -751,19 +745,13 @@ fn client_receives_one_megabyte_strings_intact() {
                 m
             })
             .collect();
-        let mut p = Vec::new();
-        wire::encode_packet(&msgs, &mut p).expect("encode");
-        s.write_all(&p).expect("send");
+        s.write_all(&packet(&msgs)).expect("send");
         behave(s, Duration::from_secs(3));
     });
     let c = Client::connect(ClientConfig::new("127.0.0.1", port, "victim_big")).expect("connect");
-    let mut got = Vec::new();
-    let t0 = Instant::now();
-    while got.len() < 5 {
-        assert!(t0.elapsed() < Duration::from_secs(10), "got {}", got.len());
-        c.wait_for_mail(Duration::from_millis(200));
-        c.fetch(&mut got);
-    }
+    let got = mail_until(&c, Duration::from_secs(10), "big values", |got| {
+        got.len() >= 5
+    });
     assert!(got
         .iter()
         .all(|m| m.sval.len() == mb && m.sval.iter().all(|&b| b == b'z')));
@@ -780,8 +768,7 @@ fn client_receives_one_megabyte_strings_intact() {
 fn client_retries_a_reconnect_refused_as_a_name_clash() {
     let _serial = serial();
     let _ = captured_log();
-    let l = TcpListener::bind("127.0.0.1:0").expect("bind");
-    let port = l.local_addr().expect("addr").port();
+    let (l, port) = fake_db();
     let fake = std::thread::spawn(move || {
         let s = fake_welcome(&l);
         drop(s); // the connection is lost
@@ -797,22 +784,14 @@ fn client_retries_a_reconnect_refused_as_a_name_clash() {
                 sval: b"A client of this name (\"victim_clash\") already exists".to_vec(),
                 ..Message::default()
             };
-            let mut p = Vec::new();
-            wire::encode_packet(&[m], &mut p).expect("encode");
-            let _ = s.write_all(&p);
+            let _ = s.write_all(&packet(&[m]));
         }
         behave(fake_welcome(&l), Duration::from_secs(5));
     });
     let c = Client::connect(ClientConfig::new("127.0.0.1", port, "victim_clash")).expect("first");
-    let t0 = Instant::now();
-    while c.connection_count() < 2 || !c.is_connected() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(10),
-            "no reconnect after refusals:\n{}",
-            captured_log()
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    wait_reconnected(&c, || {
+        format!("no reconnect after refusals:\n{}", captured_log())
+    });
     assert!(wait_captured(
         &["victim_clash", "refused the reconnect"],
         Duration::from_secs(1)
