@@ -16,32 +16,18 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            files(&p, out);
-        } else if p
-            .extension()
-            .is_some_and(|x| x == "bhv" || x == "toml" || x == "moos")
-        {
-            out.push(p);
-        }
-    }
-}
-
 fn seeds() -> Vec<Vec<u8>> {
-    let mut paths = Vec::new();
-    files(&repo().join("missions"), &mut paths);
-    files(&repo().join("conformance").join("helm"), &mut paths);
     let mut v: Vec<Vec<u8>> = Vec::new();
-    for p in paths {
-        let text = std::fs::read_to_string(&p).unwrap_or_default();
-        for line in text.lines() {
-            if let Some((k, val)) = line.split_once('=') {
-                let k = k.trim().to_ascii_lowercase();
-                if k.contains("point") || k.contains("polygon") || k.ends_with("_pt") {
-                    v.push(val.trim().as_bytes().to_vec());
+    for dir in ["missions", "conformance/helm"] {
+        for ext in ["bhv", "toml", "moos"] {
+            for file in fuzzkit::seed_files(&repo().join(dir), ext) {
+                for line in String::from_utf8_lossy(&file).lines() {
+                    if let Some((k, val)) = line.split_once('=') {
+                        let k = k.trim().to_ascii_lowercase();
+                        if k.contains("point") || k.contains("polygon") || k.ends_with("_pt") {
+                            v.push(val.trim().as_bytes().to_vec());
+                        }
+                    }
                 }
             }
         }
