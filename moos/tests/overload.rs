@@ -63,8 +63,8 @@ impl Drop for DbProc {
     }
 }
 
-/// The port from the DB's "listening on port N" line; the rest of its output (logs go
-/// to stdout too) is passed on to stderr, so the pipe never fills or breaks.
+/// The port from the DB's "listening on port N" line; any other line on its stdout is
+/// passed on to stderr, so the pipe never fills or breaks.
 /// The flood tests run one at a time: each saturates the machine on purpose, and two
 /// at once on 2 cores measure the machine rather than the DB.
 fn serial() -> std::sync::MutexGuard<'static, ()> {
