@@ -169,15 +169,11 @@ fn fuzz_helm_behaviors() {
     );
 }
 
-/// BUG (in `ivp::ipf::ipf_packets`, following ivp-solver.md §9.2 to the letter):
-/// `body = 2000 - (len(id) + 50)` is clamped to 1 when the id (behavior name ^
-/// iteration) is 1950 characters or more, so the function string goes out one character
-/// per 2 kB packet: with a 2000-character name, one iteration of one behavior posts
-/// ~3000 BHV_IPF packets (6 MB), every iteration, to the DB (a 4 kB name: 20 MB).
-/// Expected: a bounded number of packets (e.g. refuse such names as a configuration
-/// error, or keep a minimum body). Found by this harness.
+/// Found by this harness: ivp-solver.md §9.2's `body = 2000 - (len(id) + 50)` reaches 0
+/// for an id (behavior name ^ iteration) of 1950+ characters, and the function string
+/// went out one character per 2 kB packet (~3000 BHV_IPF packets, 6 MB, per iteration).
+/// The body now has a floor (`ivp::ipf`, QUIRKS.md).
 #[test]
-#[ignore = "bug in ivp::ipf::ipf_packets: names of 1950+ chars make one 2 kB packet per character"]
 fn long_behavior_names_do_not_multiply_bhv_ipf_packets() {
     let base = common::ALPHA_BHV;
     let text = base.replacen("waypt_survey", &"l".repeat(2000), 1);

@@ -94,11 +94,16 @@ pub(crate) fn encode(f: &IvpFunction) -> String {
     s
 }
 
+/// Smallest packet body. The spec's `2000 - header` goes to 0 and below for behavior
+/// names of 1950+ characters (one packet per character, thousands per iteration); names
+/// under 1450 characters never reach this floor, so real missions are split as specified.
+const MIN_BODY: usize = 500;
+
 /// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
 pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
     if whole.is_ascii() && id.is_ascii() {
         let header = id.len() + 50;
-        let body = 2000usize.saturating_sub(header).max(1);
+        let body = 2000usize.saturating_sub(header).max(MIN_BODY);
         let count = whole.len() / body + 1;
         return (1..=count)
             .map(|k| {
@@ -113,7 +118,7 @@ pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
     }
     let chars: Vec<char> = whole.chars().collect();
     let header = id.chars().count() + 50;
-    let body = 2000usize.saturating_sub(header).max(1);
+    let body = 2000usize.saturating_sub(header).max(MIN_BODY);
     let count = chars.len() / body + 1;
     (1..=count)
         .map(|k| {
@@ -179,5 +184,19 @@ mod tests {
         let p = ipf_packets(id, &whole);
         assert_eq!(p.len(), 3);
         assert_eq!(p[2], "P,x,3,3,");
+    }
+
+    #[test]
+    fn chunking_keeps_the_spec_body_up_to_the_floor() {
+        let whole: String = "a".repeat(5000);
+        // A 1449-character id: body 2000 - 1499 = 501, as specified.
+        let id = "n".repeat(1449);
+        let p = ipf_packets(&id, &whole);
+        assert_eq!(p.len(), 5000 / 501 + 1);
+        // Past it the body stays at 500 (the spec's would reach 0 at 1950).
+        let id = "n".repeat(3000);
+        let p = ipf_packets(&id, &whole);
+        assert_eq!(p.len(), 5000 / 500 + 1);
+        assert!(p[0].ends_with(&"a".repeat(500)));
     }
 }
