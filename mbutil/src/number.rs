@@ -84,7 +84,11 @@ pub fn atof(s: &str) -> f64 {
     {
         hex_prefix(&rest[2..])
     } else {
-        decimal_prefix(rest)
+        match decimal_prefix(rest) {
+            Some(v) => v,
+            // No conversion: C gives +0 whatever sign came before (`atof("-")`).
+            None => return 0.0,
+        }
     };
     if neg {
         -mag
@@ -93,7 +97,8 @@ pub fn atof(s: &str) -> f64 {
     }
 }
 
-fn decimal_prefix(b: &[u8]) -> f64 {
+/// `None` when there is no digit (no conversion at all).
+fn decimal_prefix(b: &[u8]) -> Option<f64> {
     let mut i = 0;
     let mut mant_digits = 0;
     while i < b.len() && b[i].is_ascii_digit() {
@@ -108,7 +113,7 @@ fn decimal_prefix(b: &[u8]) -> f64 {
         }
     }
     if mant_digits == 0 {
-        return 0.0;
+        return None;
     }
     let mant_end = i;
     if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
@@ -127,10 +132,12 @@ fn decimal_prefix(b: &[u8]) -> f64 {
     let end = if i > mant_end { i } else { mant_end };
     // The slice is ASCII digits/./e/sign only, so it is valid UTF-8 and a
     // valid Rust float literal (Rust accepts "5." and ".5").
-    std::str::from_utf8(&b[..end])
-        .ok()
-        .and_then(|t| t.parse::<f64>().ok())
-        .unwrap_or(0.0)
+    Some(
+        std::str::from_utf8(&b[..end])
+            .ok()
+            .and_then(|t| t.parse::<f64>().ok())
+            .unwrap_or(0.0),
+    )
 }
 
 fn hex_prefix(b: &[u8]) -> f64 {
@@ -272,6 +279,10 @@ mod tests {
         assert!(atof("inf").is_infinite());
         assert!(atof("-Infinity") < 0.0);
         assert!(atof("nan").is_nan());
+        // No conversion is +0 whatever the sign before it; a real -0 stays -0.
+        assert!(atof("-").is_sign_positive());
+        assert!(atof("-abc").is_sign_positive());
+        assert!(atof("-0").is_sign_negative());
     }
 
     #[test]
