@@ -230,20 +230,8 @@ impl Helm {
             group(RunState::Active).count()
         );
         for b in group(RunState::Active) {
-            let pcs = self
-                .functions
-                .iter()
-                .find(|(n, _)| *n == b.core.name)
-                .map_or(0, |(_, f)| f.piece_count());
-            let upd = if b.core.updates_var.is_empty() {
-                "n/a".to_string()
-            } else {
-                format!(
-                    "{}/{}",
-                    b.core.good_updates,
-                    b.core.good_updates + b.core.bad_updates
-                )
-            };
+            let pcs = self.pieces_of(&b.core.name);
+            let upd = b.core.update_counts();
             let _ = writeln!(
                 s,
                 "  {} [{:.2}] (pwt={}) (pcs={pcs}) (cpu={:.5}) (upd={upd})",

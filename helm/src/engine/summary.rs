@@ -10,27 +10,23 @@ fn compact(v: f64) -> String {
 }
 
 impl Helm {
+    /// Pieces of the function `name` produced this iteration (0 if none).
+    pub(crate) fn pieces_of(&self, name: &str) -> usize {
+        self.functions
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(0, |(_, f)| f.piece_count())
+    }
+
     fn bhv_list(&self, states: &[RunState], active: bool) -> String {
         let items: Vec<String> = self
             .behaviors
             .iter()
             .filter(|b| states.contains(&b.core.state))
             .map(|b| {
-                let upd = if b.core.updates_var.is_empty() {
-                    "n/a".to_string()
-                } else {
-                    format!(
-                        "{}/{}",
-                        b.core.good_updates,
-                        b.core.good_updates + b.core.bad_updates
-                    )
-                };
+                let upd = b.core.update_counts();
                 if active {
-                    let pcs = self
-                        .functions
-                        .iter()
-                        .find(|(n, _)| *n == b.core.name)
-                        .map_or(0, |(_, f)| f.piece_count());
+                    let pcs = self.pieces_of(&b.core.name);
                     format!(
                         "{}${:.2}${:.5}${}${:.5}${}$1$$",
                         b.core.name, b.core.state_entry_time, b.core.pwt, pcs, 0.0, upd

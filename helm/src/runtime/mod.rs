@@ -144,6 +144,20 @@ pub struct BehaviorCore {
 }
 
 impl BehaviorCore {
+    /// Good updates over all updates (`3/4`), or `n/a` without an updates variable: the
+    /// form of the appcast report and IVPHELM_SUMMARY.
+    pub fn update_counts(&self) -> String {
+        if self.updates_var.is_empty() {
+            "n/a".to_string()
+        } else {
+            format!(
+                "{}/{}",
+                self.good_updates,
+                self.good_updates + self.bad_updates
+            )
+        }
+    }
+
     pub fn new(type_name: &str, default_name: &str, ownship: &str) -> Self {
         BehaviorCore {
             type_name: type_name.to_string(),
