@@ -75,6 +75,25 @@ fn read_packet(s: &mut TcpStream, fr: &mut FrameReader) -> Vec<Message> {
     panic!("no packet");
 }
 
+/// A legacy synchronous client named `legacy`: banner and handshake sent, nothing read.
+fn legacy_handshake(port: u16) -> TcpStream {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    s.set_read_timeout(Some(Duration::from_millis(100)))
+        .expect("timeout");
+    let hs = Message {
+        msg_type: MsgType::DATA,
+        data_type: DataType::STRING,
+        key: String::new(), // legacy synchronous: no asynchronous key
+        time: moos::time::wall_time(),
+        sval: b"legacy".to_vec(),
+        ..Message::default()
+    };
+    let mut buf = wire::BANNER.to_vec();
+    wire::encode_packet(&[hs], &mut buf).expect("encode");
+    s.write_all(&buf).expect("handshake");
+    s
+}
+
 #[test]
 fn synchronous_client_gets_null_first_and_held_mail() {
     let db = Db::start(DbConfig {
@@ -83,20 +102,7 @@ fn synchronous_client_gets_null_first_and_held_mail() {
     })
     .expect("db");
     let p = Client::connect(ClientConfig::new("127.0.0.1", db.port(), "apub")).expect("connect");
-    let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
-    s.set_read_timeout(Some(Duration::from_millis(100)))
-        .expect("timeout");
-    let hs = Message {
-        msg_type: MsgType::DATA,
-        data_type: DataType::STRING,
-        key: String::new(), // legacy synchronous
-        time: moos::time::wall_time(),
-        sval: b"legacy".to_vec(),
-        ..Message::default()
-    };
-    let mut buf = wire::BANNER.to_vec();
-    wire::encode_packet(&[hs], &mut buf).expect("encode");
-    s.write_all(&buf).expect("handshake");
+    let mut s = legacy_handshake(db.port());
     let mut fr = FrameReader::new(1 << 20);
     let w = read_packet(&mut s, &mut fr);
     assert_eq!(w[0].msg_type, MsgType::WELCOME);
@@ -144,19 +150,7 @@ fn slow_polling_synchronous_client_holds_back_the_flooder() {
         ..DbConfig::default()
     })
     .expect("db");
-    let mut s = TcpStream::connect(("127.0.0.1", db.port())).expect("connect");
-    s.set_read_timeout(Some(Duration::from_millis(100)))
-        .expect("timeout");
-    let hs = Message {
-        msg_type: MsgType::DATA,
-        data_type: DataType::STRING,
-        time: moos::time::wall_time(),
-        sval: b"legacy".to_vec(),
-        ..Message::default()
-    };
-    let mut buf = wire::BANNER.to_vec();
-    wire::encode_packet(&[hs], &mut buf).expect("encode");
-    s.write_all(&buf).expect("handshake");
+    let mut s = legacy_handshake(db.port());
     let mut fr = FrameReader::new(64 << 20);
     assert_eq!(read_packet(&mut s, &mut fr)[0].msg_type, MsgType::WELCOME);
     let reg = Message {
