@@ -53,12 +53,62 @@ pub struct CaseResult {
     /// Set when the helm could not be built for the case (e.g. unknown behavior type).
     pub error: Option<String>,
     pub mismatches: Vec<Mismatch>,
+    /// The behavior types the case names that this project does not have yet (sorted):
+    /// such a case is not run, and neither passes nor fails.
+    pub waiting_for: Vec<String>,
+}
+
+/// How a case ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Passed,
+    Failed,
+    /// Names a behavior type the project does not have yet.
+    Waiting,
 }
 
 impl CaseResult {
-    pub fn passed(&self) -> bool {
-        self.error.is_none() && self.mismatches.is_empty()
+    pub fn outcome(&self) -> Outcome {
+        if !self.waiting_for.is_empty() {
+            Outcome::Waiting
+        } else if self.error.is_none() && self.mismatches.is_empty() {
+            Outcome::Passed
+        } else {
+            Outcome::Failed
+        }
     }
+
+    pub fn passed(&self) -> bool {
+        self.outcome() == Outcome::Passed
+    }
+
+    fn failed(name: String, file: &Path, error: String) -> Self {
+        CaseResult {
+            name,
+            file: file.to_path_buf(),
+            error: Some(error),
+            mismatches: Vec::new(),
+            waiting_for: Vec::new(),
+        }
+    }
+}
+
+/// The behavior types `case` names that neither `factory` offers nor this project has:
+/// the case waits for them. A type the project has but the factory lacks (a shipped
+/// library not found) is not listed: building the helm then fails with its own error.
+pub fn missing_types(case: &Case, file: &Path, factory: &BehaviorFactory) -> Vec<String> {
+    let Ok(spec) = bhv::reader::parse_str(&case.bhv, &file.with_extension("bhv")) else {
+        return Vec::new();
+    };
+    let mut missing: Vec<String> = spec
+        .behaviors
+        .iter()
+        .map(|b| b.type_name.clone())
+        .filter(|t| !factory.knows(t) && !crate::factory::project_has_type(t))
+        .collect();
+    missing.sort();
+    missing.dedup();
+    missing
 }
 
 /// Errors reading a case file.
@@ -241,28 +291,27 @@ fn compare_step(case: &Case, k: usize, posted: &[Posting], tol: f64, out: &mut V
 pub fn run_file(file: &Path, factory: &BehaviorFactory) -> CaseResult {
     let case = match load(file) {
         Ok(c) => c,
-        Err(e) => {
-            return CaseResult {
-                name: file.display().to_string(),
-                file: file.to_path_buf(),
-                error: Some(e.to_string()),
-                mismatches: Vec::new(),
-            }
-        }
+        Err(e) => return CaseResult::failed(file.display().to_string(), file, e.to_string()),
     };
+    let waiting_for = missing_types(&case, file, factory);
+    if !waiting_for.is_empty() {
+        return CaseResult {
+            name: case.name,
+            file: file.to_path_buf(),
+            error: None,
+            mismatches: Vec::new(),
+            waiting_for,
+        };
+    }
     match build_helm(&case, file, factory) {
         Ok(mut helm) => CaseResult {
             name: case.name.clone(),
             file: file.to_path_buf(),
             error: None,
             mismatches: replay(&case, &mut helm, true),
+            waiting_for: Vec::new(),
         },
-        Err(e) => CaseResult {
-            name: case.name.clone(),
-            file: file.to_path_buf(),
-            error: Some(e),
-            mismatches: Vec::new(),
-        },
+        Err(e) => CaseResult::failed(case.name, file, e),
     }
 }
 
@@ -276,13 +325,25 @@ pub struct BenchResult {
     pub whole_us: f64,
 }
 
+/// What `bench_file` measured.
+#[derive(Debug, Clone)]
+pub enum BenchOutcome {
+    Timed(BenchResult),
+    /// The case names behavior types the project does not have yet (see [`missing_types`]).
+    Waiting(Vec<String>),
+}
+
 /// Replay `case` repeatedly, each time through a fresh helm, for at least `min_secs`.
 pub fn bench_file(
     file: &Path,
     factory: &BehaviorFactory,
     min_secs: f64,
-) -> Result<BenchResult, String> {
+) -> Result<BenchOutcome, String> {
     let case = load(file).map_err(|e| e.to_string())?;
+    let waiting_for = missing_types(&case, file, factory);
+    if !waiting_for.is_empty() {
+        return Ok(BenchOutcome::Waiting(waiting_for));
+    }
     let mut decide = std::time::Duration::ZERO;
     let mut decisions = 0u64;
     let mut whole = 0.0;
@@ -299,9 +360,9 @@ pub fn bench_file(
         reps += 1;
     }
     let decisions = decisions.max(1);
-    Ok(BenchResult {
+    Ok(BenchOutcome::Timed(BenchResult {
         name: case.name,
         decision_us: decide.as_secs_f64() / decisions as f64 * 1e6,
         whole_us: whole / decisions as f64 * 1e6,
-    })
+    }))
 }

@@ -4,6 +4,26 @@
 use behavior_api::sdk::HelmDomain;
 use behavior_api::BehaviorBox;
 
+/// The behavior types this project ships as libraries (`plugins/*`, bundled beside the
+/// helm), besides the built-in ones. `helm conform` uses it to tell a case waiting for a
+/// type we do not have yet from a case whose type we have but which failed to load; a
+/// test checks the list against the libraries a build bundles.
+pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
+    "BHV_ConstantDepth",
+    "BHV_ConstantHeading",
+    "BHV_ConstantSpeed",
+    "BHV_StationKeep",
+    "BHV_Template",
+];
+
+/// Whether this project provides `type_name`, built in or as a shipped library.
+pub fn project_has_type(type_name: &str) -> bool {
+    SHIPPED_LIBRARY_TYPES.contains(&type_name)
+        || behaviors_std::builtin_types()
+            .iter()
+            .any(|(n, _)| *n == type_name)
+}
+
 /// Constructor of a built-in behavior type.
 pub type BuiltinCtor = fn(&HelmDomain) -> BehaviorBox;
 

@@ -34,17 +34,21 @@ fn conform(file: &Path) -> (bool, String) {
 #[test]
 fn builtin_cases_match_the_real_helm() {
     let mut failures = Vec::new();
-    let mut n = 0;
+    let (mut n, mut waiting) = (0, 0);
     for (name, f) in cases(false) {
-        n += 1;
         let (ok, text) = conform(&f);
+        if ok && text.contains(": waiting for its behavior types: ") {
+            waiting += 1;
+            continue;
+        }
+        n += 1;
         if !ok {
             let head: Vec<&str> = text.lines().take(6).collect();
             failures.push(format!("{name}:\n{}", head.join("\n")));
         }
     }
     println!(
-        "helm conformance (built-in): {} passed, {} failed",
+        "helm conformance (built-in): {} passed, {} failed, {waiting} waiting",
         n - failures.len(),
         failures.len()
     );

@@ -82,6 +82,81 @@ fn plugin_cases_pass_with_the_plugins_loaded() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// `helm conform conformance/helm` with every shipped plugin loaded: each case passes or
+/// waits for a type the project does not have yet; none fails.
+#[test]
+fn every_case_passes_or_waits_for_a_type_the_project_lacks() {
+    let dir = plugin_dir().to_str().unwrap().to_string();
+    let out = helm_conform(&workspace().join("conformance/helm"), Some(&dir));
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    let last = t.lines().rev().find(|l| l.contains(" passed, ")).unwrap();
+    assert!(last.contains(" passed, 0 failed"), "{t}");
+    let n_cases = common::helm_cases().len();
+    let waiting: Vec<&str> = t
+        .lines()
+        .filter(|l| l.contains(": waiting for its behavior types: "))
+        .collect();
+    let passed: usize = last.split(' ').next().unwrap().parse().unwrap();
+    assert_eq!(passed + waiting.len(), n_cases, "{t}");
+    for line in &waiting {
+        let types = line
+            .split(": waiting for its behavior types: ")
+            .nth(1)
+            .unwrap();
+        for ty in types.split(", ") {
+            assert!(!helm::factory::project_has_type(ty), "{ty} exists: {line}");
+        }
+    }
+    println!(
+        "helm conformance (plugins loaded): {passed} passed, 0 failed, {} waiting",
+        waiting.len()
+    );
+}
+
+/// The list `helm conform` uses to tell "waiting" from "failed to load" names exactly the
+/// types the shipped plugin libraries export.
+#[test]
+fn shipped_library_types_are_what_the_plugins_export() {
+    let (factory, _) = helm::mission::factory_for(&[plugin_dir().to_path_buf()]);
+    let mut exported: Vec<String> = factory
+        .libraries()
+        .iter()
+        .flat_map(|l| l.types.iter().cloned())
+        .collect();
+    exported.sort();
+    let mut listed: Vec<String> = helm::factory::SHIPPED_LIBRARY_TYPES
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    listed.sort();
+    assert_eq!(exported, listed);
+}
+
+/// A case naming a type the project has, whose library is not loaded, fails (it does not
+/// wait); one naming a type nobody has waits, names the type, and does not fail the run.
+#[test]
+fn a_missing_shipped_type_fails_but_an_unknown_one_waits() {
+    let case = workspace().join("conformance/helm/plugin_constant_speed.toml");
+    let out = helm_conform(&case, None);
+    let t = text(&out);
+    assert!(!out.status.success(), "{t}");
+    assert!(t.contains("0 passed, 1 failed"), "{t}");
+    let src = std::fs::read_to_string(&case).unwrap();
+    assert!(src.contains("BHV_ConstantSpeed"), "the case changed");
+    let dir = scratch("waiting-case");
+    let file = dir.join("future_type.toml");
+    std::fs::write(&file, src.replace("BHV_ConstantSpeed", "BHV_NotYetWritten")).unwrap();
+    let out = helm_conform(&file, None);
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    assert!(
+        t.contains(": waiting for its behavior types: BHV_NotYetWritten"),
+        "{t}"
+    );
+    assert!(t.contains("0 passed, 0 failed, 1 waiting"), "{t}");
+}
+
 #[test]
 fn each_library_alone_offers_its_own_type() {
     // One library per folder, several folders: the colon-separated list is searched in
