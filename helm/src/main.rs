@@ -5,8 +5,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use helm::conform;
-use helm::factory::BehaviorFactory;
+use helm_engine::conform;
+use helm_engine::factory::BehaviorFactory;
 
 /// The IvP Helm (pHelmIvP) rebuilt in Rust: behavior-based autonomy with plugin behaviors.
 #[derive(Parser)]
@@ -66,7 +66,7 @@ enum Command {
     /// and start overrides.
     ///
     /// Example: helm sim missions/alpha
-    Sim(helm::sim::cli::SimArgs),
+    Sim(helm_sim::cli::SimArgs),
     /// Read a mission as the helm would and report every configuration problem.
     ///
     /// Reads the `ProcessConfig = <alias>` block of MISSION, the `.bhv` files it names
@@ -106,7 +106,7 @@ enum Command {
 }
 
 fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCode {
-    let loaded = match helm::mission::load(mission, bhv, alias) {
+    let loaded = match helm_engine::mission::load(mission, bhv, alias) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("error: {e}");
@@ -141,8 +141,8 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
 }
 
 fn factory_from_env() -> BehaviorFactory {
-    let dirs = helm::mission::behavior_dirs_from_env();
-    let (factory, report) = helm::mission::factory_with_bundled(&dirs);
+    let dirs = helm_engine::mission::behavior_dirs_from_env();
+    let (factory, report) = helm_engine::mission::factory_with_bundled(&dirs);
     for line in report {
         tracing::info!("{line}");
     }
@@ -250,7 +250,7 @@ fn main() -> ExitCode {
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
-    if helm::phelmivp::is_phelmivp_form(&args) {
+    if helm_app::phelmivp::is_phelmivp_form(&args) {
         return phelmivp_main(&args[1..]);
     }
     if args.get(1).is_none_or(|a| a != "run") {
@@ -259,7 +259,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
-        Command::Sim(args) => helm::sim::cli::main(&args),
+        Command::Sim(args) => helm_sim::cli::main(&args),
         Command::Check {
             mission,
             bhv,
@@ -274,7 +274,7 @@ fn main() -> ExitCode {
             quiet,
             alog,
         } => {
-            let opts = helm::app::RunOptions {
+            let opts = helm_app::RunOptions {
                 mission,
                 bhv,
                 alias,
@@ -282,7 +282,7 @@ fn main() -> ExitCode {
                 duration,
                 quiet,
             };
-            let extras = helm::app::RunExtras {
+            let extras = helm_app::RunExtras {
                 alog,
                 ..Default::default()
             };
@@ -292,7 +292,7 @@ fn main() -> ExitCode {
 }
 
 /// Run the helm until the mission, the duration or a signal ends it.
-fn run_app(opts: &helm::app::RunOptions, mut extras: helm::app::RunExtras) -> ExitCode {
+fn run_app(opts: &helm_app::RunOptions, mut extras: helm_app::RunExtras) -> ExitCode {
     // The first SIGINT/SIGTERM ends the run cleanly (final line, alog flushed); a
     // second one ends the process at once.
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -303,7 +303,7 @@ fn run_app(opts: &helm::app::RunOptions, mut extras: helm::app::RunExtras) -> Ex
         }
     });
     extras.stop = Some(stop);
-    match helm::app::run_with(opts, &extras) {
+    match helm_app::run_with(opts, &extras) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
@@ -326,7 +326,7 @@ fn end_quietly_when_output_closes() {
 }
 
 fn phelmivp_main(args: &[std::ffi::OsString]) -> ExitCode {
-    use helm::phelmivp::{self, Action, ArgError};
+    use helm_app::phelmivp::{self, Action, ArgError};
     let parsed = phelmivp::parse(args);
     if !matches!(parsed, Ok(Action::Run(_))) {
         end_quietly_when_output_closes();
@@ -371,7 +371,7 @@ fn phelmivp_main(args: &[std::ffi::OsString]) -> ExitCode {
         eprintln!("pHelmIvP: ignoring argument {a:?} (not a pHelmIvP option)");
     }
     let env = match std::env::var("HELM_VERBOSE") {
-        Ok(v) => match phelmivp::parse_verbose(&v) {
+        Ok(v) => match helm_engine::config::parse_verbose(&v) {
             Some(v) => Some(v),
             None => {
                 println!("Illegal verbose setting. Exiting now.");
@@ -381,7 +381,7 @@ fn phelmivp_main(args: &[std::ffi::OsString]) -> ExitCode {
         },
         Err(_) => None,
     };
-    let opts = helm::app::RunOptions {
+    let opts = helm_app::RunOptions {
         mission: run.mission,
         bhv: run.bhv,
         alias: run.name,
@@ -389,7 +389,7 @@ fn phelmivp_main(args: &[std::ffi::OsString]) -> ExitCode {
         duration: None,
         quiet: false,
     };
-    let extras = helm::app::RunExtras {
+    let extras = helm_app::RunExtras {
         phelmivp_verbose: Some((run.verbose, env)),
         ..Default::default()
     };

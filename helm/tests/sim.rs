@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::{Mutex, OnceLock};
 
-use helm::posting::Value;
-use helm::sim::{Prepared, RunOptions, StartShift};
-use helm::Mail;
+use helm_engine::posting::Value;
+use helm_engine::Mail;
+use helm_sim::{Prepared, RunOptions, StartShift};
 
 mod common;
 
@@ -375,7 +375,7 @@ fn decisions_equal_those_of_the_engine_fed_the_same_mail() {
     };
     // A fresh engine, its mail rebuilt from the log (NAV_* of the simulator, the
     // helm's own postings coming back, DB_CLIENTS), one helm period at a time.
-    let t0 = helm::sim::run::SIM_EPOCH;
+    let t0 = helm_sim::run::SIM_EPOCH;
     let mut helm = prep.recipe.build();
     helm.startup(t0);
     let period = 1.0 / prep.helm_tick;
