@@ -137,3 +137,17 @@ mod tests {
         assert!(segments_cross(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.0));
     }
 }
+
+/// `snap` of §2.5: nearest multiple of `s`, halves away from zero; `s <= 0` is none.
+pub(crate) fn snap(v: f64, s: f64) -> f64 {
+    if s <= 0.0 {
+        return v;
+    }
+    let q = v / s;
+    let n = if q >= 0.0 {
+        (q + 0.5) as i64
+    } else {
+        (q - 0.5) as i64
+    };
+    n as f64 * s
+}

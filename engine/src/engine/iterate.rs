@@ -243,7 +243,7 @@ impl Helm {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         f.set_context(&format!("{iter}:{name}"));
-                        let whole = f.to_ipf_string();
+                        let whole = ivp::ipf::encode(&f);
                         let id = format!("{name}^{iter}");
                         for p in ivp::ipf_packets(&id, &whole) {
                             self.behaviors[i]
@@ -259,7 +259,7 @@ impl Helm {
                     }
                     Err(msg) => {
                         summary.halted = Some(msg.clone());
-                        crate::runtime::fault_pub(&mut self.behaviors[i].core, &msg);
+                        crate::runtime::fault(&mut self.behaviors[i].core, &msg);
                         break;
                     }
                 }

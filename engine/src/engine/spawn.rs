@@ -3,7 +3,7 @@
 
 use bhv::reader::BehaviorSpec;
 
-use super::build::make_instance;
+use super::instance::make_instance;
 use super::Helm;
 use crate::posting::Value;
 use crate::runtime::{apply_config_line, spawned};

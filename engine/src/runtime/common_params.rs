@@ -4,8 +4,8 @@ use bhv::flag::{parse_flag, FlagParam, FlagSpec};
 use bhv::logic::LogicCondition;
 use bhv::number::{atof, is_number};
 
-use super::context::{with_ctx, HostEnv};
-use super::{BehaviorCore, BehaviorInstance};
+use super::context::with_ctx;
+use super::{BehaviorCore, BehaviorInstance, HostEnv};
 use crate::config::parse_bool;
 use crate::info_buffer::InfoBuffer;
 
@@ -227,7 +227,7 @@ pub fn apply_update_pair(
         Ok(true) => true,
         Ok(false) => common_param(&mut inst.core, param, value).unwrap_or(false),
         Err(panic) => {
-            super::step::fault(&mut inst.core, &format!("behavior panicked: {panic}"));
+            super::fault(&mut inst.core, &format!("behavior panicked: {panic}"));
             false
         }
     }

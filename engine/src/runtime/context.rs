@@ -7,18 +7,9 @@ use behavior_api::context::{HelmContext, HelmContext_TO};
 use behavior_api::{HelmCtx, PostValue};
 use bhv::logic::LogicCondition;
 
-use super::{flags, macros, BehaviorCore};
+use super::{flags, macros, BehaviorCore, HostEnv};
 use crate::info_buffer::InfoBuffer;
 use crate::posting::Value;
-
-/// What every behavior call may read about the helm as a whole.
-#[derive(Clone, Debug, Default)]
-pub struct HostEnv {
-    pub ownship: String,
-    pub helm_iteration: u64,
-    /// The helm domain as `name,low,high,points` joined by `:`.
-    pub helm_domain: String,
-}
 
 /// One behavior call's view of the helm.
 pub struct HostCtx<'a> {

@@ -3,8 +3,7 @@
 use bhv::flag::{parse_flag, FlagParam, FlagSpec};
 use bhv::number::{atof, is_number};
 
-use super::context::HostEnv;
-use super::{macros, BehaviorCore, BehaviorInstance, FlagLists, Message};
+use super::{macros, BehaviorCore, BehaviorInstance, FlagLists, HostEnv, Message};
 use crate::info_buffer::InfoBuffer;
 use crate::posting::Value;
 

@@ -21,7 +21,6 @@ use bhv::logic::LogicCondition;
 use crate::posting::Value;
 
 pub use common_params::apply_config_line;
-pub use context::HostEnv;
 pub use macros::fmt3;
 pub use step::StepOutcome;
 
@@ -323,4 +322,21 @@ pub struct BehaviorInstance {
 }
 
 pub use context::with_ctx as with_ctx_pub;
-pub use step::{fault as fault_pub, spawned, step};
+pub use step::{spawned, step};
+
+// Shared by the runtime's modules, so it lives here rather than in one of them.
+/// What every behavior call may read about the helm as a whole.
+#[derive(Clone, Debug, Default)]
+pub struct HostEnv {
+    pub ownship: String,
+    pub helm_iteration: u64,
+    /// The helm domain as `name,low,high,points` joined by `:`.
+    pub helm_domain: String,
+}
+
+/// Disable a behavior that misbehaved: BHV_ERROR (halts this iteration), then disabled.
+pub fn fault(core: &mut BehaviorCore, msg: &str) {
+    tracing::error!(behavior = %core.name, "{msg}");
+    core.post_error(msg);
+    core.faulted = true;
+}

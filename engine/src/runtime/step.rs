@@ -3,10 +3,10 @@
 use behavior_api::{CallResult, FunctionData, HelmCtx};
 use bhv::number::atof;
 
-use super::context::{with_ctx, HostEnv};
+use super::context::with_ctx;
 use super::flags::{post_flags, FlagKind};
 use super::updates::process_updates;
-use super::{BehaviorCore, BehaviorInstance, RunState};
+use super::{fault, BehaviorCore, BehaviorInstance, HostEnv, RunState};
 use crate::info_buffer::InfoBuffer;
 use crate::posting::Value;
 
@@ -40,13 +40,6 @@ fn call<R: Default>(
     };
     finish_completion(inst, env, ib);
     out
-}
-
-/// Disable a behavior that misbehaved: BHV_ERROR (halts this iteration), then disabled.
-pub fn fault(core: &mut BehaviorCore, msg: &str) {
-    tracing::error!(behavior = %core.name, "{msg}");
-    core.post_error(msg);
-    core.faulted = true;
 }
 
 fn finish_completion(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) {

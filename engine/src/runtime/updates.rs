@@ -1,8 +1,7 @@
 //! Run-time parameter updates through the `updates` variable (behavior-common.md §5).
 
 use super::common_params::apply_update_pair;
-use super::context::HostEnv;
-use super::BehaviorInstance;
+use super::{BehaviorInstance, HostEnv};
 use crate::info_buffer::InfoBuffer;
 use crate::posting::Value;
 
