@@ -2,7 +2,7 @@
 //!
 //! A caller hands it mail and a time and takes its postings; it never reads a socket, a
 //! wall clock or a thread of its own, and knows nothing of simulation. The MOOS app
-//! (`helm-app`), the simulator (`helm-sim`) and the conformance runner ([`conform`]) all
+//! (`helm-app`), the simulator (`helm-sim`) and the conformance runner (`helm-conform`) all
 //! drive it the same way, through [`cycle::HelmCycle`] or [`Helm`] directly.
 //!
 //! It may depend on `behavior-api`, `behaviors-std`, `bhv`, `ivp` and `moos-mission` (the
@@ -18,23 +18,20 @@
 //! - a decision is made in [`engine`]: `Helm::handle_mail` → `Helm::iterate` (modes,
 //!   behaviors, `decide` with `ivp::Solver`, postings), with spawning and reports;
 //! - [`cycle`] is one helm cycle as every driver runs it; [`status`] what a run
-//!   remembers for its terminal and its end;
-//! - conformance cases are replayed by [`conform`].
+//!   remembers for its terminal and its end.
+//! - conformance cases are replayed by the `helm-conform` crate.
 //!
-//! A golden case recorded from the C++ helm, replayed through the engine (mail and
-//! times in, postings out, compared step by step):
+//! The repo's alpha mission read as pHelmIvP reads it (block, `.bhv` files, libraries):
 //!
 //! ```
-//! use helm_engine::conform::{run_file, Outcome};
-//! use helm_engine::factory::BehaviorFactory;
-//! let case = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-//!     .join("../conformance/helm/two_wpt_weighted.toml");
-//! let result = run_file(&case, &BehaviorFactory::with_builtins());
-//! assert_eq!(result.outcome(), Outcome::Passed, "{:?}", result.mismatches);
+//! let moos = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/alpha/alpha.moos");
+//! let loaded = helm_engine::mission::load(&moos, &[], "pHelmIvP").unwrap();
+//! let (helm, _mission) = loaded.into_helm();
+//! assert!(helm.config_warnings().is_empty());
+//! assert!(helm.behavior_names().contains(&"waypt_survey".to_string()));
 //! ```
 
 pub mod config;
-pub mod conform;
 pub mod cycle;
 pub mod engine;
 pub mod factory;

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use helm_engine::conform;
+use helm_conform as conform;
 use helm_engine::factory::BehaviorFactory;
 
 /// The IvP Helm (pHelmIvP) rebuilt in Rust: behavior-based autonomy with plugin behaviors.

@@ -1,7 +1,7 @@
 //! Engine bookkeeping driven through the library API: IVPHELM_STATEVARS and the
 //! standby helm's take-over.
 
-use helm_engine::conform::Case;
+use helm_conform::Case;
 use helm_engine::posting::Value;
 use helm_engine::{Helm, HelmState, Mail};
 

@@ -1,6 +1,6 @@
 //! Templating: behaviors spawned at run time from `templating = spawn|clone` blocks.
 
-use helm_engine::conform::{replay, Case};
+use helm_conform::{replay, Case};
 use helm_engine::Helm;
 
 mod common;

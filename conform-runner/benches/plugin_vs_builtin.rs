@@ -1,5 +1,5 @@
 //! The same behavior called built-in and through a loaded library:
-//! `cargo bench -p helm-engine --bench plugin_vs_builtin`.
+//! `cargo bench -p helm-conform --bench plugin_vs_builtin`.
 //!
 //! The case is `conformance/helm/plugin_constant_speed.toml` (a BHV_Waypoint and a
 //! BHV_ConstantSpeed, 400 iterations). `builtin` runs it as recorded: BHV_Waypoint is the
@@ -17,7 +17,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use helm_engine::conform::{self, Case};
+use helm_conform::{self as conform, Case};
 use helm_engine::factory::BehaviorFactory;
 
 fn workspace() -> PathBuf {

@@ -1,4 +1,18 @@
-//! Replaying conformance cases recorded from the real helm (conformance/README.md).
+//! `helm-conform`: replaying the golden cases recorded from the real C++ helm
+//! (`conformance/README.md`) through the engine, step by step, and comparing every
+//! checked posting; also timing the decision step per case (`helm conform --bench`).
+//!
+//! It depends on `helm-engine` (and `bhv` to read a case's behavior file) and must not
+//! depend on the MOOS app, the simulator or any socket: a case is replayed in memory.
+//!
+//! ```
+//! use helm_conform::{run_file, Outcome};
+//! use helm_engine::factory::BehaviorFactory;
+//! let case = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+//!     .join("../conformance/helm/two_wpt_weighted.toml");
+//! let result = run_file(&case, &BehaviorFactory::with_builtins());
+//! assert_eq!(result.outcome(), Outcome::Passed, "{:?}", result.mismatches);
+//! ```
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -6,10 +20,10 @@ use std::time::Instant;
 
 use serde::Deserialize;
 
-use crate::config::{BlockLine, HelmConfig};
-use crate::engine::{Helm, Mail};
-use crate::factory::BehaviorFactory;
-use crate::posting::{Posting, Value};
+use helm_engine::config::{BlockLine, HelmConfig};
+use helm_engine::factory::BehaviorFactory;
+use helm_engine::posting::{Posting, Value};
+use helm_engine::{Helm, Mail};
 
 /// One recorded case.
 #[derive(Debug, Deserialize)]
@@ -104,7 +118,7 @@ pub fn missing_types(case: &Case, file: &Path, factory: &BehaviorFactory) -> Vec
         .behaviors
         .iter()
         .map(|b| b.type_name.clone())
-        .filter(|t| !factory.knows(t) && !crate::factory::project_has_type(t))
+        .filter(|t| !factory.knows(t) && !helm_engine::factory::project_has_type(t))
         .collect();
     missing.sort();
     missing.dedup();

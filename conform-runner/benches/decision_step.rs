@@ -1,5 +1,5 @@
 //! µs per decision iteration for each golden helm case (the measure of the C++ timings
-//! in each case's `.timing.json`): `cargo bench -p helm-engine`.
+//! in each case's `.timing.json`): `cargo bench -p helm-conform --bench decision_step`.
 //!
 //! Each sample replays the case through a fresh helm and counts only the decision steps
 //! (modes, behaviors, solve), as the C++ figure does.
@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use helm_engine::conform;
+use helm_conform as conform;
 use helm_engine::factory::BehaviorFactory;
 
 fn cases() -> Vec<PathBuf> {
