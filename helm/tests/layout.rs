@@ -34,10 +34,20 @@ fn workspace_packages() -> BTreeMap<String, Package> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
         .current_dir(common::workspace())
-        .args(["metadata", "--format-version", "1", "--no-deps", "--offline"])
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--offline",
+        ])
         .output()
         .expect("run cargo metadata");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let meta: serde_json::Value = serde_json::from_slice(&out.stdout).expect("metadata json");
     let mut packages = BTreeMap::new();
     for p in meta["packages"].as_array().expect("packages") {
@@ -73,7 +83,13 @@ fn closure(packages: &BTreeMap<String, Package>, name: &str) -> BTreeSet<String>
 #[test]
 fn crates_depend_only_downward() {
     let packages = workspace_packages();
-    for needed in ["helm-engine", "helm-app", "helm-sim", "helm-conform", "behavior-api"] {
+    for needed in [
+        "helm-engine",
+        "helm-app",
+        "helm-sim",
+        "helm-conform",
+        "behavior-api",
+    ] {
         assert!(packages.contains_key(needed), "no package {needed}");
     }
     let forbid = |pkg: &str, banned: &[&str]| {
@@ -83,7 +99,10 @@ fn crates_depend_only_downward() {
         }
     };
     // The engine decides; it knows no sockets (moos: client and DB), app or simulator.
-    forbid("helm-engine", &["moos", "helm-app", "helm-sim", "helm-conform", "helm"]);
+    forbid(
+        "helm-engine",
+        &["moos", "helm-app", "helm-sim", "helm-conform", "helm"],
+    );
     forbid("helm-conform", &["moos", "helm-app", "helm-sim", "helm"]);
     forbid("helm-app", &["helm-sim", "helm-conform", "helm"]);
     forbid("helm-sim", &["helm-app", "helm-conform", "helm"]);
@@ -107,12 +126,18 @@ fn crates_depend_only_downward() {
 
 /// The module a source file is: `src/a/b.rs` and `src/a/b/mod.rs` are `a::b`.
 fn module_of(src: &Path, file: &Path) -> Vec<String> {
-    let rel = file.strip_prefix(src).expect("under src").with_extension("");
+    let rel = file
+        .strip_prefix(src)
+        .expect("under src")
+        .with_extension("");
     let mut segs: Vec<String> = rel
         .components()
         .map(|c| c.as_os_str().to_string_lossy().into_owned())
         .collect();
-    if matches!(segs.last().map(String::as_str), Some("lib" | "main" | "mod")) {
+    if matches!(
+        segs.last().map(String::as_str),
+        Some("lib" | "main" | "mod")
+    ) {
         segs.pop();
     }
     segs
@@ -240,11 +265,12 @@ fn referenced_paths(code: &str, module: &[String]) -> Vec<Vec<String>> {
 fn file_circles(src: &Path) -> Vec<Vec<String>> {
     let mut files = Vec::new();
     rust_files(src, &mut files);
-    let modules: BTreeMap<Vec<String>, PathBuf> =
-        files.iter().map(|f| (module_of(src, f), f.clone())).collect();
+    let modules: BTreeMap<Vec<String>, PathBuf> = files
+        .iter()
+        .map(|f| (module_of(src, f), f.clone()))
+        .collect();
     let mut edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
     for (m, f) in &modules {
-
         let targets = edges.entry(m.clone()).or_default();
         for path in referenced_paths(&code_of(f), m) {
             // The deepest module file the path names.
@@ -297,7 +323,11 @@ fn no_circle_of_files_importing_each_other() {
             found.push(format!("{name}: {}", m.join("::")));
         }
     }
-    assert!(found.is_empty(), "modules on an import circle:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "modules on an import circle:\n{}",
+        found.join("\n")
+    );
 }
 
 #[test]
@@ -313,7 +343,11 @@ fn the_circle_check_sees_a_circle() {
 /// Lines of a file before its test module.
 fn non_test_lines(file: &Path) -> usize {
     let text = std::fs::read_to_string(file).expect("read source");
-    text.split("#[cfg(test)]").next().unwrap_or("").lines().count()
+    text.split("#[cfg(test)]")
+        .next()
+        .unwrap_or("")
+        .lines()
+        .count()
 }
 
 #[test]

@@ -548,3 +548,45 @@ fn soak_24h() {
     );
     assert!(m.rss_end_kb < m.rss_1h_kb + 2048, "RSS grew: {m:?}");
 }
+
+/// FNV-1a, 64 bits: a fixed, dependency-free fingerprint of a file's bytes.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The `.alog` of each repo mission is bit for bit what it was when these fingerprints
+/// were recorded (before the helm crate was split into engine, app and simulator
+/// crates). A change that alters what the helm or the simulator does changes them; such
+/// a change records the new values here, in its own commit, saying why.
+#[test]
+fn mission_alogs_are_bit_identical_to_the_recorded_ones() {
+    let golden = [
+        ("alpha", 0x7baa_f381_bce2_c355_u64),
+        ("bravo", 0xe9f5_c4bb_01e0_b355),
+        ("charlie", 0xb692_4cc7_e3bf_b06b),
+        ("plugins", 0x16bd_b32e_62ee_0be9),
+    ];
+    let mut changed = Vec::new();
+    for (name, want) in golden {
+        // From the repo root with a relative path, as the README runs it: the `.alog`
+        // names the `.bhv` file as given (PLOGGER_CMD), so the path must not vary.
+        let out = temp_dir(&format!("golden-{name}"));
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
+        cmd.current_dir(common::workspace())
+            .args(["sim", &format!("missions/{name}"), "--out"])
+            .arg(&out)
+            .env("IVP_HELM_BUNDLED_DIR", "");
+        let dirs = (name == "plugins").then(plugin_dir);
+        common::behavior_dirs(&mut cmd, dirs);
+        let o = cmd.output().expect("run helm sim");
+        assert!(o.status.success(), "{}", text(&o));
+        let alog = std::fs::read(out.join(format!("{name}.alog"))).expect("alog");
+        let got = fnv1a(&alog);
+        if got != want {
+            changed.push(format!("{name}: {got:#018x} (recorded {want:#018x})"));
+        }
+    }
+    assert!(changed.is_empty(), "alogs changed:\n{}", changed.join("\n"));
+}

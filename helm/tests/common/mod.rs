@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use helm_engine::config::BlockLine;
 use helm_conform::{build_helm, Case};
+use helm_engine::config::BlockLine;
 use helm_engine::factory::BehaviorFactory;
 use helm_engine::Helm;
 
