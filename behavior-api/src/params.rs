@@ -47,7 +47,12 @@ mod tests {
 
     #[test]
     fn booleans() {
-        for (s, want) in [(" On ", true), ("off", false), ("No", false), ("TRUE", true)] {
+        for (s, want) in [
+            (" On ", true),
+            ("off", false),
+            ("No", false),
+            ("TRUE", true),
+        ] {
             assert_eq!(parse_bool(s, !want), Some(want), "{s}");
         }
         assert_eq!(parse_bool("toggle", false), Some(true));

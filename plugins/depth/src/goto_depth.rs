@@ -2,9 +2,9 @@
 //! each for its time, `repeat` extra passes, then complete.
 
 use behavior_api::ivp::{self, ZaicPeak};
-use behavior_api::{atof, is_number};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
+use behavior_api::{atof, is_number};
 
 /// One level: depth and seconds to hold it.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -184,7 +184,10 @@ mod tests {
     fn defaults_domains_and_refusals() {
         let mut s = MaxSpeed::new(&helm());
         let d = MaxDepth::new(&helm());
-        assert_eq!((s.domain().as_str(), d.domain().as_str()), ("speed,0,4,21", "depth,0,100,101"));
+        assert_eq!(
+            (s.domain().as_str(), d.domain().as_str()),
+            ("speed,0,4,21", "depth,0,100,101")
+        );
         assert_eq!(s.settings(), (1.0, 0.5, ""));
         assert_eq!(d.settings(), (0.0, 100.0, ""));
         assert_eq!(s.default_name(), "???");
@@ -216,7 +219,11 @@ mod tests {
         let f = h.with(|ctx| s.on_run(ctx)).unwrap();
         assert_eq!(
             pieces(&f),
-            vec![(0, 11, 0.00001, 100.0), (12, 12, -100.0, 1200.0), (13, 20, -0.00001, 0.0)]
+            vec![
+                (0, 11, 0.00001, 100.0),
+                (12, 12, -100.0, 1200.0),
+                (13, 20, -0.00001, 0.0)
+            ]
         );
         assert_eq!(f.pwt, 100.0);
         assert_eq!(h.last("SPD_SLACK").as_deref(), Some("2.1"));
@@ -233,7 +240,11 @@ mod tests {
         let f = h.with(|ctx| d.on_run(ctx)).unwrap();
         assert_eq!(
             pieces(&f),
-            vec![(0, 6, 0.00001, 100.0), (7, 7, -100.0, 700.0), (8, 100, -0.00001, 0.0)]
+            vec![
+                (0, 6, 0.00001, 100.0),
+                (7, 7, -100.0, 700.0),
+                (8, 100, -0.00001, 0.0)
+            ]
         );
         assert_eq!(
             h.posted("BHV_WARNING"),

@@ -157,7 +157,11 @@ impl PeriodicSurface {
     }
 
     fn ascent_speed_now(&self, depth: f64) -> f64 {
-        let (d0, z, v0) = (self.depth_at_ascent, self.zero_speed_depth, self.speed_at_ascent);
+        let (d0, z, v0) = (
+            self.depth_at_ascent,
+            self.zero_speed_depth,
+            self.speed_at_ascent,
+        );
         if d0 <= z || depth <= z {
             return 0.0;
         }
@@ -383,7 +387,10 @@ mod tests {
         ]);
         assert_eq!(b.domain(), "speed,0,4,41:depth,0,100,101");
         assert_eq!(b.default_name(), "???");
-        assert_eq!((b.period, b.grade, b.ascent_speed), (300.0, Grade::Quasi, -1.0));
+        assert_eq!(
+            (b.period, b.grade, b.ascent_speed),
+            (300.0, Grade::Quasi, -1.0)
+        );
         helm.with(|ctx| {
             for (p, v) in [
                 ("period", "0"),

@@ -19,11 +19,14 @@
 //! assert_eq!(f.var_names().collect::<Vec<_>>(), vec!["course", "speed"]);
 //! ```
 
+pub mod legrun;
 pub mod odometer;
 pub mod zigzag;
 
+pub use legrun::LegRun;
 pub use zigzag::ZigZag;
 
 behavior_api::export_behaviors! {
     "BHV_ZigZag" => ZigZag::new,
+    "BHV_LegRun" => LegRun::new,
 }

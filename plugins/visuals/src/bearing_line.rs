@@ -175,7 +175,10 @@ mod tests {
             helm.last("VIEW_SEGLIST").unwrap(),
             "pts={0,0:50,-50},label=abe_bngl"
         );
-        assert_eq!(helm.last("VIEW_POINT").unwrap(), "x=100,y=-100,label=100,-100");
+        assert_eq!(
+            helm.last("VIEW_POINT").unwrap(),
+            "x=100,y=-100,label=100,-100"
+        );
         helm.clear();
         helm.with(|ctx| b.on_idle_state(ctx));
         assert_eq!(

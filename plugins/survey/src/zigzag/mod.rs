@@ -178,7 +178,8 @@ impl ZigZag {
     fn read_position(&mut self, ctx: &mut Ctx<'_>) -> bool {
         let x = ctx.get_buffer_double_val("NAV_X");
         let y = ctx.get_buffer_double_val("NAV_Y");
-        let stale = ctx.get_buffer_time_val("NAV_X") > STALE || ctx.get_buffer_time_val("NAV_Y") > STALE;
+        let stale =
+            ctx.get_buffer_time_val("NAV_X") > STALE || ctx.get_buffer_time_val("NAV_Y") > STALE;
         match y {
             Some(y) if !stale => {
                 self.os.0 = x.unwrap_or(0.0);
@@ -249,7 +250,11 @@ impl ZigZag {
         if self.side == Side::Stem {
             let first = self.zig_first;
             self.set_side(ctx, first);
-            self.set_hdg = angle360(if first == Side::Port { stem - zig } else { stem + zig });
+            self.set_hdg = angle360(if first == Side::Port {
+                stem - zig
+            } else {
+                stem + zig
+            });
             return;
         }
         let osh = self.os.2;
@@ -302,7 +307,11 @@ impl ZigZag {
                 continue;
             }
             let (ex, ey) = project_point(hdg, 20.0, x, y);
-            let color = if color == "off" { "invisible" } else { color.as_str() };
+            let color = if color == "off" {
+                "invisible"
+            } else {
+                color.as_str()
+            };
             let attrs = Attrs {
                 label: format!("{label}{own}"),
                 label_color: "invisible".into(),
@@ -402,8 +411,14 @@ impl IvpBehavior for ZigZag {
 
     fn on_run_to_idle(&mut self, ctx: &mut Ctx<'_>) {
         let own = ctx.ownship();
-        ctx.post_message("VIEW_SEGLIST", &seglist_erase_spec(&format!("zig_set_{own}")));
-        ctx.post_message("VIEW_SEGLIST", &seglist_erase_spec(&format!("zig_req_{own}")));
+        ctx.post_message(
+            "VIEW_SEGLIST",
+            &seglist_erase_spec(&format!("zig_set_{own}")),
+        );
+        ctx.post_message(
+            "VIEW_SEGLIST",
+            &seglist_erase_spec(&format!("zig_req_{own}")),
+        );
         self.reset_odometry();
         self.n = 0;
         self.side = Side::Stem;
@@ -440,8 +455,7 @@ impl IvpBehavior for ZigZag {
         };
         self.req_hdg = angle360(self.req_hdg);
         self.post_visuals(ctx);
-        if self.legs_complete() || (self.max_stem_odo > 0.0 && self.stem_odo >= self.max_stem_odo)
-        {
+        if self.legs_complete() || (self.max_stem_odo > 0.0 && self.stem_odo >= self.max_stem_odo) {
             ctx.set_complete();
             return None;
         }

@@ -23,12 +23,16 @@ impl ZigZag {
             "speed_on_active" | "spd_on_active" => parse_bool(v, self.speed_on_active)
                 .map(|b| self.speed_on_active = b)
                 .is_some(),
-            "stem_hdg" => parse_number(v).map(|h| self.stem_hdg = angle360(h)).is_some(),
+            "stem_hdg" => parse_number(v)
+                .map(|h| self.stem_hdg = angle360(h))
+                .is_some(),
             "stem_on_active" => parse_bool(v, self.stem_on_active)
                 .map(|b| self.stem_on_active = b)
                 .is_some(),
             "hdg_thresh" => non_negative(v).map(|t| self.hdg_thresh = t).is_some(),
-            "fierce_zigging" => parse_bool(v, self.fierce).map(|b| self.fierce = b).is_some(),
+            "fierce_zigging" => parse_bool(v, self.fierce)
+                .map(|b| self.fierce = b)
+                .is_some(),
             "zig_angle" => in_zig_range(v).map(|a| self.zig_angle = a).is_some(),
             "zig_angle_fierce" | "delta_heading" => {
                 in_zig_range(v).map(|a| self.zig_angle_fierce = a).is_some()
@@ -71,8 +75,12 @@ impl ZigZag {
                 None => return false,
             };
             let ok = match key.as_str() {
-                "draw_set_hdg" => parse_bool(val, self.draw_set).map(|b| self.draw_set = b).is_some(),
-                "draw_req_hdg" => parse_bool(val, self.draw_req).map(|b| self.draw_req = b).is_some(),
+                "draw_set_hdg" => parse_bool(val, self.draw_set)
+                    .map(|b| self.draw_set = b)
+                    .is_some(),
+                "draw_req_hdg" => parse_bool(val, self.draw_req)
+                    .map(|b| self.draw_req = b)
+                    .is_some(),
                 "set_hdg_color" if is_color(val) || val.eq_ignore_ascii_case("off") => {
                     self.set_color = val.to_string();
                     true

@@ -32,8 +32,14 @@ fn parameters_and_refusals() {
         ("speed", "5"),
     ]);
     assert_eq!(b.default_name(), "???");
-    assert_eq!((b.max_zig_legs, b.zig_first, b.stem_hdg), (2, Side::Star, 270.0));
-    assert_eq!((b.draw_req, b.set_color.as_str(), b.speed), (false, "off", 5.0));
+    assert_eq!(
+        (b.max_zig_legs, b.zig_first, b.stem_hdg),
+        (2, Side::Star, 270.0)
+    );
+    assert_eq!(
+        (b.draw_req, b.set_color.as_str(), b.speed),
+        (false, "off", 5.0)
+    );
     helm.with(|ctx| {
         for (p, v) in [
             ("zig_angle", "0.5"),
@@ -93,7 +99,10 @@ fn zigs_count_turns_post_flags_and_complete() {
     helm.nav(6.0, 9.0, 306.0, 2.0);
     helm.with(|ctx| b.on_run(ctx)).unwrap();
     let texts: Vec<&str> = helm.flags.iter().map(|f| f.0.as_str()).collect();
-    assert_eq!(texts, vec!["ZIGF = 2:1:port:0", "ZAGF = 1", "PORTX = 2", "STARF = 2"]);
+    assert_eq!(
+        texts,
+        vec!["ZIGF = 2:1:port:0", "ZAGF = 1", "PORTX = 2", "STARF = 2"]
+    );
     helm.nav(9.0, 12.0, 54.0, 2.0);
     assert!(helm.with(|ctx| b.on_run(ctx)).is_none());
     assert_eq!(helm.completes, 1);
