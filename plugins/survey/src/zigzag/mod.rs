@@ -275,7 +275,7 @@ impl ZigZag {
         self.n += 1;
         self.n_ever += 1;
         self.post(ctx, &self.zigflags);
-        if self.n % 2 == 0 {
+        if self.n & 1 == 0 {
             self.post(ctx, &self.zagflags);
         }
         if self.side == Side::Port {
@@ -288,7 +288,7 @@ impl ZigZag {
             self.set_hdg = angle360(stem - zig);
         }
         self.zig_odo.reset();
-        if self.n % 2 == 0 {
+        if self.n & 1 == 0 {
             self.zag_odo.reset();
         }
         self.z_start = osh;
