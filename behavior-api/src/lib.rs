@@ -35,6 +35,9 @@
 //! - MOOS-IvP's number and colour rules from [`mbutil`], also at the top level:
 //!   [`is_number`], [`atof`], [`parse_number`], [`compact`] (the `%.Nf` formatter with
 //!   trailing zeros removed), [`parse_color`] / [`is_color`] (the helm's colour parser);
+//! - [`platform`]: the common platform update (NAV_X/Y/HEADING required, NAV_SPEED optional);
+//! - [`params`]: shared parameter-value rules (`parse_bool` with `toggle`, `positive`,
+//!   `non_negative`, `no_white`);
 //! - [`flag`]: the `.bhv` flag syntax (`[#dest ]VAR = VALUE [if CONDITION]`), to check a
 //!   behavior's own flag parameters (e.g. BHV_Waypoint's `wptflag`) the way the helm
 //!   checks `endflag`.
@@ -58,6 +61,8 @@ pub mod context;
 pub mod flag;
 pub mod function;
 pub mod module;
+pub mod params;
+pub mod platform;
 pub mod sdk;
 pub mod testing;
 pub mod value;

@@ -109,6 +109,13 @@ impl<'a> Ctx<'a> {
             .into_option()
             .map(String::from)
     }
+    /// Like [`Ctx::get_buffer_string_val`] but silent when missing.
+    pub fn get_buffer_string_val_quiet(&mut self, var: &str) -> Option<String> {
+        self.inner
+            .string_val(var.into(), false)
+            .into_option()
+            .map(String::from)
+    }
     pub fn get_buffer_time_val(&self, var: &str) -> f64 {
         self.inner.time_val(var.into())
     }

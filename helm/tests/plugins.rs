@@ -24,6 +24,9 @@ const PLUGINS: &[&str] = &[
     "bhv-constant-depth",
     "bhv-station-keep",
     "bhv-template",
+    "bhv-visuals",
+    "bhv-depth",
+    "bhv-survey",
 ];
 
 /// Built with the others, kept in a folder of its own (`failure_dir`).
