@@ -7,7 +7,10 @@ fn spawn_strings() {
     assert_eq!(spawn_name("name=bob # contact=bob"), "bob");
     assert_eq!(spawn_name(" name = Bob "), "Bob");
     // The contact manager's alert for an empty name: a valid pair with an empty value.
-    assert_eq!(update_pairs("name= # contact=").unwrap(), [("name", ""), ("contact", "")]);
+    assert_eq!(
+        update_pairs("name= # contact=").unwrap(),
+        [("name", ""), ("contact", "")]
+    );
     assert_eq!(spawn_name("name= # contact="), "");
     // A field that is not exactly key=value spoils the lookup.
     assert_eq!(spawn_name("name=bob # x=a=b"), "");
@@ -39,8 +42,10 @@ fn alert_requests_as_recorded() {
         alert_request("ctmp_", "UPDATES_CUT", 100.0, 100.0 + 1.0, &f),
         "id=ctmp_, on_flag=UPDATES_CUT=name=$[VNAME] # contact=$[VNAME],alert_range=100, cpa_range=101,match_type=kayak"
     );
-    assert!(alert_request("a", "V", 12.345, 0.05, &ContactFilter::default())
-        .ends_with("alert_range=12.3, cpa_range=0.1"));
+    assert!(
+        alert_request("a", "V", 12.345, 0.05, &ContactFilter::default())
+            .ends_with("alert_range=12.3, cpa_range=0.1")
+    );
 }
 
 #[test]
@@ -56,10 +61,22 @@ fn able_filters() {
     for (s, e) in [
         ("contact=bob", AlertError::NoAction),
         ("action=disable", AlertError::NoTarget),
-        ("action=able,contact=bob", AlertError::BadAction("able".into())),
-        ("action=disable,contact=a,contact=b", AlertError::RepeatedKey("contact".into())),
-        ("action=disable,action=enable,contact=a", AlertError::RepeatedKey("action".into())),
-        ("action=disable,who=bob", AlertError::UnknownKey("who".into())),
+        (
+            "action=able,contact=bob",
+            AlertError::BadAction("able".into()),
+        ),
+        (
+            "action=disable,contact=a,contact=b",
+            AlertError::RepeatedKey("contact".into()),
+        ),
+        (
+            "action=disable,action=enable,contact=a",
+            AlertError::RepeatedKey("action".into()),
+        ),
+        (
+            "action=disable,who=bob",
+            AlertError::UnknownKey("who".into()),
+        ),
         ("action=disable,bob", AlertError::NotAPair("bob".into())),
     ] {
         assert_eq!(AbleFilter::parse(s), Err(e), "{s}");

@@ -137,7 +137,10 @@ mod tests {
     fn flags() {
         let f = CnFlag::parse("  @cpa  CPA_REACHED = $[CPA] ").unwrap();
         assert_eq!(f.tag, CnTag::Cpa);
-        assert_eq!((f.var.as_str(), f.value.as_str()), ("CPA_REACHED", "$[CPA]"));
+        assert_eq!(
+            (f.var.as_str(), f.value.as_str()),
+            ("CPA_REACHED", "$[CPA]")
+        );
         assert!(CnFlag::parse("@cpa").is_err());
         assert!(CnFlag::parse("@cpa NOVALUE").is_err());
         assert!(CnFlag::parse("@nope A=1").is_err());

@@ -30,6 +30,7 @@ pub fn angle180(a: f64) -> f64 {
 }
 
 /// The 12-digit π the reference uses for the bearing-rate constant.
+#[allow(clippy::approx_constant)] // deliberately not f64's π
 const PI_12: f64 = 3.14159265359;
 
 /// Distance between ownship and contact.
@@ -67,11 +68,17 @@ fn cpa_of(px: f64, py: f64, wx: f64, wy: f64, tol: f64) -> Cpa {
     let rng = px.hypot(py);
     let ww = wx * wx + wy * wy;
     if ww == 0.0 {
-        return Cpa { dist: rng, time: 0.0 };
+        return Cpa {
+            dist: rng,
+            time: 0.0,
+        };
     }
     let t = -(px * wx + py * wy) / ww;
-    if !(t > 0.0) {
-        return Cpa { dist: rng, time: 0.0 };
+    if t.is_nan() || t <= 0.0 {
+        return Cpa {
+            dist: rng,
+            time: 0.0,
+        };
     }
     let t = if t > tol { tol } else { t };
     let (dx, dy) = (px + wx * t, py + wy * t);

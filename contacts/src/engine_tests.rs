@@ -20,7 +20,10 @@ fn cpa_crossing_with_and_without_horizon() {
     // Ownship (0,0) north at 1; contact (100,100) west at 1. p = os − cn = (−100,−100),
     // w = (0,1) − (−1,0) = (1,1); t* = 200/2 = 100 s, where p + w·t* = (0,0).
     let c = cpa(0.0, 0.0, 0.0, 1.0, 100.0, 100.0, 270.0, 1.0, 120.0);
-    assert!(close(c.dist, 0.0, 1e-9) && close(c.time, 100.0, 1e-9), "{c:?}");
+    assert!(
+        close(c.dist, 0.0, 1e-9) && close(c.time, 100.0, 1e-9),
+        "{c:?}"
+    );
     // Horizon 50 s: p + 50·w = (−50,−50) → 70.7107.
     let c = cpa(0.0, 0.0, 0.0, 1.0, 100.0, 100.0, 270.0, 1.0, 50.0);
     assert!(close(c.dist, 50.0 * 2f64.sqrt(), 1e-9) && c.time == 50.0);
@@ -54,7 +57,11 @@ fn engine_on_the_beam() {
     assert_eq!(e.bearing_rate(0.0, 2.0), 0.0);
     // Ownship stopped: contact 10 m west moving north at 2 → 2/10 rad/s = 11.459 deg/s,
     // with the reference's 12-digit π: 2·360/(2·10·3.14159265359).
-    assert!(close(e.bearing_rate(0.0, 0.0), 720.0 / (20.0 * 3.14159265359), 1e-12));
+    assert!(close(
+        e.bearing_rate(0.0, 0.0),
+        720.0 / (20.0 * PI_12),
+        1e-12
+    ));
     // Rate of closure: toward the contact (270) at 1 → 1; away (90) → −1; north → 0.
     assert!(close(e.roc(270.0, 1.0), 1.0, 1e-12));
     assert!(close(e.roc(90.0, 1.0), -1.0, 1e-12));
@@ -70,7 +77,11 @@ fn engine_overtaking_on_the_contacts_port_side() {
     // Contact (0,0) north at 1; ownship (−10,−50) north at 3, astern and to port.
     let e = CpaEngine::new(0.0, 0.0, 0.0, 1.0, -10.0, -50.0);
     // β = 180 + atan(10/50) = 191.31: aft and port.
-    assert!(close(e.beta, 180.0 + (10.0f64 / 50.0).atan().to_degrees(), 1e-9));
+    assert!(close(
+        e.beta,
+        180.0 + (10.0f64 / 50.0).atan().to_degrees(),
+        1e-9
+    ));
     assert!(e.os_aft_of_cn() && e.os_port_of_cn() && !e.os_star_of_cn());
     // γ = distance to the contact's bow-stern line (x = 0) = 10; ε = to its beam line = 50.
     assert!(close(e.range_gamma, 10.0, 1e-9) && close(e.range_epsilon, 50.0, 1e-9));

@@ -48,7 +48,7 @@ impl Decay {
     /// Distance run in `dt` seconds from speed `spd`: full speed until `start`, then
     /// linearly slower until stopped at `end` (the integral of that speed).
     pub fn distance(&self, spd: f64, dt: f64) -> f64 {
-        if !(dt > 0.0) || !(spd > 0.0) {
+        if dt.is_nan() || dt <= 0.0 || spd.is_nan() || spd <= 0.0 {
             return 0.0;
         }
         if dt <= self.start {
@@ -65,7 +65,15 @@ impl Decay {
 
     /// Where a contact reported at (x, y) heading `hdg` at `spd` at time `utc` is at
     /// `now`.
-    pub fn extrapolate(&self, x: f64, y: f64, hdg: f64, spd: f64, utc: f64, now: f64) -> (f64, f64) {
+    pub fn extrapolate(
+        &self,
+        x: f64,
+        y: f64,
+        hdg: f64,
+        spd: f64,
+        utc: f64,
+        now: f64,
+    ) -> (f64, f64) {
         let d = self.distance(spd, now - utc);
         if d == 0.0 {
             return (x, y);
@@ -80,7 +88,10 @@ mod tests {
 
     #[test]
     fn decayed_distance_by_hand() {
-        let d = Decay { start: 10.0, end: 30.0 };
+        let d = Decay {
+            start: 10.0,
+            end: 30.0,
+        };
         // Full speed 2 m/s for 5 s: 10 m.
         assert_eq!(d.distance(2.0, 5.0), 10.0);
         // 20 s: 10 s at 2 (20 m), then 10 s of the ramp from 2 to 1 (average 1.5: 15 m).
@@ -93,7 +104,14 @@ mod tests {
         assert_eq!(d.distance(0.0, 10.0), 0.0);
         assert_eq!(d.distance(f64::NAN, 10.0), 0.0);
         // start = end: stops dead at start.
-        assert_eq!(Decay { start: 5.0, end: 5.0 }.distance(2.0, 9.0), 10.0);
+        assert_eq!(
+            Decay {
+                start: 5.0,
+                end: 5.0
+            }
+            .distance(2.0, 9.0),
+            10.0
+        );
     }
 
     #[test]
@@ -102,7 +120,10 @@ mod tests {
         // Heading east at 1 m/s, 10 s old: 10 m east.
         let (x, y) = d.extrapolate(100.0, 50.0, 90.0, 1.0, 1000.0, 1010.0);
         assert!((x - 110.0).abs() < 1e-9 && (y - 50.0).abs() < 1e-9);
-        assert_eq!(d.extrapolate(1.0, 2.0, 90.0, 1.0, 1000.0, 1000.0), (1.0, 2.0));
+        assert_eq!(
+            d.extrapolate(1.0, 2.0, 90.0, 1.0, 1000.0, 1000.0),
+            (1.0, 2.0)
+        );
     }
 
     #[test]
@@ -110,6 +131,12 @@ mod tests {
         assert!(Decay::parse("a,b").is_err());
         assert!(Decay::parse("-1,3").is_err());
         assert!(Decay::parse("5").is_err());
-        assert_eq!(Decay::parse(" 0 , 0 ").unwrap(), Decay { start: 0.0, end: 0.0 });
+        assert_eq!(
+            Decay::parse(" 0 , 0 ").unwrap(),
+            Decay {
+                start: 0.0,
+                end: 0.0
+            }
+        );
     }
 }

@@ -237,7 +237,10 @@ mod tests {
             f.set_param("ignore_name", "abe"),
             Err(FilterError::Conflict { .. })
         ));
-        assert!(matches!(f.set_param("match_type", " "), Err(FilterError::Empty { .. })));
+        assert!(matches!(
+            f.set_param("match_type", " "),
+            Err(FilterError::Empty { .. })
+        ));
         assert_eq!(f.summary(), "match_name=abe,ben");
     }
 

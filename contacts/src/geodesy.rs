@@ -193,10 +193,18 @@ mod tests {
     fn local_grid_round_trip() {
         let g = Geodesy::new(43.8253, -70.3304);
         assert_eq!(g.to_local(43.8253, -70.3304), (0.0, 0.0));
-        for &(x, y) in &[(0.0, 0.0), (115.0, 120.0), (-2500.0, 730.5), (10_000.0, -8000.0)] {
+        for &(x, y) in &[
+            (0.0, 0.0),
+            (115.0, 120.0),
+            (-2500.0, 730.5),
+            (10_000.0, -8000.0),
+        ] {
             let (lat, lon) = g.to_latlon(x, y);
             let (bx, by) = g.to_local(lat, lon);
-            assert!((bx - x).abs() < 1e-3 && (by - y).abs() < 1e-3, "{x},{y} -> {bx},{by}");
+            assert!(
+                (bx - x).abs() < 1e-3 && (by - y).abs() < 1e-3,
+                "{x},{y} -> {bx},{by}"
+            );
         }
         // Hostile input ends (bounded loop) without panicking.
         let (lat, _) = g.to_latlon(f64::INFINITY, 1e300);

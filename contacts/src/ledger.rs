@@ -88,7 +88,10 @@ impl IngestError {
 
     /// The two run warnings the helm reports for a refused `report`.
     pub fn run_warnings(&self, report: &str) -> [String; 2] {
-        [format!("Bad NodeReport: {report}"), format!("The issue: {self}")]
+        [
+            format!("Bad NodeReport: {report}"),
+            format!("The issue: {self}"),
+        ]
     }
 }
 
@@ -346,8 +349,10 @@ impl Ledger {
         let limit = STALE_FACTOR * self.max_age;
         let before = self.records.len();
         // Age by the report's own TIME; a TIME of 0 never goes stale.
-        self.records
-            .retain(|r| r.utc == 0.0 || !(now - r.utc > limit));
+        self.records.retain(|r| {
+            let age = now - r.utc;
+            r.utc == 0.0 || age.is_nan() || age <= limit
+        });
         let stale = before - self.records.len();
         if stale > 0 {
             tracing::debug!(stale, "contacts removed as stale");

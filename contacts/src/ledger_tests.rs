@@ -51,7 +51,10 @@ fn missing_fields_are_refused_uncounted_with_the_reference_text() {
     );
     // X without Y is no position; a non-numeric TIME is no time.
     let e = l.ingest("NAME=a,X=1,TIME=now", 1.0).unwrap_err();
-    assert_eq!(e.to_string(), "Missing timestamp.Missing both x/y and lat/lon.");
+    assert_eq!(
+        e.to_string(),
+        "Missing timestamp.Missing both x/y and lat/lon."
+    );
     assert!(!e.counted());
     assert_eq!((l.reps(), l.refused(), l.len()), (0, 2, 0));
 }
@@ -61,12 +64,17 @@ fn underwater_types_need_a_depth_and_are_counted() {
     let mut l = Ledger::new(ORIGIN);
     let e = l.ingest("NAME=u,X=1,Y=1,TIME=3,TYPE=uuv", 3.0).unwrap_err();
     assert_eq!(e, IngestError::NoDepth);
-    assert_eq!(e.to_string(), "underwater vehicle type with no depth reported");
+    assert_eq!(
+        e.to_string(),
+        "underwater vehicle type with no depth reported"
+    );
     assert_eq!((l.reps(), l.len()), (1, 0));
     // Upper-case GLIDER is known but not "glider": no depth needed.
     let a = l.ingest("NAME=g,X=1,Y=1,TIME=3,TYPE=GLIDER", 3.0).unwrap();
     assert_eq!(a.vtype, "GLIDER");
-    let a = l.ingest("NAME=u,X=1,Y=1,TIME=3,TYPE=uuv,DEPTH=4", 3.0).unwrap();
+    let a = l
+        .ingest("NAME=u,X=1,Y=1,TIME=3,TYPE=uuv,DEPTH=4", 3.0)
+        .unwrap();
     assert_eq!((a.name, a.vtype, a.new), ("u", "auv", true));
     l.maintain(3.0);
     let u = l.snapshot().get("u").unwrap();
@@ -92,7 +100,8 @@ fn latlon_only_reports_are_converted_and_xy_only_get_latlon() {
     let xy = s.get("xy").unwrap();
     assert!((xy.lat - 43.8263968).abs() < 1e-6 && (xy.lon + 70.32899417).abs() < 1e-6);
     // Both given: kept verbatim, even when they disagree.
-    l.ingest("NAME=both,X=1,Y=2,LAT=10,LON=20,TIME=1000", 1000.0).unwrap();
+    l.ingest("NAME=both,X=1,Y=2,LAT=10,LON=20,TIME=1000", 1000.0)
+        .unwrap();
     l.maintain(1000.0);
     let b = l.snapshot().get("both").unwrap();
     assert_eq!((b.x, b.y, b.lat, b.lon), (1.0, 2.0, 10.0, 20.0));
@@ -130,7 +139,10 @@ fn the_cap_refuses_new_names_only() {
     l.set_max_contacts(2);
     l.ingest(&rep("a", 1.0), 1.0).unwrap();
     l.ingest(&rep("b", 1.0), 1.0).unwrap();
-    assert_eq!(l.ingest(&rep("c", 1.0), 1.0), Err(IngestError::Full { cap: 2 }));
+    assert_eq!(
+        l.ingest(&rep("c", 1.0), 1.0),
+        Err(IngestError::Full { cap: 2 })
+    );
     assert!(l.ingest(&rep("a", 2.0), 2.0).is_ok());
     assert_eq!((l.len(), l.refused_full(), l.reps()), (2, 1, 3));
 }
@@ -157,10 +169,12 @@ fn snapshot_fields() {
     l.maintain(1000.0);
     let s = l.snapshot();
     assert_eq!(s.now(), 1000.0);
-    let nums: Vec<f64> = ["x", "y", "hdg", "spd", "dep", "lat", "lon", "utc", "utc_age"]
-        .iter()
-        .map(|f| s.num("bob", f).unwrap())
-        .collect();
+    let nums: Vec<f64> = [
+        "x", "y", "hdg", "spd", "dep", "lat", "lon", "utc", "utc_age",
+    ]
+    .iter()
+    .map(|f| s.num("bob", f).unwrap())
+    .collect();
     assert_eq!(nums, [1.0, 2.0, 4.0, 3.0, 5.0, 6.0, 7.0, 990.0, 10.0]);
     assert_eq!(s.num("bob", "utc_received"), Some(995.0));
     assert_eq!(s.num("bob", "utc_age_received"), Some(5.0));
@@ -178,7 +192,10 @@ fn snapshot_fields() {
 fn contact_summary_distinct_in_set_order() {
     let mut l = Ledger::new(ORIGIN);
     assert_eq!(l.contact_summary(["", ""]), None);
-    assert_eq!(l.contact_summary(["bob", "", "al", "bob", "bo"]), Some("bob,al,bo"));
+    assert_eq!(
+        l.contact_summary(["bob", "", "al", "bob", "bo"]),
+        Some("bob,al,bo")
+    );
     assert_eq!(l.contact_summary(std::iter::empty()), None);
 }
 

@@ -183,7 +183,8 @@ mod tests {
 
     #[test]
     fn keys_are_case_insensitive_values_trimmed_and_aliases_work() {
-        let r = NodeReport::parse(" name = Bob , speed=2, heading = 45,depth=3, utc_time=7, len=9 ");
+        let r =
+            NodeReport::parse(" name = Bob , speed=2, heading = 45,depth=3, utc_time=7, len=9 ");
         assert_eq!(r.name, "Bob");
         assert_eq!((r.spd, r.hdg, r.dep), (Some(2.0), Some(45.0), Some(3.0)));
         assert_eq!((r.time, r.length), (Some(7.0), Some(9.0)));
@@ -192,13 +193,17 @@ mod tests {
     #[test]
     fn numeric_fields_need_the_number_test() {
         let r = NodeReport::parse("NAME=a,X=nan,Y=1e3,TIME=12abc,SPD=inf,HDG=-,DEP=+4");
-        assert_eq!((r.x, r.y, r.time, r.spd, r.hdg), (None, None, None, None, None));
+        assert_eq!(
+            (r.x, r.y, r.time, r.spd, r.hdg),
+            (None, None, None, None, None)
+        );
         assert_eq!(r.dep, Some(4.0));
     }
 
     #[test]
     fn json_form_and_braces() {
-        let r = NodeReport::parse(r#"{"NAME":"alpha","X":"12.5","Y":-3,"TIME":"5","GROUP":"{a,b}"}"#);
+        let r =
+            NodeReport::parse(r#"{"NAME":"alpha","X":"12.5","Y":-3,"TIME":"5","GROUP":"{a,b}"}"#);
         assert_eq!(r.name, "alpha");
         assert_eq!((r.x, r.y, r.time), (Some(12.5), Some(-3.0), Some(5.0)));
         assert_eq!(r.group, "{a,b}");

@@ -42,7 +42,8 @@ fn cases() -> Vec<(String, Vec<Step>)> {
                     .flatten()
                     .filter_map(|m| {
                         let m = m.as_array()?;
-                        (m[0].as_str()? == "NODE_REPORT").then(|| m[1].as_str().map(String::from))?
+                        (m[0].as_str()? == "NODE_REPORT")
+                            .then(|| m[1].as_str().map(String::from))?
                     })
                     .collect();
                 let summary = s
@@ -80,12 +81,20 @@ fn ledger_summary_matches_every_step_of_every_contact_case() {
             }
             ledger.maintain(step.time);
             if let Some(want) = &step.summary {
-                assert_eq!(ledger.summary(), want, "{name} step {i} (time {})", step.time);
+                assert_eq!(
+                    ledger.summary(),
+                    want,
+                    "{name} step {i} (time {})",
+                    step.time
+                );
                 compared += 1;
             }
         }
     }
-    println!("{} cases, {compared} ledger summaries compared", cases.len());
+    println!(
+        "{} cases, {compared} ledger summaries compared",
+        cases.len()
+    );
     assert!(compared > 1000);
 }
 

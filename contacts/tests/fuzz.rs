@@ -26,7 +26,7 @@ fn case_strings(vars: &[&str]) -> Vec<Vec<u8>> {
                     while let Some(i) = rest.find(&pat) {
                         rest = &rest[i + pat.len()..];
                         if let Some(j) = rest.find('"') {
-                            out.push(rest[..j].as_bytes().to_vec());
+                            out.push(rest.as_bytes()[..j].to_vec());
                         }
                     }
                 }
@@ -50,9 +50,31 @@ fn report_seeds() -> Vec<Vec<u8>> {
 }
 
 const REPORT_DICT: &[&[u8]] = &[
-    b",", b"=", b"{", b"}", b"\"", b":", b"\n", b"NAME=", b"X=", b"Y=", b"LAT=", b"LON=",
-    b"TIME=", b"UTC_TIME=", b"TYPE=uuv", b"TYPE=glider", b"DEP=", b"nan", b"-", b".",
-    b"999999999999999999999999999999999999999999", b"1e308", b"LENGTH=-1", b"GROUP=",
+    b",",
+    b"=",
+    b"{",
+    b"}",
+    b"\"",
+    b":",
+    b"\n",
+    b"NAME=",
+    b"X=",
+    b"Y=",
+    b"LAT=",
+    b"LON=",
+    b"TIME=",
+    b"UTC_TIME=",
+    b"TYPE=uuv",
+    b"TYPE=glider",
+    b"DEP=",
+    b"nan",
+    b"-",
+    b".",
+    b"999999999999999999999999999999999999999999",
+    b"1e308",
+    b"HDG=1000000000000000000000000000000000000000000000000000000000000",
+    b"LENGTH=-1",
+    b"GROUP=",
     b"\xff",
 ];
 
@@ -71,6 +93,15 @@ fn check_reports(data: &[u8]) {
                 assert!(!name.is_empty());
                 l.maintain(now);
                 assert!(l.snapshot().has(&name), "accepted {name:?} missing");
+                // Whatever numbers got in, the geometry behaviors run on them ends.
+                for c in l.snapshot().contacts() {
+                    let e = contacts::CpaEngine::new(c.x, c.y, c.hdg, c.spd, 0.0, 0.0);
+                    let _ = e.cpa(c.hdg, c.spd, 120.0);
+                    let _ = (e.crosses_bow_dist(c.hdg, 2.0), e.passes_port(c.lat, 1.0));
+                    let _ = contacts::cpa(0.0, 0.0, c.lon, 2.0, c.x, c.y, c.hdg, c.spd, 120.0);
+                    let _ = contacts::rel_bearing(0.0, 0.0, c.hdg, c.x, c.y);
+                    let _ = Decay::default().extrapolate(c.x, c.y, c.hdg, c.spd, c.utc, 1e9);
+                }
             }
             Err(e) => {
                 assert!(!e.to_string().is_empty());
@@ -85,7 +116,13 @@ fn check_reports(data: &[u8]) {
 
 #[test]
 fn fuzz_node_reports() {
-    fuzzkit::fuzz("node_report", 3000, &report_seeds(), REPORT_DICT, check_reports);
+    fuzzkit::fuzz(
+        "node_report",
+        3000,
+        &report_seeds(),
+        REPORT_DICT,
+        check_reports,
+    );
 }
 
 fn alert_seeds() -> Vec<Vec<u8>> {
@@ -108,9 +145,28 @@ fn alert_seeds() -> Vec<Vec<u8>> {
 }
 
 const ALERT_DICT: &[&[u8]] = &[
-    b"#", b"=", b",", b"\"", b"name=", b"contact=", b"action=", b"disable", b"enable",
-    b"expunge", b"able", b"bhv_type=", b"vsource=", b"@<", b"@>", b"<", b">", b"{", b"}",
-    b"pts=", b":", b"\xff",
+    b"#",
+    b"=",
+    b",",
+    b"\"",
+    b"name=",
+    b"contact=",
+    b"action=",
+    b"disable",
+    b"enable",
+    b"expunge",
+    b"able",
+    b"bhv_type=",
+    b"vsource=",
+    b"@<",
+    b"@>",
+    b"<",
+    b">",
+    b"{",
+    b"}",
+    b"pts=",
+    b":",
+    b"\xff",
 ];
 
 fn check_alerts(data: &[u8]) {
@@ -151,5 +207,11 @@ fn check_alerts(data: &[u8]) {
 
 #[test]
 fn fuzz_alert_strings() {
-    fuzzkit::fuzz("alert_strings", 3000, &alert_seeds(), ALERT_DICT, check_alerts);
+    fuzzkit::fuzz(
+        "alert_strings",
+        3000,
+        &alert_seeds(),
+        ALERT_DICT,
+        check_alerts,
+    );
 }
