@@ -72,6 +72,7 @@ pub mod tutorial {}
 
 pub use abi_stable;
 pub use behavior::{BehaviorBox, CallResult};
+pub use contacts;
 pub use context::HelmCtx;
 pub use function::FunctionData;
 pub use geometry;
@@ -79,4 +80,4 @@ pub use ivp;
 pub use mbutil;
 pub use mbutil::{atof, compact, is_color, is_number, parse_color, parse_number, Color};
 pub use module::{BehaviorLibRef, API_VERSION};
-pub use value::PostValue;
+pub use value::{ContactState, PostValue};

@@ -56,6 +56,12 @@ pub struct HelmConfig {
     pub helm_prefix: String,
     pub hold_on_apps: Vec<String>,
     pub nav_grace: f64,
+    /// Seconds after which a contact with no report leaves the ledger is twice this
+    /// (contacts-appcast.md §2.4); 10..=1800, default 45.
+    pub contact_max_age: f64,
+    /// The mission's `LatOrigin`/`LongOrigin` (globals, not block lines): the ledger turns
+    /// LAT/LON-only reports into local x/y with it.
+    pub origin: Option<(f64, f64)>,
     pub other_override_var: String,
     pub app_tick: f64,
 }
@@ -79,6 +85,8 @@ impl Default for HelmConfig {
             helm_prefix: String::new(),
             hold_on_apps: Vec::new(),
             nav_grace: 5.0,
+            contact_max_age: 45.0,
+            origin: None,
             other_override_var: String::new(),
             app_tick: 5.0,
         }
@@ -246,10 +254,12 @@ impl HelmConfig {
                     None => false,
                 },
                 "contact_max_age" => {
-                    bhv::number::is_number(&value) && {
-                        let v = bhv::number::atof(&value);
-                        (10.0..=1800.0).contains(&v)
+                    let v = bhv::number::atof(&value);
+                    let ok = bhv::number::is_number(&value) && (10.0..=1800.0).contains(&v);
+                    if ok {
+                        cfg.contact_max_age = v;
                     }
+                    ok
                 }
                 "ivp_behavior_dir" | "ivp_behavior_dirs" => {
                     cfg.behavior_dirs.push((PathBuf::from(&value), l.line));

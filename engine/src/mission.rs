@@ -129,7 +129,10 @@ pub fn load(
             Vec::new()
         }
     };
-    let (config, cfg_warnings) = HelmConfig::from_lines(&lines);
+    let (mut config, cfg_warnings) = HelmConfig::from_lines(&lines);
+    config.origin = file
+        .global_f64("LatOrigin")
+        .zip(file.global_f64("LongOrigin"));
     for w in cfg_warnings {
         warnings.push(format!("{shown}:{}: {}", w.line, w.text));
     }

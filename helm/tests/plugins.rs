@@ -680,12 +680,13 @@ fn build_future_abi_library() -> Option<PathBuf> {
             "[package]\nname = \"behavior-api\"\nversion = \"0.2.0\"\nedition = \"2021\"\n\n\
              [dependencies]\nabi_stable = \"{abi_stable_req}\"\nivp = {{ path = {:?} }}\n\
              geometry = {{ path = {:?} }}\nmbutil = {{ path = {:?} }}\n\
-             bhv = {{ path = {:?} }}\n\n\
+             bhv = {{ path = {:?} }}\ncontacts = {{ path = {:?} }}\n\n\
              [workspace]\n",
             ws.join("ivp").display().to_string(),
             ws.join("geometry").display().to_string(),
             ws.join("mbutil").display().to_string(),
-            ws.join("bhv").display().to_string()
+            ws.join("bhv").display().to_string(),
+            ws.join("contacts").display().to_string()
         ),
     )
     .unwrap();
@@ -762,7 +763,10 @@ fn library_built_against_another_api_version_is_refused() {
         .unwrap_or_else(|| panic!("{skipped} expected in\n{report}"));
     let reason = &report[at..];
     let ours = behavior_api::API_VERSION;
-    assert_eq!(ours, "0.1.0");
+    assert_ne!(
+        ours, "0.2.0",
+        "the future library must be newer than the host"
+    );
     assert!(
         reason.contains(ours) && reason.contains("0.2.0"),
         "both versions expected:\n{report}"
@@ -816,8 +820,100 @@ fn library_built_against_another_api_version_is_refused_in_one_line() {
         .find(|l| l.contains("libbhv_abi_future.so"))
         .expect("reported");
     assert!(
-        !line.contains('\n') && line.contains("0.1.0") && line.contains("0.2.0"),
+        !line.contains('\n') && line.contains(behavior_api::API_VERSION) && line.contains("0.2.0"),
         "{line}"
+    );
+}
+
+/// The last release of `behavior-api` before contacts were added to the ABI (0.1.0).
+const PREVIOUS_API_RELEASE: &str = "7b7850b";
+
+/// A plugin built from the previous release's source (its `behavior-api` 0.1.0 and its
+/// template, unchanged) loads into this helm and drives: the ABI grew additively.
+#[test]
+fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
+    let root = scratch("previous-release");
+    let ws = workspace();
+    let tree = root.join("tree");
+    std::fs::create_dir_all(&tree).unwrap();
+    let archive = Command::new("git")
+        .current_dir(&ws)
+        .args(["archive", "--format=tar", PREVIOUS_API_RELEASE])
+        .output()
+        .expect("run git (the test reads the previous release from the repo's history)");
+    assert!(
+        archive.status.success(),
+        "git archive {PREVIOUS_API_RELEASE} failed (a shallow clone?): {}",
+        String::from_utf8_lossy(&archive.stderr)
+    );
+    let mut tar = Command::new("tar")
+        .current_dir(&tree)
+        .args(["-x", "-f", "-"])
+        .stdin(std::process::Stdio::piped())
+        .spawn()
+        .expect("run tar");
+    std::io::Write::write_all(tar.stdin.as_mut().unwrap(), &archive.stdout).unwrap();
+    assert!(tar.wait().unwrap().success());
+    let old_api = std::fs::read_to_string(tree.join("behavior-api/Cargo.toml")).unwrap();
+    assert!(old_api.contains("version = \"0.1.0\""), "{old_api}");
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("previous-release-target");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .current_dir(&tree)
+        .args(["build", "--quiet", "--offline", "-p", "bhv-template"])
+        .env("CARGO_TARGET_DIR", &target)
+        .output()
+        .expect("run cargo");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lib_dir = scratch("previous-release-lib");
+    std::fs::copy(
+        target.join("debug/libbhv_template.so"),
+        lib_dir.join("libbhv_template.so"),
+    )
+    .unwrap();
+
+    // A mission driven only by the old library's BHV_Template (speed 1.5).
+    let mission = scratch("previous-release-mission");
+    std::fs::write(
+        mission.join("old.moos"),
+        "ServerHost = localhost\nServerPort = 9000\nCommunity = alpha\n\
+         LatOrigin = 43.8253\nLongOrigin = -70.3304\n\n\
+         ProcessConfig = pHelmIvP\n{\n  AppTick = 4\n  behaviors = old.bhv\n  \
+         domain = speed:0:4:41\n  start_in_drive = true\n}\n\n\
+         ProcessConfig = uSimMarine\n{\n  AppTick = 10\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        mission.join("old.bhv"),
+        "Behavior = BHV_Template\n{\n  name = old\n  speed = 1.5\n}\n",
+    )
+    .unwrap();
+    let out_dir = mission.join("run");
+    let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .arg("sim")
+        .arg(mission.join("old.moos"))
+        .args(["--max-time", "10", "--out"])
+        .arg(&out_dir)
+        .env("IVP_BEHAVIOR_DIRS", &lib_dir)
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .output()
+        .expect("run helm sim");
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    let alog = std::fs::read_to_string(out_dir.join("old.alog")).unwrap();
+    let speeds: Vec<&str> = alog
+        .lines()
+        .filter(|l| l.split_whitespace().nth(1) == Some("DESIRED_SPEED"))
+        .filter_map(|l| l.split_whitespace().nth(3))
+        .collect();
+    assert!(speeds.len() > 10, "{speeds:?}\n{t}");
+    assert!(
+        speeds.iter().all(|v| v.parse::<f64>() == Ok(1.5)),
+        "{speeds:?}"
     );
 }
 

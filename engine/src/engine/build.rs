@@ -37,10 +37,13 @@ impl Helm {
         ownship: &str,
         mut warnings: Vec<String>,
     ) -> Helm {
+        let mut ledger = contacts::Ledger::new(config.origin);
+        ledger.set_max_age(config.contact_max_age);
         let env = HostEnv {
             ownship: ownship.to_string(),
             helm_iteration: 0,
             helm_domain: config.domain_string(),
+            ledger,
         };
         let ib = InfoBuffer::new(0.0);
         let mut behaviors: Vec<BehaviorInstance> = Vec::new();

@@ -105,6 +105,7 @@ impl Helm {
             self.nav_warned = false;
             self.retract_run_warning(NAV_WAIT);
         }
+        self.maintain_ledger(now);
         if self.helm_state_seen && !self.deferred_done {
             self.deferred_done = true;
             for i in 0..self.inits.len() {
@@ -193,6 +194,22 @@ impl Helm {
                     + usize::from(b.core.duration_reset.is_some())
             })
             .sum()
+    }
+
+    /// The ledger step of every iteration past the nav hold, PARK and warm-up included
+    /// (contacts-appcast.md §2.4): stale contacts out, the snapshot behaviors will read,
+    /// `IVPHELM_CONTACT_SUMMARY` (while a behavior has a contact) and
+    /// `IVPHELM_LEDGER_SUMMARY`.
+    fn maintain_ledger(&mut self, now: f64) {
+        let ledger = &mut self.env.ledger;
+        ledger.maintain(now);
+        let keep = self.behaviors.iter().map(|b| b.core.contact.as_str());
+        if let Some(kept) = ledger.contact_summary(keep) {
+            let kept = kept.to_string();
+            self.post_str("IVPHELM_CONTACT_SUMMARY", &kept);
+        }
+        let summary = self.env.ledger.summary().to_string();
+        self.post_str("IVPHELM_LEDGER_SUMMARY", &summary);
     }
 
     fn post_turn_rate(&mut self, now: f64) {

@@ -131,13 +131,75 @@ impl Helm {
                 }
             }
             "BHV_ABLE_FILTER" => {}
-            "NODE_REPORT_LOCAL" => {}
+            "NODE_REPORT_LOCAL" => self.note_local_report(m),
+            _ if contacts::feeds_ledger(var) => {
+                self.ingest_report(m);
+                self.ib.set_value(var, &m.value, m.time);
+            }
             "HELM_MAP_CLEAR" => self.refresh_pending = true,
             _ => {
                 if m.source_aux != "HELM_VAR_INIT" {
                     self.ib.set_value(var, &m.value, m.time);
                 }
             }
+        }
+    }
+}
+
+impl Helm {
+    /// A contact's report into the ledger (contacts-appcast.md §2.1, §2.2): its group
+    /// and type go to the info buffer as `<NAME>_NAV_GROUP`/`_NAV_TYPE`; a refused report
+    /// is two run warnings, and (as the real helm) still sets those two variables of the
+    /// empty name to "".
+    fn ingest_report(&mut self, m: &Mail) {
+        let Value::Str(report) = &m.value else {
+            return;
+        };
+        let now = self.ib.curr_time();
+        let (group_var, type_var, group, vtype) = match self.env.ledger.ingest(report, now) {
+            Ok(a) => {
+                let up = a.name.to_uppercase();
+                (
+                    format!("{up}_NAV_GROUP"),
+                    format!("{up}_NAV_TYPE"),
+                    a.group.to_string(),
+                    a.vtype.to_string(),
+                )
+            }
+            Err(e) => {
+                for w in e.run_warnings(report) {
+                    self.run_warning(&w);
+                }
+                (
+                    "_NAV_GROUP".into(),
+                    "_NAV_TYPE".into(),
+                    String::new(),
+                    String::new(),
+                )
+            }
+        };
+        self.ib.set_string(&group_var, &group, m.time);
+        self.ib.set_string(&type_var, &vtype, m.time);
+    }
+
+    /// Ownship's own report (pNodeReporter): not a contact, only its group, type, colour
+    /// and length go to the info buffer.
+    fn note_local_report(&mut self, m: &Mail) {
+        let Value::Str(report) = &m.value else {
+            return;
+        };
+        match contacts::local_nav_vars(report) {
+            Ok(vars) => {
+                for (var, v) in vars {
+                    match v {
+                        contacts::NavValue::Text(s) => self.ib.set_string(&var, &s, m.time),
+                        contacts::NavValue::Num(n) => {
+                            self.ib.set_value(&var, &Value::Num(n), m.time)
+                        }
+                    }
+                }
+            }
+            Err(_) => self.run_warning("Unhandled NODE_REPORT_LOCAL"),
         }
     }
 }

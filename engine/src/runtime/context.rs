@@ -4,7 +4,7 @@ use abi_stable::sabi_trait::TD_Opaque;
 use abi_stable::sabi_types::RMut;
 use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
 use behavior_api::context::{HelmContext, HelmContext_TO};
-use behavior_api::{HelmCtx, PostValue};
+use behavior_api::{ContactState, HelmCtx, PostValue};
 use bhv::logic::LogicCondition;
 
 use super::{flags, macros, BehaviorCore, HostEnv};
@@ -171,6 +171,62 @@ impl HelmContext for HostCtx<'_> {
             2 => tracing::info!(behavior = %name, "{}", message.as_str()),
             3 => tracing::debug!(behavior = %name, "{}", message.as_str()),
             _ => tracing::trace!(behavior = %name, "{}", message.as_str()),
+        }
+    }
+
+    fn contact_count(&self) -> u32 {
+        u32::try_from(self.env.ledger.snapshot().len()).unwrap_or(u32::MAX)
+    }
+
+    fn contact_name(&self, index: u32) -> ROption<RString> {
+        let all = self.env.ledger.snapshot().contacts();
+        match all.get(index as usize) {
+            Some(c) => ROption::RSome(RString::from(c.name.as_str())),
+            None => ROption::RNone,
+        }
+    }
+
+    fn contact(&self, name: RStr<'_>) -> ROption<ContactState> {
+        let snap = self.env.ledger.snapshot();
+        let Some(c) = snap.get(name.as_str()) else {
+            return ROption::RNone;
+        };
+        let now = snap.now();
+        ROption::RSome(ContactState {
+            x: c.x,
+            y: c.y,
+            hdg: c.hdg,
+            spd: c.spd,
+            dep: c.dep,
+            lat: c.lat,
+            lon: c.lon,
+            utc: c.utc,
+            utc_age: now - c.utc,
+            utc_received: c.utc_received,
+            utc_age_received: now - c.utc_received,
+            length: c.length,
+            // The helm's ledger never extrapolates (contacts-appcast.md §2.4).
+            extrapolated: false,
+        })
+    }
+
+    fn contact_text(&self, name: RStr<'_>, field: RStr<'_>) -> RString {
+        let Some(c) = self.env.ledger.snapshot().get(name.as_str()) else {
+            return RString::new();
+        };
+        let text = match field.as_str() {
+            "type" => &c.vtype,
+            "group" => &c.group,
+            "vsource" => &c.vsource,
+            _ => return RString::new(),
+        };
+        RString::from(text.as_str())
+    }
+
+    fn set_contact(&mut self, name: RStr<'_>) {
+        if self.core.contact != name.as_str() {
+            self.core.contact.clear();
+            self.core.contact.push_str(name.as_str());
         }
     }
 }

@@ -76,6 +76,8 @@ pub struct FlagLists {
 #[derive(Debug)]
 pub struct BehaviorCore {
     pub type_name: String,
+    /// The contact this behavior is about (told by the behavior), "" for none.
+    pub contact: String,
     pub name: String,
     pub pwt: f64,
     pub conditions: Vec<LogicCondition>,
@@ -160,6 +162,7 @@ impl BehaviorCore {
     pub fn new(type_name: &str, default_name: &str, ownship: &str) -> Self {
         BehaviorCore {
             type_name: type_name.to_string(),
+            contact: String::new(),
             name: default_name.to_string(),
             pwt: 100.0,
             conditions: Vec::new(),
@@ -326,12 +329,26 @@ pub use step::{spawned, step};
 
 // Shared by the runtime's modules, so it lives here rather than in one of them.
 /// What every behavior call may read about the helm as a whole.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug)]
 pub struct HostEnv {
     pub ownship: String,
     pub helm_iteration: u64,
     /// The helm domain as `name,low,high,points` joined by `:`.
     pub helm_domain: String,
+    /// The contact ledger; behaviors read its snapshot of this iteration
+    /// (contacts-appcast.md §2.5).
+    pub ledger: contacts::Ledger,
+}
+
+impl Default for HostEnv {
+    fn default() -> Self {
+        HostEnv {
+            ownship: String::new(),
+            helm_iteration: 0,
+            helm_domain: String::new(),
+            ledger: contacts::Ledger::new(None),
+        }
+    }
 }
 
 /// Disable a behavior that misbehaved: BHV_ERROR (halts this iteration), then disabled.
