@@ -8,7 +8,7 @@
 //! and nothing but the `helm` binary depends on it.
 //!
 //! `helm run MISSION [BHV...]`:
-//! 1. reads the mission ([`helm_engine::mission::load`]); prints the library report; a
+//! 1. reads the mission ([`helm_mission::load`]); prints the library report; a
 //!    MALCONFIG helm has its problems printed (file:line) and a box saying it will never
 //!    drive — it still runs and posts `IVPHELM_STATE=MALCONFIG`, as pHelmIvP does, and
 //!    `helm run` then ends with an error (exit 1) when it stops;
@@ -100,7 +100,7 @@ impl RunExtras {
 #[derive(Debug, thiserror::Error)]
 pub enum AppError {
     #[error("{0}")]
-    Mission(#[from] helm_engine::mission::MissionLoadError),
+    Mission(#[from] helm_mission::MissionLoadError),
     #[error(
         "port {port} is busy: another MOOSDB (or program) listens on it. Stop it, or set \
          another ServerPort in the mission"
@@ -155,7 +155,7 @@ pub fn run(opts: &RunOptions) -> Result<(), AppError> {
 
 /// [`run`] with the extra options.
 pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
-    let loaded = helm_engine::mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
+    let loaded = helm_mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
     // A closed stdout must not stop a helm (`helm run ... | head`): write errors are ignored.
     let mut out = std::io::stdout().lock();
     for line in &loaded.library_report {

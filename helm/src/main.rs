@@ -106,7 +106,7 @@ enum Command {
 }
 
 fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCode {
-    let loaded = match helm_engine::mission::load(mission, bhv, alias) {
+    let loaded = match helm_mission::load(mission, bhv, alias) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("error: {e}");
@@ -141,8 +141,8 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
 }
 
 fn factory_from_env() -> BehaviorFactory {
-    let dirs = helm_engine::mission::behavior_dirs_from_env();
-    let (factory, report) = helm_engine::mission::factory_with_bundled(&dirs);
+    let dirs = helm_mission::behavior_dirs_from_env();
+    let (factory, report) = helm_mission::factory_with_bundled(&dirs);
     for line in report {
         tracing::info!("{line}");
     }

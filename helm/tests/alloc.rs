@@ -94,7 +94,7 @@ fn mail(var: &str, value: Value, time: f64, source: &str) -> Mail {
 /// Per iteration after warm-up: (allocations, bytes) over `iterations` steps.
 fn alpha_decision_path(iterations: usize) -> Vec<(u64, u64)> {
     let moos = common::workspace().join("missions/alpha/alpha.moos");
-    let loaded = helm_engine::mission::load(&moos, &[], "pHelmIvP").expect("alpha loads");
+    let loaded = helm_mission::load(&moos, &[], "pHelmIvP").expect("alpha loads");
     let (mut helm, mission) = loaded.into_helm();
     let mut boat = Kinematics::from_mission(&mission);
     let dt = 0.25;

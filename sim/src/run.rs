@@ -18,9 +18,9 @@ use super::bus::{SimBus, HELM};
 use super::observe::Observer;
 use super::scenario::{Scenario, ScenarioError};
 use helm_engine::cycle::HelmCycle;
-use helm_engine::mission::HelmRecipe;
 use helm_engine::posting::Value;
 use helm_engine::Mail;
+use helm_mission::HelmRecipe;
 use vehicle_model::{Drift, Kinematics, VehicleModel, SIM_NAME};
 
 /// MOOS time of the start of every simulated run (fixed: logs are reproducible).
@@ -34,7 +34,7 @@ pub const POKE_NAME: &str = "uPokeDB";
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
     #[error("{0}")]
-    Mission(#[from] helm_engine::mission::MissionLoadError),
+    Mission(#[from] helm_mission::MissionLoadError),
     #[error("{0}")]
     Scenario(#[from] ScenarioError),
     #[error("{}: no mission file (.moos) in this folder", .0.display())]
@@ -144,7 +144,7 @@ impl Prepared {
             Some(p) => Scenario::read(p)?,
             None => Scenario::beside(&dir)?,
         };
-        let loaded = helm_engine::mission::load(&mission, bhv, HELM_NAME)?;
+        let loaded = helm_mission::load(&mission, bhv, HELM_NAME)?;
         let library_report = loaded.library_report.clone();
         let (recipe, file) = loaded.into_recipe();
         // Problems found while reading and while building the behavior set.

@@ -1,15 +1,27 @@
-//! Reading a mission: the `.moos` file's pHelmIvP block and globals, the `.bhv` files,
-//! the behavior libraries (helm.md §1-§2, §5).
+//! `helm-mission`: reading a mission as pHelmIvP does: the `.moos` file's pHelmIvP block
+//! and globals, the `.bhv` files, the behavior libraries (helm.md §1-§2, §5), into a
+//! built [`helm_engine::Helm`].
+//!
+//! It depends on `helm-engine`, `moos-mission` (the file reader) and `bhv`; it must not
+//! depend on the MOOS client or DB, the app or the simulator (all three use it).
 //!
 //! Every problem is collected as one readable line naming the file and line; any
 //! problem makes the helm MALCONFIG (it never drives), as the real helm does.
+//!
+//! ```
+//! let moos = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/alpha/alpha.moos");
+//! let loaded = helm_mission::load(&moos, &[], "pHelmIvP").unwrap();
+//! let (helm, _mission) = loaded.into_helm();
+//! assert!(helm.config_warnings().is_empty());
+//! assert!(helm.behavior_names().contains(&"waypt_survey".to_string()));
+//! ```
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BlockLine, HelmConfig};
-use crate::engine::Helm;
-use crate::factory::BehaviorFactory;
-use crate::loader::{load_dirs, LoadEvent};
+use helm_engine::config::{BlockLine, HelmConfig};
+use helm_engine::factory::BehaviorFactory;
+use helm_engine::loader::{load_dirs, LoadEvent};
+use helm_engine::Helm;
 
 /// A fatal error before the helm exists (the mission file itself cannot be read).
 #[derive(Debug, thiserror::Error)]
@@ -148,7 +160,7 @@ pub fn load(
     // helm.md §2.2: globals the helm reads whose bad values are config warnings (an app
     // would otherwise fall back to a default without a word).
     if let Some(v) = file.global("TERM_REPORTING") {
-        if crate::config::parse_bool(&v).is_none() {
+        if helm_engine::config::parse_bool(&v).is_none() {
             warnings.push(format!(
                 "{shown}: TERM_REPORTING = {v}: not a boolean (true or false)"
             ));
