@@ -117,9 +117,29 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
         println!("{line}");
     }
     let files = loaded.bhv_files.clone();
-    let (helm, _) = loaded.into_helm();
+    let (helm, file) = loaded.into_helm();
     for f in &files {
         println!("Behavior file: {}", f.display());
+    }
+    // The simulator block, read as `helm sim` and `run --embedded` read it.
+    let block = vehicle_model::SimBlock::read(&file);
+    for p in &block.problems {
+        let kind = match p.severity {
+            vehicle_model::Severity::Note => "note",
+            vehicle_model::Severity::Warning => "warning",
+            vehicle_model::Severity::Error => "error",
+        };
+        println!("{kind}: {}", p.text);
+    }
+    let sim_errors = block
+        .problems_at_least(vehicle_model::Severity::Error)
+        .count();
+    if sim_errors > 0 && helm.config_warnings().is_empty() {
+        println!(
+            "{sim_errors} problem(s) in the simulator block: `helm sim` and `helm run --embedded` \
+             would not start"
+        );
+        return ExitCode::FAILURE;
     }
     if helm.config_warnings().is_empty() {
         println!(

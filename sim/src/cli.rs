@@ -69,6 +69,9 @@ fn run(args: &SimArgs) -> Result<(), SimError> {
     for line in &prep.library_report {
         tracing::info!("{line}");
     }
+    for w in &prep.sim_warnings {
+        eprintln!("warning: {w}");
+    }
     if args.runs > 1 {
         return monte_carlo(args, &prep);
     }

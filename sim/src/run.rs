@@ -21,7 +21,7 @@ use helm_engine::cycle::HelmCycle;
 use helm_engine::mission::HelmRecipe;
 use helm_engine::posting::Value;
 use helm_engine::Mail;
-use vehicle_model::{Drift, Kinematics, VehicleModel, SIM_NAME};
+use vehicle_model::{Drift, Kinematics, Severity, SimBlock, VehicleModel, SIM_NAME};
 
 /// MOOS time of the start of every simulated run (fixed: logs are reproducible).
 pub const SIM_EPOCH: f64 = 1_700_000_000.0;
@@ -43,6 +43,8 @@ pub enum SimError {
     ManyMissions(PathBuf, String),
     #[error("{problems}")]
     Malconfig { problems: String },
+    #[error("{problems}\n{count} problem(s) in the simulator block; nothing run")]
+    SimBlock { problems: String, count: usize },
     #[error("cannot write {}: {source}", path.display())]
     Write {
         path: PathBuf,
@@ -91,6 +93,8 @@ pub struct Prepared {
     /// The vehicle at the start (mission block, then the scenario's overrides).
     pub vehicle: Kinematics,
     pub library_report: Vec<String>,
+    /// Unknown names in the simulator block (`file:line: ...`), ignored but shown.
+    pub sim_warnings: Vec<String>,
     community: String,
 }
 
@@ -159,7 +163,24 @@ impl Prepared {
         }
         let helm_tick = file.app_tick(HELM_NAME, 5.0);
         let sim_tick = file.app_tick(SIM_NAME, 10.0);
-        let mut vehicle = Kinematics::from_mission(&file);
+        let block = SimBlock::read(&file);
+        let errors: Vec<&str> = block
+            .problems_at_least(Severity::Error)
+            .map(|p| p.text.as_str())
+            .collect();
+        if !errors.is_empty() {
+            return Err(SimError::SimBlock {
+                problems: errors.join("\n"),
+                count: errors.len(),
+            });
+        }
+        let sim_warnings = block
+            .problems
+            .iter()
+            .filter(|p| p.severity == Severity::Warning)
+            .map(|p| p.text.clone())
+            .collect();
+        let mut vehicle = Kinematics::from_block(&block);
         let v = &scenario.vehicle;
         vehicle.x = v.x.unwrap_or(vehicle.x);
         vehicle.y = v.y.unwrap_or(vehicle.y);
@@ -180,6 +201,7 @@ impl Prepared {
             sim_tick,
             vehicle,
             library_report,
+            sim_warnings,
         })
     }
 

@@ -1,0 +1,120 @@
+//! Issue 20, a new user's first hour: each trap a new user fell into, driven through
+//! the real binary as the user drove it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+mod common;
+
+fn helm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args(args)
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .output()
+        .expect("run helm")
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    let t = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    serde_json::from_str(&t).expect("summary.json is JSON")
+}
+
+/// missions/alpha copied to a fresh folder, its `.moos` passed through `edit`.
+fn alpha_copy(tag: &str, edit: impl Fn(&str) -> String) -> PathBuf {
+    let dir = common::temp_dir(&format!("helm-first-hour-{tag}"));
+    let src = common::workspace().join("missions/alpha");
+    for f in ["alpha.bhv", "scenario.toml"] {
+        std::fs::copy(src.join(f), dir.join(f)).expect("copy");
+    }
+    let moos = std::fs::read_to_string(src.join("alpha.moos")).expect("alpha.moos");
+    std::fs::write(dir.join("alpha.moos"), edit(&moos)).expect("write");
+    dir
+}
+
+/// alpha with its uSimMarine block replaced by `block` (the lines inside the braces).
+fn alpha_with_sim_block(tag: &str, block: &str) -> PathBuf {
+    let block = block.to_string();
+    alpha_copy(tag, move |m| {
+        let start = m.find("ProcessConfig = uSimMarine").expect("sim block");
+        let end = start + m[start..].find('}').expect("block end") + 1;
+        format!(
+            "{}ProcessConfig = uSimMarine\n{{\n{block}\n}}\n{}",
+            &m[..start],
+            &m[end..]
+        )
+    })
+}
+
+fn sim(dir: &Path, extra: &[&str]) -> (Output, PathBuf) {
+    let out = dir.join("out");
+    let mut args = vec![
+        "sim",
+        dir.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ];
+    args.extend(extra);
+    (helm(&args), out)
+}
+
+// ---- point 1: the simulator block is read strictly --------------------------------
+
+#[test]
+fn keyed_start_pos_sets_the_start_pose() {
+    let dir = alpha_with_sim_block(
+        "startpos",
+        "  AppTick = 10\n  start_pos = x=100, y=-100, heading=90, speed=0\n  turn_rate = 20",
+    );
+    let (o, out) = sim(&dir, &["--max-time", "1"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    let s = summary(&out);
+    assert_eq!(s["start"]["x"], 100.0, "{s}");
+    assert_eq!(s["start"]["y"], -100.0, "{s}");
+    assert_eq!(s["start"]["heading"], 90.0, "{s}");
+}
+
+#[test]
+fn positional_start_pos_and_v22_block_name() {
+    let dir = alpha_copy("v22", |m| {
+        m.replace("ProcessConfig = uSimMarine", "ProcessConfig = uSimMarineV22")
+            .replace("start_x       = 0\n", "START_POS = 30,-40,270,0\n")
+    });
+    let (o, out) = sim(&dir, &["--max-time", "1"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    let s = summary(&out);
+    assert_eq!((s["start"]["x"].as_f64(), s["start"]["y"].as_f64()), (Some(30.0), Some(-20.0)), "start_y after start_pos wins: {s}");
+}
+
+#[test]
+fn bad_sim_values_stop_the_run_and_check_names_file_and_line() {
+    let dir = alpha_with_sim_block(
+        "badsim",
+        "  AppTick = 10\n  turn_rate = banana\n  start_heading = north\n  strat_x = 5",
+    );
+    let (o, out) = sim(&dir, &[]);
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(!out.join("summary.json").exists(), "nothing run: {t}");
+    let moos = dir.join("alpha.moos");
+    let lines: Vec<&str> = std::fs::read_to_string(&moos).expect("read").leak().lines().collect();
+    let line_of = |needle: &str| lines.iter().position(|l| l.contains(needle)).expect("line") + 1;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    for (needle, what) in [("banana", "a number > 0"), ("north", "a number")] {
+        let at = format!("{}:{}: ", moos.display(), line_of(needle));
+        assert!(
+            stderr.lines().any(|l| l.contains(&at) && l.contains(what) && l.contains(needle)),
+            "{at} {what}: {t}"
+        );
+    }
+    let c = helm(&["check", moos.to_str().expect("utf-8")]);
+    let ct = common::text(&c);
+    assert_eq!(c.status.code(), Some(1), "{ct}");
+    let stdout = String::from_utf8_lossy(&c.stdout);
+    let at = format!("{}:{}: ", moos.display(), line_of("strat_x"));
+    assert!(
+        stdout.lines().any(|l| l.starts_with("warning: ") && l.contains(&at) && l.contains("did you mean `start_x`")),
+        "{ct}"
+    );
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("error: ")).count(), 2, "{ct}");
+}
