@@ -132,6 +132,19 @@ pub enum AppError {
     Interrupted,
 }
 
+impl AppError {
+    /// The process exit code (see `helm --help`): 2 a mission file that cannot be
+    /// read, 1 a mission that is wrong, 4 the MOOSDB, the network or an output failed.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            AppError::Mission(e) if e.is_unreadable() => 2,
+            AppError::Mission(_) | AppError::SimBlock { .. } | AppError::Malconfig { .. } => 1,
+            AppError::Interrupted => 130,
+            _ => 4,
+        }
+    }
+}
+
 /// Why the loop ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum StopReason {

@@ -18,6 +18,17 @@ pub enum MissionLoadError {
     Mission(#[from] moos_mission::mission::MissionError),
 }
 
+impl MissionLoadError {
+    /// The file is not there or cannot be opened (as opposed to read but wrong): the
+    /// command lines exit 2 for it, 1 for a file that is wrong.
+    pub fn is_unreadable(&self) -> bool {
+        matches!(
+            self,
+            MissionLoadError::Mission(moos_mission::mission::MissionError::Io { .. })
+        )
+    }
+}
+
 /// Everything read for one helm.
 pub struct LoadedMission {
     pub mission: moos_mission::mission::MissionFile,

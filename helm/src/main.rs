@@ -110,7 +110,7 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
         Ok(l) => l,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return ExitCode::from(if e.is_unreadable() { 2 } else { 1 });
         }
     };
     for line in &loaded.library_report {
@@ -327,7 +327,7 @@ fn run_app(opts: &helm_app::RunOptions, mut extras: helm_app::RunExtras) -> Exit
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(e.exit_code())
         }
     }
 }

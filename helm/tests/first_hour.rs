@@ -118,3 +118,73 @@ fn bad_sim_values_stop_the_run_and_check_names_file_and_line() {
     );
     assert_eq!(stdout.lines().filter(|l| l.starts_with("error: ")).count(), 2, "{ct}");
 }
+
+// ---- point 2: a helm that never drove says so and does not turn the vehicle -----------
+
+#[test]
+fn a_parked_helm_is_named_and_the_vehicle_is_not_turned() {
+    let dir = alpha_copy("parked", |m| m.replace("start_in_drive = true", ""));
+    let (o, out) = sim(&dir, &["--max-time", "30"]);
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let first = stdout.lines().next().unwrap_or_default();
+    assert!(
+        first.starts_with("PROBLEM: the helm stayed in PARK")
+            && first.contains("start_in_drive = true")
+            && first.contains("MOOS_MANUAL_OVERRIDE=false"),
+        "{t}"
+    );
+    assert!(stdout.contains("helm PARK"), "the state is in the summary: {t}");
+    let s = summary(&out);
+    assert_eq!(s["drove"], false, "{s}");
+    assert_eq!(s["start"]["heading"], 180.0, "{s}");
+    assert_eq!(s["end"]["heading"], 180.0, "the all-stop's heading 0 did not turn it: {s}");
+    let svg = std::fs::read_to_string(out.join("alpha.svg")).expect("svg");
+    assert!(svg.contains("the helm stayed in PARK"), "the picture says it too");
+    let (strict, _) = sim(&dir, &["--max-time", "30", "--strict"]);
+    assert_eq!(strict.status.code(), Some(3), "{}", common::text(&strict));
+}
+
+#[test]
+fn a_driving_helm_has_no_problem_line() {
+    let dir = alpha_copy("driving", |m| m.to_string());
+    let (o, out) = sim(&dir, &["--strict"]);
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    assert!(!t.contains("PROBLEM"), "{t}");
+    assert_eq!(summary(&out)["drove"], true);
+}
+
+// ---- point 3: a panic is counted apart, said first, and fails the run ------------------
+
+#[test]
+fn a_behavior_panic_is_said_first_and_exits_3() {
+    let built = common::build_plugins(&["bhv-test-failure"]);
+    let libs = common::lib_folder(&built, &["bhv-test-failure"], "first-hour-failure");
+    let dir = alpha_copy("panic", |m| m.to_string());
+    let bhv = std::fs::read_to_string(dir.join("alpha.bhv")).expect("bhv");
+    std::fs::write(
+        dir.join("alpha.bhv"),
+        format!(
+            "{bhv}\nBehavior = BHV_TestFailure\n{{\n  name = boom\n  pwt = 100\n  failure = panic_on_run\n  fail_at = 3\n}}\n"
+        ),
+    )
+    .expect("write");
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args(["sim", dir.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")])
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .env("IVP_BEHAVIOR_DIRS", &libs)
+        .output()
+        .expect("run helm");
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(3), "{t}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.lines().next().unwrap_or_default().starts_with("PROBLEM: 1 behavior panic(s)"),
+        "{t}"
+    );
+    let s = summary(&out);
+    assert_eq!(s["behavior_panics"].as_array().map(Vec::len), Some(1), "{s}");
+}

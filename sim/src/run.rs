@@ -53,6 +53,21 @@ pub enum SimError {
     },
 }
 
+impl SimError {
+    /// The process exit code (see `helm --help`): 2 a file that cannot be read or a
+    /// folder without one mission, 1 a mission or scenario that is wrong, 4 an output
+    /// that cannot be written.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            SimError::Mission(e) if e.is_unreadable() => 2,
+            SimError::Scenario(ScenarioError::Read { .. }) => 2,
+            SimError::NoMission(_) | SimError::ManyMissions(..) => 2,
+            SimError::Write { .. } => 4,
+            _ => 1,
+        }
+    }
+}
+
 /// The mission file named by `path`: the file itself, or the one `.moos` in a folder.
 pub fn find_mission(path: &Path) -> Result<PathBuf, SimError> {
     if !path.is_dir() {
@@ -131,6 +146,32 @@ pub struct Outcome {
     pub end: vehicle_model::Nav,
     pub log: Vec<Mail>,
     pub helm_state: &'static str,
+    /// Whether the helm was in DRIVE at any iteration (else it never steered).
+    pub drove: bool,
+}
+
+impl Outcome {
+    /// What the run did wrong, in plain words, worst first (empty: nothing).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        let panics = &self.observer.behavior_panics;
+        if !panics.is_empty() {
+            w.push(format!(
+                "{} behavior panic(s): the behavior was disabled and the helm all-stopped \
+                 (first: {})",
+                panics.len(),
+                panics[0]
+            ));
+        }
+        if !self.drove {
+            w.push(format!(
+                "the helm stayed in {}: MOOS_MANUAL_OVERRIDE was never false; set \
+                 start_in_drive = true or poke MOOS_MANUAL_OVERRIDE=false",
+                self.helm_state
+            ));
+        }
+        w
+    }
 }
 
 impl Prepared {
@@ -258,6 +299,7 @@ impl Prepared {
         let mut helm_in: Vec<Mail> = Vec::new();
         let mut next_progress = 1.0;
         let mut off;
+        let mut drove = helm.state() == helm_engine::HelmState::Drive;
         let reason = loop {
             let th = kh as f64 / self.helm_tick;
             let ts = ks as f64 / self.sim_tick;
@@ -286,9 +328,14 @@ impl Prepared {
             }
             if ts == off {
                 bus.fetch(SIM, &mut sim_in);
+                // A parked helm's all-stop (DESIRED_HEADING = 0) does not steer: under
+                // manual override the controller does not actuate the rudder.
+                let parked = helm.state() != helm_engine::HelmState::Drive;
                 for m in &sim_in {
                     if let Value::Num(v) = m.value {
-                        model.on_mail(&m.var, v);
+                        if !(parked && m.var == "DESIRED_HEADING") {
+                            model.on_mail(&m.var, v);
+                        }
                     }
                 }
                 model.step(off - last_sim);
@@ -307,6 +354,7 @@ impl Prepared {
                 bus.fetch(HELM, &mut helm_in);
                 cycle.mail(&mut helm, now, &helm_in);
                 cycle.iterate(&mut helm, &mut bus, now);
+                drove |= helm.state() == helm_engine::HelmState::Drive;
                 kh += 1;
             }
             bus.deliver();
@@ -335,6 +383,7 @@ impl Prepared {
             log: bus.record.take().unwrap_or_default(),
             observer: std::mem::take(&mut bus.observer),
             helm_state: helm.state().as_str(),
+            drove,
         })
     }
 }
