@@ -188,3 +188,44 @@ fn a_behavior_panic_is_said_first_and_exits_3() {
     let s = summary(&out);
     assert_eq!(s["behavior_panics"].as_array().map(Vec::len), Some(1), "{s}");
 }
+
+// ---- point 4: every shipped mission ends clean ------------------------------------------
+
+#[test]
+fn every_shipped_mission_ends_clean_under_strict() {
+    let built = common::build_plugins(&[
+        "bhv-constant-speed",
+        "bhv-constant-heading",
+        "bhv-constant-depth",
+        "bhv-station-keep",
+    ]);
+    let mut seen = 0;
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(common::workspace().join("missions"))
+        .expect("missions/")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    for m in dirs {
+        let out = common::temp_dir("helm-first-hour-clean");
+        let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+            .args(["sim", m.to_str().expect("utf-8"), "--strict", "--out", out.to_str().expect("utf-8")])
+            .env("IVP_HELM_BUNDLED_DIR", &built)
+            .env_remove("IVP_BEHAVIOR_DIRS")
+            .output()
+            .expect("run helm");
+        let t = common::text(&o);
+        assert_eq!(o.status.code(), Some(0), "{}: {t}", m.display());
+        let s = summary(&out);
+        assert_eq!(s["behavior_errors"].as_array().map(Vec::len), Some(0), "{}: {s}", m.display());
+        let failures: Vec<&serde_json::Value> = s["allstops"]
+            .as_array()
+            .expect("allstops")
+            .iter()
+            .filter(|a| a["reason"] != "NothingToDo")
+            .collect();
+        assert!(failures.is_empty(), "{}: {s}", m.display());
+        seen += 1;
+    }
+    assert!(seen >= 4, "the four missions at least: {seen}");
+}

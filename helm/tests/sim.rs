@@ -566,7 +566,7 @@ fn mission_alogs_are_bit_identical_to_the_recorded_ones() {
         ("alpha", 0x7baa_f381_bce2_c355_u64),
         ("bravo", 0xe9f5_c4bb_01e0_b355),
         ("charlie", 0xb692_4cc7_e3bf_b06b),
-        ("plugins", 0x16bd_b32e_62ee_0be9),
+        ("plugins", 0x5fd1_4947_e10c_5209),
     ];
     let mut changed = Vec::new();
     for (name, want) in golden {
