@@ -134,11 +134,11 @@ pub enum AppError {
 
 impl AppError {
     /// The process exit code (see `helm --help`): 2 a mission file that cannot be
-    /// read, 1 a mission that is wrong, 4 the MOOSDB, the network or an output failed.
+    /// read as one, 1 a mission that is wrong, 4 the MOOSDB, the network or an output failed.
     pub fn exit_code(&self) -> u8 {
         match self {
-            AppError::Mission(e) if e.is_unreadable() => 2,
-            AppError::Mission(_) | AppError::SimBlock { .. } | AppError::Malconfig { .. } => 1,
+            AppError::Mission(_) => 2,
+            AppError::SimBlock { .. } | AppError::Malconfig { .. } => 1,
             AppError::Interrupted => 130,
             _ => 4,
         }

@@ -110,7 +110,7 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
         Ok(l) => l,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(if e.is_unreadable() { 2 } else { 1 });
+            return ExitCode::from(2);
         }
     };
     for line in &loaded.library_report {

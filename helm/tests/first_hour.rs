@@ -229,3 +229,66 @@ fn every_shipped_mission_ends_clean_under_strict() {
     }
     assert!(seen >= 4, "the four missions at least: {seen}");
 }
+
+// ---- point 5: .bhv problems say which, all of them, in line order ----------------------
+
+const PROBLEM_BHV: &str = "initialize DEPLOY = true
+
+Behavior = BHV_Loiter
+{
+  name      = loiter
+  pwt       = -1
+  condition = DEPLOY = true
+  spede     = 3
+  polygon   = pts={0,0:20,0:5,5:0,20}
+}
+
+Behavior = BHV_Waypiont
+{
+  name   = go
+  points = 0,0
+}
+";
+
+#[test]
+fn bhv_problems_say_which_in_one_pass_in_line_order() {
+    let dir = alpha_copy("bhvwords", |m| m.to_string());
+    std::fs::write(dir.join("alpha.bhv"), PROBLEM_BHV).expect("write");
+    let moos = dir.join("alpha.moos");
+    let o = helm(&["check", moos.to_str().expect("utf-8")]);
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    let bhv = dir.join("alpha.bhv");
+    let at = |n: usize| format!("{}:{n}: ", bhv.display());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let problems: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with(&bhv.display().to_string()))
+        .collect();
+    assert_eq!(problems.len(), 4, "{t}");
+    assert!(problems[0].starts_with(&at(6)) && problems[0].contains("bad value for `pwt`: `-1` (expected a number >= 0)"), "{t}");
+    assert!(problems[1].starts_with(&at(8)) && problems[1].contains("unknown parameter `spede`") && problems[1].contains("did you mean `speed`?"), "{t}");
+    assert!(problems[2].starts_with(&at(9)) && problems[2].contains("bad value for `polygon`") && problems[2].contains("convex polygon"), "{t}");
+    assert!(problems[3].starts_with(&at(12)) && problems[3].contains("unknown behavior type BHV_Waypiont (did you mean BHV_Waypoint?)"), "{t}");
+}
+
+#[test]
+fn a_bhv_given_as_mission_and_a_missing_bhv_say_so() {
+    let dir = alpha_copy("bhvmission", |m| m.replace("behaviors    = alpha.bhv", "behaviors    = alpah.bhv"));
+    let bhv = dir.join("alpha.bhv");
+    for cmd in ["check", "sim", "run"] {
+        let o = helm(&[cmd, bhv.to_str().expect("utf-8")]);
+        let t = common::text(&o);
+        assert_eq!(o.status.code(), Some(2), "{cmd}: {t}");
+        assert!(t.contains("this is a behavior file (.bhv); give the mission file (.moos)"), "{cmd}: {t}");
+    }
+    let moos = dir.join("alpha.moos");
+    let o = helm(&["check", moos.to_str().expect("utf-8")]);
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    let line = std::fs::read_to_string(&moos).expect("read").lines().position(|l| l.contains("alpah.bhv")).expect("line") + 1;
+    assert!(
+        t.contains(&format!("{}:{line}: behaviors = alpah.bhv: Could not find File: ", moos.display())),
+        "{t}"
+    );
+}

@@ -54,12 +54,12 @@ pub enum SimError {
 }
 
 impl SimError {
-    /// The process exit code (see `helm --help`): 2 a file that cannot be read or a
-    /// folder without one mission, 1 a mission or scenario that is wrong, 4 an output
+    /// The process exit code (see `helm --help`): 2 a mission file that cannot be read
+    /// as one (missing, unreadable, not text, a `.bhv`) or a folder without one mission, 1 a mission or scenario that is wrong, 4 an output
     /// that cannot be written.
     pub fn exit_code(&self) -> u8 {
         match self {
-            SimError::Mission(e) if e.is_unreadable() => 2,
+            SimError::Mission(_) => 2,
             SimError::Scenario(ScenarioError::Read { .. }) => 2,
             SimError::NoMission(_) | SimError::ManyMissions(..) => 2,
             SimError::Write { .. } => 4,
