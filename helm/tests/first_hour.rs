@@ -292,3 +292,25 @@ fn a_bhv_given_as_mission_and_a_missing_bhv_say_so() {
         "{t}"
     );
 }
+
+// ---- point 6: loader messages give the whole reason ------------------------------------
+
+#[test]
+fn a_library_that_cannot_be_opened_gives_the_whole_reason() {
+    let libs = common::temp_dir("helm-first-hour-fake-lib");
+    std::fs::write(libs.join("libfake.so"), "not a library").expect("write");
+    let moos = common::workspace().join("missions/alpha/alpha.moos");
+    let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args(["check", moos.to_str().expect("utf-8")])
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .env("IVP_BEHAVIOR_DIRS", &libs)
+        .output()
+        .expect("run helm");
+    let t = common::text(&o);
+    let line = t.lines().find(|l| l.contains("skipped")).unwrap_or_else(|| panic!("{t}"));
+    let lib = libs.join("libfake.so").display().to_string();
+    // The path the library was opened at and the system's reason after it.
+    let after = line.split_once("Could not open library at:").map(|(_, r)| r.trim()).unwrap_or_default();
+    assert!(after.starts_with(&lib), "{t}");
+    assert!(after.len() > lib.len() + 5, "a reason follows the path: {t}");
+}
