@@ -314,3 +314,60 @@ fn a_library_that_cannot_be_opened_gives_the_whole_reason() {
     assert!(after.starts_with(&lib), "{t}");
     assert!(after.len() > lib.len() + 5, "a reason follows the path: {t}");
 }
+
+// ---- point 7: one exit code per kind of failure, documented -----------------------------
+
+#[test]
+fn a_missing_file_is_exit_2_for_every_command_and_help_lists_the_codes() {
+    let missing = "/no/such/mission.moos";
+    for args in [
+        vec!["check", missing],
+        vec!["sim", missing],
+        vec!["run", missing],
+        vec!["conform", "/no/such/case.toml"],
+    ] {
+        let o = helm(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", common::text(&o));
+    }
+    let help = helm(&["--help"]);
+    let h = String::from_utf8_lossy(&help.stdout);
+    for code in ["0  done", "1  the mission is wrong", "2  usage", "3  the run went wrong", "4  the environment"] {
+        assert!(h.contains(code), "{code}: {h}");
+    }
+}
+
+// ---- point 11: a CLI without surprises ---------------------------------------------------
+
+#[test]
+fn check_takes_a_folder_and_conform_recurses_and_refuses_nothing() {
+    let o = helm(&["check", common::workspace().join("missions/alpha").to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+    let empty = common::temp_dir("helm-first-hour-no-cases");
+    let o = helm(&["conform", empty.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
+    assert!(common::text(&o).contains("no conformance cases"));
+    // The repository's conformance/ holds the helm cases one folder down.
+    let o = helm(&["conform", common::workspace().join("conformance").to_str().expect("utf-8")]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    let last = out.lines().last().unwrap_or_default();
+    let passed: usize = last.split(' ').next().and_then(|n| n.parse().ok()).unwrap_or(0);
+    assert!(passed > 0, "{}", common::text(&o));
+}
+
+#[test]
+fn help_is_one_text_and_a_phelmivp_link_refuses_subcommands() {
+    let a = helm(&["-help"]);
+    let b = helm(&["--help"]);
+    assert_eq!(a.stdout, b.stdout);
+    let h = String::from_utf8_lossy(&b.stdout);
+    assert!(h.contains("IVP_BEHAVIOR_DIRS") && h.contains("HELM_VERBOSE") && h.contains("helm sim missions/alpha"), "{h}");
+    let dir = common::temp_dir("helm-first-hour-link");
+    let link = dir.join("pHelmIvP");
+    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_helm"), &link).expect("link");
+    let o = Command::new(&link)
+        .args(["sim", "missions/alpha"])
+        .output()
+        .expect("run the link");
+    assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
+    assert!(common::text(&o).contains("run it as `helm sim ...`"));
+}
