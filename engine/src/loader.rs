@@ -92,8 +92,15 @@ fn first_line(e: &dyn std::fmt::Display) -> String {
     if joined.len() <= MAX {
         return joined;
     }
-    let cut = (0..=MAX).rev().find(|&i| joined.is_char_boundary(i)).unwrap_or(0);
-    format!("{} ... ({} more characters)", &joined[..cut], joined.len() - cut)
+    let cut = (0..=MAX)
+        .rev()
+        .find(|&i| joined.is_char_boundary(i))
+        .unwrap_or(0);
+    format!(
+        "{} ... ({} more characters)",
+        &joined[..cut],
+        joined.len() - cut
+    )
 }
 
 /// abi_stable's rule: same major; for 0.x, same minor; the library's minor (or patch

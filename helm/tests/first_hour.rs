@@ -77,13 +77,20 @@ fn keyed_start_pos_sets_the_start_pose() {
 #[test]
 fn positional_start_pos_and_v22_block_name() {
     let dir = alpha_copy("v22", |m| {
-        m.replace("ProcessConfig = uSimMarine", "ProcessConfig = uSimMarineV22")
-            .replace("start_x       = 0\n", "START_POS = 30,-40,270,0\n")
+        m.replace(
+            "ProcessConfig = uSimMarine",
+            "ProcessConfig = uSimMarineV22",
+        )
+        .replace("start_x       = 0\n", "START_POS = 30,-40,270,0\n")
     });
     let (o, out) = sim(&dir, &["--max-time", "1"]);
     assert!(o.status.success(), "{}", common::text(&o));
     let s = summary(&out);
-    assert_eq!((s["start"]["x"].as_f64(), s["start"]["y"].as_f64()), (Some(30.0), Some(-20.0)), "start_y after start_pos wins: {s}");
+    assert_eq!(
+        (s["start"]["x"].as_f64(), s["start"]["y"].as_f64()),
+        (Some(30.0), Some(-20.0)),
+        "start_y after start_pos wins: {s}"
+    );
 }
 
 #[test]
@@ -97,13 +104,19 @@ fn bad_sim_values_stop_the_run_and_check_names_file_and_line() {
     assert_eq!(o.status.code(), Some(1), "{t}");
     assert!(!out.join("summary.json").exists(), "nothing run: {t}");
     let moos = dir.join("alpha.moos");
-    let lines: Vec<&str> = std::fs::read_to_string(&moos).expect("read").leak().lines().collect();
+    let lines: Vec<&str> = std::fs::read_to_string(&moos)
+        .expect("read")
+        .leak()
+        .lines()
+        .collect();
     let line_of = |needle: &str| lines.iter().position(|l| l.contains(needle)).expect("line") + 1;
     let stderr = String::from_utf8_lossy(&o.stderr);
     for (needle, what) in [("banana", "a number > 0"), ("north", "a number")] {
         let at = format!("{}:{}: ", moos.display(), line_of(needle));
         assert!(
-            stderr.lines().any(|l| l.contains(&at) && l.contains(what) && l.contains(needle)),
+            stderr
+                .lines()
+                .any(|l| l.contains(&at) && l.contains(what) && l.contains(needle)),
             "{at} {what}: {t}"
         );
     }
@@ -113,10 +126,16 @@ fn bad_sim_values_stop_the_run_and_check_names_file_and_line() {
     let stdout = String::from_utf8_lossy(&c.stdout);
     let at = format!("{}:{}: ", moos.display(), line_of("strat_x"));
     assert!(
-        stdout.lines().any(|l| l.starts_with("warning: ") && l.contains(&at) && l.contains("did you mean `start_x`")),
+        stdout.lines().any(|l| l.starts_with("warning: ")
+            && l.contains(&at)
+            && l.contains("did you mean `start_x`")),
         "{ct}"
     );
-    assert_eq!(stdout.lines().filter(|l| l.starts_with("error: ")).count(), 2, "{ct}");
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("error: ")).count(),
+        2,
+        "{ct}"
+    );
 }
 
 // ---- point 2: a helm that never drove says so and does not turn the vehicle -----------
@@ -135,13 +154,22 @@ fn a_parked_helm_is_named_and_the_vehicle_is_not_turned() {
             && first.contains("MOOS_MANUAL_OVERRIDE=false"),
         "{t}"
     );
-    assert!(stdout.contains("helm PARK"), "the state is in the summary: {t}");
+    assert!(
+        stdout.contains("helm PARK"),
+        "the state is in the summary: {t}"
+    );
     let s = summary(&out);
     assert_eq!(s["drove"], false, "{s}");
     assert_eq!(s["start"]["heading"], 180.0, "{s}");
-    assert_eq!(s["end"]["heading"], 180.0, "the all-stop's heading 0 did not turn it: {s}");
+    assert_eq!(
+        s["end"]["heading"], 180.0,
+        "the all-stop's heading 0 did not turn it: {s}"
+    );
     let svg = std::fs::read_to_string(out.join("alpha.svg")).expect("svg");
-    assert!(svg.contains("the helm stayed in PARK"), "the picture says it too");
+    assert!(
+        svg.contains("the helm stayed in PARK"),
+        "the picture says it too"
+    );
     let (strict, _) = sim(&dir, &["--max-time", "30", "--strict"]);
     assert_eq!(strict.status.code(), Some(3), "{}", common::text(&strict));
 }
@@ -173,7 +201,12 @@ fn a_behavior_panic_is_said_first_and_exits_3() {
     .expect("write");
     let out = dir.join("out");
     let o = Command::new(env!("CARGO_BIN_EXE_helm"))
-        .args(["sim", dir.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")])
+        .args([
+            "sim",
+            dir.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+        ])
         .env("IVP_HELM_BUNDLED_DIR", "")
         .env("IVP_BEHAVIOR_DIRS", &libs)
         .output()
@@ -182,11 +215,19 @@ fn a_behavior_panic_is_said_first_and_exits_3() {
     assert_eq!(o.status.code(), Some(3), "{t}");
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
-        stdout.lines().next().unwrap_or_default().starts_with("PROBLEM: 1 behavior panic(s)"),
+        stdout
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .starts_with("PROBLEM: 1 behavior panic(s)"),
         "{t}"
     );
     let s = summary(&out);
-    assert_eq!(s["behavior_panics"].as_array().map(Vec::len), Some(1), "{s}");
+    assert_eq!(
+        s["behavior_panics"].as_array().map(Vec::len),
+        Some(1),
+        "{s}"
+    );
 }
 
 // ---- point 4: every shipped mission ends clean ------------------------------------------
@@ -209,7 +250,13 @@ fn every_shipped_mission_ends_clean_under_strict() {
     for m in dirs {
         let out = common::temp_dir("helm-first-hour-clean");
         let o = Command::new(env!("CARGO_BIN_EXE_helm"))
-            .args(["sim", m.to_str().expect("utf-8"), "--strict", "--out", out.to_str().expect("utf-8")])
+            .args([
+                "sim",
+                m.to_str().expect("utf-8"),
+                "--strict",
+                "--out",
+                out.to_str().expect("utf-8"),
+            ])
             .env("IVP_HELM_BUNDLED_DIR", &built)
             .env_remove("IVP_BEHAVIOR_DIRS")
             .output()
@@ -217,7 +264,12 @@ fn every_shipped_mission_ends_clean_under_strict() {
         let t = common::text(&o);
         assert_eq!(o.status.code(), Some(0), "{}: {t}", m.display());
         let s = summary(&out);
-        assert_eq!(s["behavior_errors"].as_array().map(Vec::len), Some(0), "{}: {s}", m.display());
+        assert_eq!(
+            s["behavior_errors"].as_array().map(Vec::len),
+            Some(0),
+            "{}: {s}",
+            m.display()
+        );
         let failures: Vec<&serde_json::Value> = s["allstops"]
             .as_array()
             .expect("allstops")
@@ -266,29 +318,61 @@ fn bhv_problems_say_which_in_one_pass_in_line_order() {
         .filter(|l| l.starts_with(&bhv.display().to_string()))
         .collect();
     assert_eq!(problems.len(), 4, "{t}");
-    assert!(problems[0].starts_with(&at(6)) && problems[0].contains("bad value for `pwt`: `-1` (expected a number >= 0)"), "{t}");
-    assert!(problems[1].starts_with(&at(8)) && problems[1].contains("unknown parameter `spede`") && problems[1].contains("did you mean `speed`?"), "{t}");
-    assert!(problems[2].starts_with(&at(9)) && problems[2].contains("bad value for `polygon`") && problems[2].contains("convex polygon"), "{t}");
-    assert!(problems[3].starts_with(&at(12)) && problems[3].contains("unknown behavior type BHV_Waypiont (did you mean BHV_Waypoint?)"), "{t}");
+    assert!(
+        problems[0].starts_with(&at(6))
+            && problems[0].contains("bad value for `pwt`: `-1` (expected a number >= 0)"),
+        "{t}"
+    );
+    assert!(
+        problems[1].starts_with(&at(8))
+            && problems[1].contains("unknown parameter `spede`")
+            && problems[1].contains("did you mean `speed`?"),
+        "{t}"
+    );
+    assert!(
+        problems[2].starts_with(&at(9))
+            && problems[2].contains("bad value for `polygon`")
+            && problems[2].contains("convex polygon"),
+        "{t}"
+    );
+    assert!(
+        problems[3].starts_with(&at(12))
+            && problems[3]
+                .contains("unknown behavior type BHV_Waypiont (did you mean BHV_Waypoint?)"),
+        "{t}"
+    );
 }
 
 #[test]
 fn a_bhv_given_as_mission_and_a_missing_bhv_say_so() {
-    let dir = alpha_copy("bhvmission", |m| m.replace("behaviors    = alpha.bhv", "behaviors    = alpah.bhv"));
+    let dir = alpha_copy("bhvmission", |m| {
+        m.replace("behaviors    = alpha.bhv", "behaviors    = alpah.bhv")
+    });
     let bhv = dir.join("alpha.bhv");
     for cmd in ["check", "sim", "run"] {
         let o = helm(&[cmd, bhv.to_str().expect("utf-8")]);
         let t = common::text(&o);
         assert_eq!(o.status.code(), Some(2), "{cmd}: {t}");
-        assert!(t.contains("this is a behavior file (.bhv); give the mission file (.moos)"), "{cmd}: {t}");
+        assert!(
+            t.contains("this is a behavior file (.bhv); give the mission file (.moos)"),
+            "{cmd}: {t}"
+        );
     }
     let moos = dir.join("alpha.moos");
     let o = helm(&["check", moos.to_str().expect("utf-8")]);
     let t = common::text(&o);
     assert_eq!(o.status.code(), Some(1), "{t}");
-    let line = std::fs::read_to_string(&moos).expect("read").lines().position(|l| l.contains("alpah.bhv")).expect("line") + 1;
+    let line = std::fs::read_to_string(&moos)
+        .expect("read")
+        .lines()
+        .position(|l| l.contains("alpah.bhv"))
+        .expect("line")
+        + 1;
     assert!(
-        t.contains(&format!("{}:{line}: behaviors = alpah.bhv: Could not find File: ", moos.display())),
+        t.contains(&format!(
+            "{}:{line}: behaviors = alpah.bhv: Could not find File: ",
+            moos.display()
+        )),
         "{t}"
     );
 }
@@ -307,12 +391,21 @@ fn a_library_that_cannot_be_opened_gives_the_whole_reason() {
         .output()
         .expect("run helm");
     let t = common::text(&o);
-    let line = t.lines().find(|l| l.contains("skipped")).unwrap_or_else(|| panic!("{t}"));
+    let line = t
+        .lines()
+        .find(|l| l.contains("skipped"))
+        .unwrap_or_else(|| panic!("{t}"));
     let lib = libs.join("libfake.so").display().to_string();
     // The path the library was opened at and the system's reason after it.
-    let after = line.split_once("Could not open library at:").map(|(_, r)| r.trim()).unwrap_or_default();
+    let after = line
+        .split_once("Could not open library at:")
+        .map(|(_, r)| r.trim())
+        .unwrap_or_default();
     assert!(after.starts_with(&lib), "{t}");
-    assert!(after.len() > lib.len() + 5, "a reason follows the path: {t}");
+    assert!(
+        after.len() > lib.len() + 5,
+        "a reason follows the path: {t}"
+    );
 }
 
 // ---- point 7: one exit code per kind of failure, documented -----------------------------
@@ -331,7 +424,13 @@ fn a_missing_file_is_exit_2_for_every_command_and_help_lists_the_codes() {
     }
     let help = helm(&["--help"]);
     let h = String::from_utf8_lossy(&help.stdout);
-    for code in ["0  done", "1  the mission is wrong", "2  usage", "3  the run went wrong", "4  the environment"] {
+    for code in [
+        "0  done",
+        "1  the mission is wrong",
+        "2  usage",
+        "3  the run went wrong",
+        "4  the environment",
+    ] {
         assert!(h.contains(code), "{code}: {h}");
     }
 }
@@ -340,17 +439,33 @@ fn a_missing_file_is_exit_2_for_every_command_and_help_lists_the_codes() {
 
 #[test]
 fn check_takes_a_folder_and_conform_recurses_and_refuses_nothing() {
-    let o = helm(&["check", common::workspace().join("missions/alpha").to_str().expect("utf-8")]);
+    let o = helm(&[
+        "check",
+        common::workspace()
+            .join("missions/alpha")
+            .to_str()
+            .expect("utf-8"),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
     let empty = common::temp_dir("helm-first-hour-no-cases");
     let o = helm(&["conform", empty.to_str().expect("utf-8")]);
     assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
     assert!(common::text(&o).contains("no conformance cases"));
     // The repository's conformance/ holds the helm cases one folder down.
-    let o = helm(&["conform", common::workspace().join("conformance").to_str().expect("utf-8")]);
+    let o = helm(&[
+        "conform",
+        common::workspace()
+            .join("conformance")
+            .to_str()
+            .expect("utf-8"),
+    ]);
     let out = String::from_utf8_lossy(&o.stdout);
     let last = out.lines().last().unwrap_or_default();
-    let passed: usize = last.split(' ').next().and_then(|n| n.parse().ok()).unwrap_or(0);
+    let passed: usize = last
+        .split(' ')
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
     assert!(passed > 0, "{}", common::text(&o));
 }
 
@@ -360,7 +475,12 @@ fn help_is_one_text_and_a_phelmivp_link_refuses_subcommands() {
     let b = helm(&["--help"]);
     assert_eq!(a.stdout, b.stdout);
     let h = String::from_utf8_lossy(&b.stdout);
-    assert!(h.contains("IVP_BEHAVIOR_DIRS") && h.contains("HELM_VERBOSE") && h.contains("helm sim missions/alpha"), "{h}");
+    assert!(
+        h.contains("IVP_BEHAVIOR_DIRS")
+            && h.contains("HELM_VERBOSE")
+            && h.contains("helm sim missions/alpha"),
+        "{h}"
+    );
     let dir = common::temp_dir("helm-first-hour-link");
     let link = dir.join("pHelmIvP");
     std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_helm"), &link).expect("link");

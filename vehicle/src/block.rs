@@ -375,6 +375,9 @@ mod tests {
     fn v22_block_is_read_when_there_is_no_usimmarine() {
         let text = "ProcessConfig = uSimMarineV22\n{\n start_pos = x=1, y=2\n}\n";
         let b = SimBlock::read(&MissionFile::parse(text, Path::new("m.moos")).expect("parses"));
-        assert_eq!((b.block, b.x, b.y), (Some("uSimMarineV22"), Some(1.0), Some(2.0)));
+        assert_eq!(
+            (b.block, b.x, b.y),
+            (Some("uSimMarineV22"), Some(1.0), Some(2.0))
+        );
     }
 }

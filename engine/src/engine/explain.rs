@@ -167,7 +167,9 @@ pub(crate) fn refused_line(
     let value = value.trim();
     let lower = param.to_ascii_lowercase();
     let common = lower.strip_prefix('_').unwrap_or(&lower);
-    let common = common.strip_suffix("_flag").map_or(common.to_string(), |s| format!("{s}flag"));
+    let common = common
+        .strip_suffix("_flag")
+        .map_or(common.to_string(), |s| format!("{s}flag"));
     if let Some((_, expected)) = COMMON.iter().find(|(n, _)| *n == common) {
         return format!("bad value for `{param}`: `{value}` (expected {expected})");
     }
@@ -193,7 +195,10 @@ pub(crate) fn refused_line(
     tries.extend(PROBE_VALUES);
     let suggestion = near(
         param,
-        COMMON.iter().map(|(n, _)| *n).chain(KNOWN_TYPE_PARAMS.iter().copied()),
+        COMMON
+            .iter()
+            .map(|(n, _)| *n)
+            .chain(KNOWN_TYPE_PARAMS.iter().copied()),
     )
     .into_iter()
     .find(|c| COMMON.iter().any(|(n, _)| n == c) || accepts(c, &tries));
@@ -221,7 +226,11 @@ pub(crate) fn nearest_type(factory: &BehaviorFactory, type_name: &str) -> Option
     for l in factory.libraries() {
         names.extend(l.types.iter().cloned());
     }
-    names.extend(crate::factory::SHIPPED_LIBRARY_TYPES.iter().map(|s| s.to_string()));
+    names.extend(
+        crate::factory::SHIPPED_LIBRARY_TYPES
+            .iter()
+            .map(|s| s.to_string()),
+    );
     let strip = |s: &str| s.strip_prefix("BHV_").unwrap_or(s).to_ascii_lowercase();
     let want = strip(type_name);
     let limit = (want.chars().count() / 3).clamp(1, 4);
@@ -239,7 +248,10 @@ mod tests {
 
     #[test]
     fn near_finds_the_close_ones_first() {
-        assert_eq!(near("spede", ["speed", "spread", "pwt"].into_iter()), vec!["speed"]);
+        assert_eq!(
+            near("spede", ["speed", "spread", "pwt"].into_iter()),
+            vec!["speed"]
+        );
         assert!(near("zzz", ["speed"].into_iter()).is_empty());
     }
 
