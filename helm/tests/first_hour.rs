@@ -320,18 +320,18 @@ fn bhv_problems_say_which_in_one_pass_in_line_order() {
     assert_eq!(problems.len(), 4, "{t}");
     assert!(
         problems[0].starts_with(&at(6))
-            && problems[0].contains("bad value for `pwt`: `-1` (expected a number >= 0)"),
+            && problems[0].contains("bad value: pwt = -1 (expected a number >= 0)"),
         "{t}"
     );
     assert!(
         problems[1].starts_with(&at(8))
-            && problems[1].contains("unknown parameter `spede`")
+            && problems[1].contains("unknown parameter of BHV_Loiter: spede = 3")
             && problems[1].contains("did you mean `speed`?"),
         "{t}"
     );
     assert!(
         problems[2].starts_with(&at(9))
-            && problems[2].contains("bad value for `polygon`")
+            && problems[2].contains("bad value: polygon = pts={0,0:20,0:5,5:0,20}")
             && problems[2].contains("convex polygon"),
         "{t}"
     );

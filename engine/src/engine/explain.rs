@@ -26,7 +26,7 @@ pub(crate) fn refused_line(
         .strip_suffix("_flag")
         .map_or(common.to_string(), |s| format!("{s}flag"));
     if let Some((_, expected)) = COMMON.iter().find(|(n, _)| *n == common) {
-        return format!("bad value for `{param}`: `{value}` (expected {expected})");
+        return format!("bad value: {param} = {value} (expected {expected})");
     }
     let accepts = |name: &str, values: &[&str]| -> bool {
         let Some(Ok(bhv)) = factory.create(type_name, &env.helm_domain) else {
@@ -42,7 +42,7 @@ pub(crate) fn refused_line(
     };
     if accepts(param, PROBE_VALUES) {
         return format!(
-            "bad value for `{param}`: `{value}` (expected {})",
+            "bad value: {param} = {value} (expected {})",
             expected_by_name(param)
         );
     }
@@ -61,7 +61,7 @@ pub(crate) fn refused_line(
         .map(|s| format!(" (did you mean `{s}`?)"))
         .unwrap_or_default();
     format!(
-        "unknown parameter `{param}` for {type_name}{hint}; the helm's common parameters \
+        "unknown parameter of {type_name}: {param} = {value}{hint}; the helm's common parameters \
          are {}; the type's own are in its documentation",
         COMMON
             .iter()
