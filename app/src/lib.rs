@@ -108,6 +108,8 @@ pub enum AppError {
     PortBusy { port: u16 },
     #[error("cannot start the embedded MOOSDB: {0}")]
     Db(#[source] DbError),
+    #[error("{problems}\n{count} problem(s) in the simulator block; nothing run")]
+    SimBlock { problems: String, count: usize },
     #[error("cannot start the simulator uSimMarine: {0}")]
     Sim(#[source] ClientError),
     #[error("cannot connect to the MOOSDB at {host}:{port} as {name}: {source}")]
@@ -130,6 +132,19 @@ pub enum AppError {
     Interrupted,
 }
 
+impl AppError {
+    /// The process exit code (see `helm --help`): 2 a mission file that cannot be
+    /// read as one, 1 a mission that is wrong, 4 the MOOSDB, the network or an output failed.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            AppError::Mission(_) => 2,
+            AppError::SimBlock { .. } | AppError::Malconfig { .. } => 1,
+            AppError::Interrupted => 130,
+            _ => 4,
+        }
+    }
+}
+
 /// Why the loop ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum StopReason {
@@ -146,6 +161,28 @@ impl StopReason {
             StopReason::Interrupted => "interrupted",
         }
     }
+}
+
+/// The embedded simulator's block: a value it cannot read stops the run before it
+/// starts; an unknown name is shown and ignored.
+fn check_sim_block(mission: &moos::mission::MissionFile) -> Result<(), AppError> {
+    let block = vehicle_model::SimBlock::read(mission);
+    let errors: Vec<&str> = block
+        .problems_at_least(vehicle_model::Severity::Error)
+        .map(|p| p.text.as_str())
+        .collect();
+    if !errors.is_empty() {
+        return Err(AppError::SimBlock {
+            problems: errors.join("\n"),
+            count: errors.len(),
+        });
+    }
+    for p in &block.problems {
+        if p.severity == vehicle_model::Severity::Warning {
+            eprintln!("warning: {}", p.text);
+        }
+    }
+    Ok(())
 }
 
 /// Run the helm until the duration ends or the process is interrupted.
@@ -174,6 +211,7 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
     let mut settings = AppSettings::read(&mission, &opts.alias, 5.0);
     let (db, sim) = if opts.embedded {
         settings.host = "127.0.0.1".into();
+        check_sim_block(&mission)?;
         let db = start_db(&mission)?;
         let _ = writeln!(
             std::io::stdout(),

@@ -114,14 +114,30 @@ fn load_one(path: &Path) -> Result<Module, String> {
         })
 }
 
+/// The whole reason on one line (abi_stable splits "could not open library at: PATH"
+/// and the system's reason over several lines; cutting at the first lost the reason).
+/// Only a layout report of many lines is shortened, and says by how much.
 fn first_line(e: &dyn std::fmt::Display) -> String {
+    const MAX: usize = 1500;
     let text = e.to_string();
-    let line = text
+    let joined = text
         .lines()
         .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("");
-    line.to_string()
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    if joined.len() <= MAX {
+        return joined;
+    }
+    let cut = (0..=MAX)
+        .rev()
+        .find(|&i| joined.is_char_boundary(i))
+        .unwrap_or(0);
+    format!(
+        "{} ... ({} more characters)",
+        &joined[..cut],
+        joined.len() - cut
+    )
 }
 
 /// abi_stable's rule: same major; for 0.x, same minor; the library's minor (or patch

@@ -28,6 +28,13 @@ use helm_engine::Helm;
 pub enum MissionLoadError {
     #[error("{0}")]
     Mission(#[from] moos_mission::mission::MissionError),
+    #[error(
+        "{}: this is a behavior file (.bhv); give the mission file (.moos) that names it \
+         (`behaviors = {}` in its pHelmIvP block), or a folder holding one",
+        .0.display(),
+        .0.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+    )]
+    BhvAsMission(PathBuf),
 }
 
 /// Everything read for one helm.
@@ -119,6 +126,12 @@ pub fn load(
     extra_bhv: &[PathBuf],
     app_name: &str,
 ) -> Result<LoadedMission, MissionLoadError> {
+    if mission
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("bhv"))
+    {
+        return Err(MissionLoadError::BhvAsMission(mission.to_path_buf()));
+    }
     let file = moos_mission::mission::MissionFile::read(mission)?;
     let shown = mission.display().to_string();
     let dir = mission.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -182,8 +195,27 @@ pub fn load(
     }
 
     let mut bhv_files: Vec<PathBuf> = Vec::new();
-    for p in config.behaviors.iter().chain(extra_bhv.iter()) {
+    for (i, p) in config.behaviors.iter().chain(extra_bhv.iter()).enumerate() {
         let r = resolve(&dir, p);
+        if !r.exists() {
+            // Name the line that asked for it: the user edits that line, not the file.
+            let asked = if i < config.behaviors.len() {
+                lines
+                    .iter()
+                    .find(|l| {
+                        l.name.eq_ignore_ascii_case("behaviors")
+                            && Path::new(l.value.trim()) == p.as_path()
+                    })
+                    .map_or_else(
+                        || format!("{shown}: behaviors = {}", p.display()),
+                        |l| format!("{shown}:{}: behaviors = {}", l.line, l.value.trim()),
+                    )
+            } else {
+                format!("the command line: {}", p.display())
+            };
+            warnings.push(format!("{asked}: Could not find File: {}", r.display()));
+            continue;
+        }
         if bhv_files.contains(&r) {
             warnings.push(format!(
                 "{shown}: behavior file named twice: {}",
