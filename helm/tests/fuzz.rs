@@ -5,6 +5,9 @@
 //! cases and the missions; run by `cargo test` on a bounded budget (`FUZZ_CASES`,
 //! `FUZZ_SECS`; see the `fuzzkit` crate).
 //!
+//! The shipped plugin libraries are loaded too (built once into the test's target
+//! folder), so their parameters are fuzzed the same way.
+//!
 //! Invariants: no panic (a behavior's panic is caught by the helm and posted as
 //! `BHV_ERROR ... behavior panicked`: that fails the case too), no hang, bounded memory.
 
@@ -54,6 +57,24 @@ const DICT: &[&[u8]] = &[
     b"Behavior = BHV_Loiter\n{\n",
     b"Behavior = BHV_Waypoint\n{\n",
     b"Behavior = BHV_Timer\n{\n",
+    b"Behavior = BHV_HSLine\n{\n",
+    b"Behavior = BHV_BearingLine\n{\n",
+    b"Behavior = BHV_MaxDepth\n{\n",
+    b"Behavior = BHV_MaxSpeed\n{\n",
+    b"Behavior = BHV_GoToDepth\n{\n",
+    b"Behavior = BHV_PeriodicSurface\n{\n",
+    b"Behavior = BHV_ZigZag\n{\n",
+    b"Behavior = BHV_LegRun\n{\n",
+    b"Behavior = BHV_ConstantSpeed\n{\n",
+    b"Behavior = BHV_StationKeep\n{\n",
+    b"\n  depth = ",
+    b"\n  max_depth = ",
+    b"\n  period = ",
+    b"\n  zig_first = ",
+    b"\n  vx1 = ",
+    b"\n  leg_length = ",
+    b"\n  turn_rad = ",
+    b"\n  capture_flag = ",
     b"format=radial, x=0, y=0, radius=20, pts=8",
     b"0,0 : 10,10 : 0,20",
     b"1e308",
@@ -72,14 +93,26 @@ const DICT: &[&[u8]] = &[
 
 /// The helm of `spec` with the built-in behaviors, in drive at once.
 fn builtin_helm(spec: bhv::SetSpec) -> Helm {
+    helm_with(spec, &BehaviorFactory::with_builtins())
+}
+
+fn helm_with(spec: bhv::SetSpec, factory: &BehaviorFactory) -> Helm {
     let (config, _) = HelmConfig::from_lines(&common::block_lines(&common::DRIVE_BLOCK));
-    Helm::new(
-        config,
-        spec,
-        &BehaviorFactory::with_builtins(),
-        "alpha",
-        Vec::new(),
-    )
+    Helm::new(config, spec, factory, "alpha", Vec::new())
+}
+
+/// Built-in behaviors and every shipped plugin library.
+fn full_factory() -> &'static BehaviorFactory {
+    static F: std::sync::OnceLock<BehaviorFactory> = std::sync::OnceLock::new();
+    F.get_or_init(|| {
+        let built = common::build_plugins(common::SHIPPED_PLUGINS);
+        let dir = common::lib_folder(&built, common::SHIPPED_PLUGINS, "fuzz-plugins-lib");
+        let (factory, _) = helm_mission::factory_for(&[dir]);
+        for t in helm_engine::factory::SHIPPED_LIBRARY_TYPES {
+            assert!(factory.knows(t), "{t} not loaded");
+        }
+        factory
+    })
 }
 
 fn mail(var: &str, value: Value, t: f64) -> Mail {
@@ -121,7 +154,7 @@ fn check(data: &[u8]) {
         .iter()
         .map(|i| (i.var.clone(), i.value.clone()))
         .collect();
-    let mut helm = builtin_helm(spec);
+    let mut helm = helm_with(spec, full_factory());
     let mut posts = Vec::new();
     posts.extend(helm.startup(1000.0).iter().cloned());
     for k in 0..8 {

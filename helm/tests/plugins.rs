@@ -18,16 +18,7 @@ use common::{scratch, text, workspace};
 
 mod common;
 
-const PLUGINS: &[&str] = &[
-    "bhv-constant-speed",
-    "bhv-constant-heading",
-    "bhv-constant-depth",
-    "bhv-station-keep",
-    "bhv-template",
-    "bhv-visuals",
-    "bhv-depth",
-    "bhv-survey",
-];
+const PLUGINS: &[&str] = common::SHIPPED_PLUGINS;
 
 /// Built with the others, kept in a folder of its own (`failure_dir`).
 const FAILURE_PLUGIN: &str = "bhv-test-failure";

@@ -18,6 +18,18 @@ use helm_engine::Helm;
 pub const ALPHA_MOOS: &str = include_str!("../../../missions/alpha/alpha.moos");
 pub const ALPHA_BHV: &str = include_str!("../../../missions/alpha/alpha.bhv");
 
+/// The behavior libraries this project ships (`plugins/*`), by package name.
+pub const SHIPPED_PLUGINS: &[&str] = &[
+    "bhv-constant-speed",
+    "bhv-constant-heading",
+    "bhv-constant-depth",
+    "bhv-station-keep",
+    "bhv-template",
+    "bhv-visuals",
+    "bhv-depth",
+    "bhv-survey",
+];
+
 /// The root of the workspace (the repo).
 pub fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
