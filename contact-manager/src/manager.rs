@@ -52,6 +52,7 @@ pub struct ContactManager {
     /// The postings were handed out: clear before adding more.
     handed_out: bool,
     retired_now: Vec<Contact>,
+    scratch: String,
     status: Status,
     warnings: Warnings,
     alert_requests: u64,
@@ -122,6 +123,7 @@ impl ContactManager {
             postings: Vec::new(),
             handed_out: false,
             retired_now: Vec::new(),
+            scratch: String::new(),
             status: Status::default(),
             warnings: Warnings::default(),
             alert_requests: 0,
@@ -408,8 +410,10 @@ impl ContactManager {
     }
 
     fn range_reports(&mut self, now: f64) {
+        // One reused buffer: a steady report allocates nothing.
+        let mut val = std::mem::take(&mut self.scratch);
         for r in &mut self.reports.list {
-            let mut val = String::new();
+            val.clear();
             for c in self.table.contacts() {
                 if !r.group.is_empty() && !r.group.eq_ignore_ascii_case(&c.group) {
                     continue;
@@ -427,10 +431,11 @@ impl ContactManager {
             }
             if r.refresh || r.last.as_deref() != Some(val.as_str()) {
                 self.postings.push(Posting::str(&r.var, val.clone()));
-                r.last = Some(val);
+                r.last = Some(val.clone());
                 r.refresh = false;
             }
         }
+        self.scratch = val;
     }
 }
 

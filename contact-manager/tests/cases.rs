@@ -32,10 +32,20 @@ struct Step {
 
 fn steps(doc: &toml::Value) -> Vec<Step> {
     let mut out = Vec::new();
-    for s in doc.get("step").and_then(|s| s.as_array()).into_iter().flatten() {
+    for s in doc
+        .get("step")
+        .and_then(|s| s.as_array())
+        .into_iter()
+        .flatten()
+    {
         let time = s.get("time").and_then(|t| t.as_float()).unwrap_or(0.0);
         let mut mail = Vec::new();
-        for m in s.get("mail").and_then(|m| m.as_array()).into_iter().flatten() {
+        for m in s
+            .get("mail")
+            .and_then(|m| m.as_array())
+            .into_iter()
+            .flatten()
+        {
             if let Some([k, v]) = m.as_array().map(|a| a.as_slice()) {
                 if let Some(k) = k.as_str() {
                     mail.push((k.to_string(), v.clone()));
@@ -67,7 +77,10 @@ fn on_flags_agree_with_the_recorded_contact_manager() {
         let doc: toml::Value = toml::from_str(&text).expect("case toml");
         // A case whose description says its alerts came from a scripted stand-in with
         // its own rule (not the helm's request) says nothing about the manager.
-        let desc = doc.get("description").and_then(|d| d.as_str()).unwrap_or("");
+        let desc = doc
+            .get("description")
+            .and_then(|d| d.as_str())
+            .unwrap_or("");
         if desc.contains("stand-in") {
             continue;
         }

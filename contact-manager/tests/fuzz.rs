@@ -58,10 +58,34 @@ fn seeds() -> Vec<Vec<u8>> {
 }
 
 const DICT: &[&[u8]] = &[
-    b",", b"=", b"#", b"\"", b"{", b"}", b":", b"\n", b"id=", b"on_flag=", b"off_flag=",
-    b"alert_range=", b"cpa_range=", b"var=", b"val=", b"range=", b"refresh=", b"action=",
-    b"match_region=pts={", b"$[VNAME]", b"$[UTC]", b"NAME=", b"TIME=", b"nan", b"-1",
-    b"1e308", b"99999999999999999999999", b"\xff",
+    b",",
+    b"=",
+    b"#",
+    b"\"",
+    b"{",
+    b"}",
+    b":",
+    b"\n",
+    b"id=",
+    b"on_flag=",
+    b"off_flag=",
+    b"alert_range=",
+    b"cpa_range=",
+    b"var=",
+    b"val=",
+    b"range=",
+    b"refresh=",
+    b"action=",
+    b"match_region=pts={",
+    b"$[VNAME]",
+    b"$[UTC]",
+    b"NAME=",
+    b"TIME=",
+    b"nan",
+    b"-1",
+    b"1e308",
+    b"99999999999999999999999",
+    b"\xff",
 ];
 
 const PARAMS: &[&str] = &[
@@ -113,7 +137,13 @@ fn check(data: &[u8]) {
             vars.iter().map(|v| (*v, MailValue::Str(line))).collect();
         let now = 1000.0 + k as f64;
         m.handle_mail(now, &mail);
-        m.handle_mail(now, &[("NAV_X", MailValue::Num(f64::NAN)), ("NAV_Y", MailValue::Str(line))]);
+        m.handle_mail(
+            now,
+            &[
+                ("NAV_X", MailValue::Num(f64::NAN)),
+                ("NAV_Y", MailValue::Str(line)),
+            ],
+        );
         for p in m.iterate(now) {
             assert!(!p.var.is_empty());
         }
