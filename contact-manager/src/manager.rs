@@ -8,20 +8,12 @@ use crate::macros::flag_posting;
 use crate::requests::{able_postings, Able, ReportRequest, ReportRequests};
 use crate::status::Status;
 use crate::table::{Contact, Table};
+pub use crate::value::Ownship;
 use crate::value::{MailValue, Posting};
 use crate::warnings::Warnings;
 
 /// The CPA horizon of the alert test (s).
 pub const CPA_HORIZON: f64 = 36000.0;
-
-/// Ownship's navigation as last mailed.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Ownship {
-    pub x: f64,
-    pub y: f64,
-    pub hdg: f64,
-    pub spd: f64,
-}
 
 /// Geometry of one contact at one iteration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,7 +75,9 @@ fn geometry(os: &Ownship, c: &Contact, decay: &Decay, now: f64) -> Geometry {
 
 /// Whether `a` applies to contact `c` with geometry `g` (§4.3).
 fn applies(a: &Alert, c: &Contact, g: &Geometry, max_age: f64) -> bool {
-    if !(a.valid() && a.enabled) || !(g.age <= max_age) {
+    // A NaN age (hostile TIME) is not fresh.
+    let fresh = g.age <= max_age;
+    if !(a.valid() && a.enabled && fresh) {
         return false;
     }
     if !a.filter.check(&c.name, &c.group, &c.vtype, c.x, c.y).all() {

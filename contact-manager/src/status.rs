@@ -7,9 +7,8 @@ use std::collections::VecDeque;
 use std::fmt::Write as _;
 
 use crate::config::Config;
-use crate::manager::Ownship;
 use crate::table::Table;
-use crate::value::Posting;
+use crate::value::{Ownship, Posting};
 
 /// What was last posted, per status variable.
 #[derive(Debug, Default)]

@@ -88,3 +88,12 @@ impl Posting {
         }
     }
 }
+
+/// Ownship's navigation as last mailed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Ownship {
+    pub x: f64,
+    pub y: f64,
+    pub hdg: f64,
+    pub spd: f64,
+}
