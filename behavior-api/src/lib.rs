@@ -57,6 +57,7 @@
 #![allow(non_local_definitions)]
 
 pub mod behavior;
+pub mod contact;
 pub mod context;
 pub mod flag;
 pub mod function;
