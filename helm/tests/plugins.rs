@@ -27,6 +27,7 @@ const PLUGINS: &[&str] = &[
     "bhv-visuals",
     "bhv-depth",
     "bhv-survey",
+    "bhv-contact",
 ];
 
 /// Built with the others, kept in a folder of its own (`failure_dir`).
