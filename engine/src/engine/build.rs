@@ -153,7 +153,8 @@ impl Helm {
             last_posted: Default::default(),
             statevars: Vec::new(),
             completed_pending_last: None,
-            completed_count_last: None,
+            // The reference posts the count only when it changes from its start value 0.
+            completed_count_last: Some(0),
             life_events: Vec::new(),
             turn_samples: Vec::new(),
             functions: Vec::new(),
