@@ -98,6 +98,10 @@ pub struct ContactBase {
     /// The refresh of this iteration succeeded.
     pub update_ok: bool,
     warned: bool,
+    /// The picture before this iteration's refresh, and whether the behavior itself
+    /// asked to complete (see [`ContactBase::on_complete`]).
+    before: Option<(Platform, Pose, Option<ContactRelation>)>,
+    self_completed: bool,
 }
 
 impl ContactBase {
@@ -137,6 +141,8 @@ impl ContactBase {
             prev: None,
             update_ok: false,
             warned: false,
+            before: None,
+            self_completed: false,
         }
     }
 
@@ -268,13 +274,33 @@ impl ContactBase {
     /// completes (contacts-appcast.md §3.6); otherwise the contact picture is refreshed.
     /// Returns whether the refresh succeeded.
     pub fn every_state(&mut self, ctx: &mut Ctx<'_>) -> bool {
+        self.before = Some((self.os, self.cn, self.rel.clone()));
         if self.is_spawned && !self.contact.is_empty() && ctx.contact(&self.contact).is_none()
         {
             self.update_ok = false;
-            ctx.set_complete();
+            self.complete(ctx);
             return false;
         }
         self.update(ctx)
+    }
+
+    /// Ask the helm to complete this behavior (endflags, removal).
+    pub fn complete(&mut self, ctx: &mut Ctx<'_>) {
+        self.self_completed = true;
+        ctx.set_complete();
+    }
+
+    /// The `on_complete` hook. When the helm completed the behavior before its
+    /// every-state hook (duration, ...), the reference skips that iteration's contact
+    /// read: the picture (and so the post-mortem) goes back to the previous one.
+    pub fn on_complete(&mut self) {
+        if !self.self_completed {
+            if let Some((os, cn, rel)) = self.before.take() {
+                self.os = os;
+                self.cn = cn;
+                self.rel = rel;
+            }
+        }
     }
 
     /// Refresh the contact picture (behaviors-contacts.md §1.1–§1.2): ownship from the

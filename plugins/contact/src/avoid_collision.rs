@@ -62,9 +62,9 @@ impl AvoidCollision {
     }
 
     /// Complete when the contact fails an exit filter or is past 1.1 × completed_dist.
-    fn check_complete(&self, ctx: &mut Ctx<'_>) -> bool {
+    fn check_complete(&mut self, ctx: &mut Ctx<'_>) -> bool {
         if self.base.exit_filter_fails() || self.base.range() >= 1.1 * self.completed_dist {
-            ctx.set_complete();
+            self.base.complete(ctx);
             return true;
         }
         false
@@ -207,6 +207,7 @@ impl IvpBehavior for AvoidCollision {
     }
 
     fn on_complete(&mut self, ctx: &mut Ctx<'_>) {
+        self.base.on_complete();
         self.base.post_inactive_bearing_line(ctx);
     }
 
@@ -216,7 +217,7 @@ impl IvpBehavior for AvoidCollision {
         }
         let able = self.base.able_filter(ctx, "BHV_AvoidCollision");
         if able.expunge {
-            ctx.set_complete();
+            self.base.complete(ctx);
             return None;
         }
         self.base.handle_cnflags(ctx);

@@ -178,6 +178,10 @@ impl IvpBehavior for CutRange {
         self.base.every_state(ctx);
     }
 
+    fn on_complete(&mut self, _ctx: &mut Ctx<'_>) {
+        self.base.on_complete();
+    }
+
     fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         if !self.base.update_ok {
             return None;

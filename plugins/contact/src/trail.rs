@@ -206,6 +206,10 @@ impl IvpBehavior for Trail {
         self.base.every_state(ctx);
     }
 
+    fn on_complete(&mut self, _ctx: &mut Ctx<'_>) {
+        self.base.on_complete();
+    }
+
     fn on_run_to_idle(&mut self, ctx: &mut Ctx<'_>) {
         ctx.post_message_num("PURSUIT", 0.0);
     }
