@@ -151,7 +151,8 @@ impl IvpBehavior for AvoidCollision {
                 }
                 _ => false,
             },
-            "pwt_grade" => {
+            // `active_grade` is the older name m3_casar still uses.
+            "pwt_grade" | "active_grade" => {
                 self.grade = match v.to_ascii_lowercase().as_str() {
                     "linear" => Grade::Linear,
                     "quadratic" => Grade::Quadratic,
