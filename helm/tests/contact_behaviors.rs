@@ -149,12 +149,24 @@ fn distribution_forms_check_ok_and_bad_values_name_file_and_line() {
     assert!(text.contains("ok: 1 behavior(s): shadow_fixed"), "{text}");
 
     let bad = GOOD_BHV
-        .replace("       use_refinery  = false", "       use_refinery  = true")
-        .replace("           pwt_grade = linear", "           pwt_grade = cubic")
-        .replace("  trail_angle_type = relative", "  trail_angle_type = sideways")
+        .replace(
+            "       use_refinery  = false",
+            "       use_refinery  = true",
+        )
+        .replace(
+            "           pwt_grade = linear",
+            "           pwt_grade = cubic",
+        )
+        .replace(
+            "  trail_angle_type = relative",
+            "  trail_angle_type = sideways",
+        )
         .replace("        patience = 50", "        patience = 150")
         .replace("  hdg_peakwidth     = 15", "  hdg_peakwidth     = -15")
-        .replace("               decay = 20,40", "               decay = 40,20");
+        .replace(
+            "               decay = 20,40",
+            "               decay = 40,20",
+        );
     let (code, text, path) = check("bad", &bad);
     assert_eq!(code, 1, "{text}");
     let line_of = |needle: &str| bad.lines().position(|l| l.contains(needle)).unwrap() + 1;

@@ -275,8 +275,7 @@ impl ContactBase {
     /// Returns whether the refresh succeeded.
     pub fn every_state(&mut self, ctx: &mut Ctx<'_>) -> bool {
         self.before = Some((self.os, self.cn, self.rel.clone()));
-        if self.is_spawned && !self.contact.is_empty() && ctx.contact(&self.contact).is_none()
-        {
+        if self.is_spawned && !self.contact.is_empty() && ctx.contact(&self.contact).is_none() {
             self.update_ok = false;
             self.complete(ctx);
             return false;
@@ -385,8 +384,9 @@ impl ContactBase {
         let prev = self.prev.as_ref();
         for f in &self.cnflags {
             let fire = match f.tag {
-                CnTag::Cpa => prev.is_some_and(|p| p.rate_of_closure > 0.0)
-                    && cur.rate_of_closure <= 0.0,
+                CnTag::Cpa => {
+                    prev.is_some_and(|p| p.rate_of_closure > 0.0) && cur.rate_of_closure <= 0.0
+                }
                 CnTag::OsPassedCn => passed(prev, cur, |r| r.os_fore_of_cn, |r| r.os_aft_of_cn),
                 CnTag::OsPassedCnPort => {
                     passed(prev, cur, |r| r.os_fore_of_cn, |r| r.os_aft_of_cn) && cur.os_port_of_cn
@@ -410,7 +410,9 @@ impl ContactBase {
             match self.numeric_macro(&f.value) {
                 Some(n) => ctx.post_repeatable_message(&f.var, PostValue::Num(n)),
                 None => {
-                    let s = self.expand_macros(&f.value).unwrap_or_else(|| f.value.clone());
+                    let s = self
+                        .expand_macros(&f.value)
+                        .unwrap_or_else(|| f.value.clone());
                     let s = ctx.expand_common_macros(&s);
                     ctx.post_repeatable_message(&f.var, PostValue::from(s.as_str()));
                 }

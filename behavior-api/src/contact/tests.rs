@@ -115,22 +115,37 @@ fn able_filter_disables_and_expunges() {
     let mut b = base_with("bob");
     b.can_disable = true;
     let mut helm = MockHelm::new("avd_bob");
-    helm.strs
-        .insert("BHV_ABLE_FILTER".into(), "action=disable,contact=BOB".into());
+    helm.strs.insert(
+        "BHV_ABLE_FILTER".into(),
+        "action=disable,contact=BOB".into(),
+    );
     let out = helm.with(|ctx| b.able_filter(ctx, "BHV_AvoidCollision"));
     assert!(b.disabled && !out.expunge);
+    helm.strs.insert(
+        "BHV_ABLE_FILTER".into(),
+        "action=expunge,bhv_type=bhv_avoidcollision".into(),
+    );
+    assert!(
+        helm.with(|ctx| b.able_filter(ctx, "BHV_AvoidCollision"))
+            .expunge
+    );
     helm.strs
-        .insert("BHV_ABLE_FILTER".into(), "action=expunge,bhv_type=bhv_avoidcollision".into());
-    assert!(helm.with(|ctx| b.able_filter(ctx, "BHV_AvoidCollision")).expunge);
-    helm.strs.insert("BHV_ABLE_FILTER".into(), "action=able".into());
-    assert_eq!(helm.with(|ctx| b.able_filter(ctx, "BHV_AvoidCollision")).malformed, 1);
+        .insert("BHV_ABLE_FILTER".into(), "action=able".into());
+    assert_eq!(
+        helm.with(|ctx| b.able_filter(ctx, "BHV_AvoidCollision"))
+            .malformed,
+        1
+    );
 }
 
 #[test]
 fn bearing_line_colour_by_relevance() {
     let mut b = base_with("bob");
     assert_eq!(
-        b.set_param("bearing_line_config", "white:0, green:0.65, yellow:0.8, red:1.0"),
+        b.set_param(
+            "bearing_line_config",
+            "white:0, green:0.65, yellow:0.8, red:1.0"
+        ),
         Some(true)
     );
     let mut helm = MockHelm::new("avd_bob");
@@ -144,5 +159,8 @@ fn bearing_line_colour_by_relevance() {
     assert!(line.starts_with("pts={0,99.8:5,149},label="), "{line}");
     assert!(line.contains("edge_color=green"), "{line}");
     helm.with(|ctx| b.post_bearing_line(ctx, 2.0));
-    assert!(helm.last("VIEW_SEGLIST").unwrap().contains("edge_color=blank"));
+    assert!(helm
+        .last("VIEW_SEGLIST")
+        .unwrap()
+        .contains("edge_color=blank"));
 }

@@ -1,10 +1,10 @@
 //! Publication of mode variables and behavior output (helm.md §8).
 
-use behavior_api::contact::POST_MORTEM_MACRO;
 use super::iterate::typed;
 use super::Helm;
 use crate::posting::Value;
 use crate::runtime::RunState;
+use behavior_api::contact::POST_MORTEM_MACRO;
 
 impl Helm {
     /// §8.2-§8.4, in order.

@@ -181,9 +181,9 @@ impl IvpBehavior for AvoidCollision {
 
     fn on_helm_start(&mut self, ctx: &mut Ctx<'_>) {
         let name = ctx.name();
-        if let Some(req) =
-            self.base
-                .alert_request(&name, self.pwt_outer_dist, self.completed_dist)
+        if let Some(req) = self
+            .base
+            .alert_request(&name, self.pwt_outer_dist, self.completed_dist)
         {
             ctx.post_message("BCM_ALERT_REQUEST", &req);
         }
