@@ -8,7 +8,7 @@
 //! and nothing but the `helm` binary depends on it.
 //!
 //! `helm run MISSION [BHV...]`:
-//! 1. reads the mission ([`helm_engine::mission::load`]); prints the library report; a
+//! 1. reads the mission ([`helm_mission::load`]); prints the library report; a
 //!    MALCONFIG helm has its problems printed (file:line) and a box saying it will never
 //!    drive — it still runs and posts `IVPHELM_STATE=MALCONFIG`, as pHelmIvP does, and
 //!    `helm run` then ends with an error (exit 1) when it stops;
@@ -100,7 +100,7 @@ impl RunExtras {
 #[derive(Debug, thiserror::Error)]
 pub enum AppError {
     #[error("{0}")]
-    Mission(#[from] helm_engine::mission::MissionLoadError),
+    Mission(#[from] helm_mission::MissionLoadError),
     #[error(
         "port {port} is busy: another MOOSDB (or program) listens on it. Stop it, or set \
          another ServerPort in the mission"
@@ -108,6 +108,8 @@ pub enum AppError {
     PortBusy { port: u16 },
     #[error("cannot start the embedded MOOSDB: {0}")]
     Db(#[source] DbError),
+    #[error("{problems}\n{count} problem(s) in the simulator block; nothing run")]
+    SimBlock { problems: String, count: usize },
     #[error("cannot start the simulator uSimMarine: {0}")]
     Sim(#[source] ClientError),
     #[error("cannot connect to the MOOSDB at {host}:{port} as {name}: {source}")]
@@ -130,6 +132,19 @@ pub enum AppError {
     Interrupted,
 }
 
+impl AppError {
+    /// The process exit code (see `helm --help`): 2 a mission file that cannot be
+    /// read as one, 1 a mission that is wrong, 4 the MOOSDB, the network or an output failed.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            AppError::Mission(_) => 2,
+            AppError::SimBlock { .. } | AppError::Malconfig { .. } => 1,
+            AppError::Interrupted => 130,
+            _ => 4,
+        }
+    }
+}
+
 /// Why the loop ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum StopReason {
@@ -148,6 +163,28 @@ impl StopReason {
     }
 }
 
+/// The embedded simulator's block: a value it cannot read stops the run before it
+/// starts; an unknown name is shown and ignored.
+fn check_sim_block(mission: &moos::mission::MissionFile) -> Result<(), AppError> {
+    let block = vehicle_model::SimBlock::read(mission);
+    let errors: Vec<&str> = block
+        .problems_at_least(vehicle_model::Severity::Error)
+        .map(|p| p.text.as_str())
+        .collect();
+    if !errors.is_empty() {
+        return Err(AppError::SimBlock {
+            problems: errors.join("\n"),
+            count: errors.len(),
+        });
+    }
+    for p in &block.problems {
+        if p.severity == vehicle_model::Severity::Warning {
+            eprintln!("warning: {}", p.text);
+        }
+    }
+    Ok(())
+}
+
 /// Run the helm until the duration ends or the process is interrupted.
 pub fn run(opts: &RunOptions) -> Result<(), AppError> {
     run_with(opts, &RunExtras::default())
@@ -155,7 +192,7 @@ pub fn run(opts: &RunOptions) -> Result<(), AppError> {
 
 /// [`run`] with the extra options.
 pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
-    let loaded = helm_engine::mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
+    let loaded = helm_mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
     // A closed stdout must not stop a helm (`helm run ... | head`): write errors are ignored.
     let mut out = std::io::stdout().lock();
     for line in &loaded.library_report {
@@ -174,6 +211,7 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
     let mut settings = AppSettings::read(&mission, &opts.alias, 5.0);
     let (db, sim) = if opts.embedded {
         settings.host = "127.0.0.1".into();
+        check_sim_block(&mission)?;
         let db = start_db(&mission)?;
         let _ = writeln!(
             std::io::stdout(),

@@ -56,6 +56,7 @@
 // abi_stable's sabi_trait macro expands to impls inside a const block.
 #![allow(non_local_definitions)]
 
+pub mod abi_v1;
 pub mod behavior;
 pub mod contact;
 pub mod context;

@@ -49,6 +49,7 @@ pub mod logic;
 pub mod modes;
 pub mod number;
 pub mod reader;
+pub mod vocabulary;
 
 pub use error::{BhvError, BhvErrorKind, LogicError};
 pub use flag::{parse_flag, FlagParam, FlagSpec};

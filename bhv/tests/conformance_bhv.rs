@@ -35,7 +35,20 @@ fn every_golden_bhv_parses() {
                     bhv::logic::parse_condition_param(&l.value)
                         .unwrap_or_else(|e| panic!("{}:{}: {e}", path.display(), l.line));
                 }
-                if l.param.ends_with("flag") {
+                // The common flags (behavior-common.md); a behavior's own `*_flag`
+                // parameter (GoToDepth's `capture_flag = LVL`) is not flag syntax.
+                const COMMON_FLAGS: [&str; 9] = [
+                    "runflag",
+                    "runxflag",
+                    "activeflag",
+                    "inactiveflag",
+                    "idleflag",
+                    "endflag",
+                    "spawnflag",
+                    "spawnxflag",
+                    "configflag",
+                ];
+                if COMMON_FLAGS.contains(&l.param.replace('_', "").as_str()) {
                     bhv::parse_flag(&l.value)
                         .unwrap_or_else(|e| panic!("{}:{}: {e}", path.display(), l.line));
                 }

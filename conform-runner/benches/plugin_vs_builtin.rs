@@ -96,7 +96,7 @@ fn run_once(v: &Variant, file: &Path, factory: &BehaviorFactory) -> (Duration, u
 fn plugin_vs_builtin(c: &mut Criterion) {
     let file = workspace().join("conformance/helm/plugin_constant_speed.toml");
     let dir = library_dir();
-    let (factory, _) = helm_engine::mission::factory_for(std::slice::from_ref(&dir));
+    let (factory, _) = helm_mission::factory_for(std::slice::from_ref(&dir));
     assert!(factory.knows("BHV_WaypointLib") && factory.knows("BHV_ConstantSpeed"));
     let variants = variants(&file, &factory);
 

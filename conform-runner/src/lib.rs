@@ -138,28 +138,57 @@ pub enum CaseError {
         path: PathBuf,
         source: toml::de::Error,
     },
+    #[error("no conformance cases (*.toml) in {}", paths)]
+    NoCases { paths: String },
 }
 
-/// Case files named by `paths` (a file, or a folder of `*.toml` files), sorted.
+/// Case files named by `paths` (a file, or a folder of `*.toml` files, searched
+/// recursively), sorted per folder. In subfolders, only files that read as helm cases are
+/// taken (so `conformance/` skips the IvP-level cases beside the helm ones). No case at
+/// all is an error: a typo must not read as "0 failed".
 pub fn collect(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CaseError> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            let rd = std::fs::read_dir(p).map_err(|source| CaseError::Io {
-                path: p.clone(),
-                source,
-            })?;
-            let mut files: Vec<PathBuf> = rd
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|e| e == "toml"))
-                .collect();
-            files.sort();
-            out.extend(files);
-        } else {
+            collect_dir(p, true, &mut out)?;
+        } else if p.exists() {
             out.push(p.clone());
+        } else {
+            return Err(CaseError::Io {
+                path: p.clone(),
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
+            });
         }
     }
+    if out.is_empty() {
+        return Err(CaseError::NoCases {
+            paths: paths
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+    }
     Ok(out)
+}
+
+fn collect_dir(dir: &Path, top: bool, out: &mut Vec<PathBuf>) -> Result<(), CaseError> {
+    let rd = std::fs::read_dir(dir).map_err(|source| CaseError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let mut entries: Vec<PathBuf> = rd.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    entries.sort();
+    let (dirs, files): (Vec<PathBuf>, Vec<PathBuf>) = entries.into_iter().partition(|p| p.is_dir());
+    for f in files {
+        if f.extension().is_some_and(|e| e == "toml") && (top || load(&f).is_ok()) {
+            out.push(f);
+        }
+    }
+    for d in dirs {
+        collect_dir(&d, false, out)?;
+    }
+    Ok(())
 }
 
 pub fn load(path: &Path) -> Result<Case, CaseError> {

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use behavior_api::{BehaviorBox, BehaviorLibRef};
+use behavior_api::{abi_v1, BehaviorBox, BehaviorLibRef};
 
 /// A loaded behavior library and the types it offers (never unloaded: behaviors from it
 /// may live as long as the process).
@@ -10,7 +10,24 @@ use behavior_api::{BehaviorBox, BehaviorLibRef};
 pub struct LoadedLibrary {
     pub path: PathBuf,
     pub types: Vec<String>,
-    module: BehaviorLibRef,
+    module: Module,
+}
+
+/// A library's root module, in the ABI it was built with.
+#[derive(Clone, Copy)]
+enum Module {
+    Current(BehaviorLibRef),
+    /// Built against behavior-api 0.1.0 (before contacts): its behaviors are adapted.
+    V1(abi_v1::module::BehaviorLibRef),
+}
+
+impl Module {
+    fn behavior_types(self) -> abi_stable::std_types::RVec<abi_stable::std_types::RString> {
+        match self {
+            Module::Current(m) => (m.behavior_types())(),
+            Module::V1(m) => (m.behavior_types())(),
+        }
+    }
 }
 
 impl LoadedLibrary {
@@ -24,9 +41,14 @@ impl LoadedLibrary {
         type_name: &str,
         helm_domain: &str,
     ) -> Option<Result<BehaviorBox, String>> {
-        (self.module.create())(type_name.into(), helm_domain.into())
-            .into_option()
-            .map(|r| r.into_result().map_err(String::from))
+        match self.module {
+            Module::Current(m) => (m.create())(type_name.into(), helm_domain.into())
+                .into_option()
+                .map(|r| r.into_result().map_err(String::from)),
+            Module::V1(m) => (m.create())(type_name.into(), helm_domain.into())
+                .into_option()
+                .map(|r| r.into_result().map(abi_v1::adapt).map_err(String::from)),
+        }
     }
 }
 
@@ -57,7 +79,7 @@ fn is_library(p: &Path) -> bool {
 
 /// Open one library: check the `behavior-api` version it was built against, then let
 /// abi_stable check every type layout. The reason for a refusal is one line.
-fn load_one(path: &Path) -> Result<BehaviorLibRef, String> {
+fn load_one(path: &Path) -> Result<Module, String> {
     let header = abi_stable::library::lib_header_from_path(path).map_err(|e| first_line(&e))?;
     let theirs = header.version_strings().version.as_str().to_string();
     let ours = behavior_api::API_VERSION;
@@ -67,24 +89,55 @@ fn load_one(path: &Path) -> Result<BehaviorLibRef, String> {
              (rebuild the library against {ours})"
         ));
     }
-    // Not `RootModule::load_from_file`: that caches one root module per process, and we
-    // load many libraries of the same root-module type.
-    header.init_root_module::<BehaviorLibRef>().map_err(|e| {
+    let refused = |e: abi_stable::library::LibraryError| {
         format!(
             "incompatible with this helm's behavior-api {ours}: {}",
             first_line(&e)
         )
-    })
+    };
+    // Not `RootModule::load_from_file`: that caches one root module per process, and we
+    // load many libraries of the same root-module type.
+    if abi_v1::speaks_v1(&theirs) {
+        return header
+            .init_root_module::<abi_v1::module::BehaviorLibRef>()
+            .map(Module::V1)
+            .map_err(refused);
+    }
+    header
+        .init_root_module::<BehaviorLibRef>()
+        .map(Module::Current)
+        .map_err(|e| {
+            format!(
+                "incompatible with this helm's behavior-api {ours}: {}",
+                first_line(&e)
+            )
+        })
 }
 
+/// The whole reason on one line (abi_stable splits "could not open library at: PATH"
+/// and the system's reason over several lines; cutting at the first lost the reason).
+/// Only a layout report of many lines is shortened, and says by how much.
 fn first_line(e: &dyn std::fmt::Display) -> String {
+    const MAX: usize = 1500;
     let text = e.to_string();
-    let line = text
+    let joined = text
         .lines()
         .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("");
-    line.to_string()
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    if joined.len() <= MAX {
+        return joined;
+    }
+    let cut = (0..=MAX)
+        .rev()
+        .find(|&i| joined.is_char_boundary(i))
+        .unwrap_or(0);
+    format!(
+        "{} ... ({} more characters)",
+        &joined[..cut],
+        joined.len() - cut
+    )
 }
 
 /// abi_stable's rule: same major; for 0.x, same minor; the library's minor (or patch
@@ -136,7 +189,8 @@ pub fn load_dirs(
         for path in files {
             match load_one(&path) {
                 Ok(module) => {
-                    let mut types: Vec<String> = (module.behavior_types())()
+                    let mut types: Vec<String> = module
+                        .behavior_types()
                         .into_iter()
                         .map(String::from)
                         .collect();

@@ -110,6 +110,7 @@ pub fn parse_point(input: &str) -> Option<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spec::Vertex;
 
     #[test]
     fn short_radial_counts_that_loop_forever_in_cplusplus_are_invalid() {

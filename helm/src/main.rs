@@ -19,9 +19,26 @@ use helm_engine::factory::BehaviorFactory;
         helm MISSION.moos [FILE.bhv]... [NAME] [--alias=NAME] [--verbose=verbose|terse|quiet]\n  \
         helm -v | -e | -i | -w | -help    (version, example block, interface, docs, help)\n\n\
         Examples:\n  \
-        helm run --embedded missions/alpha/alpha.moos   a mission on this machine alone\n  \
-        helm check missions/alpha/alpha.moos            every configuration problem\n  \
-        helm alpha.moos pHelmIvP                        as pAntler starts pHelmIvP"
+        helm sim missions/alpha                         a mission in fast time: picture, log, summary\n  \
+        helm sim missions/alpha --runs 100 --jitter x=5,y=5,heading=20   Monte Carlo\n  \
+        helm check missions/alpha                       every configuration problem\n  \
+        helm run --embedded missions/alpha              in real time, on this machine alone\n  \
+        helm alpha.moos pHelmIvP                        as pAntler starts pHelmIvP\n\n\
+        Environment:\n  \
+        IVP_BEHAVIOR_DIRS      colon-separated folders of behavior libraries (searched first)\n  \
+        IVP_HELM_BUNDLED_DIR   folders of the shipped libraries (default: beside this binary,\n                         \
+        then ../lib/ivp-helm from it; empty: none)\n  \
+        HELM_VERBOSE           verbose | terse | quiet: terminal output of a running helm\n  \
+        RUST_LOG               log filter (e.g. info, helm_engine=debug); default: errors only\n\n\
+        Exit codes (check, sim, run, conform alike):\n  \
+        0  done, nothing wrong\n  \
+        1  the mission is wrong (MALCONFIG, a bad simulator block or scenario; conform: a case failed)\n  \
+        2  usage: a bad argument, or a file that cannot be read as what it should be (missing,\n     \
+        unreadable, a .bhv given as the mission, a folder without one mission or case)\n  \
+        3  the run went wrong: a behavior panicked (sim --strict: also any behavior error,\n     \
+        or a helm that never drove)\n  \
+        4  the environment failed: the MOOSDB, the network, an output that cannot be written\n  \
+        130 interrupted"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -38,7 +55,7 @@ enum Command {
     ///
     /// Example: helm run --embedded missions/alpha/alpha.moos
     Run {
-        /// The mission file (`.moos`).
+        /// The mission file (`.moos`), or a folder holding one.
         mission: PathBuf,
         /// Extra behavior files (`.bhv`).
         bhv: Vec<PathBuf>,
@@ -77,7 +94,7 @@ enum Command {
     ///
     /// Example: helm check missions/alpha/alpha.moos
     Check {
-        /// The mission file (`.moos`).
+        /// The mission file (`.moos`), or a folder holding one.
         mission: PathBuf,
         /// Extra behavior files (`.bhv`), as on the pHelmIvP command line.
         bhv: Vec<PathBuf>,
@@ -105,8 +122,22 @@ enum Command {
     },
 }
 
+/// The mission file a MISSION argument names: the file, or the one `.moos` in a folder
+/// (as `helm sim` takes it).
+fn mission_arg(path: &std::path::Path) -> Result<PathBuf, ExitCode> {
+    helm_sim::find_mission(path).map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(e.exit_code())
+    })
+}
+
 fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCode {
-    let loaded = match helm_engine::mission::load(mission, bhv, alias) {
+    let mission = match mission_arg(mission) {
+        Ok(m) => m,
+        Err(code) => return code,
+    };
+    let mission = mission.as_path();
+    let loaded = match helm_mission::load(mission, bhv, alias) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("error: {e}");
@@ -117,9 +148,29 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
         println!("{line}");
     }
     let files = loaded.bhv_files.clone();
-    let (helm, _) = loaded.into_helm();
+    let (helm, file) = loaded.into_helm();
     for f in &files {
         println!("Behavior file: {}", f.display());
+    }
+    // The simulator block, read as `helm sim` and `run --embedded` read it.
+    let block = vehicle_model::SimBlock::read(&file);
+    for p in &block.problems {
+        let kind = match p.severity {
+            vehicle_model::Severity::Note => "note",
+            vehicle_model::Severity::Warning => "warning",
+            vehicle_model::Severity::Error => "error",
+        };
+        println!("{kind}: {}", p.text);
+    }
+    let sim_errors = block
+        .problems_at_least(vehicle_model::Severity::Error)
+        .count();
+    if sim_errors > 0 && helm.config_warnings().is_empty() {
+        println!(
+            "{sim_errors} problem(s) in the simulator block: `helm sim` and `helm run --embedded` \
+             would not start"
+        );
+        return ExitCode::FAILURE;
     }
     if helm.config_warnings().is_empty() {
         println!(
@@ -141,8 +192,8 @@ fn check_cmd(mission: &std::path::Path, bhv: &[PathBuf], alias: &str) -> ExitCod
 }
 
 fn factory_from_env() -> BehaviorFactory {
-    let dirs = helm_engine::mission::behavior_dirs_from_env();
-    let (factory, report) = helm_engine::mission::factory_with_bundled(&dirs);
+    let dirs = helm_mission::behavior_dirs_from_env();
+    let (factory, report) = helm_mission::factory_with_bundled(&dirs);
     for line in report {
         tracing::info!("{line}");
     }
@@ -249,14 +300,34 @@ fn main() -> ExitCode {
         // Colours only on a terminal: a log file gets plain text.
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
-    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let mut args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let called_phelm = args
+        .first()
+        .and_then(|p| std::path::Path::new(p).file_name())
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("pHelmIvP"));
+    let first = args.get(1).and_then(|a| a.to_str()).unwrap_or_default();
+    const SUBCOMMANDS: [&str; 5] = ["run", "sim", "check", "conform", "view"];
+    if called_phelm && SUBCOMMANDS.contains(&first) {
+        // A pHelmIvP link takes pHelmIvP's command line only: starting a helm on a
+        // mission named "sim" would be a surprise.
+        eprintln!(
+            "error: pHelmIvP takes pHelmIvP's command line (MISSION.moos [FILE.bhv]... [NAME]); \
+             `{first}` is a command of `helm`: run it as `helm {first} ...`"
+        );
+        return ExitCode::from(2);
+    }
+    if !called_phelm && first == "-help" {
+        // One help text for `helm -help` and `helm --help`.
+        args[1] = "--help".into();
+    }
     if helm_app::phelmivp::is_phelmivp_form(&args) {
         return phelmivp_main(&args[1..]);
     }
     if args.get(1).is_none_or(|a| a != "run") {
         end_quietly_when_output_closes();
     }
-    let cli = Cli::parse();
+    let cli = Cli::parse_from(&args);
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
         Command::Sim(args) => helm_sim::cli::main(&args),
@@ -274,6 +345,10 @@ fn main() -> ExitCode {
             quiet,
             alog,
         } => {
+            let mission = match mission_arg(&mission) {
+                Ok(m) => m,
+                Err(code) => return code,
+            };
             let opts = helm_app::RunOptions {
                 mission,
                 bhv,
@@ -307,7 +382,7 @@ fn run_app(opts: &helm_app::RunOptions, mut extras: helm_app::RunExtras) -> Exit
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(e.exit_code())
         }
     }
 }

@@ -60,15 +60,17 @@ fn bad_parameter_lines_are_all_reported() {
     assert_eq!(code, 1, "{text}");
     let p = bhv_path(&d);
     assert!(
-        text.contains(&format!("{p}:4:")) && text.contains("speeed = 2"),
+        text.contains(&format!(
+            "{p}:4: unknown parameter of BHV_Waypoint: speeed = 2"
+        )),
         "{text}"
     );
     assert!(
-        text.contains(&format!("{p}:5:")) && text.contains("(C=3)"),
+        text.contains(&format!("{p}:5: bad value: condition = ")) && text.contains("(C=3)"),
         "{text}"
     );
     assert!(
-        text.contains(&format!("{p}:6:")) && text.contains("pwt = -3"),
+        text.contains(&format!("{p}:6: bad value: pwt = -3")),
         "{text}"
     );
 }

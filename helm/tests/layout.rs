@@ -12,6 +12,7 @@ mod common;
 const HELM_CRATES: &[&str] = &[
     "helm",
     "helm-engine",
+    "helm-mission",
     "helm-conform",
     "helm-app",
     "helm-sim",

@@ -125,7 +125,7 @@ fn every_case_passes_or_waits_for_a_type_the_project_lacks() {
 /// types the shipped plugin libraries export.
 #[test]
 fn shipped_library_types_are_what_the_plugins_export() {
-    let (factory, _) = helm_engine::mission::factory_for(&[plugin_dir().to_path_buf()]);
+    let (factory, _) = helm_mission::factory_for(&[plugin_dir().to_path_buf()]);
     let mut exported: Vec<String> = factory
         .libraries()
         .iter()
@@ -252,7 +252,7 @@ const T0: f64 = 1000.0;
 
 /// The helm built from `bhv` text with the libraries of `dirs`, and its config warnings.
 fn build(bhv_text: &str, dirs: &[PathBuf]) -> Helm {
-    let (factory, _report) = helm_engine::mission::factory_for(dirs);
+    let (factory, _report) = helm_mission::factory_for(dirs);
     let (config, warnings) = HelmConfig::from_lines(&common::block_lines(&common::DRIVE_BLOCK));
     assert!(warnings.is_empty(), "{warnings:?}");
     let spec = bhv::reader::parse_str(bhv_text, Path::new("isolation.bhv")).expect("bhv parses");
@@ -753,7 +753,7 @@ fn library_built_against_another_api_version_is_refused() {
     let good = "libbhv_template.so";
     std::fs::copy(plugin_dir().join(good), d.join(good)).unwrap();
 
-    let (factory, report) = helm_engine::mission::factory_for(std::slice::from_ref(&d));
+    let (factory, report) = helm_mission::factory_for(std::slice::from_ref(&d));
     let report = report.join("\n");
     assert!(!factory.knows("BHV_FromTheFuture"), "{report}");
     assert!(factory.knows("BHV_Template"), "{report}");
@@ -815,7 +815,7 @@ fn library_built_against_another_api_version_is_refused_in_one_line() {
     };
     let d = scratch("abi-one-line");
     std::fs::copy(&future, d.join("libbhv_abi_future.so")).unwrap();
-    let (_, report) = helm_engine::mission::factory_for(std::slice::from_ref(&d));
+    let (_, report) = helm_mission::factory_for(std::slice::from_ref(&d));
     let line = report
         .iter()
         .find(|l| l.contains("libbhv_abi_future.so"))

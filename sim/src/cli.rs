@@ -34,7 +34,14 @@ pub struct SimArgs {
     /// Start perturbation, uniform in ± each amount: `x=5,y=5,heading=20` (m, m, deg).
     #[arg(long)]
     pub jitter: Option<Jitter>,
+    /// Exit 3 also when a behavior posted any error or the helm never drove (a
+    /// behavior panic always exits 3).
+    #[arg(long)]
+    pub strict: bool,
 }
+
+/// Exit code of a run that went wrong (see `helm --help`).
+pub const EXIT_RUN_WENT_WRONG: u8 = 3;
 
 fn positive_secs(s: &str) -> Result<f64, String> {
     s.trim()
@@ -56,18 +63,31 @@ fn progress(len: u64, template: &str) -> ProgressBar {
 /// Run `helm sim`; prints the summary and where the outputs are.
 pub fn main(args: &SimArgs) -> ExitCode {
     match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => ExitCode::from(code),
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(e.exit_code())
         }
     }
 }
 
-fn run(args: &SimArgs) -> Result<(), SimError> {
+/// 0, or [`EXIT_RUN_WENT_WRONG`] for a run with a behavior panic (with `strict`: any
+/// behavior error, or a helm that never drove).
+fn verdict(strict: bool, panics: usize, errors: usize, never_drove: bool) -> u8 {
+    if panics > 0 || (strict && (errors > 0 || never_drove)) {
+        EXIT_RUN_WENT_WRONG
+    } else {
+        0
+    }
+}
+
+fn run(args: &SimArgs) -> Result<u8, SimError> {
     let prep = Prepared::load(&args.mission, &args.bhv, args.scenario.as_deref())?;
     for line in &prep.library_report {
         tracing::info!("{line}");
+    }
+    for w in &prep.sim_warnings {
+        eprintln!("warning: {w}");
     }
     if args.runs > 1 {
         return monte_carlo(args, &prep);
@@ -75,7 +95,7 @@ fn run(args: &SimArgs) -> Result<(), SimError> {
     single(args, &prep)
 }
 
-fn single(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
+fn single(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
     let dir = output::out_dir(args.out.as_deref(), &prep.name)?;
     let alog = dir.join(format!("{}.alog", prep.name));
     let max = args.max_time.unwrap_or(prep.scenario.max_time);
@@ -109,10 +129,15 @@ fn single(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
     println!("picture: {}", picture.display());
     println!("log:     {}", alog.display());
     println!("summary: {}", summary_path.display());
-    Ok(())
+    Ok(verdict(
+        args.strict,
+        o.observer.behavior_panics.len(),
+        o.observer.behavior_errors.len(),
+        !o.drove,
+    ))
 }
 
-fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
+fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
     let dir = output::out_dir(
         args.out.as_deref(),
         &format!("{}-mc{}", prep.name, args.runs),
@@ -180,5 +205,10 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<(), SimError> {
     output::write(&picture, &svg)?;
     println!("picture: {}", picture.display());
     println!("table:   {}", csv_path.display());
-    Ok(())
+    let panics: usize = rows.iter().map(|r| r.behavior_panics).sum();
+    let errors: usize = rows.iter().map(|r| r.behavior_errors).sum();
+    if panics > 0 {
+        println!("PROBLEM: {panics} behavior panic(s) across the runs (runs.csv: behavior_panics)");
+    }
+    Ok(verdict(args.strict, panics, errors, !nominal.drove))
 }

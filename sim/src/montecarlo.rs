@@ -83,8 +83,12 @@ pub struct Row {
     pub iterations: u64,
     pub allstops: Vec<String>,
     pub behavior_errors: usize,
+    /// The behavior errors that were panics.
+    pub behavior_panics: usize,
     pub waypoints_reached: u64,
     pub start: StartShift,
+    pub end: vehicle_model::Nav,
+    pub helm_state: &'static str,
     /// Closest approach of the track to each labelled polygon and point that stayed put
     /// during the run (markers that move, e.g. a waypoint's next point, are left out).
     pub min_dist: BTreeMap<String, f64>,
@@ -188,8 +192,11 @@ pub fn run_all(
                     .map(|a| a.reason.clone())
                     .collect(),
                 behavior_errors: o.observer.behavior_errors.len(),
+                behavior_panics: o.observer.behavior_panics.len(),
                 waypoints_reached: o.observer.waypoints_reached,
                 start: shift,
+                end: o.end,
+                helm_state: o.helm_state,
                 min_dist: min_dists(&o),
                 track: thin(o.observer.track.points()),
             })
@@ -201,20 +208,29 @@ fn csv_field(s: &str) -> String {
     s.replace([',', '\n', '"'], " ")
 }
 
+/// A column name any CSV reader and dataframe takes: letters, digits and `_` only.
+fn csv_column(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect()
+}
+
 /// `runs.csv`: one row per run, fixed decimals (same runs, same bytes).
 pub fn csv(rows: &[Row]) -> String {
     let labels: BTreeSet<&String> = rows.iter().flat_map(|r| r.min_dist.keys()).collect();
     let mut s = String::from(
-        "run,seed,end_reason,sim_time_s,distance_m,iterations,allstops,behavior_errors,waypoints_reached,start_dx,start_dy,start_dheading",
+        "run,seed,end_reason,sim_time_s,distance_m,iterations,allstops,behavior_errors,\
+         behavior_panics,waypoints_reached,start_dx,start_dy,start_dheading,end_x,end_y,\
+         end_heading,end_speed,helm_state",
     );
     for l in &labels {
-        let _ = write!(s, ",min_dist_{}", csv_field(l));
+        let _ = write!(s, ",min_dist_{}", csv_column(l));
     }
     s.push('\n');
     for r in rows {
         let _ = write!(
             s,
-            "{},{},{},{:.2},{:.2},{},{},{},{},{:.3},{:.3},{:.3}",
+            "{},{},{},{:.2},{:.2},{},{},{},{},{},{:.3},{:.3},{:.3},{:.2},{:.2},{:.1},{:.2},{}",
             r.run,
             r.seed,
             csv_field(&r.end_reason),
@@ -223,10 +239,16 @@ pub fn csv(rows: &[Row]) -> String {
             r.iterations,
             csv_field(&r.allstops.join(";")),
             r.behavior_errors,
+            r.behavior_panics,
             r.waypoints_reached,
             r.start.dx,
             r.start.dy,
-            r.start.dheading
+            r.start.dheading,
+            r.end.x,
+            r.end.y,
+            r.end.heading,
+            r.end.speed,
+            r.helm_state
         );
         for l in &labels {
             match r.min_dist.get(*l) {

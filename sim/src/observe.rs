@@ -126,6 +126,8 @@ pub struct Observer {
     pub allstops: Vec<AllStop>,
     last_allstop: String,
     pub behavior_errors: Vec<String>,
+    /// The behavior errors that were panics (also in `behavior_errors`).
+    pub behavior_panics: Vec<String>,
     pub waypoints_reached: u64,
     pub when: Vec<When>,
     /// The first `[[end.when]]` condition that fired (its reason).
@@ -168,10 +170,15 @@ impl Observer {
                 }
             }
             ("BHV_ERROR", v) if self.behavior_errors.len() < LIST_CAP => {
-                self.behavior_errors.push(match v {
+                let text = match v {
                     Value::Str(s) => s.clone(),
                     Value::Num(n) => format!("{n}"),
-                });
+                };
+                // The helm's wording for a caught panic (runtime::fault callers).
+                if text.contains("behavior panicked") {
+                    self.behavior_panics.push(text.clone());
+                }
+                self.behavior_errors.push(text);
             }
             ("WPT_INDEX", v) => {
                 let n = match v {

@@ -23,6 +23,11 @@ pub struct Summary<'a> {
     pub start: Pose,
     pub end: Pose,
     pub helm_state: &'a str,
+    /// Whether the helm was ever in DRIVE.
+    pub drove: bool,
+    pub behavior_panics: &'a [String],
+    /// What went wrong, in plain words, worst first.
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug, Serialize)]
@@ -61,6 +66,9 @@ impl<'a> Summary<'a> {
             start: o.start.into(),
             end: o.end.into(),
             helm_state: o.helm_state,
+            drove: o.drove,
+            behavior_panics: &o.observer.behavior_panics,
+            warnings: o.warnings(),
         }
     }
 }
@@ -120,18 +128,24 @@ pub fn write(path: &Path, text: &str) -> Result<(), SimError> {
 
 /// The picture's title and subtitle.
 pub fn picture_titles(name: &str, o: &Outcome) -> (String, String) {
+    let mut sub = format!(
+        "helm {}, {} iterations, {} waypoint(s) reached, {} all-stop(s), {} behavior error(s)",
+        o.helm_state,
+        o.iterations,
+        o.observer.waypoints_reached,
+        o.observer.allstops.len(),
+        o.observer.behavior_errors.len()
+    );
+    // What went wrong leads: a picture of a parked or panicked run must say so.
+    for w in o.warnings().iter().rev() {
+        sub = format!("{}: {w}. {sub}", "PROBLEM");
+    }
     (
         format!(
             "{name}: {} after {:.1} s, {:.0} m",
             o.end_reason, o.sim_time_s, o.observer.track.distance
         ),
-        format!(
-            "{} helm iterations, {} waypoint(s) reached, {} all-stop(s), {} behavior error(s)",
-            o.iterations,
-            o.observer.waypoints_reached,
-            o.observer.allstops.len(),
-            o.observer.behavior_errors.len()
-        ),
+        sub,
     )
 }
 
@@ -167,14 +181,21 @@ pub fn terminal_summary(name: &str, o: &Outcome) -> String {
             o.observer.behavior_errors[0]
         )
     };
+    let problems: String = o
+        .warnings()
+        .iter()
+        .map(|w| format!("PROBLEM: {w}\n"))
+        .collect();
     format!(
-        "{name}: {} after {:.1} s simulated, {:.3} s wall ({speedup}), {} helm iterations\n  \
+        "{problems}{name}: {} after {:.1} s simulated, {:.3} s wall ({speedup}), {} helm iterations, \
+         helm {}\n  \
          distance {:.1} m, waypoints reached {}, end x={:.1} y={:.1} heading={:.0} speed={:.2}\n  \
          all-stops: {stops}\n  behavior errors: {errors}",
         o.end_reason,
         o.sim_time_s,
         o.wall_time_s,
         o.iterations,
+        o.helm_state,
         o.observer.track.distance,
         o.observer.waypoints_reached,
         o.end.x,

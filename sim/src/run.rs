@@ -18,10 +18,10 @@ use super::bus::{SimBus, HELM};
 use super::observe::Observer;
 use super::scenario::{Scenario, ScenarioError};
 use helm_engine::cycle::HelmCycle;
-use helm_engine::mission::HelmRecipe;
 use helm_engine::posting::Value;
 use helm_engine::Mail;
-use vehicle_model::{Drift, Kinematics, VehicleModel, SIM_NAME};
+use helm_mission::HelmRecipe;
+use vehicle_model::{Drift, Kinematics, Severity, SimBlock, VehicleModel, SIM_NAME};
 
 /// MOOS time of the start of every simulated run (fixed: logs are reproducible).
 pub const SIM_EPOCH: f64 = 1_700_000_000.0;
@@ -34,7 +34,7 @@ pub const POKE_NAME: &str = "uPokeDB";
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
     #[error("{0}")]
-    Mission(#[from] helm_engine::mission::MissionLoadError),
+    Mission(#[from] helm_mission::MissionLoadError),
     #[error("{0}")]
     Scenario(#[from] ScenarioError),
     #[error("{}: no mission file (.moos) in this folder", .0.display())]
@@ -43,12 +43,29 @@ pub enum SimError {
     ManyMissions(PathBuf, String),
     #[error("{problems}")]
     Malconfig { problems: String },
+    #[error("{problems}\n{count} problem(s) in the simulator block; nothing run")]
+    SimBlock { problems: String, count: usize },
     #[error("cannot write {}: {source}", path.display())]
     Write {
         path: PathBuf,
         #[source]
         source: std::io::Error,
     },
+}
+
+impl SimError {
+    /// The process exit code (see `helm --help`): 2 a mission file that cannot be read
+    /// as one (missing, unreadable, not text, a `.bhv`) or a folder without one mission, 1 a mission or scenario that is wrong, 4 an output
+    /// that cannot be written.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            SimError::Mission(_) => 2,
+            SimError::Scenario(ScenarioError::Read { .. }) => 2,
+            SimError::NoMission(_) | SimError::ManyMissions(..) => 2,
+            SimError::Write { .. } => 4,
+            _ => 1,
+        }
+    }
 }
 
 /// The mission file named by `path`: the file itself, or the one `.moos` in a folder.
@@ -91,6 +108,8 @@ pub struct Prepared {
     /// The vehicle at the start (mission block, then the scenario's overrides).
     pub vehicle: Kinematics,
     pub library_report: Vec<String>,
+    /// Unknown names in the simulator block (`file:line: ...`), ignored but shown.
+    pub sim_warnings: Vec<String>,
     community: String,
 }
 
@@ -127,6 +146,32 @@ pub struct Outcome {
     pub end: vehicle_model::Nav,
     pub log: Vec<Mail>,
     pub helm_state: &'static str,
+    /// Whether the helm was in DRIVE at any iteration (else it never steered).
+    pub drove: bool,
+}
+
+impl Outcome {
+    /// What the run did wrong, in plain words, worst first (empty: nothing).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        let panics = &self.observer.behavior_panics;
+        if !panics.is_empty() {
+            w.push(format!(
+                "{} behavior panic(s): the behavior was disabled and the helm all-stopped \
+                 (first: {})",
+                panics.len(),
+                panics[0]
+            ));
+        }
+        if !self.drove {
+            w.push(format!(
+                "the helm stayed in {}: MOOS_MANUAL_OVERRIDE was never false; set \
+                 start_in_drive = true or poke MOOS_MANUAL_OVERRIDE=false",
+                self.helm_state
+            ));
+        }
+        w
+    }
 }
 
 impl Prepared {
@@ -144,7 +189,7 @@ impl Prepared {
             Some(p) => Scenario::read(p)?,
             None => Scenario::beside(&dir)?,
         };
-        let loaded = helm_engine::mission::load(&mission, bhv, HELM_NAME)?;
+        let loaded = helm_mission::load(&mission, bhv, HELM_NAME)?;
         let library_report = loaded.library_report.clone();
         let (recipe, file) = loaded.into_recipe();
         // Problems found while reading and while building the behavior set.
@@ -159,7 +204,24 @@ impl Prepared {
         }
         let helm_tick = file.app_tick(HELM_NAME, 5.0);
         let sim_tick = file.app_tick(SIM_NAME, 10.0);
-        let mut vehicle = Kinematics::from_mission(&file);
+        let block = SimBlock::read(&file);
+        let errors: Vec<&str> = block
+            .problems_at_least(Severity::Error)
+            .map(|p| p.text.as_str())
+            .collect();
+        if !errors.is_empty() {
+            return Err(SimError::SimBlock {
+                problems: errors.join("\n"),
+                count: errors.len(),
+            });
+        }
+        let sim_warnings = block
+            .problems
+            .iter()
+            .filter(|p| p.severity == Severity::Warning)
+            .map(|p| p.text.clone())
+            .collect();
+        let mut vehicle = Kinematics::from_block(&block);
         let v = &scenario.vehicle;
         vehicle.x = v.x.unwrap_or(vehicle.x);
         vehicle.y = v.y.unwrap_or(vehicle.y);
@@ -180,6 +242,7 @@ impl Prepared {
             sim_tick,
             vehicle,
             library_report,
+            sim_warnings,
         })
     }
 
@@ -236,6 +299,7 @@ impl Prepared {
         let mut helm_in: Vec<Mail> = Vec::new();
         let mut next_progress = 1.0;
         let mut off;
+        let mut drove = helm.state() == helm_engine::HelmState::Drive;
         let reason = loop {
             let th = kh as f64 / self.helm_tick;
             let ts = ks as f64 / self.sim_tick;
@@ -264,9 +328,14 @@ impl Prepared {
             }
             if ts == off {
                 bus.fetch(SIM, &mut sim_in);
+                // A parked helm's all-stop (DESIRED_HEADING = 0) does not steer: under
+                // manual override the controller does not actuate the rudder.
+                let parked = helm.state() != helm_engine::HelmState::Drive;
                 for m in &sim_in {
                     if let Value::Num(v) = m.value {
-                        model.on_mail(&m.var, v);
+                        if !(parked && m.var == "DESIRED_HEADING") {
+                            model.on_mail(&m.var, v);
+                        }
                     }
                 }
                 model.step(off - last_sim);
@@ -285,6 +354,7 @@ impl Prepared {
                 bus.fetch(HELM, &mut helm_in);
                 cycle.mail(&mut helm, now, &helm_in);
                 cycle.iterate(&mut helm, &mut bus, now);
+                drove |= helm.state() == helm_engine::HelmState::Drive;
                 kh += 1;
             }
             bus.deliver();
@@ -313,6 +383,7 @@ impl Prepared {
             log: bus.record.take().unwrap_or_default(),
             observer: std::mem::take(&mut bus.observer),
             helm_state: helm.state().as_str(),
+            drove,
         })
     }
 }

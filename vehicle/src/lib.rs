@@ -11,7 +11,7 @@
 //! ```
 //! use moos_mission::mission::MissionFile;
 //! use vehicle_model::{Kinematics, VehicleModel};
-//! let text = "ProcessConfig = uSimMarine\n{\n  start_heading = 90\n}\n";
+//! let text = "ProcessConfig = uSimMarine\n{\n  start_pos = x=0, y=0, heading=90, speed=0\n}\n";
 //! let mission = MissionFile::parse(text, std::path::Path::new("doc.moos")).unwrap();
 //! let mut boat = Kinematics::from_mission(&mission);
 //! boat.on_mail("DESIRED_SPEED", 2.0);
@@ -22,6 +22,9 @@
 //! ```
 
 use moos_mission::mission::MissionFile;
+
+mod block;
+pub use block::{BlockProblem, Severity, SimBlock, SIM_BLOCKS};
 
 /// The simulator's MOOS name and config block.
 pub const SIM_NAME: &str = "uSimMarine";
@@ -92,32 +95,30 @@ pub struct Kinematics {
     pub depth_rate: f64,
 }
 
-fn block_f64(mission: &MissionFile, name: &str) -> Option<f64> {
-    mission
-        .config_value(SIM_NAME, name)
-        .and_then(|v| moos_mission::mission::config_f64(&v))
-        .filter(|v| v.is_finite())
-}
-
 impl Kinematics {
-    /// Start state and parameters from the `uSimMarine` block (`start_x`, `start_y`,
-    /// `start_heading`, `start_speed`, `start_depth`: default 0; `speed_lag` 1 s,
-    /// `turn_rate` 20 deg/s, `depth_rate` 0.5 m/s).
+    /// Start state and parameters from the simulator block (`uSimMarine`, else
+    /// `uSimMarineV22`; see [`SimBlock::read`] for the forms read). Defaults: start pose
+    /// 0, `speed_lag` 1 s, `turn_rate` 20 deg/s, `depth_rate` 0.5 m/s. The block's
+    /// problems are dropped here: read them with [`SimBlock::read`] and
+    /// [`Kinematics::from_block`].
     pub fn from_mission(mission: &MissionFile) -> Kinematics {
-        let get = |n: &str, d: f64| block_f64(mission, n).unwrap_or(d);
-        let positive = |n: &str, d: f64| block_f64(mission, n).filter(|v| *v > 0.0).unwrap_or(d);
+        Kinematics::from_block(&SimBlock::read(mission))
+    }
+
+    /// The model a read block describes.
+    pub fn from_block(b: &SimBlock) -> Kinematics {
         Kinematics {
-            x: get("start_x", 0.0),
-            y: get("start_y", 0.0),
-            heading: get("start_heading", 0.0).rem_euclid(360.0),
-            speed: get("start_speed", 0.0).max(0.0),
-            depth: get("start_depth", 0.0),
+            x: b.x.unwrap_or(0.0),
+            y: b.y.unwrap_or(0.0),
+            heading: b.heading.unwrap_or(0.0).rem_euclid(360.0),
+            speed: b.speed.unwrap_or(0.0).max(0.0),
+            depth: b.depth.unwrap_or(0.0),
             desired_heading: None,
             desired_speed: None,
             desired_depth: None,
-            speed_lag: positive("speed_lag", 1.0),
-            turn_rate: positive("turn_rate", 20.0),
-            depth_rate: positive("depth_rate", 0.5),
+            speed_lag: b.speed_lag.unwrap_or(1.0),
+            turn_rate: b.turn_rate.unwrap_or(20.0),
+            depth_rate: b.depth_rate.unwrap_or(0.5),
         }
     }
 }

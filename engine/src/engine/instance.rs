@@ -28,8 +28,11 @@ pub(crate) fn make_instance(
         } else {
             factory.searched_dirs.join(", ")
         };
+        let hint = super::explain::nearest_type(factory, &bs.type_name)
+            .map(|n| format!(" (did you mean {n}?)"))
+            .unwrap_or_default();
         return Err(vec![format!(
-            "{where_}: unknown behavior type {} (directories searched: {dirs})",
+            "{where_}: unknown behavior type {}{hint} (directories searched: {dirs})",
             bs.type_name
         )]);
     };
@@ -49,10 +52,17 @@ pub(crate) fn make_instance(
         match apply_config_line(&mut inst, env, ib, &line.param, &line.value) {
             Ok(true) => {}
             Ok(false) => errors.push(format!(
-                "{}:{}: bad behavior parameter: {}",
+                "{}:{}: {}",
                 bs.file.display(),
                 line.line,
-                line.raw.trim()
+                super::explain::refused_line(
+                    factory,
+                    env,
+                    ib,
+                    &bs.type_name,
+                    &line.param,
+                    &line.value
+                )
             )),
             Err(panic) => errors.push(format!(
                 "{}:{}: behavior panicked on this parameter: {} ({panic})",

@@ -1,21 +1,40 @@
-//! Reading a mission: the `.moos` file's pHelmIvP block and globals, the `.bhv` files,
-//! the behavior libraries (helm.md §1-§2, §5).
+//! `helm-mission`: reading a mission as pHelmIvP does: the `.moos` file's pHelmIvP block
+//! and globals, the `.bhv` files, the behavior libraries (helm.md §1-§2, §5), into a
+//! built [`helm_engine::Helm`].
+//!
+//! It depends on `helm-engine`, `moos-mission` (the file reader) and `bhv`; it must not
+//! depend on the MOOS client or DB, the app or the simulator (all three use it).
 //!
 //! Every problem is collected as one readable line naming the file and line; any
 //! problem makes the helm MALCONFIG (it never drives), as the real helm does.
+//!
+//! ```
+//! let moos = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/alpha/alpha.moos");
+//! let loaded = helm_mission::load(&moos, &[], "pHelmIvP").unwrap();
+//! let (helm, _mission) = loaded.into_helm();
+//! assert!(helm.config_warnings().is_empty());
+//! assert!(helm.behavior_names().contains(&"waypt_survey".to_string()));
+//! ```
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BlockLine, HelmConfig};
-use crate::engine::Helm;
-use crate::factory::BehaviorFactory;
-use crate::loader::{load_dirs, LoadEvent};
+use helm_engine::config::{BlockLine, HelmConfig};
+use helm_engine::factory::BehaviorFactory;
+use helm_engine::loader::{load_dirs, LoadEvent};
+use helm_engine::Helm;
 
 /// A fatal error before the helm exists (the mission file itself cannot be read).
 #[derive(Debug, thiserror::Error)]
 pub enum MissionLoadError {
     #[error("{0}")]
     Mission(#[from] moos_mission::mission::MissionError),
+    #[error(
+        "{}: this is a behavior file (.bhv); give the mission file (.moos) that names it \
+         (`behaviors = {}` in its pHelmIvP block), or a folder holding one",
+        .0.display(),
+        .0.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+    )]
+    BhvAsMission(PathBuf),
 }
 
 /// Everything read for one helm.
@@ -107,6 +126,12 @@ pub fn load(
     extra_bhv: &[PathBuf],
     app_name: &str,
 ) -> Result<LoadedMission, MissionLoadError> {
+    if mission
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("bhv"))
+    {
+        return Err(MissionLoadError::BhvAsMission(mission.to_path_buf()));
+    }
     let file = moos_mission::mission::MissionFile::read(mission)?;
     let shown = mission.display().to_string();
     let dir = mission.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -148,7 +173,7 @@ pub fn load(
     // helm.md §2.2: globals the helm reads whose bad values are config warnings (an app
     // would otherwise fall back to a default without a word).
     if let Some(v) = file.global("TERM_REPORTING") {
-        if crate::config::parse_bool(&v).is_none() {
+        if helm_engine::config::parse_bool(&v).is_none() {
             warnings.push(format!(
                 "{shown}: TERM_REPORTING = {v}: not a boolean (true or false)"
             ));
@@ -170,8 +195,27 @@ pub fn load(
     }
 
     let mut bhv_files: Vec<PathBuf> = Vec::new();
-    for p in config.behaviors.iter().chain(extra_bhv.iter()) {
+    for (i, p) in config.behaviors.iter().chain(extra_bhv.iter()).enumerate() {
         let r = resolve(&dir, p);
+        if !r.exists() {
+            // Name the line that asked for it: the user edits that line, not the file.
+            let asked = if i < config.behaviors.len() {
+                lines
+                    .iter()
+                    .find(|l| {
+                        l.name.eq_ignore_ascii_case("behaviors")
+                            && Path::new(l.value.trim()) == p.as_path()
+                    })
+                    .map_or_else(
+                        || format!("{shown}: behaviors = {}", p.display()),
+                        |l| format!("{shown}:{}: behaviors = {}", l.line, l.value.trim()),
+                    )
+            } else {
+                format!("the command line: {}", p.display())
+            };
+            warnings.push(format!("{asked}: Could not find File: {}", r.display()));
+            continue;
+        }
         if bhv_files.contains(&r) {
             warnings.push(format!(
                 "{shown}: behavior file named twice: {}",
