@@ -58,6 +58,7 @@
 
 pub mod abi_v1;
 pub mod behavior;
+pub mod contact;
 pub mod context;
 pub mod flag;
 pub mod function;

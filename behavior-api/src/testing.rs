@@ -168,8 +168,13 @@ impl HelmContext for MockHelm {
     fn is_known(&self, var: RStr<'_>) -> bool {
         self.nums.contains_key(var.as_str()) || self.strs.contains_key(var.as_str())
     }
-    fn string_deltas(&self, _var: RStr<'_>) -> RVec<RString> {
-        RVec::new()
+    // Every string set in the mock counts as this iteration's mail.
+    fn string_deltas(&self, var: RStr<'_>) -> RVec<RString> {
+        self.strs
+            .get(var.as_str())
+            .map(|s| RString::from(s.as_str()))
+            .into_iter()
+            .collect()
     }
     fn double_deltas(&self, _var: RStr<'_>) -> RVec<f64> {
         RVec::new()

@@ -9,18 +9,22 @@ use behavior_api::BehaviorBox;
 /// type we do not have yet from a case whose type we have but which failed to load; a
 /// test checks the list against the libraries a build bundles.
 pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
+    "BHV_AvoidCollision",
     "BHV_BearingLine",
     "BHV_ConstantDepth",
     "BHV_ConstantHeading",
     "BHV_ConstantSpeed",
+    "BHV_CutRange",
     "BHV_GoToDepth",
     "BHV_HSLine",
     "BHV_LegRun",
     "BHV_MaxDepth",
     "BHV_MaxSpeed",
     "BHV_PeriodicSurface",
+    "BHV_Shadow",
     "BHV_StationKeep",
     "BHV_Template",
+    "BHV_Trail",
     "BHV_ZigZag",
 ];
 

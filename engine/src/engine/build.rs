@@ -62,6 +62,23 @@ impl Helm {
             };
             let mut inst = inst;
             let where_ = format!("{}:{}", bs.file.display(), bs.line);
+            // A template's facts, for a helm-start hook that depends on them (contact
+            // behaviors' BCM_ALERT_REQUEST); a type that does not know these
+            // parameters refuses them, which is ignored.
+            if bs.templating != Templating::Disallow {
+                let t = if bs.templating == Templating::Spawn {
+                    "spawn"
+                } else {
+                    "clone"
+                };
+                let var = bs.updates_var.clone().unwrap_or_default();
+                for (p, v) in [("helm_templating", t), ("helm_updates", var.as_str())] {
+                    let (b, core) = (&mut inst.bhv, &mut inst.core);
+                    let _ = crate::runtime::with_ctx_pub(core, &env, &ib, |ctx| {
+                        b.set_param(ctx, p.into(), v.into())
+                    });
+                }
+            }
             let hook = {
                 let (b, core) = (&mut inst.bhv, &mut inst.core);
                 crate::runtime::with_ctx_pub(core, &env, &ib, |ctx| b.on_helm_start(ctx))
@@ -136,7 +153,8 @@ impl Helm {
             last_posted: Default::default(),
             statevars: Vec::new(),
             completed_pending_last: None,
-            completed_count_last: None,
+            // The reference posts the count only when it changes from its start value 0.
+            completed_count_last: Some(0),
             life_events: Vec::new(),
             turn_samples: Vec::new(),
             functions: Vec::new(),

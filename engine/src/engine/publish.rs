@@ -4,6 +4,7 @@ use super::iterate::typed;
 use super::Helm;
 use crate::posting::Value;
 use crate::runtime::RunState;
+use behavior_api::contact::POST_MORTEM_MACRO;
 
 impl Helm {
     /// §8.2-§8.4, in order.
@@ -96,8 +97,21 @@ impl Helm {
             let done = b.core.state == RunState::Completed;
             if done {
                 report.completed(&b.core.name, now);
+                // A behavior may say why it ended (contact behaviors: range and
+                // bearing), through the post-mortem macro.
+                let pm = b
+                    .bhv
+                    .expand_macros(POST_MORTEM_MACRO.into())
+                    .into_result()
+                    .map(String::from)
+                    .unwrap_or_default();
+                let pm = if pm.is_empty() || pm == POST_MORTEM_MACRO {
+                    String::new()
+                } else {
+                    format!(", post_mortem={pm}")
+                };
                 dead.push(format!(
-                    "bname={}, btype={}, event=death",
+                    "bname={}, btype={}, event=death{pm}",
                     b.core.name, b.core.type_name
                 ));
             }

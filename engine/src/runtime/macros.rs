@@ -27,7 +27,7 @@ pub fn expand_common(core: &mut BehaviorCore, ib: &InfoBuffer, text: &str) -> St
     replace_both(&mut s, "BHVNAME", &core.name.clone());
     replace_both(&mut s, "BHVTYPE", &core.type_name.clone());
     replace_both(&mut s, "PWT", &fmt3(core.pwt));
-    replace_both(&mut s, "CONTACT", "");
+    replace_both(&mut s, "CONTACT", &core.contact.clone());
     replace_both(&mut s, "UTC", &fmt3(ib.curr_time()));
     let [x, y, h, v] = core.platform;
     replace_both(&mut s, "OSX", &fmt3(x));

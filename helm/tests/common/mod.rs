@@ -28,6 +28,7 @@ pub const SHIPPED_PLUGINS: &[&str] = &[
     "bhv-visuals",
     "bhv-depth",
     "bhv-survey",
+    "bhv-contact",
 ];
 
 /// The root of the workspace (the repo).

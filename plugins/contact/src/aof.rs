@@ -1,0 +1,142 @@
+//! The analytical objective functions of the contact behaviors, evaluated on the
+//! decision grid by the reflector (ivp-solver.md §8).
+
+use behavior_api::contacts::CpaEngine;
+use behavior_api::ivp::{Aof, Domain};
+
+/// AOF_AvoidCollision (contacts-appcast.md §3.5): utility of the CPA a candidate
+/// course/speed gives within `tol` seconds.
+pub struct AvoidAof {
+    pub engine: CpaEngine,
+    pub tol: f64,
+    /// Collision distance (utility 0 below).
+    pub cd: f64,
+    /// All-clear distance (utility 100 above).
+    pub acd: f64,
+}
+
+impl AvoidAof {
+    /// Utility of a CPA distance: 0 below `cd`, 100 above `acd`, else
+    /// `25 + 75·(d − cd)/(acd − cd)` (the jump from 0 to 25 at `cd` is the reference's).
+    pub fn metric(&self, d: f64) -> f64 {
+        if d < self.cd {
+            0.0
+        } else if d > self.acd {
+            100.0
+        } else {
+            25.0 + 75.0 * (d - self.cd) / (self.acd - self.cd)
+        }
+    }
+}
+
+impl Aof for AvoidAof {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        let c = domain.value(0, index[0]);
+        let v = domain.value(1, index[1]);
+        self.metric(self.engine.cpa(c, v, self.tol))
+    }
+}
+
+/// AOF_CutRangeCPA (behaviors-contacts.md §2.4): a blend of the rate of closure and the
+/// CPA as a fraction of the current range, weighted by `patience`.
+pub struct CutRangeAof {
+    engine: CpaEngine,
+    tol: f64,
+    dist: f64,
+    patience: f64,
+    rmin: f64,
+    rr: f64,
+}
+
+impl CutRangeAof {
+    /// `None` (the reference's init failure) when `tol < 1` or ownship is on the
+    /// contact. `vmax` is the speed domain's high value.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        cn: (f64, f64, f64, f64),
+        os: (f64, f64),
+        tol: f64,
+        patience: f64,
+        vmax: f64,
+    ) -> Option<Self> {
+        let engine = CpaEngine::new(cn.0, cn.1, cn.2, cn.3, os.0, os.1);
+        let dist = (os.0 - cn.0).hypot(os.1 - cn.1);
+        if tol < 1.0 || dist == 0.0 {
+            return None;
+        }
+        let (rmin, rmax) = engine.min_max_roc(vmax);
+        Some(CutRangeAof {
+            engine,
+            tol,
+            dist,
+            patience,
+            rmin,
+            rr: rmax - rmin,
+        })
+    }
+
+    pub fn utility(&self, c: f64, s: f64) -> f64 {
+        let cpa = self.engine.cpa(c, s, self.tol);
+        let metric = if cpa < 0.0 {
+            100.0
+        } else if cpa > self.dist {
+            0.0
+        } else {
+            100.0 - 100.0 * cpa / self.dist
+        };
+        let nroc = if self.rr > 0.0 {
+            100.0 * (self.engine.roc(c, s) - self.rmin) / self.rr
+        } else {
+            0.0
+        };
+        let p = self.patience / 100.0;
+        (1.0 - p) * nroc + p * metric
+    }
+}
+
+impl Aof for CutRangeAof {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        self.utility(domain.value(0, index[0]), domain.value(1, index[1]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn avoid_metric_by_hand() {
+        let a = AvoidAof {
+            engine: CpaEngine::new(0.0, 100.0, 180.0, 2.0, 0.0, 0.0),
+            tol: 120.0,
+            cd: 8.0,
+            acd: 25.0,
+        };
+        assert_eq!(a.metric(7.9), 0.0);
+        assert_eq!(a.metric(8.0), 25.0);
+        // Half way between 8 and 25: 25 + 75 / 2.
+        assert_eq!(a.metric(16.5), 62.5);
+        assert_eq!(a.metric(25.1), 100.0);
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        // Head-on north at 2 m/s: CPA 0 → 0; heading east at 2 m/s the contact passes
+        // abeam; it comes within hypot(20·2... ) — simply: far better than head-on.
+        assert_eq!(a.eval(&d, &[0, 20]), 0.0);
+        assert!(a.eval(&d, &[90, 40]) > 90.0);
+    }
+
+    #[test]
+    fn cutrange_utility_by_hand() {
+        // Contact 100 m north, still; ownship at the origin, vmax 4.
+        let a = CutRangeAof::new((0.0, 100.0, 0.0, 0.0), (0.0, 0.0), 15.0, 0.0, 4.0).unwrap();
+        // Patience 0: pure normalised rate of closure, 100 heading at it at full speed,
+        // 0 heading away at full speed, 50 when stopped (roc 0 in [-4, 4]).
+        assert!((a.utility(0.0, 4.0) - 100.0).abs() < 1e-9);
+        assert!(a.utility(180.0, 4.0).abs() < 1e-9);
+        assert!((a.utility(0.0, 0.0) - 50.0).abs() < 1e-9);
+        let p = CutRangeAof::new((0.0, 100.0, 0.0, 0.0), (0.0, 0.0), 15.0, 100.0, 4.0).unwrap();
+        // Patience 100: metric only; 15 s at 4 m/s closes 60 m: CPA 40 → 100 − 40.
+        assert!((p.utility(0.0, 4.0) - 60.0).abs() < 1e-9);
+        assert!(CutRangeAof::new((0.0, 0.0, 0.0, 0.0), (0.0, 0.0), 15.0, 0.0, 4.0).is_none());
+        assert!(CutRangeAof::new((0.0, 9.0, 0.0, 0.0), (0.0, 0.0), 0.5, 0.0, 4.0).is_none());
+    }
+}
