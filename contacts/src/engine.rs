@@ -65,20 +65,19 @@ fn unit(h_deg: f64) -> (f64, f64) {
 /// The CPA of two straight-line motions: `p` = ownship − contact, `w` = relative
 /// velocity, `tol` = horizon. Not closing (or no relative motion) → current range at 0 s.
 fn cpa_of(px: f64, py: f64, wx: f64, wy: f64, tol: f64) -> Cpa {
-    let rng = px.hypot(py);
+    // The current range only when not closing (computed lazily: hypot is costly, and an
+    // objective function asks this for every candidate heading and speed).
+    let now = || Cpa {
+        dist: px.hypot(py),
+        time: 0.0,
+    };
     let ww = wx * wx + wy * wy;
     if ww == 0.0 {
-        return Cpa {
-            dist: rng,
-            time: 0.0,
-        };
+        return now();
     }
     let t = -(px * wx + py * wy) / ww;
     if t.is_nan() || t <= 0.0 {
-        return Cpa {
-            dist: rng,
-            time: 0.0,
-        };
+        return now();
     }
     let t = if t > tol { tol } else { t };
     let (dx, dy) = (px + wx * t, py + wy * t);
@@ -142,6 +141,19 @@ fn fold(a: f64, b: f64) -> f64 {
 }
 
 /// The integer degree a candidate heading is looked up by (⌊h⌋ of h in [0, 360)).
+/// `unit(d)` for an integer degree 0..=359, from a table: a behavior's objective function
+/// asks for the same 360 headings tens of thousands of times per iteration, and the
+/// table holds exactly what `unit` computes.
+fn unit_of_degree(d: f64) -> (f64, f64) {
+    static TABLE: std::sync::OnceLock<[(f64, f64); 360]> = std::sync::OnceLock::new();
+    let table = TABLE.get_or_init(|| std::array::from_fn(|i| unit(i as f64)));
+    // deg_index gives an integer in 0..=359; anything else is computed.
+    match table.get(d as usize) {
+        Some(&u) if d == (d as usize) as f64 => u,
+        _ => unit(d),
+    }
+}
+
 fn deg_index(h: f64) -> f64 {
     let h = angle360(h);
     if h.is_finite() {
@@ -290,7 +302,7 @@ impl CpaEngine {
 
     /// Closest approach and the time to it within the horizon `tol`.
     pub fn cpa_time(&self, h: f64, v: f64, tol: f64) -> Cpa {
-        let (s, c) = unit(deg_index(h));
+        let (s, c) = unit_of_degree(deg_index(h));
         let v = v.max(0.0);
         cpa_of(
             self.osx - self.cnx,

@@ -31,6 +31,9 @@ pub struct Reflector<'a> {
     warnings: String,
 }
 
+/// Boxes of up to this many dimensions are fitted without heap allocation.
+const FIT_DIMS: usize = 4;
+
 impl<'a> Reflector<'a> {
     pub fn new(domain: &Domain, aof: &'a dyn Aof) -> Self {
         Reflector {
@@ -166,42 +169,108 @@ impl<'a> Reflector<'a> {
         let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
         let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
         let total: usize = counts.iter().map(|&c| c as usize).product();
-        // Tiles with dimension 0 varying fastest; the reference stores them reversed.
-        let mut tiles: Vec<Vec<(u32, u32)>> = Vec::with_capacity(total);
-        let mut coord = vec![0u32; n];
-        for _ in 0..total {
-            tiles.push(
-                (0..n)
-                    .map(|d| {
-                        (
-                            coord[d] * size[d],
-                            ((coord[d] + 1) * size[d]).min(pts[d]) - 1,
-                        )
-                    })
-                    .collect(),
-            );
-            for d in 0..n {
-                coord[d] += 1;
-                if coord[d] < counts[d] {
-                    break;
-                }
-                coord[d] = 0;
-            }
-        }
+        // Tiles with dimension 0 varying fastest; the reference stores them reversed, so
+        // tile i (dimension 0 fastest) is visited from the last to the first. Each tile is
+        // computed in place: no per-tile allocation (this runs for thousands of pieces per
+        // behavior per iteration).
         self.bounds.clear();
         self.weights.clear();
-        for t in tiles.iter().rev() {
-            for &(lo, hi) in t {
+        self.bounds.reserve(total * 2 * n);
+        self.weights.reserve(total * (n + 1));
+        let mut tile = vec![(0u32, 0u32); n];
+        let mut w = vec![0.0; n + 1];
+        for i in (0..total).rev() {
+            let mut rest = i;
+            for d in 0..n {
+                let c = (rest % counts[d] as usize) as u32;
+                rest /= counts[d] as usize;
+                tile[d] = (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1);
+            }
+            for &(lo, hi) in &tile {
                 self.bounds.push(lo as i32);
                 self.bounds.push(hi as i32);
             }
-            let w = self.fit(t);
+            self.fit_into(&tile, &mut w);
             self.weights.extend_from_slice(&w);
         }
         total
     }
 
-    /// Degree-1 fit of one box (spec §8 step 3).
+    /// Degree-1 fit of one box (spec §8 step 3) into `w` (n slopes, then the intercept).
+    /// Up to [`FIT_DIMS`] dimensions the corners live on the stack.
+    fn fit_into(&self, b: &[(u32, u32)], w: &mut [f64]) {
+        let n = b.len();
+        if n > FIT_DIMS {
+            w.copy_from_slice(&self.fit(b));
+            return;
+        }
+        let ncorner = 1usize << n;
+        let mut points = [[0u32; FIT_DIMS]; (1 << FIT_DIMS) + 1];
+        let mut vals = [0.0f64; (1 << FIT_DIMS) + 1];
+        for mask in 0..ncorner {
+            for d in 0..n {
+                points[mask][d] = if mask & (1 << d) != 0 { b[d].1 } else { b[d].0 };
+            }
+            vals[mask] = self.aof.eval(&self.domain, &points[mask][..n]);
+        }
+        let mut m = ncorner;
+        for x in w.iter_mut() {
+            *x = 0.0;
+        }
+        for d in 0..n {
+            let width = f64::from(b[d].1 - b[d].0);
+            if width == 0.0 {
+                continue;
+            }
+            let mut sum = 0.0;
+            let mut cnt = 0.0;
+            for mask in 0..ncorner {
+                if mask & (1 << d) == 0 {
+                    sum += vals[mask | (1 << d)] - vals[mask];
+                    cnt += 1.0;
+                }
+            }
+            w[d] = (sum / cnt) / width;
+        }
+        if b.iter().any(|&(lo, hi)| hi - lo + 1 > 2) {
+            for d in 0..n {
+                points[m][d] = b[d].0 + (b[d].1 - b[d].0) / 2;
+            }
+            vals[m] = self.aof.eval(&self.domain, &points[m][..n]);
+            m += 1;
+        }
+        let plane = |w: &[f64], p: &[u32]| -> f64 {
+            let mut acc = 0.0;
+            for d in 0..n {
+                acc += w[d] * f64::from(p[d]);
+            }
+            acc
+        };
+        let mut isum = 0.0;
+        for k in 0..m {
+            isum += vals[k] - plane(w, &points[k]);
+        }
+        let mut icpt = isum / m as f64;
+        if self.strict_range {
+            let vmin = vals[..m].iter().copied().fold(f64::INFINITY, f64::min);
+            let vmax = vals[..m].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let (mut pmin, mut pmax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for p in &points[..m] {
+                let v = plane(w, p) + icpt;
+                pmin = pmin.min(v);
+                pmax = pmax.max(v);
+            }
+            if pmax > vmax {
+                icpt -= pmax - vmax;
+            } else if pmin < vmin {
+                icpt += vmin - pmin;
+            }
+        }
+        w[n] = icpt;
+    }
+
+    /// Degree-1 fit of one box of any dimension (spec §8 step 3); [`Self::fit_into`] is
+    /// the same arithmetic with the corners on the stack.
     fn fit(&self, b: &[(u32, u32)]) -> Vec<f64> {
         let n = b.len();
         let ncorner = 1usize << n;
