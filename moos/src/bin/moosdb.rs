@@ -70,6 +70,11 @@ struct Args {
     /// were waiting for it [mission StallTimeout, default 5].
     #[arg(long = "stall_timeout", value_name = "SECONDS")]
     stall_timeout: Option<f64>,
+    /// A client whose socket accepted no bytes for this many seconds while some were
+    /// waiting holds no publisher back until it takes bytes again; its own queue grows
+    /// instead, up to half the cap [mission HoldLimit, default 0.1].
+    #[arg(long = "hold_limit", value_name = "SECONDS")]
+    hold_limit: Option<f64>,
     /// Consolidation delays returned in timing echoes: `name:ms,pattern:ms,...`
     /// (a bare number means `*`). Clients sleep that long after each send.
     #[arg(long, value_name = "LIST")]
@@ -161,6 +166,13 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
         cfg.stall_timeout = Duration::from_secs_f64(t);
+    }
+    if let Some(t) = args.hold_limit {
+        if !(t > 0.0 && t.is_finite()) {
+            eprintln!("moosdb: --hold_limit must be a positive number of seconds");
+            return ExitCode::from(2);
+        }
+        cfg.hold_limit = Duration::from_secs_f64(t);
     }
     if let Some(mb) = args.max_queue_mb {
         match mib_to_bytes(mb) {

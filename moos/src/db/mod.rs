@@ -41,9 +41,12 @@
 //! | `stalled=<name>,reason=accepted no bytes for <s> s` | posted just before `disconnected=`: its socket took nothing for `stall_timeout` |
 //! | `stalled=<name>,reason=sent nothing for <s> s` | posted just before `disconnected=`: silent for `client_timeout` |
 
+mod link;
 mod outbox;
 mod server;
 mod state;
+
+pub(crate) use link::Link;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -74,6 +77,10 @@ pub struct DbConfig {
     /// Cut off a client whose socket accepted no bytes for this long while some were
     /// waiting (mission `StallTimeout`, seconds).
     pub stall_timeout: Duration,
+    /// A client whose socket accepted no bytes for this long while some were waiting
+    /// holds no publisher back any more, until it takes bytes again (mission
+    /// `HoldLimit`, seconds).
+    pub hold_limit: Duration,
     /// Cap on the bytes held and queued for all clients together (mission `MaxQueueMB`,
     /// MiB). Publishers are held back before it is reached; nothing is dropped.
     pub max_queue_bytes: usize,
@@ -98,6 +105,7 @@ impl Default for DbConfig {
             time_warp: 1.0,
             client_timeout: Duration::from_secs(5),
             stall_timeout: Duration::from_secs(5),
+            hold_limit: DEFAULT_HOLD_LIMIT,
             max_queue_bytes: 64 * 1024 * 1024,
             max_packet: crate::wire::DEFAULT_MAX_PACKET,
             handshake_timeout: Duration::from_secs(5),
@@ -136,6 +144,11 @@ impl DbConfig {
                 self.stall_timeout = Duration::from_secs_f64(t);
             }
         }
+        if let Some(t) = m.global_f64("HoldLimit") {
+            if t > 0.0 && t.is_finite() {
+                self.hold_limit = Duration::from_secs_f64(t);
+            }
+        }
         if let Some(mb) = m.global_f64("MaxQueueMB") {
             if let Some(b) = mib_to_bytes(mb) {
                 self.max_queue_bytes = b;
@@ -143,6 +156,10 @@ impl DbConfig {
         }
     }
 }
+
+/// Default [`DbConfig::hold_limit`]: a stalled subscriber may hold the publishers back
+/// this long at most, so the longest gap it causes others stays well under 250 ms.
+pub const DEFAULT_HOLD_LIMIT: Duration = Duration::from_millis(100);
 
 /// `mb` MiB in bytes, if it is a usable cap (at least 1 MiB).
 pub fn mib_to_bytes(mb: f64) -> Option<usize> {
@@ -179,11 +196,11 @@ pub struct DbStats {
 pub(crate) struct Inner {
     state: Mutex<State>,
     cfg: DbConfig,
-    /// Bytes queued for all clients (kept by the outboxes).
+    /// Bytes the DB holds for all clients: queues (kept by the outboxes), incomplete
+    /// packets (`link::ReadShare`) and the values table (the state).
     total: Arc<AtomicUsize>,
-    /// Bytes buffered in incomplete packets, all connections together (see
-    /// `server::PartialShare`).
-    partial: AtomicUsize,
+    /// Bytes reserved for incomplete messages longer than a piece (`link::ReadShare`).
+    big: AtomicUsize,
     stop: AtomicBool,
     next_conn: AtomicU64,
 }
@@ -216,18 +233,20 @@ impl Db {
         listener.set_nonblocking(true)?;
         let hostname = cfg.hostname.clone().unwrap_or_else(hostname);
         let now = crate::time::local_time(cfg.time_warp);
+        let total = Arc::new(AtomicUsize::new(0));
         let state = State::new(
             &cfg.community,
             &hostname,
             &cfg.response,
-            cfg.max_queue_bytes,
+            (cfg.max_queue_bytes, total.clone()),
+            cfg.client_timeout,
             now,
         );
         let inner = Arc::new(Inner {
             state: Mutex::new(state),
             cfg,
-            total: Arc::new(AtomicUsize::new(0)),
-            partial: AtomicUsize::new(0),
+            total,
+            big: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
             next_conn: AtomicU64::new(1),
         });
@@ -262,6 +281,12 @@ impl Db {
     /// Bytes currently held or queued for all clients.
     pub fn queued_bytes(&self) -> usize {
         self.inner.lock().queued_bytes()
+    }
+
+    /// Every byte the DB counts against its cap (queues, incomplete packets, values
+    /// table; the queues to within 64 KiB per client).
+    pub fn held_bytes(&self) -> usize {
+        self.inner.total.load(Ordering::Relaxed)
     }
 
     /// Bytes held or queued for one client (`None` if not connected).

@@ -99,6 +99,9 @@ pub(crate) struct Marks {
     pub low: usize,
     /// Cap on the bytes queued for all clients together.
     pub total_cap: usize,
+    /// A stalled client (see [`Outbox::set_stalled`]) is cut off when its queue reaches
+    /// this, or the DB-wide cap while its queue is past `high`.
+    pub stalled_cap: usize,
 }
 
 struct Contrib {
@@ -122,6 +125,8 @@ struct OutQ {
     counted: usize,
     /// Publishers this client holds back.
     holding: Vec<Arc<Gate>>,
+    /// Its socket accepted nothing for the hold limit: it holds no one back.
+    stalled: bool,
     low: usize,
     /// Queue size at which more publishers are held back (0: at the high-water mark).
     next_step: usize,
@@ -143,6 +148,7 @@ impl OutQ {
             extra: 0,
             counted: 0,
             holding: Vec::new(),
+            stalled: false,
             low: 0,
             next_step: 0,
             contrib: Vec::new(),
@@ -188,7 +194,7 @@ impl OutQ {
     /// recent contributors not yet held; all of them if the DB-wide cap is reached.
     fn regulate(&mut self, m: Marks, total: &AtomicUsize) {
         let q = self.queued();
-        if q < m.high {
+        if q < m.high || self.stalled {
             return;
         }
         let total = total.load(Ordering::Relaxed);
@@ -235,6 +241,15 @@ impl OutQ {
         self.last_contrib = 0;
     }
 
+    /// A stalled client whose queue has reached its cap (or the DB-wide one) must go.
+    fn over_cap(&self, m: Marks, total: &AtomicUsize) -> bool {
+        if !self.stalled {
+            return false;
+        }
+        let q = self.queued();
+        q >= m.stalled_cap || (q >= m.high && total.load(Ordering::Relaxed) >= m.total_cap)
+    }
+
     fn release_if_drained(&mut self) {
         if !self.holding.is_empty() && self.queued() < self.low {
             self.release_all();
@@ -254,6 +269,17 @@ impl OutQ {
         }
         self.next_step = 0;
     }
+}
+
+/// What [`Outbox::push_packet`] did.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Pushed {
+    /// Bytes queued now.
+    pub queued: usize,
+    /// The queue was empty: the caller must try a flush.
+    pub was_empty: bool,
+    /// Stalled, and its queue reached its cap: the caller must cut the client off.
+    pub over_cap: bool,
 }
 
 /// Bytes waiting to be written to one client.
@@ -315,20 +341,21 @@ impl Outbox {
     /// Queue the finished packet in `pkt`, added by the publisher behind `from`. When
     /// nothing is waiting, the buffers are swapped instead of copied; either way `pkt` is
     /// left empty (keeping some capacity) for the caller to reuse.
-    /// With `wake` false the writer thread is not woken: when the returned flag says the
-    /// queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands the
-    /// bytes to the writer if it cannot send them all).
+    /// With `wake` false the writer thread is not woken: when the returned `was_empty`
+    /// says the queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands
+    /// the bytes to the writer if it cannot send them all). `over_cap`: the client is
+    /// stalled and its queue reached its cap: the caller must cut it off.
     pub fn push_packet(
         &self,
         pkt: &mut Vec<u8>,
         wake: bool,
         from: Option<&Arc<Gate>>,
         marks: Marks,
-    ) -> (usize, bool) {
+    ) -> Pushed {
         let mut q = self.lock();
         if q.closed {
             pkt.clear();
-            return (0, false);
+            return Pushed::default();
         }
         let n = pkt.len();
         let was_empty = q.buf.is_empty();
@@ -343,12 +370,38 @@ impl Outbox {
             q.account(g, n, marks.high);
         }
         q.regulate(marks, &self.total);
-        let queued = q.queued();
+        let pushed = Pushed {
+            queued: q.queued(),
+            was_empty,
+            over_cap: q.over_cap(marks, &self.total),
+        };
         drop(q);
         if was_empty && wake {
             self.cv.notify_one();
         }
-        (queued, was_empty)
+        pushed
+    }
+
+    /// Writer side: the socket has accepted nothing for the hold limit while bytes
+    /// waited. From now until it takes bytes again this client holds no publisher back
+    /// (those it held go on at once); its queue grows up to its cap instead.
+    pub fn set_stalled(&self) {
+        let mut q = self.lock();
+        if q.closed || q.stalled {
+            return;
+        }
+        q.stalled = true;
+        tracing::debug!(
+            queued = q.queued(),
+            released = q.holding.len(),
+            "socket accepts nothing: holding no one back"
+        );
+        q.release_all();
+    }
+
+    /// Writer side: the socket accepts bytes again (after [`Outbox::set_stalled`]).
+    pub fn progressed(&self) {
+        self.lock().stalled = false;
     }
 
     /// A synchronous client's held mail (kept by the DB state until it polls) is now
@@ -457,6 +510,12 @@ impl Outbox {
         self.lock().holding.len()
     }
 
+    /// Known dead: a write failed, the DB closed it, or the peer reset the connection
+    /// (a pending socket error).
+    pub fn is_dead(&self) -> bool {
+        self.lock().closed || matches!(self.stream.take_error(), Ok(Some(_)) | Err(_))
+    }
+
     /// Closed by the DB: its reader should stop too.
     pub fn is_cut(&self) -> bool {
         self.lock().cut
@@ -525,6 +584,7 @@ mod tests {
         high: 1000,
         low: 500,
         total_cap: 1_000_000,
+        stalled_cap: 500_000,
     };
 
     fn gates(n: usize) -> Vec<Arc<Gate>> {
@@ -614,6 +674,34 @@ mod tests {
     }
 
     #[test]
+    fn a_stalled_client_holds_no_one_and_is_over_its_cap_at_last() {
+        let g = gates(1);
+        let mut q = OutQ::new();
+        let total = AtomicUsize::new(0);
+        add(&mut q, &g[0], 2000);
+        q.regulate(MARKS, &total);
+        assert!(!g[0].is_open(), "a client making progress holds back");
+        // The writer marks it stalled: the hold goes, and none comes back while stalled.
+        q.stalled = true;
+        q.release_all();
+        assert!(g[0].is_open());
+        add(&mut q, &g[0], 100_000);
+        q.regulate(MARKS, &total);
+        assert!(g[0].is_open(), "a stalled client held a publisher back");
+        assert!(!q.over_cap(MARKS, &total));
+        total.store(MARKS.total_cap, Ordering::Relaxed);
+        assert!(q.over_cap(MARKS, &total), "the DB-wide cap is reached");
+        total.store(0, Ordering::Relaxed);
+        add(&mut q, &g[0], MARKS.stalled_cap);
+        assert!(q.over_cap(MARKS, &total), "its own cap is reached");
+        // Progress again: it holds back as before.
+        q.stalled = false;
+        assert!(!q.over_cap(MARKS, &total));
+        q.regulate(MARKS, &total);
+        assert!(!g[0].is_open());
+    }
+
+    #[test]
     fn window_halves_so_old_traffic_fades() {
         let g = gates(2);
         let mut q = OutQ::new();
@@ -649,6 +737,7 @@ mod tests {
             high: 4 << 20,
             low: 2 << 20,
             total_cap: 64 << 20,
+            stalled_cap: 32 << 20,
         };
         let mut pkt = Vec::new();
         for _ in 0..200 {

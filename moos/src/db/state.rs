@@ -3,9 +3,12 @@
 
 use std::collections::{HashMap, HashSet};
 use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
 
 use super::outbox::{Gate, Marks, Outbox};
+use super::Link;
 use crate::text::{find_value, format_g, wildcard_match};
 use crate::wire::{DataType, Message, MsgType, MsgView, PacketBuilder, PACKET_HEADER_LEN};
 
@@ -133,6 +136,8 @@ pub(crate) struct ClientRec {
     held_count: usize,
     filters: Vec<Filter>,
     pub out: Arc<Outbox>,
+    /// The reader's side of the connection (to tell a dead one from a live one).
+    link: Arc<Link>,
     /// A synchronous client got held mail during the packet being processed.
     touched: bool,
     consolidation: f64,
@@ -167,6 +172,12 @@ pub(crate) struct State {
     touched: Vec<usize>,
     /// Cap on the bytes queued for all clients together.
     max_queue: usize,
+    /// Bytes the DB holds for all clients together (queues, partial packets, values).
+    total: Arc<AtomicUsize>,
+    /// Bytes of the values table (variable names and string values), as added to `total`.
+    values: usize,
+    /// A connection silent (and not held back) this long is dead (`ClientTimeout`).
+    client_timeout: Duration,
     response: Vec<(String, f64)>,
     scratch: Vec<u8>,
     encoded: Vec<u8>,
@@ -184,9 +195,11 @@ impl State {
         community: &str,
         hostname: &str,
         response: &[(String, f64)],
-        max_queue: usize,
+        cap: (usize, Arc<AtomicUsize>),
+        client_timeout: Duration,
         now: f64,
     ) -> State {
+        let (max_queue, total) = cap;
         let mut vars = FastMap::default();
         for (n, t) in [
             ("DB_TIME", DataType::DOUBLE),
@@ -217,6 +230,9 @@ impl State {
             dirty: Vec::new(),
             touched: Vec::new(),
             max_queue,
+            total,
+            values: 0,
+            client_timeout,
             response,
             scratch: Vec::new(),
             encoded: Vec::new(),
@@ -228,13 +244,20 @@ impl State {
     }
 
     /// Handshake (spec §4.3 steps 4–8). On `Welcome`, the welcome packet is queued on `out`.
-    pub fn admit(&mut self, hs: &Message, conn_id: u64, out: Arc<Outbox>, now: f64) -> Admit {
+    /// A name held by a live connection is refused (as C++); one held by a connection
+    /// known dead (see [`State::is_dead`]) is freed first (QUIRKS.md).
+    pub fn admit(&mut self, hs: &Message, conn: (u64, Arc<Outbox>, Arc<Link>), now: f64) -> Admit {
+        let (conn_id, out, link) = conn;
         let name = String::from_utf8_lossy(&hs.sval).into_owned();
         if name.is_empty() {
             return Admit::Poison("Failed to read receive client's name".into());
         }
-        if self.clients.contains_key(&name) {
-            return Admit::Poison(format!("A client of this name (\"{name}\") already exists"));
+        if let Some(old) = self.client(&name) {
+            if !self.is_dead(old) {
+                return Admit::Poison(format!("A client of this name (\"{name}\") already exists"));
+            }
+            tracing::warn!(client = %name, "reconnect under the name of a dead connection: closing the old one");
+            self.remove_client(&name, "replaced by a reconnect", now);
         }
         let is_async = hs.key.eq_ignore_ascii_case(crate::wire::ASYNC_KEY);
         let welcome = Message {
@@ -266,6 +289,7 @@ impl State {
             held_count: 0,
             filters: Vec::new(),
             out,
+            link,
             touched: false,
             consolidation,
             qos: None,
@@ -311,6 +335,12 @@ impl State {
         self.remove_client(name, "stalled", now);
     }
 
+    /// A connection known dead: its peer closed or reset it, a read or write failed,
+    /// or it has been silent past the client timeout while not held back.
+    fn is_dead(&self, c: &ClientRec) -> bool {
+        c.link.is_dead(self.client_timeout) || c.out.is_dead()
+    }
+
     /// Flow-control marks: the cap shared by `n` connected clients.
     fn marks_for(&self, n: usize) -> Marks {
         let n = n.max(1);
@@ -319,6 +349,19 @@ impl State {
             high,
             low: high / 2,
             total_cap: self.max_queue,
+            stalled_cap: (self.max_queue / 2).max(2 * high),
+        }
+    }
+
+    /// The values table holds `delta` more bytes.
+    fn values_grew(&mut self, delta: isize) {
+        if delta > 0 {
+            self.values += delta as usize;
+            self.total.fetch_add(delta as usize, Ordering::Relaxed);
+        } else if delta < 0 {
+            let d = delta.unsigned_abs().min(self.values);
+            self.values -= d;
+            self.total.fetch_sub(d, Ordering::Relaxed);
         }
     }
 
@@ -388,15 +431,18 @@ impl State {
     }
 
     /// One packet from client `name` (spec §5.3), decoded in place. `gate` is the
-    /// sender's: the subscribers its messages fill may hold it back.
+    /// sender's: the subscribers its messages fill may hold it back. A big packet comes
+    /// in pieces, each processed as a packet; `first` is false for all but its first
+    /// (a timing message counts only at the start of a packet).
     pub fn process(
         &mut self,
         name: &str,
         msgs: &[MsgView<'_>],
         gate: &Arc<Gate>,
-        local: f64,
-        now: f64,
+        first: bool,
+        now: (f64, f64),
     ) {
+        let (local, now) = now;
         if msgs.is_empty() {
             tracing::debug!(client = %name, "packet with no content");
             return;
@@ -413,7 +459,7 @@ impl State {
         let has_notify = msgs.iter().any(|m| m.msg_type == MsgType::NOTIFY);
         let mut timing = None;
         let mut rest = msgs;
-        if msgs[0].msg_type == MsgType::TIMING {
+        if first && msgs[0].msg_type == MsgType::TIMING {
             let mut t = msgs[0].to_message();
             rest = &msgs[1..];
             t.dval = local;
@@ -478,7 +524,7 @@ impl State {
         }
         self.scratch = buf;
         if has_notify {
-            self.push_all(gate, marks);
+            self.push_all(gate, marks, now);
         }
         let touched = std::mem::take(&mut self.touched);
         for &t in &touched {
@@ -496,27 +542,45 @@ impl State {
 
     /// Send every asynchronous client's held mail as one packet each (added by the
     /// publisher behind `gate`).
-    fn push_all(&mut self, gate: &Arc<Gate>, marks: Marks) {
-        let dirty = std::mem::take(&mut self.dirty);
-        for &slot in &dirty {
-            let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
-                continue;
-            };
-            if !c.is_async || c.held_count == 0 {
-                continue;
+    /// Stalled clients whose queue reached its cap are cut off here (their `DB_EVENT`s
+    /// go out in a second round).
+    fn push_all(&mut self, gate: &Arc<Gate>, marks: Marks, now: f64) {
+        let mut cut: Vec<(Arc<str>, u64, usize)> = Vec::new();
+        for round in 0..2 {
+            let dirty = std::mem::take(&mut self.dirty);
+            for &slot in &dirty {
+                let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
+                    continue;
+                };
+                if !c.is_async || c.held_count == 0 {
+                    continue;
+                }
+                let count = c.held_count;
+                finish_header(&mut c.held, count);
+                let pushed = c.out.push_packet(&mut c.held, false, Some(gate), marks);
+                self.delivered += count as u64;
+                c.held.clear();
+                c.held_count = 0;
+                if pushed.was_empty {
+                    self.flush.push(c.out.clone());
+                }
+                if pushed.over_cap {
+                    cut.push((c.name.clone(), c.conn_id, pushed.queued));
+                }
             }
-            let count = c.held_count;
-            finish_header(&mut c.held, count);
-            let (_, was_empty) = c.out.push_packet(&mut c.held, false, Some(gate), marks);
-            self.delivered += count as u64;
-            c.held.clear();
-            c.held_count = 0;
-            if was_empty {
-                self.flush.push(c.out.clone());
+            self.dirty = dirty;
+            self.dirty.clear();
+            if cut.is_empty() || round == 1 {
+                break;
+            }
+            for (name, conn_id, queued) in cut.drain(..) {
+                let why = format!(
+                    "accepted no bytes while its queue reached {} KiB",
+                    queued >> 10
+                );
+                self.cut_off(&name, conn_id, &why, now);
             }
         }
-        self.dirty = dirty;
-        self.dirty.clear();
     }
 
     /// Add one encoded message to the held mail of the client in `slot`.
@@ -554,6 +618,7 @@ impl State {
         if var.as_ref().is_none_or(|v| v.write_count == 0) {
             if !self.vars.contains_key(m.key) {
                 self.vars.insert(m.key.to_owned(), Var::new(m.data_type));
+                self.values_grew(m.key.len() as isize);
             }
             let mut matches = Vec::new();
             for c in self.slots.iter().flatten() {
@@ -581,9 +646,11 @@ impl State {
             tracing::warn!(var = %m.key, have = %(v.data_type.0 as char), got = %(m.data_type.0 as char), source = %m.source, "type mismatch: notification dropped");
             return;
         }
+        let mut grew = 0;
         if m.data_type == DataType::DOUBLE {
             v.dval = m.dval;
         } else {
+            grew = m.sval.len() as isize - v.sval.len() as isize;
             v.sval.clear();
             v.sval.extend_from_slice(m.sval);
         }
@@ -645,6 +712,7 @@ impl State {
             self.encoded = enc;
         }
         self.targets = targets;
+        self.values_grew(grew);
     }
 
     /// `R` (spec §5.4.2).
@@ -652,6 +720,9 @@ impl State {
         if client.is_empty() {
             tracing::warn!(var = key, "register with empty source refused");
             return;
+        }
+        if !self.vars.contains_key(key) {
+            self.values_grew(key.len() as isize);
         }
         let v = match self.vars.get_mut(key) {
             Some(v) => v,
@@ -809,8 +880,10 @@ impl State {
                 .join(",");
             out.push(reply("VAR_SUMMARY", now, joined));
         } else if key.contains("DB_CLEAR") {
+            let mut freed = 0;
             for v in self.vars.values_mut() {
                 v.dval = -1.0;
+                freed += v.sval.len();
                 v.sval.clear();
                 v.writers.clear();
                 v.write_count = 0;
@@ -825,6 +898,7 @@ impl State {
                 }
             }
             self.start = now;
+            self.values_grew(-(freed as isize));
         }
     }
 
