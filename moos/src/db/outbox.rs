@@ -552,8 +552,10 @@ impl Outbox {
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).
     /// `done`: the bytes of the previous `take` are written. Returns false when closed.
-    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> bool {
+    /// `drained` is set when nothing was waiting (the client had taken everything).
+    pub fn take(&self, spare: &mut Vec<u8>, done: bool, drained: &mut bool) -> bool {
         let mut q = self.lock();
+        *drained = q.buf.is_empty();
         if done {
             q.inflight = 0;
             q.writing = false;

@@ -372,10 +372,15 @@ fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
 /// The writer tells the outbox about progress within a chunk this often (bytes).
 const REPORT_EVERY: usize = 256 << 10;
 
+/// What a socket must accept within the hold limit to count as making progress (and so
+/// hold publishers back): a subscriber that takes only a trickle (its kernel buffers
+/// growing while it reads nothing, or a very slow link) would hold everyone to its pace.
+const HOLD_PROGRESS: usize = 64 << 10;
+
 /// Blocking writes of what the direct flushes left, in ticks short enough to notice a
-/// stall in time: a client whose socket accepts nothing for the hold limit is marked
-/// stalled (it holds no one back until it takes bytes again), and for the stall timeout
-/// is cut off.
+/// stall in time: a client whose socket accepts less than [`HOLD_PROGRESS`] within the
+/// hold limit is marked stalled (it holds no one back until it makes progress again),
+/// and one that accepts nothing for the stall timeout is cut off.
 fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_id: u64) {
     let stall = inner.cfg.stall_timeout;
     let hold = inner.cfg.hold_limit;
@@ -385,12 +390,19 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
     let _ = stream.set_write_timeout(Some(tick));
     let mut spare = Vec::new();
     let mut done = false;
-    // Marked stalled, not yet taken a byte since.
+    let mut drained = false;
+    // The hold clock: since the socket last accepted HOLD_PROGRESS bytes (or took all
+    // there was), and what it accepted since.
+    let mut hold_since = Instant::now();
+    let mut hold_bytes = 0;
     let mut marked = false;
-    while out.take(&mut spare, done) {
-        if std::mem::take(&mut marked) {
-            // The previous chunk went out in full.
-            out.progressed();
+    while out.take(&mut spare, done, &mut drained) {
+        if drained {
+            hold_since = Instant::now();
+            hold_bytes = 0;
+            if std::mem::take(&mut marked) {
+                out.progressed();
+            }
         }
         done = true;
         // The stall clock: last progress, or when these bytes were handed over.
@@ -408,8 +420,13 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                 Ok(n) => {
                     sent += n;
                     progressed = true;
-                    if std::mem::take(&mut marked) {
-                        out.progressed();
+                    hold_bytes += n;
+                    if hold_bytes >= HOLD_PROGRESS {
+                        hold_bytes = 0;
+                        hold_since = Instant::now();
+                        if std::mem::take(&mut marked) {
+                            out.progressed();
+                        }
                     }
                     unreported += n;
                     // Progress lets the queue fall below its low-water mark.
@@ -422,11 +439,11 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                     if std::mem::take(&mut progressed) {
                         since = Instant::now();
                     }
-                    let stuck = since.elapsed();
-                    if stuck >= hold && !marked {
+                    if !marked && hold_since.elapsed() >= hold {
                         marked = true;
                         out.set_stalled();
                     }
+                    let stuck = since.elapsed();
                     if stuck >= stall {
                         let why = format!("accepted no bytes for {:.1} s", stuck.as_secs_f64());
                         let now = inner.now();
