@@ -220,6 +220,7 @@ fn run(
     let stop = Arc::new(AtomicBool::new(false));
     let pubs = publish(db.port, &stop);
     let t0 = Instant::now();
+    let wall0 = moos::time::wall_time();
     gaps.lock().expect("gaps").on = true;
     while t0.elapsed() < FLOOD {
         reader.drain("LOAD");
@@ -244,7 +245,7 @@ fn run(
     let events = w.events();
     let cuts = w.cuts();
     eprintln!(
-        "{total} messages; longest gap {longest_gap:?} at {worst_at:?}; cuts {cuts:?}; \
+        "{total} messages; longest gap {longest_gap:?} at {worst_at:?} (flood from {wall0:.3}); cuts {cuts:?}; \
          DB RSS idle {} MiB, peak {} MiB (cap {CAP_MB} MiB)",
         idle_rss >> 20,
         peak_rss >> 20
@@ -395,20 +396,9 @@ fn ten_kb_and_one_mb_messages_in_big_packets_stay_under_the_cap() {
     let r = run(2, 4, |port, stop| {
         // Publisher 0 is our client's (1 MB messages); 1 and 2 write 10 KB messages and
         // 3 writes 1 MB messages, in 8 MiB packets.
-        let mut v: Vec<_> = (1..3)
-            .map(|p| raw_publisher(port, p, 10_000, stop.clone()))
-            .collect();
+        let mut v = client_flooders(1, 1_000_000)(port, stop);
+        v.extend((1..3).map(|p| raw_publisher(port, p, 10_000, stop.clone())));
         v.push(raw_publisher(port, 3, 1_000_000, stop.clone()));
-        v.extend(
-            flooders(port, 1, "LOAD", stop, 1_000_000)
-                .into_iter()
-                .map(|h| {
-                    std::thread::spawn(move || {
-                        let (n, c) = h.join().expect("flooder");
-                        (n, Publisher::Client(c))
-                    })
-                }),
-        );
         v
     });
     check(&r, 2_000);

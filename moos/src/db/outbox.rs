@@ -127,6 +127,11 @@ struct OutQ {
     holding: Vec<Arc<Gate>>,
     /// Its socket accepted nothing for the hold limit: it holds no one back.
     stalled: bool,
+    /// It held publishers back for the hold limit without draining to its low-water
+    /// mark: it holds no one back until it has.
+    overheld: bool,
+    /// When it began holding publishers back (the current episode).
+    held_since: Option<Instant>,
     low: usize,
     /// Queue size at which more publishers are held back (0: at the high-water mark).
     next_step: usize,
@@ -149,6 +154,8 @@ impl OutQ {
             counted: 0,
             holding: Vec::new(),
             stalled: false,
+            overheld: false,
+            held_since: None,
             low: 0,
             next_step: 0,
             contrib: Vec::new(),
@@ -192,15 +199,16 @@ impl OutQ {
 
     /// Past the high-water mark (or the next step beyond it), hold back the heaviest
     /// recent contributors not yet held; all of them if the DB-wide cap is reached.
-    fn regulate(&mut self, m: Marks, total: &AtomicUsize) {
+    /// True if it held more publishers back.
+    fn regulate(&mut self, m: Marks, total: &AtomicUsize) -> bool {
         let q = self.queued();
-        if q < m.high || self.stalled {
-            return;
+        if q < m.high || self.stalled || self.overheld {
+            return false;
         }
         let total = total.load(Ordering::Relaxed);
         let hard = total >= m.total_cap;
         if q < self.next_step && !hard {
-            return;
+            return false;
         }
         let mut cand: Vec<(usize, usize)> = self
             .contrib
@@ -226,24 +234,22 @@ impl OutQ {
             g.hold();
             self.holding.push(g);
         }
-        tracing::debug!(
-            queued = q,
-            total,
-            hard,
-            holding = self.holding.len(),
-            "queue past its mark: publishers held back"
-        );
+        if !self.holding.is_empty() {
+            self.held_since.get_or_insert_with(Instant::now);
+        }
+        tracing::trace!(queued = q, total, hard, "queue past its mark");
         self.low = m.low;
         self.next_step = q + m.high / 2;
         // A fresh window: the next step sees only who kept adding.
         self.contrib.clear();
         self.contrib_sum = 0;
         self.last_contrib = 0;
+        true
     }
 
     /// A stalled client whose queue has reached its cap (or the DB-wide one) must go.
     fn over_cap(&self, m: Marks, total: &AtomicUsize) -> bool {
-        if !self.stalled {
+        if !self.stalled && !self.overheld {
             return false;
         }
         let q = self.queued();
@@ -251,8 +257,11 @@ impl OutQ {
     }
 
     fn release_if_drained(&mut self) {
-        if !self.holding.is_empty() && self.queued() < self.low {
-            self.release_all();
+        if self.queued() < self.low {
+            self.overheld = false;
+            if !self.holding.is_empty() {
+                self.release_all();
+            }
         }
     }
 
@@ -267,6 +276,7 @@ impl OutQ {
         for g in self.holding.drain(..) {
             g.release();
         }
+        self.held_since = None;
         self.next_step = 0;
     }
 }
@@ -289,15 +299,18 @@ pub(crate) struct Outbox {
     stream: TcpStream,
     /// Bytes queued for all clients of the DB.
     total: Arc<AtomicUsize>,
+    /// The client's name (for the logs).
+    name: String,
 }
 
 impl Outbox {
-    pub fn new(stream: TcpStream, total: Arc<AtomicUsize>) -> Outbox {
+    pub fn new(stream: TcpStream, total: Arc<AtomicUsize>, name: &str) -> Outbox {
         Outbox {
             q: Mutex::new(OutQ::new()),
             cv: Condvar::new(),
             stream,
             total,
+            name: name.to_owned(),
         }
     }
 
@@ -369,7 +382,9 @@ impl Outbox {
         if let Some(g) = from {
             q.account(g, n, marks.high);
         }
-        q.regulate(marks, &self.total);
+        if q.regulate(marks, &self.total) {
+            tracing::debug!(client = %self.name, queued = q.queued(), holding = q.holding.len(), "queue past its mark: publishers held back");
+        }
         let pushed = Pushed {
             queued: q.queued(),
             was_empty,
@@ -392,11 +407,30 @@ impl Outbox {
         }
         q.stalled = true;
         tracing::debug!(
+            client = %self.name,
             queued = q.queued(),
             released = q.holding.len(),
             "socket accepts nothing: holding no one back"
         );
         q.release_all();
+    }
+
+    /// Writer side: a hold that has lasted `limit` without the queue draining to its
+    /// low-water mark ends now, and this client holds no one back until it has drained
+    /// (however many bytes its socket takes meanwhile: kernel buffers growing take
+    /// megabytes while the client reads nothing).
+    pub fn end_long_hold(&self, limit: Duration) {
+        let mut q = self.lock();
+        if q.held_since.is_some_and(|t| t.elapsed() >= limit) {
+            q.overheld = true;
+            tracing::debug!(
+                client = %self.name,
+                queued = q.queued(),
+                released = q.holding.len(),
+                "held publishers back for the hold limit: holding no one back until drained"
+            );
+            q.release_all();
+        }
     }
 
     /// Writer side: the socket accepts bytes again (after [`Outbox::set_stalled`]).
@@ -703,6 +737,36 @@ mod tests {
         assert!(!g[0].is_open());
     }
 
+    /// A hold lasts the hold limit at most; the client then holds no one back until its
+    /// queue has drained below the low-water mark.
+    #[test]
+    fn a_long_hold_ends_and_none_until_drained() {
+        let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+        let _peer = std::net::TcpStream::connect(l.local_addr().expect("addr")).expect("connect");
+        let (s, _) = l.accept().expect("accept");
+        let out = Outbox::new(s, Arc::new(AtomicUsize::new(0)), "t");
+        let g = gates(1);
+        let mut pkt = vec![0u8; 2000];
+        out.push_packet(&mut pkt, false, Some(&g[0]), MARKS);
+        assert!(!g[0].is_open());
+        out.end_long_hold(Duration::from_secs(60));
+        assert!(!g[0].is_open(), "not yet");
+        std::thread::sleep(Duration::from_millis(30));
+        out.end_long_hold(Duration::from_millis(20));
+        assert!(g[0].is_open(), "the hold lasted its limit");
+        pkt.resize(2000, 0);
+        out.push_packet(&mut pkt, false, Some(&g[0]), MARKS);
+        assert!(g[0].is_open(), "held again before draining");
+        {
+            let mut q = out.lock();
+            q.buf.clear();
+            q.release_if_drained();
+        }
+        pkt.resize(2000, 0);
+        out.push_packet(&mut pkt, false, Some(&g[0]), MARKS);
+        assert!(!g[0].is_open(), "drained: it holds back again");
+    }
+
     #[test]
     fn window_halves_so_old_traffic_fades() {
         let g = gates(2);
@@ -733,7 +797,7 @@ mod tests {
         let _peer = std::net::TcpStream::connect(l.local_addr().expect("addr")).expect("connect");
         let (s, _) = l.accept().expect("accept");
         let total = Arc::new(AtomicUsize::new(0));
-        let out = Outbox::new(s, total.clone());
+        let out = Outbox::new(s, total.clone(), "t");
         let publisher = Arc::new(Gate::new());
         let marks = Marks {
             high: 4 << 20,

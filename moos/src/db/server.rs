@@ -150,10 +150,10 @@ fn serve(inner: Arc<Inner>, mut stream: TcpStream, peer: SocketAddr, conn_id: u6
     let Ok(ostream) = stream.try_clone() else {
         return;
     };
-    let out = Arc::new(Outbox::new(ostream, inner.total.clone()));
+    let name = String::from_utf8_lossy(&hs.sval).into_owned();
+    let out = Arc::new(Outbox::new(ostream, inner.total.clone(), &name));
     let gate = Arc::new(Gate::new());
     let link = Arc::new(Link::new());
-    let name = String::from_utf8_lossy(&hs.sval).into_owned();
     let is_async = hs.key.eq_ignore_ascii_case(wire::ASYNC_KEY);
     let admitted = {
         let now = inner.now();
@@ -377,6 +377,32 @@ const REPORT_EVERY: usize = 256 << 10;
 /// growing while it reads nothing, or a very slow link) would hold everyone to its pace.
 const HOLD_PROGRESS: usize = 64 << 10;
 
+/// The hold clock (`writer`): (window start, bytes accepted in it, marked stalled). A
+/// window with [`HOLD_PROGRESS`] bytes is progress (a new window starts; a stalled
+/// client holds again); one of `hold` without is a stall (a trickle does not add up
+/// across windows).
+fn hold_window(out: &Outbox, hold: Duration, w: &mut (Instant, usize, bool)) {
+    let (since, bytes, marked) = w;
+    if since.elapsed() >= hold / 4 {
+        // At most once a tick: it takes the outbox lock the publishers push under.
+        out.end_long_hold(hold);
+    }
+    if *bytes >= HOLD_PROGRESS {
+        *since = Instant::now();
+        *bytes = 0;
+        if std::mem::take(marked) {
+            out.progressed();
+        }
+    } else if since.elapsed() >= hold {
+        *since = Instant::now();
+        *bytes = 0;
+        if !*marked {
+            *marked = true;
+            out.set_stalled();
+        }
+    }
+}
+
 /// Blocking writes of what the direct flushes left, in ticks short enough to notice a
 /// stall in time: a client whose socket accepts less than [`HOLD_PROGRESS`] within the
 /// hold limit is marked stalled (it holds no one back until it makes progress again),
@@ -391,16 +417,15 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
     let mut spare = Vec::new();
     let mut done = false;
     let mut drained = false;
-    // The hold clock: since the socket last accepted HOLD_PROGRESS bytes (or took all
-    // there was), and what it accepted since.
-    let mut hold_since = Instant::now();
-    let mut hold_bytes = 0;
-    let mut marked = false;
+    // The hold clock: windows of the hold limit; a window in which the socket accepted
+    // HOLD_PROGRESS bytes (or took all there was) is progress, one without marks the
+    // client stalled.
+    let mut hw = (Instant::now(), 0usize, false);
     while out.take(&mut spare, done, &mut drained) {
         if drained {
-            hold_since = Instant::now();
-            hold_bytes = 0;
-            if std::mem::take(&mut marked) {
+            hw.0 = Instant::now();
+            hw.1 = 0;
+            if std::mem::take(&mut hw.2) {
                 out.progressed();
             }
         }
@@ -420,14 +445,10 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                 Ok(n) => {
                     sent += n;
                     progressed = true;
-                    hold_bytes += n;
-                    if hold_bytes >= HOLD_PROGRESS {
-                        hold_bytes = 0;
-                        hold_since = Instant::now();
-                        if std::mem::take(&mut marked) {
-                            out.progressed();
-                        }
-                    }
+                    hw.1 += n;
+                    // A write that times out after taking a few bytes returns them, so
+                    // the window is judged here too.
+                    hold_window(out, hold, &mut hw);
                     unreported += n;
                     // Progress lets the queue fall below its low-water mark.
                     if unreported >= REPORT_EVERY && sent < spare.len() {
@@ -439,10 +460,7 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                     if std::mem::take(&mut progressed) {
                         since = Instant::now();
                     }
-                    if !marked && hold_since.elapsed() >= hold {
-                        marked = true;
-                        out.set_stalled();
-                    }
+                    hold_window(out, hold, &mut hw);
                     let stuck = since.elapsed();
                     if stuck >= stall {
                         let why = format!("accepted no bytes for {:.1} s", stuck.as_secs_f64());
