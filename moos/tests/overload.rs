@@ -26,10 +26,15 @@ const PAYLOAD: usize = 200;
 mod common;
 use common::*;
 
+/// The slow logger here must get everything: a 1 s hold limit, so that on 2 loaded cores
+/// its reader being off the CPU for a moment does not make it a stalled client (whose
+/// queue no longer holds the flooders back and reaches the cap at their rate). The
+/// default hold limit is tested in tests/stall.rs.
 fn db_args() -> Vec<String> {
     vec![
         format!("--max_queue_mb={CAP_MB}"),
         format!("--stall_timeout={}", STALL.as_secs_f64()),
+        "--hold_limit=1".into(),
     ]
 }
 
@@ -72,8 +77,9 @@ fn flood_and_check(db: &DbProc, reader: &mut Reader, idle_rss: usize, during: im
         "the flood was too thin to test anything: {total}"
     );
     assert!(
-        hwm <= idle_rss + (CAP_MB << 20),
-        "DB peak RSS {hwm} B over idle {idle_rss} B + cap {CAP_MB} MiB"
+        hwm <= idle_rss + (CAP_MB << 20) + OVERHEAD,
+        "DB peak RSS {hwm} B over idle {idle_rss} B + cap {CAP_MB} MiB + {} MiB",
+        OVERHEAD >> 20
     );
 }
 

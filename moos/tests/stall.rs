@@ -5,7 +5,7 @@
 //! Margins (2 loaded cores): a stalled subscriber holds the publishers back for at most
 //! the hold limit (0.1 s) plus one writer tick (25 ms); the healthy subscriber's longest
 //! gap must stay under 250 ms, which leaves 125 ms for scheduling. Memory: the DB's peak
-//! RSS stays under its idle RSS + the cap + [`OVERHEAD`].
+//! RSS stays under its idle RSS + the cap + `common::OVERHEAD` (24 MiB).
 
 mod common;
 
@@ -16,17 +16,13 @@ use std::sync::{Arc, Condvar, Mutex, OnceLock, Weak};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use common::{client, flooders, serial, DbProc, Reader};
+use common::{client, flooders, serial, DbProc, Reader, OVERHEAD, READER_INBOX};
 use moos::client::{Client, ClientConfig};
 use moos::wire::{self, DataType, Message, MsgType};
 
 const CAP_MB: usize = 32;
 const FLOOD: Duration = Duration::from_millis(3000);
 const MAX_GAP: Duration = Duration::from_millis(250);
-/// Memory the DB may use beyond its cap: per connection a read buffer (a piece of
-/// 256 KiB and a read of 64 KiB) and two write buffers kept for reuse (up to 1 MiB
-/// each), for up to 12 connections, and the allocator's slack.
-const OVERHEAD: usize = 24 << 20;
 
 fn db() -> DbProc {
     DbProc::start(&[
@@ -203,8 +199,10 @@ fn run(
     // own checking of large batches does not count as a gap.
     let gaps = Arc::new(Mutex::new(Gaps::default()));
     let g2 = gaps.clone();
+    let mut cfg = ClientConfig::new("127.0.0.1", db.port, "healthy");
+    cfg.max_inbox_bytes = READER_INBOX;
     let healthy = Client::connect_with_mail_callback(
-        ClientConfig::new("127.0.0.1", db.port, "healthy"),
+        cfg,
         Box::new(move || g2.lock().expect("gaps").mail(Instant::now())),
     )
     .expect("connect");
@@ -280,10 +278,11 @@ fn run(
     }
 }
 
-/// A publisher: our client, or a raw connection writing big packets as libMOOS does.
+/// A publisher: our client, or a raw connection writing big packets as libMOOS does
+/// (kept open until the check).
 enum Publisher {
     Client(Client),
-    Raw(TcpStream),
+    Raw(#[allow(dead_code)] TcpStream),
 }
 
 impl Publisher {

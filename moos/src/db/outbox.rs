@@ -100,7 +100,7 @@ pub(crate) struct Marks {
     /// Cap on the bytes queued for all clients together.
     pub total_cap: usize,
     /// A stalled client (see [`Outbox::set_stalled`]) is cut off when its queue reaches
-    /// this, or the DB-wide cap while its queue is past `high`.
+    /// this, or when the DB-wide total reaches `total_cap` while its queue is past `high`.
     pub stalled_cap: usize,
 }
 
@@ -128,8 +128,12 @@ struct OutQ {
     /// Its socket accepted nothing for the hold limit: it holds no one back.
     stalled: bool,
     /// It held publishers back for the hold limit without draining to its low-water
-    /// mark: it holds no one back until it has.
-    overheld: bool,
+    /// mark: it holds no one back until then (a quarter of the limit), so every such
+    /// hold is followed by a time in which the publishers go on.
+    cool_until: Option<Instant>,
+    /// Its last hold was ended by the hold limit, not by draining: it is not keeping up
+    /// (cut off, as a stalled one, when the DB-wide cap is reached).
+    limited: bool,
     /// When it began holding publishers back (the current episode).
     held_since: Option<Instant>,
     low: usize,
@@ -154,7 +158,8 @@ impl OutQ {
             counted: 0,
             holding: Vec::new(),
             stalled: false,
-            overheld: false,
+            cool_until: None,
+            limited: false,
             held_since: None,
             low: 0,
             next_step: 0,
@@ -202,8 +207,14 @@ impl OutQ {
     /// True if it held more publishers back.
     fn regulate(&mut self, m: Marks, total: &AtomicUsize) -> bool {
         let q = self.queued();
-        if q < m.high || self.stalled || self.overheld {
+        if q < m.high || self.stalled {
             return false;
+        }
+        if let Some(t) = self.cool_until {
+            if Instant::now() < t {
+                return false;
+            }
+            self.cool_until = None;
         }
         let total = total.load(Ordering::Relaxed);
         let hard = total >= m.total_cap;
@@ -234,11 +245,17 @@ impl OutQ {
             g.hold();
             self.holding.push(g);
         }
-        if !self.holding.is_empty() {
-            self.held_since.get_or_insert_with(Instant::now);
+        let first = self.held_since.is_none();
+        if !self.holding.is_empty() && first {
+            self.held_since = Some(Instant::now());
         }
         tracing::trace!(queued = q, total, hard, "queue past its mark");
-        self.low = m.low;
+        // Released once drained below the low-water mark, or by the band since the hold
+        // began (a queue far past its mark, after a hold ended by the limit, releases
+        // its publishers as soon as it has shown that much progress).
+        if first {
+            self.low = m.low.max(q.saturating_sub(m.high - m.low));
+        }
         self.next_step = q + m.high / 2;
         // A fresh window: the next step sees only who kept adding.
         self.contrib.clear();
@@ -249,19 +266,17 @@ impl OutQ {
 
     /// A stalled client whose queue has reached its cap (or the DB-wide one) must go.
     fn over_cap(&self, m: Marks, total: &AtomicUsize) -> bool {
-        if !self.stalled && !self.overheld {
-            return false;
-        }
         let q = self.queued();
-        q >= m.stalled_cap || (q >= m.high && total.load(Ordering::Relaxed) >= m.total_cap)
+        let over =
+            q >= m.stalled_cap || (q >= m.high && total.load(Ordering::Relaxed) >= m.total_cap);
+        // Not keeping up: stalled, or its last hold ended by the hold limit.
+        over && (self.stalled || self.limited)
     }
 
     fn release_if_drained(&mut self) {
-        if self.queued() < self.low {
-            self.overheld = false;
-            if !self.holding.is_empty() {
-                self.release_all();
-            }
+        if !self.holding.is_empty() && self.queued() < self.low {
+            self.limited = false;
+            self.release_all();
         }
     }
 
@@ -300,7 +315,7 @@ pub(crate) struct Outbox {
     /// Bytes queued for all clients of the DB.
     total: Arc<AtomicUsize>,
     /// The client's name (for the logs).
-    name: String,
+    pub name: String,
 }
 
 impl Outbox {
@@ -416,18 +431,20 @@ impl Outbox {
     }
 
     /// Writer side: a hold that has lasted `limit` without the queue draining to its
-    /// low-water mark ends now, and this client holds no one back until it has drained
-    /// (however many bytes its socket takes meanwhile: kernel buffers growing take
-    /// megabytes while the client reads nothing).
+    /// low-water mark ends now, and this client holds no one back for a quarter of that.
+    /// A socket can take bytes while its client reads nothing (kernel buffers growing
+    /// take hundreds of KiB at a time), so taking bytes is not enough to hold everyone
+    /// for longer: no hold lasts more than the limit.
     pub fn end_long_hold(&self, limit: Duration) {
         let mut q = self.lock();
         if q.held_since.is_some_and(|t| t.elapsed() >= limit) {
-            q.overheld = true;
+            q.cool_until = Some(Instant::now() + limit / 4);
+            q.limited = true;
             tracing::debug!(
                 client = %self.name,
                 queued = q.queued(),
                 released = q.holding.len(),
-                "held publishers back for the hold limit: holding no one back until drained"
+                "held publishers back for the hold limit: released"
             );
             q.release_all();
         }
@@ -737,10 +754,10 @@ mod tests {
         assert!(!g[0].is_open());
     }
 
-    /// A hold lasts the hold limit at most; the client then holds no one back until its
-    /// queue has drained below the low-water mark.
+    /// A hold lasts the hold limit at most; the client then holds no one back for as long
+    /// again.
     #[test]
-    fn a_long_hold_ends_and_none_until_drained() {
+    fn a_long_hold_ends_and_none_for_as_long() {
         let l = TcpListener::bind("127.0.0.1:0").expect("bind");
         let _peer = std::net::TcpStream::connect(l.local_addr().expect("addr")).expect("connect");
         let (s, _) = l.accept().expect("accept");
@@ -756,15 +773,12 @@ mod tests {
         assert!(g[0].is_open(), "the hold lasted its limit");
         pkt.resize(2000, 0);
         out.push_packet(&mut pkt, false, Some(&g[0]), MARKS);
-        assert!(g[0].is_open(), "held again before draining");
-        {
-            let mut q = out.lock();
-            q.buf.clear();
-            q.release_if_drained();
-        }
+        assert!(g[0].is_open(), "held again at once");
+        // The sleep is a lower bound: the cool-down of 5 ms has passed after it.
+        std::thread::sleep(Duration::from_millis(30));
         pkt.resize(2000, 0);
         out.push_packet(&mut pkt, false, Some(&g[0]), MARKS);
-        assert!(!g[0].is_open(), "drained: it holds back again");
+        assert!(!g[0].is_open(), "after the cool-down it holds back again");
     }
 
     #[test]

@@ -388,11 +388,12 @@ fn hold_window(out: &Outbox, hold: Duration, w: &mut (Instant, usize, bool)) {
         out.end_long_hold(hold);
     }
     if *bytes >= HOLD_PROGRESS {
-        *since = Instant::now();
-        *bytes = 0;
+        tracing::trace!(client = %out.name, bytes = *bytes, ms = since.elapsed().as_millis() as u64, "hold window");
         if std::mem::take(marked) {
             out.progressed();
         }
+        *since = Instant::now();
+        *bytes = 0;
     } else if since.elapsed() >= hold {
         *since = Instant::now();
         *bytes = 0;

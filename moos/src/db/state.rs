@@ -18,6 +18,11 @@ const REFRESH_PERIOD: f64 = 2.0;
 pub(crate) const MAX_HIGH_WATER: usize = 8 << 20;
 /// Smallest per-client high-water mark, however many clients share the cap.
 const MIN_HIGH_WATER: usize = 64 << 10;
+/// A queue past its high-water mark holds its publishers back until it has drained this
+/// much (or half the mark, if less): a reader taking 2.5 MB/s releases them within the
+/// default hold limit, so a slow reader holds them back in short pulses; only a slower
+/// one (or a stalled one) sees its holds ended by the hold limit.
+const HOLD_BAND: usize = 256 << 10;
 
 /// Held mail starts with room for the packet header, filled in when it is sent.
 const HDR: usize = PACKET_HEADER_LEN;
@@ -347,9 +352,11 @@ impl State {
         let high = (self.max_queue / (2 * n)).clamp(MIN_HIGH_WATER, MAX_HIGH_WATER);
         Marks {
             high,
-            low: high / 2,
+            low: high - (high / 2).min(HOLD_BAND),
             total_cap: self.max_queue,
-            stalled_cap: (self.max_queue / 2).max(2 * high),
+            // A stalled client may take all the room left: a reader that pauses for a
+            // moment (its own inbox full) loses nothing if the DB has room for it.
+            stalled_cap: self.max_queue,
         }
     }
 
@@ -542,8 +549,8 @@ impl State {
 
     /// Send every asynchronous client's held mail as one packet each (added by the
     /// publisher behind `gate`).
-    /// Stalled clients whose queue reached its cap are cut off here (their `DB_EVENT`s
-    /// go out in a second round).
+    /// A stalled client whose queue reached its cap is cut off here, the largest first
+    /// (its `DB_EVENT`s go out in a second round).
     fn push_all(&mut self, gate: &Arc<Gate>, marks: Marks, now: f64) {
         let mut cut: Vec<(Arc<str>, u64, usize)> = Vec::new();
         for round in 0..2 {
@@ -573,6 +580,9 @@ impl State {
             if cut.is_empty() || round == 1 {
                 break;
             }
+            // The largest queue goes first: that may be room enough for the others.
+            cut.sort_by_key(|c| std::cmp::Reverse(c.2));
+            cut.truncate(1);
             for (name, conn_id, queued) in cut.drain(..) {
                 let why = format!(
                     "accepted no bytes while its queue reached {} KiB",

@@ -127,6 +127,16 @@ pub fn flooders(
 }
 
 /// A subscriber that reads everything; a slow one's mail callback sleeps 0.3 ms per packet.
+/// Memory the DB may use beyond its cap (`--max_queue_mb`), for up to 12 connections:
+/// per connection a read buffer (a piece of 256 KiB and a read of 64 KiB) and two write
+/// buffers kept for reuse (up to 1 MiB each, touched only as far as used); thread
+/// stacks; the allocator's slack; a cut-off client's last chunk, freed by its writer
+/// within a tick of the cut. Measured peaks were 6-20 MiB over the cap.
+pub const OVERHEAD: usize = 24 << 20;
+
+/// Inbox cap of the subscribers that must get everything (see [`Reader::with`]).
+pub const READER_INBOX: usize = 1 << 30;
+
 pub struct Reader {
     pub c: Client,
     pub next: Vec<usize>,
@@ -139,7 +149,13 @@ impl Reader {
     }
 
     pub fn with(port: u16, name: &str, vars: &[&str], publishers: usize, slow: bool) -> Reader {
-        let cfg = ClientConfig::new("127.0.0.1", port, name);
+        let mut cfg = ClientConfig::new("127.0.0.1", port, name);
+        // This test's own checking (a debug build) is slower than the flood: with the
+        // default inbox cap the client would stop reading until the next fetch, and a
+        // subscriber that reads nothing for the DB's hold limit is a stalled one (its
+        // queue no longer holds the publishers back, and it is cut off at the cap).
+        // These readers are slow, not stalled.
+        cfg.max_inbox_bytes = READER_INBOX;
         let c = if slow {
             Client::connect_with_mail_callback(
                 cfg,
