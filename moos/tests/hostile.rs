@@ -508,6 +508,40 @@ fn pre_handshake_offenders_are_logged() {
     assert!(log.contains("127.0.0.1:"), "peer not named:\n{log}");
 }
 
+/// Issue 19 point 3: a client that reconnects under the name of a connection the DB
+/// still holds is welcomed when that connection is known dead (here: reset by its peer
+/// while its reader waited for room for a long message, so the reader never saw it).
+#[test]
+fn a_reconnect_replaces_a_connection_known_dead() {
+    let (_serial, mut db, mut w) = attack("replace");
+    // A peer in the middle of a 40 MiB message holds a reservation larger than half the
+    // cap: the next long message waits for it (its reader does not read).
+    let (mut hog, _) = raw_peer(db.port, "hog");
+    let p = packet(&[Message::notify_string("HOG", &"h".repeat(40 << 20), 1.0)]);
+    hog.write_all(&p[..1 << 20]).expect("hog");
+    let mut v = connect(db.port);
+    v.write_all(&handshake_bytes("victim")).expect("handshake");
+    let long = packet(&[Message::notify_string("V", &"v".repeat(1 << 20), 1.0)]);
+    v.write_all(&long[..512 << 10])
+        .expect("half a long message");
+    std::thread::sleep(Duration::from_millis(300));
+    // Closed with its welcome unread: the kernel resets the connection.
+    drop(v);
+    std::thread::sleep(Duration::from_millis(200));
+    let (_v2, welcome) = raw_peer(db.port, "victim");
+    assert_eq!(welcome.msg_type, MsgType::WELCOME, "{welcome:?}");
+    db.assert_logged(
+        &["victim", "dead connection"],
+        Duration::from_secs(3),
+        "replacement not logged",
+    );
+    // A live name is still refused.
+    let (_, clash) = raw_peer(db.port, "victim");
+    assert_eq!(clash.msg_type, MsgType::POISON, "{clash:?}");
+    drop(hog);
+    assert_healthy(&mut db, &mut w, 256 * 1024, "after a replaced connection");
+}
+
 /// Every connection may start a packet of up to `max_packet` (64 MiB) and stall; a few
 /// such peers would take the DB's memory to peers × 64 MiB. A message longer than a
 /// piece (256 KiB) is read only with a reservation (long ones together within half the

@@ -126,7 +126,6 @@ pub fn flooders(
         .collect()
 }
 
-/// A subscriber that reads everything; a slow one's mail callback sleeps 0.3 ms per packet.
 /// Memory the DB may use beyond its cap (`--max_queue_mb`), for up to 12 connections:
 /// per connection a read buffer (a piece of 256 KiB and a read of 64 KiB) and two write
 /// buffers kept for reuse (up to 1 MiB each, touched only as far as used); thread
@@ -137,6 +136,7 @@ pub const OVERHEAD: usize = 24 << 20;
 /// Inbox cap of the subscribers that must get everything (see [`Reader::with`]).
 pub const READER_INBOX: usize = 1 << 30;
 
+/// A subscriber that reads everything; a slow one's mail callback sleeps 0.3 ms per packet.
 pub struct Reader {
     pub c: Client,
     pub next: Vec<usize>,
