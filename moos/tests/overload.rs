@@ -365,6 +365,10 @@ fn help_documents_caps_timeouts_and_events() {
         "disconnected=<name>",
         "stalled=<name>,reason=accepted no bytes for <s> s",
         "stalled=<name>,reason=sent nothing for <s> s",
+        "stalled=<name>,reason=accepted no bytes while its queue reached <n> KiB",
+        "--hold_limit",
+        "HoldLimit, default 0.1]",
+        "known dead",
     ] {
         assert!(help.contains(s), "--help lacks {s:?}:\n{help}");
     }
@@ -373,4 +377,9 @@ fn help_documents_caps_timeouts_and_events() {
         .output()
         .expect("moosdb");
     assert_eq!(bad.status.code(), Some(2), "zero stall timeout accepted");
+    let bad = Command::new(env!("CARGO_BIN_EXE_moosdb"))
+        .args(["--hold_limit=-1", "--moos_port=0", "--bind=127.0.0.1"])
+        .output()
+        .expect("moosdb");
+    assert_eq!(bad.status.code(), Some(2), "negative hold limit accepted");
 }

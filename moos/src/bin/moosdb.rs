@@ -16,20 +16,34 @@ use moos::mission::MissionFile;
 /// against it as against the C++ MOOSDB.
 ///
 /// Settings come from the mission file's globals (ServerPort, Community, MOOSTimeWarp,
-/// ClientTimeout, StallTimeout, MaxQueueMB) and are overridden by the flags below. Flags
+/// ClientTimeout, StallTimeout, HoldLimit, MaxQueueMB) and are overridden by the flags below. Flags
 /// use the C++ spelling, e.g. `--moos_port=9001`.
 ///
-/// Overload: nothing is dropped for a client that keeps reading. When a client's queue
-/// passes its high-water mark (the --max_queue_mb cap shared among the clients, at most
-/// 8 MiB each), the DB stops reading from the publishers that filled it (the heaviest
-/// ones; a light publisher goes on) until it drains to half of that. A client whose
-/// socket accepts no bytes for --stall_timeout seconds, or that sends nothing for
-/// --moos_timeout seconds, is cut off; it gets current values when it reconnects.
+/// Overload: nothing is dropped for a client that keeps reading, and the DB's memory
+/// stays under --max_queue_mb (queues, incoming packets and values together; about
+/// 24 MiB more for buffers). When a client's queue passes its high-water mark (the cap
+/// shared among the clients, at most 8 MiB each), the DB stops reading from the
+/// publishers that filled it (the heaviest ones; a light publisher goes on) until it has
+/// drained 256 KiB. Only clients making progress hold publishers back: one whose socket
+/// takes less than 64 KiB in --hold_limit seconds holds no one back until it does, and
+/// no hold lasts longer than --hold_limit; such a client's queue grows instead, and it
+/// is cut off when the DB-wide cap is reached. A client whose socket accepts no bytes
+/// for --stall_timeout seconds, or that sends nothing for --moos_timeout seconds, is cut
+/// off; it gets current values when it reconnects. A packet longer than 256 KiB is read
+/// in pieces of whole messages; a message longer than that waits, not read, until the
+/// DB has room for it: a publisher is never dropped for the size of what it sends.
+///
+/// Reconnects: a client connecting under the name of a connected client is refused
+/// ("A client of this name ... already exists"), as by the C++ MOOSDB, while that
+/// connection is live. If it is known dead (its peer closed or reset it, a read or
+/// write failed, or it sent nothing for --moos_timeout while not held back), the DB
+/// closes it (disconnected=<name>) and welcomes the new one.
 ///
 /// DB_EVENT values posted:
 ///   connected=<name>          a client completed the handshake
 ///   disconnected=<name>       a client left (any reason)
 ///   stalled=<name>,reason=accepted no bytes for <s> s
+///   stalled=<name>,reason=accepted no bytes while its queue reached <n> KiB
 ///   stalled=<name>,reason=sent nothing for <s> s
 ///                             the DB cut the client off (posted before disconnected=)
 ///
@@ -60,10 +74,10 @@ struct Args {
     /// Address to listen on. Use 127.0.0.1 to accept local apps only.
     #[arg(long, default_value = "0.0.0.0", value_name = "ADDR")]
     bind: IpAddr,
-    /// Cap in MiB on the bytes queued for all clients together; publishers are held back
-    /// before it is reached [mission MaxQueueMB, default 64]. Incoming packets not yet
-    /// complete have the same cap of their own: past it, a peer holding a large one (an
-    /// eighth of the cap) is dropped.
+    /// Cap in MiB on the bytes the DB holds for all clients together (queues, incoming
+    /// packets not yet complete, values); publishers are held back before it is reached,
+    /// and stalled clients cut off when it is [mission MaxQueueMB, default 64]. Long
+    /// messages being read may take half of it at most (one at a time past that).
     #[arg(long = "max_queue_mb", value_name = "MIB")]
     max_queue_mb: Option<f64>,
     /// Cut off a client whose socket accepted no bytes for this many seconds while some
