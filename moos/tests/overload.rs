@@ -344,7 +344,10 @@ fn d_light_publisher_not_held_back_by_a_flooder() {
     );
     assert!(n >= 8, "helm sent only {n}");
     assert_eq!(lat.len(), n, "pid missed helm messages");
-    assert!(worst <= 0.050, "a helm message took {:.1} ms", worst * 1e3);
+    // Held back, it would wait for the logger to drain (each hold a good part of a
+    // second here); not held, it takes a few ms, and 250 ms leaves room for a loaded
+    // machine. (Who is held is tested exactly in db::outbox's unit tests.)
+    assert!(worst <= 0.250, "a helm message took {:.1} ms", worst * 1e3);
     assert_eq!(logger.next, posted, "logger incomplete");
     assert_eq!(logger_helm, n, "logger missed helm messages");
 }
