@@ -402,3 +402,27 @@ fn ten_kb_and_one_mb_messages_in_big_packets_stay_under_the_cap() {
     });
     check(&r, 2_000);
 }
+
+/// The scenario B: 8 publishers of 10 kB messages in 8 MiB packets, 4 blocked
+/// subscribers that reconnect.
+#[test]
+fn eight_big_packet_publishers_and_four_blocked_subscribers() {
+    let r = run(4, 8, |port, stop| {
+        (0..8)
+            .map(|p| raw_publisher(port, p, 10_000, stop.clone()))
+            .collect()
+    });
+    check(&r, 2_000);
+}
+
+/// The scenario C: 8 publishers of 30 kB messages in 8 MiB packets, no blocked
+/// subscriber: nothing lost, no publisher dropped, memory under the cap.
+#[test]
+fn eight_publishers_of_30_kb_messages_lose_nothing() {
+    let r = run(0, 8, |port, stop| {
+        (0..8)
+            .map(|p| raw_publisher(port, p, 30_000, stop.clone()))
+            .collect()
+    });
+    check(&r, 1_000);
+}
