@@ -56,6 +56,11 @@ struct MoosDb {
 
 impl MoosDb {
     fn start(tag: &str) -> MoosDb {
+        MoosDb::start_with(tag, 2)
+    }
+
+    /// With `--moos_timeout=<timeout>` seconds.
+    fn start_with(tag: &str, timeout: u32) -> MoosDb {
         static N: AtomicUsize = AtomicUsize::new(0);
         let log = std::env::temp_dir().join(format!(
             "moosdb-hostile-{tag}-{}-{}.log",
@@ -68,7 +73,7 @@ impl MoosDb {
         let child = Command::new(env!("CARGO_BIN_EXE_moosdb"))
             .arg(format!("--moos_port={port}"))
             .arg("--bind=127.0.0.1")
-            .arg("--moos_timeout=2")
+            .arg(format!("--moos_timeout={timeout}"))
             .arg("--moos_community=hostile")
             .env("RUST_LOG", "info")
             .env("NO_COLOR", "1")
@@ -277,8 +282,14 @@ fn assert_closed(s: &mut TcpStream, secs: u64, what: &str) {
 /// The start of every attack on the DB: the test lock, a fresh `moosdb` (`tag` names
 /// its log) and its two watchers, served.
 fn attack(tag: &str) -> (std::sync::MutexGuard<'static, ()>, MoosDb, Watchers) {
+    attack_with(tag, 2)
+}
+
+/// [`attack`] with a client timeout of `timeout` s: peers that must stay silent for a
+/// while on a loaded machine.
+fn attack_with(tag: &str, timeout: u32) -> (std::sync::MutexGuard<'static, ()>, MoosDb, Watchers) {
     let serial = serial();
-    let db = MoosDb::start(tag);
+    let db = MoosDb::start_with(tag, timeout);
     let w = Watchers::new(db.port);
     (serial, db, w)
 }
@@ -513,32 +524,46 @@ fn pre_handshake_offenders_are_logged() {
 /// while its reader waited for room for a long message, so the reader never saw it).
 #[test]
 fn a_reconnect_replaces_a_connection_known_dead() {
-    let (_serial, mut db, mut w) = attack("replace");
-    // A peer in the middle of a 40 MiB message holds a reservation larger than half the
-    // cap: the next long message waits for it (its reader does not read).
-    let (mut hog, _) = raw_peer(db.port, "hog");
-    let p = packet(&[Message::notify_string("HOG", &"h".repeat(40 << 20), 1.0)]);
-    hog.write_all(&p[..1 << 20]).expect("hog");
-    let mut v = connect(db.port);
-    v.write_all(&handshake_bytes("victim")).expect("handshake");
-    let long = packet(&[Message::notify_string("V", &"v".repeat(1 << 20), 1.0)]);
-    v.write_all(&long[..512 << 10])
-        .expect("half a long message");
-    std::thread::sleep(Duration::from_millis(300));
-    // Closed with its welcome unread: the kernel resets the connection.
-    drop(v);
+    let (_serial, mut db, mut w) = attack_with("replace", 30);
+    // Two peers in the middle of a 40 MiB message, more than half the cap each: one
+    // holds the room, the other waits for it, not read. Welcomes left unread, so that
+    // closing resets the connection.
+    let long = packet(&[Message::notify_string("L", &"l".repeat(40 << 20), 1.0)]);
+    let mut peers: Vec<(String, TcpStream)> = ["peer_a", "peer_b"]
+        .iter()
+        .map(|name| {
+            let mut s = connect(db.port);
+            s.write_all(&handshake_bytes(name)).expect("handshake");
+            s.write_all(&long[..1 << 20])
+                .expect("part of a long message");
+            (name.to_string(), s)
+        })
+        .collect();
+    db.assert_logged(
+        &["waiting for room"],
+        Duration::from_secs(10),
+        "no peer waits",
+    );
+    let log = db.log();
+    let waiting = log
+        .lines()
+        .find(|l| l.contains("waiting for room"))
+        .and_then(|l| peers.iter().position(|(n, _)| l.contains(n.as_str())))
+        .expect("the waiting peer is named");
+    let (name, s) = peers.remove(waiting);
+    drop(s);
     std::thread::sleep(Duration::from_millis(200));
-    let (_v2, welcome) = raw_peer(db.port, "victim");
+    let (_again, welcome) = raw_peer(db.port, &name);
     assert_eq!(welcome.msg_type, MsgType::WELCOME, "{welcome:?}");
     db.assert_logged(
-        &["victim", "dead connection"],
+        &[&name, "dead connection"],
         Duration::from_secs(3),
         "replacement not logged",
     );
     // A live name is still refused.
-    let (_, clash) = raw_peer(db.port, "victim");
+    let (_, clash) = raw_peer(db.port, &name);
     assert_eq!(clash.msg_type, MsgType::POISON, "{clash:?}");
-    drop(hog);
+    drop(peers);
     assert_healthy(&mut db, &mut w, 256 * 1024, "after a replaced connection");
 }
 
@@ -549,12 +574,11 @@ fn a_reconnect_replaces_a_connection_known_dead() {
 /// finish, every message is delivered whole.
 #[test]
 fn partial_packets_from_many_peers_stay_within_a_total_bound() {
-    let (_serial, mut db, mut w) = attack("partial");
+    let (_serial, mut db, mut w) = attack_with("partial", 30);
     let sub = Client::connect(ClientConfig::new("127.0.0.1", db.port, "hog_sub")).expect("sub");
     sub.register("HOG", 0.0).expect("register");
     let base = db.rss_kb();
     let len = 20 << 20;
-    // The DB drops a peer silent for 2 s (`--moos_timeout=2`): the hogs pause briefly.
     let paused = Arc::new(std::sync::Barrier::new(5));
     let go = Arc::new(std::sync::Barrier::new(5));
     let writers: Vec<_> = (0..4u8)

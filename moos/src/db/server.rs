@@ -314,6 +314,11 @@ fn read_loop(
         // it is read: else wait, not reading (the publisher is held back, not dropped).
         share.buffered(fr.pending());
         if !share.reserve(fr.wanted(c.piece)) {
+            tracing::info!(
+                client = %name,
+                kib = fr.wanted(c.piece) >> 10,
+                "held back: waiting for room for a long message"
+            );
             c.link.set_held(true);
             while !share.reserve(fr.wanted(c.piece)) {
                 std::thread::sleep(Duration::from_millis(2));
