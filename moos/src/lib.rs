@@ -5,6 +5,22 @@
 //! * [`db`]: an embeddable MOOSDB (also the `moosdb` binary).
 //! * [`client`]: an asynchronous MOOS client with heartbeat, skew filter and reconnect.
 //! * [`alog`]: pLogger `.alog` writer and reader.
+//!
+//! Depends on `mbutil` (MOOS-IvP's number formatting), `thiserror` and `tracing` (and
+//! `clap`, `tracing-subscriber` for the `moosdb` binary); it must not depend on the helm
+//! or any behavior crate (the helm, the simulator and tools build on it, not the other
+//! way round).
+//!
+//! ```
+//! use moos::wire::{self, FrameReader, Message, Piece};
+//! let mut pkt = Vec::new();
+//! wire::encode_packet(&[Message::notify_double("NAV_X", 12.5, 1.0)], &mut pkt).unwrap();
+//! let mut fr = FrameReader::new(1 << 20);
+//! fr.fill(&mut pkt.as_slice()).unwrap();
+//! let Some(Piece::Packet(r)) = fr.next_piece(256 << 10).unwrap() else { panic!() };
+//! let msgs = wire::decode_packet(fr.frame(r), 1 << 20).unwrap();
+//! assert_eq!((msgs[0].key.as_str(), msgs[0].dval), ("NAV_X", 12.5));
+//! ```
 #![forbid(unsafe_code)]
 
 pub mod alog;

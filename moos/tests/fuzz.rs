@@ -172,7 +172,15 @@ fn check_wire(data: &[u8]) {
         for (a, b) in msgs.iter().zip(&back) {
             assert!(same_msg(a, b));
         }
+        // Read in pieces (the DB's way with big packets): the same messages.
+        let (got, _) = pieces(&out, 64, 5);
+        assert_eq!(got.len(), msgs.len());
+        for (a, b) in msgs.iter().zip(&got) {
+            assert!(same_msg(a, b), "{a:?} != {b:?}");
+        }
     }
+    // Any bytes in pieces: no panic, and never more buffered than was sent.
+    let _ = pieces(data, 64, 61 + data.len() % 97);
     // A stream, delivered in uneven pieces, through the frame reader.
     let mut fr = FrameReader::new(CAP);
     let mut frames = 0usize;
@@ -196,6 +204,40 @@ fn check_wire(data: &[u8]) {
     }
     assert!(frames <= data.len() / wire::PACKET_HEADER_LEN + 1);
     assert!(fr.pending() <= data.len());
+}
+
+/// The messages `FrameReader::next_piece` yields for `data` fed `step` bytes at a time,
+/// with pieces of `piece` bytes, up to the first framing error; and the bytes left.
+fn pieces(data: &[u8], piece: usize, step: usize) -> (Vec<Message>, usize) {
+    let mut fr = FrameReader::new(1 << 20);
+    let mut got = Vec::new();
+    'stream: for chunk in data.chunks(step) {
+        let mut r = chunk;
+        fr.fill(&mut r).expect("fill from a slice");
+        loop {
+            match fr.next_piece(piece) {
+                Ok(Some(wire::Piece::Packet(range))) => {
+                    if let Ok((m, _)) = wire::decode_packet_lenient(fr.frame(range), 1 << 20) {
+                        got.extend(m);
+                    }
+                }
+                Ok(Some(wire::Piece::Messages { range, count, .. })) => {
+                    let mut b = fr.frame(range);
+                    for _ in 0..count {
+                        let (v, used) = MsgView::parse(b).expect("a piece holds whole messages");
+                        got.push(v.to_message());
+                        b = &b[used..];
+                    }
+                    assert!(b.is_empty(), "bytes after a piece's messages");
+                }
+                Ok(None) => break,
+                Err(_) => break 'stream,
+            }
+        }
+        assert!(fr.pending() <= data.len());
+    }
+    let _ = fr.take_bad();
+    (got, fr.pending())
 }
 
 const WIRE_DICT: &[&[u8]] = &[

@@ -27,6 +27,7 @@ use std::net::{TcpListener, TcpStream};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use moos::client::{Client, ClientConfig};
@@ -55,6 +56,11 @@ struct MoosDb {
 
 impl MoosDb {
     fn start(tag: &str) -> MoosDb {
+        MoosDb::start_with(tag, 2)
+    }
+
+    /// With `--moos_timeout=<timeout>` seconds.
+    fn start_with(tag: &str, timeout: u32) -> MoosDb {
         static N: AtomicUsize = AtomicUsize::new(0);
         let log = std::env::temp_dir().join(format!(
             "moosdb-hostile-{tag}-{}-{}.log",
@@ -67,7 +73,7 @@ impl MoosDb {
         let child = Command::new(env!("CARGO_BIN_EXE_moosdb"))
             .arg(format!("--moos_port={port}"))
             .arg("--bind=127.0.0.1")
-            .arg("--moos_timeout=2")
+            .arg(format!("--moos_timeout={timeout}"))
             .arg("--moos_community=hostile")
             .env("RUST_LOG", "info")
             .env("NO_COLOR", "1")
@@ -276,8 +282,14 @@ fn assert_closed(s: &mut TcpStream, secs: u64, what: &str) {
 /// The start of every attack on the DB: the test lock, a fresh `moosdb` (`tag` names
 /// its log) and its two watchers, served.
 fn attack(tag: &str) -> (std::sync::MutexGuard<'static, ()>, MoosDb, Watchers) {
+    attack_with(tag, 2)
+}
+
+/// [`attack`] with a client timeout of `timeout` s: peers that must stay silent for a
+/// while on a loaded machine.
+fn attack_with(tag: &str, timeout: u32) -> (std::sync::MutexGuard<'static, ()>, MoosDb, Watchers) {
     let serial = serial();
-    let db = MoosDb::start(tag);
+    let db = MoosDb::start_with(tag, timeout);
     let w = Watchers::new(db.port);
     (serial, db, w)
 }
@@ -507,30 +519,124 @@ fn pre_handshake_offenders_are_logged() {
     assert!(log.contains("127.0.0.1:"), "peer not named:\n{log}");
 }
 
+/// Issue 19 point 3: a client that reconnects under the name of a connection the DB
+/// still holds is welcomed when that connection is known dead (here: reset by its peer
+/// while its reader waited for room for a long message, so the reader never saw it).
+#[test]
+fn a_reconnect_replaces_a_connection_known_dead() {
+    let (_serial, mut db, mut w) = attack_with("replace", 30);
+    // Two peers in the middle of a 40 MiB message, more than half the cap each: one
+    // holds the room, the other waits for it, not read. Welcomes left unread, so that
+    // closing resets the connection.
+    let long = packet(&[Message::notify_string("L", &"l".repeat(40 << 20), 1.0)]);
+    let mut peers: Vec<(String, TcpStream)> = ["peer_a", "peer_b"]
+        .iter()
+        .map(|name| {
+            let mut s = connect(db.port);
+            s.write_all(&handshake_bytes(name)).expect("handshake");
+            s.write_all(&long[..1 << 20])
+                .expect("part of a long message");
+            (name.to_string(), s)
+        })
+        .collect();
+    db.assert_logged(
+        &["waiting for room"],
+        Duration::from_secs(10),
+        "no peer waits",
+    );
+    let log = db.log();
+    let waiting = log
+        .lines()
+        .find(|l| l.contains("waiting for room"))
+        .and_then(|l| peers.iter().position(|(n, _)| l.contains(n.as_str())))
+        .expect("the waiting peer is named");
+    let (name, s) = peers.remove(waiting);
+    drop(s);
+    std::thread::sleep(Duration::from_millis(200));
+    let (_again, welcome) = raw_peer(db.port, &name);
+    assert_eq!(welcome.msg_type, MsgType::WELCOME, "{welcome:?}");
+    db.assert_logged(
+        &[&name, "dead connection"],
+        Duration::from_secs(3),
+        "replacement not logged",
+    );
+    // A live name is still refused.
+    let (_, clash) = raw_peer(db.port, &name);
+    assert_eq!(clash.msg_type, MsgType::POISON, "{clash:?}");
+    drop(peers);
+    assert_healthy(&mut db, &mut w, 256 * 1024, "after a replaced connection");
+}
+
 /// Every connection may start a packet of up to `max_packet` (64 MiB) and stall; a few
-/// such peers would take the DB's memory to peers × 64 MiB. Partial packets are capped in
-/// total (`max_queue_mb`): past it, a peer holding a big one is dropped, with a log line.
+/// such peers would take the DB's memory to peers × 64 MiB. A message longer than a
+/// piece (256 KiB) is read only with a reservation (long ones together within half the
+/// cap, or one at a time): the others wait, not read, and none is dropped. Once they
+/// finish, every message is delivered whole.
 #[test]
 fn partial_packets_from_many_peers_stay_within_a_total_bound() {
-    let _serial = serial();
-    let db = MoosDb::start("partial");
-    let chunk = vec![0u8; 1 << 20];
-    let mut peers = Vec::new();
-    for i in 0..4 {
-        let (mut s, _) = raw_peer(db.port, &format!("hog{i}"));
-        s.write_all(&(63i32 << 20).to_le_bytes()).expect("send");
-        for _ in 0..48 {
-            if s.write_all(&chunk).is_err() {
-                break;
-            }
-        }
-        peers.push(s);
-    }
+    let (_serial, mut db, mut w) = attack_with("partial", 30);
+    let sub = Client::connect(ClientConfig::new("127.0.0.1", db.port, "hog_sub")).expect("sub");
+    sub.register("HOG", 0.0).expect("register");
+    let base = db.rss_kb();
+    let len = 20 << 20;
+    let paused = Arc::new(std::sync::Barrier::new(5));
+    let go = Arc::new(std::sync::Barrier::new(5));
+    let writers: Vec<_> = (0..4u8)
+        .map(|i| {
+            let (mut s, _) = raw_peer(db.port, &format!("hog{i}"));
+            let (paused, go) = (paused.clone(), go.clone());
+            std::thread::spawn(move || {
+                let v = char::from(b'a' + i).to_string().repeat(len);
+                let p = packet(&[Message::notify_string("HOG", &v, 1.0)]);
+                // 12 of its 20 MiB, as far as the DB reads them within 300 ms.
+                s.set_write_timeout(Some(Duration::from_millis(300)))
+                    .expect("timeout");
+                let mut sent = 0;
+                while sent < 12 << 20 {
+                    match s.write(&p[sent..sent + (64 << 10)]) {
+                        Ok(n) => sent += n,
+                        Err(_) => break,
+                    }
+                }
+                paused.wait();
+                go.wait();
+                s.set_write_timeout(Some(Duration::from_secs(60)))
+                    .expect("timeout");
+                s.write_all(&p[sent..]).expect("rest of the message");
+                s
+            })
+        })
+        .collect();
+    paused.wait();
     let rss = db.rss_kb();
-    println!("moosdb VmRSS with 4 partial 48 MiB packets: {rss} kB");
-    assert!(rss < 128 * 1024, "moosdb VmRSS {rss} kB");
+    println!(
+        "moosdb VmRSS {rss} kB with 4 peers in the middle of a 20 MiB message (idle {base} kB)"
+    );
+    assert!(rss < base + 40 * 1024, "moosdb VmRSS {rss} kB");
+    // They finish: each message goes through in turn.
+    go.wait();
+    let got = mail_until(&sub, Duration::from_secs(60), "long messages lost", |m| {
+        m.iter().filter(|m| m.key == "HOG").count() >= 4
+    });
+    let mut firsts: Vec<u8> = got
+        .iter()
+        .filter(|m| m.key == "HOG")
+        .map(|m| {
+            assert_eq!(m.sval.len(), len, "cut short");
+            assert!(m.sval.iter().all(|b| *b == m.sval[0]), "mixed up");
+            m.sval[0]
+        })
+        .collect();
+    firsts.sort();
+    assert_eq!(firsts, b"abcd");
+    let _hogs: Vec<TcpStream> = writers
+        .into_iter()
+        .map(|h| h.join().expect("hog"))
+        .collect();
     let log = db.log();
-    assert!(log.contains("partial packet"), "no drop logged:\n{log}");
+    assert!(!log.contains("cutting off"), "a client was cut off:\n{log}");
+    assert!(!log.contains("dropped"), "a peer was dropped:\n{log}");
+    assert_healthy(&mut db, &mut w, base + 160 * 1024, "after long messages");
 }
 
 // ---------------------------------------------------------------------------------------

@@ -112,13 +112,18 @@ fn notify_types_order_and_current_value() {
     assert!(m.iter().all(|m| m.msg_type == MsgType::NOTIFY));
 }
 
+/// A subscriber registered with an interval gets a post only when that interval has
+/// passed (DB clock) since its last delivery: the others are dropped, not delayed.
+/// Asserted on counts bounded by the time that actually passed, so a slow machine only
+/// widens the bounds.
 #[test]
 fn register_interval_throttles_by_dropping() {
     let db = db();
     let sub = client(&db, "slowsub");
     let fast = client(&db, "fastsub");
     let pubr = client(&db, "pub");
-    sub.register("V", 0.5).expect("register");
+    let interval = Duration::from_millis(500);
+    sub.register("V", interval.as_secs_f64()).expect("register");
     fast.register("V", 0.0).expect("register");
     std::thread::sleep(Duration::from_millis(200));
     let start = Instant::now();
@@ -128,14 +133,31 @@ fn register_interval_throttles_by_dropping() {
         n += 1;
         std::thread::sleep(Duration::from_millis(20));
     }
-    let fm = collect(&fast, Duration::from_secs(2), |m| keyed(m, "V").len() >= n);
-    assert_eq!(keyed(&fm, "V").len(), n);
-    let sm = collect(&sub, Duration::from_millis(500), |_| false);
-    let got = keyed(&sm, "V").len();
-    assert!(
-        (2..=4).contains(&got),
-        "interval 0.5 over 1.2 s gave {got} deliveries"
+    let fm = collect(&fast, Duration::from_secs(10), |m| keyed(m, "V").len() >= n);
+    assert_eq!(
+        keyed(&fm, "V").len(),
+        n,
+        "the unthrottled subscriber got them all"
     );
+    // Every post has been processed: the DB's clock has advanced at most this much.
+    let span = start.elapsed();
+    let sm = collect(&sub, Duration::from_millis(300), |_| false);
+    let got: Vec<f64> = keyed(&sm, "V").iter().map(|m| m.dval).collect();
+    let most = 1 + (span.as_secs_f64() / interval.as_secs_f64()) as usize;
+    assert!(
+        !got.is_empty() && got.len() <= most,
+        "{} deliveries of {n} posts in {span:?} (at most {most})",
+        got.len()
+    );
+    assert!(got.windows(2).all(|w| w[1] > w[0]), "{got:?}");
+    assert_eq!(got[0], 0.0, "the first post is delivered");
+    // Dropped, not queued: a post once the interval has passed is delivered at once, and
+    // it is that post, not an old one.
+    std::thread::sleep(interval + Duration::from_millis(50));
+    pubr.notify_double("V", -1.0, None).expect("post");
+    let late = collect(&sub, Duration::from_secs(10), |m| !keyed(m, "V").is_empty());
+    let late: Vec<f64> = keyed(&late, "V").iter().map(|m| m.dval).collect();
+    assert_eq!(late, vec![-1.0], "after the interval");
 }
 
 #[test]
@@ -222,9 +244,11 @@ fn silent_client_dropped_after_five_seconds() {
             Err(_) => {}
         }
     }
+    // Not before the 5 s client timeout (the upper bound is the 9 s of the loop: the
+    // reader checks once a second, and a loaded machine may be late).
     let closed_at = closed_at.expect("DB closed the silent client");
     assert!(
-        closed_at >= Duration::from_millis(4900) && closed_at <= Duration::from_secs(7),
+        closed_at >= Duration::from_millis(4900),
         "closed after {closed_at:?}"
     );
     assert_eq!(db.client_names(), vec!["watcher".to_string()]);

@@ -11,248 +11,31 @@
 //! Each test floods for about 2.5 s; the DB runs with `--stall_timeout=1.5`.
 
 use std::io::{BufRead, BufReader};
-use std::process::{Child, ChildStdout, Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use moos::client::{Client, ClientConfig};
-use moos::wire::Message;
 
 const CAP_MB: usize = 16;
 const STALL: Duration = Duration::from_millis(1500);
 const FLOOD: Duration = Duration::from_millis(2500);
 const PAYLOAD: usize = 200;
 
-struct DbProc {
-    child: Child,
-    port: u16,
-}
+mod common;
+use common::*;
 
-impl DbProc {
-    fn start() -> DbProc {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_moosdb"))
-            .args([
-                "--moos_port=0",
-                "--bind=127.0.0.1",
-                &format!("--max_queue_mb={CAP_MB}"),
-                &format!("--stall_timeout={}", STALL.as_secs_f64()),
-            ])
-            .env(
-                "RUST_LOG",
-                std::env::var("MOOSDB_LOG").unwrap_or_else(|_| "warn".into()),
-            )
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("start moosdb");
-        let port = read_port(child.stdout.take().expect("stdout"));
-        DbProc { child, port }
-    }
-
-    /// `VmRSS` or `VmHWM` of the DB process, in bytes.
-    fn mem(&self, field: &str) -> usize {
-        proc_status(self.child.id(), field)
-    }
-}
-
-impl Drop for DbProc {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// The port from the DB's "listening on port N" line; any other line on its stdout is
-/// passed on to stderr, so the pipe never fills or breaks.
-/// The flood tests run one at a time: each saturates the machine on purpose, and two
-/// at once on 2 cores measure the machine rather than the DB.
-fn serial() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    LOCK.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-fn read_port(out: ChildStdout) -> u16 {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines() {
-            let Ok(line) = line else { break };
-            if let Some(p) = line.strip_prefix("moosdb listening on port ") {
-                let _ = tx.send(p.trim().parse::<u16>().ok());
-            } else {
-                eprintln!("moosdb: {line}");
-            }
-        }
-    });
-    rx.recv_timeout(Duration::from_secs(10))
-        .ok()
-        .flatten()
-        .expect("moosdb did not report its port")
-}
-
-fn proc_status(pid: u32, field: &str) -> usize {
-    let s = std::fs::read_to_string(format!("/proc/{pid}/status")).expect("status");
-    let kb: usize = s
-        .lines()
-        .find_map(|l| l.strip_prefix(field)?.strip_prefix(':'))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
-        .unwrap_or_else(|| panic!("no {field} in status"));
-    kb * 1024
-}
-
-fn client(port: u16, name: &str) -> Client {
-    Client::connect(ClientConfig::new("127.0.0.1", port, name)).expect("connect")
-}
-
-/// Publishers posting `<p>:<i>:<payload>` to `var` as fast as their connection takes it,
-/// until `stop`. Each returns how many it posted, and its client, kept open until the
-/// check: a client closing waits at most 2 s for the DB to take its last bytes, and the
-/// DB may hold it back longer than that.
-fn flooders(
-    port: u16,
-    n: usize,
-    var: &str,
-    stop: &Arc<AtomicBool>,
-) -> Vec<JoinHandle<(usize, Client)>> {
-    (0..n)
-        .map(|p| {
-            let c = client(port, &format!("flood{p}"));
-            let (stop, var) = (stop.clone(), var.to_owned());
-            std::thread::spawn(move || {
-                let payload = "x".repeat(PAYLOAD);
-                let mut i = 0;
-                while !stop.load(Ordering::Relaxed) {
-                    // Keep the client's own backlog short: the socket (and so the DB's
-                    // flow control) sets the pace.
-                    if c.unsent_bytes() > 256 * 1024 {
-                        std::thread::sleep(Duration::from_micros(300));
-                        continue;
-                    }
-                    for _ in 0..100 {
-                        c.notify_string(&var, &format!("{p}:{i}:{payload}"), None)
-                            .expect("post");
-                        i += 1;
-                    }
-                }
-                (i, c)
-            })
-        })
-        .collect()
-}
-
-/// A subscriber that reads everything; a slow one's mail callback sleeps 0.3 ms per packet.
-struct Reader {
-    c: Client,
-    next: Vec<usize>,
-    got: usize,
-}
-
-impl Reader {
-    fn new(port: u16, name: &str, vars: &[&str], publishers: usize) -> Reader {
-        Reader::with(port, name, vars, publishers, true)
-    }
-
-    fn with(port: u16, name: &str, vars: &[&str], publishers: usize, slow: bool) -> Reader {
-        let cfg = ClientConfig::new("127.0.0.1", port, name);
-        let c = if slow {
-            Client::connect_with_mail_callback(
-                cfg,
-                Box::new(|| std::thread::sleep(Duration::from_micros(300))),
-            )
-        } else {
-            Client::connect(cfg)
-        }
-        .expect("connect");
-        for v in vars {
-            c.register(v, 0.0).expect("register");
-        }
-        Reader {
-            c,
-            next: vec![0; publishers],
-            got: 0,
-        }
-    }
-
-    /// Fetch and check order; returns the non-flood mail.
-    fn drain(&mut self, flood_var: &str) -> Vec<Message> {
-        let mut mail = Vec::new();
-        self.c.wait_for_mail(Duration::from_millis(20));
-        self.c.fetch(&mut mail);
-        let mut other = Vec::new();
-        for m in mail {
-            if m.key != flood_var {
-                other.push(m);
-                continue;
-            }
-            let s = m.string();
-            let mut it = s.splitn(3, ':');
-            let p: usize = it.next().and_then(|x| x.parse().ok()).expect("publisher");
-            let i: usize = it.next().and_then(|x| x.parse().ok()).expect("index");
-            assert_eq!(
-                i, self.next[p],
-                "publisher {p}: message lost or out of order"
-            );
-            self.next[p] += 1;
-            self.got += 1;
-        }
-        other
-    }
-}
-
-/// DB_EVENT values seen by a dedicated watcher, with when they arrived.
-struct Events {
-    seen: Arc<Mutex<Vec<(Instant, String)>>>,
-    stop: Arc<AtomicBool>,
-    h: Option<JoinHandle<()>>,
-}
-
-impl Events {
-    fn watch(port: u16) -> Events {
-        let c = client(port, "watcher");
-        c.register("DB_EVENT", 0.0).expect("register");
-        let seen = Arc::new(Mutex::new(Vec::new()));
-        let stop = Arc::new(AtomicBool::new(false));
-        let (s2, st2) = (seen.clone(), stop.clone());
-        let h = std::thread::spawn(move || {
-            let mut mail = Vec::new();
-            while !st2.load(Ordering::Relaxed) {
-                c.wait_for_mail(Duration::from_millis(20));
-                mail.clear();
-                c.fetch(&mut mail);
-                let now = Instant::now();
-                let mut s = s2.lock().expect("events");
-                s.extend(
-                    mail.iter()
-                        .filter(|m| m.key == "DB_EVENT")
-                        .map(|m| (now, m.string().into_owned())),
-                );
-            }
-        });
-        Events {
-            seen,
-            stop,
-            h: Some(h),
-        }
-    }
-
-    fn first(&self, pred: impl Fn(&str) -> bool) -> Option<(Instant, String)> {
-        let s = self.seen.lock().expect("events");
-        s.iter().find(|(_, e)| pred(e)).cloned()
-    }
-
-    fn all(&self) -> Vec<String> {
-        let s = self.seen.lock().expect("events");
-        s.iter().map(|(_, e)| e.clone()).collect()
-    }
-}
-
-impl Drop for Events {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(h) = self.h.take() {
-            let _ = h.join();
-        }
-    }
+/// The slow logger here must get everything: a 1 s hold limit, so that on 2 loaded cores
+/// its reader being off the CPU for a moment does not make it a stalled client (whose
+/// queue no longer holds the flooders back and reaches the cap at their rate). The
+/// default hold limit is tested in tests/stall.rs.
+fn db_args() -> Vec<String> {
+    vec![
+        format!("--max_queue_mb={CAP_MB}"),
+        format!("--stall_timeout={}", STALL.as_secs_f64()),
+        "--hold_limit=1".into(),
+    ]
 }
 
 /// Flood `LOAD` from 3 publishers for [`FLOOD`] while `reader` keeps up; then check that
@@ -260,7 +43,7 @@ impl Drop for Events {
 /// `during` runs once, 300 ms into the flood.
 fn flood_and_check(db: &DbProc, reader: &mut Reader, idle_rss: usize, during: impl FnOnce()) {
     let stop = Arc::new(AtomicBool::new(false));
-    let pubs = flooders(db.port, 3, "LOAD", &stop);
+    let pubs = flooders(db.port, 3, "LOAD", &stop, PAYLOAD);
     let t0 = Instant::now();
     let mut during = Some(during);
     while t0.elapsed() < FLOOD {
@@ -294,15 +77,16 @@ fn flood_and_check(db: &DbProc, reader: &mut Reader, idle_rss: usize, during: im
         "the flood was too thin to test anything: {total}"
     );
     assert!(
-        hwm <= idle_rss + (CAP_MB << 20),
-        "DB peak RSS {hwm} B over idle {idle_rss} B + cap {CAP_MB} MiB"
+        hwm <= idle_rss + (CAP_MB << 20) + OVERHEAD,
+        "DB peak RSS {hwm} B over idle {idle_rss} B + cap {CAP_MB} MiB + {} MiB",
+        OVERHEAD >> 20
     );
 }
 
 #[test]
 fn a_flat_out_publishers_one_healthy_subscriber() {
     let _serial = serial();
-    let db = DbProc::start();
+    let db = DbProc::start(&db_args());
     let mut reader = Reader::new(db.port, "logger", &["LOAD"], 3);
     std::thread::sleep(Duration::from_millis(200));
     let idle = db.mem("VmRSS");
@@ -355,7 +139,7 @@ impl Drop for Blocked {
 #[test]
 fn b_blocked_callback_is_cut_off_healthy_subscriber_complete() {
     let _serial = serial();
-    let db = DbProc::start();
+    let db = DbProc::start(&db_args());
     let events = Events::watch(db.port);
     let mut reader = Reader::new(db.port, "logger", &["LOAD"], 3);
     let blocked = Blocked::new(db.port, "blocked", "LOAD");
@@ -436,7 +220,7 @@ impl Drop for ChildSub {
 #[test]
 fn c_sigstopped_child_is_cut_off_healthy_subscriber_complete() {
     let _serial = serial();
-    let db = DbProc::start();
+    let db = DbProc::start(&db_args());
     let events = Events::watch(db.port);
     let mut reader = Reader::with(db.port, "logger", &["LOAD"], 3, false);
     let mut child = Command::new(std::env::current_exe().expect("exe"))
@@ -480,7 +264,7 @@ fn c_sigstopped_child_is_cut_off_healthy_subscriber_complete() {
 #[test]
 fn d_light_publisher_not_held_back_by_a_flooder() {
     let _serial = serial();
-    let db = DbProc::start();
+    let db = DbProc::start(&db_args());
     // The logger takes both and reads slowly: its queue fills and holds the flooders.
     let mut logger = Reader::new(db.port, "logger", &["LOAD", "HELM"], 3);
     let pid = client(db.port, "pid");
@@ -522,7 +306,7 @@ fn d_light_publisher_not_held_back_by_a_flooder() {
         }
     });
     let fstop = Arc::new(AtomicBool::new(false));
-    let pubs = flooders(db.port, 3, "LOAD", &fstop);
+    let pubs = flooders(db.port, 3, "LOAD", &fstop, PAYLOAD);
     let t0 = Instant::now();
     let mut logger_helm = 0;
     while t0.elapsed() < FLOOD {
@@ -560,7 +344,10 @@ fn d_light_publisher_not_held_back_by_a_flooder() {
     );
     assert!(n >= 8, "helm sent only {n}");
     assert_eq!(lat.len(), n, "pid missed helm messages");
-    assert!(worst <= 0.050, "a helm message took {:.1} ms", worst * 1e3);
+    // Held back, it would wait for the logger to drain (each hold a good part of a
+    // second here); not held, it takes a few ms, and 250 ms leaves room for a loaded
+    // machine. (Who is held is tested exactly in db::outbox's unit tests.)
+    assert!(worst <= 0.250, "a helm message took {:.1} ms", worst * 1e3);
     assert_eq!(logger.next, posted, "logger incomplete");
     assert_eq!(logger_helm, n, "logger missed helm messages");
 }
@@ -581,6 +368,10 @@ fn help_documents_caps_timeouts_and_events() {
         "disconnected=<name>",
         "stalled=<name>,reason=accepted no bytes for <s> s",
         "stalled=<name>,reason=sent nothing for <s> s",
+        "stalled=<name>,reason=accepted no bytes while its queue reached <n> KiB",
+        "--hold_limit",
+        "HoldLimit, default 0.1]",
+        "known dead",
     ] {
         assert!(help.contains(s), "--help lacks {s:?}:\n{help}");
     }
@@ -589,4 +380,9 @@ fn help_documents_caps_timeouts_and_events() {
         .output()
         .expect("moosdb");
     assert_eq!(bad.status.code(), Some(2), "zero stall timeout accepted");
+    let bad = Command::new(env!("CARGO_BIN_EXE_moosdb"))
+        .args(["--hold_limit=-1", "--moos_port=0", "--bind=127.0.0.1"])
+        .output()
+        .expect("moosdb");
+    assert_eq!(bad.status.code(), Some(2), "negative hold limit accepted");
 }

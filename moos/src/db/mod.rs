@@ -17,20 +17,32 @@
 //!
 //! # Overload
 //!
-//! The DB never drops a message for a subscriber that keeps reading, and its memory stays
-//! under [`DbConfig::max_queue_bytes`]:
+//! The DB never drops a message for a subscriber that keeps reading, never drops a
+//! publisher, and its memory stays under [`DbConfig::max_queue_bytes`]: queues, incoming
+//! packets and the values table all count (`Inner::total`).
 //!
 //! * **Slow but reading.** Each client's queue has a high-water mark: the cap divided
 //!   among the connected clients (`max_queue_bytes / (2 × clients)`, between 64 KiB and
-//!   8 MiB), and a low-water mark at half of it. Past the high-water mark the DB stops
-//!   reading from the publishers that filled the queue (the heaviest recent contributors,
-//!   90 % of its recent bytes; a publisher posting a few messages a second is not among
-//!   them), so TCP flow control slows them down, until the queue drains below the
-//!   low-water mark. Time a publisher is held back does not count as silence.
-//! * **Stalled.** A client whose socket accepts no bytes for [`DbConfig::stall_timeout`]
-//!   while some wait for it, or that sends nothing for [`DbConfig::client_timeout`], is
-//!   cut off: its memory is released and the publishers it held back go on at once. It
-//!   gets the current values again when it reconnects.
+//!   8 MiB). Past it the DB stops reading from the publishers that filled the queue (the
+//!   heaviest recent contributors, 90 % of its recent bytes; a publisher posting a few
+//!   messages a second is not among them), so TCP flow control slows them down, until
+//!   the queue has drained 256 KiB (or half the mark). Time a publisher is held back
+//!   does not count as silence.
+//! * **Stalled** (issue 19). Back-pressure comes only from subscribers making progress:
+//!   one whose socket takes less than 64 KiB in [`DbConfig::hold_limit`] holds no one
+//!   back (until it does again), and no hold lasts longer than the hold limit (kernel
+//!   buffers take bytes for a while from a client that reads nothing). The queue of such
+//!   a client grows instead; when the DB-wide total reaches the cap it is cut off (the
+//!   largest first), as is a client whose socket accepts no bytes for
+//!   [`DbConfig::stall_timeout`], or that sends nothing for [`DbConfig::client_timeout`]:
+//!   its memory is released and it gets the current values again when it reconnects.
+//! * **Large packets.** A packet longer than 256 KiB is taken in pieces of whole messages
+//!   (`wire::FrameReader::next_piece`), each processed as it arrives; a message longer
+//!   than that is read only once the DB has room for all of it (`link::ReadShare`),
+//!   else the publisher waits, not read.
+//! * **Reconnects.** A handshake under the name of a connected client is refused while
+//!   that connection is live (as C++), and welcomed once it is known dead: the old one
+//!   is closed first (QUIRKS.md).
 //!
 //! # `DB_EVENT` values
 //!
@@ -39,11 +51,15 @@
 //! | `connected=<name>` | a client completed the handshake (as C++) |
 //! | `disconnected=<name>` | a client left, for whatever reason (as C++) |
 //! | `stalled=<name>,reason=accepted no bytes for <s> s` | posted just before `disconnected=`: its socket took nothing for `stall_timeout` |
+//! | `stalled=<name>,reason=accepted no bytes while its queue reached <n> KiB` | posted just before `disconnected=`: not making progress when the cap was reached |
 //! | `stalled=<name>,reason=sent nothing for <s> s` | posted just before `disconnected=`: silent for `client_timeout` |
 
+mod link;
 mod outbox;
 mod server;
 mod state;
+
+pub(crate) use link::Link;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -57,7 +73,8 @@ use crate::mission::MissionFile;
 use state::State;
 
 /// DB settings. `Default` gives port 9000 on 127.0.0.1, community `#1`, warp 1,
-/// 5 s client timeout, 5 s stall timeout, 64 MiB queue cap for all clients together.
+/// 5 s client timeout, 5 s stall timeout, 0.1 s hold limit, 64 MiB cap for all clients
+/// together.
 #[derive(Clone, Debug)]
 pub struct DbConfig {
     /// TCP port; 0 picks an ephemeral one (see [`Db::port`]).
@@ -74,6 +91,10 @@ pub struct DbConfig {
     /// Cut off a client whose socket accepted no bytes for this long while some were
     /// waiting (mission `StallTimeout`, seconds).
     pub stall_timeout: Duration,
+    /// A client whose socket accepted no bytes for this long while some were waiting
+    /// holds no publisher back any more, until it takes bytes again (mission
+    /// `HoldLimit`, seconds).
+    pub hold_limit: Duration,
     /// Cap on the bytes held and queued for all clients together (mission `MaxQueueMB`,
     /// MiB). Publishers are held back before it is reached; nothing is dropped.
     pub max_queue_bytes: usize,
@@ -98,6 +119,7 @@ impl Default for DbConfig {
             time_warp: 1.0,
             client_timeout: Duration::from_secs(5),
             stall_timeout: Duration::from_secs(5),
+            hold_limit: DEFAULT_HOLD_LIMIT,
             max_queue_bytes: 64 * 1024 * 1024,
             max_packet: crate::wire::DEFAULT_MAX_PACKET,
             handshake_timeout: Duration::from_secs(5),
@@ -110,8 +132,8 @@ impl Default for DbConfig {
 
 impl DbConfig {
     /// Apply the mission globals the DB reads: `ServerPort`, `Community`,
-    /// `MOOSTimeWarp`, `ClientTimeout` (spec §7.2), and this DB's own `StallTimeout`
-    /// (seconds) and `MaxQueueMB` (MiB).
+    /// `MOOSTimeWarp`, `ClientTimeout` (spec §7.2), and this DB's own `StallTimeout`,
+    /// `HoldLimit` (seconds) and `MaxQueueMB` (MiB).
     pub fn apply_mission(&mut self, m: &MissionFile) {
         if let Some(p) = m.global_f64("ServerPort") {
             if (0.0..=65535.0).contains(&p) {
@@ -136,6 +158,11 @@ impl DbConfig {
                 self.stall_timeout = Duration::from_secs_f64(t);
             }
         }
+        if let Some(t) = m.global_f64("HoldLimit") {
+            if t > 0.0 && t.is_finite() {
+                self.hold_limit = Duration::from_secs_f64(t);
+            }
+        }
         if let Some(mb) = m.global_f64("MaxQueueMB") {
             if let Some(b) = mib_to_bytes(mb) {
                 self.max_queue_bytes = b;
@@ -143,6 +170,10 @@ impl DbConfig {
         }
     }
 }
+
+/// Default [`DbConfig::hold_limit`]: a stalled subscriber may hold the publishers back
+/// this long at most, so the longest gap it causes others stays well under 250 ms.
+pub const DEFAULT_HOLD_LIMIT: Duration = Duration::from_millis(100);
 
 /// `mb` MiB in bytes, if it is a usable cap (at least 1 MiB).
 pub fn mib_to_bytes(mb: f64) -> Option<usize> {
@@ -179,11 +210,11 @@ pub struct DbStats {
 pub(crate) struct Inner {
     state: Mutex<State>,
     cfg: DbConfig,
-    /// Bytes queued for all clients (kept by the outboxes).
+    /// Bytes the DB holds for all clients: queues (kept by the outboxes), incomplete
+    /// packets (`link::ReadShare`) and the values table (the state).
     total: Arc<AtomicUsize>,
-    /// Bytes buffered in incomplete packets, all connections together (see
-    /// `server::PartialShare`).
-    partial: AtomicUsize,
+    /// Bytes reserved for incomplete messages longer than a piece (`link::ReadShare`).
+    big: AtomicUsize,
     stop: AtomicBool,
     next_conn: AtomicU64,
 }
@@ -216,18 +247,20 @@ impl Db {
         listener.set_nonblocking(true)?;
         let hostname = cfg.hostname.clone().unwrap_or_else(hostname);
         let now = crate::time::local_time(cfg.time_warp);
+        let total = Arc::new(AtomicUsize::new(0));
         let state = State::new(
             &cfg.community,
             &hostname,
             &cfg.response,
-            cfg.max_queue_bytes,
+            (cfg.max_queue_bytes, total.clone()),
+            cfg.client_timeout,
             now,
         );
         let inner = Arc::new(Inner {
             state: Mutex::new(state),
             cfg,
-            total: Arc::new(AtomicUsize::new(0)),
-            partial: AtomicUsize::new(0),
+            total,
+            big: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
             next_conn: AtomicU64::new(1),
         });
@@ -262,6 +295,12 @@ impl Db {
     /// Bytes currently held or queued for all clients.
     pub fn queued_bytes(&self) -> usize {
         self.inner.lock().queued_bytes()
+    }
+
+    /// Every byte the DB counts against its cap (queues, incomplete packets, values
+    /// table; the queues to within 64 KiB per client).
+    pub fn held_bytes(&self) -> usize {
+        self.inner.total.load(Ordering::Relaxed)
     }
 
     /// Bytes held or queued for one client (`None` if not connected).
@@ -323,7 +362,7 @@ mod tests {
     #[test]
     fn mission_sets_stall_timeout_and_queue_cap() {
         let m = MissionFile::parse(
-            "ServerPort = 9001\nClientTimeout = 7\nStallTimeout = 2.5\nMaxQueueMB = 128\n",
+            "ServerPort = 9001\nClientTimeout = 7\nStallTimeout = 2.5\nMaxQueueMB = 128\nHoldLimit = 0.3\n",
             Path::new("t.moos"),
         )
         .expect("parse");
@@ -334,6 +373,7 @@ mod tests {
         assert_eq!(cfg.stall_timeout, Duration::from_millis(2500));
         assert_eq!(cfg.max_queue_bytes, 128 << 20);
         assert_eq!(cfg.client_timeout, Duration::from_secs(7));
+        assert_eq!(cfg.hold_limit, Duration::from_millis(300));
     }
 
     #[test]

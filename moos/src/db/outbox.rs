@@ -99,6 +99,9 @@ pub(crate) struct Marks {
     pub low: usize,
     /// Cap on the bytes queued for all clients together.
     pub total_cap: usize,
+    /// A stalled client (see [`Outbox::set_stalled`]) is cut off when its queue reaches
+    /// this, or when the DB-wide total reaches `total_cap` while its queue is past `high`.
+    pub stalled_cap: usize,
 }
 
 struct Contrib {
@@ -122,6 +125,17 @@ struct OutQ {
     counted: usize,
     /// Publishers this client holds back.
     holding: Vec<Arc<Gate>>,
+    /// Its socket accepted nothing for the hold limit: it holds no one back.
+    stalled: bool,
+    /// It held publishers back for the hold limit without draining to its low-water
+    /// mark: it holds no one back until then (a quarter of the limit), so every such
+    /// hold is followed by a time in which the publishers go on.
+    cool_until: Option<Instant>,
+    /// Its last hold was ended by the hold limit, not by draining: it is not keeping up
+    /// (cut off, as a stalled one, when the DB-wide cap is reached).
+    limited: bool,
+    /// When it began holding publishers back (the current episode).
+    held_since: Option<Instant>,
     low: usize,
     /// Queue size at which more publishers are held back (0: at the high-water mark).
     next_step: usize,
@@ -143,6 +157,10 @@ impl OutQ {
             extra: 0,
             counted: 0,
             holding: Vec::new(),
+            stalled: false,
+            cool_until: None,
+            limited: false,
+            held_since: None,
             low: 0,
             next_step: 0,
             contrib: Vec::new(),
@@ -186,15 +204,22 @@ impl OutQ {
 
     /// Past the high-water mark (or the next step beyond it), hold back the heaviest
     /// recent contributors not yet held; all of them if the DB-wide cap is reached.
-    fn regulate(&mut self, m: Marks, total: &AtomicUsize) {
+    /// True if it held more publishers back.
+    fn regulate(&mut self, m: Marks, total: &AtomicUsize) -> bool {
         let q = self.queued();
-        if q < m.high {
-            return;
+        if q < m.high || self.stalled {
+            return false;
+        }
+        if let Some(t) = self.cool_until {
+            if Instant::now() < t {
+                return false;
+            }
+            self.cool_until = None;
         }
         let total = total.load(Ordering::Relaxed);
         let hard = total >= m.total_cap;
         if q < self.next_step && !hard {
-            return;
+            return false;
         }
         let mut cand: Vec<(usize, usize)> = self
             .contrib
@@ -220,23 +245,37 @@ impl OutQ {
             g.hold();
             self.holding.push(g);
         }
-        tracing::debug!(
-            queued = q,
-            total,
-            hard,
-            holding = self.holding.len(),
-            "queue past its mark: publishers held back"
-        );
-        self.low = m.low;
+        let first = self.held_since.is_none();
+        if !self.holding.is_empty() && first {
+            self.held_since = Some(Instant::now());
+        }
+        tracing::trace!(queued = q, total, hard, "queue past its mark");
+        // Released once drained below the low-water mark, or by the band since the hold
+        // began (a queue far past its mark, after a hold ended by the limit, releases
+        // its publishers as soon as it has shown that much progress).
+        if first {
+            self.low = m.low.max(q.saturating_sub(m.high - m.low));
+        }
         self.next_step = q + m.high / 2;
         // A fresh window: the next step sees only who kept adding.
         self.contrib.clear();
         self.contrib_sum = 0;
         self.last_contrib = 0;
+        true
+    }
+
+    /// A stalled client whose queue has reached its cap (or the DB-wide one) must go.
+    fn over_cap(&self, m: Marks, total: &AtomicUsize) -> bool {
+        let q = self.queued();
+        let over =
+            q >= m.stalled_cap || (q >= m.high && total.load(Ordering::Relaxed) >= m.total_cap);
+        // Not keeping up: stalled, or its last hold ended by the hold limit.
+        over && (self.stalled || self.limited)
     }
 
     fn release_if_drained(&mut self) {
         if !self.holding.is_empty() && self.queued() < self.low {
+            self.limited = false;
             self.release_all();
         }
     }
@@ -252,8 +291,20 @@ impl OutQ {
         for g in self.holding.drain(..) {
             g.release();
         }
+        self.held_since = None;
         self.next_step = 0;
     }
+}
+
+/// What [`Outbox::push_packet`] did.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Pushed {
+    /// Bytes queued now.
+    pub queued: usize,
+    /// The queue was empty: the caller must try a flush.
+    pub was_empty: bool,
+    /// Stalled, and its queue reached its cap: the caller must cut the client off.
+    pub over_cap: bool,
 }
 
 /// Bytes waiting to be written to one client.
@@ -263,15 +314,18 @@ pub(crate) struct Outbox {
     stream: TcpStream,
     /// Bytes queued for all clients of the DB.
     total: Arc<AtomicUsize>,
+    /// The client's name (for the logs).
+    pub name: String,
 }
 
 impl Outbox {
-    pub fn new(stream: TcpStream, total: Arc<AtomicUsize>) -> Outbox {
+    pub fn new(stream: TcpStream, total: Arc<AtomicUsize>, name: &str) -> Outbox {
         Outbox {
             q: Mutex::new(OutQ::new()),
             cv: Condvar::new(),
             stream,
             total,
+            name: name.to_owned(),
         }
     }
 
@@ -315,20 +369,21 @@ impl Outbox {
     /// Queue the finished packet in `pkt`, added by the publisher behind `from`. When
     /// nothing is waiting, the buffers are swapped instead of copied; either way `pkt` is
     /// left empty (keeping some capacity) for the caller to reuse.
-    /// With `wake` false the writer thread is not woken: when the returned flag says the
-    /// queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands the
-    /// bytes to the writer if it cannot send them all).
+    /// With `wake` false the writer thread is not woken: when the returned `was_empty`
+    /// says the queue was empty, the caller must call [`Outbox::try_flush`] soon (it hands
+    /// the bytes to the writer if it cannot send them all). `over_cap`: the client is
+    /// stalled and its queue reached its cap: the caller must cut it off.
     pub fn push_packet(
         &self,
         pkt: &mut Vec<u8>,
         wake: bool,
         from: Option<&Arc<Gate>>,
         marks: Marks,
-    ) -> (usize, bool) {
+    ) -> Pushed {
         let mut q = self.lock();
         if q.closed {
             pkt.clear();
-            return (0, false);
+            return Pushed::default();
         }
         let n = pkt.len();
         let was_empty = q.buf.is_empty();
@@ -342,13 +397,62 @@ impl Outbox {
         if let Some(g) = from {
             q.account(g, n, marks.high);
         }
-        q.regulate(marks, &self.total);
-        let queued = q.queued();
+        if q.regulate(marks, &self.total) {
+            tracing::debug!(client = %self.name, queued = q.queued(), holding = q.holding.len(), "queue past its mark: publishers held back");
+        }
+        let pushed = Pushed {
+            queued: q.queued(),
+            was_empty,
+            over_cap: q.over_cap(marks, &self.total),
+        };
         drop(q);
         if was_empty && wake {
             self.cv.notify_one();
         }
-        (queued, was_empty)
+        pushed
+    }
+
+    /// Writer side: the socket has accepted nothing for the hold limit while bytes
+    /// waited. From now until it takes bytes again this client holds no publisher back
+    /// (those it held go on at once); its queue grows up to its cap instead.
+    pub fn set_stalled(&self) {
+        let mut q = self.lock();
+        if q.closed || q.stalled {
+            return;
+        }
+        q.stalled = true;
+        tracing::debug!(
+            client = %self.name,
+            queued = q.queued(),
+            released = q.holding.len(),
+            "socket accepts nothing: holding no one back"
+        );
+        q.release_all();
+    }
+
+    /// Writer side: a hold that has lasted `limit` without the queue draining to its
+    /// low-water mark ends now, and this client holds no one back for a quarter of that.
+    /// A socket can take bytes while its client reads nothing (kernel buffers growing
+    /// take hundreds of KiB at a time), so taking bytes is not enough to hold everyone
+    /// for longer: no hold lasts more than the limit.
+    pub fn end_long_hold(&self, limit: Duration) {
+        let mut q = self.lock();
+        if q.held_since.is_some_and(|t| t.elapsed() >= limit) {
+            q.cool_until = Some(Instant::now() + limit / 4);
+            q.limited = true;
+            tracing::debug!(
+                client = %self.name,
+                queued = q.queued(),
+                released = q.holding.len(),
+                "held publishers back for the hold limit: released"
+            );
+            q.release_all();
+        }
+    }
+
+    /// Writer side: the socket accepts bytes again (after [`Outbox::set_stalled`]).
+    pub fn progressed(&self) {
+        self.lock().stalled = false;
     }
 
     /// A synchronous client's held mail (kept by the DB state until it polls) is now
@@ -457,6 +561,12 @@ impl Outbox {
         self.lock().holding.len()
     }
 
+    /// Known dead: a write failed, the DB closed it, or the peer reset the connection
+    /// (a pending socket error).
+    pub fn is_dead(&self) -> bool {
+        self.lock().closed || matches!(self.stream.take_error(), Ok(Some(_)) | Err(_))
+    }
+
     /// Closed by the DB: its reader should stop too.
     pub fn is_cut(&self) -> bool {
         self.lock().cut
@@ -493,8 +603,10 @@ impl Outbox {
 
     /// Writer side: wait for bytes and swap them into `spare` (which must be empty).
     /// `done`: the bytes of the previous `take` are written. Returns false when closed.
-    pub fn take(&self, spare: &mut Vec<u8>, done: bool) -> bool {
+    /// `drained` is set when nothing was waiting (the client had taken everything).
+    pub fn take(&self, spare: &mut Vec<u8>, done: bool, drained: &mut bool) -> bool {
         let mut q = self.lock();
+        *drained = q.buf.is_empty();
         if done {
             q.inflight = 0;
             q.writing = false;
@@ -517,156 +629,5 @@ impl Outbox {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use std::net::TcpListener;
-
-    const MARKS: Marks = Marks {
-        high: 1000,
-        low: 500,
-        total_cap: 1_000_000,
-    };
-
-    fn gates(n: usize) -> Vec<Arc<Gate>> {
-        (0..n).map(|_| Arc::new(Gate::new())).collect()
-    }
-
-    /// Add `n` bytes from `from` to the queue, as a push does.
-    fn add(q: &mut OutQ, from: &Arc<Gate>, n: usize) {
-        q.buf.extend(std::iter::repeat_n(0u8, n));
-        q.account(from, n, MARKS.high);
-    }
-
-    #[test]
-    fn only_the_heavy_contributor_is_held_back() {
-        let g = gates(2);
-        let (flood, helm) = (&g[0], &g[1]);
-        let mut q = OutQ::new();
-        let total = AtomicUsize::new(0);
-        for _ in 0..19 {
-            add(&mut q, flood, 50);
-            q.regulate(MARKS, &total);
-        }
-        add(&mut q, helm, 10);
-        q.regulate(MARKS, &total);
-        assert!(
-            flood.is_open() && helm.is_open(),
-            "below the high-water mark"
-        );
-        add(&mut q, flood, 50);
-        q.regulate(MARKS, &total);
-        assert!(!flood.is_open(), "the flooder fills the queue");
-        assert!(helm.is_open(), "a light publisher goes on");
-        // It drains: still above the low-water mark, then below it.
-        q.buf.truncate(600);
-        q.release_if_drained();
-        assert!(!flood.is_open());
-        q.buf.truncate(499);
-        q.release_if_drained();
-        assert!(flood.is_open());
-    }
-
-    #[test]
-    fn equal_heavy_contributors_are_all_held_back() {
-        let g = gates(3);
-        let mut q = OutQ::new();
-        let total = AtomicUsize::new(0);
-        for _ in 0..4 {
-            for p in &g {
-                add(&mut q, p, 100);
-            }
-        }
-        q.regulate(MARKS, &total);
-        assert!(g.iter().all(|p| !p.is_open()));
-    }
-
-    #[test]
-    fn growth_past_the_next_step_holds_who_kept_adding() {
-        let g = gates(3);
-        let (a, b, light) = (&g[0], &g[1], &g[2]);
-        let mut q = OutQ::new();
-        let total = AtomicUsize::new(0);
-        add(&mut q, a, 1000);
-        add(&mut q, light, 5);
-        q.regulate(MARKS, &total);
-        assert!(!a.is_open() && b.is_open() && light.is_open());
-        // b keeps filling while a is held: nothing more until the next step (high / 2).
-        add(&mut q, b, 400);
-        q.regulate(MARKS, &total);
-        assert!(b.is_open());
-        add(&mut q, b, 200);
-        q.regulate(MARKS, &total);
-        assert!(!b.is_open() && light.is_open());
-    }
-
-    #[test]
-    fn at_the_total_cap_every_contributor_is_held_back() {
-        let g = gates(2);
-        let (flood, helm) = (&g[0], &g[1]);
-        let mut q = OutQ::new();
-        let total = AtomicUsize::new(MARKS.total_cap);
-        add(&mut q, flood, 2000);
-        add(&mut q, helm, 10);
-        q.regulate(MARKS, &total);
-        assert!(!flood.is_open() && !helm.is_open());
-        q.release_all();
-        assert!(flood.is_open() && helm.is_open());
-    }
-
-    #[test]
-    fn window_halves_so_old_traffic_fades() {
-        let g = gates(2);
-        let mut q = OutQ::new();
-        add(&mut q, &g[0], 900);
-        add(&mut q, &g[1], 200); // sum 1100 > high: halved
-        assert_eq!(q.contrib_sum, 450 + 100);
-        assert_eq!(q.contrib.len(), 2);
-    }
-
-    #[test]
-    fn gate_wait_wakes_on_release() {
-        let g = Arc::new(Gate::new());
-        g.hold();
-        assert!(!g.wait_open(Duration::from_millis(20)));
-        let g2 = g.clone();
-        let t = std::thread::spawn(move || g2.wait_open(Duration::from_secs(5)));
-        std::thread::sleep(Duration::from_millis(20));
-        g.release();
-        assert!(t.join().expect("waiter"));
-    }
-
-    /// A real socket whose peer never reads: pushes past the high-water mark hold the
-    /// publisher; closing releases it and the memory, and the total goes back to 0.
-    #[test]
-    fn outbox_holds_then_close_releases_everything() {
-        let l = TcpListener::bind("127.0.0.1:0").expect("bind");
-        let _peer = std::net::TcpStream::connect(l.local_addr().expect("addr")).expect("connect");
-        let (s, _) = l.accept().expect("accept");
-        let total = Arc::new(AtomicUsize::new(0));
-        let out = Outbox::new(s, total.clone());
-        let publisher = Arc::new(Gate::new());
-        let marks = Marks {
-            high: 4 << 20,
-            low: 2 << 20,
-            total_cap: 64 << 20,
-        };
-        let mut pkt = Vec::new();
-        for _ in 0..200 {
-            pkt.resize(64 << 10, 7);
-            out.push_packet(&mut pkt, false, Some(&publisher), marks);
-            out.try_flush();
-            if !publisher.is_open() {
-                break;
-            }
-        }
-        assert!(!publisher.is_open(), "never held back");
-        assert!(out.queued() >= marks.high);
-        assert!(total.load(Ordering::Relaxed) + COUNT_STEP >= out.queued());
-        assert_eq!(out.holding(), 1);
-        out.close();
-        assert!(publisher.is_open());
-        assert_eq!(out.queued(), 0);
-        assert_eq!(total.load(Ordering::Relaxed), 0);
-        assert!(out.is_cut());
-    }
-}
+#[path = "outbox_tests.rs"]
+mod tests;

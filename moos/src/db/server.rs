@@ -1,20 +1,21 @@
 //! Socket side of the DB: accept, handshake, per-client reader and writer threads.
 //!
 //! A reader stops reading while its connection's [`Gate`] is held (flow control, see
-//! `outbox`); a writer cuts its client off when the socket has accepted no bytes for the
-//! stall timeout.
+//! `outbox`), or while it waits for room to buffer a long message (`link::ReadShare`).
+//! A writer marks its client stalled when the socket has accepted no bytes for the hold
+//! limit (it then holds no one back), and cuts it off at the stall timeout.
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
-use std::ops::Range;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::link::{Link, ReadCounters, ReadShare, PIECE};
 use super::outbox::{Gate, Outbox};
 use super::state::Admit;
 use super::Inner;
-use crate::wire::{self, DataType, FrameReader, Message, MsgType, MsgView};
+use crate::wire::{self, DataType, FrameReader, Message, MsgType, MsgView, Piece};
 
 pub(crate) fn accept_loop(inner: Arc<Inner>, listener: TcpListener) {
     while !inner.stop.load(Ordering::SeqCst) {
@@ -57,62 +58,6 @@ pub(crate) fn poison_packet(reason: &str, now: f64) -> Vec<u8> {
 /// Largest handshake packet (a client's name and options; real ones are a few hundred
 /// bytes): a peer that starts a bigger one is not a MOOS client.
 const MAX_HANDSHAKE: usize = 64 * 1024;
-
-/// One connection's part of [`Inner::partial`]: the bytes it buffers for packets not yet
-/// complete. Any peer may start a packet of up to `max_packet` (64 MiB) and then stall,
-/// so together they are capped at `max_queue_bytes`: past that, a connection holding a
-/// large partial packet (an eighth of the cap or more) is dropped; small packets, which
-/// every live client sends, never are.
-struct PartialShare<'a> {
-    total: &'a std::sync::atomic::AtomicUsize,
-    cap: usize,
-    mine: usize,
-}
-
-impl<'a> PartialShare<'a> {
-    fn new(inner: &'a Inner) -> Self {
-        PartialShare {
-            total: &inner.partial,
-            cap: inner.cfg.max_queue_bytes,
-            mine: 0,
-        }
-    }
-
-    /// Record that this connection now buffers `pending` bytes; `Err` with the reason
-    /// if it must be dropped.
-    fn update(&mut self, pending: usize) -> Result<(), String> {
-        // Most reads end on a packet boundary: no change, and no touching the counter
-        // every connection shares.
-        if pending == self.mine {
-            return Ok(());
-        }
-        if pending > self.mine {
-            self.total.fetch_add(pending - self.mine, Ordering::Relaxed);
-        } else {
-            self.total.fetch_sub(self.mine - pending, Ordering::Relaxed);
-        }
-        self.mine = pending;
-        if pending < (self.cap / 8).max(1 << 20) {
-            return Ok(());
-        }
-        let total = self.total.load(Ordering::Relaxed);
-        if total > self.cap {
-            return Err(format!(
-                "a partial packet of {} MiB with {} MiB buffered by all clients (cap {} MiB)",
-                pending >> 20,
-                total >> 20,
-                self.cap >> 20
-            ));
-        }
-        Ok(())
-    }
-}
-
-impl Drop for PartialShare<'_> {
-    fn drop(&mut self) {
-        self.total.fetch_sub(self.mine, Ordering::Relaxed);
-    }
-}
 
 fn is_timeout(e: &std::io::Error) -> bool {
     matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut)
@@ -205,12 +150,16 @@ fn serve(inner: Arc<Inner>, mut stream: TcpStream, peer: SocketAddr, conn_id: u6
     let Ok(ostream) = stream.try_clone() else {
         return;
     };
-    let out = Arc::new(Outbox::new(ostream, inner.total.clone()));
-    let gate = Arc::new(Gate::new());
     let name = String::from_utf8_lossy(&hs.sval).into_owned();
+    let out = Arc::new(Outbox::new(ostream, inner.total.clone(), &name));
+    let gate = Arc::new(Gate::new());
+    let link = Arc::new(Link::new());
+    let is_async = hs.key.eq_ignore_ascii_case(wire::ASYNC_KEY);
     let admitted = {
         let now = inner.now();
-        inner.lock().admit(&hs, conn_id, out.clone(), now)
+        inner
+            .lock()
+            .admit(&hs, (conn_id, out.clone(), link.clone()), now)
     };
     if let Admit::Poison(reason) = admitted {
         tracing::info!(client = %name, %reason, "handshake refused");
@@ -225,40 +174,74 @@ fn serve(inner: Arc<Inner>, mut stream: TcpStream, peer: SocketAddr, conn_id: u6
     let reason = if spawned.is_err() {
         "cannot spawn writer"
     } else {
-        read_loop(&inner, &mut stream, &mut fr, &name, &gate, &out, conn_id)
+        let conn = Conn {
+            name: &name,
+            conn_id,
+            gate: &gate,
+            out: &out,
+            link: &link,
+            // A synchronous client expects one reply per packet: its packets stay whole.
+            piece: if is_async {
+                PIECE
+            } else {
+                inner.cfg.max_packet
+            },
+        };
+        read_loop(&inner, &mut stream, &mut fr, &conn)
     };
+    link.set_dead();
     let now = inner.now();
     inner.lock().disconnect(&name, conn_id, reason, now);
     out.close();
+}
+
+/// One admitted connection, as its reader sees it.
+struct Conn<'a> {
+    name: &'a str,
+    conn_id: u64,
+    gate: &'a Arc<Gate>,
+    out: &'a Outbox,
+    link: &'a Link,
+    /// Packets longer than this are taken in pieces (`FrameReader::next_piece`).
+    piece: usize,
+}
+
+/// A decoded piece: where its views end, and whether it starts its packet.
+struct Decoded {
+    end: usize,
+    first: bool,
 }
 
 fn read_loop(
     inner: &Inner,
     stream: &mut TcpStream,
     fr: &mut FrameReader,
-    name: &str,
-    gate: &Arc<Gate>,
-    out: &Outbox,
-    conn_id: u64,
+    c: &Conn,
 ) -> &'static str {
+    let name = c.name;
     let tick = inner.cfg.client_timeout.min(Duration::from_secs(1));
     if stream.set_read_timeout(Some(tick)).is_err() {
         return "socket error";
     }
     let mut last_rx = Instant::now();
-    let mut partial = PartialShare::new(inner);
-    // Every packet complete after one read is decoded in place (views into the read
-    // buffer), then all are processed under one lock. A bad packet ends the connection
-    // before any of that read's packets are processed.
-    let mut frames: Vec<Range<usize>> = Vec::new();
-    let mut ends: Vec<usize> = Vec::new();
+    c.link.heard();
+    let mut share = ReadShare::new(ReadCounters {
+        total: &inner.total,
+        big: &inner.big,
+        big_cap: inner.cfg.max_queue_bytes / 2,
+    });
+    // Every packet (or piece of a big one) complete after one read is decoded in place
+    // (views into the read buffer), then all are processed under one lock. A bad packet
+    // ends the connection before any of that read's packets are processed.
+    let mut pieces: Vec<Piece> = Vec::new();
+    let mut decoded: Vec<Decoded> = Vec::new();
     let mut spare_views: Vec<MsgView<'static>> = Vec::new();
     let mut flush = Vec::new();
     loop {
-        frames.clear();
+        pieces.clear();
         loop {
-            match fr.next_frame() {
-                Ok(Some(r)) => frames.push(r),
+            match fr.next_piece(c.piece) {
+                Ok(Some(p)) => pieces.push(p),
                 Ok(None) => break,
                 Err(e) => {
                     tracing::warn!(client = %name, "bad packet framing: {e}");
@@ -266,34 +249,56 @@ fn read_loop(
                 }
             }
         }
-        // Every complete packet is taken: what is left is one partial packet.
-        if let Err(why) = partial.update(fr.pending()) {
-            tracing::warn!(client = %name, "dropped: {why}");
-            return "partial packets over the cap";
+        if let Some(e) = fr.take_bad() {
+            tracing::warn!(client = %name, "malformed message dropped (with the rest of its packet): {e}");
         }
-        if !frames.is_empty() {
+        if !pieces.is_empty() {
             let mut views = recycle(std::mem::take(&mut spare_views));
-            ends.clear();
-            for r in &frames {
-                match wire::decode_packet_views(fr.frame(r.clone()), usize::MAX, &mut views) {
-                    Ok(err) => {
-                        if let Some(e) = err {
-                            tracing::warn!(client = %name, "malformed message dropped: {e}");
+            decoded.clear();
+            for p in &pieces {
+                let first = match p {
+                    Piece::Packet(r) => {
+                        match wire::decode_packet_views(fr.frame(r.clone()), usize::MAX, &mut views)
+                        {
+                            Ok(Some(e)) => {
+                                tracing::warn!(client = %name, "malformed message dropped: {e}");
+                            }
+                            Ok(None) => {}
+                            Err(e) => {
+                                tracing::warn!(client = %name, "malformed packet: {e}");
+                                return "malformed packet";
+                            }
                         }
-                        ends.push(views.len());
+                        true
                     }
-                    Err(e) => {
-                        tracing::warn!(client = %name, "malformed packet: {e}");
-                        return "malformed packet";
+                    Piece::Messages {
+                        range,
+                        count,
+                        first,
+                    } => {
+                        // Checked whole by the frame reader.
+                        let mut b = fr.frame(range.clone());
+                        for _ in 0..*count {
+                            let Ok((m, used)) = MsgView::parse(b) else {
+                                break;
+                            };
+                            views.push(m);
+                            b = b.get(used..).unwrap_or_default();
+                        }
+                        *first
                     }
-                }
+                };
+                decoded.push(Decoded {
+                    end: views.len(),
+                    first,
+                });
             }
             let now = inner.now();
             let mut st = inner.lock();
             let mut start = 0;
-            for &end in &ends {
-                st.process(name, &views[start..end], gate, now, now);
-                start = end;
+            for d in &decoded {
+                st.process(name, &views[start..d.end], c.gate, d.first, (now, now));
+                start = d.end;
             }
             std::mem::swap(&mut flush, &mut st.flush);
             drop(st);
@@ -305,27 +310,54 @@ fn read_loop(
         if inner.stop.load(Ordering::Relaxed) {
             return "shutdown";
         }
-        if !gate.is_open() {
-            // Held back for a subscriber's queue: the time does not count as silence.
-            while !gate.wait_open(tick) {
+        // Room for what is buffered, and for the whole of a long message before more of
+        // it is read: else wait, not reading (the publisher is held back, not dropped).
+        share.buffered(fr.pending());
+        if !share.reserve(fr.wanted(c.piece)) {
+            tracing::info!(
+                client = %name,
+                kib = fr.wanted(c.piece) >> 10,
+                "held back: waiting for room for a long message"
+            );
+            c.link.set_held(true);
+            while !share.reserve(fr.wanted(c.piece)) {
+                std::thread::sleep(Duration::from_millis(2));
                 if inner.stop.load(Ordering::Relaxed) {
                     return "shutdown";
                 }
-                if out.is_cut() {
+                if c.out.is_cut() {
                     return "closed";
                 }
             }
+            c.link.set_held(false);
+            last_rx = Instant::now();
+        }
+        if !c.gate.is_open() {
+            // Held back for a subscriber's queue: the time does not count as silence.
+            c.link.set_held(true);
+            while !c.gate.wait_open(tick) {
+                if inner.stop.load(Ordering::Relaxed) {
+                    return "shutdown";
+                }
+                if c.out.is_cut() {
+                    return "closed";
+                }
+            }
+            c.link.set_held(false);
             last_rx = Instant::now();
         }
         match fr.fill(stream) {
             Ok(0) => return "closed by client",
-            Ok(_) => last_rx = Instant::now(),
+            Ok(_) => {
+                last_rx = Instant::now();
+                c.link.heard();
+            }
             Err(e) if is_timeout(&e) => {
                 let silent = last_rx.elapsed();
                 if silent > inner.cfg.client_timeout {
                     let why = format!("sent nothing for {:.1} s", silent.as_secs_f64());
                     let now = inner.now();
-                    inner.lock().cut_off(name, conn_id, &why, now);
+                    inner.lock().cut_off(name, c.conn_id, &why, now);
                     return "timeout";
                 }
             }
@@ -345,15 +377,64 @@ fn recycle<'b>(mut v: Vec<MsgView<'_>>) -> Vec<MsgView<'b>> {
 /// The writer tells the outbox about progress within a chunk this often (bytes).
 const REPORT_EVERY: usize = 256 << 10;
 
+/// What a socket must accept within the hold limit to count as making progress (and so
+/// hold publishers back): a subscriber that takes only a trickle (its kernel buffers
+/// growing while it reads nothing, or a very slow link) would hold everyone to its pace.
+const HOLD_PROGRESS: usize = 64 << 10;
+
+/// The hold clock (`writer`): (window start, bytes accepted in it, marked stalled). A
+/// window with [`HOLD_PROGRESS`] bytes is progress (a new window starts; a stalled
+/// client holds again); one of `hold` without is a stall (a trickle does not add up
+/// across windows).
+fn hold_window(out: &Outbox, hold: Duration, w: &mut (Instant, usize, bool)) {
+    let (since, bytes, marked) = w;
+    if since.elapsed() >= hold / 4 {
+        // At most once a tick: it takes the outbox lock the publishers push under.
+        out.end_long_hold(hold);
+    }
+    if *bytes >= HOLD_PROGRESS {
+        tracing::trace!(client = %out.name, bytes = *bytes, ms = since.elapsed().as_millis() as u64, "hold window");
+        if std::mem::take(marked) {
+            out.progressed();
+        }
+        *since = Instant::now();
+        *bytes = 0;
+    } else if since.elapsed() >= hold {
+        *since = Instant::now();
+        *bytes = 0;
+        if !*marked {
+            *marked = true;
+            out.set_stalled();
+        }
+    }
+}
+
 /// Blocking writes of what the direct flushes left, in ticks short enough to notice a
-/// stall in time: a client whose socket accepts nothing for the stall timeout is cut off.
+/// stall in time: a client whose socket accepts less than [`HOLD_PROGRESS`] within the
+/// hold limit is marked stalled (it holds no one back until it makes progress again),
+/// and one that accepts nothing for the stall timeout is cut off.
 fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_id: u64) {
     let stall = inner.cfg.stall_timeout;
-    let tick = (stall / 10).clamp(Duration::from_millis(10), Duration::from_millis(100));
+    let hold = inner.cfg.hold_limit;
+    let tick = (stall / 10)
+        .min(hold / 4)
+        .clamp(Duration::from_millis(5), Duration::from_millis(100));
     let _ = stream.set_write_timeout(Some(tick));
     let mut spare = Vec::new();
     let mut done = false;
-    while out.take(&mut spare, done) {
+    let mut drained = false;
+    // The hold clock: windows of the hold limit; a window in which the socket accepted
+    // HOLD_PROGRESS bytes (or took all there was) is progress, one without marks the
+    // client stalled.
+    let mut hw = (Instant::now(), 0usize, false);
+    while out.take(&mut spare, done, &mut drained) {
+        if drained {
+            hw.0 = Instant::now();
+            hw.1 = 0;
+            if std::mem::take(&mut hw.2) {
+                out.progressed();
+            }
+        }
         done = true;
         // The stall clock: last progress, or when these bytes were handed over.
         let mut since = Instant::now();
@@ -370,6 +451,10 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                 Ok(n) => {
                     sent += n;
                     progressed = true;
+                    hw.1 += n;
+                    // A write that times out after taking a few bytes returns them, so
+                    // the window is judged here too.
+                    hold_window(out, hold, &mut hw);
                     unreported += n;
                     // Progress lets the queue fall below its low-water mark.
                     if unreported >= REPORT_EVERY && sent < spare.len() {
@@ -381,6 +466,7 @@ fn writer(inner: &Inner, out: &Outbox, mut stream: TcpStream, name: &str, conn_i
                     if std::mem::take(&mut progressed) {
                         since = Instant::now();
                     }
+                    hold_window(out, hold, &mut hw);
                     let stuck = since.elapsed();
                     if stuck >= stall {
                         let why = format!("accepted no bytes for {:.1} s", stuck.as_secs_f64());

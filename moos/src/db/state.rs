@@ -3,10 +3,17 @@
 
 use std::collections::{HashMap, HashSet};
 use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
 
 use super::outbox::{Gate, Marks, Outbox};
-use crate::text::{find_value, format_g, wildcard_match};
+use super::Link;
+
+/// Replies to server requests and the DB's own variables (spec §5.8, §5.9).
+#[path = "reports.rs"]
+mod reports;
+use crate::text::{find_value, wildcard_match};
 use crate::wire::{DataType, Message, MsgType, MsgView, PacketBuilder, PACKET_HEADER_LEN};
 
 const REFRESH_PERIOD: f64 = 2.0;
@@ -15,6 +22,11 @@ const REFRESH_PERIOD: f64 = 2.0;
 pub(crate) const MAX_HIGH_WATER: usize = 8 << 20;
 /// Smallest per-client high-water mark, however many clients share the cap.
 const MIN_HIGH_WATER: usize = 64 << 10;
+/// A queue past its high-water mark holds its publishers back until it has drained this
+/// much (or half the mark, if less): a reader taking 2.5 MB/s releases them within the
+/// default hold limit, so a slow reader holds them back in short pulses; only a slower
+/// one (or a stalled one) sees its holds ended by the hold limit.
+const HOLD_BAND: usize = 256 << 10;
 
 /// Held mail starts with room for the packet header, filled in when it is sent.
 const HDR: usize = PACKET_HEADER_LEN;
@@ -133,6 +145,8 @@ pub(crate) struct ClientRec {
     held_count: usize,
     filters: Vec<Filter>,
     pub out: Arc<Outbox>,
+    /// The reader's side of the connection (to tell a dead one from a live one).
+    link: Arc<Link>,
     /// A synchronous client got held mail during the packet being processed.
     touched: bool,
     consolidation: f64,
@@ -167,6 +181,12 @@ pub(crate) struct State {
     touched: Vec<usize>,
     /// Cap on the bytes queued for all clients together.
     max_queue: usize,
+    /// Bytes the DB holds for all clients together (queues, partial packets, values).
+    total: Arc<AtomicUsize>,
+    /// Bytes of the values table (variable names and string values), as added to `total`.
+    values: usize,
+    /// A connection silent (and not held back) this long is dead (`ClientTimeout`).
+    client_timeout: Duration,
     response: Vec<(String, f64)>,
     scratch: Vec<u8>,
     encoded: Vec<u8>,
@@ -184,9 +204,11 @@ impl State {
         community: &str,
         hostname: &str,
         response: &[(String, f64)],
-        max_queue: usize,
+        cap: (usize, Arc<AtomicUsize>),
+        client_timeout: Duration,
         now: f64,
     ) -> State {
+        let (max_queue, total) = cap;
         let mut vars = FastMap::default();
         for (n, t) in [
             ("DB_TIME", DataType::DOUBLE),
@@ -217,6 +239,9 @@ impl State {
             dirty: Vec::new(),
             touched: Vec::new(),
             max_queue,
+            total,
+            values: 0,
+            client_timeout,
             response,
             scratch: Vec::new(),
             encoded: Vec::new(),
@@ -228,13 +253,20 @@ impl State {
     }
 
     /// Handshake (spec §4.3 steps 4–8). On `Welcome`, the welcome packet is queued on `out`.
-    pub fn admit(&mut self, hs: &Message, conn_id: u64, out: Arc<Outbox>, now: f64) -> Admit {
+    /// A name held by a live connection is refused (as C++); one held by a connection
+    /// known dead (see [`State::is_dead`]) is freed first (QUIRKS.md).
+    pub fn admit(&mut self, hs: &Message, conn: (u64, Arc<Outbox>, Arc<Link>), now: f64) -> Admit {
+        let (conn_id, out, link) = conn;
         let name = String::from_utf8_lossy(&hs.sval).into_owned();
         if name.is_empty() {
             return Admit::Poison("Failed to read receive client's name".into());
         }
-        if self.clients.contains_key(&name) {
-            return Admit::Poison(format!("A client of this name (\"{name}\") already exists"));
+        if let Some(old) = self.client(&name) {
+            if !self.is_dead(old) {
+                return Admit::Poison(format!("A client of this name (\"{name}\") already exists"));
+            }
+            tracing::warn!(client = %name, "reconnect under the name of a dead connection: closing the old one");
+            self.remove_client(&name, "replaced by a reconnect", now);
         }
         let is_async = hs.key.eq_ignore_ascii_case(crate::wire::ASYNC_KEY);
         let welcome = Message {
@@ -266,6 +298,7 @@ impl State {
             held_count: 0,
             filters: Vec::new(),
             out,
+            link,
             touched: false,
             consolidation,
             qos: None,
@@ -311,14 +344,35 @@ impl State {
         self.remove_client(name, "stalled", now);
     }
 
+    /// A connection known dead: its peer closed or reset it, a read or write failed,
+    /// or it has been silent past the client timeout while not held back.
+    fn is_dead(&self, c: &ClientRec) -> bool {
+        c.link.is_dead(self.client_timeout) || c.out.is_dead()
+    }
+
     /// Flow-control marks: the cap shared by `n` connected clients.
     fn marks_for(&self, n: usize) -> Marks {
         let n = n.max(1);
         let high = (self.max_queue / (2 * n)).clamp(MIN_HIGH_WATER, MAX_HIGH_WATER);
         Marks {
             high,
-            low: high / 2,
+            low: high - (high / 2).min(HOLD_BAND),
             total_cap: self.max_queue,
+            // A stalled client may take all the room left: a reader that pauses for a
+            // moment (its own inbox full) loses nothing if the DB has room for it.
+            stalled_cap: self.max_queue,
+        }
+    }
+
+    /// The values table holds `delta` more bytes.
+    fn values_grew(&mut self, delta: isize) {
+        if delta > 0 {
+            self.values += delta as usize;
+            self.total.fetch_add(delta as usize, Ordering::Relaxed);
+        } else if delta < 0 {
+            let d = delta.unsigned_abs().min(self.values);
+            self.values -= d;
+            self.total.fetch_sub(d, Ordering::Relaxed);
         }
     }
 
@@ -388,15 +442,18 @@ impl State {
     }
 
     /// One packet from client `name` (spec §5.3), decoded in place. `gate` is the
-    /// sender's: the subscribers its messages fill may hold it back.
+    /// sender's: the subscribers its messages fill may hold it back. A big packet comes
+    /// in pieces, each processed as a packet; `first` is false for all but its first
+    /// (a timing message counts only at the start of a packet).
     pub fn process(
         &mut self,
         name: &str,
         msgs: &[MsgView<'_>],
         gate: &Arc<Gate>,
-        local: f64,
-        now: f64,
+        first: bool,
+        now: (f64, f64),
     ) {
+        let (local, now) = now;
         if msgs.is_empty() {
             tracing::debug!(client = %name, "packet with no content");
             return;
@@ -413,7 +470,7 @@ impl State {
         let has_notify = msgs.iter().any(|m| m.msg_type == MsgType::NOTIFY);
         let mut timing = None;
         let mut rest = msgs;
-        if msgs[0].msg_type == MsgType::TIMING {
+        if first && msgs[0].msg_type == MsgType::TIMING {
             let mut t = msgs[0].to_message();
             rest = &msgs[1..];
             t.dval = local;
@@ -478,7 +535,7 @@ impl State {
         }
         self.scratch = buf;
         if has_notify {
-            self.push_all(gate, marks);
+            self.push_all(gate, marks, now);
         }
         let touched = std::mem::take(&mut self.touched);
         for &t in &touched {
@@ -496,27 +553,48 @@ impl State {
 
     /// Send every asynchronous client's held mail as one packet each (added by the
     /// publisher behind `gate`).
-    fn push_all(&mut self, gate: &Arc<Gate>, marks: Marks) {
-        let dirty = std::mem::take(&mut self.dirty);
-        for &slot in &dirty {
-            let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
-                continue;
-            };
-            if !c.is_async || c.held_count == 0 {
-                continue;
+    /// A stalled client whose queue reached its cap is cut off here, the largest first
+    /// (its `DB_EVENT`s go out in a second round).
+    fn push_all(&mut self, gate: &Arc<Gate>, marks: Marks, now: f64) {
+        let mut cut: Vec<(Arc<str>, u64, usize)> = Vec::new();
+        for round in 0..2 {
+            let dirty = std::mem::take(&mut self.dirty);
+            for &slot in &dirty {
+                let Some(c) = self.slots.get_mut(slot).and_then(Option::as_mut) else {
+                    continue;
+                };
+                if !c.is_async || c.held_count == 0 {
+                    continue;
+                }
+                let count = c.held_count;
+                finish_header(&mut c.held, count);
+                let pushed = c.out.push_packet(&mut c.held, false, Some(gate), marks);
+                self.delivered += count as u64;
+                c.held.clear();
+                c.held_count = 0;
+                if pushed.was_empty {
+                    self.flush.push(c.out.clone());
+                }
+                if pushed.over_cap {
+                    cut.push((c.name.clone(), c.conn_id, pushed.queued));
+                }
             }
-            let count = c.held_count;
-            finish_header(&mut c.held, count);
-            let (_, was_empty) = c.out.push_packet(&mut c.held, false, Some(gate), marks);
-            self.delivered += count as u64;
-            c.held.clear();
-            c.held_count = 0;
-            if was_empty {
-                self.flush.push(c.out.clone());
+            self.dirty = dirty;
+            self.dirty.clear();
+            if cut.is_empty() || round == 1 {
+                break;
+            }
+            // The largest queue goes first: that may be room enough for the others.
+            cut.sort_by_key(|c| std::cmp::Reverse(c.2));
+            cut.truncate(1);
+            for (name, conn_id, queued) in cut.drain(..) {
+                let why = format!(
+                    "accepted no bytes while its queue reached {} KiB",
+                    queued >> 10
+                );
+                self.cut_off(&name, conn_id, &why, now);
             }
         }
-        self.dirty = dirty;
-        self.dirty.clear();
     }
 
     /// Add one encoded message to the held mail of the client in `slot`.
@@ -554,6 +632,7 @@ impl State {
         if var.as_ref().is_none_or(|v| v.write_count == 0) {
             if !self.vars.contains_key(m.key) {
                 self.vars.insert(m.key.to_owned(), Var::new(m.data_type));
+                self.values_grew(m.key.len() as isize);
             }
             let mut matches = Vec::new();
             for c in self.slots.iter().flatten() {
@@ -581,9 +660,11 @@ impl State {
             tracing::warn!(var = %m.key, have = %(v.data_type.0 as char), got = %(m.data_type.0 as char), source = %m.source, "type mismatch: notification dropped");
             return;
         }
+        let mut grew = 0;
         if m.data_type == DataType::DOUBLE {
             v.dval = m.dval;
         } else {
+            grew = m.sval.len() as isize - v.sval.len() as isize;
             v.sval.clear();
             v.sval.extend_from_slice(m.sval);
         }
@@ -645,6 +726,7 @@ impl State {
             self.encoded = enc;
         }
         self.targets = targets;
+        self.values_grew(grew);
     }
 
     /// `R` (spec §5.4.2).
@@ -652,6 +734,9 @@ impl State {
         if client.is_empty() {
             tracing::warn!(var = key, "register with empty source refused");
             return;
+        }
+        if !self.vars.contains_key(key) {
+            self.values_grew(key.len() as isize);
         }
         let v = match self.vars.get_mut(key) {
             Some(v) => v,
@@ -734,199 +819,6 @@ impl State {
             q.avg += (ms - q.avg) / (q.n.min(100) as f64);
         }
     }
-
-    /// `Q` (spec §5.8). Replies are generated in walk order; the caller reverses them.
-    fn server_request(&mut self, m: &MsgView<'_>, now: f64, out: &mut Vec<Message>) {
-        let key = m.key;
-        let reply = |key: &str, time: f64, sval: String| Message {
-            id: m.id,
-            msg_type: MsgType::NOTIFY,
-            data_type: DataType::STRING,
-            source: self.db_name.clone(),
-            community: self.community.clone(),
-            key: key.to_owned(),
-            time,
-            sval: sval.into_bytes(),
-            ..Message::default()
-        };
-        if key == "ALL" {
-            let mut names: Vec<&String> = self.vars.keys().collect();
-            names.sort();
-            // Pushed to the front one by one: final order is reverse alphabetical.
-            for n in names {
-                let v = &self.vars[n];
-                let t = v.written_db - self.start;
-                out.push(Message {
-                    id: m.id,
-                    msg_type: MsgType::NOTIFY,
-                    data_type: v.data_type,
-                    source: v.source.clone(),
-                    source_aux: v.source_aux.clone(),
-                    community: v.community.clone(),
-                    key: n.clone(),
-                    time: if t < 0.0 { -1.0 } else { t },
-                    dval: v.dval,
-                    dval2: v.freq,
-                    sval: v.sval.clone(),
-                });
-            }
-        } else if key.contains("PROC_SUMMARY") {
-            let uptime = now - self.start;
-            let mut rs = Vec::new();
-            for name in self.order.iter().rev() {
-                let Some(c) = self.client(name) else {
-                    continue;
-                };
-                let mut subs: Vec<&String> = self
-                    .vars
-                    .iter()
-                    .filter(|(_, v)| v.subs.iter().any(|s| *s.client == **name))
-                    .map(|(k, _)| k)
-                    .collect();
-                subs.sort();
-                let mut s = format!("{name}:SUBSCRIBED=");
-                for v in subs {
-                    s.push(',');
-                    s.push_str(v);
-                }
-                s.push_str(",PUBLISHED=");
-                let mut pubs: Vec<&String> = c.published.iter().collect();
-                pubs.sort();
-                for v in pubs {
-                    s.push(',');
-                    s.push_str(v);
-                }
-                rs.push(reply("PROC_SUMMARY", uptime, s));
-            }
-            out.extend(rs);
-        } else if key.contains("VAR_SUMMARY") {
-            let mut names: Vec<&String> = self.vars.keys().collect();
-            names.sort();
-            let joined = names
-                .iter()
-                .map(|s| s.as_str())
-                .collect::<Vec<_>>()
-                .join(",");
-            out.push(reply("VAR_SUMMARY", now, joined));
-        } else if key.contains("DB_CLEAR") {
-            for v in self.vars.values_mut() {
-                v.dval = -1.0;
-                v.sval.clear();
-                v.writers.clear();
-                v.write_count = 0;
-                v.freq = 0.0;
-            }
-            let marks = self.marks_for(self.clients.len());
-            for c in self.slots.iter_mut().flatten() {
-                c.held.clear();
-                c.held_count = 0;
-                if !c.is_async {
-                    c.out.set_extra(0, None, marks);
-                }
-            }
-            self.start = now;
-        }
-    }
-
-    fn db_notify(&mut self, mut m: Message, now: f64) {
-        m.source = self.db_name.clone();
-        m.community = self.community.clone();
-        m.time = now;
-        self.notify(&m.view(), None, now);
-    }
-
-    fn db_notify_str(&mut self, key: &str, val: &str, now: f64) {
-        self.db_notify(Message::notify_string(key, val, now), now);
-    }
-
-    /// Refresh the DB_* variables (spec §5.9).
-    fn refresh(&mut self, now: f64) {
-        self.last_refresh = now;
-        self.db_notify(Message::notify_double("DB_TIME", now, now), now);
-        self.db_notify(
-            Message::notify_double("DB_UPTIME", now - self.start, now),
-            now,
-        );
-        let clients: String = self.order.iter().rev().map(|n| format!("{n},")).collect();
-        self.db_notify_str("DB_CLIENTS", &clients, now);
-        let summary = self.var_summary();
-        self.db_notify_str("DB_VARSUMMARY", &summary, now);
-        let mut names: Vec<&String> = self.clients.keys().collect();
-        names.sort();
-        let mut qos = String::new();
-        for n in names {
-            match self.client(n).and_then(|c| c.qos.as_ref()) {
-                Some(q) => qos.push_str(&format!(
-                    "{n}={}:{}:{}:{},",
-                    format_g(q.recent),
-                    format_g(q.max),
-                    format_g(q.min),
-                    format_g(q.avg)
-                )),
-                None => qos.push_str(&format!("{n}=0:0:1e+09:0,")),
-            }
-        }
-        self.db_notify_str("DB_QOS", &qos, now);
-        let rw = self
-            .order
-            .iter()
-            .rev()
-            .map(|n| {
-                let mut subs: Vec<&str> = self
-                    .vars
-                    .iter()
-                    .filter(|(_, v)| v.subs.iter().any(|s| *s.client == **n))
-                    .map(|(k, _)| k.as_str())
-                    .collect();
-                subs.sort();
-                let mut pubs: Vec<&str> = self
-                    .client(n)
-                    .map(|c| c.published.iter().map(String::as_str).collect())
-                    .unwrap_or_default();
-                pubs.sort();
-                format!("{n}={}&{}", subs.join(":"), pubs.join(":"))
-            })
-            .collect::<Vec<_>>()
-            .join(",");
-        self.db_notify_str("DB_RWSUMMARY", &rw, now);
-    }
-
-    fn var_summary(&self) -> String {
-        let mut names: Vec<&String> = self.vars.keys().collect();
-        names.sort();
-        let mut s = String::new();
-        for n in names {
-            let v = &self.vars[n];
-            let (when, who) = if v.write_count == 0 {
-                (String::new(), "(write pending)".to_owned())
-            } else {
-                (time_of_day(v.written_db), v.source.clone())
-            };
-            let value = match v.data_type {
-                DataType::DOUBLE if v.write_count > 0 => format!("{:.1}", v.dval),
-                DataType::STRING => {
-                    let t = String::from_utf8_lossy(&v.sval);
-                    if t.chars().count() > 25 {
-                        format!("{}...", t.chars().take(22).collect::<String>())
-                    } else {
-                        t.into_owned()
-                    }
-                }
-                DataType::BINARY => binary_size(v.sval.len()),
-                _ => String::new(),
-            };
-            let dt = if v.write_count == 0 {
-                '~'
-            } else {
-                v.data_type.0 as char
-            };
-            s.push_str(&format!(
-                "{n:<20} {when:<20} {who:<20} {:>4.1}Hz {dt:<2} {value}\n",
-                v.freq
-            ));
-        }
-        s
-    }
 }
 
 impl ClientRec {
@@ -971,27 +863,5 @@ fn add_sub(v: &mut Var, client: &str, interval: f64) -> usize {
             slot_gen: 0,
         });
         v.subs.len() - 1
-    }
-}
-
-/// `HH:MM:SS.mmm` of a (possibly warped) UNIX time, in UTC (display only).
-fn time_of_day(t: f64) -> String {
-    let ms = (t.rem_euclid(86400.0) * 1000.0) as u64;
-    format!(
-        "{:02}:{:02}:{:02}.{:03}",
-        ms / 3_600_000,
-        ms / 60_000 % 60,
-        ms / 1000 % 60,
-        ms % 1000
-    )
-}
-
-fn binary_size(n: usize) -> String {
-    if n < 1024 {
-        format!("*binary* {n} B")
-    } else if n < 1024 * 1024 {
-        format!("*binary* {} KB", n / 1024)
-    } else {
-        format!("*binary* {} MB", n / (1024 * 1024))
     }
 }

@@ -10,7 +10,7 @@ mod message;
 mod packet;
 
 pub use error::WireError;
-pub use frame::FrameReader;
+pub use frame::{FrameReader, Piece};
 pub use message::{DataType, Message, MsgType, MsgView, MESSAGE_OVERHEAD};
 pub use packet::{
     decode_packet, decode_packet_lenient, decode_packet_views, encode_packet, PacketBuilder,

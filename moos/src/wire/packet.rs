@@ -15,6 +15,18 @@ pub struct PacketHeader {
 impl PacketHeader {
     /// Validate the header of a complete packet held in `buf`.
     pub fn parse(buf: &[u8], max_packet: usize) -> Result<PacketHeader, WireError> {
+        let h = Self::parse_prefix(buf, max_packet)?;
+        if h.len > buf.len() {
+            return Err(WireError::BadPacketLength {
+                len: h.len as i32,
+                have: buf.len(),
+            });
+        }
+        Ok(h)
+    }
+
+    /// Validate the header at the start of `buf`, which may hold only part of the packet.
+    pub fn parse_prefix(buf: &[u8], max_packet: usize) -> Result<PacketHeader, WireError> {
         if buf.len() < PACKET_HEADER_LEN {
             return Err(WireError::Truncated {
                 field: "packet header",
@@ -35,12 +47,6 @@ impl PacketHeader {
             return Err(WireError::PacketTooLarge {
                 len: ulen,
                 cap: max_packet,
-            });
-        }
-        if ulen > buf.len() {
-            return Err(WireError::BadPacketLength {
-                len,
-                have: buf.len(),
             });
         }
         let body = ulen - PACKET_HEADER_LEN;
