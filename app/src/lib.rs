@@ -46,8 +46,8 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use moos::client::{Client, ClientError};
-use moos::db::{Db, DbConfig, DbError};
 use moos::wire::Message;
+use moosdb::{Db, DbConfig, DbError};
 
 use crate::appcast::{AppCast, Caster};
 use helm_engine::config::Verbose;

@@ -37,7 +37,7 @@ fn moosdb_path() -> PathBuf {
         .join("contactmgr-test-moosdb");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let st = Command::new(cargo)
-        .args(["build", "-q", "-p", "moos", "--bin", "moosdb"])
+        .args(["build", "-q", "-p", "moosdb", "--bin", "moosdb"])
         .env("CARGO_TARGET_DIR", &target)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .status()

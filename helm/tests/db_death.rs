@@ -85,7 +85,7 @@ impl MoosDb {
             .spawn()
             .unwrap_or_else(|e| {
                 panic!(
-                    "cannot start {}: {e} (build it: cargo build -p moos)",
+                    "cannot start {}: {e} (build it: cargo build -p moosdb)",
                     moosdb_path().display()
                 )
             });

@@ -18,6 +18,7 @@ const HELM_CRATES: &[&str] = &[
     "helm-sim",
     "vehicle-model",
     "moos",
+    "moosdb",
     "moos-mission",
 ];
 
@@ -102,11 +103,23 @@ fn crates_depend_only_downward() {
     // The engine decides; it knows no sockets (moos: client and DB), app or simulator.
     forbid(
         "helm-engine",
-        &["moos", "helm-app", "helm-sim", "helm-conform", "helm"],
+        &[
+            "moos",
+            "moosdb",
+            "helm-app",
+            "helm-sim",
+            "helm-conform",
+            "helm",
+        ],
     );
-    forbid("helm-conform", &["moos", "helm-app", "helm-sim", "helm"]);
+    forbid(
+        "helm-conform",
+        &["moos", "moosdb", "helm-app", "helm-sim", "helm"],
+    );
+    // The client does not need the server.
+    forbid("moos", &["moosdb"]);
     forbid("helm-app", &["helm-sim", "helm-conform", "helm"]);
-    forbid("helm-sim", &["helm-app", "helm-conform", "helm"]);
+    forbid("helm-sim", &["helm-app", "helm-conform", "helm", "moosdb"]);
     forbid("vehicle-model", &["moos", "helm-engine"]);
     forbid("behavior-api", HELM_CRATES);
     // Behaviors, built in or plugins, know the SDK and nothing of the helm.

@@ -1,5 +1,5 @@
 //! The helm started the pAntler way, `helm MISSION NAME`, as a child process against our
-//! MOOSDB (the `moos::db` the `moosdb` binary runs) with the uSimMarine simulator closing
+//! MOOSDB (the `moosdb` the `moosdb` binary runs) with the uSimMarine simulator closing
 //! the loop; the pHelmIvP flags; AppCasting; IVPHELM_REGISTER rounds; and a standby helm
 //! in a second process taking over from a killed or frozen primary (helm.md §1, §10,
 //! §12, contacts-appcast.md §5).
@@ -10,9 +10,9 @@ use std::time::{Duration, Instant};
 
 use common::free_port;
 use moos::client::{Client, ClientConfig};
-use moos::db::{Db, DbConfig};
 use moos::mission::MissionFile;
 use moos::wire::Message;
+use moosdb::{Db, DbConfig};
 
 mod common;
 

@@ -19,3 +19,14 @@ pub fn warp_ok(warp: f64) -> bool {
 pub fn local_time(warp: f64) -> f64 {
     wall_time() * warp
 }
+
+/// This machine's host name (`gethostname()` equivalent), or `localhost`.
+pub fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .or_else(|_| std::fs::read_to_string("/etc/hostname"))
+        .ok()
+        .map(|s| s.trim().to_owned())
+        .filter(|s| !s.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "localhost".into())
+}

@@ -2,12 +2,11 @@
 //!
 //! * [`wire`]: message and packet codec (little-endian, i32 lengths), stream framing.
 //! * [`mission`]: `.moos` mission file reader (globals, `ProcessConfig` blocks, `define:`).
-//! * [`db`]: an embeddable MOOSDB (also the `moosdb` binary).
 //! * [`client`]: an asynchronous MOOS client with heartbeat, skew filter and reconnect.
 //! * [`alog`]: pLogger `.alog` writer and reader.
 //!
-//! Depends on `mbutil` (MOOS-IvP's number formatting), `thiserror` and `tracing` (and
-//! `clap`, `tracing-subscriber` for the `moosdb` binary); it must not depend on the helm
+//! The MOOSDB itself is the `moosdb` crate. Depends on `mbutil` (MOOS-IvP's number
+//! formatting), `moos-mission`, `thiserror` and `tracing`; it must not depend on the helm
 //! or any behavior crate (the helm, the simulator and tools build on it, not the other
 //! way round).
 //!
@@ -25,7 +24,6 @@
 
 pub mod alog;
 pub mod client;
-pub mod db;
 pub mod wire;
 
 // The file side (mission reader, text helpers, time) is its own crate, so the helm engine
@@ -33,6 +31,5 @@ pub mod wire;
 pub use moos_mission::{mission, text, time};
 
 pub use client::{Client, ClientConfig, ClientError};
-pub use db::{Db, DbConfig, DbError};
 pub use mission::{ConfigLine, MissionError, MissionFile};
 pub use wire::{DataType, Message, MsgType, WireError};

@@ -146,7 +146,7 @@ fn session(sh: &Arc<Shared>, mut stream: TcpStream) -> End {
         let mut st = sh.lock();
         st.community = welcome.community.clone();
         st.skew_enabled =
-            sh.cfg.skew_correction && (db_host.is_empty() || db_host != crate::db::hostname());
+            sh.cfg.skew_correction && (db_host.is_empty() || db_host != crate::time::hostname());
         st.skew = if st.skew_enabled { welcome.dval } else { 0.0 };
         st.db_host = db_host;
         st.connected = true;

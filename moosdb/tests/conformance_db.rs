@@ -7,8 +7,8 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use moos::db::{Db, DbConfig};
 use moos::wire::{self, FrameReader, Message, MsgType};
+use moosdb::{Db, DbConfig};
 use serde_json::Value;
 
 fn hex(s: &str) -> Vec<u8> {

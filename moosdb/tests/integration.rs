@@ -5,8 +5,8 @@ use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 use moos::client::{Client, ClientConfig, ClientError};
-use moos::db::{Db, DbConfig};
 use moos::wire::{self, DataType, FrameReader, Message, MsgType};
+use moosdb::{Db, DbConfig};
 
 fn db() -> Db {
     Db::start(DbConfig {

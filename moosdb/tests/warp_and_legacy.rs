@@ -5,8 +5,8 @@ use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 use moos::client::{Client, ClientConfig};
-use moos::db::{Db, DbConfig};
 use moos::wire::{self, DataType, FrameReader, Message, MsgType};
+use moosdb::{Db, DbConfig};
 
 #[test]
 fn time_warp_scales_clocks_intervals_and_db_vars() {

@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use moos::db::{mib_to_bytes, Db, DbConfig};
 use moos::mission::MissionFile;
+use moosdb::{mib_to_bytes, Db, DbConfig};
 
 /// A MOOS V10 database server (MOOSDB).
 ///

@@ -2,8 +2,8 @@
 //! variables it publishes (spec §5.9). Part of [`State`].
 
 use super::State;
-use crate::text::format_g;
-use crate::wire::{DataType, Message, MsgType, MsgView};
+use moos::text::format_g;
+use moos::wire::{DataType, Message, MsgType, MsgView};
 
 impl State {
     /// `Q` (spec §5.8). Replies are generated in walk order; the caller reverses them.

@@ -1,4 +1,4 @@
-//! `cargo bench -p moos`: codec cost per message (criterion), then the DB's delivered
+//! `cargo bench -p moosdb`: codec cost per message (criterion), then the DB's delivered
 //! notifications per second and p50/p99 latency with 4 publishers and 4 subscribers over
 //! loopback (bounded in time, printed).
 
@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, Criterion};
 use moos::client::{Client, ClientConfig};
-use moos::db::{Db, DbConfig};
 use moos::wire::{self, Message, MsgView};
+use moosdb::{Db, DbConfig};
 
 fn codec(c: &mut Criterion) {
     let mut d = Message::notify_double("NAV_X", 12.5, 1700000000.25);

@@ -1,7 +1,10 @@
-//! An embeddable MOOSDB (spec §4.3, §5.3–§5.11).
+//! `moosdb`: an embeddable MOOSDB (spec §4.3, §5.3–§5.11), and the `moosdb` binary.
+//!
+//! It depends on `moos` (wire codec, mission reader, text helpers) and must not depend on
+//! the helm; the MOOS client (in `moos`) does not depend on it.
 //!
 //! ```no_run
-//! use moos::db::{Db, DbConfig};
+//! use moosdb::{Db, DbConfig};
 //! let db = Db::start(DbConfig { port: 0, ..DbConfig::default() }).unwrap();
 //! println!("listening on {}", db.port());
 //! db.shutdown();
@@ -69,7 +72,7 @@ use std::time::Duration;
 
 use thiserror::Error;
 
-use crate::mission::MissionFile;
+use moos::mission::MissionFile;
 use state::State;
 
 /// DB settings. `Default` gives port 9000 on 127.0.0.1, community `#1`, warp 1,
@@ -121,7 +124,7 @@ impl Default for DbConfig {
             stall_timeout: Duration::from_secs(5),
             hold_limit: DEFAULT_HOLD_LIMIT,
             max_queue_bytes: 64 * 1024 * 1024,
-            max_packet: crate::wire::DEFAULT_MAX_PACKET,
+            max_packet: moos::wire::DEFAULT_MAX_PACKET,
             handshake_timeout: Duration::from_secs(5),
             send_timeout: Duration::from_secs(6),
             response: Vec::new(),
@@ -144,7 +147,7 @@ impl DbConfig {
             self.community = c;
         }
         if let Some(w) = m.global_f64("MOOSTimeWarp") {
-            if crate::time::warp_ok(w) {
+            if moos::time::warp_ok(w) {
                 self.time_warp = w;
             }
         }
@@ -224,7 +227,7 @@ impl Inner {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
     }
     fn now(&self) -> f64 {
-        crate::time::local_time(self.cfg.time_warp)
+        moos::time::local_time(self.cfg.time_warp)
     }
 }
 
@@ -238,7 +241,7 @@ pub struct Db {
 impl Db {
     /// Bind and start serving.
     pub fn start(cfg: DbConfig) -> Result<Db, DbError> {
-        if !crate::time::warp_ok(cfg.time_warp) {
+        if !moos::time::warp_ok(cfg.time_warp) {
             return Err(DbError::BadWarp(cfg.time_warp));
         }
         let addr = SocketAddr::new(cfg.bind, cfg.port);
@@ -246,7 +249,7 @@ impl Db {
         let addr = listener.local_addr()?;
         listener.set_nonblocking(true)?;
         let hostname = cfg.hostname.clone().unwrap_or_else(hostname);
-        let now = crate::time::local_time(cfg.time_warp);
+        let now = moos::time::local_time(cfg.time_warp);
         let total = Arc::new(AtomicUsize::new(0));
         let state = State::new(
             &cfg.community,
@@ -343,16 +346,7 @@ impl Drop for Db {
     }
 }
 
-/// This machine's host name (`gethostname()` equivalent), or `localhost`.
-pub fn hostname() -> String {
-    std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .or_else(|_| std::fs::read_to_string("/etc/hostname"))
-        .ok()
-        .map(|s| s.trim().to_owned())
-        .filter(|s| !s.is_empty())
-        .or_else(|| std::env::var("HOSTNAME").ok())
-        .unwrap_or_else(|| "localhost".into())
-}
+pub use moos::time::hostname;
 
 #[cfg(test)]
 mod tests {

@@ -2,8 +2,8 @@
 //! (spec §5.4), as an `impl State` apart from the message flow in `state.rs`.
 
 use super::{add_sub, Filter, Qos, State, Var};
-use crate::text::{find_value, wildcard_match};
-use crate::wire::{DataType, MsgView};
+use moos::text::{find_value, wildcard_match};
+use moos::wire::{DataType, MsgView};
 
 impl State {
     /// `R` (spec §5.4.2).
@@ -46,7 +46,7 @@ impl State {
         let app = find_value(&s, "AppPattern", false).unwrap_or_default();
         let var = find_value(&s, "VarPattern", false).unwrap_or_default();
         let interval = find_value(&s, "Interval", false)
-            .map(|i| crate::text::atof(&i))
+            .map(|i| moos::text::atof(&i))
             .filter(|i| i.is_finite())
             .unwrap_or(0.0);
         let Some(c) = self.client_mut(m.source) else {

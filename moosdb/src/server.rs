@@ -15,7 +15,7 @@ use super::link::{Link, ReadCounters, ReadShare, PIECE};
 use super::outbox::{Gate, Outbox};
 use super::state::Admit;
 use super::Inner;
-use crate::wire::{self, DataType, FrameReader, Message, MsgType, MsgView, Piece};
+use moos::wire::{self, DataType, FrameReader, Message, MsgType, MsgView, Piece};
 
 pub(crate) fn accept_loop(inner: Arc<Inner>, listener: TcpListener) {
     while !inner.stop.load(Ordering::SeqCst) {
