@@ -24,3 +24,8 @@ pub mod feed;
 pub mod frame;
 pub mod node;
 pub mod view;
+pub mod buttons;
+pub mod cli;
+pub mod live;
+pub mod runs;
+pub mod server;
