@@ -116,7 +116,7 @@ function drawGrid() {
   for (let x = Math.ceil(x0 / step) * step; x <= x1; x += step) {
     const [sx] = toScreen(x, 0);
     el("line", { x1: sx, y1: 0, x2: sx, y2: h }, g);
-    el("text", { x: sx + 2, y: h - 4 }, g).textContent = `${+x.toFixed(6)} m`;
+    el("text", { x: sx + 2, y: 12 }, g).textContent = `${+x.toFixed(6)} m`;
   }
   for (let y = Math.ceil(y0 / step) * step; y <= y1; y += step) {
     const [, sy] = toScreen(0, y);
@@ -187,7 +187,7 @@ function render() {
   S.allTracks.forEach((run, i) => {
     for (const name in run) {
       el("polyline", { points: pts(run[name]), fill: "none", stroke: i === S.run ? "#ffffff" : "#7fa8cc",
-        "stroke-opacity": i === S.run ? 0.5 : 0.25, "stroke-width": 1, "data-run": i }, at);
+        "stroke-opacity": i === S.run ? 0.6 : 0.45, "stroke-width": 1, "data-run": i }, at);
     }
   });
   const sh = $("shapes");
