@@ -343,7 +343,7 @@ function startReplay(info) {
 
 function startLive(info) {
   const connect = () => {
-    const ws = new WebSocket(`ws://${location.host}/ws`);
+    const ws = new WebSocket(`ws://${location.hostname}:${info.ws_port}/ws`);
     ws.onopen = () => { $("status").textContent = `live: ${info.db} — connected`; };
     ws.onmessage = (m) => applyFrame(JSON.parse(m.data));
     ws.onclose = () => {

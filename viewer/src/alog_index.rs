@@ -169,7 +169,7 @@ impl AlogIndex {
             path: path.display().to_string(),
             source,
         })?;
-        Ok(AlogIndex::read(BufReader::with_capacity(1 << 16, f), ownship))
+        Ok(AlogIndex::read(f, ownship))
     }
 
     /// Index a log from any reader; never fails (a read error ends the log there and is
@@ -183,7 +183,7 @@ impl AlogIndex {
         };
         let mut feed = Feed::new(ownship, std::iter::empty());
         let mut lines = Lines {
-            r: BufReader::new(r),
+            r: BufReader::with_capacity(1 << 18, r),
             buf: Vec::with_capacity(256),
         };
         let mut skipped: BTreeMap<String, u64> = BTreeMap::new();
@@ -258,11 +258,18 @@ impl AlogIndex {
                     hdg: v.hdg,
                     spd: v.spd,
                 };
-                let tr = self.tracks.entry(v.name.clone()).or_insert_with(|| Track {
-                    latest: v.clone(),
-                    samples: Vec::new(),
-                    modes: Vec::new(),
-                });
+                // Looked up before inserting: no name allocated per sample.
+                if !self.tracks.contains_key(&v.name) {
+                    let tr = Track {
+                        latest: v.clone(),
+                        samples: Vec::new(),
+                        modes: Vec::new(),
+                    };
+                    self.tracks.insert(v.name.clone(), tr);
+                }
+                let Some(tr) = self.tracks.get_mut(&v.name) else {
+                    return;
+                };
                 if tr.modes.last().map(|m| &m.1) != Some(&v.mode) {
                     tr.modes.push((t, v.mode.clone()));
                 }

@@ -5,8 +5,9 @@
 //!   read into what the page draws; [`frame`]: the message the page receives.
 //! * [`alog_index`]: the tolerant `.alog` index of a replay; [`runs`]: run folders.
 //! * [`live`]: the MOOS client side and the hub that throttles updates to viewers.
-//! * [`server`]: HTTP and WebSocket (tiny_http + tungstenite), the page assets
-//!   (compiled into the binary), the mission's buttons; [`cli`]: `helm view`.
+//! * [`server`]: HTTP (tiny_http), the page assets (compiled into the binary), the
+//!   mission's buttons; [`ws`]: the live WebSocket (tungstenite); [`buttons`]: the
+//!   mission's pMarineViewer buttons; [`cli`]: `helm view`.
 //!
 //! Depends on `moos` (client, mission reader), `geometry` (VIEW_* strings) and `mbutil`
 //! (numbers, colours); it must not depend on the helm (the helm's binary depends on it).
@@ -29,3 +30,4 @@ pub mod cli;
 pub mod live;
 pub mod runs;
 pub mod server;
+pub mod ws;

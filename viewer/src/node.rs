@@ -63,19 +63,28 @@ pub fn read_node_report(s: &str, t: f64) -> Result<VehicleState, NodeError> {
         let Some((k, val)) = field.split_once(sep) else {
             continue;
         };
-        let k = k.trim().trim_matches('"').to_ascii_uppercase();
+        let k = k.trim().trim_matches('"');
         let val = val.trim().trim_matches('"');
-        match k.as_str() {
-            "NAME" => v.name = val.to_owned(),
-            "X" => v.x = num(val).unwrap_or(f64::NAN),
-            "Y" => v.y = num(val).unwrap_or(f64::NAN),
-            "SPD" | "SPEED" => v.spd = num(val).unwrap_or(0.0),
-            "HDG" | "HEADING" => v.hdg = num(val).unwrap_or(0.0),
-            "TYPE" => v.vtype = val.to_owned(),
-            "COLOR" => v.color = crate::view::css_color(val).unwrap_or_default(),
-            "LENGTH" | "LEN" => v.length = num(val).filter(|l| *l > 0.0).unwrap_or(0.0),
-            "MODE" => v.mode = val.to_owned(),
-            _ => {}
+        // Keys are case-insensitive; compared without allocating (a log holds millions).
+        let is = |name: &str| k.eq_ignore_ascii_case(name);
+        if is("NAME") {
+            v.name = val.to_owned();
+        } else if is("X") {
+            v.x = num(val).unwrap_or(f64::NAN);
+        } else if is("Y") {
+            v.y = num(val).unwrap_or(f64::NAN);
+        } else if is("SPD") || is("SPEED") {
+            v.spd = num(val).unwrap_or(0.0);
+        } else if is("HDG") || is("HEADING") {
+            v.hdg = num(val).unwrap_or(0.0);
+        } else if is("TYPE") {
+            v.vtype = val.to_owned();
+        } else if is("COLOR") {
+            v.color = crate::view::css_color(val).unwrap_or_default();
+        } else if is("LENGTH") || is("LEN") {
+            v.length = num(val).filter(|l| *l > 0.0).unwrap_or(0.0);
+        } else if is("MODE") {
+            v.mode = val.to_owned();
         }
     }
     if v.name.is_empty() {

@@ -1,6 +1,7 @@
-//! The HTTP side: tiny_http serves the page (compiled into the binary), the replay API
-//! and the live WebSocket (tungstenite, after tiny_http's upgrade). A thread per
-//! request; a WebSocket keeps its thread for as long as its viewer stays.
+//! The HTTP side: tiny_http serves the page (compiled into the binary) and the replay
+//! API, a thread per request. The live WebSocket has a listener of its own ([`crate::ws`],
+//! tungstenite): a long-lived connection upgraded inside tiny_http holds one of its pool
+//! threads, and its pool can leave connections that arrive together queued behind them.
 //!
 //! What the page may do is fixed here: read frames, and press one of the mission's own
 //! buttons (`POST /api/button/N`). A button press must carry the `X-Helm-View` header,
@@ -53,8 +54,17 @@ pub struct App {
 /// A running server.
 pub struct Serving {
     pub addr: SocketAddr,
+    /// The live WebSocket's address (live only).
+    pub ws_addr: Option<SocketAddr>,
     server: Arc<tiny_http::Server>,
     thread: Option<JoinHandle<()>>,
+}
+
+/// What every request handler knows of the server.
+#[derive(Clone, Copy)]
+struct Ctx {
+    loopback: bool,
+    ws_port: Option<u16>,
 }
 
 impl Serving {
@@ -85,9 +95,16 @@ pub fn start(app: Arc<App>, addr: SocketAddr) -> Result<Serving, ServerError> {
             addr,
             why: "not an IP address".into(),
         })?;
+    let ws_addr = match &app.mode {
+        Mode::Live { hub, .. } => Some(crate::ws::start(hub.clone(), addr.ip(), bound.port())?),
+        Mode::Replay(_) => None,
+    };
     let server = Arc::new(server);
     let srv = server.clone();
-    let loopback = bound.ip().is_loopback();
+    let ctx = Ctx {
+        loopback: bound.ip().is_loopback(),
+        ws_port: ws_addr.map(|a| a.port()),
+    };
     let thread = std::thread::Builder::new()
         .name("view-http".into())
         .spawn(move || {
@@ -95,7 +112,7 @@ pub fn start(app: Arc<App>, addr: SocketAddr) -> Result<Serving, ServerError> {
                 let app = app.clone();
                 let spawned = std::thread::Builder::new()
                     .name("view-request".into())
-                    .spawn(move || handle(&app, rq, loopback));
+                    .spawn(move || handle(&app, rq, ctx));
                 if let Err(e) = spawned {
                     tracing::warn!("cannot start a request thread: {e}");
                 }
@@ -107,6 +124,7 @@ pub fn start(app: Arc<App>, addr: SocketAddr) -> Result<Serving, ServerError> {
         })?;
     Ok(Serving {
         addr: bound,
+        ws_addr,
         server,
         thread: Some(thread),
     })
@@ -124,6 +142,14 @@ fn request_header<'a>(rq: &'a Request, name: &str) -> Option<&'a str> {
 }
 
 fn respond(rq: Request, status: u16, ctype: &str, body: Vec<u8>) {
+    respond_with(rq, status, ctype, body, "");
+}
+
+/// A response; `connect` adds a source to the page's `connect-src` (the live socket).
+fn respond_with(rq: Request, status: u16, ctype: &str, body: Vec<u8>, connect: &str) {
+    let csp = format!(
+        "default-src 'none'; script-src 'self'; style-src 'self'; connect-src 'self'{connect}; img-src 'self' data:; base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
+    );
     let mut r = Response::new(
         StatusCode(status),
         Vec::new(),
@@ -137,10 +163,7 @@ fn respond(rq: Request, status: u16, ctype: &str, body: Vec<u8>) {
         ("X-Content-Type-Options", "nosniff"),
         ("Referrer-Policy", "no-referrer"),
         // The page runs only its own script and talks only to this server.
-        (
-            "Content-Security-Policy",
-            "default-src 'none'; script-src 'self'; style-src 'self'; connect-src 'self'; img-src 'self' data:; base-uri 'none'; form-action 'none'; frame-ancestors 'none'",
-        ),
+        ("Content-Security-Policy", csp.as_str()),
     ];
     for (k, v) in headers {
         if let Some(h) = header(k, v) {
@@ -158,7 +181,7 @@ fn respond_json(rq: Request, status: u16, v: &impl serde::Serialize) {
 }
 
 /// The host name of a `Host` header (`127.0.0.1:8080`, `[::1]:80`, `localhost`).
-fn host_name(host: &str) -> &str {
+pub(crate) fn host_name(host: &str) -> &str {
     if let Some(rest) = host.strip_prefix('[') {
         return rest.split(']').next().unwrap_or("");
     }
@@ -172,32 +195,42 @@ fn query(url: &str) -> impl Iterator<Item = (&str, &str)> {
         .filter_map(|kv| kv.split_once('='))
 }
 
-fn handle(app: &App, rq: Request, loopback: bool) {
+/// A `Host` a page on a loopback address may be reached by.
+pub(crate) fn loopback_host(host: &str) -> bool {
+    matches!(
+        host_name(host).to_ascii_lowercase().as_str(),
+        "127.0.0.1" | "localhost" | "::1"
+    )
+}
+
+fn handle(app: &App, rq: Request, ctx: Ctx) {
     let host = request_header(&rq, "Host").unwrap_or("").to_owned();
-    if loopback
-        && !matches!(
-            host_name(&host).to_ascii_lowercase().as_str(),
-            "127.0.0.1" | "localhost" | "::1"
-        )
-    {
+    if ctx.loopback && !loopback_host(&host) {
         return respond(rq, 403, "text/plain", b"forbidden host".to_vec());
     }
     let url = rq.url().to_owned();
     let path = url.split('?').next().unwrap_or("");
     match (rq.method(), path) {
-        (Method::Get, "/") => respond(rq, 200, "text/html; charset=utf-8", INDEX_HTML.into()),
+        (Method::Get, "/") => {
+            // The live page may also open its WebSocket, on the same host name.
+            let connect = ctx.ws_port.map_or(String::new(), |p| {
+                let h = host_name(&host);
+                let h = if h.contains(':') { format!("[{h}]") } else { h.to_owned() };
+                format!(" ws://{h}:{p}")
+            });
+            respond_with(rq, 200, "text/html; charset=utf-8", INDEX_HTML.into(), &connect)
+        }
         (Method::Get, "/app.js") => respond(rq, 200, "text/javascript; charset=utf-8", APP_JS.into()),
         (Method::Get, "/style.css") => respond(rq, 200, "text/css; charset=utf-8", STYLE_CSS.into()),
-        (Method::Get, "/api/info") => respond_json(rq, 200, &info(app)),
+        (Method::Get, "/api/info") => respond_json(rq, 200, &info(app, ctx.ws_port)),
         (Method::Get, "/api/frame") => frame(app, rq, &url),
         (Method::Get, "/api/tracks") => tracks(app, rq),
-        (Method::Get, "/ws") => websocket(app, rq),
         (Method::Post, p) if p.starts_with("/api/button/") => press(app, rq, &host, p),
         _ => respond(rq, 404, "text/plain", b"not found".to_vec()),
     }
 }
 
-fn info(app: &App) -> serde_json::Value {
+fn info(app: &App, ws_port: Option<u16>) -> serde_json::Value {
     let buttons: Vec<&str> = app.buttons.iter().map(|b| b.label.as_str()).collect();
     match &app.mode {
         Mode::Replay(r) => {
@@ -218,7 +251,7 @@ fn info(app: &App) -> serde_json::Value {
             json!({"mode": "replay", "title": app.title, "buttons": buttons, "runs": runs, "table": r.table})
         }
         Mode::Live { db, .. } => {
-            json!({"mode": "live", "title": app.title, "buttons": buttons, "db": db})
+            json!({"mode": "live", "title": app.title, "buttons": buttons, "db": db, "ws_port": ws_port})
         }
     }
 }
@@ -283,38 +316,6 @@ fn press(app: &App, rq: Request, host: &str, path: &str) {
     }
     tracing::info!("button {} pressed: {posted} posting(s)", b.label);
     respond_json(rq, 200, &json!({"button": b.label, "posted": posted}))
-}
-
-fn websocket(app: &App, rq: Request) {
-    let Mode::Live { hub, .. } = &app.mode else {
-        return respond(rq, 409, "text/plain", b"a replay has no live feed".to_vec());
-    };
-    let Some(key) = request_header(&rq, "Sec-WebSocket-Key").map(str::to_owned) else {
-        return respond(rq, 400, "text/plain", b"expected a WebSocket upgrade".to_vec());
-    };
-    let accept = tungstenite::handshake::derive_accept_key(key.trim().as_bytes());
-    let mut resp = Response::empty(StatusCode(101));
-    if let Some(h) = header("Sec-WebSocket-Accept", &accept) {
-        resp.add_header(h);
-    }
-    let stream = rq.upgrade("websocket", resp);
-    let mut ws = tungstenite::WebSocket::from_raw_socket(
-        stream,
-        tungstenite::protocol::Role::Server,
-        None,
-    );
-    loop {
-        let (full, rx) = hub.subscribe();
-        if ws.send(tungstenite::Message::text(full)).is_err() {
-            return;
-        }
-        // Until the hub drops this viewer (too slow) and it needs the whole picture.
-        while let Ok(m) = rx.recv() {
-            if ws.send(tungstenite::Message::text(m.to_string())).is_err() {
-                return;
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -137,4 +137,18 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
         403,
         "a rebound DNS name"
     );
+    // The live feed is not readable from another site's page.
+    let ws_port = b.eval("S.info.ws_port");
+    let ws_url = format!("ws://127.0.0.1:{ws_port}/ws");
+    let ws = |origin: Option<&str>| {
+        use tungstenite::client::IntoClientRequest;
+        let mut req = ws_url.as_str().into_client_request().expect("request");
+        if let Some(o) = origin {
+            req.headers_mut()
+                .insert("Origin", o.parse().expect("header value"));
+        }
+        tungstenite::connect(req).is_ok()
+    };
+    assert!(!ws(Some("http://evil.example")), "a foreign origin reads the feed");
+    assert!(ws(Some(url.trim_end_matches('/'))), "the page's own origin is refused");
 }
