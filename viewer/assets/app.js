@@ -89,6 +89,7 @@ function applyFrame(f) {
   for (const k of f.removed) S.objects.delete(k);
   for (const k in f.vars) S.vars.set(k, f.vars[k]);
   for (const a of f.appcasts) S.appcasts.set(a.key, a);
+  if (typeof f.skipped === "string") $("skipped").textContent = f.skipped;
   S.t = f.t;
   S.frames += 1;
   document.body.dataset.t = String(f.t);

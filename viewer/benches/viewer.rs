@@ -45,10 +45,17 @@ fn big_log() -> (PathBuf, u64) {
                 (a * 57.3) % 360.0,
                 1700000000.0 + t
             );
-            let _ = writeln!(s, "{t:.3}  DESIRED_HEADING  pHelmIvP  {:.1}", (a * 57.3) % 360.0);
+            let _ = writeln!(
+                s,
+                "{t:.3}  DESIRED_HEADING  pHelmIvP  {:.1}",
+                (a * 57.3) % 360.0
+            );
             let _ = writeln!(s, "{t:.3}  DESIRED_SPEED  pHelmIvP  2");
             let _ = writeln!(s, "{t:.3}  IVPHELM_ITER  pHelmIvP  {k}");
-            let _ = writeln!(s, "{t:.3}  WPT_STAT  pHelmIvP  vname=v{v},index=1,dist=12.3,eta=6.1");
+            let _ = writeln!(
+                s,
+                "{t:.3}  WPT_STAT  pHelmIvP  vname=v{v},index=1,dist=12.3,eta=6.1"
+            );
             let _ = writeln!(s, "{t:.3}  IVPHELM_SUMMARY  pHelmIvP  iter={k},utc_time={:.2},ofnum=1,var=speed:waypt", 1700000000.0 + t);
             let _ = writeln!(
                 s,
@@ -98,7 +105,11 @@ fn open_bench() {
         "open: worst of 3: {:.3} s to index {} lines and serve the first frame (target < 2 s): {}",
         worst.as_secs_f64(),
         ix.lines,
-        if worst < Duration::from_secs(2) { "ok" } else { "SLOW" }
+        if worst < Duration::from_secs(2) {
+            "ok"
+        } else {
+            "SLOW"
+        }
     );
     let mut seed = 0x9e37_79b9_7f4a_7c15u64;
     let mut times = Vec::new();
@@ -206,7 +217,10 @@ fn live_bench() {
             let mut k = 0u64;
             while !stop.load(Ordering::SeqCst) {
                 for v in 0..20 {
-                    let r = format!("NAME=v{v},X={},Y={v},SPD=2,HDG=90,TYPE=kayak", k as f64 * 0.2);
+                    let r = format!(
+                        "NAME=v{v},X={},Y={v},SPD=2,HDG=90,TYPE=kayak",
+                        k as f64 * 0.2
+                    );
                     let _ = c.notify_string("NODE_REPORT", &r, None);
                 }
                 k += 1;

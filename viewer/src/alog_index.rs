@@ -144,7 +144,10 @@ fn line_reads(s: &str) -> bool {
         return true;
     }
     let mut it = s.split_whitespace();
-    matches!((it.next().map(str::parse::<f64>), it.next(), it.next()), (Some(Ok(_)), Some(_), Some(_)))
+    matches!(
+        (it.next().map(str::parse::<f64>), it.next(), it.next()),
+        (Some(Ok(_)), Some(_), Some(_))
+    )
 }
 
 /// Split `time var source value` (the value is the rest of the line, trimmed).
@@ -349,7 +352,8 @@ impl AlogIndex {
                 mode: mode.unwrap_or_default(),
                 ..tr.latest.clone()
             });
-            f.trails.insert(name.clone(), thin(&tr.samples, n, MAX_TRAIL));
+            f.trails
+                .insert(name.clone(), thin(&tr.samples, n, MAX_TRAIL));
         }
         let n = self.events.partition_point(|e| e.0 <= t);
         let c = self.checkpoints.partition_point(|c| c.0 <= n) - 1;

@@ -96,7 +96,10 @@ mod tests {
             ("button_five", "HALT # "),
         ]);
         assert_eq!(b.len(), 2);
-        assert_eq!((b[0].name.as_str(), b[0].label.as_str()), ("button_two", "RETURN"));
+        assert_eq!(
+            (b[0].name.as_str(), b[0].label.as_str()),
+            ("button_two", "RETURN")
+        );
         assert_eq!(
             b[1].postings,
             [

@@ -55,7 +55,11 @@ pub enum ViewError {
     #[error("{0}")]
     Server(#[from] server::ServerError),
     #[error("no MOOSDB at {host}:{port}: {why}")]
-    Db { host: String, port: u16, why: String },
+    Db {
+        host: String,
+        port: u16,
+        why: String,
+    },
     #[error("nothing to view: give a mission (.moos), an .alog, a folder of runs, or --moos_port")]
     Nothing,
 }
@@ -72,7 +76,8 @@ pub fn main(args: &ViewArgs) -> ExitCode {
 }
 
 fn is_mission(p: &Path) -> bool {
-    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("moos"))
+    p.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("moos"))
 }
 
 fn run(args: &ViewArgs) -> Result<(), ViewError> {
@@ -87,11 +92,22 @@ fn run(args: &ViewArgs) -> Result<(), ViewError> {
                 .unwrap_or_else(|| "localhost".into());
             let port = args
                 .moos_port
-                .or_else(|| mission.global("ServerPort").and_then(|p| p.trim().parse().ok()))
+                .or_else(|| {
+                    mission
+                        .global("ServerPort")
+                        .and_then(|p| p.trim().parse().ok())
+                })
                 .unwrap_or(9000);
             let warp = mission.global_f64("MOOSTimeWarp").unwrap_or(1.0);
             let community = mission.global("Community").unwrap_or_default();
-            live(args, &host, port, warp, &community, mission_buttons(&mission))?
+            live(
+                args,
+                &host,
+                port,
+                warp,
+                &community,
+                mission_buttons(&mission),
+            )?
         }
         None => {
             let port = args.moos_port.ok_or(ViewError::Nothing)?;
@@ -154,7 +170,11 @@ fn live(
         .flat_map(|b| b.postings.iter().map(|p| p.var.clone()))
         .collect();
     let feed = Feed::new(
-        if community.is_empty() { "ownship" } else { &community },
+        if community.is_empty() {
+            "ownship"
+        } else {
+            &community
+        },
         extra.clone(),
     );
     let (c, h) = (client.clone(), hub.clone());

@@ -170,21 +170,19 @@ impl Feed {
     /// The update one posting makes, if any.
     pub fn apply(&mut self, var: &str, value: Value<'_>, t: f64) -> Option<Update> {
         match (var, value) {
-            ("NODE_REPORT" | "NODE_REPORT_LOCAL", Value::Str(s)) => {
-                match read_node_report(s, t) {
-                    Ok(v) => {
-                        self.node_reports_seen = true;
-                        Some(Update::Vehicle(v))
-                    }
-                    Err(e) => {
-                        self.skip(match e {
-                            NodeError::MissingName => "NODE_REPORT without NAME",
-                            NodeError::MissingPosition => "NODE_REPORT without X/Y",
-                        });
-                        None
-                    }
+            ("NODE_REPORT" | "NODE_REPORT_LOCAL", Value::Str(s)) => match read_node_report(s, t) {
+                Ok(v) => {
+                    self.node_reports_seen = true;
+                    Some(Update::Vehicle(v))
                 }
-            }
+                Err(e) => {
+                    self.skip(match e {
+                        NodeError::MissingName => "NODE_REPORT without NAME",
+                        NodeError::MissingPosition => "NODE_REPORT without X/Y",
+                    });
+                    None
+                }
+            },
             (v, Value::Num(x)) if NavVehicle::wants(v) => {
                 if self.node_reports_seen {
                     return None;

@@ -25,6 +25,9 @@ pub struct Frame {
     pub removed: Vec<String>,
     pub vars: BTreeMap<String, String>,
     pub appcasts: Vec<Appcast>,
+    /// Live: what the viewer skipped so far (malformed VIEW_*, ...), when it changed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skipped: Option<String>,
 }
 
 impl Frame {

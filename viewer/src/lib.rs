@@ -21,13 +21,13 @@
 #![forbid(unsafe_code)]
 
 pub mod alog_index;
-pub mod feed;
-pub mod frame;
-pub mod node;
-pub mod view;
 pub mod buttons;
 pub mod cli;
+pub mod feed;
+pub mod frame;
 pub mod live;
+pub mod node;
 pub mod runs;
 pub mod server;
+pub mod view;
 pub mod ws;

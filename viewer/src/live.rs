@@ -33,6 +33,7 @@ struct Scene {
     objects: BTreeMap<String, Shape>,
     vars: BTreeMap<String, String>,
     appcasts: BTreeMap<String, Appcast>,
+    skipped: String,
 }
 
 /// What changed since the last flush.
@@ -44,6 +45,7 @@ struct Pending {
     removed: BTreeSet<String>,
     vars: BTreeMap<String, String>,
     appcasts: BTreeMap<String, Appcast>,
+    skipped: Option<String>,
 }
 
 impl Pending {
@@ -54,6 +56,7 @@ impl Pending {
             && self.removed.is_empty()
             && self.vars.is_empty()
             && self.appcasts.is_empty()
+            && self.skipped.is_none()
     }
 }
 
@@ -144,6 +147,14 @@ impl Hub {
         self.cv.notify_all();
     }
 
+    /// Record what the viewer skipped so far (`alog_index::summary` form).
+    pub fn set_skipped(&self, summary: String) {
+        let mut st = self.lock();
+        st.scene.skipped.clone_from(&summary);
+        st.pending.skipped = Some(summary);
+        self.cv.notify_all();
+    }
+
     /// The whole picture, and a queue of the changes that follow it (none lost between).
     pub fn subscribe(&self) -> (String, Receiver<Arc<str>>) {
         let mut st = self.lock();
@@ -157,6 +168,7 @@ impl Hub {
             removed: Vec::new(),
             vars: s.vars.clone(),
             appcasts: s.appcasts.values().cloned().collect(),
+            skipped: Some(s.skipped.clone()),
         };
         let json = serde_json::to_string(&f).unwrap_or_default();
         let (tx, rx) = mpsc::sync_channel(VIEWER_QUEUE);
@@ -211,6 +223,7 @@ impl Hub {
                 removed: p.removed.into_iter().collect(),
                 vars: p.vars,
                 appcasts: p.appcasts.into_values().collect(),
+                skipped: p.skipped,
             };
             let json: Arc<str> = serde_json::to_string(&f).unwrap_or_default().into();
             // A full queue drops the viewer from the fan-out: it drains what it has,
@@ -223,7 +236,13 @@ impl Hub {
 
 /// Feed MOOS mail into the hub until `stop`: registers for what the page shows, asks
 /// every app for its appcast every 2 s (as pMarineViewer does), applies each posting.
-pub fn pump(client: &moos::Client, hub: &Hub, mut feed: Feed, extra_vars: &[String], stop: &AtomicBool) {
+pub fn pump(
+    client: &moos::Client,
+    hub: &Hub,
+    mut feed: Feed,
+    extra_vars: &[String],
+    stop: &AtomicBool,
+) {
     for v in crate::feed::subscriptions() {
         let _ = client.register(v, 0.0);
     }
@@ -233,6 +252,7 @@ pub fn pump(client: &moos::Client, hub: &Hub, mut feed: Feed, extra_vars: &[Stri
     let _ = client.register_wildcard("DESIRED_*", "*", 0.0);
     let mut mail = Vec::new();
     let mut last_req: Option<Instant> = None;
+    let mut skipped = 0;
     while !stop.load(Ordering::SeqCst) {
         if last_req.is_none_or(|l| l.elapsed() >= Duration::from_secs(2)) && client.is_connected() {
             let req = format!(
@@ -260,6 +280,11 @@ pub fn pump(client: &moos::Client, hub: &Hub, mut feed: Feed, extra_vars: &[Stri
             if let Some(u) = feed.apply(&m.key, v, m.time) {
                 hub.apply(m.time, u);
             }
+        }
+        let total: u64 = feed.skipped.values().sum();
+        if total != skipped {
+            skipped = total;
+            hub.set_skipped(crate::alog_index::summary(&feed.skipped));
         }
     }
 }

@@ -181,7 +181,10 @@ mod tests {
             1.0,
         )
         .unwrap();
-        assert_eq!((v.x, v.y, v.hdg, v.spd, v.length), (0.0, -20.0, 180.0, 1.5, 4.0));
+        assert_eq!(
+            (v.x, v.y, v.hdg, v.spd, v.length),
+            (0.0, -20.0, 180.0, 1.5, 4.0)
+        );
         assert_eq!((v.color.as_str(), v.mode.as_str()), ("yellow", "PARK"));
         let j = read_node_report(r#"{"NAME":"bob","X":3,"Y":4,"TYPE":"ship"}"#, 0.0).unwrap();
         assert_eq!((j.name.as_str(), j.x, j.length), ("bob", 3.0, 12.0));

@@ -72,7 +72,9 @@ fn logs_in(dir: &Path) -> Result<Vec<PathBuf>, RunsError> {
 }
 
 fn is_alog(p: &Path) -> bool {
-    p.is_file() && p.extension().is_some_and(|e| e.eq_ignore_ascii_case("alog"))
+    p.is_file()
+        && p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("alog"))
 }
 
 fn stem(p: &Path) -> String {
@@ -160,12 +162,20 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(dir.join("run-1")).unwrap();
         std::fs::write(dir.join("run-0.alog"), "1.0 NAV_X s 1\n1.0 NAV_Y s 2\n").unwrap();
-        std::fs::write(dir.join("run-1/run-1.alog"), "2.0 NAV_X s 3\n2.0 NAV_Y s 4\n").unwrap();
+        std::fs::write(
+            dir.join("run-1/run-1.alog"),
+            "2.0 NAV_X s 3\n2.0 NAV_Y s 4\n",
+        )
+        .unwrap();
         let r = open(&dir).unwrap();
         assert_eq!(r.runs.len(), 2);
         assert_eq!(r.table.rows[1][1], "run-1/run-1.alog");
         assert_eq!(r.runs[1].index.vehicle_names(), ["run-1"]);
-        std::fs::write(dir.join("runs.csv"), "run,seed,end_reason\n0,1,ok\n1,2,timeout\n").unwrap();
+        std::fs::write(
+            dir.join("runs.csv"),
+            "run,seed,end_reason\n0,1,ok\n1,2,timeout\n",
+        )
+        .unwrap();
         let r = open(&dir).unwrap();
         assert_eq!(r.table.columns, ["run", "seed", "end_reason"]);
         assert_eq!(r.table.rows[1][2], "timeout");

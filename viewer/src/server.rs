@@ -215,13 +215,27 @@ fn handle(app: &App, rq: Request, ctx: Ctx) {
             // The live page may also open its WebSocket, on the same host name.
             let connect = ctx.ws_port.map_or(String::new(), |p| {
                 let h = host_name(&host);
-                let h = if h.contains(':') { format!("[{h}]") } else { h.to_owned() };
+                let h = if h.contains(':') {
+                    format!("[{h}]")
+                } else {
+                    h.to_owned()
+                };
                 format!(" ws://{h}:{p}")
             });
-            respond_with(rq, 200, "text/html; charset=utf-8", INDEX_HTML.into(), &connect)
+            respond_with(
+                rq,
+                200,
+                "text/html; charset=utf-8",
+                INDEX_HTML.into(),
+                &connect,
+            )
         }
-        (Method::Get, "/app.js") => respond(rq, 200, "text/javascript; charset=utf-8", APP_JS.into()),
-        (Method::Get, "/style.css") => respond(rq, 200, "text/css; charset=utf-8", STYLE_CSS.into()),
+        (Method::Get, "/app.js") => {
+            respond(rq, 200, "text/javascript; charset=utf-8", APP_JS.into())
+        }
+        (Method::Get, "/style.css") => {
+            respond(rq, 200, "text/css; charset=utf-8", STYLE_CSS.into())
+        }
         (Method::Get, "/api/info") => respond_json(rq, 200, &info(app, ctx.ws_port)),
         (Method::Get, "/api/frame") => frame(app, rq, &url),
         (Method::Get, "/api/tracks") => tracks(app, rq),
@@ -258,12 +272,23 @@ fn info(app: &App, ws_port: Option<u16>) -> serde_json::Value {
 
 fn frame(app: &App, rq: Request, url: &str) {
     let Mode::Replay(r) = &app.mode else {
-        return respond(rq, 409, "text/plain", b"live: frames come by WebSocket".to_vec());
+        return respond(
+            rq,
+            409,
+            "text/plain",
+            b"live: frames come by WebSocket".to_vec(),
+        );
     };
     let (mut t, mut run) = (0.0, 0usize);
     for (k, v) in query(url) {
         match k {
-            "t" => t = v.parse().ok().filter(|t: &f64| t.is_finite()).unwrap_or(0.0),
+            "t" => {
+                t = v
+                    .parse()
+                    .ok()
+                    .filter(|t: &f64| t.is_finite())
+                    .unwrap_or(0.0)
+            }
             "run" => run = v.parse().unwrap_or(usize::MAX),
             _ => {}
         }
@@ -288,7 +313,12 @@ fn press(app: &App, rq: Request, host: &str, path: &str) {
         return respond(rq, 409, "text/plain", b"a replay posts nothing".to_vec());
     };
     if request_header(&rq, "X-Helm-View") != Some("1") {
-        return respond(rq, 403, "text/plain", b"missing X-Helm-View header".to_vec());
+        return respond(
+            rq,
+            403,
+            "text/plain",
+            b"missing X-Helm-View header".to_vec(),
+        );
     }
     if let Some(origin) = request_header(&rq, "Origin") {
         if origin != format!("http://{host}") {

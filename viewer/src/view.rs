@@ -248,7 +248,10 @@ mod tests {
         // `hex:ff,00,80` cannot survive the comma-separated form: only `hex:ff` reaches
         // the colour parser, which refuses it (geometry-formats.md §3.2).
         assert_eq!(p.fill_color, None);
-        let s = draw("VIEW_SEGLIST", "pts={0,-40:60,-40},label=wpt,edge_color=gray50");
+        let s = draw(
+            "VIEW_SEGLIST",
+            "pts={0,-40:60,-40},label=wpt,edge_color=gray50",
+        );
         assert_eq!(s.edge_color.as_deref(), Some("rgb(128,128,128)"));
         let r = draw(
             "VIEW_POLYGON",
@@ -256,8 +259,14 @@ mod tests {
         );
         assert_eq!(r.pts.len(), 8);
         let c = draw("VIEW_CIRCLE", "x=1,y=2,radius=30,label=c1,edge_color=off");
-        assert_eq!((c.radius, c.edge_color.as_deref()), (Some(30.0), Some("none")));
-        let m = draw("VIEW_MARKER", "x=1,y=2,type=diamond,scale=2,color=red,label=m");
+        assert_eq!(
+            (c.radius, c.edge_color.as_deref()),
+            (Some(30.0), Some("none"))
+        );
+        let m = draw(
+            "VIEW_MARKER",
+            "x=1,y=2,type=diamond,scale=2,color=red,label=m",
+        );
         assert_eq!(m.marker.as_deref(), Some("diamond"));
         assert_eq!(m.fill_color.as_deref(), Some("red"));
     }

@@ -59,7 +59,11 @@ pub(crate) fn allowed(
     }
     if let Some(o) = origin {
         let h = host_name(host);
-        let h = if h.contains(':') { format!("[{h}]") } else { h.to_owned() };
+        let h = if h.contains(':') {
+            format!("[{h}]")
+        } else {
+            h.to_owned()
+        };
         if o != format!("http://{h}:{page_port}") {
             return Err("foreign origin");
         }
@@ -99,21 +103,50 @@ mod tests {
 
     #[test]
     fn only_the_pages_own_origin_and_loopback_hosts() {
-        assert_eq!(allowed(Some("127.0.0.1:5000"), Some("http://127.0.0.1:8080"), 8080, true), Ok(()));
+        assert_eq!(
+            allowed(
+                Some("127.0.0.1:5000"),
+                Some("http://127.0.0.1:8080"),
+                8080,
+                true
+            ),
+            Ok(())
+        );
         assert_eq!(allowed(Some("localhost:5000"), None, 8080, true), Ok(()));
         assert_eq!(
-            allowed(Some("127.0.0.1:5000"), Some("http://evil.example"), 8080, true),
+            allowed(
+                Some("127.0.0.1:5000"),
+                Some("http://evil.example"),
+                8080,
+                true
+            ),
             Err("foreign origin")
         );
         assert_eq!(
-            allowed(Some("127.0.0.1:5000"), Some("http://127.0.0.1:9999"), 8080, true),
+            allowed(
+                Some("127.0.0.1:5000"),
+                Some("http://127.0.0.1:9999"),
+                8080,
+                true
+            ),
             Err("foreign origin")
         );
         assert_eq!(
             allowed(Some("rebound.example:5000"), None, 8080, true),
             Err("forbidden host")
         );
-        assert_eq!(allowed(Some("boat.local:5000"), Some("http://boat.local:8080"), 8080, false), Ok(()));
-        assert_eq!(allowed(Some("[::1]:5000"), Some("http://[::1]:8080"), 8080, true), Ok(()));
+        assert_eq!(
+            allowed(
+                Some("boat.local:5000"),
+                Some("http://boat.local:8080"),
+                8080,
+                false
+            ),
+            Ok(())
+        );
+        assert_eq!(
+            allowed(Some("[::1]:5000"), Some("http://[::1]:8080"), 8080, true),
+            Ok(())
+        );
     }
 }

@@ -38,7 +38,10 @@ fn wait_mail(c: &moos::Client, var: &str, source: &str) -> String {
         if let Some(m) = mail.iter().find(|m| m.key == var && m.source == source) {
             return m.string().into_owned();
         }
-        assert!(start.elapsed() < LIMIT, "no {var} from {source} in {LIMIT:?}");
+        assert!(
+            start.elapsed() < LIMIT,
+            "no {var} from {source} in {LIMIT:?}"
+        );
     }
 }
 
@@ -64,15 +67,26 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
     let mut b = Browser::start();
     b.goto(&url);
     // The ownship (from NAV_*, named by the Community) is drawn, and moves.
-    b.wait_for("document.querySelector('#vehicles g.vehicle[data-name=\"alpha\"]')", LIMIT);
+    b.wait_for(
+        "document.querySelector('#vehicles g.vehicle[data-name=\"alpha\"]')",
+        LIMIT,
+    );
     let first = b.eval("+document.querySelector('#vehicles g.vehicle').dataset.y");
     b.wait_for(
-        &format!("Math.abs(+document.querySelector('#vehicles g.vehicle').dataset.y - ({first})) > 1"),
+        &format!(
+            "Math.abs(+document.querySelector('#vehicles g.vehicle').dataset.y - ({first})) > 1"
+        ),
         LIMIT,
     );
     // The helm's state and decision in the side panel.
-    b.wait_for("document.querySelector('#vars tr[data-var=\"DESIRED_SPEED\"]')", LIMIT);
-    b.wait_for("document.querySelector('#vars tr[data-var=\"IVPHELM_STATE\"]')", LIMIT);
+    b.wait_for(
+        "document.querySelector('#vars tr[data-var=\"DESIRED_SPEED\"]')",
+        LIMIT,
+    );
+    b.wait_for(
+        "document.querySelector('#vars tr[data-var=\"IVPHELM_STATE\"]')",
+        LIMIT,
+    );
 
     // A polygon posted in the DB appears, then goes when erased.
     let sel = "document.querySelectorAll('#shapes [data-key=\"polygon:viewtest\"]').length";
@@ -98,10 +112,21 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
     )
     .expect("erase polygon");
     b.wait_for(&format!("{sel} === 0"), LIMIT);
+    // A malformed one is skipped, counted, and the page says so.
+    poke.notify_string("VIEW_POLYGON", "pts={1,2:3", None)
+        .expect("post garbage");
+    b.wait_for(
+        "document.getElementById('skipped').textContent.includes('1 malformed VIEW_POLYGON')",
+        LIMIT,
+    );
 
     // The DEPLOY button posts through the DB: DEPLOY=true, from the viewer.
-    assert_eq!(b.eval("document.querySelectorAll('#buttons button').length"), 1);
-    poke.notify_string("DEPLOY", "false", None).expect("post DEPLOY=false");
+    assert_eq!(
+        b.eval("document.querySelectorAll('#buttons button').length"),
+        1
+    );
+    poke.notify_string("DEPLOY", "false", None)
+        .expect("post DEPLOY=false");
     assert_eq!(wait_mail(&poke, "DEPLOY", "uViewTest"), "false");
     b.eval("document.querySelector('#buttons button').click()");
     assert_eq!(wait_mail(&poke, "DEPLOY", "uHelmView"), "true");
@@ -109,7 +134,10 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
         "document.querySelector('#vars tr[data-var=\"DEPLOY\"] td:last-child').textContent === 'true'",
         LIMIT,
     );
-    b.wait_for("document.getElementById('pressed').textContent.includes('3 posting')", LIMIT);
+    b.wait_for(
+        "document.getElementById('pressed').textContent.includes('3 posting')",
+        LIMIT,
+    );
     b.screenshot(&artifacts().join("live-deployed.png"));
 
     // Nothing but the mission's buttons can be posted, and only from the page itself.
@@ -120,13 +148,24 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
             &format!("POST {path} HTTP/1.1\r\nHost: {addr}\r\n{extra}Content-Length: 0\r\nConnection: close\r\n\r\n"),
         )
     };
-    assert_eq!(post("/api/button/0", ""), 403, "a press without the page's header");
     assert_eq!(
-        post("/api/button/0", "X-Helm-View: 1\r\nOrigin: http://evil.example\r\n"),
+        post("/api/button/0", ""),
+        403,
+        "a press without the page's header"
+    );
+    assert_eq!(
+        post(
+            "/api/button/0",
+            "X-Helm-View: 1\r\nOrigin: http://evil.example\r\n"
+        ),
         403,
         "a press from another site"
     );
-    assert_eq!(post("/api/button/1", "X-Helm-View: 1\r\n"), 404, "no second button");
+    assert_eq!(
+        post("/api/button/1", "X-Helm-View: 1\r\n"),
+        404,
+        "no second button"
+    );
     assert_eq!(post("/api/post", "X-Helm-View: 1\r\n"), 404);
     assert_eq!(post("/api/button/0", "X-Helm-View: 1\r\n"), 200);
     assert_eq!(
@@ -149,6 +188,12 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
         }
         tungstenite::connect(req).is_ok()
     };
-    assert!(!ws(Some("http://evil.example")), "a foreign origin reads the feed");
-    assert!(ws(Some(url.trim_end_matches('/'))), "the page's own origin is refused");
+    assert!(
+        !ws(Some("http://evil.example")),
+        "a foreign origin reads the feed"
+    );
+    assert!(
+        ws(Some(url.trim_end_matches('/'))),
+        "the page's own origin is refused"
+    );
 }

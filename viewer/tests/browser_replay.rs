@@ -32,7 +32,9 @@ fn log(shift: f64) -> String {
         );
         if i == 20 {
             s.push_str("10.000 VIEW_POLYGON pHelmIvP pts={20,20:60,20:60,60:20,60},label=zone,edge_color=red,fill_color=pink\n");
-            s.push_str("10.000 VIEW_POINT pHelmIvP x=30,y=-20,label=<script>window.__pwned=1</script>\n");
+            s.push_str(
+                "10.000 VIEW_POINT pHelmIvP x=30,y=-20,label=<script>window.__pwned=1</script>\n",
+            );
             s.push_str("10.000 VIEW_POINT pHelmIvP x=40,y=-30,label=<img src=x onerror=\"window.__pwned=2\">\n");
             s.push_str("10.000 VIEW_POLYGON pHelmIvP pts={garbled\n");
         }
@@ -107,14 +109,25 @@ fn replay_in_a_real_browser() {
         .iter()
         .filter_map(|l| l.as_str())
         .collect();
-    assert!(labels.contains(&"<script>window.__pwned=1</script>"), "{labels:?}");
-    assert!(labels.contains(&"<img src=x onerror=\"window.__pwned=2\">"), "{labels:?}");
-    assert_eq!(b.eval("document.querySelectorAll('#map script, #map img, aside img').length"), 0);
+    assert!(
+        labels.contains(&"<script>window.__pwned=1</script>"),
+        "{labels:?}"
+    );
+    assert!(
+        labels.contains(&"<img src=x onerror=\"window.__pwned=2\">"),
+        "{labels:?}"
+    );
+    assert_eq!(
+        b.eval("document.querySelectorAll('#map script, #map img, aside img').length"),
+        0
+    );
     assert_eq!(b.eval("window.__pwned === undefined"), true);
     // The garbled polygon was counted, and the page says so.
     let skipped = b.eval("document.getElementById('skipped').textContent");
     assert!(
-        skipped.as_str().is_some_and(|s| s.contains("1 malformed VIEW_POLYGON")),
+        skipped
+            .as_str()
+            .is_some_and(|s| s.contains("1 malformed VIEW_POLYGON")),
         "{skipped}"
     );
     b.screenshot(&artifacts().join("replay-12s.png"));
@@ -144,9 +157,16 @@ fn a_folder_of_runs_shows_the_table_and_a_click_shows_that_run() {
     let (_view, url) = helm_view(&[dir.to_str().expect("utf-8 path")]);
     let mut b = Browser::start();
     b.goto(&url);
-    b.wait_for("document.querySelectorAll('#runs tbody tr').length === 3", LIMIT);
-    b.wait_for("document.querySelectorAll('#alltracks polyline').length === 6", LIMIT);
-    let cell = b.eval("document.querySelector('#runs tbody tr:nth-child(3) td:nth-child(3)').textContent");
+    b.wait_for(
+        "document.querySelectorAll('#runs tbody tr').length === 3",
+        LIMIT,
+    );
+    b.wait_for(
+        "document.querySelectorAll('#alltracks polyline').length === 6",
+        LIMIT,
+    );
+    let cell =
+        b.eval("document.querySelector('#runs tbody tr:nth-child(3) td:nth-child(3)').textContent");
     assert_eq!(cell, "timeout");
     // Run 2's abe is at y = 60.
     b.eval("document.querySelector('#runs tbody tr:nth-child(3)').click()");

@@ -69,7 +69,12 @@ fn check_view(data: &[u8]) {
                 assert!(sh.pts.iter().flatten().all(|v| v.is_finite()), "{sh:?}");
                 assert!(sh.radius.is_none_or(f64::is_finite));
                 assert!(sh.key.starts_with(sh.kind) && sh.key.ends_with(&sh.label));
-                for c in [&sh.edge_color, &sh.fill_color, &sh.vertex_color, &sh.label_color] {
+                for c in [
+                    &sh.edge_color,
+                    &sh.fill_color,
+                    &sh.vertex_color,
+                    &sh.label_color,
+                ] {
                     assert!(css_ok(c), "colour {c:?}");
                 }
             }
@@ -93,7 +98,19 @@ fn fuzz_view_readers() {
         "viewer_view",
         10000,
         &view_seeds(),
-        &[b",", b"=", b":", b"{", b"}", b"!@#", b"!@", b"active=false", b"nan", b"1e999", b"<"],
+        &[
+            b",",
+            b"=",
+            b":",
+            b"{",
+            b"}",
+            b"!@#",
+            b"!@",
+            b"active=false",
+            b"nan",
+            b"1e999",
+            b"<",
+        ],
         check_view,
     );
 }
@@ -132,7 +149,14 @@ fn check_alog(data: &[u8]) {
     // A line is skipped at most once, except that a readable line may also carry a
     // posting the page cannot draw (counted too).
     assert!(skipped <= 2 * lines, "{skipped} skips of {lines} lines");
-    for t in [ix.t0, (ix.t0 + ix.t1) / 2.0, ix.t1, f64::NAN, f64::INFINITY, -1e300] {
+    for t in [
+        ix.t0,
+        (ix.t0 + ix.t1) / 2.0,
+        ix.t1,
+        f64::NAN,
+        f64::INFINITY,
+        -1e300,
+    ] {
         let f = ix.frame(t);
         for v in &f.vehicles {
             assert!(v.x.is_finite() && v.y.is_finite(), "{v:?}");
@@ -155,7 +179,17 @@ fn fuzz_alog_index() {
         "viewer_alog_index",
         5000,
         &alog_seeds(),
-        &[b"\n", b" ", b"%%", b"NODE_REPORT ", b"VIEW_POLYGON ", b"\xff", b"\0", b"nan", b"1e400"],
+        &[
+            b"\n",
+            b" ",
+            b"%%",
+            b"NODE_REPORT ",
+            b"VIEW_POLYGON ",
+            b"\xff",
+            b"\0",
+            b"nan",
+            b"1e400",
+        ],
         check_alog,
     );
 }

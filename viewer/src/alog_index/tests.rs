@@ -36,7 +36,11 @@ fn shapes_appear_and_disappear_across_checkpoints() {
     let mut s = String::from(HEADER);
     // Many events so the frame crosses stored checkpoints.
     for i in 0..2000 {
-        s.push_str(&format!("{}.0 VIEW_POINT b x={i},y=0,label=p{}\n", i, i % 7));
+        s.push_str(&format!(
+            "{}.0 VIEW_POINT b x={i},y=0,label=p{}\n",
+            i,
+            i % 7
+        ));
     }
     s.push_str("3000.0 VIEW_POLYGON b pts={0,0:10,0:10,10},label=box\n");
     s.push_str("3010.0 VIEW_POLYGON b pts={0,0:9,0:0,9},active=false,label=box\n");
@@ -46,8 +50,16 @@ fn shapes_appear_and_disappear_across_checkpoints() {
     let p3 = f.objects.iter().find(|o| o.key == "point:p3").expect("p3");
     // The last p3 at or before t=1000 was posted at t=997 (997 % 7 == 3).
     assert_eq!(p3.pts[0], [997.0, 0.0]);
-    assert!(ix.frame(3005.0).objects.iter().any(|o| o.key == "polygon:box"));
-    assert!(!ix.frame(3010.0).objects.iter().any(|o| o.key == "polygon:box"));
+    assert!(ix
+        .frame(3005.0)
+        .objects
+        .iter()
+        .any(|o| o.key == "polygon:box"));
+    assert!(!ix
+        .frame(3010.0)
+        .objects
+        .iter()
+        .any(|o| o.key == "polygon:box"));
 }
 
 #[test]
@@ -75,9 +87,16 @@ fn bad_lines_are_skipped_and_counted_by_reason() {
     assert_eq!(k("longer than 1 MiB"), 1);
     assert_eq!(k("last line cut short"), 1);
     assert_eq!(k("malformed VIEW_POLYGON (unreadable)"), 1);
-    assert!(ix.skipped_summary().starts_with("7 skipped: "), "{}", ix.skipped_summary());
+    assert!(
+        ix.skipped_summary().starts_with("7 skipped: "),
+        "{}",
+        ix.skipped_summary()
+    );
     let f = ix.frame(10.0);
-    assert_eq!((f.vehicles[0].name.as_str(), f.vehicles[0].x), ("ownship", 8.0));
+    assert_eq!(
+        (f.vehicles[0].name.as_str(), f.vehicles[0].x),
+        ("ownship", 8.0)
+    );
 }
 
 #[test]

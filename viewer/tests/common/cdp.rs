@@ -121,7 +121,10 @@ impl Browser {
 
     pub fn goto(&mut self, url: &str) {
         self.call("Page.navigate", json!({"url": url}));
-        self.wait_for("document.readyState === 'complete'", Duration::from_secs(60));
+        self.wait_for(
+            "document.readyState === 'complete'",
+            Duration::from_secs(60),
+        );
     }
 
     /// Evaluate `expr` in the page (promises awaited) and return its value.
@@ -143,7 +146,9 @@ impl Browser {
     pub fn wait_for(&mut self, expr: &str, limit: Duration) -> Value {
         let start = Instant::now();
         loop {
-            let v = self.eval(&format!("(() => {{ try {{ return {expr}; }} catch (e) {{ return null; }} }})()"));
+            let v = self.eval(&format!(
+                "(() => {{ try {{ return {expr}; }} catch (e) {{ return null; }} }})()"
+            ));
             let truthy = match &v {
                 Value::Null => false,
                 Value::Bool(b) => *b,
@@ -154,7 +159,10 @@ impl Browser {
             if truthy {
                 return v;
             }
-            assert!(start.elapsed() < limit, "page never showed `{expr}` in {limit:?}");
+            assert!(
+                start.elapsed() < limit,
+                "page never showed `{expr}` in {limit:?}"
+            );
             std::thread::sleep(Duration::from_millis(100));
         }
     }
