@@ -210,6 +210,8 @@ function render() {
     const t = el("text", { x: x + 12, y: y + 4, fill: "#ffffff", class: "vlabel" }, g);
     t.textContent = `${v.name} ${(+v.spd).toFixed(1)} m/s`;
   }
+  // The time of the picture now drawn (frames arrive before the next paint draws them).
+  document.body.dataset.drawn = String(S.t);
 }
 
 function loop() {

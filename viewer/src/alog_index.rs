@@ -365,7 +365,7 @@ impl AlogIndex {
         f.objects = state
             .values()
             .filter_map(|&i| match &self.events[i].1 {
-                ViewChange::Draw(s) => Some(s.clone()),
+                ViewChange::Draw(s) => Some((**s).clone()),
                 ViewChange::Erase(_) => None,
             })
             .collect::<Vec<Shape>>();

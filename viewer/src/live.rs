@@ -125,8 +125,8 @@ impl Hub {
             }
             Update::View(ViewChange::Draw(s)) => {
                 pending.removed.remove(&s.key);
-                scene.objects.insert(s.key.clone(), s.clone());
-                pending.objects.insert(s.key.clone(), s);
+                scene.objects.insert(s.key.clone(), (*s).clone());
+                pending.objects.insert(s.key.clone(), *s);
             }
             Update::View(ViewChange::Erase(k)) => {
                 pending.objects.remove(&k);

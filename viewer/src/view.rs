@@ -21,8 +21,8 @@ pub const VIEW_VARS: [&str; 5] = [
 /// What one VIEW_* posting does to the picture.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ViewChange {
-    /// Draw (or replace) the shape under its key.
-    Draw(Shape),
+    /// Draw (or replace) the shape under its key (boxed: a shape is large, an erase small).
+    Draw(Box<Shape>),
     /// Erase the shape under this key (`active=false`).
     Erase(String),
 }
@@ -133,7 +133,7 @@ pub fn read_view(var: &str, value: &str) -> Result<ViewChange, ViewError> {
         return Err(ViewError::NotFinite);
     }
     let color = |c: &str| (!c.is_empty()).then(|| css_color(c)).flatten();
-    Ok(ViewChange::Draw(Shape {
+    Ok(ViewChange::Draw(Box::new(Shape {
         key,
         kind,
         pts,
@@ -148,7 +148,7 @@ pub fn read_view(var: &str, value: &str) -> Result<ViewChange, ViewError> {
         vertex_size: attrs.vertex_size,
         edge_size: attrs.edge_size,
         scale: extra.scale,
-    }))
+    })))
 }
 
 /// What circles and markers carry beyond the common attributes.
@@ -231,7 +231,7 @@ mod tests {
 
     fn draw(var: &str, v: &str) -> Shape {
         match read_view(var, v) {
-            Ok(ViewChange::Draw(s)) => s,
+            Ok(ViewChange::Draw(s)) => *s,
             other => panic!("{var} {v}: {other:?}"),
         }
     }

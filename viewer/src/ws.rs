@@ -71,6 +71,8 @@ pub(crate) fn allowed(
     Ok(())
 }
 
+// tungstenite's handshake callback returns its own (large) error response type.
+#[allow(clippy::result_large_err)]
 fn serve(hub: &Hub, stream: TcpStream, page_port: u16, loopback: bool) {
     let _ = stream.set_nodelay(true);
     let check = |req: &Request, resp: Response| {

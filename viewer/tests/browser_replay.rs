@@ -49,7 +49,7 @@ fn set_time(b: &mut Browser, t: f64) {
     b.eval(&format!(
         "(() => {{ const s = document.getElementById('slider'); s.value = {t}; s.dispatchEvent(new Event('input')); }})()"
     ));
-    b.wait_for(&format!("document.body.dataset.t === '{t}'"), LIMIT);
+    b.wait_for(&format!("document.body.dataset.drawn === '{t}'"), LIMIT);
 }
 
 /// Each vehicle as drawn: name, data position, and how far the hull's centre is from
