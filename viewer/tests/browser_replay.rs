@@ -138,6 +138,29 @@ fn replay_in_a_real_browser() {
     assert_eq!((v[0].1, v[1].2), (50.0, -25.0));
     b.screenshot(&artifacts().join("replay-25s.png"));
 
+    // Zoom (wheel) and pan (drag) move the map, not the data.
+    let before = b.eval("[S.view.s, S.view.cx, S.view.cy]");
+    b.eval(
+        "(() => { const m = document.getElementById('map');
+          m.dispatchEvent(new WheelEvent('wheel', {deltaY: -300, clientX: 400, clientY: 300, bubbles: true, cancelable: true}));
+          const p = (type, x) => m.dispatchEvent(new PointerEvent(type, {clientX: x, clientY: 300, pointerId: 1, bubbles: true}));
+          p('pointerdown', 400); p('pointermove', 500); p('pointerup', 500); })()",
+    );
+    let after = b.eval("[S.view.s, S.view.cx, S.view.cy]");
+    let f = |v: &serde_json::Value, i: usize| v[i].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        f(&after, 0) > 1.3 * f(&before, 0),
+        "zoomed in: {before} -> {after}"
+    );
+    assert!(
+        f(&after, 1) < f(&before, 1),
+        "dragged right, so the centre moved west"
+    );
+    let v = vehicles(&mut b);
+    assert_eq!((v[0].1, v[0].2), (50.0, 0.0), "data unchanged by the view");
+    b.wait_for("document.querySelector('#grid text')", LIMIT);
+    b.screenshot(&artifacts().join("replay-zoomed.png"));
+
     // Play runs the clock forward.
     b.eval("document.getElementById('play').click()");
     b.wait_for("+document.body.dataset.t > 26", LIMIT);
