@@ -8,7 +8,7 @@ use abi_stable::sabi_trait;
 use abi_stable::sabi_types::RMut;
 use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
 
-use crate::value::PostValue;
+use crate::value::{ContactState, PostValue};
 
 /// The host side of one behavior call. Implemented by the helm; behaviors only call it.
 #[sabi_trait]
@@ -64,6 +64,24 @@ pub trait HelmContext {
     /// A log line through the host's tracing (level 0 error .. 4 trace).
     #[sabi(last_prefix_field)]
     fn log(&mut self, level: u8, message: RStr<'_>);
+
+    // Since 0.1.1 (contacts), after the last prefix field: a plugin built against 0.1.0
+    // never calls them and still loads; a 0.1.0 host refuses a 0.1.1 plugin (the
+    // loader's version rule), so a plugin never calls one its host lacks.
+
+    /// How many contacts this iteration's ledger snapshot holds.
+    fn contact_count(&self) -> u32;
+    /// The `index`-th contact's name, in byte order of the names; None past the end.
+    fn contact_name(&self, index: u32) -> ROption<RString>;
+    /// One contact's state by exact (case-sensitive) name; None if it is not in this
+    /// iteration's snapshot.
+    fn contact(&self, name: RStr<'_>) -> ROption<ContactState>;
+    /// A text field of a contact: `type` (after type fixing), `group`, `vsource`; ""
+    /// for an unknown contact or field.
+    fn contact_text(&self, name: RStr<'_>, field: RStr<'_>) -> RString;
+    /// The contact this behavior is about (its `contact` parameter), so the helm keeps
+    /// it in `IVPHELM_CONTACT_SUMMARY`; "" for none.
+    fn set_contact(&mut self, name: RStr<'_>);
 }
 
 /// The context handed to every behavior call.

@@ -11,3 +11,75 @@
 //! ```
 
 pub use bhv::flag::{parse_flag, FlagParam, FlagSpec};
+
+use crate::sdk::Ctx;
+
+/// A list of flags a behavior takes as a parameter (`zigflag`, `leg_endflag`, ...):
+/// each line is checked with [`parse_flag`] like the common flags, `clearall` empties
+/// the list, and the list is posted with the type's own macros expanded first.
+///
+/// ```
+/// use behavior_api::flag::FlagList;
+/// let mut l = FlagList::default();
+/// assert!(l.set("HIT = $[N]"));
+/// assert!(!l.set("HIT ="));
+/// assert_eq!(l.len(), 1);
+/// assert!(l.set("clearall"));
+/// assert!(l.is_empty());
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlagList {
+    flags: Vec<String>,
+}
+
+impl FlagList {
+    /// Add a flag line (or `clearall`); false when it does not parse.
+    pub fn set(&mut self, value: &str) -> bool {
+        match parse_flag(value) {
+            Ok(FlagParam::ClearAll) => self.flags.clear(),
+            Ok(FlagParam::Flag(_)) => self.flags.push(value.trim().to_string()),
+            Err(_) => return false,
+        }
+        true
+    }
+
+    pub fn len(&self) -> usize {
+        self.flags.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.flags.is_empty()
+    }
+
+    /// Post every flag, each with `expand` applied first (the type's macros; the host
+    /// expands the common ones), repeatable or under the default key.
+    pub fn post(&self, ctx: &mut Ctx<'_>, repeatable: bool, expand: impl Fn(&str) -> String) {
+        for f in &self.flags {
+            ctx.post_flag(&expand(f), repeatable);
+        }
+    }
+}
+
+/// Replace `$[NAME]` and `$(NAME)` by their values for every `(NAME, value)` pair: a
+/// type's own macros (behavior-common.md §3.4). Unknown macros are left alone.
+///
+/// ```
+/// use behavior_api::flag::expand_macros;
+/// assert_eq!(expand_macros("n=$[N],m=$(N),$[X]", &[("N", "3".into())]), "n=3,m=3,$[X]");
+/// ```
+pub fn expand_macros(text: &str, subs: &[(&str, String)]) -> String {
+    let mut s = text.to_string();
+    for (name, value) in subs {
+        for form in [format!("$[{name}]"), format!("$({name})")] {
+            if s.contains(&form) {
+                s = s.replace(&form, value);
+            }
+        }
+    }
+    s
+}
+
+/// True when `text` holds a macro at all (so building the substitutions can be skipped).
+pub fn has_macro(text: &str) -> bool {
+    text.contains("$[") || text.contains("$(")
+}

@@ -35,6 +35,9 @@
 //! - MOOS-IvP's number and colour rules from [`mbutil`], also at the top level:
 //!   [`is_number`], [`atof`], [`parse_number`], [`compact`] (the `%.Nf` formatter with
 //!   trailing zeros removed), [`parse_color`] / [`is_color`] (the helm's colour parser);
+//! - [`platform`]: the common platform update (NAV_X/Y/HEADING required, NAV_SPEED optional);
+//! - [`params`]: shared parameter-value rules (`parse_bool` with `toggle`, `positive`,
+//!   `non_negative`, `no_white`);
 //! - [`flag`]: the `.bhv` flag syntax (`[#dest ]VAR = VALUE [if CONDITION]`), to check a
 //!   behavior's own flag parameters (e.g. BHV_Waypoint's `wptflag`) the way the helm
 //!   checks `endflag`.
@@ -53,11 +56,14 @@
 // abi_stable's sabi_trait macro expands to impls inside a const block.
 #![allow(non_local_definitions)]
 
+pub mod abi_v1;
 pub mod behavior;
 pub mod context;
 pub mod flag;
 pub mod function;
 pub mod module;
+pub mod params;
+pub mod platform;
 pub mod sdk;
 pub mod testing;
 pub mod value;
@@ -67,6 +73,7 @@ pub mod tutorial {}
 
 pub use abi_stable;
 pub use behavior::{BehaviorBox, CallResult};
+pub use contacts;
 pub use context::HelmCtx;
 pub use function::FunctionData;
 pub use geometry;
@@ -74,4 +81,4 @@ pub use ivp;
 pub use mbutil;
 pub use mbutil::{atof, compact, is_color, is_number, parse_color, parse_number, Color};
 pub use module::{BehaviorLibRef, API_VERSION};
-pub use value::PostValue;
+pub use value::{ContactState, PostValue};

@@ -12,7 +12,7 @@ use abi_stable::std_types::{ROption, RResult, RStr, RString};
 use crate::behavior::{Behavior, BehaviorBox, Behavior_TO, CallResult};
 use crate::context::HelmCtx;
 use crate::function::FunctionData;
-use crate::value::PostValue;
+use crate::value::{ContactState, PostValue};
 
 /// One variable of the helm's decision domain.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,6 +106,13 @@ impl<'a> Ctx<'a> {
     pub fn get_buffer_string_val(&mut self, var: &str) -> Option<String> {
         self.inner
             .string_val(var.into(), true)
+            .into_option()
+            .map(String::from)
+    }
+    /// Like [`Ctx::get_buffer_string_val`] but silent when missing.
+    pub fn get_buffer_string_val_quiet(&mut self, var: &str) -> Option<String> {
+        self.inner
+            .string_val(var.into(), false)
             .into_option()
             .map(String::from)
     }
@@ -239,6 +246,29 @@ impl<'a> Ctx<'a> {
     }
     pub fn log(&mut self, message: &str) {
         self.inner.log(2, message.into())
+    }
+
+    /// How many contacts the helm sees this iteration.
+    pub fn contact_count(&self) -> usize {
+        self.inner.contact_count() as usize
+    }
+    /// The contacts' names, in byte order.
+    pub fn contact_names(&self) -> Vec<String> {
+        (0..self.inner.contact_count())
+            .filter_map(|i| self.inner.contact_name(i).into_option().map(String::from))
+            .collect()
+    }
+    /// One contact's state this iteration (`None`: not in the ledger).
+    pub fn contact(&self, name: &str) -> Option<ContactState> {
+        self.inner.contact(name.into()).into_option()
+    }
+    /// A contact's `type` (after type fixing), `group` or `vsource`; "" if unknown.
+    pub fn contact_text(&self, name: &str, field: &str) -> String {
+        self.inner.contact_text(name.into(), field.into()).into()
+    }
+    /// Tell the helm which contact this behavior is about (`IVPHELM_CONTACT_SUMMARY`).
+    pub fn set_contact(&mut self, name: &str) {
+        self.inner.set_contact(name.into())
     }
 
     fn prefixed(&self, msg: &str) -> String {

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use crate::context::{HelmContext, HelmContext_TO};
 use crate::sdk::Ctx;
-use crate::PostValue;
+use crate::{ContactState, PostValue};
 use abi_stable::sabi_trait::TD_Opaque;
 use abi_stable::sabi_types::RMut;
 use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
@@ -35,6 +35,10 @@ pub struct MockHelm {
     pub idle_time: f64,
     pub name: String,
     pub priority: f64,
+    /// Contacts by name: state, type, group (see [`MockHelm::contact`]).
+    pub contacts: std::collections::BTreeMap<String, (ContactState, String, String)>,
+    /// What the behavior told the helm with `set_contact`.
+    pub contact_set: String,
 }
 
 impl MockHelm {
@@ -63,6 +67,22 @@ impl MockHelm {
         self.nums.insert("NAV_HEADING".into(), h);
         self.nums.insert("NAV_SPEED".into(), v);
     }
+    /// Put a contact in the ledger (or move it): position, heading, speed, type; its
+    /// report time is the mock's `time`.
+    pub fn contact(&mut self, name: &str, x: f64, y: f64, hdg: f64, spd: f64, vtype: &str) {
+        let state = ContactState {
+            x,
+            y,
+            hdg,
+            spd,
+            utc: self.time,
+            utc_received: self.time,
+            ..ContactState::default()
+        };
+        self.contacts
+            .insert(name.into(), (state, vtype.into(), String::new()));
+    }
+
     /// Run `f` with a behavior context backed by this mock.
     pub fn with<R>(&mut self, f: impl FnOnce(&mut Ctx<'_>) -> R) -> R {
         let to = HelmContext_TO::from_ptr(RMut::new(self), TD_Opaque);
@@ -189,4 +209,35 @@ impl HelmContext for MockHelm {
         self.platform = (osx, osy, osh, osv);
     }
     fn log(&mut self, _level: u8, _message: RStr<'_>) {}
+
+    fn contact_count(&self) -> u32 {
+        u32::try_from(self.contacts.len()).unwrap_or(u32::MAX)
+    }
+    fn contact_name(&self, index: u32) -> ROption<RString> {
+        self.contacts
+            .keys()
+            .nth(index as usize)
+            .map(|n| RString::from(n.as_str()))
+            .into()
+    }
+    fn contact(&self, name: RStr<'_>) -> ROption<ContactState> {
+        self.contacts
+            .get(name.as_str())
+            .map(|(s, _, _)| ContactState {
+                utc_age: self.time - s.utc,
+                utc_age_received: self.time - s.utc_received,
+                ..*s
+            })
+            .into()
+    }
+    fn contact_text(&self, name: RStr<'_>, field: RStr<'_>) -> RString {
+        match (self.contacts.get(name.as_str()), field.as_str()) {
+            (Some((_, t, _)), "type") => t.as_str().into(),
+            (Some((_, _, g)), "group") => g.as_str().into(),
+            _ => RString::new(),
+        }
+    }
+    fn set_contact(&mut self, name: RStr<'_>) {
+        self.contact_set = name.as_str().to_string();
+    }
 }

@@ -6,6 +6,7 @@
 
 pub mod angles;
 mod formats;
+mod objects;
 pub mod parse;
 pub mod points;
 pub mod polygon;

@@ -103,6 +103,20 @@ pub fn segments_cross(
         || (d4 == 0.0 && on_seg(x1, y1, x2, y2, x4, y4))
 }
 
+/// `snap` of §2.5: nearest multiple of `s`, halves away from zero; `s <= 0` is none.
+pub(crate) fn snap(v: f64, s: f64) -> f64 {
+    if s <= 0.0 {
+        return v;
+    }
+    let q = v / s;
+    let n = if q >= 0.0 {
+        (q + 0.5) as i64
+    } else {
+        (q - 0.5) as i64
+    };
+    n as f64 * s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

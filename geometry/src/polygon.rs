@@ -263,8 +263,8 @@ impl Polygon {
         }
         let saved = self.clone();
         for p in &mut self.pts {
-            p.x = crate::formats::snap(p.x, s);
-            p.y = crate::formats::snap(p.y, s);
+            p.x = crate::points::snap(p.x, s);
+            p.y = crate::points::snap(p.y, s);
         }
         self.determine_convexity();
         if saved.convex && !self.convex {

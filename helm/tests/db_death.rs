@@ -299,7 +299,7 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
     let alog = dir.join("helm.alog");
 
     let mission = MissionFile::read(&moos_path).expect("mission parses");
-    let mut sim = Some(helm::app::sim::Sim::start(&mission).expect("simulator connects"));
+    let mut sim = Some(helm_app::embedded_sim::Sim::start(&mission).expect("simulator connects"));
     let mut obs = Observer::new(port);
     let mut helm = spawn_helm(&moos_path, &alog, &dir);
 
@@ -360,7 +360,7 @@ fn helm_survives_moosdb_death_and_simulator_restart() {
     let restart_text = mission_text(port, at);
     let restart_mission =
         MissionFile::parse(&restart_text, &moos_path).expect("restart mission parses");
-    let _sim = helm::app::sim::Sim::start(&restart_mission).expect("simulator reconnects");
+    let _sim = helm_app::embedded_sim::Sim::start(&restart_mission).expect("simulator reconnects");
 
     // 3. The mission completes.
     obs.wait_for("mission complete", sim_back, Duration::from_secs(90), |m| {
@@ -426,7 +426,7 @@ fn helm_gives_up_on_a_frozen_moosdb_and_comes_back() {
     let (moos_path, port, db) = alpha_with_db(&dir, "db.log");
     let alog = dir.join("helm.alog");
     let mission = MissionFile::read(&moos_path).expect("mission parses");
-    let _sim = helm::app::sim::Sim::start(&mission).expect("simulator connects");
+    let _sim = helm_app::embedded_sim::Sim::start(&mission).expect("simulator connects");
     let mut obs = Observer::new(port);
     let mut helm = spawn_helm(&moos_path, &alog, &dir);
     obs.wait_for("driving", 0.0, Duration::from_secs(30), |m| {

@@ -1,9 +1,9 @@
 //! Engine bookkeeping driven through the library API: IVPHELM_STATEVARS and the
 //! standby helm's take-over.
 
-use helm::conform::Case;
-use helm::posting::Value;
-use helm::{Helm, HelmState, Mail};
+use helm_conform::Case;
+use helm_engine::posting::Value;
+use helm_engine::{Helm, HelmState, Mail};
 
 mod common;
 

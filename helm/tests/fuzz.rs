@@ -11,10 +11,10 @@
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use helm::config::HelmConfig;
-use helm::factory::BehaviorFactory;
-use helm::posting::Value;
-use helm::{Helm, Mail};
+use helm_engine::config::HelmConfig;
+use helm_engine::factory::BehaviorFactory;
+use helm_engine::posting::Value;
+use helm_engine::{Helm, Mail};
 
 mod common;
 

@@ -53,7 +53,7 @@ fn block(name: &str, extra: &str) -> String {
 /// The DB, the simulator, and the mission folder of one test.
 struct Bench {
     db: Option<Db>,
-    sim: Option<helm::app::sim::Sim>,
+    sim: Option<helm_app::embedded_sim::Sim>,
     dir: PathBuf,
     mission: PathBuf,
     port: u16,
@@ -78,7 +78,7 @@ impl Bench {
         let mut cfg = DbConfig::default();
         cfg.apply_mission(&m);
         let db = Db::start(cfg).expect("start the MOOSDB");
-        let sim = helm::app::sim::Sim::start(&m).expect("start uSimMarine");
+        let sim = helm_app::embedded_sim::Sim::start(&m).expect("start uSimMarine");
         Bench {
             db: Some(db),
             sim: Some(sim),

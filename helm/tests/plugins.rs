@@ -24,6 +24,9 @@ const PLUGINS: &[&str] = &[
     "bhv-constant-depth",
     "bhv-station-keep",
     "bhv-template",
+    "bhv-visuals",
+    "bhv-depth",
+    "bhv-survey",
 ];
 
 /// Built with the others, kept in a folder of its own (`failure_dir`).
@@ -80,6 +83,84 @@ fn plugin_cases_pass_with_the_plugins_loaded() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `helm conform conformance/helm` with every shipped plugin loaded: each case passes or
+/// waits for a type the project does not have yet; none fails.
+#[test]
+fn every_case_passes_or_waits_for_a_type_the_project_lacks() {
+    let dir = plugin_dir().to_str().unwrap().to_string();
+    let out = helm_conform(&workspace().join("conformance/helm"), Some(&dir));
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    let last = t.lines().rev().find(|l| l.contains(" passed, ")).unwrap();
+    assert!(last.contains(" passed, 0 failed"), "{t}");
+    let n_cases = common::helm_cases().len();
+    let waiting: Vec<&str> = t
+        .lines()
+        .filter(|l| l.contains(": waiting for its behavior types: "))
+        .collect();
+    let passed: usize = last.split(' ').next().unwrap().parse().unwrap();
+    assert_eq!(passed + waiting.len(), n_cases, "{t}");
+    for line in &waiting {
+        let types = line
+            .split(": waiting for its behavior types: ")
+            .nth(1)
+            .unwrap();
+        for ty in types.split(", ") {
+            assert!(
+                !helm_engine::factory::project_has_type(ty),
+                "{ty} exists: {line}"
+            );
+        }
+    }
+    println!(
+        "helm conformance (plugins loaded): {passed} passed, 0 failed, {} waiting",
+        waiting.len()
+    );
+}
+
+/// The list `helm conform` uses to tell "waiting" from "failed to load" names exactly the
+/// types the shipped plugin libraries export.
+#[test]
+fn shipped_library_types_are_what_the_plugins_export() {
+    let (factory, _) = helm_mission::factory_for(&[plugin_dir().to_path_buf()]);
+    let mut exported: Vec<String> = factory
+        .libraries()
+        .iter()
+        .flat_map(|l| l.types.iter().cloned())
+        .collect();
+    exported.sort();
+    let mut listed: Vec<String> = helm_engine::factory::SHIPPED_LIBRARY_TYPES
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    listed.sort();
+    assert_eq!(exported, listed);
+}
+
+/// A case naming a type the project has, whose library is not loaded, fails (it does not
+/// wait); one naming a type nobody has waits, names the type, and does not fail the run.
+#[test]
+fn a_missing_shipped_type_fails_but_an_unknown_one_waits() {
+    let case = workspace().join("conformance/helm/plugin_constant_speed.toml");
+    let out = helm_conform(&case, None);
+    let t = text(&out);
+    assert!(!out.status.success(), "{t}");
+    assert!(t.contains("0 passed, 1 failed"), "{t}");
+    let src = std::fs::read_to_string(&case).unwrap();
+    assert!(src.contains("BHV_ConstantSpeed"), "the case changed");
+    let dir = scratch("waiting-case");
+    let file = dir.join("future_type.toml");
+    std::fs::write(&file, src.replace("BHV_ConstantSpeed", "BHV_NotYetWritten")).unwrap();
+    let out = helm_conform(&file, None);
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    assert!(
+        t.contains(": waiting for its behavior types: BHV_NotYetWritten"),
+        "{t}"
+    );
+    assert!(t.contains("0 passed, 0 failed, 1 waiting"), "{t}");
 }
 
 #[test]
@@ -162,15 +243,15 @@ fn bad_library_files_are_skipped() {
 // Isolation: deliberately failing behaviors, through the helm's library API.
 // ---------------------------------------------------------------------------------------
 
-use helm::config::HelmConfig;
-use helm::posting::{Posting, Value};
-use helm::{Helm, HelmState, Mail};
+use helm_engine::config::HelmConfig;
+use helm_engine::posting::{Posting, Value};
+use helm_engine::{Helm, HelmState, Mail};
 
 const T0: f64 = 1000.0;
 
 /// The helm built from `bhv` text with the libraries of `dirs`, and its config warnings.
 fn build(bhv_text: &str, dirs: &[PathBuf]) -> Helm {
-    let (factory, _report) = helm::mission::factory_for(dirs);
+    let (factory, _report) = helm_mission::factory_for(dirs);
     let (config, warnings) = HelmConfig::from_lines(&common::block_lines(&common::DRIVE_BLOCK));
     assert!(warnings.is_empty(), "{warnings:?}");
     let spec = bhv::reader::parse_str(bhv_text, Path::new("isolation.bhv")).expect("bhv parses");
@@ -599,12 +680,13 @@ fn build_future_abi_library() -> Option<PathBuf> {
             "[package]\nname = \"behavior-api\"\nversion = \"0.2.0\"\nedition = \"2021\"\n\n\
              [dependencies]\nabi_stable = \"{abi_stable_req}\"\nivp = {{ path = {:?} }}\n\
              geometry = {{ path = {:?} }}\nmbutil = {{ path = {:?} }}\n\
-             bhv = {{ path = {:?} }}\n\n\
+             bhv = {{ path = {:?} }}\ncontacts = {{ path = {:?} }}\n\n\
              [workspace]\n",
             ws.join("ivp").display().to_string(),
             ws.join("geometry").display().to_string(),
             ws.join("mbutil").display().to_string(),
-            ws.join("bhv").display().to_string()
+            ws.join("bhv").display().to_string(),
+            ws.join("contacts").display().to_string()
         ),
     )
     .unwrap();
@@ -670,7 +752,7 @@ fn library_built_against_another_api_version_is_refused() {
     let good = "libbhv_template.so";
     std::fs::copy(plugin_dir().join(good), d.join(good)).unwrap();
 
-    let (factory, report) = helm::mission::factory_for(std::slice::from_ref(&d));
+    let (factory, report) = helm_mission::factory_for(std::slice::from_ref(&d));
     let report = report.join("\n");
     assert!(!factory.knows("BHV_FromTheFuture"), "{report}");
     assert!(factory.knows("BHV_Template"), "{report}");
@@ -681,7 +763,10 @@ fn library_built_against_another_api_version_is_refused() {
         .unwrap_or_else(|| panic!("{skipped} expected in\n{report}"));
     let reason = &report[at..];
     let ours = behavior_api::API_VERSION;
-    assert_eq!(ours, "0.1.0");
+    assert_ne!(
+        ours, "0.2.0",
+        "the future library must be newer than the host"
+    );
     assert!(
         reason.contains(ours) && reason.contains("0.2.0"),
         "both versions expected:\n{report}"
@@ -729,14 +814,106 @@ fn library_built_against_another_api_version_is_refused_in_one_line() {
     };
     let d = scratch("abi-one-line");
     std::fs::copy(&future, d.join("libbhv_abi_future.so")).unwrap();
-    let (_, report) = helm::mission::factory_for(std::slice::from_ref(&d));
+    let (_, report) = helm_mission::factory_for(std::slice::from_ref(&d));
     let line = report
         .iter()
         .find(|l| l.contains("libbhv_abi_future.so"))
         .expect("reported");
     assert!(
-        !line.contains('\n') && line.contains("0.1.0") && line.contains("0.2.0"),
+        !line.contains('\n') && line.contains(behavior_api::API_VERSION) && line.contains("0.2.0"),
         "{line}"
+    );
+}
+
+/// The last release of `behavior-api` before contacts were added to the ABI (0.1.0).
+const PREVIOUS_API_RELEASE: &str = "7b7850b";
+
+/// A plugin built from the previous release's source (its `behavior-api` 0.1.0 and its
+/// template, unchanged) loads into this helm and drives: the ABI grew additively.
+#[test]
+fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
+    let root = scratch("previous-release");
+    let ws = workspace();
+    let tree = root.join("tree");
+    std::fs::create_dir_all(&tree).unwrap();
+    let archive = Command::new("git")
+        .current_dir(&ws)
+        .args(["archive", "--format=tar", PREVIOUS_API_RELEASE])
+        .output()
+        .expect("run git (the test reads the previous release from the repo's history)");
+    assert!(
+        archive.status.success(),
+        "git archive {PREVIOUS_API_RELEASE} failed (a shallow clone?): {}",
+        String::from_utf8_lossy(&archive.stderr)
+    );
+    let mut tar = Command::new("tar")
+        .current_dir(&tree)
+        .args(["-x", "-f", "-"])
+        .stdin(std::process::Stdio::piped())
+        .spawn()
+        .expect("run tar");
+    std::io::Write::write_all(tar.stdin.as_mut().unwrap(), &archive.stdout).unwrap();
+    assert!(tar.wait().unwrap().success());
+    let old_api = std::fs::read_to_string(tree.join("behavior-api/Cargo.toml")).unwrap();
+    assert!(old_api.contains("version = \"0.1.0\""), "{old_api}");
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("previous-release-target");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .current_dir(&tree)
+        .args(["build", "--quiet", "--offline", "-p", "bhv-template"])
+        .env("CARGO_TARGET_DIR", &target)
+        .output()
+        .expect("run cargo");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lib_dir = scratch("previous-release-lib");
+    std::fs::copy(
+        target.join("debug/libbhv_template.so"),
+        lib_dir.join("libbhv_template.so"),
+    )
+    .unwrap();
+
+    // A mission driven only by the old library's BHV_Template (speed 1.5).
+    let mission = scratch("previous-release-mission");
+    std::fs::write(
+        mission.join("old.moos"),
+        "ServerHost = localhost\nServerPort = 9000\nCommunity = alpha\n\
+         LatOrigin = 43.8253\nLongOrigin = -70.3304\n\n\
+         ProcessConfig = pHelmIvP\n{\n  AppTick = 4\n  behaviors = old.bhv\n  \
+         domain = speed:0:4:41\n  start_in_drive = true\n}\n\n\
+         ProcessConfig = uSimMarine\n{\n  AppTick = 10\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        mission.join("old.bhv"),
+        "Behavior = BHV_Template\n{\n  name = old\n  speed = 1.5\n}\n",
+    )
+    .unwrap();
+    let out_dir = mission.join("run");
+    let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .arg("sim")
+        .arg(mission.join("old.moos"))
+        .args(["--max-time", "10", "--out"])
+        .arg(&out_dir)
+        .env("IVP_BEHAVIOR_DIRS", &lib_dir)
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .output()
+        .expect("run helm sim");
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    let alog = std::fs::read_to_string(out_dir.join("old.alog")).unwrap();
+    let speeds: Vec<&str> = alog
+        .lines()
+        .filter(|l| l.split_whitespace().nth(1) == Some("DESIRED_SPEED"))
+        .filter_map(|l| l.split_whitespace().nth(3))
+        .collect();
+    assert!(speeds.len() > 10, "{speeds:?}\n{t}");
+    assert!(
+        speeds.iter().all(|v| v.parse::<f64>() == Ok(1.5)),
+        "{speeds:?}"
     );
 }
 

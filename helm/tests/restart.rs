@@ -1,6 +1,6 @@
 //! RESTART_HELM: the behavior set is rebuilt from its blocks.
 
-use helm::conform::{replay, Case};
+use helm_conform::{replay, Case};
 
 mod common;
 

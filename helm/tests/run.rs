@@ -194,8 +194,8 @@ fn alog_entries(path: &Path) -> Vec<moos::alog::AlogEntry> {
         .entries
 }
 
-fn options(m: &Path) -> helm::app::RunOptions {
-    helm::app::RunOptions {
+fn options(m: &Path) -> helm_app::RunOptions {
+    helm_app::RunOptions {
         mission: m.to_path_buf(),
         bhv: Vec::new(),
         alias: "pHelmIvP".into(),
@@ -210,11 +210,11 @@ fn options(m: &Path) -> helm::app::RunOptions {
 fn alog_records_postings_and_mail() {
     let m = mission("alog", free_port(), 10.0, ALPHA_BHV);
     let log = m.with_file_name("run.alog");
-    let extras = helm::app::RunExtras {
+    let extras = helm_app::RunExtras {
         alog: Some(log.clone()),
         ..Default::default()
     };
-    helm::app::run_with(&options(&m), &extras).expect("run ends well");
+    helm_app::run_with(&options(&m), &extras).expect("run ends well");
     let e = alog_entries(&log);
     let has = |key: &str, src: &str| e.iter().any(|x| x.key == key && x.source == src);
     assert!(has("NAV_X", "uSimMarine"));
@@ -237,13 +237,13 @@ fn alog_of_malconfig_run_has_no_desired() {
     let bad = ALPHA_BHV.replacen("  pwt       = 100\n", "  pwt       = 100\n  nonsense\n", 1);
     let m = mission("alog-bad", free_port(), 10.0, &bad);
     let log = m.with_file_name("run.alog");
-    let extras = helm::app::RunExtras {
+    let extras = helm_app::RunExtras {
         alog: Some(log.clone()),
         ..Default::default()
     };
-    let r = helm::app::run_with(&options(&m), &extras);
+    let r = helm_app::run_with(&options(&m), &extras);
     assert!(
-        matches!(r, Err(helm::app::AppError::Malconfig { .. })),
+        matches!(r, Err(helm_app::AppError::Malconfig { .. })),
         "{r:?}"
     );
     let e = alog_entries(&log);

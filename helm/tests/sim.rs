@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::{Mutex, OnceLock};
 
-use helm::posting::Value;
-use helm::sim::{Prepared, RunOptions, StartShift};
-use helm::Mail;
+use helm_engine::posting::Value;
+use helm_engine::Mail;
+use helm_sim::{Prepared, RunOptions, StartShift};
 
 mod common;
 
@@ -375,7 +375,7 @@ fn decisions_equal_those_of_the_engine_fed_the_same_mail() {
     };
     // A fresh engine, its mail rebuilt from the log (NAV_* of the simulator, the
     // helm's own postings coming back, DB_CLIENTS), one helm period at a time.
-    let t0 = helm::sim::run::SIM_EPOCH;
+    let t0 = helm_sim::run::SIM_EPOCH;
     let mut helm = prep.recipe.build();
     helm.startup(t0);
     let period = 1.0 / prep.helm_tick;
@@ -547,4 +547,47 @@ fn soak_24h() {
         "the run's heap grew: {m:?}"
     );
     assert!(m.rss_end_kb < m.rss_1h_kb + 2048, "RSS grew: {m:?}");
+}
+
+/// FNV-1a, 64 bits: a fixed, dependency-free fingerprint of a file's bytes.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The `.alog` of each repo mission is bit for bit what it was when these fingerprints
+/// were recorded (first before the helm crate was split into engine, app and simulator
+/// crates, and unchanged by the split; then again when the helm began posting
+/// IVPHELM_LEDGER_SUMMARY every iteration, the only difference). A change that alters what the helm or the simulator does changes them; such
+/// a change records the new values here, in its own commit, saying why.
+#[test]
+fn mission_alogs_are_bit_identical_to_the_recorded_ones() {
+    let golden = [
+        ("alpha", 0x107f_72be_27a9_ef17_u64),
+        ("bravo", 0x0e0d_a138_c377_3b64),
+        ("charlie", 0x019e_d189_6b3a_4419),
+        ("plugins", 0xd56f_670e_438e_f9cd),
+    ];
+    let mut changed = Vec::new();
+    for (name, want) in golden {
+        // From the repo root with a relative path, as the README runs it: the `.alog`
+        // names the `.bhv` file as given (PLOGGER_CMD), so the path must not vary.
+        let out = temp_dir(&format!("golden-{name}"));
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
+        cmd.current_dir(common::workspace())
+            .args(["sim", &format!("missions/{name}"), "--out"])
+            .arg(&out)
+            .env("IVP_HELM_BUNDLED_DIR", "");
+        let dirs = (name == "plugins").then(plugin_dir);
+        common::behavior_dirs(&mut cmd, dirs);
+        let o = cmd.output().expect("run helm sim");
+        assert!(o.status.success(), "{}", text(&o));
+        let alog = std::fs::read(out.join(format!("{name}.alog"))).expect("alog");
+        let got = fnv1a(&alog);
+        if got != want {
+            changed.push(format!("{name}: {got:#018x} (recorded {want:#018x})"));
+        }
+    }
+    assert!(changed.is_empty(), "alogs changed:\n{}", changed.join("\n"));
 }

@@ -1,7 +1,7 @@
 //! Templating: behaviors spawned at run time from `templating = spawn|clone` blocks.
 
-use helm::conform::{replay, Case};
-use helm::Helm;
+use helm_conform::{replay, Case};
+use helm_engine::Helm;
 
 mod common;
 

@@ -471,11 +471,6 @@ impl IvpFunction {
         }
         Ok(f)
     }
-
-    /// BHV_IPF whole-function string (spec §9.1).
-    pub fn to_ipf_string(&self) -> String {
-        crate::ipf::encode(self)
-    }
 }
 
 /// Grid geometry: (points per cell, cells, stride (dim 0 fastest), total cells).

@@ -62,7 +62,8 @@ fn push_frac4(out: &mut String, frac: u32) {
     }
 }
 
-pub(crate) fn encode(f: &IvpFunction) -> String {
+/// BHV_IPF whole-function string (spec §9.1).
+pub fn encode(f: &IvpFunction) -> String {
     let dim = f.dim();
     let mut s = String::with_capacity(64 + f.piece_count() * (dim * 8 + (dim + 1) * 9));
     let _ = write!(
@@ -172,7 +173,7 @@ mod tests {
         .unwrap();
         f.set_pwt(37.5);
         f.set_context("12:abc");
-        let p = ipf_packets("abc^12", &f.to_ipf_string());
+        let p = ipf_packets("abc^12", &encode(&f));
         assert_eq!(p, vec!["P,abc^12,1,1,H,6,12:abc,1,3,1,37.5,D,speed;0;2;21,G,20,F,0,4,2.,100.,5,11,-0.0000,0.25,12,20,123.4568,-1000.".to_string()]);
     }
 

@@ -10,10 +10,11 @@
 pub mod alog;
 pub mod client;
 pub mod db;
-pub mod mission;
-pub mod text;
-pub mod time;
 pub mod wire;
+
+// The file side (mission reader, text helpers, time) is its own crate, so the helm engine
+// can read missions without the client and the DB; the paths stay `moos::mission` etc.
+pub use moos_mission::{mission, text, time};
 
 pub use client::{Client, ClientConfig, ClientError};
 pub use db::{Db, DbConfig, DbError};

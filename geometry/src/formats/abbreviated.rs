@@ -3,7 +3,7 @@
 //! other element must be a vertex, else the whole string is invalid.
 
 use super::vertex;
-use crate::parse::Seglist;
+use crate::objects::Seglist;
 use crate::text::{atof, bite_x, is_number, split, trim};
 
 /// The vertices and attributes; `None` when an element is neither.

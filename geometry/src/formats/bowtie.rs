@@ -3,7 +3,7 @@
 
 use super::{keyed_items, vertex};
 use crate::angles::rel_ang;
-use crate::parse::Seglist;
+use crate::objects::Seglist;
 use crate::text::{atof, is_number};
 
 pub(crate) fn seglist(text: &str) -> Option<Seglist> {

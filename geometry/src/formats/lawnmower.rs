@@ -4,7 +4,7 @@
 
 use super::{keyed_items, project, project_raw, snap, vertex, MAX_VERTICES};
 use crate::angles::angle360;
-use crate::parse::Seglist;
+use crate::objects::Seglist;
 use crate::spec::{Attrs, EdgeTag};
 use crate::text::{atof, is_number};
 

@@ -49,19 +49,7 @@ pub(crate) fn project_raw(deg: f64, dist: f64, cx: f64, cy: f64) -> (f64, f64) {
     (cx + r.sin() * dist, cy + r.cos() * dist)
 }
 
-/// `snap` of §2.5: nearest multiple of `s`, halves away from zero; `s <= 0` is none.
-pub(crate) fn snap(v: f64, s: f64) -> f64 {
-    if s <= 0.0 {
-        return v;
-    }
-    let q = v / s;
-    let n = if q >= 0.0 {
-        (q + 0.5) as i64
-    } else {
-        (q - 0.5) as i64
-    };
-    n as f64 * s
-}
+pub(crate) use crate::points::snap;
 
 /// The `key=value` items of the keyed generators: quote/brace-aware split on commas,
 /// keys lower-cased and trimmed, values trimmed.

@@ -1,7 +1,7 @@
 //! Points (§6): `x,y`, `x:y`, the standard `x=…, y=…[, z=…], key=value…` form and the
 //! abbreviated `x,y[,z]:key,value:…` form.
 
-use crate::parse::Point;
+use crate::objects::Point;
 use crate::spec::Attrs;
 use crate::text::{atof, bite_x, is_number, split};
 

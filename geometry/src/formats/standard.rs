@@ -2,7 +2,7 @@
 //! §4.2 for polygons, §5.2 for seglists).
 
 use super::vertex;
-use crate::parse::Seglist;
+use crate::objects::Seglist;
 use crate::polygon::Polygon;
 use crate::text::{atof, bite, bite_x, is_number, split, trim};
 

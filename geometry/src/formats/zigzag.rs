@@ -2,7 +2,7 @@
 //! (§5.4). `format=zigzag, …` is always invalid: its `format` field is not a number.
 
 use super::{project, snap, vertex, MAX_VERTICES};
-use crate::parse::Seglist;
+use crate::objects::Seglist;
 use crate::text::{atof, is_number, split};
 
 pub(crate) fn seglist(text: &str) -> Option<Seglist> {

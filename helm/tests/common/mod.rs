@@ -9,10 +9,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use helm::config::BlockLine;
-use helm::conform::{build_helm, Case};
-use helm::factory::BehaviorFactory;
-use helm::Helm;
+use helm_conform::{build_helm, Case};
+use helm_engine::config::BlockLine;
+use helm_engine::factory::BehaviorFactory;
+use helm_engine::Helm;
 
 /// The alpha mission of the repo, as shipped.
 pub const ALPHA_MOOS: &str = include_str!("../../../missions/alpha/alpha.moos");

@@ -1,0 +1,504 @@
+//! Contact geometry: range, relative bearing, closest point of approach, and the
+//! per-candidate engine the contact behaviors evaluate over their (course, speed) grid
+//! (behaviors-contacts.md §1.3, contacts-appcast.md §3.5).
+//!
+//! Compass convention: 0 = +y (north), clockwise, degrees; velocity of heading h at
+//! speed v is v·(sin h, cos h).
+
+use geometry::rel_ang;
+
+/// `geometry::angle360`, except that a huge finite angle (which its subtract-360 loop
+/// would take forever on, e.g. a hostile `HDG=1000…0`) is wrapped by remainder.
+pub fn angle360(a: f64) -> f64 {
+    if a.abs() < 1e6 {
+        geometry::angle360(a)
+    } else if a.is_finite() {
+        a.rem_euclid(360.0)
+    } else {
+        a
+    }
+}
+
+/// `angle360`, then minus 360 above 180: (−180, 180].
+pub fn angle180(a: f64) -> f64 {
+    let a = angle360(a);
+    if a > 180.0 {
+        a - 360.0
+    } else {
+        a
+    }
+}
+
+/// The 12-digit π the reference uses for the bearing-rate constant.
+#[allow(clippy::approx_constant)] // deliberately not f64's π
+const PI_12: f64 = 3.14159265359;
+
+/// Distance between ownship and contact.
+pub fn range(osx: f64, osy: f64, cnx: f64, cny: f64) -> f64 {
+    (osx - cnx).hypot(osy - cny)
+}
+
+/// Bearing of the target relative to the bow of a vessel at (x, y) heading `h`, in
+/// [0, 360): 0 dead ahead, 90 starboard beam.
+///
+/// ```
+/// // A target due east of a vessel heading north is on its starboard beam.
+/// assert_eq!(contacts::rel_bearing(0.0, 0.0, 0.0, 10.0, 0.0), 90.0);
+/// ```
+pub fn rel_bearing(x: f64, y: f64, h: f64, tx: f64, ty: f64) -> f64 {
+    angle360(rel_ang(x, y, tx, ty) - h)
+}
+
+/// A closest point of approach: the distance and when (seconds from now, within the
+/// horizon; 0 when the range is not closing).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cpa {
+    pub dist: f64,
+    pub time: f64,
+}
+
+fn unit(h_deg: f64) -> (f64, f64) {
+    let (s, c) = h_deg.to_radians().sin_cos();
+    (s, c)
+}
+
+/// The CPA of two straight-line motions: `p` = ownship − contact, `w` = relative
+/// velocity, `tol` = horizon. Not closing (or no relative motion) → current range at 0 s.
+fn cpa_of(px: f64, py: f64, wx: f64, wy: f64, tol: f64) -> Cpa {
+    let rng = px.hypot(py);
+    let ww = wx * wx + wy * wy;
+    if ww == 0.0 {
+        return Cpa {
+            dist: rng,
+            time: 0.0,
+        };
+    }
+    let t = -(px * wx + py * wy) / ww;
+    if t.is_nan() || t <= 0.0 {
+        return Cpa {
+            dist: rng,
+            time: 0.0,
+        };
+    }
+    let t = if t > tol { tol } else { t };
+    let (dx, dy) = (px + wx * t, py + wy * t);
+    let d2 = dx * dx + dy * dy;
+    Cpa {
+        dist: if d2 > 0.0 { d2.sqrt() } else { 0.0 },
+        time: t,
+    }
+}
+
+/// The closest approach within `tol` seconds if ownship holds heading `osh` / speed
+/// `osv` and the contact holds `cnh` / `cnv` (negative speeds count as 0).
+///
+/// ```
+/// // Head-on: ownship at the origin north at 2 m/s, contact 100 m north heading south
+/// // at 3 m/s: they meet (CPA 0) after 100 / 5 = 20 s.
+/// let c = contacts::cpa(0.0, 0.0, 0.0, 2.0, 0.0, 100.0, 180.0, 3.0, 120.0);
+/// assert!(c.dist < 1e-9 && (c.time - 20.0).abs() < 1e-9);
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn cpa(
+    osx: f64,
+    osy: f64,
+    osh: f64,
+    osv: f64,
+    cnx: f64,
+    cny: f64,
+    cnh: f64,
+    cnv: f64,
+    tol: f64,
+) -> Cpa {
+    let (os_s, os_c) = unit(osh);
+    let (cn_s, cn_c) = unit(angle360(cnh));
+    let (osv, cnv) = (osv.max(0.0), cnv.max(0.0));
+    cpa_of(
+        osx - cnx,
+        osy - cny,
+        osv * os_s - cnv * cn_s,
+        osv * os_c - cnv * cn_c,
+        tol,
+    )
+}
+
+/// `cos(rad(a))`, but exactly 0 when `a` is exactly 90 (the reference's special case).
+fn cos_star(a: f64) -> f64 {
+    if a == 90.0 {
+        0.0
+    } else {
+        a.to_radians().cos()
+    }
+}
+
+/// `|a − b|` folded into [0, 180].
+fn fold(a: f64, b: f64) -> f64 {
+    let d = (a - b).abs();
+    if d > 180.0 {
+        360.0 - d
+    } else {
+        d
+    }
+}
+
+/// The integer degree a candidate heading is looked up by (⌊h⌋ of h in [0, 360)).
+fn deg_index(h: f64) -> f64 {
+    let h = angle360(h);
+    if h.is_finite() {
+        h.floor().min(359.0)
+    } else {
+        0.0
+    }
+}
+
+/// The contact geometry engine (the reference's "OG" engine): a contact pose and
+/// ownship's position, reset once per iteration, then asked per candidate heading `h`
+/// and speed `v` of ownship. Candidate headings count by their integer degree (⌊h⌋),
+/// which is exact on the usual 1-degree course grid. Per-degree values are computed on
+/// demand (the same numbers as the reference's tables, without building 4 × 360 of
+/// them per reset).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CpaEngine {
+    osx: f64,
+    osy: f64,
+    cnx: f64,
+    cny: f64,
+    cnh: f64,
+    cnv: f64,
+    cn_vx: f64,
+    cn_vy: f64,
+    /// Current range.
+    pub rng: f64,
+    /// Compass bearing ownship → contact.
+    pub abs_os_cn: f64,
+    /// Bearing of ownship relative to the contact's bow, [0, 360).
+    pub beta: f64,
+    pub on_contact: bool,
+    pub on_bowline: bool,
+    pub on_sternline: bool,
+    /// Contact speed toward ownship (> 0 closing).
+    pub cn_to_os: f64,
+    /// Distance from ownship to the contact's bow-stern line (γ-range).
+    pub range_gamma: f64,
+    /// Distance from ownship to the contact's beam line (ε-range).
+    pub range_epsilon: f64,
+    theta_gam: f64,
+    theta_tn: f64,
+    cn_tan: f64,
+    tn_const: f64,
+}
+
+impl CpaEngine {
+    /// Reset with the contact's pose (`cnh` put through angle360, negative `cnv` → 0)
+    /// and ownship's position.
+    pub fn new(cnx: f64, cny: f64, cnh: f64, cnv: f64, osx: f64, osy: f64) -> Self {
+        let cnh = angle360(cnh);
+        let cnv = cnv.max(0.0);
+        let (s, c) = unit(cnh);
+        let rng = range(osx, osy, cnx, cny);
+        let abs_os_cn = rel_ang(osx, osy, cnx, cny);
+        let ang_cn_os = rel_ang(cnx, cny, osx, osy);
+        let beta = angle360(ang_cn_os - cnh);
+        let on_contact = osx == cnx && osy == cny;
+        let on_bowline = ang_cn_os == cnh;
+        let on_sternline = ang_cn_os == angle360(cnh - 180.0);
+        let b = if beta <= 180.0 { beta } else { 360.0 - beta };
+        let (range_gamma, range_epsilon) = if b == 0.0 || b == 180.0 {
+            (0.0, rng)
+        } else {
+            let g = rng * (90.0 - b).to_radians().cos();
+            (g, (rng * rng - g * g).sqrt())
+        };
+        let mut e = CpaEngine {
+            osx,
+            osy,
+            cnx,
+            cny,
+            cnh,
+            cnv,
+            cn_vx: cnv * s,
+            cn_vy: cnv * c,
+            rng,
+            abs_os_cn,
+            beta,
+            on_contact,
+            on_bowline,
+            on_sternline,
+            cn_to_os: cnv * cos_star(beta),
+            range_gamma,
+            range_epsilon,
+            theta_gam: 0.0,
+            theta_tn: angle360(abs_os_cn + 90.0),
+            cn_tan: 0.0,
+            tn_const: 360.0 / (2.0 * rng * PI_12),
+        };
+        e.theta_gam = if e.os_port_of_cn() {
+            angle360(cnh + 90.0)
+        } else {
+            angle360(cnh - 90.0)
+        };
+        e.cn_tan = cnv * cos_star(angle180(cnh - e.theta_tn).abs());
+        e
+    }
+
+    pub fn os_fore_of_cn(&self) -> bool {
+        !self.on_contact && (self.beta <= 90.0 || self.beta >= 270.0)
+    }
+    pub fn os_aft_of_cn(&self) -> bool {
+        !self.on_contact && (90.0..=270.0).contains(&self.beta)
+    }
+    pub fn os_port_of_cn(&self) -> bool {
+        !self.on_contact && self.beta >= 180.0
+    }
+    pub fn os_star_of_cn(&self) -> bool {
+        !self.on_contact && self.beta <= 180.0
+    }
+    pub fn on_bowstern(&self) -> bool {
+        self.on_contact || self.on_bowline || self.on_sternline
+    }
+    pub fn on_beam(&self) -> bool {
+        self.on_contact || (self.os_fore_of_cn() && self.os_aft_of_cn())
+    }
+    /// The contact is closing on ownship (its own motion only).
+    pub fn closing(&self) -> bool {
+        self.cn_to_os > 0.0
+    }
+
+    fn gamcos(&self, i: f64) -> f64 {
+        cos_star(fold(i, self.theta_gam))
+    }
+    fn cnhcos(&self, i: f64) -> f64 {
+        cos_star(fold(i, self.cnh))
+    }
+    fn relcos(&self, i: f64) -> f64 {
+        let a = angle360(self.abs_os_cn - i);
+        if a == 90.0 || a == 270.0 {
+            0.0
+        } else {
+            a.to_radians().cos()
+        }
+    }
+    fn tancos(&self, i: f64) -> f64 {
+        cos_star(fold(i, self.theta_tn))
+    }
+
+    /// Closest approach within `tol` s if ownship holds (h, v); see [`cpa`] (here with
+    /// the heading's integer degree).
+    pub fn cpa(&self, h: f64, v: f64, tol: f64) -> f64 {
+        self.cpa_time(h, v, tol).dist
+    }
+
+    /// Closest approach and the time to it within the horizon `tol`.
+    pub fn cpa_time(&self, h: f64, v: f64, tol: f64) -> Cpa {
+        let (s, c) = unit(deg_index(h));
+        let v = v.max(0.0);
+        cpa_of(
+            self.osx - self.cnx,
+            self.osy - self.cny,
+            v * s - self.cn_vx,
+            v * c - self.cn_vy,
+            tol,
+        )
+    }
+
+    /// Rate of closure (m/s, > 0 when the range decreases) if ownship holds (h, v).
+    pub fn roc(&self, h: f64, v: f64) -> f64 {
+        v * self.relcos(deg_index(h)) + self.cn_to_os
+    }
+
+    /// Least and greatest rate of closure at speed `vmax` over headings 0, 1, …, 359.
+    pub fn min_max_roc(&self, vmax: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..360 {
+            let r = self.roc(f64::from(i), vmax);
+            lo = lo.min(r);
+            hi = hi.max(r);
+        }
+        (lo, hi)
+    }
+
+    /// Bearing rate (deg/s) of the contact seen from ownship holding (h, v).
+    pub fn bearing_rate(&self, h: f64, v: f64) -> f64 {
+        (-v * self.tancos(deg_index(h)) + self.cn_tan) * self.tn_const
+    }
+
+    /// The speed difference along the contact's heading that decides whether ownship
+    /// reaches the contact's beam line.
+    fn beam_closing(&self, h: f64, v: f64) -> f64 {
+        let w = self.cnhcos(deg_index(h)) * v;
+        if self.os_aft_of_cn() {
+            w - self.cnv
+        } else {
+            self.cnv - w
+        }
+    }
+
+    /// Ownship will pass the contact's beam (either side).
+    pub fn passes_port_or_star(&self, h: f64, v: f64) -> bool {
+        self.on_beam() || self.beam_closing(h, v) > 0.0
+    }
+
+    /// Ownship passes the contact on the contact's port side.
+    pub fn passes_port(&self, h: f64, v: f64) -> bool {
+        if self.on_contact || !self.passes_port_or_star(h, v) {
+            return false;
+        }
+        if self.on_beam() {
+            return self.os_port_of_cn();
+        }
+        if self.os_aft_of_cn() {
+            self.bearing_rate(h, v) > 0.0
+        } else {
+            self.bearing_rate(h, v) < 0.0
+        }
+    }
+
+    /// Ownship passes the contact on the contact's starboard side.
+    pub fn passes_star(&self, h: f64, v: f64) -> bool {
+        if self.on_contact || !self.passes_port_or_star(h, v) {
+            return false;
+        }
+        !self.passes_port(h, v)
+    }
+
+    /// Passing distance on the contact's port side, −1 when not passing port.
+    pub fn passes_port_dist(&self, h: f64, v: f64) -> f64 {
+        self.passes_side_dist(h, v, true)
+    }
+
+    /// Passing distance on the contact's starboard side, −1 when not passing starboard.
+    pub fn passes_star_dist(&self, h: f64, v: f64) -> f64 {
+        self.passes_side_dist(h, v, false)
+    }
+
+    fn passes_side_dist(&self, h: f64, v: f64, port: bool) -> f64 {
+        let (same, other) = if port {
+            (self.os_port_of_cn(), self.os_star_of_cn())
+        } else {
+            (self.os_star_of_cn(), self.os_port_of_cn())
+        };
+        if self.on_contact || (self.on_beam() && other) {
+            return -1.0;
+        }
+        if self.on_beam() && same {
+            return self.rng;
+        }
+        let e = self.beam_closing(h, v);
+        if e <= 0.0 {
+            return -1.0;
+        }
+        let t = self.range_epsilon / e;
+        let g = t * self.gamcos(deg_index(h)) * v;
+        let x = if same && g <= self.range_gamma {
+            self.range_gamma - g
+        } else if other && g > self.range_gamma {
+            g - self.range_gamma
+        } else {
+            -1.0
+        };
+        if x < 0.0 {
+            -1.0
+        } else {
+            x
+        }
+    }
+
+    /// Ownship will cross the contact's bow-stern line.
+    pub fn crosses_bow_or_stern(&self, h: f64, v: f64) -> bool {
+        if self.on_bowstern() {
+            return true;
+        }
+        v > 0.0 && self.gamcos(deg_index(h)) > 0.00001
+    }
+
+    /// Ownship crosses astern of the contact.
+    pub fn crosses_stern(&self, h: f64, v: f64) -> bool {
+        if self.on_sternline {
+            return true;
+        }
+        if v <= 0.0 || self.gamcos(deg_index(h)) <= 0.0 {
+            return false;
+        }
+        let br = self.bearing_rate(h, v);
+        if self.os_port_of_cn() {
+            br <= 0.0
+        } else {
+            br >= 0.0
+        }
+    }
+
+    /// Ownship crosses ahead of the contact (true on the stern line too, as the
+    /// reference has it).
+    pub fn crosses_bow(&self, h: f64, v: f64) -> bool {
+        if self.on_sternline {
+            return true;
+        }
+        if v <= 0.0 || self.gamcos(deg_index(h)) <= 0.0 {
+            return false;
+        }
+        let br = self.bearing_rate(h, v);
+        if self.os_port_of_cn() {
+            br >= 0.0
+        } else {
+            br <= 0.0
+        }
+    }
+
+    /// How far ahead of the contact ownship crosses its bow line, −1 when it does not.
+    pub fn crosses_bow_dist(&self, h: f64, v: f64) -> f64 {
+        if self.on_bowline {
+            return self.rng;
+        }
+        if self.on_sternline || self.on_contact {
+            return -1.0;
+        }
+        let i = deg_index(h);
+        let s = self.gamcos(i) * v;
+        if s <= 0.0 {
+            return -1.0;
+        }
+        let t = self.range_gamma / s;
+        let mut x = t * self.cnhcos(i) * v - t * self.cnv;
+        x += if self.os_fore_of_cn() {
+            self.range_epsilon
+        } else {
+            -self.range_epsilon
+        };
+        if x < 0.0 {
+            -1.0
+        } else {
+            x
+        }
+    }
+
+    /// How far astern of the contact ownship crosses its stern line, −1 when it does not.
+    pub fn crosses_stern_dist(&self, h: f64, v: f64) -> f64 {
+        if self.on_sternline {
+            return self.rng;
+        }
+        if self.on_bowline || self.on_contact {
+            return -1.0;
+        }
+        let i = deg_index(h);
+        let s = self.gamcos(i) * v;
+        if s <= 0.0 {
+            return -1.0;
+        }
+        let t = self.range_gamma / s;
+        let eps = if self.os_fore_of_cn() {
+            -self.range_epsilon
+        } else {
+            self.range_epsilon
+        };
+        let x = t * self.cnv + eps - t * self.cnhcos(i) * v;
+        if x < 0.0 {
+            -1.0
+        } else {
+            x
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "engine_tests.rs"]
+mod tests;

@@ -1,0 +1,145 @@
+//! Numbers worked out by hand (in the comments) for the contact geometry.
+
+use super::*;
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn range_and_relative_bearing() {
+    assert_eq!(range(0.0, 0.0, 3.0, 4.0), 5.0);
+    // Heading east, a target due north is on the port beam: 0 − 90 → 270.
+    assert_eq!(rel_bearing(0.0, 0.0, 90.0, 0.0, 10.0), 270.0);
+    // Heading 350, a target due north-east (45): 45 − 350 → 55.
+    assert!(close(rel_bearing(0.0, 0.0, 350.0, 10.0, 10.0), 55.0, 1e-9));
+}
+
+#[test]
+fn cpa_crossing_with_and_without_horizon() {
+    // Ownship (0,0) north at 1; contact (100,100) west at 1. p = os − cn = (−100,−100),
+    // w = (0,1) − (−1,0) = (1,1); t* = 200/2 = 100 s, where p + w·t* = (0,0).
+    let c = cpa(0.0, 0.0, 0.0, 1.0, 100.0, 100.0, 270.0, 1.0, 120.0);
+    assert!(
+        close(c.dist, 0.0, 1e-9) && close(c.time, 100.0, 1e-9),
+        "{c:?}"
+    );
+    // Horizon 50 s: p + 50·w = (−50,−50) → 70.7107.
+    let c = cpa(0.0, 0.0, 0.0, 1.0, 100.0, 100.0, 270.0, 1.0, 50.0);
+    assert!(close(c.dist, 50.0 * 2f64.sqrt(), 1e-9) && c.time == 50.0);
+}
+
+#[test]
+fn cpa_not_closing_is_the_current_range() {
+    // Same velocity: no relative motion.
+    let c = cpa(0.0, 0.0, 45.0, 2.0, 30.0, 40.0, 45.0, 2.0, 120.0);
+    assert_eq!((c.dist, c.time), (50.0, 0.0));
+    // Contact 100 m north running away faster than ownship follows.
+    let c = cpa(0.0, 0.0, 0.0, 1.0, 0.0, 100.0, 0.0, 3.0, 120.0);
+    assert_eq!((c.dist, c.time), (100.0, 0.0));
+    // Negative speeds count as 0 (a standing contact 100 m north, ownship away south).
+    let c = cpa(0.0, 0.0, 180.0, 1.0, 0.0, 100.0, 0.0, -5.0, 120.0);
+    assert_eq!(c.dist, 100.0);
+}
+
+#[test]
+fn engine_on_the_beam() {
+    // Contact (0,0) heading north at 2; ownship (10,0) on its starboard beam.
+    let e = CpaEngine::new(0.0, 0.0, 0.0, 2.0, 10.0, 0.0);
+    assert_eq!(e.beta, 90.0); // relAng(cn, os) = 90, minus heading 0
+    assert!(e.os_fore_of_cn() && e.os_aft_of_cn() && e.os_star_of_cn() && !e.os_port_of_cn());
+    assert!(e.on_beam());
+    assert_eq!(e.cn_to_os, 0.0); // cos* of exactly 90 is exactly 0
+    assert_eq!(e.range_gamma, 10.0); // 10·cos(90 − 90)
+    assert_eq!(e.range_epsilon, 0.0);
+    assert_eq!(e.abs_os_cn, 270.0);
+    // Same course and speed: bearing constant.
+    assert_eq!(e.bearing_rate(0.0, 2.0), 0.0);
+    // Ownship stopped: contact 10 m west moving north at 2 → 2/10 rad/s = 11.459 deg/s,
+    // with the reference's 12-digit π: 2·360/(2·10·3.14159265359).
+    assert!(close(
+        e.bearing_rate(0.0, 0.0),
+        720.0 / (20.0 * PI_12),
+        1e-12
+    ));
+    // Rate of closure: toward the contact (270) at 1 → 1; away (90) → −1; north → 0.
+    assert!(close(e.roc(270.0, 1.0), 1.0, 1e-12));
+    assert!(close(e.roc(90.0, 1.0), -1.0, 1e-12));
+    assert_eq!(e.roc(0.0, 1.0), 0.0);
+    let (lo, hi) = e.min_max_roc(3.0);
+    assert!(close(lo, -3.0, 1e-12) && close(hi, 3.0, 1e-12));
+    assert!(e.passes_port_or_star(0.0, 0.0));
+    assert!(!e.passes_port(0.0, 1.0) && e.passes_star(0.0, 1.0));
+}
+
+#[test]
+fn engine_overtaking_on_the_contacts_port_side() {
+    // Contact (0,0) north at 1; ownship (−10,−50) north at 3, astern and to port.
+    let e = CpaEngine::new(0.0, 0.0, 0.0, 1.0, -10.0, -50.0);
+    // β = 180 + atan(10/50) = 191.31: aft and port.
+    assert!(close(
+        e.beta,
+        180.0 + (10.0f64 / 50.0).atan().to_degrees(),
+        1e-9
+    ));
+    assert!(e.os_aft_of_cn() && e.os_port_of_cn() && !e.os_star_of_cn());
+    // γ = distance to the contact's bow-stern line (x = 0) = 10; ε = to its beam line = 50.
+    assert!(close(e.range_gamma, 10.0, 1e-9) && close(e.range_epsilon, 50.0, 1e-9));
+    // Reaches the beam: along-track speed 3 − 1 = 2 > 0; at 0.5 it never does.
+    assert!(e.passes_port_or_star(0.0, 3.0) && !e.passes_port_or_star(0.0, 0.5));
+    assert!(e.passes_port(0.0, 3.0) && !e.passes_star(0.0, 3.0));
+    // t = 50/2 = 25 s; sideways closing cos*(90) = 0, so it passes 10 m off the port side.
+    assert!(close(e.passes_port_dist(0.0, 3.0), 10.0, 1e-9));
+    assert_eq!(e.passes_star_dist(0.0, 3.0), -1.0);
+    // CPA: p = (−10,−50), w = (0,2): t* = 100/4 = 25 s, distance 10.
+    let c = e.cpa_time(0.0, 3.0, 120.0);
+    assert!(close(c.dist, 10.0, 1e-9) && close(c.time, 25.0, 1e-9));
+    // Candidate headings count by their integer degree.
+    assert_eq!(e.cpa_time(0.7, 3.0, 120.0), c);
+    assert_ne!(e.cpa(1.0, 3.0, 120.0), c.dist);
+    // Horizon 20 s: (−10, −50 + 40) → hypot(10, 10).
+    assert!(close(e.cpa(0.0, 3.0, 20.0), 200f64.sqrt(), 1e-9));
+}
+
+#[test]
+fn engine_dead_astern() {
+    // Contact (0,0) north at 1; ownship (0,−50) right astern.
+    let e = CpaEngine::new(0.0, 0.0, 0.0, 1.0, 0.0, -50.0);
+    assert!(e.on_sternline && !e.on_bowline && e.on_bowstern());
+    assert_eq!((e.range_gamma, e.range_epsilon), (0.0, 50.0));
+    assert!(e.crosses_stern(0.0, 2.0) && e.crosses_bow(0.0, 2.0)); // the reference's "sic"
+    assert_eq!(e.crosses_bow_dist(0.0, 2.0), -1.0);
+    assert_eq!(e.crosses_stern_dist(0.0, 2.0), 50.0);
+}
+
+#[test]
+fn engine_crossing_ahead_of_the_contact() {
+    // Contact (0,0) east at 1; ownship (50,−50) north at 2: fore and starboard of it.
+    let e = CpaEngine::new(0.0, 0.0, 90.0, 1.0, 50.0, -50.0);
+    assert_eq!(e.beta, 45.0);
+    assert!(e.os_fore_of_cn() && e.os_star_of_cn());
+    // γ = 50 (to y = 0), ε = 50 (to x = 0).
+    assert!(close(e.range_gamma, 50.0, 1e-9) && close(e.range_epsilon, 50.0, 1e-9));
+    assert!(e.crosses_bow_or_stern(0.0, 2.0));
+    // Ownship reaches y = 0 at x = 50 after 25 s; the contact is then at x = 25:
+    // 25 m ahead of its bow.
+    assert!(close(e.crosses_bow_dist(0.0, 2.0), 25.0, 1e-9));
+    assert!(e.crosses_bow(0.0, 2.0) && !e.crosses_stern(0.0, 2.0));
+    assert_eq!(e.crosses_stern_dist(0.0, 2.0), -1.0);
+    // At 0.5 m/s it takes 100 s; the contact is 50 m past: ownship crosses astern.
+    assert_eq!(e.crosses_bow_dist(0.0, 0.5), -1.0);
+    assert!(e.crosses_stern(0.0, 0.5) && !e.crosses_bow(0.0, 0.5));
+    assert!(close(e.crosses_stern_dist(0.0, 0.5), 50.0, 1e-9));
+    // Stopped or heading along the bow-stern line: no crossing.
+    assert!(!e.crosses_bow_or_stern(0.0, 0.0));
+    assert!(!e.crosses_bow_or_stern(90.0, 2.0));
+}
+
+#[test]
+fn engine_hostile_numbers_do_not_panic() {
+    let e = CpaEngine::new(f64::NAN, 0.0, f64::INFINITY, 1e300, 0.0, 0.0);
+    let _ = e.cpa(f64::NAN, f64::INFINITY, 120.0);
+    let _ = e.min_max_roc(f64::NAN);
+    let _ = e.crosses_bow_dist(-1e300, 5.0);
+    let _ = e.passes_port_dist(720.5, 1.0);
+}

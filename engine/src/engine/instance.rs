@@ -1,0 +1,75 @@
+//! One behavior instance built from its `.bhv` block, for start-up, restarts and
+//! spawning alike.
+
+use crate::factory::BehaviorFactory;
+use crate::info_buffer::InfoBuffer;
+use crate::runtime::{apply_config_line, BehaviorCore, BehaviorInstance, HostEnv};
+
+/// Build one behavior from its `.bhv` block: create it, set `us`, apply the lines in
+/// order, run the collective check. Every problem is one line naming file and line.
+pub(crate) fn make_instance(
+    bs: &bhv::reader::BehaviorSpec,
+    factory: &BehaviorFactory,
+    env: &HostEnv,
+    ib: &InfoBuffer,
+    ownship: &str,
+) -> Result<BehaviorInstance, Vec<String>> {
+    let where_ = format!("{}:{}", bs.file.display(), bs.line);
+    let created = factory.create(&bs.type_name, &env.helm_domain);
+    if let Some(Err(panic)) = &created {
+        return Err(vec![format!(
+            "{where_}: {} could not be created: the constructor panicked: {panic}",
+            bs.type_name
+        )]);
+    }
+    let Some(Ok(bhv)) = created else {
+        let dirs = if factory.searched_dirs.is_empty() {
+            "none (set IVP_BEHAVIOR_DIRS or ivp_behavior_dir)".to_string()
+        } else {
+            factory.searched_dirs.join(", ")
+        };
+        return Err(vec![format!(
+            "{where_}: unknown behavior type {} (directories searched: {dirs})",
+            bs.type_name
+        )]);
+    };
+    let mut errors = Vec::new();
+    let default_name = bhv.default_name().to_string();
+    let empty_domain = bhv.domain().is_empty();
+    let mut inst = BehaviorInstance {
+        bhv,
+        core: BehaviorCore::new(&bs.type_name, &default_name, ownship),
+    };
+    inst.core.empty_domain = empty_domain;
+    if let Ok(d) = inst.bhv.default_duration().into_result() {
+        inst.core.duration = d;
+    }
+    let _ = apply_config_line(&mut inst, env, ib, "us", ownship);
+    for line in &bs.lines {
+        match apply_config_line(&mut inst, env, ib, &line.param, &line.value) {
+            Ok(true) => {}
+            Ok(false) => errors.push(format!(
+                "{}:{}: bad behavior parameter: {}",
+                bs.file.display(),
+                line.line,
+                line.raw.trim()
+            )),
+            Err(panic) => errors.push(format!(
+                "{}:{}: behavior panicked on this parameter: {} ({panic})",
+                bs.file.display(),
+                line.line,
+                line.raw.trim()
+            )),
+        }
+    }
+    match inst.bhv.collective_check().into_result() {
+        Ok(msg) if !msg.is_empty() => errors.push(format!("{where_}: {msg}")),
+        Ok(_) => {}
+        Err(p) => errors.push(format!("{where_}: behavior panicked while checking: {p}")),
+    }
+    if errors.is_empty() {
+        Ok(inst)
+    } else {
+        Err(errors)
+    }
+}

@@ -1,0 +1,453 @@
+//! One helm iteration (helm.md §6), the decision (§7) and the all-stop logic (§9).
+
+use super::{Helm, HelmState};
+use crate::posting::{Posting, Value};
+use crate::runtime::step;
+
+/// The run warning while NAV_* are missing after `nav_grace` (retracted once they come).
+const NAV_WAIT: &str = "Waiting for Helm Nav Solution";
+
+/// What the decision step produced, for the all-stop evaluation.
+#[derive(Debug, Default)]
+pub(crate) struct DecisionSummary {
+    pub halted: Option<String>,
+    pub functions: usize,
+    pub solved: bool,
+    /// Seconds spent building the functions (behaviors) and solving.
+    pub create_secs: f64,
+    pub solve_secs: f64,
+}
+
+/// `(last, max)` with a new last value.
+fn last_and_max(pair: &mut (f64, f64), last: f64) {
+    *pair = (last, pair.1.max(last));
+}
+
+impl Helm {
+    fn enabled(&self) -> bool {
+        matches!(self.state, HelmState::Park | HelmState::Drive)
+    }
+
+    fn nav_ready(&self) -> bool {
+        let mut ok = ["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"]
+            .iter()
+            .all(|v| self.ib.is_known(v));
+        if self.config.domain.index_of("depth").is_some() {
+            ok &= self.ib.is_known("NAV_DEPTH");
+        }
+        ok
+    }
+
+    /// One iteration at MOOS time `now`: returns what the helm publishes, including
+    /// what it posted while handling this cycle's mail (a skew report, the all-stop of
+    /// a helm disabled by its standby), as the real helm posts those at once.
+    pub fn iterate(&mut self, now: f64) -> &[Posting] {
+        self.fresh_outbox();
+        self.iterate_steps(now);
+        self.outbox_taken = true;
+        &self.outbox
+    }
+
+    /// Start a new batch of postings once the last one was handed out.
+    pub(crate) fn fresh_outbox(&mut self) {
+        if std::mem::take(&mut self.outbox_taken) {
+            self.outbox.clear();
+        }
+    }
+
+    fn iterate_steps(&mut self, now: f64) {
+        self.iteration += 1;
+        if !self.mail_this_cycle {
+            self.ib.set_curr_time(now);
+        }
+        self.mail_this_cycle = false;
+        if let Some(kind) = self.restart.take() {
+            self.restart_behaviors(now, &kind);
+        }
+        // Helm-start messages held back until every `hold_on_apps` app is connected.
+        if !self.startup_messages.is_empty() && self.hold_apps_seen() {
+            self.retract_run_warning(super::mail::HOLD_WAIT);
+            for (var, value) in std::mem::take(&mut self.startup_messages) {
+                self.ib.set_value(&var, &value, now);
+                self.post(&var, value, "HELM_STARTUP_MSG");
+            }
+        }
+
+        // Status update (§3).
+        if self.enabled() {
+            self.state = if self.has_control {
+                HelmState::Drive
+            } else {
+                HelmState::Park
+            };
+        }
+        let mut state = self.state.as_str().to_string();
+        if self.config.standby.is_some() && self.enabled() {
+            state.push('+');
+        }
+        if self.state == HelmState::Disabled {
+            self.post_on_change("IVPHELM_STATE", Value::Str(state));
+        } else {
+            self.post_str("IVPHELM_STATE", &state);
+        }
+        if !self.enabled() {
+            self.ib.clear_deltas();
+            return;
+        }
+        if !self.nav_ready() {
+            if now - self.start_time > self.config.nav_grace && !self.nav_warned {
+                self.nav_warned = true;
+                self.run_warning(NAV_WAIT);
+            }
+            return;
+        }
+        if self.nav_warned {
+            self.nav_warned = false;
+            self.retract_run_warning(NAV_WAIT);
+        }
+        self.maintain_ledger(now);
+        if self.helm_state_seen && !self.deferred_done {
+            self.deferred_done = true;
+            for i in 0..self.inits.len() {
+                let init = &self.inits[i];
+                if !init.deferred || self.ib.is_known(&init.var) {
+                    continue;
+                }
+                let (var, value) = (init.var.clone(), init.value.clone());
+                self.ib.set_value(&var, &value, now);
+                self.post(&var, value, "HELM_VAR_INIT");
+            }
+        }
+        if self.state == HelmState::Park {
+            self.all_stop("ManualOverride");
+            self.ib.clear_deltas();
+            return;
+        }
+        if now - self.start_time < 1.0 {
+            return;
+        }
+        if std::mem::take(&mut self.restarted) {
+            self.post_str("IVPHELM_RESTARTED", "true");
+        }
+        self.post_turn_rate(now);
+
+        let t0 = std::time::Instant::now();
+        let summary = self.decide(now);
+        let took = t0.elapsed();
+        self.last_decide_secs = took.as_secs_f64();
+        self.decide_time += took;
+        self.decide_count += 1;
+        last_and_max(&mut self.report.loop_secs, self.last_decide_secs);
+        last_and_max(&mut self.report.create_secs, summary.create_secs);
+        last_and_max(&mut self.report.solve_secs, summary.solve_secs);
+        self.report.halted = summary.halted.is_some();
+        self.report.functions = summary.functions;
+
+        let results: Vec<String> = self
+            .behaviors
+            .iter_mut()
+            .flat_map(|b| std::mem::take(&mut b.core.update_results))
+            .collect();
+        for r in results {
+            self.post_str("IVPHELM_UPDATE_RESULT", &r);
+        }
+        if self.refresh_pending && now - self.last_refresh > 2.0 {
+            self.filter.clear();
+            self.last_refresh = now;
+            self.refresh_pending = false;
+        }
+        let sig = self.subscription_signature();
+        if sig != self.subs_signature {
+            self.subs_signature = sig;
+            self.register_all();
+            self.statevars_dirty = true;
+        }
+        self.publish_behavior_output(now);
+        self.post_summary(now, &summary);
+        self.post_num("IVPHELM_IPF_CNT", summary.functions as f64);
+        let pieces: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
+        self.post_num("IVPHELM_TOTAL_PCS_FORMED", pieces as f64);
+        self.post_num("IVPHELM_TOTAL_PCS_CACHED", 0.0);
+        self.post_num("IVPHELM_CREATE_CPU", summary.create_secs);
+        self.post_num("IVPHELM_LOOP_CPU", self.last_decide_secs);
+        self.publish_behavior_lists();
+        self.decide_all_stop(&summary);
+        if self.config.park_on_allstop
+            && self.config.allow_park
+            && !self.allstop.eq_ignore_ascii_case("clear")
+        {
+            self.has_control = false;
+        }
+        self.ib.clear_deltas();
+    }
+
+    /// Changes whenever a behavior could need a new subscription (new behavior, new
+    /// info variable, condition or flag through an update): registering is then redone.
+    fn subscription_signature(&self) -> usize {
+        self.behaviors
+            .iter()
+            .map(|b| {
+                1 + b.core.info_vars.len()
+                    + b.core.conditions.len()
+                    + b.core.flags.all().iter().map(|l| l.len()).sum::<usize>()
+                    + usize::from(!b.core.updates_var.is_empty())
+                    + usize::from(b.core.duration_reset.is_some())
+            })
+            .sum()
+    }
+
+    /// The ledger step of every iteration past the nav hold, PARK and warm-up included
+    /// (contacts-appcast.md §2.4): stale contacts out, the snapshot behaviors will read,
+    /// `IVPHELM_CONTACT_SUMMARY` (while a behavior has a contact) and
+    /// `IVPHELM_LEDGER_SUMMARY`.
+    fn maintain_ledger(&mut self, now: f64) {
+        let ledger = &mut self.env.ledger;
+        ledger.maintain(now);
+        let keep = self.behaviors.iter().map(|b| b.core.contact.as_str());
+        if let Some(kept) = ledger.contact_summary(keep) {
+            let kept = kept.to_string();
+            self.post_str("IVPHELM_CONTACT_SUMMARY", &kept);
+        }
+        let summary = self.env.ledger.summary().to_string();
+        self.post_str("IVPHELM_LEDGER_SUMMARY", &summary);
+    }
+
+    fn post_turn_rate(&mut self, now: f64) {
+        let h = self.ib.dval("NAV_HEADING").unwrap_or(0.0);
+        self.turn_samples.push((now, h));
+        self.turn_samples.retain(|(t, _)| now - t <= 5.0);
+        let n = self.turn_samples.len();
+        let mut rate = 0.0;
+        if n > 1 {
+            let mut sum = 0.0;
+            for w in self.turn_samples.windows(2) {
+                let mut d = w[1].1 - w[0].1;
+                if d > 180.0 {
+                    d -= 360.0;
+                } else if d < -180.0 {
+                    d += 360.0;
+                }
+                sum += d;
+            }
+            rate = sum / (n - 1) as f64;
+        }
+        self.post_num("TURN_RATE", rate);
+    }
+
+    /// The engine iteration (§7): modes, behaviors, solve.
+    fn decide(&mut self, now: f64) -> DecisionSummary {
+        self.env.helm_iteration += 1;
+        let iter = self.env.helm_iteration;
+        let mut summary = DecisionSummary::default();
+        self.process_spawns(now);
+
+        // Modes, before any behavior runs.
+        let pairs: Vec<(String, String)> = self.modes.evaluate(&self.ib).to_vec();
+        for (var, val) in &pairs {
+            let v = typed(val);
+            self.ib.set_value(var, &v, now);
+        }
+        self.mode_pairs = pairs;
+
+        self.functions.clear();
+        let created = std::time::Instant::now();
+        for i in 0..self.behaviors.len() {
+            let t = std::time::Instant::now();
+            let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
+            if let Some(fd) = outcome.function {
+                let name = self.behaviors[i].core.name.clone();
+                match self.to_ivp(fd) {
+                    Ok(mut f) => {
+                        // BHV_IPF shows the function before normalization, pwt apart.
+                        f.set_context(&format!("{iter}:{name}"));
+                        let whole = ivp::ipf::encode(&f);
+                        let id = format!("{name}^{iter}");
+                        for p in ivp::ipf_packets(&id, &whole) {
+                            self.behaviors[i]
+                                .core
+                                .messages
+                                .push(crate::runtime::Message {
+                                    var: "BHV_IPF".into(),
+                                    value: Value::Str(p),
+                                    key: "repeatable".into(),
+                                });
+                        }
+                        self.functions.push((name, f));
+                    }
+                    Err(msg) => {
+                        summary.halted = Some(msg.clone());
+                        crate::runtime::fault(&mut self.behaviors[i].core, &msg);
+                        break;
+                    }
+                }
+            }
+            self.behaviors[i].core.step_secs = t.elapsed().as_secs_f64();
+            if !self.behaviors[i].core.ok {
+                let last = self.behaviors[i]
+                    .core
+                    .messages
+                    .iter()
+                    .rev()
+                    .find(|m| m.var == "BHV_ERROR")
+                    .and_then(|m| match &m.value {
+                        Value::Str(s) => Some(s.clone()),
+                        Value::Num(_) => None,
+                    });
+                let text = self
+                    .ib
+                    .sval("BHV_ERROR")
+                    .map(str::to_string)
+                    .or(last)
+                    .unwrap_or_else(|| " - unknown - ".into());
+                summary.halted = Some(format!("BHV_ERROR: {text}"));
+                break;
+            }
+        }
+        summary.functions = self.functions.len();
+        summary.create_secs = created.elapsed().as_secs_f64();
+        if summary.halted.is_some() || self.functions.is_empty() {
+            return summary;
+        }
+        let solving = std::time::Instant::now();
+        self.functions
+            .sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
+        let refs: Vec<&ivp::IvpFunction> = self.functions.iter().map(|(_, f)| f).collect();
+        match self
+            .solver
+            .solve_into(&self.config.domain, &refs, &mut self.decision)
+        {
+            Ok(found) => summary.solved = found,
+            Err(e) => summary.halted = Some(e.to_string()),
+        }
+        summary.solve_secs = solving.elapsed().as_secs_f64();
+        summary
+    }
+
+    /// A function from a behavior, placed on the helm domain's variables.
+    fn to_ivp(&self, fd: behavior_api::FunctionData) -> Result<ivp::IvpFunction, String> {
+        let mut vars = Vec::new();
+        for spec in fd.domain.as_str().split(':').filter(|s| !s.is_empty()) {
+            let mut f = spec.split(',');
+            let name = f.next().unwrap_or("");
+            let Some(i) = self.config.domain.index_of(name) else {
+                return Err(format!("DomainVar {name} not recognized "));
+            };
+            let var = self.config.domain.var(i);
+            // The function must be on the helm's grid for that variable, not only share
+            // its name.
+            let num = |s: Option<&str>| s.and_then(|s| s.parse::<f64>().ok());
+            let same = num(f.next()).is_some_and(|v| (v - var.low).abs() <= 1e-5)
+                && num(f.next()).is_some_and(|v| (v - var.high).abs() <= 1e-5)
+                && num(f.next()).is_some_and(|v| v == f64::from(var.points));
+            if !same {
+                return Err(format!(
+                    "IvP function rejected: its variable `{spec}` is not the helm's `{name}` grid"
+                ));
+            }
+            vars.push(var.clone());
+        }
+        let raw = ivp::RawFunction {
+            vars,
+            bounds: fd.bounds.into_vec(),
+            weights: fd.weights.into_vec(),
+            pwt: fd.pwt,
+            context: String::new(),
+            gelbox: fd.gelbox.into_vec(),
+            grid: fd.grid.into_vec(),
+        };
+        ivp::IvpFunction::from_raw_parts(raw).map_err(|e| format!("IvP function rejected: {e}"))
+    }
+
+    /// §9.1: all-stop or the decision.
+    fn decide_all_stop(&mut self, s: &DecisionSummary) {
+        let mut msg = "clear".to_string();
+        if s.halted.is_some() {
+            msg = "BehaviorError".into();
+        } else if s.functions == 0 {
+            // Every behavior we run is a goal behavior (none is a constraint), so with
+            // goals_mandatory "no active goal" is exactly this case, and NothingToDo
+            // comes first in the spec's order.
+            msg = "NothingToDo".into();
+        } else {
+            let missing: Vec<String> = (0..self.config.domain.size())
+                .filter(|&i| {
+                    !self.config.optional.get(i).copied().unwrap_or(false)
+                        && self.decision.values.get(i).copied().flatten().is_none()
+                })
+                .map(|i| self.config.domain.var(i).name.clone())
+                .collect();
+            if !missing.is_empty() || !s.solved {
+                msg = format!("MissingDecVars:{}", missing.join(","));
+                self.post_str("BHV_ERROR", &msg);
+            }
+        }
+        if msg != "clear" {
+            self.all_stop(&msg);
+            return;
+        }
+        self.all_stop("clear");
+        for i in 0..self.config.domain.size() {
+            if let Some(v) = self.decision.values.get(i).copied().flatten() {
+                let var = self.desired_names[i].0.clone();
+                self.post_num(&var, v);
+            }
+        }
+    }
+
+    /// §9.2: the all-stop routine.
+    pub(crate) fn all_stop(&mut self, m: &str) {
+        if !self.enabled() || m == self.allstop {
+            return;
+        }
+        if !m.is_empty() {
+            self.allstop = m.to_string();
+        }
+        if m == "NothingToDo" || m.starts_with("MissingDecVars") {
+            self.no_decision_count += 1;
+        } else {
+            self.no_decision_count = 0;
+        }
+        if m == "NoGoalBehavior" {
+            self.no_goal_count += 1;
+        } else {
+            self.no_goal_count = 0;
+        }
+        let current = self.allstop.clone();
+        self.post_str("IVPHELM_ALLSTOP", &current);
+        if current.eq_ignore_ascii_case("clear") {
+            return;
+        }
+        if self.no_decision_count == 1 {
+            self.allstop = "IncompleteOrEmptyDecision".into();
+            return;
+        }
+        if self.no_goal_count == 1 {
+            self.allstop = "NoActiveGoalBehavior".into();
+            return;
+        }
+        for i in 0..self.config.domain.size() {
+            let var = self.desired_names[i].1.clone();
+            self.post_num(&var, 0.0);
+        }
+    }
+}
+
+/// `DESIRED_<UPPER(name)>`, with course published as heading.
+pub(crate) fn desired_var(prefix: &str, name: &str) -> String {
+    let up = name.to_ascii_uppercase();
+    let up = if up == "COURSE" {
+        "HEADING".to_string()
+    } else {
+        up
+    };
+    format!("{prefix}DESIRED_{up}")
+}
+
+/// A mode or init value: numeric if it is a number.
+pub(crate) fn typed(s: &str) -> Value {
+    if bhv::number::is_number(s) {
+        Value::Num(bhv::number::atof(s))
+    } else {
+        Value::Str(s.to_string())
+    }
+}

@@ -1,0 +1,205 @@
+//! Mail processing before each iteration (helm.md §4.2).
+
+use super::{Helm, HelmState};
+use crate::posting::Value;
+
+/// One incoming MOOS message.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mail {
+    pub var: String,
+    pub value: Value,
+    /// The message's own timestamp.
+    pub time: f64,
+    pub source: String,
+    pub source_aux: String,
+}
+
+/// The run warning while `hold_on_apps` are missing (retracted once they are seen).
+pub(crate) const HOLD_WAIT: &str = "Not all HoldOnApps have been detected";
+
+impl Helm {
+    /// Take one batch of mail into the info buffer.
+    pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
+        self.fresh_outbox();
+        if self.state == HelmState::Disabled {
+            return;
+        }
+        self.ib.set_curr_time(now);
+        self.mail_this_cycle = true;
+        for m in batch {
+            self.handle_one(now, m);
+        }
+        self.ib.set_string("COMMS_POLICY", "open", now);
+        if self.state == HelmState::Standby {
+            // A standby helm takes over once the primary has gone quiet.
+            if let (Some(t), Some(last)) = (self.config.standby, self.last_heartbeat) {
+                if now - last > t {
+                    self.state = if self.has_control {
+                        HelmState::Drive
+                    } else {
+                        HelmState::Park
+                    };
+                }
+            }
+        }
+    }
+
+    /// Every app named by `hold_on_apps` has appeared in DB_CLIENTS (helm.md §11).
+    pub(crate) fn hold_apps_seen(&self) -> bool {
+        self.config
+            .hold_on_apps
+            .iter()
+            .all(|h| self.apps_seen.iter().any(|a| a == h))
+    }
+
+    fn is_own_posting(&self, m: &Mail) -> bool {
+        m.source == self.app_name
+    }
+
+    fn handle_one(&mut self, now: f64, m: &Mail) {
+        if let Some(ok_skew) = self.config.ok_skew {
+            let skew = (now - m.time).abs();
+            if skew > ok_skew && !self.is_own_posting(m) && m.var != "HELM_MAP_CLEAR" {
+                let text = format!(
+                    "Helm ignores MOOS msg due to skew: {} Source={} Skew={:.2}",
+                    m.var, m.source, skew
+                );
+                self.run_warning(&text);
+                self.post_str("IVPHELM_SKEW", &format!("{text} curr_time: {now:.3}"));
+                return;
+            }
+        }
+        let var = m.var.as_str();
+        let is_override = var == "MOOS_MANUAL_OVERIDE"
+            || var == "MOOS_MANUAL_OVERRIDE"
+            || (!self.config.other_override_var.is_empty()
+                && var == self.config.other_override_var);
+        if is_override {
+            if var != self.config.other_override_var {
+                let ev = format!(
+                    "var={var}:matter={}, skew={:.2}",
+                    self.config.allow_park,
+                    now - m.time
+                );
+                self.report.warnings.event(now - self.start_time, &ev);
+            }
+            if let Value::Str(s) = &m.value {
+                if s.eq_ignore_ascii_case("false") {
+                    self.has_control = true;
+                } else if s.eq_ignore_ascii_case("true") && self.config.allow_park {
+                    self.has_control = false;
+                }
+            }
+            self.ib.set_value(var, &m.value, m.time);
+            return;
+        }
+        match var {
+            "IVPHELM_STATE" => {
+                self.helm_state_seen = true;
+                if !self.is_own_posting(m) {
+                    if self.config.standby.is_some() {
+                        if self.state == HelmState::Standby {
+                            self.last_heartbeat = Some(now);
+                        } else {
+                            self.refresh_pending = true;
+                        }
+                    } else if !matches!(&m.value, Value::Str(s) if s == "STANDBY") {
+                        self.all_stop("DisabledByStandbyHelm");
+                        self.state = HelmState::Disabled;
+                    }
+                }
+            }
+            "DB_CLIENTS" => {
+                if let Value::Str(list) = &m.value {
+                    for app in list.split(',').map(str::trim).filter(|a| !a.is_empty()) {
+                        if !self.apps_seen.iter().any(|a| a == app) {
+                            self.apps_seen.push(app.to_string());
+                        }
+                    }
+                }
+                if !self.startup_messages.is_empty() && !self.hold_apps_seen() {
+                    self.run_warning(HOLD_WAIT);
+                }
+            }
+            "IVPHELM_REJOURNAL" => self.summary_last.clear(),
+            "RESTART_HELM" => {
+                if let Value::Str(t) = &m.value {
+                    let t = t.trim().to_ascii_lowercase();
+                    if t == "type1" || t == "type2" {
+                        self.restart = Some(t);
+                    }
+                }
+            }
+            "BHV_ABLE_FILTER" => {}
+            "NODE_REPORT_LOCAL" => self.note_local_report(m),
+            _ if contacts::feeds_ledger(var) => {
+                self.ingest_report(m);
+                self.ib.set_value(var, &m.value, m.time);
+            }
+            "HELM_MAP_CLEAR" => self.refresh_pending = true,
+            _ => {
+                if m.source_aux != "HELM_VAR_INIT" {
+                    self.ib.set_value(var, &m.value, m.time);
+                }
+            }
+        }
+    }
+}
+
+impl Helm {
+    /// A contact's report into the ledger (contacts-appcast.md §2.1, §2.2): its group
+    /// and type go to the info buffer as `<NAME>_NAV_GROUP`/`_NAV_TYPE`; a refused report
+    /// is two run warnings, and (as the real helm) still sets those two variables of the
+    /// empty name to "".
+    fn ingest_report(&mut self, m: &Mail) {
+        let Value::Str(report) = &m.value else {
+            return;
+        };
+        let now = self.ib.curr_time();
+        let (group_var, type_var, group, vtype) = match self.env.ledger.ingest(report, now) {
+            Ok(a) => {
+                let up = a.name.to_uppercase();
+                (
+                    format!("{up}_NAV_GROUP"),
+                    format!("{up}_NAV_TYPE"),
+                    a.group.to_string(),
+                    a.vtype.to_string(),
+                )
+            }
+            Err(e) => {
+                for w in e.run_warnings(report) {
+                    self.run_warning(&w);
+                }
+                (
+                    "_NAV_GROUP".into(),
+                    "_NAV_TYPE".into(),
+                    String::new(),
+                    String::new(),
+                )
+            }
+        };
+        self.ib.set_string(&group_var, &group, m.time);
+        self.ib.set_string(&type_var, &vtype, m.time);
+    }
+
+    /// Ownship's own report (pNodeReporter): not a contact, only its group, type, colour
+    /// and length go to the info buffer.
+    fn note_local_report(&mut self, m: &Mail) {
+        let Value::Str(report) = &m.value else {
+            return;
+        };
+        match contacts::local_nav_vars(report) {
+            Ok(vars) => {
+                for (var, v) in vars {
+                    match v {
+                        contacts::NavValue::Text(s) => self.ib.set_string(&var, &s, m.time),
+                        contacts::NavValue::Num(n) => {
+                            self.ib.set_value(&var, &Value::Num(n), m.time)
+                        }
+                    }
+                }
+            }
+            Err(_) => self.run_warning("Unhandled NODE_REPORT_LOCAL"),
+        }
+    }
+}

@@ -1,0 +1,212 @@
+//! The helm engine: one iteration from mail to postings (helm.md §5-§9).
+//!
+//! `Helm::new` builds the behavior set, `startup` runs once, then per tick:
+//! [`Helm::handle_mail`] (mail → info buffer) and [`Helm::iterate`] (modes → behaviors →
+//! solve → postings). The caller moves postings to MOOS and brings the helm's own
+//! postings back as mail, as a MOOSDB does.
+
+mod build;
+mod instance;
+mod iterate;
+mod mail;
+mod publish;
+mod report;
+mod spawn;
+mod summary;
+
+use std::collections::BTreeMap;
+
+use bhv::modes::ModeSet;
+use bhv::reader::Init;
+
+use crate::config::HelmConfig;
+use crate::info_buffer::InfoBuffer;
+use crate::posting::{DuplicateFilter, Posting};
+use crate::runtime::{BehaviorInstance, HostEnv};
+
+pub use build::BuildError;
+pub use mail::Mail;
+
+/// Helm status (helm.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HelmState {
+    Park,
+    Drive,
+    Standby,
+    Disabled,
+    Malconfig,
+}
+
+impl HelmState {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            HelmState::Park => "PARK",
+            HelmState::Drive => "DRIVE",
+            HelmState::Standby => "STANDBY",
+            HelmState::Disabled => "DISABLED",
+            HelmState::Malconfig => "MALCONFIG",
+        }
+    }
+}
+
+/// The IvP Helm.
+pub struct Helm {
+    pub(crate) config: HelmConfig,
+    pub(crate) app_name: String,
+    pub(crate) env: HostEnv,
+    pub(crate) behaviors: Vec<BehaviorInstance>,
+    pub(crate) inits: Vec<Init>,
+    /// The `.bhv` blocks, kept to rebuild the behavior set on RESTART_HELM.
+    pub(crate) source: Vec<bhv::reader::BehaviorSpec>,
+    /// A RESTART_HELM request (`type1`/`type2`) to carry out at the next iteration.
+    pub(crate) restart: Option<String>,
+    /// Post IVPHELM_RESTARTED at the next decision.
+    pub(crate) restarted: bool,
+    pub(crate) modes: ModeSet,
+    pub(crate) bhv_files: Vec<String>,
+    /// Messages behaviors queued while being built (published once at start-up).
+    pub(crate) startup_messages: Vec<(String, crate::posting::Value)>,
+    pub(crate) ib: InfoBuffer,
+    pub(crate) filter: DuplicateFilter,
+    pub(crate) solver: ivp::Solver,
+    pub(crate) decision: ivp::Decision,
+    pub(crate) state: HelmState,
+    pub(crate) has_control: bool,
+    pub(crate) start_time: f64,
+    pub(crate) iteration: u64,
+    pub(crate) mail_this_cycle: bool,
+    pub(crate) helm_state_seen: bool,
+    pub(crate) deferred_done: bool,
+    pub(crate) allstop: String,
+    pub(crate) no_decision_count: u32,
+    pub(crate) no_goal_count: u32,
+    pub(crate) refresh_pending: bool,
+    pub(crate) last_refresh: f64,
+    /// Variables registered with MOOS, in registration order.
+    pub(crate) registered: Vec<String>,
+    pub(crate) config_warnings: Vec<String>,
+    pub(crate) outbox: Vec<Posting>,
+    /// The outbox was handed out: the next posting starts a new batch.
+    pub(crate) outbox_taken: bool,
+    /// Last values of the helm's "on change" postings.
+    pub(crate) last_posted: BTreeMap<&'static str, String>,
+    pub(crate) statevars: Vec<String>,
+    pub(crate) bhv_cnt_ever: usize,
+    pub(crate) completed_pending_last: Option<bool>,
+    pub(crate) completed_count_last: Option<usize>,
+    pub(crate) life_events: Vec<String>,
+    pub(crate) turn_samples: Vec<(f64, f64)>,
+    /// Functions of this iteration (behavior name, function), reused across iterations.
+    pub(crate) functions: Vec<(String, ivp::IvpFunction)>,
+    /// Time spent in the engine's decision step (what the C++ timing measures), and count.
+    pub(crate) decide_time: std::time::Duration,
+    pub(crate) decide_count: u64,
+    /// See `subscription_signature`.
+    pub(crate) subs_signature: usize,
+    pub(crate) nav_warned: bool,
+    /// Last IVPHELM_STATE heard from the primary helm (standby helm only).
+    pub(crate) last_heartbeat: Option<f64>,
+    /// The behavior set's conditions or flags changed: IVPHELM_STATEVARS may grow.
+    pub(crate) statevars_dirty: bool,
+    /// Fields of the last IVPHELM_SUMMARY (empty: the next one is full).
+    pub(crate) summary_last: std::collections::HashMap<&'static str, String>,
+    pub(crate) last_decide_secs: f64,
+    /// Apps seen in DB_CLIENTS (for `hold_on_apps`).
+    pub(crate) apps_seen: Vec<String>,
+    /// Per domain variable: `<prefix>DESIRED_<VAR>` and the unprefixed all-stop name.
+    pub(crate) desired_names: Vec<(String, String)>,
+    /// `.bhv` blocks with `templating = spawn|clone`.
+    pub(crate) templates: Vec<spawn::Template>,
+    /// Kept for spawning behaviors at run time.
+    pub(crate) factory: crate::factory::BehaviorFactory,
+    /// Mode variable values of this iteration, sorted by variable.
+    pub(crate) mode_pairs: Vec<(String, String)>,
+    /// What the AppCasting report shows (run warnings, events, last postings).
+    pub(crate) report: report::ReportFeed,
+}
+
+impl Helm {
+    /// Total time spent in decision steps (modes, behaviors, solve) and their number:
+    /// the measure of the C++ `determineNextDecision` timings.
+    pub fn decision_timing(&self) -> (std::time::Duration, u64) {
+        (self.decide_time, self.decide_count)
+    }
+
+    /// The current status.
+    pub fn state(&self) -> HelmState {
+        self.state
+    }
+
+    /// The `verbose =` setting of the pHelmIvP block.
+    pub fn configured_verbose(&self) -> crate::config::Verbose {
+        self.config.verbose
+    }
+
+    /// Configuration problems (non-empty means MALCONFIG).
+    pub fn config_warnings(&self) -> &[String] {
+        &self.config_warnings
+    }
+
+    /// Variables the helm subscribes to.
+    pub fn subscriptions(&self) -> &[String] {
+        &self.registered
+    }
+
+    pub fn is_subscribed(&self, var: &str) -> bool {
+        self.registered.iter().any(|v| v == var)
+    }
+
+    /// Set the MOOS app name (the source of its own postings, `pHelmIvP` by default).
+    pub fn set_app_name(&mut self, name: &str) {
+        self.app_name = name.to_string();
+    }
+
+    /// Name of the helm as a MOOS app (the source of its postings).
+    pub fn app_name(&self) -> &str {
+        &self.app_name
+    }
+
+    /// Behavior names in set order.
+    pub fn behavior_names(&self) -> Vec<String> {
+        self.behaviors.iter().map(|b| b.core.name.clone()).collect()
+    }
+
+    /// The info buffer (read-only), e.g. for reports.
+    pub fn info_buffer(&self) -> &InfoBuffer {
+        &self.ib
+    }
+
+    pub(crate) fn post(&mut self, var: &str, value: crate::posting::Value, aux: &str) {
+        self.outbox.push(Posting {
+            var: var.to_string(),
+            value,
+            source_aux: aux.to_string(),
+        });
+    }
+
+    pub(crate) fn post_str(&mut self, var: &str, value: &str) {
+        self.post(var, crate::posting::Value::Str(value.to_string()), "");
+    }
+
+    pub(crate) fn post_num(&mut self, var: &str, value: f64) {
+        self.post(var, crate::posting::Value::Num(value), "");
+    }
+
+    /// Post only when the text differs from what was last posted under `var`.
+    pub(crate) fn post_on_change(&mut self, var: &'static str, value: crate::posting::Value) {
+        let text = match &value {
+            crate::posting::Value::Str(s) => s.clone(),
+            crate::posting::Value::Num(v) => format!("{v}"),
+        };
+        if self.last_posted.get(var) != Some(&text) {
+            self.last_posted.insert(var, text);
+            self.post(var, value, "");
+        }
+    }
+
+    pub(crate) fn register(&mut self, var: &str) {
+        if !var.is_empty() && !self.is_subscribed(var) {
+            self.registered.push(var.to_string());
+        }
+    }
+}

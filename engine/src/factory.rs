@@ -1,0 +1,90 @@
+//! Where behaviors come from: the types compiled into the helm, and (see `loader`) the
+//! libraries found in behavior directories. Both hand out the same ABI trait object.
+
+use behavior_api::sdk::HelmDomain;
+use behavior_api::BehaviorBox;
+
+/// The behavior types this project ships as libraries (`plugins/*`, bundled beside the
+/// helm), besides the built-in ones. `helm conform` uses it to tell a case waiting for a
+/// type we do not have yet from a case whose type we have but which failed to load; a
+/// test checks the list against the libraries a build bundles.
+pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
+    "BHV_BearingLine",
+    "BHV_ConstantDepth",
+    "BHV_ConstantHeading",
+    "BHV_ConstantSpeed",
+    "BHV_GoToDepth",
+    "BHV_HSLine",
+    "BHV_LegRun",
+    "BHV_MaxDepth",
+    "BHV_MaxSpeed",
+    "BHV_PeriodicSurface",
+    "BHV_StationKeep",
+    "BHV_Template",
+    "BHV_ZigZag",
+];
+
+/// Whether this project provides `type_name`, built in or as a shipped library.
+pub fn project_has_type(type_name: &str) -> bool {
+    SHIPPED_LIBRARY_TYPES.contains(&type_name)
+        || behaviors_std::builtin_types()
+            .iter()
+            .any(|(n, _)| *n == type_name)
+}
+
+/// Constructor of a built-in behavior type.
+pub type BuiltinCtor = fn(&HelmDomain) -> BehaviorBox;
+
+/// Creates behaviors by type name.
+#[derive(Clone)]
+pub struct BehaviorFactory {
+    builtins: Vec<(&'static str, BuiltinCtor)>,
+    libraries: Vec<crate::loader::LoadedLibrary>,
+    /// Directories searched for libraries, for error messages.
+    pub searched_dirs: Vec<String>,
+}
+
+impl BehaviorFactory {
+    /// The built-in types only (BHV_Waypoint, BHV_Loiter, BHV_Timer).
+    pub fn with_builtins() -> Self {
+        BehaviorFactory {
+            builtins: behaviors_std::builtin_types(),
+            libraries: Vec::new(),
+            searched_dirs: Vec::new(),
+        }
+    }
+
+    pub fn add_library(&mut self, lib: crate::loader::LoadedLibrary) {
+        self.libraries.push(lib);
+    }
+
+    pub fn libraries(&self) -> &[crate::loader::LoadedLibrary] {
+        &self.libraries
+    }
+
+    pub fn is_builtin(&self, type_name: &str) -> bool {
+        self.builtins.iter().any(|(n, _)| *n == type_name)
+    }
+
+    /// Whether some source offers `type_name` (built-in types win).
+    pub fn knows(&self, type_name: &str) -> bool {
+        self.is_builtin(type_name) || self.libraries.iter().any(|l| l.offers(type_name))
+    }
+
+    /// A new behavior of `type_name` for the helm domain (`name,low,high,points:...`):
+    /// `None` if no source offers the type, `Some(Err(message))` if its constructor
+    /// panicked.
+    pub fn create(
+        &self,
+        type_name: &str,
+        helm_domain: &str,
+    ) -> Option<Result<BehaviorBox, String>> {
+        if let Some((_, ctor)) = self.builtins.iter().find(|(n, _)| *n == type_name) {
+            return Some(Ok(ctor(&HelmDomain::new(helm_domain))));
+        }
+        self.libraries
+            .iter()
+            .find(|l| l.offers(type_name))
+            .and_then(|l| l.create(type_name, helm_domain))
+    }
+}

@@ -1,0 +1,232 @@
+//! The host side of a behavior call: [`HostCtx`] implements the ABI's `HelmContext`.
+
+use abi_stable::sabi_trait::TD_Opaque;
+use abi_stable::sabi_types::RMut;
+use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
+use behavior_api::context::{HelmContext, HelmContext_TO};
+use behavior_api::{ContactState, HelmCtx, PostValue};
+use bhv::logic::LogicCondition;
+
+use super::{flags, macros, BehaviorCore, HostEnv};
+use crate::info_buffer::InfoBuffer;
+use crate::posting::Value;
+
+/// One behavior call's view of the helm.
+pub struct HostCtx<'a> {
+    pub core: &'a mut BehaviorCore,
+    pub env: &'a HostEnv,
+    pub ib: &'a InfoBuffer,
+}
+
+/// Run `f` with an ABI context for this behavior.
+pub fn with_ctx<R>(
+    core: &mut BehaviorCore,
+    env: &HostEnv,
+    ib: &InfoBuffer,
+    f: impl FnOnce(HelmCtx<'_>) -> R,
+) -> R {
+    let mut host = HostCtx { core, env, ib };
+    let ctx = HelmContext_TO::from_ptr(RMut::new(&mut host), TD_Opaque);
+    f(ctx)
+}
+
+impl HostCtx<'_> {
+    fn quiet(&self, var: &str) -> bool {
+        self.core
+            .info_vars
+            .iter()
+            .any(|(v, no_warning)| *no_warning && v == var)
+    }
+}
+
+impl HelmContext for HostCtx<'_> {
+    fn curr_time(&self) -> f64 {
+        self.ib.curr_time()
+    }
+    fn local_time(&self) -> f64 {
+        self.ib.local_time()
+    }
+    fn helm_iteration(&self) -> u64 {
+        self.env.helm_iteration
+    }
+    fn ownship(&self) -> RString {
+        self.core.ownship.as_str().into()
+    }
+    fn name(&self) -> RString {
+        self.core.name.as_str().into()
+    }
+    fn priority(&self) -> f64 {
+        self.core.pwt
+    }
+    fn perpetual(&self) -> bool {
+        self.core.perpetual
+    }
+    fn set_perpetual(&mut self, perpetual: bool) {
+        self.core.perpetual = perpetual;
+    }
+    fn dur_run_time(&self) -> f64 {
+        self.core.dur_run_time
+    }
+    fn dur_idle_time(&self) -> f64 {
+        self.core.dur_idle_time
+    }
+    fn double_val(&mut self, var: RStr<'_>, warn: bool) -> ROption<f64> {
+        let v = self.ib.double_val(var.as_str());
+        if v.is_none() && warn && !self.quiet(var.as_str()) {
+            let msg = format!("{} dbl info not found in helm info_buffer", var.as_str());
+            self.core.post_warning(&msg);
+        }
+        v.into()
+    }
+    fn string_val(&mut self, var: RStr<'_>, warn: bool) -> ROption<RString> {
+        let v = self.ib.string_val(var.as_str());
+        if v.is_none() && warn && !self.quiet(var.as_str()) {
+            let msg = format!("{} str info not found in helm info_buffer", var.as_str());
+            self.core.post_warning(&msg);
+        }
+        v.map(RString::from).into()
+    }
+    fn time_val(&self, var: RStr<'_>) -> f64 {
+        self.ib.time_val(var.as_str())
+    }
+    fn msg_time_val(&self, var: RStr<'_>) -> f64 {
+        self.ib.msg_time_val(var.as_str())
+    }
+    fn is_known(&self, var: RStr<'_>) -> bool {
+        self.ib.is_known(var.as_str())
+    }
+    fn string_deltas(&self, var: RStr<'_>) -> RVec<RString> {
+        self.ib
+            .string_deltas(var.as_str())
+            .iter()
+            .map(|s| RString::from(s.as_str()))
+            .collect()
+    }
+    fn double_deltas(&self, var: RStr<'_>) -> RVec<f64> {
+        self.ib
+            .double_deltas(var.as_str())
+            .iter()
+            .copied()
+            .collect()
+    }
+    fn add_info_vars(&mut self, vars: RStr<'_>, no_warning: bool) {
+        for v in vars
+            .as_str()
+            .split(',')
+            .map(str::trim)
+            .filter(|v| !v.is_empty())
+        {
+            if let Some(slot) = self.core.info_vars.iter_mut().find(|(n, _)| n == v) {
+                slot.1 |= no_warning;
+            } else {
+                self.core.info_vars.push((v.to_string(), no_warning));
+            }
+        }
+    }
+    fn post(&mut self, var: RStr<'_>, value: PostValue<'_>, key: RStr<'_>) {
+        let value = match value {
+            PostValue::Str(s) => Value::Str(s.as_str().to_string()),
+            PostValue::Num(v) => Value::Num(v),
+        };
+        // A repeatable BHV_ERROR is what the error helper posts: it halts the helm.
+        if var.as_str() == "BHV_ERROR" && key.as_str().eq_ignore_ascii_case("repeatable") {
+            self.core.ok = false;
+        }
+        self.core.post(var.as_str(), value, key.as_str());
+    }
+    fn post_flag(&mut self, flag: RStr<'_>, repeatable: bool) {
+        flags::post_type_flag(self.core, self.env, self.ib, flag.as_str(), repeatable);
+    }
+    fn expand_common_macros(&mut self, text: RStr<'_>) -> RString {
+        macros::expand_common(self.core, self.ib, text.as_str()).into()
+    }
+    fn eval_condition(&mut self, condition: RStr<'_>) -> RResult<bool, RString> {
+        let text = condition.as_str();
+        if !self.core.condition_cache.contains_key(text) {
+            match LogicCondition::parse(text) {
+                Ok(c) => {
+                    self.core.condition_cache.insert(text.to_string(), c);
+                }
+                Err(e) => return RResult::RErr(e.to_string().into()),
+            }
+        }
+        match self.core.condition_cache.get(text) {
+            Some(c) => RResult::ROk(c.eval_fresh(self.ib)),
+            None => RResult::RErr("condition not parsed".into()),
+        }
+    }
+    fn set_complete(&mut self) {
+        if self.core.complete_requested.is_none() {
+            self.core.complete_requested = Some(self.core.messages.len());
+        }
+    }
+    fn set_platform(&mut self, osx: f64, osy: f64, osh: f64, osv: f64) {
+        self.core.platform = [osx, osy, osh, osv];
+    }
+    fn log(&mut self, level: u8, message: RStr<'_>) {
+        let name = &self.core.name;
+        match level {
+            0 => tracing::error!(behavior = %name, "{}", message.as_str()),
+            1 => tracing::warn!(behavior = %name, "{}", message.as_str()),
+            2 => tracing::info!(behavior = %name, "{}", message.as_str()),
+            3 => tracing::debug!(behavior = %name, "{}", message.as_str()),
+            _ => tracing::trace!(behavior = %name, "{}", message.as_str()),
+        }
+    }
+
+    fn contact_count(&self) -> u32 {
+        u32::try_from(self.env.ledger.snapshot().len()).unwrap_or(u32::MAX)
+    }
+
+    fn contact_name(&self, index: u32) -> ROption<RString> {
+        let all = self.env.ledger.snapshot().contacts();
+        match all.get(index as usize) {
+            Some(c) => ROption::RSome(RString::from(c.name.as_str())),
+            None => ROption::RNone,
+        }
+    }
+
+    fn contact(&self, name: RStr<'_>) -> ROption<ContactState> {
+        let snap = self.env.ledger.snapshot();
+        let Some(c) = snap.get(name.as_str()) else {
+            return ROption::RNone;
+        };
+        let now = snap.now();
+        ROption::RSome(ContactState {
+            x: c.x,
+            y: c.y,
+            hdg: c.hdg,
+            spd: c.spd,
+            dep: c.dep,
+            lat: c.lat,
+            lon: c.lon,
+            utc: c.utc,
+            utc_age: now - c.utc,
+            utc_received: c.utc_received,
+            utc_age_received: now - c.utc_received,
+            length: c.length,
+            // The helm's ledger never extrapolates (contacts-appcast.md §2.4).
+            extrapolated: false,
+        })
+    }
+
+    fn contact_text(&self, name: RStr<'_>, field: RStr<'_>) -> RString {
+        let Some(c) = self.env.ledger.snapshot().get(name.as_str()) else {
+            return RString::new();
+        };
+        let text = match field.as_str() {
+            "type" => &c.vtype,
+            "group" => &c.group,
+            "vsource" => &c.vsource,
+            _ => return RString::new(),
+        };
+        RString::from(text.as_str())
+    }
+
+    fn set_contact(&mut self, name: RStr<'_>) {
+        if self.core.contact != name.as_str() {
+            self.core.contact.clear();
+            self.core.contact.push_str(name.as_str());
+        }
+    }
+}

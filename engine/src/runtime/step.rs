@@ -1,0 +1,317 @@
+//! One behavior's part in one helm iteration (behavior-common.md §4 and §6).
+
+use behavior_api::{CallResult, FunctionData, HelmCtx};
+use bhv::number::atof;
+
+use super::context::with_ctx;
+use super::flags::{post_flags, FlagKind};
+use super::updates::process_updates;
+use super::{fault, BehaviorCore, BehaviorInstance, HostEnv, RunState};
+use crate::info_buffer::InfoBuffer;
+use crate::posting::Value;
+
+/// What a behavior's step hands to the engine.
+#[derive(Debug, Default)]
+pub struct StepOutcome {
+    /// The objective function, validated (no NaN, positive weight, consistent buffers).
+    pub function: Option<FunctionData>,
+}
+
+/// Call a behavior hook; a panic disables the behavior and posts BHV_ERROR. A completion
+/// requested inside the hook posts the endflags where it was requested.
+fn call<R: Default>(
+    inst: &mut BehaviorInstance,
+    env: &HostEnv,
+    ib: &InfoBuffer,
+    f: impl FnOnce(&mut behavior_api::BehaviorBox, HelmCtx<'_>) -> CallResult<R>,
+) -> R {
+    // A behavior that misbehaved is never called again.
+    if inst.core.faulted {
+        return R::default();
+    }
+    let (bhv, core) = (&mut inst.bhv, &mut inst.core);
+    let result = with_ctx(core, env, ib, |ctx| f(bhv, ctx));
+    let out = match result.into_result() {
+        Ok(v) => v,
+        Err(panic) => {
+            fault(&mut inst.core, &format!("behavior panicked: {panic}"));
+            R::default()
+        }
+    };
+    finish_completion(inst, env, ib);
+    out
+}
+
+fn finish_completion(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) {
+    if let Some(pos) = inst.core.complete_requested.take() {
+        let pos = pos.min(inst.core.messages.len());
+        let tail = inst.core.messages.split_off(pos);
+        set_complete(inst, env, ib);
+        inst.core.messages.extend(tail);
+    }
+}
+
+/// `setComplete`: endflags (repeatable); completed unless perpetual.
+fn set_complete(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) {
+    post_flags(inst, env, ib, FlagKind::End, true);
+    if !inst.core.perpetual {
+        inst.core.completed = true;
+    }
+}
+
+fn post_duration_status(core: &mut BehaviorCore, remaining: f64) {
+    if core.duration_status.is_empty() {
+        return;
+    }
+    let v = if remaining <= 10.0 {
+        remaining
+    } else {
+        (remaining + 0.5).trunc()
+    };
+    let var = core.duration_status.clone();
+    core.post(&var, Value::Num(v), "");
+}
+
+fn reset_duration(core: &mut BehaviorCore) {
+    core.duration_started = false;
+    core.duration_reset_pending = false;
+    core.dur_idle_time = 0.0;
+    core.dur_run_time = 0.0;
+    if core.duration >= 0.0 {
+        let d = core.duration;
+        post_duration_status(core, d);
+    }
+}
+
+/// `duration_reset = VAR=VAL`, checked before the runnable test.
+fn check_duration_reset(core: &mut BehaviorCore, ib: &InfoBuffer) {
+    let Some((var, val)) = &core.duration_reset else {
+        return;
+    };
+    let Some(t) = ib.update_time(var) else {
+        return;
+    };
+    let matches =
+        val.is_empty() || ib.sval(var) == Some(val.as_str()) || ib.dval(var) == Some(atof(val));
+    let fresh = core.last_reset_trigger_time.is_none_or(|last| t > last);
+    if matches && fresh {
+        core.last_reset_trigger_time = Some(t);
+        reset_duration(core);
+    }
+}
+
+/// The runnable test (§4 step 4), with its side effects.
+fn runnable(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> RunState {
+    let core = &mut inst.core;
+    if core.completed {
+        return RunState::Completed;
+    }
+    if core.faulted {
+        return RunState::Disabled;
+    }
+    for c in core.conditions.iter_mut() {
+        c.update(ib);
+        if !c.eval() {
+            core.status_info.push_str(",pc=");
+            core.status_info.push_str(c.raw());
+            return RunState::Idle;
+        }
+    }
+    if core.duration_reset_pending {
+        reset_duration(core);
+    }
+    if core.duration >= 0.0 {
+        let now = ib.curr_time();
+        if !core.duration_started {
+            core.duration_started = true;
+            core.duration_start_time = now;
+            core.dur_idle_time = 0.0;
+        }
+        let mut elapsed = now - core.duration_start_time;
+        if !core.duration_idle_decay {
+            elapsed -= core.dur_idle_time;
+        }
+        post_duration_status(core, (core.duration - elapsed).max(0.0));
+        if elapsed >= core.duration {
+            core.status_info.push_str(",pc=completed-byduration");
+            set_complete(inst, env, ib);
+            if inst.core.perpetual {
+                inst.core.duration_reset_pending = true;
+            } else {
+                return RunState::Completed;
+            }
+        }
+    }
+    let core = &mut inst.core;
+    if core.empty_domain {
+        core.post_error("Null IvPDomain given to Behavior");
+        return RunState::Idle;
+    }
+    if let Some((vars, secs)) = &core.nostarve {
+        for v in vars {
+            let age = ib.time_val(v);
+            if age < 0.0 || age > *secs {
+                let pc = format!(",pc=VarStarve: {v}");
+                core.status_info.push_str(&pc);
+                return RunState::Idle;
+            }
+        }
+    }
+    RunState::Running
+}
+
+/// Common state-duration bookkeeping: the interval since the previous call goes to the
+/// state of this call.
+fn accumulate(core: &mut BehaviorCore, now: f64, running: bool) {
+    if let Some(prev) = core.dur_last_call {
+        if running {
+            core.dur_run_time += now - prev;
+        } else {
+            core.dur_idle_time += now - prev;
+        }
+    }
+    core.dur_last_call = Some(now);
+}
+
+/// Checks a function from a behavior before the helm trusts it.
+fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<FunctionData> {
+    if f.weights.iter().any(|w| w.is_nan()) || f.pwt.is_nan() {
+        // Never trusted again: disabled, like a panic (the C++ helm only discards it).
+        fault(core, "NaN detected in IvP Function");
+        return None;
+    }
+    if f.piece_count().is_none() {
+        fault(
+            core,
+            "IvP function rejected: its buffers do not match its domain",
+        );
+        return None;
+    }
+    if f.pwt <= 0.0 {
+        return None;
+    }
+    Some(f)
+}
+
+/// Run one behavior for one iteration.
+pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> StepOutcome {
+    let old = inst.core.state;
+    let now = ib.curr_time();
+    inst.core.iteration += 1;
+    inst.core.ok = true;
+    inst.core.status_info.clear();
+    inst.core.status_info.push_str("name=");
+    let core = &mut inst.core;
+    core.status_info.push_str(&core.name);
+
+    if process_updates(inst, env, ib) {
+        inst.core.config_posted = false;
+        call(inst, env, ib, |b, c| b.on_params_complete(c));
+    }
+    check_duration_reset(&mut inst.core, ib);
+
+    let mut new = runnable(inst, env, ib);
+    call(inst, env, ib, |b, c| b.on_every_state(c));
+    if new == RunState::Completed {
+        call(inst, env, ib, |b, c| b.on_complete(c));
+    }
+    if !inst.core.config_posted {
+        post_flags(inst, env, ib, FlagKind::Config, false);
+        inst.core.config_posted = true;
+    }
+    let mut outcome = StepOutcome::default();
+    match new {
+        RunState::Idle => {
+            if old != RunState::Idle {
+                post_flags(inst, env, ib, FlagKind::Idle, true);
+                post_flags(inst, env, ib, FlagKind::Inactive, true);
+            }
+            if matches!(old, RunState::Running | RunState::Active) {
+                call(inst, env, ib, |b, c| b.on_run_to_idle(c));
+            }
+            call(inst, env, ib, |b, c| b.on_idle_state(c));
+            accumulate(&mut inst.core, now, false);
+        }
+        RunState::Running => {
+            if inst.core.duration >= 0.0 && inst.core.duration_started {
+                let core = &mut inst.core;
+                let mut remaining = core.duration - (now - core.duration_start_time);
+                if !core.duration_idle_decay {
+                    remaining += core.dur_idle_time;
+                }
+                post_duration_status(core, remaining.max(0.0));
+            }
+            if old == RunState::Idle {
+                call(inst, env, ib, |b, c| b.on_idle_to_run(c));
+            }
+            let f = call(inst, env, ib, |b, c| b.on_run(c).map(|o| o.into_option()));
+            if matches!(old, RunState::Idle | RunState::Fresh) {
+                post_flags(inst, env, ib, FlagKind::Run, true);
+            }
+            post_flags(inst, env, ib, FlagKind::Runx, true);
+            let kept = f.and_then(|f| validate(&mut inst.core, f));
+            if let Some(f) = kept {
+                if old != RunState::Active {
+                    post_flags(inst, env, ib, FlagKind::Active, true);
+                }
+                new = RunState::Active;
+                let info = format!(",pwt={:.5},pcs={}", f.pwt, f.piece_count().unwrap_or(0));
+                inst.core.status_info.push_str(&info);
+                outcome.function = Some(f);
+            } else {
+                if old == RunState::Active {
+                    post_flags(inst, env, ib, FlagKind::Inactive, true);
+                }
+                call(inst, env, ib, |b, c| b.on_inactive(c));
+            }
+            accumulate(&mut inst.core, now, true);
+        }
+        _ => {}
+    }
+
+    // Post-check: the runnable test once more, with all its side effects.
+    if new != RunState::Completed && new != RunState::Disabled {
+        let again = runnable(inst, env, ib);
+        if again == RunState::Completed {
+            new = RunState::Completed;
+            call(inst, env, ib, |b, c| b.on_complete(c));
+        }
+    }
+    if inst.core.faulted {
+        new = RunState::Disabled;
+        outcome.function = None;
+    }
+
+    let core = &mut inst.core;
+    let updates = if core.updates_var.is_empty() {
+        "n/a".to_string()
+    } else {
+        format!(
+            "{}/{}",
+            core.good_updates,
+            core.good_updates + core.bad_updates
+        )
+    };
+    let status = format!(
+        "{},state={},updates={}",
+        core.status_info,
+        new.as_str(),
+        updates
+    );
+    core.post("BHV_STATUS", Value::Str(status), "");
+    if new != old {
+        core.state_entry_time = now;
+    }
+    core.state = new;
+    if core.iteration == 1 {
+        post_flags(inst, env, ib, FlagKind::Spawnx, true);
+    }
+    outcome
+}
+
+/// A behavior just spawned from a template: its hooks, then its spawnflags.
+pub fn spawned(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) {
+    call(inst, env, ib, |b, c| b.on_params_complete(c));
+    call(inst, env, ib, |b, c| b.on_spawn(c));
+    post_flags(inst, env, ib, FlagKind::Spawn, true);
+}

@@ -1,0 +1,478 @@
+//! The SVG picture of a run: the track, the `VIEW_*` objects the behaviors posted
+//! (waypoint paths, polygons, points, circles), start and end marks, a scale bar, a
+//! legend and a title line. Plain SVG 1.1, x east, y north, equal scales.
+
+use std::fmt::Write as _;
+
+use super::observe::{Observer, ViewKind};
+
+const W: f64 = 900.0;
+const H: f64 = 700.0;
+/// Margin around the drawing; the legend and the title live in it.
+const MARGIN: f64 = 60.0;
+
+const TRACK: &str = "#1f6fd1";
+const PATH: &str = "#e07b00";
+const POLY: &str = "#8e44ad";
+const POINT: &str = "#2b2b2b";
+const CIRCLE: &str = "#7f8c8d";
+const OTHERS: &str = "#6baed6";
+const START: &str = "#1e9e46";
+const END: &str = "#d62728";
+
+/// A drawable object parsed from a `VIEW_*` spec.
+enum Shape {
+    Path(Vec<(f64, f64)>, String),
+    Polygon(Vec<(f64, f64)>, String),
+    Point(f64, f64, String),
+    Circle(f64, f64, f64, String),
+}
+
+fn field(spec: &str, key: &str) -> Option<f64> {
+    spec.split(',')
+        .filter_map(|f| f.split_once('='))
+        .find(|(k, _)| k.trim().eq_ignore_ascii_case(key))
+        .and_then(|(_, v)| v.trim().parse().ok())
+        .filter(|v: &f64| v.is_finite())
+}
+
+fn shapes(obs: &Observer) -> Vec<Shape> {
+    let mut out = Vec::new();
+    for ((kind, label), spec) in &obs.views {
+        let label = label.clone();
+        match kind {
+            ViewKind::Seglist => {
+                if let Some(s) = geometry::parse_seglist(spec) {
+                    out.push(Shape::Path(
+                        s.pts.iter().map(|v| (v.x, v.y)).collect(),
+                        label,
+                    ));
+                }
+            }
+            ViewKind::Polygon => {
+                if let Some(p) = geometry::parse_polygon(spec) {
+                    let pts = p.vertices().iter().map(|v| (v.x, v.y)).collect();
+                    out.push(Shape::Polygon(pts, label));
+                }
+            }
+            ViewKind::Point => {
+                if let Some(p) = geometry::parse_point(spec) {
+                    out.push(Shape::Point(p.x, p.y, label));
+                }
+            }
+            ViewKind::Circle => {
+                if let (Some(x), Some(y), Some(r)) =
+                    (field(spec, "x"), field(spec, "y"), field(spec, "radius"))
+                {
+                    out.push(Shape::Circle(x, y, r, label));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// World box → screen mapping (equal scales, y up).
+struct View {
+    x0: f64,
+    y1: f64,
+    scale: f64,
+    ox: f64,
+    oy: f64,
+}
+
+impl View {
+    fn fit(pts: &[(f64, f64)]) -> View {
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for &(x, y) in pts {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        if x0 > x1 {
+            (x0, x1, y0, y1) = (-10.0, 10.0, -10.0, 10.0);
+        }
+        // At least 20 m across, and a 5% border.
+        let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+        let half_w = ((x1 - x0) / 2.0).max(10.0) * 1.05;
+        let half_h = ((y1 - y0) / 2.0).max(10.0) * 1.05;
+        let (aw, ah) = (W - 2.0 * MARGIN - 170.0, H - 2.0 * MARGIN);
+        let scale = (aw / (2.0 * half_w)).min(ah / (2.0 * half_h));
+        let (x0, y1) = (cx - half_w, cy + half_h);
+        // Centre the drawing in the area left of the legend.
+        let ox = MARGIN + (aw - 2.0 * half_w * scale) / 2.0;
+        let oy = MARGIN + (ah - 2.0 * half_h * scale) / 2.0;
+        View {
+            x0,
+            y1,
+            scale,
+            ox,
+            oy,
+        }
+    }
+
+    fn p(&self, x: f64, y: f64) -> (f64, f64) {
+        (
+            self.ox + (x - self.x0) * self.scale,
+            self.oy + (self.y1 - y) * self.scale,
+        )
+    }
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn poly_points(v: &View, pts: &[(f64, f64)]) -> String {
+    let mut s = String::new();
+    for &(x, y) in pts {
+        let (px, py) = v.p(x, y);
+        let _ = write!(s, "{px:.1},{py:.1} ");
+    }
+    s
+}
+
+/// A round scale-bar length near a fifth of the drawing width (m).
+fn nice_length(width_m: f64) -> f64 {
+    let target = (width_m / 5.0).max(1.0);
+    let p = 10f64.powf(target.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * p)
+        .rfind(|l| *l <= target)
+        .unwrap_or(p)
+}
+
+/// The picture, as SVG text. `title` is the first line (mission, end reason, time).
+pub fn svg(obs: &Observer, title: &str, subtitle: &str) -> String {
+    svg_with_tracks(obs, &[], title, subtitle)
+}
+
+/// [`svg`] with other runs' tracks drawn thin under this run's (Monte Carlo).
+pub fn svg_with_tracks(
+    obs: &Observer,
+    others: &[Vec<(f64, f64)>],
+    title: &str,
+    subtitle: &str,
+) -> String {
+    let shapes = shapes(obs);
+    let track = obs.track.points();
+    let mut all: Vec<(f64, f64)> = track.clone();
+    for t in others {
+        all.extend(t);
+    }
+    for s in &shapes {
+        match s {
+            Shape::Path(p, _) | Shape::Polygon(p, _) => all.extend(p),
+            Shape::Point(x, y, _) => all.push((*x, *y)),
+            Shape::Circle(x, y, r, _) => {
+                all.push((x - r, y - r));
+                all.push((x + r, y + r));
+            }
+        }
+    }
+    let v = View::fit(&all);
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="Helvetica, Arial, sans-serif">"#
+    );
+    let _ = writeln!(o, r##"<rect width="{W}" height="{H}" fill="#ffffff"/>"##);
+    let _ = writeln!(
+        o,
+        r##"<text x="{MARGIN}" y="28" font-size="18" font-weight="bold" fill="#222">{}</text>"##,
+        esc(title)
+    );
+    let _ = writeln!(
+        o,
+        r##"<text x="{MARGIN}" y="48" font-size="13" fill="#555">{}</text>"##,
+        esc(subtitle)
+    );
+    // Polygons and circles first (areas), then paths, then the track on top.
+    for s in &shapes {
+        match s {
+            Shape::Polygon(p, label) => {
+                let _ = writeln!(
+                    o,
+                    r#"<polygon points="{}" fill="{POLY}" fill-opacity="0.08" stroke="{POLY}" stroke-width="1.5"/>"#,
+                    poly_points(&v, p)
+                );
+                if let Some(&(x, y)) = p.first() {
+                    label_at(&mut o, &v, x, y, label, POLY);
+                }
+            }
+            Shape::Circle(x, y, r, label) => {
+                let (px, py) = v.p(*x, *y);
+                let _ = writeln!(
+                    o,
+                    r#"<circle cx="{px:.1}" cy="{py:.1}" r="{:.1}" fill="none" stroke="{CIRCLE}" stroke-width="1.2" stroke-dasharray="3,3"/>"#,
+                    r * v.scale
+                );
+                label_at(&mut o, &v, *x, y + r, label, CIRCLE);
+            }
+            _ => {}
+        }
+    }
+    for s in &shapes {
+        if let Shape::Path(p, label) = s {
+            let _ = writeln!(
+                o,
+                r#"<polyline points="{}" fill="none" stroke="{PATH}" stroke-width="1.5" stroke-dasharray="6,4"/>"#,
+                poly_points(&v, p)
+            );
+            for (i, &(x, y)) in p.iter().enumerate() {
+                let (px, py) = v.p(x, y);
+                let _ = writeln!(
+                    o,
+                    r##"<circle cx="{px:.1}" cy="{py:.1}" r="5" fill="#fff" stroke="{PATH}" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="11" fill="{PATH}">{}</text>"##,
+                    px + 7.0,
+                    py - 7.0,
+                    i + 1
+                );
+            }
+            if let Some(&(x, y)) = p.first() {
+                label_at(&mut o, &v, x, y, label, PATH);
+            }
+        }
+    }
+    for t in others.iter().filter(|t| t.len() > 1) {
+        let _ = writeln!(
+            o,
+            r#"<polyline points="{}" fill="none" stroke="{OTHERS}" stroke-opacity="0.25" stroke-width="0.8"/>"#,
+            poly_points(&v, t)
+        );
+    }
+    if track.len() > 1 {
+        let _ = writeln!(
+            o,
+            r#"<polyline points="{}" fill="none" stroke="{TRACK}" stroke-width="2.2" stroke-linejoin="round"/>"#,
+            poly_points(&v, &track)
+        );
+    }
+    for s in &shapes {
+        if let Shape::Point(x, y, label) = s {
+            let (px, py) = v.p(*x, *y);
+            let _ = writeln!(
+                o,
+                r#"<path d="M{:.1},{py:.1} L{px:.1},{:.1} L{:.1},{py:.1} L{px:.1},{:.1} Z" fill="{POINT}"/>"#,
+                px - 4.0,
+                py - 4.0,
+                px + 4.0,
+                py + 4.0
+            );
+            label_above(&mut o, &v, *x, *y, label, POINT);
+        }
+    }
+    if let Some((x, y)) = obs.track.last() {
+        let (px, py) = v.p(x, y);
+        let _ = writeln!(
+            o,
+            r##"<rect x="{:.1}" y="{:.1}" width="12" height="12" fill="{END}" stroke="#fff" stroke-width="1.5"/>"##,
+            px - 6.0,
+            py - 6.0
+        );
+    }
+    if let Some((x, y)) = obs.track.first() {
+        let (px, py) = v.p(x, y);
+        let _ = writeln!(
+            o,
+            r##"<circle cx="{px:.1}" cy="{py:.1}" r="9" fill="none" stroke="{START}" stroke-width="3"/>"##
+        );
+    }
+    // Scale bar, bottom left.
+    let width_m = (W - 2.0 * MARGIN - 170.0) / v.scale;
+    let len = nice_length(width_m);
+    let (bx, by) = (MARGIN, H - 25.0);
+    let bw = len * v.scale;
+    let _ = writeln!(
+        o,
+        r##"<path d="M{bx},{by} h{bw:.1} M{bx},{:.1} v10 M{:.1},{:.1} v10" stroke="#222" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="12" fill="#222">{len} m</text>"##,
+        by - 5.0,
+        bx + bw,
+        by - 5.0,
+        bx + bw + 8.0,
+        by + 4.0
+    );
+    legend(&mut o, &shapes, !others.is_empty());
+    o.push_str("</svg>\n");
+    o
+}
+
+fn label_above(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) {
+    if label.is_empty() {
+        return;
+    }
+    let (px, py) = v.p(x, y);
+    let _ = writeln!(
+        o,
+        r#"<text x="{:.1}" y="{:.1}" font-size="10" fill="{color}" fill-opacity="0.8">{}</text>"#,
+        px + 8.0,
+        py - 8.0,
+        esc(label)
+    );
+}
+
+fn label_at(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) {
+    if label.is_empty() {
+        return;
+    }
+    let (px, py) = v.p(x, y);
+    let _ = writeln!(
+        o,
+        r#"<text x="{:.1}" y="{:.1}" font-size="11" fill="{color}">{}</text>"#,
+        px + 8.0,
+        py + 14.0,
+        esc(label)
+    );
+}
+
+fn legend(o: &mut String, shapes: &[Shape], others: bool) {
+    let x = W - 200.0;
+    let top = MARGIN + 10.0;
+    let has = |f: fn(&Shape) -> bool| shapes.iter().any(f);
+    type Sym = fn(f64, f64) -> String;
+    let mut items: Vec<(Sym, &str)> = vec![
+        (
+            |x, y| format!(r#"<path d="M{x},{y} h22" stroke="{TRACK}" stroke-width="2.2"/>"#),
+            "vehicle track",
+        ),
+        (
+            |x, y| {
+                format!(
+                    r#"<circle cx="{:.0}" cy="{y}" r="6" fill="{START}"/>"#,
+                    x + 11.0
+                )
+            },
+            "start (ring)",
+        ),
+        (
+            |x, y| {
+                format!(
+                    r#"<rect x="{:.0}" y="{:.0}" width="12" height="12" fill="{END}"/>"#,
+                    x + 5.0,
+                    y - 6.0
+                )
+            },
+            "end",
+        ),
+    ];
+    if others {
+        items[0].1 = "track, unperturbed run";
+        items.push((
+            |x, y| format!(r#"<path d="M{x},{y} h22" stroke="{OTHERS}" stroke-width="1.5"/>"#),
+            "tracks, perturbed runs",
+        ));
+    }
+    if has(|s| matches!(s, Shape::Path(..))) {
+        items.push((
+            |x, y| {
+                format!(
+                    r#"<path d="M{x},{y} h22" stroke="{PATH}" stroke-width="1.5" stroke-dasharray="6,4"/>"#
+                )
+            },
+            "waypoints (VIEW_SEGLIST)",
+        ));
+    }
+    if has(|s| matches!(s, Shape::Polygon(..))) {
+        items.push((
+            |x, y| {
+                format!(
+                    r#"<rect x="{x}" y="{:.0}" width="22" height="12" fill="{POLY}" fill-opacity="0.1" stroke="{POLY}"/>"#,
+                    y - 6.0
+                )
+            },
+            "polygon (VIEW_POLYGON)",
+        ));
+    }
+    if has(|s| matches!(s, Shape::Point(..))) {
+        items.push((
+            |x, y| {
+                format!(
+                    r#"<circle cx="{:.0}" cy="{y}" r="4" fill="{POINT}"/>"#,
+                    x + 11.0
+                )
+            },
+            "point (VIEW_POINT)",
+        ));
+    }
+    if has(|s| matches!(s, Shape::Circle(..))) {
+        items.push((
+            |x, y| {
+                format!(
+                    r#"<circle cx="{:.0}" cy="{y}" r="6" fill="none" stroke="{CIRCLE}" stroke-dasharray="3,3"/>"#,
+                    x + 11.0
+                )
+            },
+            "circle (VIEW_CIRCLE)",
+        ));
+    }
+    let _ = writeln!(
+        o,
+        r##"<rect x="{:.0}" y="{:.0}" width="185" height="{}" fill="#fafafa" stroke="#ccc"/>"##,
+        x - 10.0,
+        top - 18.0,
+        22.0 * items.len() as f64 + 14.0
+    );
+    for (i, (sym, text)) in items.iter().enumerate() {
+        let y = top + 22.0 * i as f64;
+        let _ = writeln!(
+            o,
+            r##"{}<text x="{:.0}" y="{:.0}" font-size="12" fill="#222">{text}</text>"##,
+            sym(x, y),
+            x + 30.0,
+            y + 4.0
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use helm_engine::posting::Value;
+
+    #[test]
+    fn draws_every_kind_and_the_track() {
+        let mut o = Observer::new(0.0, Vec::new());
+        let s = |v: &str| Value::Str(v.into());
+        o.on_posting(
+            "VIEW_SEGLIST",
+            &s("pts={0,0:100,0:100,-50},label=survey"),
+            1.0,
+        );
+        o.on_posting(
+            "VIEW_POLYGON",
+            &s("pts={10,10:20,10:20,20},label=zone"),
+            1.0,
+        );
+        o.on_posting("VIEW_POINT", &s("x=5,y=5,label=next"), 1.0);
+        o.on_posting("VIEW_CIRCLE", &s("x=50,y=-20,radius=10,label=station"), 1.0);
+        for i in 0..10 {
+            o.track.push(i as f64 * 10.0, 0.0);
+        }
+        let svg = svg(&o, "t & <title>", "sub");
+        for has in [
+            "<polyline",
+            "<polygon",
+            "station",
+            "zone",
+            "survey",
+            "20 m</text>",
+            "t &amp; &lt;title&gt;",
+            "VIEW_CIRCLE",
+        ] {
+            assert!(svg.contains(has), "{has} missing");
+        }
+        assert!(svg.ends_with("</svg>\n"));
+    }
+
+    #[test]
+    fn scale_bar_lengths_are_round() {
+        assert_eq!(nice_length(230.0), 20.0);
+        assert_eq!(nice_length(1000.0), 200.0);
+        assert_eq!(nice_length(3.0), 1.0);
+    }
+}
