@@ -25,6 +25,7 @@ pub mod buttons;
 pub mod cli;
 pub mod feed;
 pub mod frame;
+pub mod hosts;
 pub mod live;
 pub mod node;
 pub mod runs;

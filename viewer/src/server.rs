@@ -20,6 +20,7 @@ use thiserror::Error;
 use tiny_http::{Header, Method, Request, Response, StatusCode};
 
 use crate::buttons::Button;
+use crate::hosts::{host_name, loopback_host};
 use crate::live::Hub;
 use crate::runs::Runs;
 
@@ -96,7 +97,14 @@ pub fn start(app: Arc<App>, addr: SocketAddr) -> Result<Serving, ServerError> {
             why: "not an IP address".into(),
         })?;
     let ws_addr = match &app.mode {
-        Mode::Live { hub, .. } => Some(crate::ws::start(hub.clone(), addr.ip(), bound.port())?),
+        Mode::Live { hub, .. } => Some(
+            crate::ws::start(hub.clone(), addr.ip(), bound.port()).map_err(|e| {
+                ServerError::Bind {
+                    addr,
+                    why: format!("WebSocket listener: {e}"),
+                }
+            })?,
+        ),
         Mode::Replay(_) => None,
     };
     let server = Arc::new(server);
@@ -180,27 +188,11 @@ fn respond_json(rq: Request, status: u16, v: &impl serde::Serialize) {
     respond(rq, status, "application/json", body);
 }
 
-/// The host name of a `Host` header (`127.0.0.1:8080`, `[::1]:80`, `localhost`).
-pub(crate) fn host_name(host: &str) -> &str {
-    if let Some(rest) = host.strip_prefix('[') {
-        return rest.split(']').next().unwrap_or("");
-    }
-    host.rsplit_once(':').map_or(host, |(h, _)| h)
-}
-
 fn query(url: &str) -> impl Iterator<Item = (&str, &str)> {
     url.split_once('?')
         .map_or("", |(_, q)| q)
         .split('&')
         .filter_map(|kv| kv.split_once('='))
-}
-
-/// A `Host` a page on a loopback address may be reached by.
-pub(crate) fn loopback_host(host: &str) -> bool {
-    matches!(
-        host_name(host).to_ascii_lowercase().as_str(),
-        "127.0.0.1" | "localhost" | "::1"
-    )
 }
 
 fn handle(app: &App, rq: Request, ctx: Ctx) {
@@ -353,10 +345,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn host_names_and_queries() {
-        assert_eq!(host_name("127.0.0.1:8080"), "127.0.0.1");
-        assert_eq!(host_name("[::1]:80"), "::1");
-        assert_eq!(host_name("localhost"), "localhost");
+    fn queries() {
         let q: Vec<_> = query("/api/frame?run=2&t=3.5&x").collect();
         assert_eq!(q, [("run", "2"), ("t", "3.5")]);
     }

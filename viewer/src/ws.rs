@@ -11,18 +11,13 @@ use std::sync::Arc;
 use tungstenite::handshake::server::{ErrorResponse, Request, Response};
 use tungstenite::http::StatusCode;
 
+use crate::hosts::{host_name, loopback_host};
 use crate::live::Hub;
-use crate::server::{host_name, loopback_host, ServerError};
 
 /// Listen on `ip` (any free port) for viewers of the page served on `page_port`.
-pub fn start(hub: Arc<Hub>, ip: IpAddr, page_port: u16) -> Result<SocketAddr, ServerError> {
-    let bind = SocketAddr::new(ip, 0);
-    let err = |e: std::io::Error| ServerError::Bind {
-        addr: bind,
-        why: e.to_string(),
-    };
-    let listener = TcpListener::bind(bind).map_err(err)?;
-    let addr = listener.local_addr().map_err(err)?;
+pub fn start(hub: Arc<Hub>, ip: IpAddr, page_port: u16) -> std::io::Result<SocketAddr> {
+    let listener = TcpListener::bind(SocketAddr::new(ip, 0))?;
+    let addr = listener.local_addr()?;
     std::thread::Builder::new()
         .name("view-ws".into())
         .spawn(move || {
@@ -35,8 +30,7 @@ pub fn start(hub: Arc<Hub>, ip: IpAddr, page_port: u16) -> Result<SocketAddr, Se
                     tracing::warn!("cannot start a viewer thread: {e}");
                 }
             }
-        })
-        .map_err(err)?;
+        })?;
     Ok(addr)
 }
 
