@@ -84,6 +84,12 @@ enum Command {
     ///
     /// Example: helm sim missions/alpha
     Sim(helm_sim::cli::SimArgs),
+    /// A map in the browser: live from a MOOSDB, or replaying an .alog or a run folder.
+    ///
+    /// Serves the page on http://127.0.0.1:8080/ (loopback only; --bind exposes it).
+    ///
+    /// Example: helm view runs/alpha-<time>/
+    View(viewer::cli::ViewArgs),
     /// Read a mission as the helm would and report every configuration problem.
     ///
     /// Reads the `ProcessConfig = <alias>` block of MISSION, the `.bhv` files it names
@@ -331,6 +337,7 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
         Command::Sim(args) => helm_sim::cli::main(&args),
+        Command::View(args) => viewer::cli::main(&args),
         Command::Check {
             mission,
             bhv,
