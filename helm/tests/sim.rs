@@ -593,3 +593,47 @@ fn mission_alogs_are_bit_identical_to_the_recorded_ones() {
     }
     assert!(changed.is_empty(), "alogs changed:\n{}", changed.join("\n"));
 }
+
+/// `--runs N --alogs` keeps every run's log beside `runs.csv`, and `helm view` opens the
+/// folder as N runs with the Monte Carlo table (its rows in the logs' order).
+#[test]
+fn monte_carlo_logs_open_as_runs_in_helm_view() {
+    let out = temp_dir("mc-alogs");
+    let m = mission("alpha");
+    let o = helm_sim(
+        &[
+            m.to_str().unwrap(),
+            "--runs",
+            "3",
+            "--jitter",
+            "x=5,y=5,heading=20",
+            "--alogs",
+            "--max-time",
+            "60",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let runs = viewer::runs::open(&out).expect("the folder opens as runs");
+    let names: Vec<&str> = runs.runs.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(names, ["run-0000.alog", "run-0001.alog", "run-0002.alog"]);
+    assert!(
+        runs.table.columns.iter().any(|c| c == "seed"),
+        "{:?}",
+        runs.table.columns
+    );
+    let run_col = runs.table.columns.iter().position(|c| c == "run").unwrap();
+    let rows: Vec<&str> = runs
+        .table
+        .rows
+        .iter()
+        .map(|r| r[run_col].as_str())
+        .collect();
+    assert_eq!(rows, ["0", "1", "2"]);
+    // Each log is its own run: the starts differ (jitter), so the logs differ.
+    let a = std::fs::read(out.join("run-0000.alog")).unwrap();
+    let b = std::fs::read(out.join("run-0001.alog")).unwrap();
+    assert_ne!(a, b);
+}

@@ -34,6 +34,10 @@ pub struct SimArgs {
     /// Start perturbation, uniform in ± each amount: `x=5,y=5,heading=20` (m, m, deg).
     #[arg(long)]
     pub jitter: Option<Jitter>,
+    /// With --runs: also write each run's `.alog` (`run-0000.alog`, ... beside
+    /// `runs.csv`), so `helm view DIR` can replay every run. About 2 MB per alpha run.
+    #[arg(long)]
+    pub alogs: bool,
     /// Exit 3 also when a behavior posted any error or the helm never drove (a
     /// behavior panic always exits 3).
     #[arg(long)]
@@ -155,6 +159,7 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
         args.seed,
         jitter,
         args.max_time,
+        args.alogs.then_some(dir.as_path()),
         &done,
     )?;
     bar.finish_and_clear();

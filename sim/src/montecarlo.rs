@@ -156,13 +156,15 @@ fn min_dists(o: &Outcome) -> BTreeMap<String, f64> {
     out
 }
 
-/// Run `n` simulations with seeds `seed..seed+n`; `done` is called after each.
+/// Run `n` simulations with seeds `seed..seed+n`; `done` is called after each. With
+/// `alog_dir`, run i writes its log there as [`run_alog_name`]`(i, n)`.
 pub fn run_all(
     prep: &Prepared,
     n: usize,
     seed: u64,
     jitter: Jitter,
     max_time: Option<f64>,
+    alog_dir: Option<&std::path::Path>,
     done: &(dyn Fn() + Sync),
 ) -> Result<Vec<Row>, SimError> {
     (0..n)
@@ -174,6 +176,7 @@ pub fn run_all(
                 shift,
                 &RunOptions {
                     max_time,
+                    alog: alog_dir.map(|d| d.join(run_alog_name(i, n))),
                     ..RunOptions::default()
                 },
             )?;
@@ -202,6 +205,14 @@ pub fn run_all(
             })
         })
         .collect()
+}
+
+/// The log of run `i` of `n`: zero-padded (at least 4 digits, more for 10 000 runs or
+/// more) so that sorting the file names keeps the order of `runs.csv`, which `helm view`
+/// relies on.
+pub fn run_alog_name(i: usize, n: usize) -> String {
+    let width = n.saturating_sub(1).max(1).to_string().len().max(4);
+    format!("run-{i:0width$}.alog")
 }
 
 fn csv_field(s: &str) -> String {
@@ -324,6 +335,21 @@ pub fn distribution(rows: &[Row]) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn run_log_names_sort_in_run_order() {
+        assert_eq!(run_alog_name(7, 1000), "run-0007.alog");
+        let mut names: Vec<String> = [9999, 10000, 2]
+            .iter()
+            .map(|&i| run_alog_name(i, 20000))
+            .collect();
+        names.sort();
+        assert_eq!(
+            names,
+            ["run-00002.alog", "run-09999.alog", "run-10000.alog"]
+        );
+    }
+
     use super::*;
 
     #[test]

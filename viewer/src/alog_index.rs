@@ -364,9 +364,9 @@ impl AlogIndex {
         }
         f.objects = state
             .values()
-            .filter_map(|&i| match &self.events[i].1 {
-                ViewChange::Draw(s) => Some((**s).clone()),
-                ViewChange::Erase(_) => None,
+            .filter_map(|&i| match &self.events[i] {
+                (posted, ViewChange::Draw(s)) if s.alive(*posted, t) => Some((**s).clone()),
+                _ => None,
             })
             .collect::<Vec<Shape>>();
         f.vars = self.vars.at(t);

@@ -31,6 +31,8 @@ struct Scene {
     vehicles: BTreeMap<String, VehicleState>,
     trails: BTreeMap<String, Vec<[f64; 2]>>,
     objects: BTreeMap<String, Shape>,
+    /// When each shape with a `duration=` was posted.
+    posted: BTreeMap<String, f64>,
     vars: BTreeMap<String, String>,
     appcasts: BTreeMap<String, Appcast>,
     skipped: String,
@@ -125,11 +127,17 @@ impl Hub {
             }
             Update::View(ViewChange::Draw(s)) => {
                 pending.removed.remove(&s.key);
+                if s.duration.is_some() {
+                    scene.posted.insert(s.key.clone(), t);
+                } else {
+                    scene.posted.remove(&s.key);
+                }
                 scene.objects.insert(s.key.clone(), (*s).clone());
                 pending.objects.insert(s.key.clone(), *s);
             }
             Update::View(ViewChange::Erase(k)) => {
                 pending.objects.remove(&k);
+                scene.posted.remove(&k);
                 if scene.objects.remove(&k).is_some() {
                     pending.removed.insert(k);
                 }
@@ -141,6 +149,23 @@ impl Hub {
             Update::Appcast(a) => {
                 scene.appcasts.insert(a.key.clone(), a.clone());
                 pending.appcasts.insert(a.key.clone(), a);
+            }
+        }
+        // Shapes whose `duration=` ran out by now go, as if erased.
+        if !scene.posted.is_empty() {
+            let now = scene.t;
+            let objects = &scene.objects;
+            let expired: Vec<String> = scene
+                .posted
+                .iter()
+                .filter(|(k, &p)| objects.get(*k).is_some_and(|s| !s.alive(p, now)))
+                .map(|(k, _)| k.clone())
+                .collect();
+            for k in expired {
+                scene.posted.remove(&k);
+                scene.objects.remove(&k);
+                pending.objects.remove(&k);
+                pending.removed.insert(k);
             }
         }
         st.applied += 1;
@@ -286,5 +311,28 @@ pub fn pump(
             skipped = total;
             hub.set_skipped(crate::alog_index::summary(&feed.skipped));
         }
+    }
+}
+
+#[cfg(test)]
+mod duration_tests {
+    use super::*;
+    use crate::view::read_view;
+
+    #[test]
+    fn a_live_shape_with_a_duration_expires_as_time_moves_on() {
+        let hub = Hub::default();
+        let draw = |v: &str, s: &str| Update::View(read_view(v, s).expect("readable"));
+        hub.apply(
+            10.0,
+            draw("VIEW_POLYGON", "pts={0,0:10,0:10,10},label=zone,duration=5"),
+        );
+        hub.apply(10.0, draw("VIEW_POINT", "x=1,y=1,label=stay"));
+        hub.apply(12.0, Update::Var("DEPLOY".into(), "true".into()));
+        assert!(hub.subscribe().0.contains("polygon:zone"));
+        hub.apply(15.5, Update::Var("DEPLOY".into(), "false".into()));
+        let (full, _) = hub.subscribe();
+        assert!(!full.contains("polygon:zone"), "{full}");
+        assert!(full.contains("point:stay"), "{full}");
     }
 }

@@ -76,6 +76,17 @@ pub struct Shape {
     /// Marker scale (default 1).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scale: Option<f64>,
+    /// `duration=` (seconds, > 0): the shape is gone that long after it was posted, as
+    /// pMarineViewer draws it; none (or 0, or negative) keeps it until replaced or erased.
+    #[serde(skip)]
+    pub duration: Option<f64>,
+}
+
+impl Shape {
+    /// Whether a shape posted at `posted` is still drawn at `t`.
+    pub fn alive(&self, posted: f64, t: f64) -> bool {
+        self.duration.is_none_or(|d| t < posted + d)
+    }
 }
 
 /// Read one VIEW_* posting. `var` must be one of [`VIEW_VARS`].
@@ -148,6 +159,7 @@ pub fn read_view(var: &str, value: &str) -> Result<ViewChange, ViewError> {
         vertex_size: attrs.vertex_size,
         edge_size: attrs.edge_size,
         scale: extra.scale,
+        duration: attrs.duration.filter(|d| *d > 0.0 && d.is_finite()),
     })))
 }
 

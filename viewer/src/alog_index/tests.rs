@@ -115,3 +115,18 @@ fn empty_and_header_only_logs_open() {
     let ix = index(HEADER.as_bytes());
     assert_eq!(ix.lines, 0);
 }
+
+#[test]
+fn a_shape_with_a_duration_is_gone_that_long_after_it_was_posted() {
+    let mut s = String::from(HEADER);
+    s.push_str("10.0 VIEW_POLYGON b pts={0,0:10,0:10,10},label=zone,duration=5\n");
+    s.push_str("10.0 VIEW_POINT b x=1,y=1,label=stay\n");
+    s.push_str("20.0 VIEW_POINT b x=2,y=2,label=late\n");
+    let ix = index(s.as_bytes());
+    let keys =
+        |t: f64| -> Vec<String> { ix.frame(t).objects.iter().map(|o| o.key.clone()).collect() };
+    assert!(keys(12.0).contains(&"polygon:zone".to_string()));
+    assert!(keys(14.9).contains(&"polygon:zone".to_string()));
+    assert!(!keys(15.0).contains(&"polygon:zone".to_string()));
+    assert!(keys(30.0).contains(&"point:stay".to_string()));
+}
