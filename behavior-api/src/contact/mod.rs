@@ -146,6 +146,17 @@ impl ContactBase {
         }
     }
 
+    /// [`ContactBase::set_param`] from a behavior's `set_param`: when the contact was
+    /// set, the helm is told (`Ctx::set_contact`, for `IVPHELM_CONTACT_SUMMARY`), so a
+    /// contact behavior cannot forget it.
+    pub fn set_param_with(&mut self, ctx: &mut Ctx<'_>, param: &str, value: &str) -> Option<bool> {
+        let ok = self.set_param(param, value)?;
+        if ok && param == "contact" {
+            ctx.set_contact(&self.contact);
+        }
+        Some(ok)
+    }
+
     /// A base parameter (name lower-cased): `None` when `param` is not one, else
     /// whether the value was accepted.
     pub fn set_param(&mut self, param: &str, value: &str) -> Option<bool> {

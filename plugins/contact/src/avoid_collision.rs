@@ -135,10 +135,7 @@ impl IvpBehavior for AvoidCollision {
 
     fn set_param(&mut self, ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
         let param = param.to_ascii_lowercase();
-        if let Some(ok) = self.base.set_param(&param, value) {
-            if ok && param == "contact" {
-                ctx.set_contact(&self.base.contact);
-            }
+        if let Some(ok) = self.base.set_param_with(ctx, &param, value) {
             return ok;
         }
         let v = value.trim();

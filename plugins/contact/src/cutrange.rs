@@ -110,10 +110,7 @@ impl IvpBehavior for CutRange {
 
     fn set_param(&mut self, ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
         let param = param.to_ascii_lowercase();
-        if let Some(ok) = self.base.set_param(&param, value) {
-            if ok && param == "contact" {
-                ctx.set_contact(&self.base.contact);
-            }
+        if let Some(ok) = self.base.set_param_with(ctx, &param, value) {
             return ok;
         }
         let num = parse_number(value);
