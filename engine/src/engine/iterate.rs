@@ -201,15 +201,22 @@ impl Helm {
     /// `IVPHELM_CONTACT_SUMMARY` (while a behavior has a contact) and
     /// `IVPHELM_LEDGER_SUMMARY`.
     fn maintain_ledger(&mut self, now: f64) {
-        let ledger = &mut self.env.ledger;
+        // Field by field, so the summaries go straight from the ledger into the posting
+        // (no extra copy each iteration).
+        let (ledger, outbox) = (&mut self.env.ledger, &mut self.outbox);
+        let post = |outbox: &mut Vec<Posting>, var: &str, text: &str| {
+            outbox.push(Posting {
+                var: var.to_string(),
+                value: Value::Str(text.to_string()),
+                source_aux: String::new(),
+            })
+        };
         ledger.maintain(now);
         let keep = self.behaviors.iter().map(|b| b.core.contact.as_str());
         if let Some(kept) = ledger.contact_summary(keep) {
-            let kept = kept.to_string();
-            self.post_str("IVPHELM_CONTACT_SUMMARY", &kept);
+            post(outbox, "IVPHELM_CONTACT_SUMMARY", kept);
         }
-        let summary = self.env.ledger.summary().to_string();
-        self.post_str("IVPHELM_LEDGER_SUMMARY", &summary);
+        post(outbox, "IVPHELM_LEDGER_SUMMARY", ledger.summary());
     }
 
     fn post_turn_rate(&mut self, now: f64) {
