@@ -110,11 +110,13 @@ enum Command {
     },
     /// Replay conformance cases recorded from the real C++ helm and compare.
     ///
-    /// PATH is a case file (`*.toml`) or a folder of them. Prints one line per failing
-    /// case (case, step, variable, expected, got: its first difference) and ends with
-    /// `N passed, M failed`; exits 1 if any case failed. Behavior libraries are
-    /// loaded from the colon-separated directories in IVP_BEHAVIOR_DIRS, then beside
-    /// the helm binary.
+    /// PATH is a case file (`*.toml`) or a folder of them (searched recursively; none
+    /// found: exit 2). Prints one line per failing case (case, step, variable, expected,
+    /// got: its first difference) and ends with `N passed, M failed`; exits 1 if any
+    /// case failed. A case naming a behavior type this project does not have yet is
+    /// listed as `waiting for its behavior types: ...` and neither passes nor fails.
+    /// Behavior libraries are loaded from the colon-separated directories in
+    /// IVP_BEHAVIOR_DIRS, then beside the helm binary.
     Conform {
         /// Print every difference, not only the first of each failing case.
         #[arg(long)]
