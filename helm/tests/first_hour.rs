@@ -491,3 +491,142 @@ fn help_is_one_text_and_a_phelmivp_link_refuses_subcommands() {
     assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
     assert!(common::text(&o).contains("run it as `helm sim ...`"));
 }
+
+#[test]
+fn run_embedded_takes_a_mission_folder() {
+    // alpha on a port of its own, copied into a folder: the folder is the argument.
+    let port = common::free_port();
+    let dir = alpha_copy("run-dir", |m| {
+        m.replace("ServerPort = 9000", &format!("ServerPort = {port}"))
+    });
+    let alog = dir.join("run.alog");
+    let o = helm(&[
+        "run",
+        "--embedded",
+        dir.to_str().expect("utf-8"),
+        "--duration",
+        "20",
+        "--quiet",
+        "--alog",
+        alog.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+    let log = std::fs::read_to_string(&alog).expect("the run wrote its log");
+    assert!(
+        log.lines().any(|l| l.contains("DESIRED_SPEED")),
+        "the helm of the folder's mission ran"
+    );
+}
+
+// ---- point 12: Ctrl-C during a Monte Carlo keeps the finished runs ----------------------
+
+#[test]
+fn ctrl_c_during_a_monte_carlo_keeps_the_finished_runs() {
+    use std::io::BufRead;
+    let dir = alpha_copy("interrupt", |m| m.to_string());
+    let out = dir.join("mc");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args([
+            "sim",
+            dir.to_str().expect("utf-8"),
+            "--runs",
+            "200",
+            "--out",
+        ])
+        .arg(&out)
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start helm sim --runs 200");
+    // Off a terminal, progress comes as lines on stderr: wait for one that counts a run.
+    let stderr = child.stderr.take().expect("stderr");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut all = Vec::new();
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            let _ = tx.send(line.clone());
+            all.push(line);
+        }
+        all
+    });
+    let progressed = loop {
+        match rx.recv_timeout(std::time::Duration::from_secs(300)) {
+            Ok(l) if l.starts_with("runs ") => {
+                let n: u64 = l[5..]
+                    .split('/')
+                    .next()
+                    .and_then(|n| n.parse().ok())
+                    .unwrap_or(0);
+                if n >= 1 {
+                    break n;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => panic!("no progress line off a terminal: {e}"),
+        }
+    };
+    // SAFETY: kill(2) on our own child's pid.
+    let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    assert_eq!(sent, 0);
+    let o = child.wait_with_output().expect("wait");
+    let lines = reader.join().expect("reader");
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(130), "{stdout}\n{lines:?}");
+    // "alpha: interrupted after N of 200 runs", and runs.csv holds those N rows.
+    let said = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("alpha: interrupted after "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let n: usize = said
+        .strip_suffix(" of 200 runs")
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{said}"));
+    assert!(n as u64 >= progressed && n < 200, "{n} after {progressed}");
+    let csv = std::fs::read_to_string(out.join("runs.csv")).expect("runs.csv kept");
+    assert_eq!(
+        csv.lines().count(),
+        n + 1,
+        "header and one row per finished run"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.txt")).expect("summary.txt");
+    assert!(summary.starts_with(&format!("alpha: interrupted after {n} of 200 runs")));
+    assert!(
+        !out.join("runs.svg").exists(),
+        "no picture of a Monte Carlo that did not finish"
+    );
+}
+
+// ---- point 14 (rest): NothingToDo at a mission's normal end is no failure ----------------
+
+#[test]
+fn nothing_to_do_at_the_normal_end_is_not_a_failure() {
+    let dir = alpha_copy("nothing-to-do", |m| m.to_string());
+    let (o, out) = sim(&dir, &[]);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(0), "{stdout}");
+    // alpha's helm says NothingToDo once its waypoints are done: listed apart.
+    let stops = summary(&out)["allstops"].to_string();
+    assert!(stops.contains("NothingToDo"), "{stops}");
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("all-stops:"))
+        .unwrap_or_default();
+    assert!(
+        line.contains("all-stops: none (idle, no behavior active: NothingToDo at"),
+        "{stdout}"
+    );
+    let svg = std::fs::read_to_string(out.join("alpha.svg")).expect("svg");
+    assert!(
+        svg.contains(" 0 all-stop(s)"),
+        "the picture counts no failure"
+    );
+    // A Monte Carlo does not count it as a run with an all-stop.
+    let (o, _) = sim(&dir, &["--runs", "2"]);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(stdout.contains("runs with all-stop  none"), "{stdout}");
+}

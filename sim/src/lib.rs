@@ -23,6 +23,7 @@
 
 pub mod bus;
 pub mod cli;
+pub mod interrupt;
 pub mod montecarlo;
 pub mod observe;
 pub mod output;
