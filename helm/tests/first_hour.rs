@@ -630,3 +630,60 @@ fn nothing_to_do_at_the_normal_end_is_not_a_failure() {
     let stdout = String::from_utf8_lossy(&o.stdout).to_string();
     assert!(stdout.contains("runs with all-stop  none"), "{stdout}");
 }
+
+// ---- point 10: a helm copied alone says where its bundled libraries belong -------------
+
+#[test]
+fn a_helm_copied_alone_says_its_bundled_libraries_are_missing() {
+    let dir = common::temp_dir("helm-first-hour-alone");
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).expect("mkdir");
+    let helm = bin.join("helm");
+    std::fs::copy(env!("CARGO_BIN_EXE_helm"), &helm)
+        .expect("copy the binary, as cargo install does");
+    let mission = common::workspace().join("missions/plugins");
+    let out = dir.join("out");
+    for args in [
+        vec!["check"],
+        vec!["sim", "--out", out.to_str().expect("utf-8")],
+    ] {
+        let cmd = args[0];
+        let o = Command::new(&helm)
+            .args(&args)
+            .arg(&mission)
+            .env_remove("IVP_HELM_BUNDLED_DIR")
+            .env_remove("IVP_BEHAVIOR_DIRS")
+            .output()
+            .expect("run the copied helm");
+        let t = common::text(&o);
+        assert_eq!(o.status.code(), Some(1), "{cmd}: {t}");
+        let said = format!(
+            "BHV_ConstantSpeed (directories searched: {} (bundled)): it is one of the helm's \
+             shipped libraries: bundled behavior libraries not found beside {} (nor in \
+             ../lib/ivp-helm from it); set IVP_BEHAVIOR_DIRS=",
+            bin.display(),
+            helm.display()
+        );
+        assert!(t.contains(&said), "{cmd}: {t}");
+        assert!(!t.contains("did you mean BHV_ConstantSpeed"), "{t}");
+    }
+    // Beside the libraries it finds them: the same mission is fine.
+    let four = [
+        "bhv-constant-speed",
+        "bhv-constant-heading",
+        "bhv-constant-depth",
+        "bhv-station-keep",
+    ];
+    let built = common::build_plugins(&four);
+    for p in four {
+        let name = common::lib_name(p);
+        std::fs::copy(built.join(&name), bin.join(&name)).expect("copy a library");
+    }
+    let o = Command::new(&helm)
+        .args(["check", mission.to_str().expect("utf-8")])
+        .env_remove("IVP_HELM_BUNDLED_DIR")
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .output()
+        .expect("run the copied helm");
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+}
