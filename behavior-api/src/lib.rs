@@ -71,6 +71,9 @@ pub mod testing;
 pub mod value;
 pub mod zaic;
 
+// The tutorial's files are shown whole, their `#[cfg(test)]` tests included: rustdoc
+// compiles them, and helm/tests/plugin_copy.rs builds them as crates and runs the tests.
+#[allow(clippy::test_attr_in_doctest)]
 #[doc = include_str!("../TUTORIAL.md")]
 pub mod tutorial {}
 

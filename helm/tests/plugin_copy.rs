@@ -215,7 +215,10 @@ fn the_tutorial_pasted_as_shown_builds_and_its_mission_drives() {
             return;
         };
         let said = text(&tested);
-        assert!(said.contains("test result: ok. 1 passed"), "its test ran: {said}");
+        assert!(
+            said.contains("test result: ok. 1 passed"),
+            "its test ran: {said}"
+        );
         cargo(&dir, &["build"]);
     }
     let libs = lib_alone(&root, "bhv-cruise");
