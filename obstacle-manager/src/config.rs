@@ -4,6 +4,7 @@
 
 use crate::alert::{AlertRequest, RequestError};
 use crate::flags::{Flag, FlagError, MailFlag};
+use crate::obstacle::{Given, GivenError};
 
 /// A configuration line that was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -28,6 +29,8 @@ pub enum ConfigError {
     GeneralAlert(RequestError),
     #[error("{0}")]
     Flag(#[from] FlagError),
+    #[error("given_obstacle: {0}: {1}")]
+    Given(GivenError, String),
 }
 
 /// The OBM_DIST_TO_OBJ policy (`post_dist_to_polys`).
@@ -160,13 +163,7 @@ impl Config {
         match p.as_str() {
             "point_var" => self.point_var = var_name(&p, v)?,
             "given_obstacle" | "given_obstable" => {
-                if v.is_empty() {
-                    return Err(ConfigError::BadValue {
-                        param: p,
-                        value: v.into(),
-                        msg: "empty polygon",
-                    });
-                }
+                Given::parse(v).map_err(|e| ConfigError::Given(e, v.into()))?;
                 self.given.push(v.to_string());
             }
             "alert_range" => self.alert_range = number(&p, v, true)?,
@@ -295,6 +292,7 @@ mod tests {
             ("general_alert", "update_var=G, alert_range=3, colour=red"),
             ("point_var", "TWO WORDS"),
             ("new_obs_flag", "NOEQUALS"),
+            ("given_obstacle", "pts={0,0:10,0:5,1:10,10:0,10},label=c"),
             ("bogus", "1"),
         ] {
             assert!(c.set(p, v).is_err(), "{p} = {v}");

@@ -19,7 +19,7 @@ pub enum PointError {
 /// A refused given obstacle.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum GivenError {
-    #[error("not a polygon")]
+    #[error("not a convex polygon")]
     NotAPolygon,
     #[error("polygon is not convex")]
     NotConvex,
