@@ -33,6 +33,9 @@ pub enum ConfigError {
     Given(GivenError, String),
 }
 
+/// Most vertices of a lasso polygon (the reference has no limit).
+pub const MAX_LASSO_POINTS: usize = 1000;
+
 /// The OBM_DIST_TO_OBJ policy (`post_dist_to_polys`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DistPolicy {
@@ -221,7 +224,9 @@ impl Config {
                     self.notes
                         .push("lasso_points must be at least 3 points".into());
                 }
-                self.lasso_points = n.max(3);
+                // Capped: each hull is a polygon of this many vertices, checked for
+                // convexity in quadratic time every iteration.
+                self.lasso_points = n.clamp(3, MAX_LASSO_POINTS);
             }
             "lasso_radius" => {
                 let r = mbutil::parse_number(v)
