@@ -118,13 +118,29 @@ pub struct PairStats {
     pub collisions: u32,
 }
 
+impl PairStats {
+    fn new() -> PairStats {
+        PairStats {
+            prev: -1.0,
+            dist: -1.0,
+            encounter_min: -1.0,
+            closest: f64::INFINITY,
+            encounters: 0,
+            near_misses: 0,
+            collisions: 0,
+        }
+    }
+}
+
 /// uFldCollObDetect's state: the known obstacles and the pair table.
 #[derive(Clone, Debug)]
 pub struct CollisionDetector {
     cfg: CollisionConfig,
     /// label → (polygon, arrival time).
     obstacles: BTreeMap<String, (Polygon, f64)>,
-    pairs: BTreeMap<(String, String), PairStats>,
+    /// vehicle → obstacle label → stats (nested, so a step looks pairs up without
+    /// building keys).
+    pairs: BTreeMap<String, BTreeMap<String, PairStats>>,
     global_min: Option<f64>,
     encounters: u32,
     near_misses: u32,
@@ -176,8 +192,11 @@ impl CollisionDetector {
         self.global_min
     }
     /// ((vehicle, obstacle label), stats), sorted.
-    pub fn pairs(&self) -> impl Iterator<Item = (&(String, String), &PairStats)> {
-        self.pairs.iter()
+    pub fn pairs(&self) -> impl Iterator<Item = ((&str, &str), &PairStats)> {
+        self.pairs.iter().flat_map(|(v, m)| {
+            m.iter()
+                .map(move |(label, s)| ((v.as_str(), label.as_str()), s))
+        })
     }
     pub fn obstacles(&self) -> impl Iterator<Item = (&str, &Polygon)> {
         self.obstacles.iter().map(|(k, (p, _))| (k.as_str(), p))
@@ -201,16 +220,18 @@ impl CollisionDetector {
                     self.global_min = Some(d);
                     self.postings.push(Posting::num("OB_GLOBAL_MIN", d));
                 }
-                let key = (vname.to_string(), label.clone());
-                let s = self.pairs.entry(key).or_insert(PairStats {
-                    prev: -1.0,
-                    dist: -1.0,
-                    encounter_min: -1.0,
-                    closest: f64::INFINITY,
-                    encounters: 0,
-                    near_misses: 0,
-                    collisions: 0,
-                });
+                if !self.pairs.contains_key(vname) {
+                    self.pairs.insert(vname.to_string(), BTreeMap::new());
+                }
+                let Some(per_vehicle) = self.pairs.get_mut(vname) else {
+                    continue;
+                };
+                if !per_vehicle.contains_key(label) {
+                    per_vehicle.insert(label.clone(), PairStats::new());
+                }
+                let Some(s) = per_vehicle.get_mut(label) else {
+                    continue;
+                };
                 s.prev = s.dist;
                 s.dist = d;
                 s.closest = s.closest.min(d);

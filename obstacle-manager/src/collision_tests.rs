@@ -67,10 +67,7 @@ fn encounters_near_misses_and_collisions() {
     pass(&mut d, "cal", 20.0);
     pass(&mut d, "dan", 30.0);
     assert_eq!((d.encounters(), d.near_misses(), d.collisions()), (3, 1, 1));
-    let closest: Vec<(&str, f64)> = d
-        .pairs()
-        .map(|((v, _), s)| (v.as_str(), s.closest))
-        .collect();
+    let closest: Vec<(&str, f64)> = d.pairs().map(|((v, _), s)| (v, s.closest)).collect();
     assert_eq!(
         closest,
         [("abe", 3.0), ("ben", 0.0), ("cal", 10.0), ("dan", 20.0)]
