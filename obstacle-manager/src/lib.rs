@@ -55,4 +55,4 @@ pub use contact_manager::{MailValue, Posting, Value, Warnings};
 pub use flags::{Flag, FlagError, MailFlag};
 pub use manager::{Counts, ObstacleManager};
 pub use obstacle::{Given, GivenError, Obstacle, PointError, Source, TrackedPoint};
-pub use obstacle_sim::{ObstacleFile, ObstacleFileError, ObstacleSim, SimConfig};
+pub use obstacle_sim::{ObstacleFile, ObstacleFileError, ObstacleSim, SimConfig, SimVehicle};

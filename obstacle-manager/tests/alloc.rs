@@ -10,7 +10,7 @@ use std::cell::Cell;
 
 use obstacle_manager::{
     CollisionConfig, CollisionDetector, Config, MailValue, ObstacleFile, ObstacleManager,
-    ObstacleSim, SimConfig,
+    ObstacleSim, SimConfig, SimVehicle,
 };
 
 thread_local! {
@@ -77,8 +77,14 @@ fn steady_iterations_allocate_nothing() {
     m.handle_mail(0.0, &mail);
     let first = m.iterate(0.0).len();
     assert!(first >= 3, "connect, alert, hull drawings: {first}");
-    sim.node_report("alpha");
-    for p in sim.step(0.0).to_vec() {
+    let seen = [SimVehicle {
+        name: "alpha",
+        x: 50.0,
+        y: 0.0,
+        color: None,
+    }];
+    let mut rng = || 0.5;
+    for p in sim.step(0.0, &seen, &mut rng).to_vec() {
         if p.var == "KNOWN_OBSTACLE" {
             det.known_obstacle(p.val.as_str().unwrap_or_default(), 0.0)
                 .expect("known obstacle");
@@ -93,7 +99,7 @@ fn steady_iterations_allocate_nothing() {
         let t = f64::from(k);
         m.handle_mail(t, &nav);
         m.iterate(t);
-        sim.step(t);
+        sim.step(t, &seen, &mut rng);
         det.step(t, &vehicles);
     }
     for k in 4..30 {
@@ -101,7 +107,7 @@ fn steady_iterations_allocate_nothing() {
         let before = allocs();
         m.handle_mail(t, &nav);
         let n = m.iterate(t).len();
-        let s = sim.step(t).len();
+        let s = sim.step(t, &seen, &mut rng).len();
         let d = det.step(t, &vehicles).len();
         let used = allocs() - before;
         assert_eq!((n, s, d), (0, 0, 0), "nothing to post at step {k}");

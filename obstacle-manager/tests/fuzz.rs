@@ -13,7 +13,7 @@ use std::path::Path;
 
 use obstacle_manager::{
     AlertRequest, CollisionConfig, CollisionDetector, Config, Given, MailValue, ObstacleFile,
-    ObstacleFileError, ObstacleManager, ObstacleSim, SimConfig, TrackedPoint,
+    ObstacleFileError, ObstacleManager, ObstacleSim, SimConfig, SimVehicle, TrackedPoint,
 };
 
 /// String values of `vars` in the golden cases.
@@ -59,6 +59,7 @@ fn seeds() -> Vec<Vec<u8>> {
         "lasso = true\nlasso_points = 8\nlasso_radius = 6\nmax_pts_per_cluster = 3\n",
         "new_obs_flag = NEWOBS=now:$[OBS_NOW],ever:$[OBS_EVER]\nmailflag = NAV_X # N=$[CNT]",
         "encounter_flag = OB_ENCOUNTER = $DIST\ncollision_flag = C=vname=$VNAME,ob=$ID,dist=$DIST",
+        "post_points = true\nrate_points = 3\nsensor_range = 80\npoly = pts={20,-70:20,-50:40,-50:40,-70},label=ob_9",
     ] {
         v.push(s.as_bytes().to_vec());
     }
@@ -227,8 +228,22 @@ fn shoreside(text: &str) {
     let mut det = CollisionDetector::new(cc);
     for k in 0..5 {
         let now = f64::from(k);
-        sim.node_report("abe");
-        let out = sim.step(now).to_vec();
+        let (x, y) = (f64::from(k) * 20.0, -60.0);
+        let seen = [
+            SimVehicle {
+                name: "abe",
+                x,
+                y,
+                color: Some("red"),
+            },
+            SimVehicle {
+                name: "ben",
+                x: f64::NAN,
+                y: 0.0,
+                color: None,
+            },
+        ];
+        let out = sim.step(now, &seen, &mut || 0.61).to_vec();
         for p in &out {
             if p.var == "KNOWN_OBSTACLE" {
                 let v = p.val.as_str().unwrap_or_default();

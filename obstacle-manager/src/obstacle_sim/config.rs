@@ -2,6 +2,9 @@
 
 use geometry::Polygon;
 
+/// Most sensor points per obstacle, vehicle and step (the reference has no limit).
+pub const MAX_RATE_POINTS: f64 = 1000.0;
+
 /// A refused configuration line.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum SimConfigError {
@@ -126,7 +129,8 @@ impl SimConfig {
             "poly_vert_size" => self.poly_vert_size = number(&p, v, true)?,
             "poly_edge_size" => self.poly_edge_size = number(&p, v, true)?,
             "poly_transparency" => self.poly_transparency = number(&p, v, true)?,
-            "rate_points" => self.rate_points = number(&p, v, true)?,
+            // Capped: the points are drawn in a loop per obstacle per vehicle per step.
+            "rate_points" => self.rate_points = number(&p, v, true)?.min(MAX_RATE_POINTS),
             "point_size" => self.point_size = number(&p, v, true)?,
             "sensor_range" => self.sensor_range = number(&p, v, true)?,
             "refresh_interval" => self.refresh_interval = number(&p, v, true)?,
