@@ -141,6 +141,7 @@ fn updates_agree_with_the_recorded_obstacle_manager() {
                 "{name}: ours at {}, recorded arrival at {t}",
                 first.0
             );
+            println!("{name}: {val}: ours at {}, recorded at {t}", first.0);
             checked += 1;
         }
         assert_eq!(ours.len(), recorded.len(), "{name}: {ours:?}");
