@@ -345,3 +345,50 @@ fn lasso_hulls() {
     assert!(o.poly.contains(5.0, 0.0));
     assert_eq!(o.poly.attrs.label, "obmgr_a");
 }
+
+#[test]
+fn point_limit_and_drawing_thresholds() {
+    let mut m = ObstacleManager::new(
+        cfg(&[
+            ("max_pts_per_cluster", "3"),
+            ("poly_label_thresh", "1"),
+            ("obstacles_color", "yellow"),
+        ]),
+        0.0,
+    );
+    for (k, x) in [0.0, 10.0, 20.0, 30.0, 40.0].into_iter().enumerate() {
+        let pt = format!("x={x},y={},key=a", k % 2);
+        m.handle_mail(0.0, &[("TRACKED_FEATURE", Str(&pt))]);
+    }
+    let p = m.iterate(0.0).to_vec();
+    let (_, o) = m.obstacles().next().unwrap();
+    let xs: Vec<f64> = o.points.iter().map(|p| p.0).collect();
+    assert_eq!(
+        xs,
+        [40.0, 30.0, 20.0],
+        "the three most recent, newest first"
+    );
+    assert!(!strs(&p, "VIEW_POLYGON")[0].contains("label_color"));
+    // A second obstacle crosses the label threshold (2 > 1): every point obstacle is
+    // drawn again, labels hidden.
+    m.handle_mail(1.0, &[("TRACKED_FEATURE", Str("x=100,y=0,key=b"))]);
+    let p = m.iterate(1.0).to_vec();
+    let views = strs(&p, "VIEW_POLYGON");
+    assert_eq!(views.len(), 2, "{views:?}");
+    assert!(views
+        .iter()
+        .all(|v| v.contains("label_color=invisible,edge_color=yellow")));
+    // No change, no crossing: nothing drawn (before any request the marks stay set, so
+    // point obstacles are drawn every iteration, as the reference does).
+    let p = m.iterate(2.0).to_vec();
+    assert_eq!(strs(&p, "VIEW_POLYGON").len(), 2);
+    m.handle_mail(
+        3.0,
+        &[(
+            "OBM_ALERT_REQUEST",
+            Str("name=a_,update_var=AL,alert_range=5"),
+        )],
+    );
+    m.iterate(3.0);
+    assert!(strs(m.iterate(4.0), "VIEW_POLYGON").is_empty());
+}
