@@ -518,6 +518,56 @@ fn run_embedded_takes_a_mission_folder() {
     );
 }
 
+/// `helm run --quiet` and `HELM_VERBOSE=quiet` print the last line alone: no library
+/// report, no embedded-DB line, no heartbeat; `HELM_VERBOSE=terse` keeps the heartbeat.
+#[test]
+fn run_quiet_is_quiet_and_helm_verbose_is_read() {
+    let port = common::free_port();
+    let dir = alpha_copy("run-quiet", |m| {
+        m.replace("ServerPort = 9000", &format!("ServerPort = {port}"))
+    });
+    let d = dir.to_str().expect("utf-8");
+    let run = |flag: Option<&str>, env: Option<&str>| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_helm"));
+        c.args(["run", "--embedded", d, "--duration", "4"]);
+        if let Some(f) = flag {
+            c.arg(f);
+        }
+        match env {
+            Some(v) => c.env("HELM_VERBOSE", v),
+            None => c.env_remove("HELM_VERBOSE"),
+        };
+        c.output().expect("run helm")
+    };
+    for (flag, env) in [(Some("--quiet"), None), (None, Some("quiet"))] {
+        let o = run(flag, env);
+        assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(out.contains("final:"), "the last line stays: {out}");
+        for noisy in ["Embedded MOOSDB", "Loading behavior", "$", "*"] {
+            assert!(
+                !out.lines()
+                    .any(|l| !l.starts_with("final:") && l.contains(noisy)),
+                "{flag:?}/{env:?}: {noisy:?} printed: {out}"
+            );
+        }
+    }
+    let o = run(None, Some("terse"));
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains('$') || out.contains('*'),
+        "terse keeps the heartbeat: {out}"
+    );
+    let o = run(None, Some("loud"));
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "a bad HELM_VERBOSE is a usage error"
+    );
+    assert!(common::text(&o).contains("HELM_VERBOSE"));
+}
+
 // ---- point 12: Ctrl-C during a Monte Carlo keeps the finished runs ----------------------
 
 #[test]
