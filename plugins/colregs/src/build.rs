@@ -145,7 +145,8 @@ mod tests {
         let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
         assert_eq!(grid_box(&d), "discrete@course:9,speed:40");
         let d = Domain::parse("course:0:358:180,speed:0:5:11").unwrap();
-        // course delta 2: int(4.5) − 1 = 3; speed delta 0.5: 6 → 5, int(10.5) − 1 = 9.
-        assert_eq!(grid_box(&d), "discrete@course:4,speed:10");
+        // course delta 2: int(9/2 + 0.5) − 1 = 4; speed delta 0.5: 6 → 5,
+        // int(10.5) − 1 = 9.
+        assert_eq!(grid_box(&d), "discrete@course:5,speed:10");
     }
 }

@@ -510,3 +510,7 @@ fn bool_into(field: &mut bool, v: &str) -> bool {
         None => false,
     }
 }
+
+#[cfg(test)]
+#[path = "colregs_tests.rs"]
+mod tests;
