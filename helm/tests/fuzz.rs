@@ -188,7 +188,11 @@ fn check(data: &[u8]) {
             20.0 - 5.0 * k as f64
         );
         m.push(mail("NODE_REPORT", Value::Str(report), t));
-        m.push(mail("CONTACT_INFO", Value::Str("name=gus # contact=gus".into()), t));
+        m.push(mail(
+            "CONTACT_INFO",
+            Value::Str("name=gus # contact=gus".into()),
+            t,
+        ));
         // The files' own variables, flipped now and then, to move conditions and modes.
         for (i, (var, v)) in inits.iter().enumerate() {
             let value = match v {
@@ -204,7 +208,10 @@ fn check(data: &[u8]) {
     if posts.iter().any(|p| p.var == "DESIRED_SPEED") {
         DECIDED.fetch_add(1, Ordering::Relaxed);
     }
-    if posts.iter().any(|p| p.var.starts_with("COL") && p.var.contains("_RELEVANCE")) {
+    if posts
+        .iter()
+        .any(|p| p.var.starts_with("COL") && p.var.contains("_RELEVANCE"))
+    {
         COLREGS_RAN.fetch_add(1, Ordering::Relaxed);
     }
     for p in &posts {
