@@ -20,7 +20,7 @@ pub struct Scene {
 
 impl Scene {
     pub fn engine(&self) -> CpaEngine {
-        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy)
+        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy).with_tables()
     }
 }
 
