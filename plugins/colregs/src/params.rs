@@ -195,6 +195,10 @@ impl Params {
             "headon_only" => bool_into(&mut self.headon_only, v),
             "pts_port_turns_ok" => bool_into(&mut self.pts_port_turns_ok, v),
             "post_status_info_on_idle" => bool_into(&mut self.post_status_info_on_idle, v),
+            // Accepted, since the distribution's V19/V22 missions all set it, but inert:
+            // the spec leaves the refinery's plateau boxes unspecified (§5.5), so the
+            // CPA mode's pieces are the plain tiling (the reference's differ near the
+            // plateau edges when it is on).
             "use_refinery" => bool_into(&mut self.use_refinery, v),
             "check_plateaus" => bool_into(&mut self.check_plateaus, v),
             "check_validity" | "verbose" => parse_bool(v, false).map(|_| ()),
