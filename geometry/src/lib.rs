@@ -5,6 +5,7 @@
 //! spec formatting.
 
 pub mod angles;
+pub mod obstacle;
 mod formats;
 mod objects;
 pub mod parse;
