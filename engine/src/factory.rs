@@ -10,6 +10,7 @@ use behavior_api::BehaviorBox;
 /// test checks the list against the libraries a build bundles.
 pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
     "BHV_AvoidCollision",
+    "BHV_AvoidObstacleV24",
     "BHV_BearingLine",
     "BHV_ConstantDepth",
     "BHV_ConstantHeading",
