@@ -32,6 +32,8 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
 /// Whether this project provides `type_name`, built in or as a shipped library.
 pub fn project_has_type(type_name: &str) -> bool {
     SHIPPED_LIBRARY_TYPES.contains(&type_name)
+        // Refused as the real helm refuses them, so a case naming one is run, not waiting.
+        || crate::engine::deprecated::DEPRECATED_TYPES.contains(&type_name)
         || behaviors_std::builtin_types()
             .iter()
             .any(|(n, _)| *n == type_name)
