@@ -10,6 +10,7 @@
 
 use crate::domain::Domain;
 use crate::function::IvpFunction;
+pub use crate::regions::{box_subtract, intersects, IndexBox};
 
 /// An analytical objective function over a domain's grid.
 pub trait Aof {
@@ -29,6 +30,8 @@ pub struct Reflector<'a> {
     weights: Vec<f64>,
     gelbox: Vec<u32>,
     warnings: String,
+    /// Plateau then basin boxes with their constant utility (see [`Reflector::add_region`]).
+    regions: Vec<(IndexBox, f64)>,
 }
 
 /// Boxes of up to this many dimensions are fitted without heap allocation.
@@ -47,6 +50,23 @@ impl<'a> Reflector<'a> {
             weights: vec![],
             gelbox: vec![],
             warnings: String::new(),
+            regions: vec![],
+        }
+    }
+
+    /// A region of known constant utility `value` (a plateau at the AOF's maximum or a
+    /// basin at its minimum): the uniform tiling is cut around it and the region becomes
+    /// one constant piece. Regions must be disjoint; add plateaus before basins, the
+    /// pieces come in that order after the uniform ones. Ignored if the box does not fit
+    /// the domain.
+    pub fn add_region(&mut self, region: IndexBox, value: f64) {
+        let fits = region.len() == self.domain.size()
+            && region
+                .iter()
+                .zip(self.domain.vars())
+                .all(|(&(lo, hi), v)| lo <= hi && hi < v.points);
+        if fits {
+            self.regions.push((region, value));
         }
     }
 
@@ -169,6 +189,9 @@ impl<'a> Reflector<'a> {
         let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
         let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
         let total: usize = counts.iter().map(|&c| c as usize).product();
+        if !self.regions.is_empty() {
+            return self.create_with_regions(&size, &counts, total);
+        }
         // Tiles with dimension 0 varying fastest; the reference stores them reversed, so
         // tile i (dimension 0 fastest) is visited from the last to the first. Each tile is
         // computed in place: no per-tile allocation (this runs for thousands of pieces per
@@ -194,6 +217,46 @@ impl<'a> Reflector<'a> {
             self.weights.extend_from_slice(&w);
         }
         total
+    }
+
+    /// The uniform stage cut around the regions, then the regions as constant pieces.
+    fn create_with_regions(&mut self, size: &[u32], counts: &[u32], total: usize) -> usize {
+        let n = size.len();
+        let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
+        let tiles: Vec<IndexBox> = (0..total)
+            .rev()
+            .map(|i| {
+                let mut rest = i;
+                (0..n)
+                    .map(|d| {
+                        let c = (rest % counts[d] as usize) as u32;
+                        rest /= counts[d] as usize;
+                        (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1)
+                    })
+                    .collect()
+            })
+            .collect();
+        let tiles = crate::regions::cut_around(tiles, &self.regions);
+        self.bounds.clear();
+        self.weights.clear();
+        let mut w = vec![0.0; n + 1];
+        for t in &tiles {
+            for &(lo, hi) in t {
+                self.bounds.push(lo as i32);
+                self.bounds.push(hi as i32);
+            }
+            self.fit_into(t, &mut w);
+            self.weights.extend_from_slice(&w);
+        }
+        for (r, value) in &self.regions {
+            for &(lo, hi) in r {
+                self.bounds.push(lo as i32);
+                self.bounds.push(hi as i32);
+            }
+            self.weights.extend(std::iter::repeat_n(0.0, n));
+            self.weights.push(*value);
+        }
+        tiles.len() + self.regions.len()
     }
 
     /// Degree-1 fit of one box (spec §8 step 3) into `w` (n slopes, then the intercept).

@@ -156,6 +156,17 @@ impl AvoidObstacleV24 {
         let mut refl = Reflector::new(domain, &aof);
         refl.set_param("uniform_piece", "discrete@course:3,speed:3");
         refl.set_param("uniform_grid", "discrete@course:9,speed:9");
+        if self.params.use_refinery {
+            let r =
+                crate::refinery::regions(&self.params.obstacle, &d.rim, os, self.side_lock, domain);
+            // The AOF's known range is [0, 100]: plateaus at the top, basins at the bottom.
+            for b in r.plateaus {
+                refl.add_region(b, 100.0);
+            }
+            for b in r.basins {
+                refl.add_region(b, 0.0);
+            }
+        }
         refl.create(None, None);
         let f = refl.extract(true);
         if f.is_none() && !refl.warnings().is_empty() {

@@ -27,6 +27,7 @@
 mod behavior;
 pub mod model;
 pub mod params;
+pub mod refinery;
 
 pub use behavior::AvoidObstacleV24;
 

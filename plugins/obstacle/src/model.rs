@@ -61,7 +61,13 @@ pub fn derive(
     } else {
         gut.dist_to_poly(os.x, os.y)
     };
-    let flex = |d: f64| if range < d + 1.0 { (range - 1.0).max(0.0) } else { d };
+    let flex = |d: f64| {
+        if range < d + 1.0 {
+            (range - 1.0).max(0.0)
+        } else {
+            d
+        }
+    };
     let mut failed_expand = None;
     let mid = buffer_polygon(gut, flex(min_cpa), CORNER_STEP);
     let rim = buffer_polygon(gut, flex(max_cpa), CORNER_STEP);
@@ -158,6 +164,17 @@ pub fn all_aft(gut: &Polygon, os: Pose, margin: f64) -> bool {
         })
 }
 
+/// `cpa(c)` of §1.8 with the holonomic platform model (the turn path is ownship's
+/// position alone): 0 from inside the polygon, else the ray's closest approach (never
+/// more than the distance from ownship, so the path part does not matter).
+pub fn seglr_cpa(poly: &Polygon, os: Pose, c: f64) -> f64 {
+    if poly.contains(os.x, os.y) {
+        0.0
+    } else {
+        poly_ray_cpa(poly, os.x, os.y, c)
+    }
+}
+
 /// AOF_AvoidObstacleV24 (§1.8) with the helm's holonomic platform model: the utility of a
 /// course is that of the ray's closest approach to the obstacle.
 pub struct ObstacleAof<'a> {
@@ -186,7 +203,7 @@ impl ObstacleAof<'_> {
                 return 0.0;
             }
         }
-        let d = poly_ray_cpa(self.gut, self.os.x, self.os.y, c);
+        let d = seglr_cpa(self.gut, self.os, c);
         if d >= self.max_cpa {
             100.0
         } else if d <= self.min_cpa {
@@ -219,7 +236,11 @@ mod tests {
         // tangent bearings: to (60,6) 90 − atan(6/13.76041) = 66.4441°, to (60,−12)
         // 90 + atan(12/13.76041) = 131.0910°; θ = 90 − 66.4441 = 23.5559°,
         // cos θ = 0.916668; rr = 0.113629, × pwt 500 = 56.8137 (BHV_STATUS pwt=56.81371).
-        let os = Pose { x: 46.23959416797254, y: 0.0, heading: 90.0 };
+        let os = Pose {
+            x: 46.23959416797254,
+            y: 0.0,
+            heading: 90.0,
+        };
         let d = derive(&rect(), os, 3.0, 7.0, None);
         assert!((d.range - 13.76040583202746).abs() < 1e-9);
         let rr = range_relevance(&rect(), os, d.range, 5.0, 15.0);
@@ -230,11 +251,18 @@ mod tests {
 
     #[test]
     fn relevance_edges() {
-        let os = Pose { x: 50.0, y: 0.0, heading: 90.0 };
+        let os = Pose {
+            x: 50.0,
+            y: 0.0,
+            heading: 90.0,
+        };
         // Range 10 ≥ outer 10: 0.
         assert_eq!(range_relevance(&rect(), os, 10.0, 5.0, 10.0), 0.0);
         // Heading 270 (away): θ to the nearer tangent > 90 → cos clipped to 0, floor 0.01.
-        let away = Pose { heading: 270.0, ..os };
+        let away = Pose {
+            heading: 270.0,
+            ..os
+        };
         assert_eq!(range_relevance(&rect(), away, 10.0, 5.0, 20.0), 0.01);
         // Inside inner: pct 1, and straight at it θ = 90 − 59.04 = 30.96 (tangent to
         // (60,6): atan(10/6) = 59.04° from north) → cos 30.96° = 0.857493.
@@ -245,15 +273,25 @@ mod tests {
     #[test]
     fn side_lock_engages_and_releases() {
         assert_eq!(update_side_lock(None, 0.7, Side::Star), Some(Side::Port));
-        assert_eq!(update_side_lock(Some(Side::Port), 0.3, Side::Port), Some(Side::Port));
+        assert_eq!(
+            update_side_lock(Some(Side::Port), 0.3, Side::Port),
+            Some(Side::Port)
+        );
         assert_eq!(update_side_lock(Some(Side::Port), 0.05, Side::Port), None);
-        assert_eq!(update_side_lock(Some(Side::Port), 0.0, Side::Port), Some(Side::Port));
+        assert_eq!(
+            update_side_lock(Some(Side::Port), 0.0, Side::Port),
+            Some(Side::Port)
+        );
     }
 
     #[test]
     fn utility_at_chosen_courses() {
         // os (31.57, 0.005) as in run R1, min 5 / max 10.
-        let os = Pose { x: 31.57, y: 0.005, heading: 88.88 };
+        let os = Pose {
+            x: 31.57,
+            y: 0.005,
+            heading: 88.88,
+        };
         let gut = rect();
         let aof = ObstacleAof {
             gut: &gut,
@@ -273,18 +311,36 @@ mod tests {
         // Course 59 (R1): perpendicular distance of (60,6) to the ray:
         // |(28.43, 5.995) × (sin 59°, cos 59°)| = |28.43·0.515038 − 5.995·0.857167|
         // = |14.64254 − 5.13872| = 9.50382 → 100·(9.50382 − 5)/5 = 90.076.
-        assert!((aof.utility(59.0) - 90.076).abs() < 1e-3, "{}", aof.utility(59.0));
+        assert!(
+            (aof.utility(59.0) - 90.076).abs() < 1e-3,
+            "{}",
+            aof.utility(59.0)
+        );
         // With the lock (pass with the centre to starboard), course 120 puts the centre
         // (bearing ≈ 94.4) to port of the course: 0 whatever the CPA.
-        let locked = ObstacleAof { locked: true, ..aof };
+        let locked = ObstacleAof {
+            locked: true,
+            ..aof
+        };
         assert_eq!(locked.utility(120.0), 0.0);
         assert!((locked.utility(59.0) - 90.076).abs() < 1e-3);
     }
 
     #[test]
     fn aft_test() {
-        let os = Pose { x: 100.0, y: 0.0, heading: 90.0 };
+        let os = Pose {
+            x: 100.0,
+            y: 0.0,
+            heading: 90.0,
+        };
         assert!(all_aft(&rect(), os, 20.0));
-        assert!(!all_aft(&rect(), Pose { heading: 270.0, ..os }, 20.0));
+        assert!(!all_aft(
+            &rect(),
+            Pose {
+                heading: 270.0,
+                ..os
+            },
+            20.0
+        ));
     }
 }

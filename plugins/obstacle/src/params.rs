@@ -275,7 +275,10 @@ impl Params {
             let Some((k, val)) = elem.split_once('=') else {
                 return Set::Refused;
             };
-            let key = k.trim().to_ascii_lowercase().replace("lcolor", "label_color");
+            let key = k
+                .trim()
+                .to_ascii_lowercase()
+                .replace("lcolor", "label_color");
             let val = val.trim();
             if key.contains("color") {
                 if !is_color(val) {
@@ -356,7 +359,9 @@ mod tests {
         assert_eq!(set(&mut p, "completed_dist", "20"), Some(Set::Ok));
         assert_eq!(
             set(&mut p, "pwt_outer_dist", "30"),
-            Some(Set::BadConfig("pwt_outer_dist must be <= completed_dist".into()))
+            Some(Set::BadConfig(
+                "pwt_outer_dist must be <= completed_dist".into()
+            ))
         );
         assert_eq!(p.completed, 30.0);
         // The reverse order: outer dragged down to 20.
@@ -364,7 +369,9 @@ mod tests {
         assert_eq!(set(&mut p, "pwt_outer_dist", "30"), Some(Set::Ok));
         assert_eq!(
             set(&mut p, "completed_dist", "20"),
-            Some(Set::BadConfig("completed_dist must be >= pwt_outer_dist".into()))
+            Some(Set::BadConfig(
+                "completed_dist must be >= pwt_outer_dist".into()
+            ))
         );
         assert_eq!(p.pwt_outer, 20.0);
         // CPA pair: min above a default max drags it silently.
@@ -373,7 +380,9 @@ mod tests {
         assert_eq!(p.max_util_cpa, 20.0);
         assert_eq!(
             set(&mut p, "max_util_cpa_dist", "5"),
-            Some(Set::BadConfig("max_util_cpa must be >= min_util_cpa".into()))
+            Some(Set::BadConfig(
+                "max_util_cpa must be >= min_util_cpa".into()
+            ))
         );
         // Negative or non-numbers fall through to "unknown".
         assert_eq!(set(&mut p, "min_util_cpa_dist", "-1"), None);
@@ -387,7 +396,9 @@ mod tests {
         assert_eq!(p.allowable_ttc, 0.0);
         assert_eq!(
             set(&mut p, "allowable_ttc", "-2"),
-            Some(Set::BadConfig("allowable_ttc cannot be a negative number".into()))
+            Some(Set::BadConfig(
+                "allowable_ttc cannot be a negative number".into()
+            ))
         );
         assert_eq!(
             set(&mut p, "poly", "pts={0,0:5,2:10,0:5,10}"),
@@ -409,10 +420,16 @@ mod tests {
         assert_eq!(set(&mut p, "cpa_flag", "CPA ="), Some(Set::Refused));
         assert_eq!(set(&mut p, "use_refinery", "maybe"), Some(Set::Refused));
         assert_eq!(set(&mut p, "buffer_dist", "3"), None);
-        assert_eq!(set(&mut p, "visual_hints", "gut_lcolor=red, edge_size=-1"), Some(Set::Ok));
+        assert_eq!(
+            set(&mut p, "visual_hints", "gut_lcolor=red, edge_size=-1"),
+            Some(Set::Ok)
+        );
         assert_eq!(p.hint("gut_label_color"), Some("red"));
         assert_eq!(p.hint("edge_size"), Some("1"));
-        assert_eq!(set(&mut p, "visual_hints", "vertex_size=2, edge_color=nocolor"), Some(Set::Refused));
+        assert_eq!(
+            set(&mut p, "visual_hints", "vertex_size=2, edge_color=nocolor"),
+            Some(Set::Refused)
+        );
         assert_eq!(p.hint("vertex_size"), Some("2"));
     }
 }

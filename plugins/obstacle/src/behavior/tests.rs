@@ -29,11 +29,17 @@ fn template_posts_the_alert_request() {
     let mut helm = MockHelm::new("avd_ob_");
     assert!(helm.with(|ctx| b.set_param(ctx, "pwt_outer_dist", "15")));
     helm.with(|ctx| b.on_helm_start(ctx));
-    assert!(helm.posted("OBM_ALERT_REQUEST").is_empty(), "not a template");
+    assert!(
+        helm.posted("OBM_ALERT_REQUEST").is_empty(),
+        "not a template"
+    );
     helm.with(|ctx| b.set_param(ctx, "helm_templating", "spawn"));
     helm.with(|ctx| b.set_param(ctx, "helm_updates", "OBSTACLE_ALERT"));
     helm.with(|ctx| b.on_params_complete(ctx));
-    assert!(helm.posted("BHV_SETTINGS").is_empty(), "templates post no settings");
+    assert!(
+        helm.posted("BHV_SETTINGS").is_empty(),
+        "templates post no settings"
+    );
     helm.with(|ctx| b.on_helm_start(ctx));
     assert_eq!(
         helm.last("OBM_ALERT_REQUEST").as_deref(),
@@ -120,14 +126,20 @@ fn missing_cpa_distances_never_build() {
     // run R4: a template without the CPA distances.
     let mut b = AvoidObstacleV24::new(&HelmDomain::new("course,0,359,360:speed,0,4,21"));
     let mut helm = MockHelm::new("avd");
-    for (p, v) in [("poly", RECT), ("allowable_ttc", "5"), ("allstop_on_breach", "false")] {
+    for (p, v) in [
+        ("poly", RECT),
+        ("allowable_ttc", "5"),
+        ("allstop_on_breach", "false"),
+    ] {
         assert!(helm.with(|ctx| b.set_param(ctx, p, v)));
     }
     helm.nav(45.0, 0.0, 90.0, 2.0);
     helm.with(|ctx| b.on_every_state(ctx));
     assert!(helm.with(|ctx| b.on_run(ctx)).is_none());
     let w = helm.posted("BHV_WARNING");
-    assert!(w.contains(&"avd: Unable to init AOF_AvoidObstacleV24:min_util_cpa is not set".to_string()));
+    assert!(
+        w.contains(&"avd: Unable to init AOF_AvoidObstacleV24:min_util_cpa is not set".to_string())
+    );
     assert_eq!(w.last().map(String::as_str), Some("avd: Obstacle Breached"));
     assert!(helm.posted("BHV_ERROR").is_empty());
 }
@@ -148,10 +160,17 @@ fn inside_the_obstacle_is_a_breach() {
 fn macros_and_flags() {
     let (mut b, mut helm) = spawned();
     assert!(helm.with(|ctx| b.set_param(ctx, "rng_flag", "<20 RNGF = $[OID]:$[RNG]")));
-    assert!(helm.with(|ctx| b.set_param(ctx, "poly", "pts={60,-12:60,6:80,6:80,-12},label=ob_a_7")));
+    assert!(helm.with(|ctx| b.set_param(
+        ctx,
+        "poly",
+        "pts={60,-12:60,6:80,6:80,-12},label=ob_a_7"
+    )));
     helm.nav(50.0, 0.0, 90.0, 2.0);
     helm.with(|ctx| b.on_every_state(ctx));
-    assert_eq!(helm.flags.last().map(|f| f.0.as_str()), Some("RNGF = ob_a_7:10"));
+    assert_eq!(
+        helm.flags.last().map(|f| f.0.as_str()),
+        Some("RNGF = ob_a_7:10")
+    );
     assert_eq!(
         b.expand("$[OIDX] $[RBNG] $[SIDE] $[MINU_CPA] $[CPA] $[SLOCK]."),
         "7 $[RBNG] star 3 10 ."
@@ -160,10 +179,51 @@ fn macros_and_flags() {
 
 #[test]
 fn able_filter_strings() {
-    assert_eq!(able_action("action=disable,obstacle_id=OBA", "oba", ""), Ok(Some("disable".into())));
-    assert_eq!(able_action("action=disable,obstacle_id=obb", "oba", ""), Ok(None));
-    assert_eq!(able_action("action=expunge,vsource=Sim", "", "sim"), Ok(Some("expunge".into())));
+    assert_eq!(
+        able_action("action=disable,obstacle_id=OBA", "oba", ""),
+        Ok(Some("disable".into()))
+    );
+    assert_eq!(
+        able_action("action=disable,obstacle_id=obb", "oba", ""),
+        Ok(None)
+    );
+    assert_eq!(
+        able_action("action=expunge,vsource=Sim", "", "sim"),
+        Ok(Some("expunge".into()))
+    );
     assert_eq!(able_action("action=disable", "oba", ""), Err(()));
-    assert_eq!(able_action("action=zap,obstacle_id=oba", "oba", ""), Err(()));
-    assert_eq!(able_action("action=disable,action=enable,obstacle_id=oba", "oba", ""), Err(()));
+    assert_eq!(
+        able_action("action=zap,obstacle_id=oba", "oba", ""),
+        Err(())
+    );
+    assert_eq!(
+        able_action("action=disable,action=enable,obstacle_id=oba", "oba", ""),
+        Err(())
+    );
+}
+
+#[test]
+fn refinery_cuts_plateaus_and_basins_into_the_function() {
+    let (mut b, mut helm) = spawned();
+    assert!(helm.with(|ctx| b.set_param(ctx, "use_refinery", "true")));
+    helm.nav(50.0, 0.0, 90.0, 2.0);
+    helm.with(|ctx| b.on_every_state(ctx));
+    let f = helm.with(|ctx| b.on_run(ctx)).unwrap();
+    // Fewer pieces than the 840 uniform ones: whole course ranges became single pieces.
+    let n = f.piece_count().unwrap();
+    assert!(n < 840, "{n} pieces");
+    // Course 90 runs into the obstacle (basin, 0); course 0 clears the rim (plateau, 100).
+    assert_eq!(eval(&f, 90, 10), Some(0.0));
+    assert_eq!(eval(&f, 0, 10), Some(100.0));
+}
+
+/// The function's value at (course index, speed index), from its pieces.
+fn eval(f: &FunctionData, c: i32, s: i32) -> Option<f64> {
+    let n = f.piece_count()?;
+    (0..n).find_map(|k| {
+        let b = &f.bounds[4 * k..4 * k + 4];
+        let w = &f.weights[3 * k..3 * k + 3];
+        (b[0] <= c && c <= b[1] && b[2] <= s && s <= b[3])
+            .then(|| w[0] * f64::from(c) + w[1] * f64::from(s) + w[2])
+    })
 }
