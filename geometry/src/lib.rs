@@ -5,9 +5,9 @@
 //! spec formatting.
 
 pub mod angles;
-pub mod obstacle;
 mod formats;
 mod objects;
+pub mod obstacle;
 pub mod parse;
 pub mod points;
 pub mod polygon;

@@ -153,9 +153,7 @@ pub fn bearing_min_max(p: &Polygon, x: f64, y: f64) -> Option<(f64, f64)> {
             .unwrap_or(0.0)
     };
     let wraps = match quad {
-        [true, false, false, true] | [true, false, true, true] | [true, true, false, true] => {
-            true
-        }
+        [true, false, false, true] | [true, false, true, true] | [true, true, false, true] => true,
         [true, false, true, false] => {
             let b = closest_bng();
             !(b > 45.0 && b <= 225.0)

@@ -260,7 +260,9 @@ fn fuzz_obstacle_alerts() {
     .map(|s| s.as_bytes().to_vec())
     .collect();
     full_factory();
-    let dict: &[&[u8]] = &[b"#", b"name=", b"poly=", b"id=", b"pts={", b"}", b":", b",label=", b"nan", b"1e308"];
+    let dict: &[&[u8]] = &[
+        b"#", b"name=", b"poly=", b"id=", b"pts={", b"}", b":", b",label=", b"nan", b"1e308",
+    ];
     fuzzkit::fuzz("obstacle_alerts", 1500, &seeds, dict, |data| {
         let alert = String::from_utf8_lossy(data).into_owned();
         let spec = bhv::parse_str(TEMPLATE, Path::new("t.bhv")).expect("the template parses");
@@ -278,7 +280,11 @@ fn fuzz_obstacle_alerts() {
                 m.push(mail("OBSTACLE_ALERT", Value::Str(alert.clone()), t));
             }
             if k == 4 {
-                m.push(mail("BHV_ABLE_FILTER", Value::Str(alert.replace('#', ",")), t));
+                m.push(mail(
+                    "BHV_ABLE_FILTER",
+                    Value::Str(alert.replace('#', ",")),
+                    t,
+                ));
                 m.push(mail("OBM_RESOLVED", Value::Str(alert.clone()), t));
             }
             helm.handle_mail(t, &m);

@@ -111,7 +111,10 @@ fn v24_refuses_what_it_does_not_take_at_its_line() {
     // completed_dist set before a larger pwt_outer_dist (§1.2.1).
     let bad = M34_V24
         .replace("       use_refinery = true", "        buffer_dist = 3")
-        .replace("     pwt_inner_dist = 5\n     completed_dist = 15", "     pwt_inner_dist = 5");
+        .replace(
+            "     pwt_inner_dist = 5\n     completed_dist = 15",
+            "     pwt_inner_dist = 5",
+        );
     let bad = bad.replace(
         "      allowable_ttc = 5",
         "     completed_dist = 10\n      allowable_ttc = 5",
@@ -138,8 +141,16 @@ fn deprecation_lines(ty: &str) -> [String; 4] {
 #[test]
 fn deprecated_types_are_refused_with_the_real_helms_reason() {
     let cases = [
-        ("v21", "BHV_AvoidObstacleV21", V21_BLOCK.replace("TYPE", "BHV_AvoidObstacleV21")),
-        ("x", "BHV_AvoidObstacleX", V21_BLOCK.replace("TYPE", "BHV_AvoidObstacleX")),
+        (
+            "v21",
+            "BHV_AvoidObstacleV21",
+            V21_BLOCK.replace("TYPE", "BHV_AvoidObstacleV21"),
+        ),
+        (
+            "x",
+            "BHV_AvoidObstacleX",
+            V21_BLOCK.replace("TYPE", "BHV_AvoidObstacleX"),
+        ),
         ("plain", "BHV_AvoidObstacle", PLAIN_BLOCK.to_string()),
     ];
     for (name, ty, block) in cases {

@@ -20,7 +20,8 @@ pub(crate) fn refusal(bs: &bhv::reader::BehaviorSpec) -> Option<Vec<String>> {
     }
     let where_ = format!("{}:{}", bs.file.display(), bs.line);
     let acknowledged = bs.lines.iter().any(|l| {
-        l.param.eq_ignore_ascii_case("i_understand_this_behavior_is_deprecated")
+        l.param
+            .eq_ignore_ascii_case("i_understand_this_behavior_is_deprecated")
             && matches!(
                 l.value.trim().to_ascii_lowercase().as_str(),
                 "true" | "yes" | "on"
