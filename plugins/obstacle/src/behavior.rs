@@ -7,7 +7,8 @@ use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{compact, FunctionData, PostValue};
 
 use crate::model::{
-    all_aft, derive, range_relevance, update_side_lock, Derived, ObstacleAof, Pose, Side,
+    all_aft, derive, range_relevance, update_side_lock, CourseTable, Derived, ObstacleAof, Pose,
+    Side,
 };
 use crate::params::{Params, Set};
 
@@ -153,7 +154,8 @@ impl AvoidObstacleV24 {
             centre: d.centre,
             course_ix: domain.index_of("course")?,
         };
-        let mut refl = Reflector::new(domain, &aof);
+        let table = CourseTable::new(&aof, domain);
+        let mut refl = Reflector::new(domain, &table);
         refl.set_param("uniform_piece", "discrete@course:3,speed:3");
         refl.set_param("uniform_grid", "discrete@course:9,speed:9");
         if self.params.use_refinery {
