@@ -16,6 +16,12 @@ pub use crate::regions::{box_subtract, intersects, IndexBox};
 pub trait Aof {
     /// Utility at grid point `index` (one index per variable of `domain`).
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64;
+    /// Whether the utility ignores dimension `dim` entirely (BHV_AvoidObstacleV24's
+    /// speed, say): tiles that differ only there then share one fit, which is the same
+    /// fit bit for bit (that dimension's slope is exactly 0). Default: no.
+    fn ignores(&self, _dim: usize) -> bool {
+        false
+    }
 }
 
 /// The OF_Reflector builder.
@@ -202,6 +208,11 @@ impl<'a> Reflector<'a> {
         self.weights.reserve(total * (n + 1));
         let mut tile = vec![(0u32, 0u32); n];
         let mut w = vec![0.0; n + 1];
+        // Fits shared by tiles equal in every dimension the AOF uses (and in whether the
+        // fit takes the centre point), when it ignores some dimension.
+        let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();
+        let mut memo: Option<std::collections::HashMap<(Vec<(u32, u32)>, bool), Vec<f64>>> =
+            used.iter().any(|u| !u).then(std::collections::HashMap::new);
         for i in (0..total).rev() {
             let mut rest = i;
             for d in 0..n {
@@ -213,8 +224,23 @@ impl<'a> Reflector<'a> {
                 self.bounds.push(lo as i32);
                 self.bounds.push(hi as i32);
             }
-            self.fit_into(&tile, &mut w);
-            self.weights.extend_from_slice(&w);
+            match memo.as_mut() {
+                Some(memo) => {
+                    let centre = tile.iter().any(|&(lo, hi)| hi - lo + 1 > 2);
+                    let key: Vec<(u32, u32)> = (0..n)
+                        .map(|d| if used[d] { tile[d] } else { (0, 0) })
+                        .collect();
+                    let fit = memo.entry((key, centre)).or_insert_with(|| {
+                        self.fit_into(&tile, &mut w);
+                        w.clone()
+                    });
+                    self.weights.extend_from_slice(fit);
+                }
+                None => {
+                    self.fit_into(&tile, &mut w);
+                    self.weights.extend_from_slice(&w);
+                }
+            }
         }
         total
     }

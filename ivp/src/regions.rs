@@ -113,4 +113,31 @@ mod tests {
         assert_eq!(f.eval(&[8]), Some(8.0));
         assert_eq!(f.eval(&[1]), Some(1.0));
     }
+
+    #[test]
+    fn ignored_dimension_shares_fits_bit_for_bit() {
+        use crate::{Aof, Domain, Reflector};
+        struct Wave(bool);
+        impl Aof for Wave {
+            fn eval(&self, _: &Domain, ix: &[u32]) -> f64 {
+                (f64::from(ix[0]) * 0.37).sin() * 50.0 + 50.0
+            }
+            fn ignores(&self, dim: usize) -> bool {
+                self.0 && dim == 1
+            }
+        }
+        let mut d = Domain::new();
+        d.add_var("course", 0.0, 359.0, 360).unwrap();
+        d.add_var("speed", 0.0, 4.0, 21).unwrap();
+        let build = |aof: &Wave| {
+            let mut r = Reflector::new(&d, aof);
+            r.set_param("uniform_piece", "discrete@course:3,speed:4");
+            r.create(None, None);
+            let f = r.extract(true).unwrap();
+            (f.bounds().to_vec(), f.weights().to_vec())
+        };
+        let (plain, shared) = (build(&Wave(false)), build(&Wave(true)));
+        assert_eq!(plain.0.len(), 120 * 6 * 4);
+        assert_eq!(plain, shared);
+    }
 }

@@ -246,6 +246,9 @@ impl Aof for CourseTable {
             .copied()
             .unwrap_or(0.0)
     }
+    fn ignores(&self, dim: usize) -> bool {
+        dim != self.course_ix
+    }
 }
 
 #[cfg(test)]
