@@ -209,38 +209,45 @@ impl<'a> Reflector<'a> {
         let mut tile = vec![(0u32, 0u32); n];
         let mut w = vec![0.0; n + 1];
         // Fits shared by tiles equal in every dimension the AOF uses (and in whether the
-        // fit takes the centre point), when it ignores some dimension.
+        // fit takes the centre point), when it ignores some dimension: slot = the tile's
+        // coordinates in the used dimensions (mixed radix) × 2 + centre.
         let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();
-        let mut memo: Option<std::collections::HashMap<(Vec<(u32, u32)>, bool), Vec<f64>>> =
-            used.iter().any(|u| !u).then(std::collections::HashMap::new);
+        let sharing = used.iter().any(|u| !u);
+        let slots: usize = if sharing {
+            2 * (0..n)
+                .filter(|&d| used[d])
+                .map(|d| counts[d] as usize)
+                .product::<usize>()
+        } else {
+            0
+        };
+        let mut shared: Vec<Option<usize>> = vec![None; slots];
         for i in (0..total).rev() {
             let mut rest = i;
+            let mut slot = 0usize;
             for d in 0..n {
                 let c = (rest % counts[d] as usize) as u32;
                 rest /= counts[d] as usize;
                 tile[d] = (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1);
+                if used[d] {
+                    slot = slot * counts[d] as usize + c as usize;
+                }
             }
             for &(lo, hi) in &tile {
                 self.bounds.push(lo as i32);
                 self.bounds.push(hi as i32);
             }
-            match memo.as_mut() {
-                Some(memo) => {
-                    let centre = tile.iter().any(|&(lo, hi)| hi - lo + 1 > 2);
-                    let key: Vec<(u32, u32)> = (0..n)
-                        .map(|d| if used[d] { tile[d] } else { (0, 0) })
-                        .collect();
-                    let fit = memo.entry((key, centre)).or_insert_with(|| {
-                        self.fit_into(&tile, &mut w);
-                        w.clone()
-                    });
-                    self.weights.extend_from_slice(fit);
+            if sharing {
+                let centre = tile.iter().any(|&(lo, hi)| hi - lo + 1 > 2);
+                let slot = 2 * slot + usize::from(centre);
+                if let Some(at) = shared[slot] {
+                    self.weights.extend_from_within(at..at + n + 1);
+                    continue;
                 }
-                None => {
-                    self.fit_into(&tile, &mut w);
-                    self.weights.extend_from_slice(&w);
-                }
+                shared[slot] = Some(self.weights.len());
             }
+            self.fit_into(&tile, &mut w);
+            self.weights.extend_from_slice(&w);
         }
         total
     }
