@@ -20,6 +20,8 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
     "BHV_LegRun",
     "BHV_MaxDepth",
     "BHV_MaxSpeed",
+    "BHV_OpRegion",
+    "BHV_OpRegionV24",
     "BHV_PeriodicSurface",
     "BHV_Shadow",
     "BHV_StationKeep",
