@@ -23,6 +23,7 @@
 
 pub mod bus;
 pub mod cli;
+pub mod depth_strip;
 pub mod montecarlo;
 pub mod observe;
 pub mod output;
