@@ -22,6 +22,7 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
     "BHV_MaxSpeed",
     "BHV_OpRegion",
     "BHV_OpRegionV24",
+    "BHV_PModelView",
     "BHV_PeriodicSurface",
     "BHV_Shadow",
     "BHV_StationKeep",
