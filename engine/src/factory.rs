@@ -14,6 +14,7 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
     "BHV_ConstantDepth",
     "BHV_ConstantHeading",
     "BHV_ConstantSpeed",
+    "BHV_Convoy",
     "BHV_CutRange",
     "BHV_GoToDepth",
     "BHV_HSLine",
