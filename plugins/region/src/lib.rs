@@ -24,6 +24,9 @@ pub mod opregion;
 pub mod v24;
 pub mod watch;
 
+#[cfg(test)]
+mod tests;
+
 pub use opregion::{Breach, OpRegion};
 pub use v24::OpRegionV24;
 

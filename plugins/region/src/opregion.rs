@@ -12,6 +12,8 @@
 //! `time_remaining_var` (a whole number) and the `opregion_poly_var` (`pts={..}`, once).
 //!
 //! Chosen where nothing says (MOOS-IvP's documentation names the parameters only):
+//! * `trigger_on_poly_entry` (default true): the polygon is enforced only once ownship
+//!   has been inside it for `trigger_entry_time`; false enforces it from the start;
 //! * the mission clock starts at the behavior's first running iteration;
 //! * `OPREG_TIME_REMAINING` and the `time_remaining_var` are posted only with a
 //!   `max_time` (> 0); the absolute-perimeter ETA assumes the helm domain's top speed
@@ -23,7 +25,7 @@
 //!   `visual_hints`).
 
 use behavior_api::geometry::{parse_polygon, Attrs, Polygon};
-use behavior_api::params::{no_white, non_negative};
+use behavior_api::params::{no_white, non_negative, parse_bool};
 use behavior_api::sdk::{Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
@@ -215,6 +217,9 @@ impl IvpBehavior for OpRegion {
             "min_altitude" => set(&mut self.min_altitude),
             "trigger_entry_time" => set(&mut self.watch.entry_time),
             "trigger_exit_time" => set(&mut self.watch.exit_time),
+            "trigger_on_poly_entry" => parse_bool(value, !self.watch.armed_from_start)
+                .map(|b| self.watch.armed_from_start = !b)
+                .is_some(),
             "breached_poly_flag" => flag(value).map(|f| self.poly_flags.push(f)).is_some(),
             "breached_time_flag" => flag(value).map(|f| self.time_flags.push(f)).is_some(),
             "breached_depth_flag" => flag(value).map(|f| self.depth_flags.push(f)).is_some(),

@@ -15,7 +15,11 @@
 //! `trigger_on_poly_entry` (default true: a vehicle that starts outside the halt region
 //! is not in breach until it has been inside), `trigger_entry_time` /
 //! `trigger_exit_time` (>= 0, default 1 / 1), `max_time`, `max_depth`, `min_altitude`
-//! (>= 0, 0 = none), `save_flag`, `save_clear_flag`, `halt_flag`, `core_poly_var` (a
+//! (>= 0, 0 = none), `save_flag` (on leaving the save region), `savex_flag` (alias
+//! `save_clear_flag`: on being back inside it), `halt_flag` and `breached_poly_flag`,
+//! `breached_time_flag`, `breached_depth_flag`, `breached_altitude_flag` (on the halt
+//! of that kind; `halt_flag` on any), `draw_save_status` / `draw_halt_status`
+//! (booleans, default true: draw those regions), `core_poly_var` (a
 //! variable whose new polygon replaces the core at run time, the regions regrown),
 //! `reset` (`true`, from an `updates` string: forget the entry state and the breach),
 //! and `visual_hints`. The regions are drawn as `VIEW_POLYGON`s labelled
@@ -48,6 +52,10 @@ pub struct OpRegionV24 {
     save_flags: Vec<String>,
     save_clear_flags: Vec<String>,
     halt_flags: Vec<String>,
+    /// Flags of one kind of halt: polygon, time, depth, altitude.
+    kind_flags: [Vec<String>; 4],
+    draw_save: bool,
+    draw_halt: bool,
     core_poly_var: String,
     hints: Attrs,
     start_time: Option<f64>,
@@ -121,6 +129,9 @@ impl OpRegionV24 {
             save_flags: Vec::new(),
             save_clear_flags: Vec::new(),
             halt_flags: Vec::new(),
+            kind_flags: Default::default(),
+            draw_save: true,
+            draw_halt: true,
             core_poly_var: String::new(),
             hints: Attrs {
                 edge_color: "gray50".into(),
@@ -158,12 +169,12 @@ impl OpRegionV24 {
         }
         self.redraw = false;
         let name = ctx.name();
-        for (poly, tag) in [
-            (&self.core, "core"),
-            (&self.save, "save"),
-            (&self.halt, "halt"),
+        for (poly, tag, on) in [
+            (&self.core, "core", true),
+            (&self.save, "save", self.draw_save),
+            (&self.halt, "halt", self.draw_halt),
         ] {
-            if let Some(p) = poly {
+            if let Some(p) = poly.as_ref().filter(|_| on) {
                 let mut p = p.clone();
                 p.attrs = Attrs {
                     label: format!("{name}_{tag}"),
@@ -178,9 +189,11 @@ impl OpRegionV24 {
         }
     }
 
-    fn halt(&mut self, ctx: &mut Ctx<'_>, why: String) {
+    /// Declare a halt of `kind` (0 polygon, 1 time, 2 depth, 3 altitude).
+    fn halt(&mut self, ctx: &mut Ctx<'_>, kind: usize, why: String) {
         if self.halted.is_none() {
-            for f in self.halt_flags.clone() {
+            let flags = self.halt_flags.iter().chain(self.kind_flags[kind].iter());
+            for f in flags.cloned().collect::<Vec<_>>() {
                 ctx.post_flag(&f, false);
             }
         }
@@ -231,10 +244,20 @@ impl IvpBehavior for OpRegionV24 {
                 .map(|b| self.watch.armed_from_start = !b)
                 .is_some(),
             "save_flag" => flag(value).map(|f| self.save_flags.push(f)).is_some(),
-            "save_clear_flag" => flag(value).map(|f| self.save_clear_flags.push(f)).is_some(),
-            "halt_flag" | "breached_poly_flag" => {
-                flag(value).map(|f| self.halt_flags.push(f)).is_some()
+            "savex_flag" | "save_clear_flag" => {
+                flag(value).map(|f| self.save_clear_flags.push(f)).is_some()
             }
+            "halt_flag" => flag(value).map(|f| self.halt_flags.push(f)).is_some(),
+            "breached_poly_flag" => flag(value).map(|f| self.kind_flags[0].push(f)).is_some(),
+            "breached_time_flag" => flag(value).map(|f| self.kind_flags[1].push(f)).is_some(),
+            "breached_depth_flag" => flag(value).map(|f| self.kind_flags[2].push(f)).is_some(),
+            "breached_altitude_flag" => flag(value).map(|f| self.kind_flags[3].push(f)).is_some(),
+            "draw_save_status" => parse_bool(value, self.draw_save)
+                .map(|b| self.draw_save = b)
+                .is_some(),
+            "draw_halt_status" => parse_bool(value, self.draw_halt)
+                .map(|b| self.draw_halt = b)
+                .is_some(),
             "core_poly_var" => match no_white(value.trim()).filter(|v| !v.is_empty()) {
                 Some(v) => {
                     ctx.add_info_vars_no_warning(v);
@@ -312,6 +335,7 @@ impl IvpBehavior for OpRegionV24 {
             if self.watch.observe(now, inside) {
                 self.halt(
                     ctx,
+                    0,
                     format!("BHV_OpRegionV24 Halt region breach: x={x:.1} y={y:.1}"),
                 );
             }
@@ -319,6 +343,7 @@ impl IvpBehavior for OpRegionV24 {
         if self.max_time > 0.0 && now - start > self.max_time {
             self.halt(
                 ctx,
+                1,
                 format!(
                     "BHV_OpRegionV24 Max Time failure: max_time={}",
                     self.max_time
@@ -330,6 +355,7 @@ impl IvpBehavior for OpRegionV24 {
             if d > self.max_depth {
                 self.halt(
                     ctx,
+                    2,
                     format!("BHV_OpRegionV24 Max Depth failure: depth={d:.1}"),
                 );
             }
@@ -341,6 +367,7 @@ impl IvpBehavior for OpRegionV24 {
             {
                 self.halt(
                     ctx,
+                    3,
                     format!("BHV_OpRegionV24 Min Altitude failure: altitude={a:.1}"),
                 );
             }
