@@ -270,7 +270,7 @@ impl IvpBehavior for OpRegion {
                 if let Some(p) = &self.polygon {
                     if !self.opregion_poly_var.is_empty() {
                         let pts = p.spec(2);
-                        ctx.post_message(&self.opregion_poly_var.clone(), &pts);
+                        ctx.post_message(&self.opregion_poly_var, &pts);
                     }
                 }
                 self.draw(ctx);
@@ -295,8 +295,7 @@ impl IvpBehavior for OpRegion {
             let remaining = self.max_time - elapsed;
             ctx.post_message_num("OPREG_TIME_REMAINING", remaining);
             if !self.time_remaining_var.is_empty() {
-                let var = self.time_remaining_var.clone();
-                ctx.post_int_message(&var, remaining);
+                ctx.post_int_message(&self.time_remaining_var, remaining);
             }
             if remaining < 0.0 {
                 self.declare(ctx, Breach::Time);
