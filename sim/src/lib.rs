@@ -24,6 +24,7 @@
 pub mod bus;
 pub mod cli;
 pub mod interrupt;
+pub mod depth_strip;
 pub mod montecarlo;
 pub mod observe;
 pub mod output;
