@@ -42,6 +42,33 @@ pub struct SimArgs {
     /// behavior panic always exits 3).
     #[arg(long)]
     pub strict: bool,
+    /// Cluster runs (fleets): run only the K-th of N slices of the `--runs` set (K in
+    /// 1..N), and leave `shard.json` for `helm sim merge DIR...`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+}
+
+/// `--shard K/N`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub k: usize,
+    pub n: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let (k, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("`{s}`: want K/N, e.g. 3/8"))?;
+        let num = |v: &str| v.trim().parse::<usize>().ok();
+        match (num(k), num(n)) {
+            (Some(k), Some(n)) if n >= 1 && (1..=n).contains(&k) => Ok(Shard { k, n }),
+            (Some(k), Some(n)) => Err(format!("`{s}`: shard {k} is outside 1..{n}")),
+            _ => Err(format!("`{s}`: want K/N with whole numbers, e.g. 3/8")),
+        }
+    }
 }
 
 /// Exit code of a run that went wrong (see `helm --help`).
@@ -55,7 +82,7 @@ fn positive_secs(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("`{s}`: a number of seconds > 0"))
 }
 
-fn progress(len: u64, template: &str) -> ProgressBar {
+pub(crate) fn progress(len: u64, template: &str) -> ProgressBar {
     // Hidden when stderr is not a terminal (indicatif checks), so logs stay clean.
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
     if let Ok(style) = ProgressStyle::with_template(template) {
@@ -66,7 +93,13 @@ fn progress(len: u64, template: &str) -> ProgressBar {
 
 /// Run `helm sim`; prints the summary and where the outputs are.
 pub fn main(args: &SimArgs) -> ExitCode {
-    match run(args) {
+    // `helm sim merge DIR...`: the shards' tables joined (the DIRs land in `bhv`).
+    let result = if args.mission.as_os_str() == "merge" {
+        super::fleet::montecarlo::merge_cli(&args.bhv, args.out.as_deref())
+    } else {
+        run(args)
+    };
+    match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
             eprintln!("error: {e}");
@@ -77,7 +110,7 @@ pub fn main(args: &SimArgs) -> ExitCode {
 
 /// 0, or [`EXIT_RUN_WENT_WRONG`] for a run with a behavior panic (with `strict`: any
 /// behavior error, or a helm that never drove).
-fn verdict(strict: bool, panics: usize, errors: usize, never_drove: bool) -> u8 {
+pub(crate) fn verdict(strict: bool, panics: usize, errors: usize, never_drove: bool) -> u8 {
     if panics > 0 || (strict && (errors > 0 || never_drove)) {
         EXIT_RUN_WENT_WRONG
     } else {
@@ -85,13 +118,37 @@ fn verdict(strict: bool, panics: usize, errors: usize, never_drove: bool) -> u8 
     }
 }
 
+/// The fleet scenario `args` name, if it is one: `--scenario`, else the
+/// `scenario.toml` in the folder given, or beside the mission file given.
+fn fleet_scenario(args: &SimArgs) -> Option<PathBuf> {
+    let path = match &args.scenario {
+        Some(p) => p.clone(),
+        None if args.mission.is_dir() => args.mission.join("scenario.toml"),
+        None => args
+            .mission
+            .parent()
+            .unwrap_or(std::path::Path::new("."))
+            .join("scenario.toml"),
+    };
+    let text = std::fs::read_to_string(&path).ok()?;
+    super::fleet::is_fleet(&text).then_some(path)
+}
+
 fn run(args: &SimArgs) -> Result<u8, SimError> {
+    if let Some(path) = fleet_scenario(args) {
+        return super::fleet::cli::run(args, &path);
+    }
     let prep = Prepared::load(&args.mission, &args.bhv, args.scenario.as_deref())?;
     for line in &prep.library_report {
         tracing::info!("{line}");
     }
     for w in &prep.sim_warnings {
         eprintln!("warning: {w}");
+    }
+    if args.shard.is_some() {
+        return Err(SimError::Fleet(
+            "--shard: cluster slices are for fleet scenarios ([[vehicle]]) so far".into(),
+        ));
     }
     if args.runs > 1 {
         return monte_carlo(args, &prep);

@@ -129,6 +129,9 @@ pub struct Observer {
     /// The behavior errors that were panics (also in `behavior_errors`).
     pub behavior_panics: Vec<String>,
     pub waypoints_reached: u64,
+    /// Behaviors the helm spawned from a template (`IVPHELM_LIFE_EVENT`, `event=spawn`,
+    /// not those made at start-up).
+    pub spawns: u64,
     pub when: Vec<When>,
     /// The first `[[end.when]]` condition that fired (its reason).
     pub fired: Option<String>,
@@ -179,6 +182,11 @@ impl Observer {
                     self.behavior_panics.push(text.clone());
                 }
                 self.behavior_errors.push(text);
+            }
+            ("IVPHELM_LIFE_EVENT", Value::Str(s))
+                if s.contains("event=spawn") && !s.contains("seed=helm_startup") =>
+            {
+                self.spawns += 1;
             }
             ("WPT_INDEX", v) => {
                 let n = match v {

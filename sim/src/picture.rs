@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 
 use super::observe::{Observer, ViewKind};
 
-const W: f64 = 900.0;
-const H: f64 = 700.0;
+pub(crate) const W: f64 = 900.0;
+pub(crate) const H: f64 = 700.0;
 /// Margin around the drawing; the legend and the title live in it.
-const MARGIN: f64 = 60.0;
+pub(crate) const MARGIN: f64 = 60.0;
 
 const TRACK: &str = "#1f6fd1";
 const PATH: &str = "#e07b00";
@@ -73,16 +73,16 @@ fn shapes(obs: &Observer) -> Vec<Shape> {
 }
 
 /// World box → screen mapping (equal scales, y up).
-struct View {
+pub(crate) struct View {
     x0: f64,
     y1: f64,
-    scale: f64,
+    pub(crate) scale: f64,
     ox: f64,
     oy: f64,
 }
 
 impl View {
-    fn fit(pts: &[(f64, f64)]) -> View {
+    pub(crate) fn fit(pts: &[(f64, f64)]) -> View {
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for &(x, y) in pts {
             x0 = x0.min(x);
@@ -112,7 +112,7 @@ impl View {
         }
     }
 
-    fn p(&self, x: f64, y: f64) -> (f64, f64) {
+    pub(crate) fn p(&self, x: f64, y: f64) -> (f64, f64) {
         (
             self.ox + (x - self.x0) * self.scale,
             self.oy + (self.y1 - y) * self.scale,
@@ -120,14 +120,14 @@ impl View {
     }
 }
 
-fn esc(s: &str) -> String {
+pub(crate) fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
 }
 
-fn poly_points(v: &View, pts: &[(f64, f64)]) -> String {
+pub(crate) fn poly_points(v: &View, pts: &[(f64, f64)]) -> String {
     let mut s = String::new();
     for &(x, y) in pts {
         let (px, py) = v.p(x, y);
@@ -137,7 +137,7 @@ fn poly_points(v: &View, pts: &[(f64, f64)]) -> String {
 }
 
 /// A round scale-bar length near a fifth of the drawing width (m).
-fn nice_length(width_m: f64) -> f64 {
+pub(crate) fn nice_length(width_m: f64) -> f64 {
     let target = (width_m / 5.0).max(1.0);
     let p = 10f64.powf(target.log10().floor());
     [1.0, 2.0, 5.0, 10.0]

@@ -45,6 +45,10 @@ pub enum SimError {
     Malconfig { problems: String },
     #[error("{problems}\n{count} problem(s) in the simulator block; nothing run")]
     SimBlock { problems: String, count: usize },
+    /// A fleet that cannot run (a vehicle's contact manager block, shards that do not
+    /// belong together, ...).
+    #[error("{0}")]
+    Fleet(String),
     #[error("cannot write {}: {source}", path.display())]
     Write {
         path: PathBuf,
