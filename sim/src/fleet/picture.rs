@@ -85,11 +85,16 @@ fn clock(t: f64) -> String {
     format!("{}:{:02}", t / 60, t % 60)
 }
 
-/// The pairs worth marking: those that came within the encounter range.
+/// The pairs worth marking: those that came within the encounter range, and the pair
+/// that came closest of all.
 fn marked(o: &FleetOutcome) -> Vec<&PairRecord> {
+    let closest = o
+        .pairs
+        .iter()
+        .min_by(|a, b| a.closest_m.total_cmp(&b.closest_m));
     o.pairs
         .iter()
-        .filter(|p| p.closest_m <= o.ranges.encounter)
+        .filter(|p| p.closest_m <= o.ranges.encounter || closest.is_some_and(|c| std::ptr::eq(c, *p)))
         .collect()
 }
 
