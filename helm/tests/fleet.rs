@@ -74,7 +74,10 @@ fn encounter_spawns_avoidance_and_keeps_clear() {
     assert_eq!(sum["near_misses"], 0, "{sum:#}");
     // Without avoidance the two would pass through each other (0 m; see below).
     let closest = sum["closest_m"].as_f64().expect("closest_m");
-    assert!(closest > 8.0, "closest approach {closest} m, under min_util_cpa_dist");
+    assert!(
+        closest > 8.0,
+        "closest approach {closest} m, under min_util_cpa_dist"
+    );
     for v in sum["vehicles"].as_array().expect("vehicles") {
         assert!(v["spawned_behaviors"].as_u64() >= Some(1), "{v:#}");
         assert!(v["node_reports_received"].as_u64() > Some(50), "{v:#}");
@@ -82,16 +85,28 @@ fn encounter_spawns_avoidance_and_keeps_clear() {
         assert!(v["end"]["y"].as_f64().is_some());
     }
     let comms = &sum["comms"];
-    assert!(comms["out_of_range"].as_u64() > Some(0), "they start 170 m apart: {comms}");
+    assert!(
+        comms["out_of_range"].as_u64() > Some(0),
+        "they start 170 m apart: {comms}"
+    );
     for f in ["abe.alog", "ben.alog", "encounter.svg"] {
         assert!(out.join(f).is_file(), "{f} written");
     }
     let abe = std::fs::read_to_string(out.join("abe.alog")).expect("abe.alog");
-    assert!(abe.contains("CONTACT_INFO") && abe.contains("bname=avd_ben"), "the alert spawned avd_ben");
+    assert!(
+        abe.contains("CONTACT_INFO") && abe.contains("bname=avd_ben"),
+        "the alert spawned avd_ben"
+    );
     assert!(abe.contains("NODE_REPORT_LOCAL") && abe.contains("NAME=abe,X="));
     let svg = std::fs::read_to_string(out.join("encounter.svg")).expect("svg");
-    assert!(svg.contains("dodgerblue") && svg.contains("orangered"), "tracks in their colours");
-    assert!(svg.contains(" m abe-ben at "), "the closest approach is marked");
+    assert!(
+        svg.contains("dodgerblue") && svg.contains("orangered"),
+        "tracks in their colours"
+    );
+    assert!(
+        svg.contains(" m abe-ben at "),
+        "the closest approach is marked"
+    );
     assert!(stdout.contains("collisions (< 3 m) 0"), "{stdout}");
 }
 
@@ -151,14 +166,21 @@ fn malformed_node_reports_are_counted_not_fatal() {
     let (_, sum, stdout) = run_ok(&d, &["--max-time", "20"]);
     assert_eq!(sum["vehicles"][0]["malformed_node_reports"], 2, "{sum:#}");
     assert_eq!(sum["vehicles"][1]["malformed_node_reports"], 0, "{sum:#}");
-    assert!(stdout.contains("abe: 2 malformed NODE_REPORT(s)"), "{stdout}");
+    assert!(
+        stdout.contains("abe: 2 malformed NODE_REPORT(s)"),
+        "{stdout}"
+    );
 }
 
 #[test]
 fn bad_scenarios_and_flags_are_refused_before_anything_runs() {
     let v = "[[vehicle]]\nname = \"abe\"\nmission = \"encounter.moos\"\n";
     let cases = [
-        (format!("{v}max_speed = 3\n"), "scenario.toml:4:", "unknown field"),
+        (
+            format!("{v}max_speed = 3\n"),
+            "scenario.toml:4:",
+            "unknown field",
+        ),
         (
             "[[vehicle]]\nname = \"abe\"\nmission = \"nowhere.moos\"\n".to_string(),
             "scenario.toml:3:",
@@ -169,7 +191,11 @@ fn bad_scenarios_and_flags_are_refused_before_anything_runs() {
             "scenario.toml:6:",
             "two vehicles named `abe`",
         ),
-        (format!("{v}\n[comms]\nrange = -10\n"), "scenario.toml:6:", "range"),
+        (
+            format!("{v}\n[comms]\nrange = -10\n"),
+            "scenario.toml:6:",
+            "range",
+        ),
     ];
     for (text, at, what) in cases {
         let d = encounter_copy("bad", &text, true);
@@ -194,7 +220,14 @@ fn bad_scenarios_and_flags_are_refused_before_anything_runs() {
 fn four_shards_merged_equal_one_run() {
     let m = mission("encounter");
     let common_args = [
-        "--runs", "6", "--seed", "11", "--jitter", "x=8,y=8,heading=15", "--max-time", "80",
+        "--runs",
+        "6",
+        "--seed",
+        "11",
+        "--jitter",
+        "x=8,y=8,heading=15",
+        "--max-time",
+        "80",
     ];
     let whole = common::temp_dir("fleet-whole");
     let mut args = vec![s(&m), "--out", s(&whole)];
@@ -254,4 +287,24 @@ fn four_shards_merged_equal_one_run() {
         "{}",
         common::text(&o)
     );
+}
+
+/// missions/fleet's expected outcome (its README line), over its first 200 s (each
+/// transit has crossed the middle once and met loiterers and other transits by then).
+#[test]
+fn fleet_of_eight_avoids_each_other() {
+    let (out, sum, _) = run_ok(&mission("fleet"), &["--max-time", "200"]);
+    assert_eq!(sum["end_reason"], "max-time");
+    assert_eq!(sum["collisions"], 0, "{sum:#}");
+    let vehicles = sum["vehicles"].as_array().expect("vehicles");
+    assert_eq!(vehicles.len(), 8);
+    for v in vehicles {
+        assert_eq!(v["helm_state"], "DRIVE", "{v:#}");
+        let name = v["name"].as_str().expect("name");
+        if name.starts_with('t') {
+            assert!(v["spawned_behaviors"].as_u64() >= Some(1), "{v:#}");
+        }
+        assert!(out.join(format!("{name}.alog")).is_file());
+    }
+    assert_eq!(sum["pairs"].as_array().map(Vec::len), Some(28));
 }

@@ -24,6 +24,7 @@
 
 pub mod bus;
 pub mod cli;
+pub(crate) mod decor;
 pub mod fleet;
 pub mod montecarlo;
 pub mod observe;

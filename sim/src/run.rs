@@ -377,6 +377,7 @@ impl Prepared {
                 source: e,
             });
         }
+        bus.observer.headings = Some((start_nav.heading, model.nav().heading));
         Ok(Outcome {
             sim_time_s: off,
             wall_time_s: wall.elapsed().as_secs_f64(),

@@ -76,8 +76,16 @@ fn single(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
     println!("picture: {}", picture.display());
     println!("logs:    {}/<vehicle>.alog", dir.display());
     println!("summary: {}", summary_path.display());
-    let panics: usize = o.vehicles.iter().map(|v| v.observer.behavior_panics.len()).sum();
-    let errors: usize = o.vehicles.iter().map(|v| v.observer.behavior_errors.len()).sum();
+    let panics: usize = o
+        .vehicles
+        .iter()
+        .map(|v| v.observer.behavior_panics.len())
+        .sum();
+    let errors: usize = o
+        .vehicles
+        .iter()
+        .map(|v| v.observer.behavior_errors.len())
+        .sum();
     Ok(verdict(
         args.strict,
         panics,

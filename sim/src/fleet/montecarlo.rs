@@ -224,7 +224,10 @@ pub fn distribution(rows: &[Row]) -> String {
         );
     }
     for (what, k) in [
-        ("collision", rows.iter().filter(|r| r.collisions > 0).count()),
+        (
+            "collision",
+            rows.iter().filter(|r| r.collisions > 0).count(),
+        ),
         (
             "near miss",
             rows.iter()
@@ -348,7 +351,11 @@ pub fn merge_shards(dirs: &[PathBuf]) -> Result<(ShardFile, Vec<Row>), SimError>
         let text = std::fs::read_to_string(&path)
             .map_err(|e| SimError::Fleet(format!("{}: cannot read: {e}", path.display())))?;
         let f: ShardFile = serde_json::from_str(&text).map_err(|e| {
-            SimError::Fleet(format!("{}:{}: not a shard file: {e}", path.display(), e.line()))
+            SimError::Fleet(format!(
+                "{}:{}: not a shard file: {e}",
+                path.display(),
+                e.line()
+            ))
         })?;
         files.push((path, f));
     }
@@ -469,6 +476,8 @@ mod tests {
         let a = shifts(&j, 3, 4);
         assert_eq!(a, shifts(&j, 3, 4));
         assert_ne!(a[0], a[1]);
-        assert!(a.iter().all(|s| s.dx.abs() <= 5.0 && s.dheading.abs() <= 10.0));
+        assert!(a
+            .iter()
+            .all(|s| s.dx.abs() <= 5.0 && s.dheading.abs() <= 10.0));
     }
 }

@@ -94,7 +94,9 @@ fn marked(o: &FleetOutcome) -> Vec<&PairRecord> {
         .min_by(|a, b| a.closest_m.total_cmp(&b.closest_m));
     o.pairs
         .iter()
-        .filter(|p| p.closest_m <= o.ranges.encounter || closest.is_some_and(|c| std::ptr::eq(c, *p)))
+        .filter(|p| {
+            p.closest_m <= o.ranges.encounter || closest.is_some_and(|c| std::ptr::eq(c, *p))
+        })
         .collect()
 }
 

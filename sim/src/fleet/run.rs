@@ -93,7 +93,11 @@ impl FleetPlan {
     }
 
     /// Run once, vehicle i moved by `shifts[i]` (missing: no shift).
-    pub fn run(&self, shifts: &[StartShift], opts: &FleetOptions) -> Result<FleetOutcome, SimError> {
+    pub fn run(
+        &self,
+        shifts: &[StartShift],
+        opts: &FleetOptions,
+    ) -> Result<FleetOutcome, SimError> {
         let wall = Instant::now();
         let t0 = SIM_EPOCH;
         let sc = &self.scenario;
@@ -115,7 +119,11 @@ impl FleetPlan {
         let clients: Vec<Value> = self
             .vehicles
             .iter()
-            .map(|_| Value::Str(format!("uSimMarine,pHelmIvP,pContactMgrV20,pNodeReporter,{COMMS_NAME},")))
+            .map(|_| {
+                Value::Str(format!(
+                    "uSimMarine,pHelmIvP,pContactMgrV20,pNodeReporter,{COMMS_NAME},"
+                ))
+            })
             .collect();
         let db_names: Vec<String> = self
             .vehicles

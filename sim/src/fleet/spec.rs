@@ -483,15 +483,26 @@ mod tests {
                 3,
                 "no such file",
             ),
-            (format!("{v}\n[[vehicle]]\nname = \"ABE\"\nmission = \"m.moos\"\n"), 6, "two vehicles"),
+            (
+                format!("{v}\n[[vehicle]]\nname = \"ABE\"\nmission = \"m.moos\"\n"),
+                6,
+                "two vehicles",
+            ),
             (format!("{v}[comms]\nrange = -5\n"), 5, "range"),
             (format!("{v}[comms]\ndrop = 120\n"), 5, "percentage"),
             (format!("{v}color = \"notacolour\"\n"), 4, "colour"),
-            (format!("{v}[collision]\ncollision = 30\n"), 5, "collision <="),
+            (
+                format!("{v}[collision]\ncollision = 30\n"),
+                5,
+                "collision <=",
+            ),
         ];
         for (text, line, has) in cases {
             let e = parse(&text).expect_err(&text).to_string();
-            assert!(e.contains(&format!("scenario.toml:{line}: ")), "{text:?} -> {e}");
+            assert!(
+                e.contains(&format!("scenario.toml:{line}: ")),
+                "{text:?} -> {e}"
+            );
             assert!(e.contains(has), "{text:?} -> {e}");
         }
     }
