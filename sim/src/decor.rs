@@ -1,10 +1,10 @@
-//! Layers of the one-vehicle picture ([`super::picture`]): the metre grid with the
+//! Layers of the one-vehicle picture (`picture.rs`): the metre grid with the
 //! origin, heading arrows, label placement that keeps labels off each other and off the
 //! track, and the Monte-Carlo start and end clouds.
 
 use std::fmt::Write as _;
 
-use super::picture::{esc, nice_length, View, H, MARGIN, W};
+use super::canvas::{esc, nice_length, View, H, MARGIN, W};
 
 const GRID: &str = "#e8e8e8";
 const GRID_TEXT: &str = "#9a9a9a";

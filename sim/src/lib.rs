@@ -4,7 +4,8 @@
 //! vehicle simulator ([`vehicle_model`]) and an in-process MOOS bus ([`bus`]) run on a
 //! simulated clock ([`run`]); a [`scenario`] file adds pokes, end conditions and start
 //! overrides; [`output`] writes the summary and [`picture`] the SVG; [`montecarlo`]
-//! runs the mission many times with perturbed starts; [`cli`] is the command line.
+//! runs the mission many times with perturbed starts; [`cli`] is the command line
+//! ([`args`] its arguments).
 //! [`fleet`] runs several vehicles on one clock, with node reports between them, a
 //! contact manager each and collision statistics.
 //!
@@ -22,7 +23,9 @@
 //! assert_eq!(run.end_reason, "mission-over");
 //! ```
 
+pub mod args;
 pub mod bus;
+pub(crate) mod canvas;
 pub mod cli;
 pub(crate) mod decor;
 pub mod fleet;

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use super::run::{FleetOptions, FleetPlan};
-use crate::cli::{progress, verdict, SimArgs};
+use crate::args::{progress, verdict, SimArgs};
 use crate::output;
 use crate::run::SimError;
 

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::collide::Detector;
 use super::run::{FleetOptions, FleetPlan};
-use crate::cli::{progress, verdict, SimArgs};
+use crate::args::{progress, verdict, SimArgs};
 use crate::montecarlo::{unit, Jitter};
 use crate::output;
 use crate::run::{SimError, StartShift};

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 
 use super::collide::PairRecord;
 use super::run::FleetOutcome;
-use crate::picture::{esc, nice_length, poly_points, View, H, MARGIN, W};
+use crate::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
 
 const CPA: &str = "#c0392b";
 
