@@ -260,6 +260,9 @@ pub struct ShardFile {
     pub shard: usize,
     pub shards: usize,
     pub rows: Vec<Row>,
+    /// The rows as `runs.csv` lines, in the order of `rows`: merged as they are, so the
+    /// table does not depend on how JSON carries floating-point numbers.
+    pub lines: Vec<String>,
 }
 
 /// The run-set identity two shards must share.
@@ -315,6 +318,8 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
     );
     println!("{}", distribution(&rows));
     if n > 1 {
+        let table = csv(&vehicles, &rows);
+        let lines = table.lines().skip(1).map(str::to_string).collect();
         let shard = ShardFile {
             mission: plan.name.clone(),
             vehicles,
@@ -325,6 +330,7 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
             shard: k,
             shards: n,
             rows,
+            lines,
         };
         let path = dir.join("shard.json");
         let json = serde_json::to_string(&shard).unwrap_or_default();
@@ -343,8 +349,8 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
 }
 
 /// Read the shards in `dirs`, check they are one run set, complete, each once; their rows
-/// in run order, with the vehicles.
-pub fn merge_shards(dirs: &[PathBuf]) -> Result<(ShardFile, Vec<Row>), SimError> {
+/// (with their table lines) in run order, with the run set.
+pub fn merge_shards(dirs: &[PathBuf]) -> Result<(ShardFile, Vec<(Row, String)>), SimError> {
     let mut files = Vec::new();
     for d in dirs {
         let path = d.join("shard.json");
@@ -408,17 +414,25 @@ pub fn merge_shards(dirs: &[PathBuf]) -> Result<(ShardFile, Vec<Row>), SimError>
             first.shards
         )));
     }
-    let mut rows: Vec<Row> = Vec::with_capacity(first.runs);
+    let mut rows: Vec<(Row, String)> = Vec::with_capacity(first.runs);
     let mut head = None;
-    for (_, mut f) in files {
-        rows.append(&mut f.rows);
+    for (path, mut f) in files {
+        if f.lines.len() != f.rows.len() {
+            return Err(SimError::Fleet(format!(
+                "{}: {} rows but {} table lines",
+                path.display(),
+                f.rows.len(),
+                f.lines.len()
+            )));
+        }
+        rows.extend(f.rows.drain(..).zip(f.lines.drain(..)));
         if head.is_none() {
             head = Some(f);
         }
     }
-    rows.sort_by_key(|r| r.run);
+    rows.sort_by_key(|(r, _)| r.run);
     let head = head.ok_or_else(|| SimError::Fleet("merge: no shards".into()))?;
-    if rows.len() != head.runs || rows.iter().enumerate().any(|(i, r)| r.run != i) {
+    if rows.len() != head.runs || rows.iter().enumerate().any(|(i, (r, _))| r.run != i) {
         return Err(SimError::Fleet(format!(
             "merge: the shards hold {} rows, not runs 0..{} each once",
             rows.len(),
@@ -430,10 +444,16 @@ pub fn merge_shards(dirs: &[PathBuf]) -> Result<(ShardFile, Vec<Row>), SimError>
 
 /// `helm sim merge DIR... [--out DIR]`.
 pub fn merge_cli(dirs: &[PathBuf], out: Option<&Path>) -> Result<u8, SimError> {
-    let (head, rows) = merge_shards(dirs)?;
+    let (head, merged) = merge_shards(dirs)?;
     let dir = output::out_dir(out, &format!("{}-mc{}-merged", head.mission, head.runs))?;
     let path = dir.join("runs.csv");
-    output::write(&path, &csv(&head.vehicles, &rows))?;
+    let mut table = csv(&head.vehicles, &[]);
+    for (_, line) in &merged {
+        table.push_str(line);
+        table.push('\n');
+    }
+    output::write(&path, &table)?;
+    let rows: Vec<Row> = merged.into_iter().map(|(r, _)| r).collect();
     println!(
         "{}: {} runs merged from {} shards (seed {}, jitter {})",
         head.mission, head.runs, head.shards, head.seed, head.jitter
