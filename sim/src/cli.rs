@@ -3,72 +3,26 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-
+use super::args::{progress, verdict};
+pub use super::args::{Shard, SimArgs, EXIT_RUN_WENT_WRONG};
 use super::interrupt;
-use super::montecarlo::{self, Jitter};
+use super::montecarlo;
 use super::output;
 use super::run::{Prepared, RunOptions, SimError, StartShift};
 
-/// `helm sim` arguments.
-#[derive(clap::Args, Debug, Clone)]
-pub struct SimArgs {
-    /// The mission file (`.moos`), or a folder holding one.
-    pub mission: PathBuf,
-    /// Extra behavior files (`.bhv`).
-    pub bhv: Vec<PathBuf>,
-    /// Output folder (default: runs/<mission>-<UTC time>).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Scenario file (default: scenario.toml beside the mission, if any).
-    #[arg(long)]
-    pub scenario: Option<PathBuf>,
-    /// Stop after this many simulated seconds (overrides the scenario's max_time).
-    #[arg(long, value_parser = positive_secs)]
-    pub max_time: Option<f64>,
-    /// Monte Carlo: run the mission N times from perturbed starts, on all cores
-    /// (Ctrl-C keeps the runs finished so far in runs.csv; exit 130).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
-    pub runs: u64,
-    /// Seed of the first run (run i uses seed+i).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Start perturbation, uniform in ± each amount: `x=5,y=5,heading=20` (m, m, deg).
-    #[arg(long)]
-    pub jitter: Option<Jitter>,
-    /// With --runs: also write each run's `.alog` (`run-0000.alog`, ... beside
-    /// `runs.csv`), so `helm view DIR` can replay every run. About 2 MB per alpha run.
-    #[arg(long)]
-    pub alogs: bool,
-    /// Exit 3 also when a behavior posted any error or the helm never drove (a
-    /// behavior panic always exits 3).
-    #[arg(long)]
-    pub strict: bool,
-}
-
-/// Exit code of a run that went wrong (see `helm --help`).
-pub const EXIT_RUN_WENT_WRONG: u8 = 3;
-
-fn positive_secs(s: &str) -> Result<f64, String> {
-    s.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|t| t.is_finite() && *t > 0.0)
-        .ok_or_else(|| format!("`{s}`: a number of seconds > 0"))
-}
-
-fn progress(len: u64, template: &str) -> ProgressBar {
-    // Hidden when stderr is not a terminal (indicatif checks), so logs stay clean.
-    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(template) {
-        bar.set_style(style);
-    }
-    bar
-}
-
 /// Run `helm sim`; prints the summary and where the outputs are.
 pub fn main(args: &SimArgs) -> ExitCode {
-    match run(args) {
+    // `helm sim merge DIR...`: the shards' tables joined (the DIRs land in `bhv`).
+    if args.mission.as_os_str() == "merge" && args.bhv.is_empty() {
+        eprintln!("error: usage: helm sim merge SHARD_DIR... [--out DIR]");
+        return ExitCode::from(2);
+    }
+    let result = if args.mission.as_os_str() == "merge" {
+        super::fleet::montecarlo::merge_cli(&args.bhv, args.out.as_deref())
+    } else {
+        run(args)
+    };
+    match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
             eprintln!("error: {e}");
@@ -77,23 +31,37 @@ pub fn main(args: &SimArgs) -> ExitCode {
     }
 }
 
-/// 0, or [`EXIT_RUN_WENT_WRONG`] for a run with a behavior panic (with `strict`: any
-/// behavior error, or a helm that never drove).
-fn verdict(strict: bool, panics: usize, errors: usize, never_drove: bool) -> u8 {
-    if panics > 0 || (strict && (errors > 0 || never_drove)) {
-        EXIT_RUN_WENT_WRONG
-    } else {
-        0
-    }
+/// The fleet scenario `args` name, if it is one: `--scenario`, else the
+/// `scenario.toml` in the folder given, or beside the mission file given.
+fn fleet_scenario(args: &SimArgs) -> Option<PathBuf> {
+    let path = match &args.scenario {
+        Some(p) => p.clone(),
+        None if args.mission.is_dir() => args.mission.join("scenario.toml"),
+        None => args
+            .mission
+            .parent()
+            .unwrap_or(std::path::Path::new("."))
+            .join("scenario.toml"),
+    };
+    let text = std::fs::read_to_string(&path).ok()?;
+    super::fleet::is_fleet(&text).then_some(path)
 }
 
 fn run(args: &SimArgs) -> Result<u8, SimError> {
+    if let Some(path) = fleet_scenario(args) {
+        return super::fleet::cli::run(args, &path);
+    }
     let prep = Prepared::load(&args.mission, &args.bhv, args.scenario.as_deref())?;
     for line in &prep.library_report {
         tracing::info!("{line}");
     }
     for w in &prep.sim_warnings {
         eprintln!("warning: {w}");
+    }
+    if args.shard.is_some() {
+        return Err(SimError::Fleet(
+            "--shard: cluster slices are for fleet scenarios ([[vehicle]]) so far".into(),
+        ));
     }
     if args.runs > 1 {
         return monte_carlo(args, &prep);

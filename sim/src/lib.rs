@@ -4,11 +4,13 @@
 //! vehicle simulator ([`vehicle_model`]) and an in-process MOOS bus ([`bus`]) run on a
 //! simulated clock ([`run`]); a [`scenario`] file adds pokes, end conditions and start
 //! overrides; [`output`] writes the summary and [`picture`] the SVG; [`montecarlo`]
-//! runs the mission many times with perturbed starts; [`cli`] is the command line.
-//! This is where fleets, node-report comms and contact managers are to live.
+//! runs the mission many times with perturbed starts; [`cli`] is the command line
+//! ([`args`] its arguments).
+//! [`fleet`] runs several vehicles on one clock, with node reports between them, a
+//! contact manager each and collision statistics.
 //!
 //! It may depend on `helm-engine`, `vehicle-model`, `moos` (for the `.alog` and mission
-//! files; never a socket) and `geometry`; it must not depend on `helm-app`, and nothing
+//! files; never a socket), `geometry`, `contact-manager` and `contacts`, and `mbutil`; it must not depend on `helm-app`, and nothing
 //! but the `helm` binary depends on it.
 //!
 //! The repo's alpha mission, start to end, on a simulated clock:
@@ -21,10 +23,14 @@
 //! assert_eq!(run.end_reason, "mission-over");
 //! ```
 
+pub mod args;
 pub mod bus;
+pub(crate) mod canvas;
 pub mod cli;
 pub mod interrupt;
 pub mod depth_strip;
+pub(crate) mod decor;
+pub mod fleet;
 pub mod montecarlo;
 pub mod observe;
 pub mod output;

@@ -130,12 +130,19 @@ pub struct Observer {
     pub views: BTreeMap<(ViewKind, String), String>,
     /// Labels of objects that moved (were redrawn different) during the run.
     pub moved: std::collections::BTreeSet<(ViewKind, String)>,
+    /// Objects whose last posting erased them (`active=false`): not drawn.
+    pub erased: std::collections::BTreeSet<(ViewKind, String)>,
+    /// The vehicle's heading at the start and at the end (set when the run ends).
+    pub headings: Option<(f64, f64)>,
     pub allstops: Vec<AllStop>,
     last_allstop: String,
     pub behavior_errors: Vec<String>,
     /// The behavior errors that were panics (also in `behavior_errors`).
     pub behavior_panics: Vec<String>,
     pub waypoints_reached: u64,
+    /// Behaviors the helm spawned from a template (`IVPHELM_LIFE_EVENT`, `event=spawn`,
+    /// not those made at start-up).
+    pub spawns: u64,
     pub when: Vec<When>,
     /// The first `[[end.when]]` condition that fired (its reason).
     pub fired: Option<String>,
@@ -192,6 +199,11 @@ impl Observer {
                 }
                 self.behavior_errors.push(text);
             }
+            ("IVPHELM_LIFE_EVENT", Value::Str(s))
+                if s.contains("event=spawn") && !s.contains("seed=helm_startup") =>
+            {
+                self.spawns += 1;
+            }
             ("WPT_INDEX", v) => {
                 let n = match v {
                     Value::Num(n) => *n,
@@ -209,10 +221,17 @@ impl Observer {
     }
 
     fn on_view(&mut self, kind: ViewKind, spec: &str) {
+        let label = spec_label(spec);
         if is_erase(spec) {
+            // Kept in `views` (the Monte-Carlo distances use it), but not drawn.
+            if self.views.contains_key(&(kind, label.to_string())) {
+                self.erased.insert((kind, label.to_string()));
+            }
             return;
         }
-        let label = spec_label(spec);
+        if !self.erased.is_empty() {
+            self.erased.remove(&(kind, label.to_string()));
+        }
         match self.views.get_mut(&(kind, label.to_string())) {
             Some(old) if old == spec => {}
             Some(old) => {
@@ -261,6 +280,9 @@ mod tests {
         o.on_posting("WPT_STAT", &s("behavior-name=w,completed"), 105.0);
         assert_eq!(o.views.len(), 1);
         assert_eq!(o.views.values().next().unwrap(), "x=3,y=2,label=a");
+        assert!(o.erased.contains(&(ViewKind::Point, "a".to_string())));
+        o.on_posting("VIEW_POINT", &s("x=4,y=2,label=a"), 106.0);
+        assert!(o.erased.is_empty(), "drawn again");
         assert_eq!(
             o.allstops,
             vec![AllStop {

@@ -4,12 +4,8 @@
 
 use std::fmt::Write as _;
 
+use super::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
 use super::observe::{Observer, ViewKind};
-
-const W: f64 = 900.0;
-const H: f64 = 700.0;
-/// Margin around the drawing; the legend and the title live in it.
-const MARGIN: f64 = 60.0;
 
 const TRACK: &str = "#1f6fd1";
 const PATH: &str = "#e07b00";
@@ -36,9 +32,38 @@ fn field(spec: &str, key: &str) -> Option<f64> {
         .filter(|v: &f64| v.is_finite())
 }
 
-fn shapes(obs: &Observer) -> Vec<Shape> {
+/// A posted colour of the object (`edge_color`, or `vertex_color` for a point), as SVG.
+fn posted_color(spec: &str, kind: ViewKind) -> Option<String> {
+    let key = if kind == ViewKind::Point {
+        "vertex_color"
+    } else {
+        "edge_color"
+    };
+    spec.split(',')
+        .filter_map(|f| f.split_once('='))
+        .find(|(k, _)| k.trim().eq_ignore_ascii_case(key))
+        .and_then(|(_, v)| crate::fleet::spec::svg_color(v))
+}
+
+/// Colour of a path or polygon its behavior erased (a finished plan, still worth seeing).
+const ERASED: &str = "#b8b8b8";
+
+/// The objects to draw, each with its posted colour if any. Erased markers (points,
+/// circles) are left out; erased paths and polygons are drawn in grey.
+fn shapes(obs: &Observer) -> Vec<(Shape, Option<String>)> {
     let mut out = Vec::new();
+    let mut colors = Vec::new();
     for ((kind, label), spec) in &obs.views {
+        let erased = obs.erased.contains(&(*kind, label.clone()));
+        if erased && matches!(kind, ViewKind::Point | ViewKind::Circle) {
+            continue;
+        }
+        let color = if erased {
+            Some(ERASED.to_string())
+        } else {
+            posted_color(spec, *kind)
+        };
+        let at = out.len();
         let label = label.clone();
         match kind {
             ViewKind::Seglist => {
@@ -68,83 +93,11 @@ fn shapes(obs: &Observer) -> Vec<Shape> {
                 }
             }
         }
-    }
-    out
-}
-
-/// World box → screen mapping (equal scales, y up).
-struct View {
-    x0: f64,
-    y1: f64,
-    scale: f64,
-    ox: f64,
-    oy: f64,
-}
-
-impl View {
-    fn fit(pts: &[(f64, f64)]) -> View {
-        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for &(x, y) in pts {
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            y0 = y0.min(y);
-            y1 = y1.max(y);
-        }
-        if x0 > x1 {
-            (x0, x1, y0, y1) = (-10.0, 10.0, -10.0, 10.0);
-        }
-        // At least 20 m across, and a 5% border.
-        let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
-        let half_w = ((x1 - x0) / 2.0).max(10.0) * 1.05;
-        let half_h = ((y1 - y0) / 2.0).max(10.0) * 1.05;
-        let (aw, ah) = (W - 2.0 * MARGIN - 170.0, H - 2.0 * MARGIN);
-        let scale = (aw / (2.0 * half_w)).min(ah / (2.0 * half_h));
-        let (x0, y1) = (cx - half_w, cy + half_h);
-        // Centre the drawing in the area left of the legend.
-        let ox = MARGIN + (aw - 2.0 * half_w * scale) / 2.0;
-        let oy = MARGIN + (ah - 2.0 * half_h * scale) / 2.0;
-        View {
-            x0,
-            y1,
-            scale,
-            ox,
-            oy,
+        if out.len() > at {
+            colors.push(color);
         }
     }
-
-    fn p(&self, x: f64, y: f64) -> (f64, f64) {
-        (
-            self.ox + (x - self.x0) * self.scale,
-            self.oy + (self.y1 - y) * self.scale,
-        )
-    }
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
-fn poly_points(v: &View, pts: &[(f64, f64)]) -> String {
-    let mut s = String::new();
-    for &(x, y) in pts {
-        let (px, py) = v.p(x, y);
-        let _ = write!(s, "{px:.1},{py:.1} ");
-    }
-    s
-}
-
-/// A round scale-bar length near a fifth of the drawing width (m).
-fn nice_length(width_m: f64) -> f64 {
-    let target = (width_m / 5.0).max(1.0);
-    let p = 10f64.powf(target.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * p)
-        .rfind(|l| *l <= target)
-        .unwrap_or(p)
+    out.into_iter().zip(colors).collect()
 }
 
 /// The picture, as SVG text. `title` is the first line (mission, end reason, time).
@@ -165,7 +118,7 @@ pub fn svg_with_tracks(
     for t in others {
         all.extend(t);
     }
-    for s in &shapes {
+    for (s, _) in &shapes {
         match s {
             Shape::Path(p, _) | Shape::Polygon(p, _) => all.extend(p),
             Shape::Point(x, y, _) => all.push((*x, *y)),
@@ -196,60 +149,68 @@ pub fn svg_with_tracks(
         r##"<text x="{MARGIN}" y="48" font-size="13" fill="#555">{}</text>"##,
         esc(subtitle)
     );
+    super::decor::grid(&mut o, &v);
+    let mut labels = super::decor::Labels::default();
     // Polygons and circles first (areas), then paths, then the track on top.
-    for s in &shapes {
+    for (s, c) in &shapes {
         match s {
             Shape::Polygon(p, label) => {
+                let col = c.as_deref().unwrap_or(POLY);
                 let _ = writeln!(
                     o,
-                    r#"<polygon points="{}" fill="{POLY}" fill-opacity="0.08" stroke="{POLY}" stroke-width="1.5"/>"#,
+                    r#"<polygon points="{}" fill="{col}" fill-opacity="0.08" stroke="{col}" stroke-width="1.5"/>"#,
                     poly_points(&v, p)
                 );
                 if let Some(&(x, y)) = p.first() {
-                    label_at(&mut o, &v, x, y, label, POLY);
+                    labels.place(&mut o, &v, x, y, label, col, &track);
                 }
             }
             Shape::Circle(x, y, r, label) => {
+                let col = c.as_deref().unwrap_or(CIRCLE);
                 let (px, py) = v.p(*x, *y);
                 let _ = writeln!(
                     o,
-                    r#"<circle cx="{px:.1}" cy="{py:.1}" r="{:.1}" fill="none" stroke="{CIRCLE}" stroke-width="1.2" stroke-dasharray="3,3"/>"#,
+                    r#"<circle cx="{px:.1}" cy="{py:.1}" r="{:.1}" fill="none" stroke="{col}" stroke-width="1.2" stroke-dasharray="3,3"/>"#,
                     r * v.scale
                 );
-                label_at(&mut o, &v, *x, y + r, label, CIRCLE);
+                labels.place(&mut o, &v, *x, y + r, label, col, &track);
             }
             _ => {}
         }
     }
-    for s in &shapes {
+    for (s, c) in &shapes {
         if let Shape::Path(p, label) = s {
+            let path_color = c.as_deref().unwrap_or(PATH);
             let _ = writeln!(
                 o,
-                r#"<polyline points="{}" fill="none" stroke="{PATH}" stroke-width="1.5" stroke-dasharray="6,4"/>"#,
+                r#"<polyline points="{}" fill="none" stroke="{path_color}" stroke-width="1.5" stroke-dasharray="6,4"/>"#,
                 poly_points(&v, p)
             );
             for (i, &(x, y)) in p.iter().enumerate() {
                 let (px, py) = v.p(x, y);
                 let _ = writeln!(
                     o,
-                    r##"<circle cx="{px:.1}" cy="{py:.1}" r="5" fill="#fff" stroke="{PATH}" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="11" fill="{PATH}">{}</text>"##,
+                    r##"<circle cx="{px:.1}" cy="{py:.1}" r="5" fill="#fff" stroke="{path_color}" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="11" fill="{path_color}">{}</text>"##,
                     px + 7.0,
                     py - 7.0,
                     i + 1
                 );
             }
             if let Some(&(x, y)) = p.first() {
-                label_at(&mut o, &v, x, y, label, PATH);
+                labels.place(&mut o, &v, x, y, label, path_color, &track);
             }
         }
     }
+    // Thinned so that a thousand runs stay well under 1 MB of SVG.
+    let keep = (40_000 / others.len().max(1)).clamp(8, 400);
     for t in others.iter().filter(|t| t.len() > 1) {
         let _ = writeln!(
             o,
             r#"<polyline points="{}" fill="none" stroke="{OTHERS}" stroke-opacity="0.25" stroke-width="0.8"/>"#,
-            poly_points(&v, t)
+            poly_points(&v, &super::decor::thin(t, keep))
         );
     }
+    super::decor::clouds(&mut o, &v, others, START, END);
     if track.len() > 1 {
         let _ = writeln!(
             o,
@@ -257,18 +218,19 @@ pub fn svg_with_tracks(
             poly_points(&v, &track)
         );
     }
-    for s in &shapes {
+    for (s, c) in &shapes {
         if let Shape::Point(x, y, label) = s {
+            let col = c.as_deref().unwrap_or(POINT);
             let (px, py) = v.p(*x, *y);
             let _ = writeln!(
                 o,
-                r#"<path d="M{:.1},{py:.1} L{px:.1},{:.1} L{:.1},{py:.1} L{px:.1},{:.1} Z" fill="{POINT}"/>"#,
+                r#"<path d="M{:.1},{py:.1} L{px:.1},{:.1} L{:.1},{py:.1} L{px:.1},{:.1} Z" fill="{col}"/>"#,
                 px - 4.0,
                 py - 4.0,
                 px + 4.0,
                 py + 4.0
             );
-            label_above(&mut o, &v, *x, *y, label, POINT);
+            labels.place(&mut o, &v, *x, *y, label, col, &track);
         }
     }
     if let Some((x, y)) = obs.track.last() {
@@ -287,6 +249,11 @@ pub fn svg_with_tracks(
             r##"<circle cx="{px:.1}" cy="{py:.1}" r="9" fill="none" stroke="{START}" stroke-width="3"/>"##
         );
     }
+    if let (Some((h0, h1)), Some(a), Some(b)) = (obs.headings, obs.track.first(), obs.track.last())
+    {
+        super::decor::heading_arrow(&mut o, &v, a, h0, START);
+        super::decor::heading_arrow(&mut o, &v, b, h1, END);
+    }
     // Scale bar, bottom left.
     let width_m = (W - 2.0 * MARGIN - 170.0) / v.scale;
     let len = nice_length(width_m);
@@ -301,7 +268,8 @@ pub fn svg_with_tracks(
         bx + bw + 8.0,
         by + 4.0
     );
-    legend(&mut o, &shapes, !others.is_empty());
+    let only: Vec<Shape> = shapes.into_iter().map(|(s, _)| s).collect();
+    legend(&mut o, &only, !others.is_empty());
     if obs.depth.enabled {
         crate::depth_strip::draw(&mut o, &obs.depth, H, W);
     }
@@ -316,34 +284,6 @@ fn depth_strip_height(obs: &Observer) -> f64 {
     } else {
         0.0
     }
-}
-
-fn label_above(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) {
-    if label.is_empty() {
-        return;
-    }
-    let (px, py) = v.p(x, y);
-    let _ = writeln!(
-        o,
-        r#"<text x="{:.1}" y="{:.1}" font-size="10" fill="{color}" fill-opacity="0.8">{}</text>"#,
-        px + 8.0,
-        py - 8.0,
-        esc(label)
-    );
-}
-
-fn label_at(o: &mut String, v: &View, x: f64, y: f64, label: &str, color: &str) {
-    if label.is_empty() {
-        return;
-    }
-    let (px, py) = v.p(x, y);
-    let _ = writeln!(
-        o,
-        r#"<text x="{:.1}" y="{:.1}" font-size="11" fill="{color}">{}</text>"#,
-        px + 8.0,
-        py + 14.0,
-        esc(label)
-    );
 }
 
 fn legend(o: &mut String, shapes: &[Shape], others: bool) {
@@ -483,6 +423,69 @@ mod tests {
             assert!(svg.contains(has), "{has} missing");
         }
         assert!(svg.ends_with("</svg>\n"));
+    }
+
+    #[test]
+    fn erased_not_drawn_colours_grid_arrows() {
+        let mut o = Observer::new(0.0, Vec::new());
+        let s = |v: &str| Value::Str(v.into());
+        o.on_posting("VIEW_POINT", &s("x=5,y=5,label=gone"), 1.0);
+        o.on_posting("VIEW_POINT", &s("x=5,y=5,active=false,label=gone"), 2.0);
+        o.on_posting(
+            "VIEW_POLYGON",
+            &s("pts={10,10:20,10:20,20},label=zone,edge_color=dodger_blue"),
+            1.0,
+        );
+        o.on_posting("VIEW_SEGLIST", &s("pts={0,0:9,9},label=done"), 1.0);
+        o.on_posting(
+            "VIEW_SEGLIST",
+            &s("pts={0,0:9,9},active=false,label=done"),
+            2.0,
+        );
+        for i in 0..10 {
+            o.track.push(i as f64 * 10.0, 0.0);
+        }
+        o.headings = Some((90.0, 180.0));
+        let svg = svg(&o, "t", "sub");
+        assert!(!svg.contains(">gone<"), "an erased marker is not drawn");
+        assert!(svg.contains(r#"stroke="dodgerblue""#), "the posted colour");
+        assert!(
+            svg.contains(&format!(r#"stroke="{ERASED}""#)),
+            "a finished path, grey"
+        );
+        assert!(svg.contains(">0,0</text>"), "the origin");
+        assert!(
+            svg.contains(r#"text-anchor="middle">40</text>"#),
+            "metre labels"
+        );
+        // The start arrow points east (+x on screen), the end arrow south (+y).
+        assert!(svg.matches("Z\" fill=").count() >= 2, "two arrow heads");
+    }
+
+    #[test]
+    fn a_thousand_runs_stay_under_a_megabyte() {
+        let mut o = Observer::new(0.0, Vec::new());
+        for i in 0..2000 {
+            o.track.push(i as f64 * 0.3, (i as f64 * 0.01).sin() * 50.0);
+        }
+        let tracks: Vec<Vec<(f64, f64)>> = (0..1000)
+            .map(|r| {
+                (0..400)
+                    .map(|i| {
+                        (
+                            i as f64 * 1.5 + r as f64 * 0.01,
+                            (i as f64 * 0.02).cos() * 40.0,
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        let svg = svg_with_tracks(&o, &tracks, "t", "s");
+        assert!(svg.len() < 1_000_000, "{} bytes", svg.len());
+        assert!(
+            svg.matches("fill-opacity=\"0.45\"").count() >= 2000,
+            "start and end clouds"
+        );
     }
 
     #[test]

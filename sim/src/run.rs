@@ -45,6 +45,10 @@ pub enum SimError {
     Malconfig { problems: String },
     #[error("{problems}\n{count} problem(s) in the simulator block; nothing run")]
     SimBlock { problems: String, count: usize },
+    /// A fleet that cannot run (a vehicle's contact manager block, shards that do not
+    /// belong together, ...).
+    #[error("{0}")]
+    Fleet(String),
     #[error("cannot write {}: {source}", path.display())]
     Write {
         path: PathBuf,
@@ -374,6 +378,7 @@ impl Prepared {
                 source: e,
             });
         }
+        bus.observer.headings = Some((start_nav.heading, model.nav().heading));
         Ok(Outcome {
             sim_time_s: off,
             wall_time_s: wall.elapsed().as_secs_f64(),

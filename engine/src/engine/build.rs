@@ -278,6 +278,11 @@ impl Helm {
         for inst in &self.behaviors {
             vars.extend(inst.core.subscriptions());
         }
+        // A template spawns from mail on its `updates` variable (bhv-format.md §9), so
+        // the helm needs that mail before any instance of it exists.
+        for t in &self.templates {
+            vars.extend(t.spec.updates_var.iter().cloned());
+        }
         vars.extend(self.modes.vars());
         vars
     }

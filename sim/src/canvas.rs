@@ -1,0 +1,92 @@
+//! The drawing surface the pictures share: the SVG size, the margin, the world-to-screen
+//! mapping with equal scales, and small text helpers.
+
+use std::fmt::Write as _;
+
+pub const W: f64 = 900.0;
+pub const H: f64 = 700.0;
+/// Margin around the drawing; the legend and the title live in it.
+pub const MARGIN: f64 = 60.0;
+
+/// World box → screen mapping (equal scales, y up).
+pub struct View {
+    x0: f64,
+    y1: f64,
+    pub scale: f64,
+    ox: f64,
+    oy: f64,
+}
+
+impl View {
+    pub fn fit(pts: &[(f64, f64)]) -> View {
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for &(x, y) in pts {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        if x0 > x1 {
+            (x0, x1, y0, y1) = (-10.0, 10.0, -10.0, 10.0);
+        }
+        // At least 20 m across, and a 5% border.
+        let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+        let half_w = ((x1 - x0) / 2.0).max(10.0) * 1.05;
+        let half_h = ((y1 - y0) / 2.0).max(10.0) * 1.05;
+        let (aw, ah) = (W - 2.0 * MARGIN - 170.0, H - 2.0 * MARGIN);
+        let scale = (aw / (2.0 * half_w)).min(ah / (2.0 * half_h));
+        let (x0, y1) = (cx - half_w, cy + half_h);
+        // Centre the drawing in the area left of the legend.
+        let ox = MARGIN + (aw - 2.0 * half_w * scale) / 2.0;
+        let oy = MARGIN + (ah - 2.0 * half_h * scale) / 2.0;
+        View {
+            x0,
+            y1,
+            scale,
+            ox,
+            oy,
+        }
+    }
+
+    /// The world point at screen point `(px, py)`.
+    pub fn world(&self, px: f64, py: f64) -> (f64, f64) {
+        (
+            self.x0 + (px - self.ox) / self.scale,
+            self.y1 - (py - self.oy) / self.scale,
+        )
+    }
+
+    pub fn p(&self, x: f64, y: f64) -> (f64, f64) {
+        (
+            self.ox + (x - self.x0) * self.scale,
+            self.oy + (self.y1 - y) * self.scale,
+        )
+    }
+}
+
+pub fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+pub fn poly_points(v: &View, pts: &[(f64, f64)]) -> String {
+    let mut s = String::new();
+    for &(x, y) in pts {
+        let (px, py) = v.p(x, y);
+        let _ = write!(s, "{px:.1},{py:.1} ");
+    }
+    s
+}
+
+/// A round scale-bar length near a fifth of the drawing width (m).
+pub fn nice_length(width_m: f64) -> f64 {
+    let target = (width_m / 5.0).max(1.0);
+    let p = 10f64.powf(target.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * p)
+        .rfind(|l| *l <= target)
+        .unwrap_or(p)
+}

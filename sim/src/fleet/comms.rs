@@ -1,0 +1,127 @@
+//! The comms model between vehicles, after uFldNodeComms: a node report posted by one
+//! vehicle (`NODE_REPORT_LOCAL`) reaches each other vehicle as `NODE_REPORT` when the two
+//! are within the comms range at the time it was sent, unless the seeded draw drops it;
+//! it arrives `latency` seconds later (at the first step at or after that time, and
+//! never in the step that sent it).
+
+use std::collections::VecDeque;
+
+use super::spec::Comms;
+use crate::montecarlo::splitmix64;
+
+/// What the comms model did, for the summary.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct CommsStats {
+    /// Reports posted by the vehicles.
+    pub reports: u64,
+    /// Copies delivered to another vehicle.
+    pub delivered: u64,
+    /// Copies not sent: the receiver was out of range.
+    pub out_of_range: u64,
+    /// Copies lost to the drop percentage.
+    pub dropped: u64,
+}
+
+/// Reports on their way.
+pub struct CommsModel {
+    cfg: Comms,
+    rng: u64,
+    queue: VecDeque<(f64, usize, String)>,
+    pub stats: CommsStats,
+}
+
+impl CommsModel {
+    /// `seed` is mixed into the scenario's comms seed (Monte Carlo runs differ).
+    pub fn new(cfg: Comms, seed: u64) -> CommsModel {
+        let mut rng = cfg.seed ^ seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        splitmix64(&mut rng);
+        CommsModel {
+            cfg,
+            rng,
+            queue: VecDeque::new(),
+            stats: CommsStats::default(),
+        }
+    }
+
+    /// Vehicle `from` posted `report` at `t` (s from the start); `pos` are all vehicles'
+    /// positions now.
+    pub fn send(&mut self, t: f64, from: usize, report: &str, pos: &[(f64, f64)]) {
+        self.stats.reports += 1;
+        let (fx, fy) = pos[from];
+        for (to, &(x, y)) in pos.iter().enumerate() {
+            if to == from {
+                continue;
+            }
+            if (x - fx).hypot(y - fy) > self.cfg.range {
+                self.stats.out_of_range += 1;
+                continue;
+            }
+            if self.cfg.drop_pct > 0.0 {
+                let u = (splitmix64(&mut self.rng) >> 11) as f64 / (1u64 << 53) as f64;
+                if u * 100.0 < self.cfg.drop_pct {
+                    self.stats.dropped += 1;
+                    continue;
+                }
+            }
+            self.stats.delivered += 1;
+            self.queue
+                .push_back((t + self.cfg.latency, to, report.to_string()));
+        }
+    }
+
+    /// The next report due at or before `t`, with its receiver.
+    pub fn due(&mut self, t: f64) -> Option<(usize, String)> {
+        // One latency for all: the queue is in due-time order.
+        if self.queue.front().is_some_and(|(at, _, _)| *at <= t) {
+            self.queue.pop_front().map(|(_, to, r)| (to, r))
+        } else {
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_drop_and_latency() {
+        let cfg = Comms {
+            range: 100.0,
+            drop_pct: 0.0,
+            latency: 2.0,
+            seed: 1,
+        };
+        let mut c = CommsModel::new(cfg, 0);
+        let pos = [(0.0, 0.0), (50.0, 0.0), (150.0, 0.0)];
+        c.send(1.0, 0, "NAME=a", &pos);
+        assert_eq!((c.stats.delivered, c.stats.out_of_range), (1, 1));
+        assert!(c.due(2.9).is_none(), "latency 2 s");
+        assert_eq!(c.due(3.0), Some((1, "NAME=a".to_string())));
+        assert!(c.due(10.0).is_none());
+
+        let mut lossy = CommsModel::new(
+            Comms {
+                drop_pct: 30.0,
+                ..cfg
+            },
+            7,
+        );
+        for i in 0..1000 {
+            lossy.send(i as f64, 0, "r", &pos[..2]);
+        }
+        let d = lossy.stats.dropped;
+        assert!((200..400).contains(&d), "dropped {d} of 1000 at 30%");
+        let mut again = CommsModel::new(
+            Comms {
+                drop_pct: 30.0,
+                ..cfg
+            },
+            7,
+        );
+        for i in 0..1000 {
+            again.send(i as f64, 0, "r", &pos[..2]);
+        }
+        assert_eq!(again.stats, lossy.stats, "seeded");
+    }
+}

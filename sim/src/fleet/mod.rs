@@ -1,0 +1,22 @@
+//! Fleets: several vehicles in one deterministic run (issue 23).
+//!
+//! A `scenario.toml` with `[[vehicle]]` entries ([`spec`]) makes a fleet: each vehicle
+//! has its own helm, bus, simulator, pNodeReporter and contact manager ([`vehicle`]),
+//! all on one simulated clock ([`run`]); node reports travel between vehicles through
+//! the comms model ([`comms`], after uFldNodeComms) and every pair's closest approach,
+//! encounters, near misses and collisions are kept ([`collide`], after
+//! uFldCollisionDetect). [`output`] writes the summary; [`montecarlo`] runs a fleet
+//! many times from perturbed starts, in shards if asked.
+
+pub mod cli;
+pub mod collide;
+pub mod comms;
+pub mod montecarlo;
+pub mod output;
+pub mod picture;
+pub mod run;
+pub mod spec;
+pub mod vehicle;
+
+pub use run::{FleetOptions, FleetOutcome, FleetPlan, VehicleOutcome};
+pub use spec::{is_fleet, FleetScenario};

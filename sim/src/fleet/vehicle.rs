@@ -1,0 +1,412 @@
+//! One vehicle of a fleet: what MOOS runs in one community, on the fleet's clock.
+//!
+//! Its own bus ([`SimBus`]) with the helm (driven by [`HelmCycle`], as `helm run` and
+//! the one-vehicle `helm sim`), the simulator, a pContactMgrV20 (the `contact-manager`
+//! library, configured from the mission's `ProcessConfig = pContactMgrV20` block) and a
+//! pNodeReporter that posts `NODE_REPORT_LOCAL`; a client of the shoreside picks those
+//! up for the comms model. Each app ticks at its mission `AppTick` (pNodeReporter and
+//! the contact manager default to 4 Hz, as their MOOS defaults).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use contact_manager::{Config, ContactManager, MailValue};
+use contacts::{Geodesy, NodeReport};
+use helm_engine::cycle::HelmCycle;
+use helm_engine::posting::Value;
+use helm_engine::{Helm, HelmState, Mail};
+use helm_mission::HelmRecipe;
+use vehicle_model::{Drift, Kinematics, Nav, Severity, SimBlock, VehicleModel, SIM_NAME};
+
+use super::spec::VehicleSpec;
+use crate::bus::{SimBus, HELM};
+use crate::observe::Observer;
+use crate::run::{SimError, StartShift, HELM_NAME};
+use crate::scenario::When;
+
+pub const CMGR_NAME: &str = "pContactMgrV20";
+pub const REPORTER_NAME: &str = "pNodeReporter";
+/// The shoreside's bridge: collects `NODE_REPORT_LOCAL`, delivers `NODE_REPORT`.
+pub const COMMS_NAME: &str = "uFldNodeComms";
+
+const SIM: usize = 1;
+const CMGR: usize = 2;
+const SHORE: usize = 3;
+
+/// Block lines every MOOS app reads itself, not the contact manager's business.
+const APP_PARAMS: &[&str] = &[
+    "apptick",
+    "commstick",
+    "maxapptick",
+    "iteratemode",
+    "app_logging",
+    "comms_policy",
+    "term_report_interval",
+];
+
+/// A vehicle read once, ready to run any number of times.
+pub struct VehiclePlan {
+    pub spec: VehicleSpec,
+    pub recipe: HelmRecipe,
+    pub helm_tick: f64,
+    pub sim_tick: f64,
+    pub report_tick: f64,
+    pub cmgr_tick: f64,
+    pub start: Kinematics,
+    pub cmgr: Config,
+    pub origin: Option<(f64, f64)>,
+    pub community: String,
+    pub vtype: String,
+    pub length: f64,
+    pub library_report: Vec<String>,
+    /// Unknown names in the simulator block, ignored but shown.
+    pub warnings: Vec<String>,
+}
+
+fn fleet_err(name: &str, text: String) -> SimError {
+    SimError::Fleet(format!("vehicle {name}: {text}"))
+}
+
+impl VehiclePlan {
+    pub fn load(spec: &VehicleSpec) -> Result<VehiclePlan, SimError> {
+        let loaded = helm_mission::load(&spec.mission, &spec.bhv, HELM_NAME)?;
+        let library_report = loaded.library_report.clone();
+        let (recipe, file) = loaded.into_recipe();
+        let problems = recipe.build().config_warnings().to_vec();
+        if !problems.is_empty() {
+            return Err(SimError::Malconfig {
+                problems: format!(
+                    "{}\nMALCONFIG (vehicle {}): {} configuration problem(s); nothing run",
+                    problems.join("\n"),
+                    spec.name,
+                    problems.len()
+                ),
+            });
+        }
+        let block = SimBlock::read(&file);
+        let errors: Vec<&str> = block
+            .problems_at_least(Severity::Error)
+            .map(|p| p.text.as_str())
+            .collect();
+        if !errors.is_empty() {
+            return Err(SimError::SimBlock {
+                problems: errors.join("\n"),
+                count: errors.len(),
+            });
+        }
+        let warnings = block
+            .problems
+            .iter()
+            .filter(|p| p.severity == Severity::Warning)
+            .map(|p| p.text.clone())
+            .collect();
+        let mut start = Kinematics::from_block(&block);
+        start.x = spec.x.unwrap_or(start.x);
+        start.y = spec.y.unwrap_or(start.y);
+        start.heading = spec.heading.unwrap_or(start.heading).rem_euclid(360.0);
+        start.speed = spec.speed.unwrap_or(start.speed);
+
+        // The contact manager's block: a line it cannot take stops the run, with its line.
+        let mut cmgr = Config::default();
+        let mut bad = Vec::new();
+        for l in file.process_config(CMGR_NAME).unwrap_or_default() {
+            if APP_PARAMS.iter().any(|p| l.name_is(p)) {
+                continue;
+            }
+            if let Err(e) = cmgr.set(&l.name, &l.value) {
+                bad.push(format!("{}:{}: {e}", spec.mission.display(), l.line));
+            }
+        }
+        if !bad.is_empty() {
+            return Err(fleet_err(
+                &spec.name,
+                format!("bad {CMGR_NAME} block:\n{}", bad.join("\n")),
+            ));
+        }
+        let lat = file
+            .global("LatOrigin")
+            .and_then(|v| moos::mission::config_f64(&v));
+        let lon = file
+            .global("LongOrigin")
+            .and_then(|v| moos::mission::config_f64(&v));
+        let vtype = spec
+            .vtype
+            .clone()
+            .or_else(|| file.config_value(REPORTER_NAME, "platform_type"))
+            .unwrap_or_else(|| "kayak".into());
+        let length = file
+            .config_value(REPORTER_NAME, "platform_length")
+            .and_then(|v| moos::mission::config_f64(&v))
+            .filter(|l| *l > 0.0)
+            .unwrap_or(4.0);
+        Ok(VehiclePlan {
+            spec: spec.clone(),
+            helm_tick: file.app_tick(HELM_NAME, 5.0),
+            sim_tick: file.app_tick(SIM_NAME, 10.0),
+            report_tick: file.app_tick(REPORTER_NAME, 4.0),
+            cmgr_tick: file.app_tick(CMGR_NAME, 4.0),
+            recipe,
+            start,
+            cmgr,
+            origin: lat.zip(lon),
+            community: file.global("Community").unwrap_or_default(),
+            vtype,
+            length,
+            library_report,
+            warnings,
+        })
+    }
+}
+
+/// A vehicle during a run.
+pub struct Live {
+    pub bus: SimBus,
+    helm: Helm,
+    cycle: HelmCycle,
+    model: Drift<Kinematics>,
+    pub mgr: ContactManager,
+    geo: Option<Geodesy>,
+    kh: u64,
+    ks: u64,
+    kr: u64,
+    kc: u64,
+    last_sim: f64,
+    pub drove: bool,
+    /// The helm's stop rule fired (it is no longer iterated).
+    pub over: bool,
+    pub start: Nav,
+    /// NODE_REPORTs in the mail that name no vehicle or give no time or position.
+    pub malformed_reports: u64,
+    sim_in: Vec<Mail>,
+    helm_in: Vec<Mail>,
+    mgr_in: Vec<Mail>,
+    report: String,
+    report_index: u64,
+}
+
+impl Live {
+    pub fn new(
+        plan: &VehiclePlan,
+        shift: StartShift,
+        t0: f64,
+        when: Vec<When>,
+        alog: Option<PathBuf>,
+    ) -> Result<Live, SimError> {
+        let mut kin = plan.start.clone();
+        kin.x += shift.dx;
+        kin.y += shift.dy;
+        kin.heading = (kin.heading + shift.dheading).rem_euclid(360.0);
+        let model = Drift {
+            model: kin,
+            current: (0.0, 0.0),
+        };
+        let mut bus = SimBus::new(
+            &[HELM_NAME, SIM_NAME, CMGR_NAME, COMMS_NAME],
+            Observer::new(t0, when),
+        );
+        if let Some(path) = alog {
+            let w = std::fs::File::create(&path)
+                .and_then(|f| {
+                    let name = path
+                        .file_name()
+                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+                    moos::alog::AlogWriter::new(std::io::BufWriter::new(f), t0, &name)
+                })
+                .map_err(|source| SimError::Write {
+                    path: path.clone(),
+                    source,
+                })?;
+            bus.alog = Some(w);
+        }
+        for var in ["DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH"] {
+            bus.subscribe(SIM, var);
+        }
+        bus.subscribe(SHORE, "NODE_REPORT_LOCAL");
+        let mgr = ContactManager::new(&plan.spec.name, plan.cmgr.clone(), plan.origin);
+        for var in mgr.subscriptions() {
+            bus.subscribe(CMGR, &var);
+        }
+        let mut helm = plan.recipe.build();
+        let cycle = HelmCycle::startup(&mut helm, &mut bus, t0);
+        bus.deliver();
+        let drove = helm.state() == HelmState::Drive;
+        Ok(Live {
+            start: model.nav(),
+            bus,
+            helm,
+            cycle,
+            model,
+            mgr,
+            geo: plan.origin.map(|(la, lo)| Geodesy::new(la, lo)),
+            kh: 1,
+            ks: 0,
+            kr: 1,
+            kc: 1,
+            last_sim: 0.0,
+            drove,
+            over: false,
+            malformed_reports: 0,
+            sim_in: Vec::new(),
+            helm_in: Vec::new(),
+            mgr_in: Vec::new(),
+            report: String::new(),
+            report_index: 0,
+        })
+    }
+
+    fn times(&self, p: &VehiclePlan) -> [f64; 4] {
+        let th = if self.over {
+            f64::INFINITY
+        } else {
+            self.kh as f64 / p.helm_tick
+        };
+        [
+            th,
+            self.ks as f64 / p.sim_tick,
+            self.kr as f64 / p.report_tick,
+            self.kc as f64 / p.cmgr_tick,
+        ]
+    }
+
+    /// The time (s from the start) of this vehicle's next app tick.
+    pub fn next(&self, p: &VehiclePlan) -> f64 {
+        self.times(p).into_iter().fold(f64::INFINITY, f64::min)
+    }
+
+    pub fn nav(&self) -> Nav {
+        self.model.nav()
+    }
+
+    pub fn helm_state(&self) -> &'static str {
+        self.helm.state().as_str()
+    }
+
+    pub fn iterations(&self) -> u64 {
+        self.cycle.status.iterations
+    }
+
+    /// The apps whose tick is `off` run (simulator, node reporter, contact manager,
+    /// helm, in that order: delivery is at the end of the step, so the order only
+    /// orders the log). `mission_over`: apply the helm's stop rule. True when the
+    /// simulator stepped.
+    pub fn step(&mut self, p: &VehiclePlan, off: f64, now: f64, mission_over: bool) -> bool {
+        let [th, ts, tr, tc] = self.times(p);
+        if ts == off {
+            self.bus.fetch(SIM, &mut self.sim_in);
+            // A parked helm's all-stop does not steer (as in the one-vehicle run).
+            let parked = self.helm.state() != HelmState::Drive;
+            for m in &self.sim_in {
+                if let Value::Num(v) = m.value {
+                    if !(parked && m.var == "DESIRED_HEADING") {
+                        self.model.on_mail(&m.var, v);
+                    }
+                }
+            }
+            self.model.step(off - self.last_sim);
+            self.last_sim = off;
+            let nav = self.model.nav();
+            self.bus.observer.track.push(nav.x, nav.y);
+            for (var, value) in nav.vars() {
+                self.bus.post(SIM_NAME, var, &Value::Num(value), "", now);
+            }
+            self.ks += 1;
+        }
+        if tr == off {
+            self.node_report(p, now);
+            self.kr += 1;
+        }
+        if tc == off {
+            self.contact_manager(now);
+            self.kc += 1;
+        }
+        if th == off {
+            if mission_over && self.cycle.status.end.is_over(now) {
+                self.over = true;
+            } else {
+                self.bus.fetch(HELM, &mut self.helm_in);
+                self.cycle.mail(&mut self.helm, now, &self.helm_in);
+                self.cycle.iterate(&mut self.helm, &mut self.bus, now);
+                self.drove |= self.helm.state() == HelmState::Drive;
+                self.kh += 1;
+            }
+        }
+        ts == off
+    }
+
+    /// pNodeReporter's `NODE_REPORT_LOCAL` (contacts-appcast.md §2.2).
+    fn node_report(&mut self, p: &VehiclePlan, now: f64) {
+        let nav = self.model.nav();
+        let mut r = std::mem::take(&mut self.report);
+        r.clear();
+        let _ = write!(
+            r,
+            "NAME={},X={:.2},Y={:.2},SPD={:.2},HDG={:.2},DEP={:.2}",
+            p.spec.name, nav.x, nav.y, nav.speed, nav.heading, nav.depth
+        );
+        if let Some(g) = &self.geo {
+            let (lat, lon) = g.to_latlon(nav.x, nav.y);
+            let _ = write!(r, ",LAT={lat:.8},LON={lon:.8}");
+        }
+        let yaw = (90.0 - nav.heading).to_radians();
+        let _ = write!(
+            r,
+            ",TYPE={},COLOR={},MODE={},INDEX={},YAW={yaw:.7},TIME={now:.2},LENGTH={}",
+            p.vtype,
+            p.spec.moos_color,
+            self.helm.state().as_str(),
+            self.report_index,
+            p.length
+        );
+        self.report_index += 1;
+        let v = Value::Str(r);
+        self.bus
+            .post(REPORTER_NAME, "NODE_REPORT_LOCAL", &v, "", now);
+        if let Value::Str(r) = v {
+            self.report = r;
+        }
+    }
+
+    fn contact_manager(&mut self, now: f64) {
+        self.bus.fetch(CMGR, &mut self.mgr_in);
+        let mut batch: Vec<(&str, MailValue<'_>)> = Vec::with_capacity(self.mgr_in.len());
+        for m in &self.mgr_in {
+            let v = match &m.value {
+                Value::Num(n) => MailValue::Num(*n),
+                Value::Str(s) => {
+                    if m.var == "NODE_REPORT" {
+                        let r = NodeReport::parse(s);
+                        if r.name.is_empty() || r.time.is_none() || !(r.has_xy() || r.has_latlon())
+                        {
+                            self.malformed_reports += 1;
+                        }
+                    }
+                    MailValue::Str(s)
+                }
+            };
+            batch.push((m.var.as_str(), v));
+        }
+        self.mgr.handle_mail(now, &batch);
+        drop(batch);
+        for post in self.mgr.iterate(now) {
+            let v = match &post.val {
+                contact_manager::Value::Str(s) => Value::Str(s.clone()),
+                contact_manager::Value::Num(n) => Value::Num(*n),
+            };
+            self.bus.post(CMGR_NAME, &post.var, &v, "", now);
+        }
+    }
+
+    /// The shoreside's pick-up: the node reports posted in the last step.
+    pub fn take_reports(&mut self, out: &mut Vec<Mail>) {
+        self.bus.fetch(SHORE, out);
+    }
+
+    /// Flush the `.alog` (an error is kept on the bus and reported by the caller).
+    pub fn finish(&mut self) {
+        if let Some(w) = &mut self.bus.alog {
+            if let Err(e) = w.flush() {
+                self.bus.alog_error = Some(e);
+            }
+        }
+    }
+}
