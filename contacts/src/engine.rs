@@ -65,10 +65,23 @@ fn unit(h_deg: f64) -> (f64, f64) {
 /// The CPA of two straight-line motions: `p` = ownship − contact, `w` = relative
 /// velocity, `tol` = horizon. Not closing (or no relative motion) → current range at 0 s.
 fn cpa_of(px: f64, py: f64, wx: f64, wy: f64, tol: f64) -> Cpa {
-    // The current range only when not closing (computed lazily: hypot is costly, and an
-    // objective function asks this for every candidate heading and speed).
+    cpa_of_ranged(px, py, wx, wy, tol, || px.hypot(py))
+}
+
+/// [`cpa_of`] with the current range `px.hypot(py)` supplied by `range_now` (the
+/// engine has it already: hypot is costly, and an objective function asks this for
+/// every candidate heading and speed).
+#[inline]
+fn cpa_of_ranged(
+    px: f64,
+    py: f64,
+    wx: f64,
+    wy: f64,
+    tol: f64,
+    range_now: impl FnOnce() -> f64,
+) -> Cpa {
     let now = || Cpa {
-        dist: px.hypot(py),
+        dist: range_now(),
         time: 0.0,
     };
     let ww = wx * wx + wy * wy;
@@ -145,13 +158,17 @@ fn fold(a: f64, b: f64) -> f64 {
 /// asks for the same 360 headings tens of thousands of times per iteration, and the
 /// table holds exactly what `unit` computes.
 fn unit_of_degree(d: f64) -> (f64, f64) {
-    static TABLE: std::sync::OnceLock<[(f64, f64); 360]> = std::sync::OnceLock::new();
-    let table = TABLE.get_or_init(|| std::array::from_fn(|i| unit(i as f64)));
     // deg_index gives an integer in 0..=359; anything else is computed.
-    match table.get(d as usize) {
+    match unit_table().get(d as usize) {
         Some(&u) if d == (d as usize) as f64 => u,
         _ => unit(d),
     }
+}
+
+/// `unit(i)` for i = 0..=359.
+fn unit_table() -> &'static [(f64, f64); 360] {
+    static TABLE: std::sync::OnceLock<[(f64, f64); 360]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| std::array::from_fn(|i| unit(i as f64)))
 }
 
 fn deg_index(h: f64) -> f64 {
@@ -198,6 +215,8 @@ pub struct CpaEngine {
     theta_tn: f64,
     cn_tan: f64,
     tn_const: f64,
+    /// `rng` as computed at reset (kept private: `rng` is public and could be changed).
+    range_now: f64,
 }
 
 impl CpaEngine {
@@ -243,6 +262,7 @@ impl CpaEngine {
             theta_tn: angle360(abs_os_cn + 90.0),
             cn_tan: 0.0,
             tn_const: 360.0 / (2.0 * rng * PI_12),
+            range_now: rng,
         };
         e.theta_gam = if e.os_port_of_cn() {
             angle360(cnh + 90.0)
@@ -302,14 +322,22 @@ impl CpaEngine {
 
     /// Closest approach and the time to it within the horizon `tol`.
     pub fn cpa_time(&self, h: f64, v: f64, tol: f64) -> Cpa {
-        let (s, c) = unit_of_degree(deg_index(h));
+        // A heading already in [0, 360) (every grid heading) skips angle360's loops:
+        // its ⌊h⌋ is the same table row deg_index gives.
+        let (s, c) = if (0.0..360.0).contains(&h) {
+            unit_table()[h as usize]
+        } else {
+            unit_of_degree(deg_index(h))
+        };
         let v = v.max(0.0);
-        cpa_of(
+        // `range_now` is `(osx − cnx).hypot(osy − cny)`, the very value cpa_of computes.
+        cpa_of_ranged(
             self.osx - self.cnx,
             self.osy - self.cny,
             v * s - self.cn_vx,
             v * c - self.cn_vy,
             tol,
+            || self.range_now,
         )
     }
 

@@ -314,13 +314,23 @@ impl IvpFunction {
         let (ppg, _nc, stride, total) = grid_cells(&self.domain, &self.gelbox);
         let dim = self.dim();
         let mut g = vec![f64::NEG_INFINITY; total];
+        // Per piece, the corner cell and spans live on the stack up to `GRID_DIMS`
+        // dimensions (this runs for every piece of every reflector-made function).
+        const GRID_DIMS: usize = 8;
+        let (mut lo_st, mut span_st) = ([0usize; GRID_DIMS], [0usize; GRID_DIMS]);
+        let (mut lo_heap, mut span_heap) = (vec![], vec![]);
+        let (idx_lo, span): (&mut [usize], &mut [usize]) = if dim <= GRID_DIMS {
+            (&mut lo_st[..dim], &mut span_st[..dim])
+        } else {
+            lo_heap.resize(dim, 0);
+            span_heap.resize(dim, 0);
+            (&mut lo_heap, &mut span_heap)
+        };
         for p in self.pieces() {
             let v = p.max_val();
-            let mut idx_lo = Vec::with_capacity(dim);
-            let mut span = Vec::with_capacity(dim);
             for d in 0..dim {
-                idx_lo.push((p.lo(d) / ppg[d]) as usize);
-                span.push((p.hi(d) / ppg[d] - p.lo(d) / ppg[d] + 1) as usize);
+                idx_lo[d] = (p.lo(d) / ppg[d]) as usize;
+                span[d] = (p.hi(d) / ppg[d] - p.lo(d) / ppg[d] + 1) as usize;
             }
             let cnt: usize = span.iter().product();
             for t in 0..cnt {
