@@ -332,16 +332,31 @@ impl IvpFunction {
                 idx_lo[d] = (p.lo(d) / ppg[d]) as usize;
                 span[d] = (p.hi(d) / ppg[d] - p.lo(d) / ppg[d] + 1) as usize;
             }
-            let cnt: usize = span.iter().product();
-            for t in 0..cnt {
-                let (mut rem, mut c) = (t, 0usize);
-                for d in 0..dim {
-                    c += (idx_lo[d] + rem % span[d]) * stride[d];
-                    rem /= span[d];
-                }
+            // Cells in counting order, dimension 0 fastest, stepped by strides (no
+            // division per cell); `off[d]` is the digit of dimension d.
+            let mut off = [0usize; GRID_DIMS];
+            let mut off_heap = vec![];
+            let off: &mut [usize] = if dim <= GRID_DIMS {
+                &mut off[..dim]
+            } else {
+                off_heap.resize(dim, 0);
+                &mut off_heap
+            };
+            let mut c: usize = (0..dim).map(|d| idx_lo[d] * stride[d]).sum();
+            'cells: loop {
                 if g[c] == f64::NEG_INFINITY || v > g[c] {
                     g[c] = v;
                 }
+                for d in 0..dim {
+                    if off[d] + 1 < span[d] {
+                        off[d] += 1;
+                        c += stride[d];
+                        continue 'cells;
+                    }
+                    c -= off[d] * stride[d];
+                    off[d] = 0;
+                }
+                break;
             }
         }
         self.grid = g;
