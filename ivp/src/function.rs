@@ -545,6 +545,9 @@ pub(crate) fn translate_into(
 ) {
     let td = target.size();
     let n = src_w.len() / (od + 1);
+    // Sized once: these run for every coupled function of every iteration.
+    bounds.reserve(n * 2 * td);
+    weights.reserve(n * (td + 1));
     for k in 0..n {
         let b0 = bounds.len();
         let w0 = weights.len();

@@ -1,6 +1,6 @@
 //! BHV_IPF serialization (spec §9).
 
-use crate::domain::compact;
+use crate::domain::push_compact;
 use crate::function::IvpFunction;
 use std::fmt::Write;
 
@@ -68,16 +68,19 @@ pub fn encode(f: &IvpFunction) -> String {
     let mut s = String::with_capacity(64 + f.piece_count() * (dim * 8 + (dim + 1) * 9));
     let _ = write!(
         s,
-        "H,{},{},{},{},1,{},D,{},G",
+        "H,{},{},{},{},1,",
         f.context().chars().count(),
         f.context(),
         dim,
         f.piece_count(),
-        compact(f.pwt()),
-        f.domain().to_ipf_string()
     );
-    for g in f.gelbox() {
-        let _ = write!(s, ",{g}");
+    push_compact(&mut s, f.pwt());
+    s.push_str(",D,");
+    f.domain().write_ipf(&mut s);
+    s.push_str(",G");
+    for &g in f.gelbox() {
+        s.push(',');
+        s.push_str(itoa::Buffer::new().format(g));
     }
     s.push_str(",F");
     for p in f.pieces() {

@@ -294,9 +294,10 @@ impl ZaicPeak {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
-        let var = self.domain.var(0).clone();
-        let n = var.points as usize;
+        // Borrowed: cloning the variable would copy its name every time.
+        let var = self.domain.var(0);
         let delta = var.delta();
+        let n = var.points as usize;
         let mut total = vec![0.0f64; n];
         let mut vals = Vec::new();
         for (k, c) in self.comps.iter().enumerate() {
