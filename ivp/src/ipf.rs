@@ -27,10 +27,24 @@ pub fn encode_weight(w: f64, out: &mut String) {
     // Integer arithmetic gives the same digits as the float form for every weight below
     // 1e15 / 10000 and avoids float formatting on the per-iteration path.
     if n < 1e15 {
+        // Integer part and up to four fractional digits on the stack, then one append.
         let n = n as u64;
-        push_u64(out, n / 10000);
-        out.push('.');
-        push_frac4(out, (n % 10000) as u32);
+        let mut ib = itoa::Buffer::new();
+        out.push_str(ib.format(n / 10000));
+        let frac = (n % 10000) as u32;
+        let mut buf = [b'.', b'0', b'0', b'0', b'0'];
+        let mut len = 1;
+        if frac != 0 {
+            buf[1] += (frac / 1000) as u8;
+            buf[2] += (frac / 100 % 10) as u8;
+            buf[3] += (frac / 10 % 10) as u8;
+            buf[4] += (frac % 10) as u8;
+            len = 5;
+            while buf[len - 1] == b'0' {
+                len -= 1;
+            }
+        }
+        out.push_str(std::str::from_utf8(&buf[..len]).unwrap_or("."));
         return;
     }
     let int = (n / 10000.0).trunc();
@@ -40,10 +54,6 @@ pub fn encode_weight(w: f64, out: &mut String) {
 }
 
 fn push_i32(out: &mut String, v: i32) {
-    out.push_str(itoa::Buffer::new().format(v));
-}
-
-fn push_u64(out: &mut String, v: u64) {
     out.push_str(itoa::Buffer::new().format(v));
 }
 
@@ -65,7 +75,10 @@ fn push_frac4(out: &mut String, frac: u32) {
 /// BHV_IPF whole-function string (spec §9.1).
 pub fn encode(f: &IvpFunction) -> String {
     let dim = f.dim();
-    let mut s = String::with_capacity(64 + f.piece_count() * (dim * 8 + (dim + 1) * 9));
+    // Generous: growing a string of thousands of pieces copies it each time.
+    let mut s = String::with_capacity(
+        96 + f.context().len() + f.piece_count() * (dim * 12 + (dim + 1) * 10),
+    );
     let _ = write!(
         s,
         "H,{},{},{},{},1,",
