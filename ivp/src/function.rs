@@ -242,7 +242,7 @@ impl IvpFunction {
         f.pwt = raw.pwt;
         f.context = raw.context;
         if !raw.grid.is_empty() {
-            let cells = grid_cells(&f.domain, &f.gelbox).3;
+            let cells = grid_total(&f.domain, &f.gelbox);
             if raw.grid.len() != cells {
                 return Err(IvpError::Invalid {
                     param: "grid".into(),
@@ -311,12 +311,28 @@ impl IvpFunction {
     /// near-ties. Functions without a grid (e.g. coupled ones) get a fresh grid
     /// in the solver.
     pub fn build_grid(&mut self) {
-        let (ppg, _nc, stride, total) = grid_cells(&self.domain, &self.gelbox);
         let dim = self.dim();
-        let mut g = vec![f64::NEG_INFINITY; total];
-        // Per piece, the corner cell and spans live on the stack up to `GRID_DIMS`
-        // dimensions (this runs for every piece of every reflector-made function).
+        // Cell sizes, strides (dimension 0 fastest) and, per piece, the corner cell and
+        // spans live on the stack up to `GRID_DIMS` dimensions (this runs for every
+        // piece of every function built, every iteration).
         const GRID_DIMS: usize = 8;
+        let (mut ppg_st, mut stride_st) = ([0i32; GRID_DIMS], [0usize; GRID_DIMS]);
+        let (mut ppg_heap, mut stride_heap) = (vec![], vec![]);
+        let (ppg, stride): (&mut [i32], &mut [usize]) = if dim <= GRID_DIMS {
+            (&mut ppg_st[..dim], &mut stride_st[..dim])
+        } else {
+            ppg_heap.resize(dim, 0);
+            stride_heap.resize(dim, 0);
+            (&mut ppg_heap, &mut stride_heap)
+        };
+        let mut total = 1usize;
+        for (d, v) in self.domain.vars().iter().enumerate() {
+            let (p, n) = grid_dim(v, self.gelbox.get(d));
+            ppg[d] = p;
+            stride[d] = total;
+            total *= n as usize;
+        }
+        let mut g = vec![f64::NEG_INFINITY; total];
         let (mut lo_st, mut span_st) = ([0usize; GRID_DIMS], [0usize; GRID_DIMS]);
         let (mut lo_heap, mut span_heap) = (vec![], vec![]);
         let (idx_lo, span): (&mut [usize], &mut [usize]) = if dim <= GRID_DIMS {
@@ -500,25 +516,22 @@ impl IvpFunction {
 
 /// Grid geometry: (points per cell, cells, stride (dim 0 fastest), total cells).
 /// Points per cell = `gelbox+1` clamped to `[2, points]`.
-pub(crate) fn grid_cells(
-    domain: &Domain,
-    gelbox: &[u32],
-) -> (Vec<i32>, Vec<i32>, Vec<usize>, usize) {
-    let (mut ppg, mut nc, mut stride) = (vec![], vec![], vec![]);
+/// Points per grid cell and number of cells of variable `v` under gel-box entry `g`
+/// (none: one cell across the variable).
+fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
+    let pts = v.points as i32;
+    let g = g.map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
+    let p = (g + 1).max(2).min(pts).max(1);
+    (p, (pts + p - 1) / p)
+}
+
+/// Number of grid cells of `domain` under `gelbox`.
+fn grid_total(domain: &Domain, gelbox: &[u32]) -> usize {
     let mut total = 1usize;
     for (d, v) in domain.vars().iter().enumerate() {
-        let pts = v.points as i32;
-        let g = gelbox
-            .get(d)
-            .map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
-        let p = (g + 1).max(2).min(pts).max(1);
-        let n = (pts + p - 1) / p;
-        ppg.push(p);
-        nc.push(n);
-        stride.push(total);
-        total *= n as usize;
+        total *= grid_dim(v, gelbox.get(d)).1 as usize;
     }
-    (ppg, nc, stride, total)
+    total
 }
 
 /// For each own dimension, the target dimension of the same name.
