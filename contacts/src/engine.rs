@@ -316,11 +316,15 @@ impl CpaEngine {
 
     /// Closest approach within `tol` s if ownship holds (h, v); see [`cpa`] (here with
     /// the heading's integer degree).
+    // Inlined into the objective functions of the contact plugins, which call it for
+    // every corner of every tile of the decision grid.
+    #[inline]
     pub fn cpa(&self, h: f64, v: f64, tol: f64) -> f64 {
         self.cpa_time(h, v, tol).dist
     }
 
     /// Closest approach and the time to it within the horizon `tol`.
+    #[inline]
     pub fn cpa_time(&self, h: f64, v: f64, tol: f64) -> Cpa {
         // A heading already in [0, 360) (every grid heading) skips angle360's loops:
         // its ⌊h⌋ is the same table row deg_index gives.
@@ -342,6 +346,7 @@ impl CpaEngine {
     }
 
     /// Rate of closure (m/s, > 0 when the range decreases) if ownship holds (h, v).
+    #[inline]
     pub fn roc(&self, h: f64, v: f64) -> f64 {
         v * self.relcos(deg_index(h)) + self.cn_to_os
     }

@@ -23,6 +23,7 @@ impl DomainVar {
     }
 
     /// Value of discrete index `j`: `low + delta*j` (multiply, then add).
+    #[inline]
     pub fn value(&self, j: u32) -> f64 {
         self.low + self.delta() * f64::from(j)
     }
@@ -215,6 +216,7 @@ impl Domain {
     }
 
     /// `low + delta*index` of dimension `dim`.
+    #[inline]
     pub fn value(&self, dim: usize, index: u32) -> f64 {
         self.vars[dim].value(index)
     }
