@@ -84,7 +84,11 @@ impl Shape {
             } else {
                 self.minutil
             };
-            *v = if val > self.maxutil { self.maxutil } else { val };
+            *v = if val > self.maxutil {
+                self.maxutil
+            } else {
+                val
+            };
         }
     }
 
