@@ -468,6 +468,10 @@ impl IvpFunction {
     pub fn set_context(&mut self, s: &str) {
         self.context = s.to_string();
     }
+    /// The context string to write in place (e.g. with `write!`, no temporary string).
+    pub fn context_mut(&mut self) -> &mut String {
+        &mut self.context
+    }
     /// True if any weight is NaN.
     pub fn has_nan(&self) -> bool {
         self.weights.iter().any(|w| w.is_nan())
