@@ -352,6 +352,25 @@ impl CpaEngine {
     }
 
     /// Least and greatest rate of closure at speed `vmax` over headings 0, 1, …, 359.
+    /// The heading cosines [`CpaEngine::roc`] uses, for every integer heading 0..=359: an
+    /// objective function asking `roc` per grid point computes them once with this and
+    /// calls [`CpaEngine::roc_with`].
+    pub fn roc_cosines(&self) -> [f64; 360] {
+        std::array::from_fn(|i| self.relcos(i as f64))
+    }
+
+    /// [`CpaEngine::roc`] with the cosine looked up in `cos` (from
+    /// [`CpaEngine::roc_cosines`] of this engine): the same value, without a `cos` per call.
+    #[inline]
+    pub fn roc_with(&self, cos: &[f64; 360], h: f64, v: f64) -> f64 {
+        let i = if (0.0..360.0).contains(&h) {
+            h as usize
+        } else {
+            deg_index(h) as usize
+        };
+        v * cos[i.min(359)] + self.cn_to_os
+    }
+
     pub fn min_max_roc(&self, vmax: f64) -> (f64, f64) {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for i in 0..360 {
