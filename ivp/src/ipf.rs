@@ -19,16 +19,17 @@ pub fn encode_weight(w: f64, out: &mut String) {
         let _ = write!(out, "{a}");
         return;
     }
-    let n = (a * 10000.0 + 0.5).trunc();
-    if n == 0.0 {
-        out.push_str("0.0000");
-        return;
-    }
+    let x = a * 10000.0 + 0.5;
     // Integer arithmetic gives the same digits as the float form for every weight below
-    // 1e15 / 10000 and avoids float formatting on the per-iteration path.
-    if n < 1e15 {
+    // 1e15 / 10000 and avoids float formatting on the per-iteration path. Below 1e15
+    // (< 2^53) `x as u64` is exactly `x.trunc()`, without a libm call per weight.
+    if x < 1e15 {
+        let n = x as u64;
+        if n == 0 {
+            out.push_str("0.0000");
+            return;
+        }
         // Integer part and up to four fractional digits on the stack, then one append.
-        let n = n as u64;
         let mut ib = itoa::Buffer::new();
         out.push_str(ib.format(n / 10000));
         let frac = (n % 10000) as u32;
@@ -47,6 +48,7 @@ pub fn encode_weight(w: f64, out: &mut String) {
         out.push_str(std::str::from_utf8(&buf[..len]).unwrap_or("."));
         return;
     }
+    let n = x.trunc();
     let int = (n / 10000.0).trunc();
     let frac = (n - int * 10000.0) as u32;
     let _ = write!(out, "{int:.0}.");
