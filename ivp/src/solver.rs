@@ -37,6 +37,8 @@ struct Prepared {
     cell_items: Vec<u32>,
     cell_ub: Vec<f64>,
     cell_filled: Vec<bool>,
+    /// `maxVal` of each piece (the global bound and the cell bounds both need it).
+    maxv: Vec<f64>,
     cursor: Vec<u32>,
     seen: Vec<Cell<u32>>,
     stamp: Cell<u32>,
@@ -567,11 +569,13 @@ impl Solver {
         }
         p.single = total == 1;
         p.global_ub = NO_BOUND;
+        p.maxv.clear();
         for k in 0..n {
             let v = max_val(
                 &p.bounds[k * bl..(k + 1) * bl],
                 &p.weights[k * wl..(k + 1) * wl],
             );
+            p.maxv.push(v);
             if k == 0 || v > p.global_ub {
                 p.global_ub = v;
             }
@@ -609,7 +613,7 @@ impl Solver {
 }
 
 fn build_cells(p: &mut Prepared, dim: usize, total: usize) {
-    let (bl, wl) = (2 * dim, dim + 1);
+    let bl = 2 * dim;
     let (ppg, stride) = (&p.ppg, &p.stride);
     p.cell_start.clear();
     p.cell_start.resize(total + 1, 0);
@@ -633,7 +637,7 @@ fn build_cells(p: &mut Prepared, dim: usize, total: usize) {
     // Pieces in array order inside every cell; cell bound = max piece maxVal.
     for k in 0..p.n {
         let b = &p.bounds[k * bl..(k + 1) * bl];
-        let v = max_val(b, &p.weights[k * wl..(k + 1) * wl]);
+        let v = p.maxv[k];
         for_each_cell(ppg, stride, b, dim, |c| {
             p.cell_items[p.cursor[c] as usize] = k as u32;
             p.cursor[c] += 1;
