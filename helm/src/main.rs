@@ -83,7 +83,7 @@ enum Command {
     /// and start overrides.
     ///
     /// Example: helm sim missions/alpha
-    Sim(helm_sim::cli::SimArgs),
+    Sim(helm_sim_cli::cli::SimArgs),
     /// A map in the browser: live from a MOOSDB, or replaying an .alog or a run folder.
     ///
     /// Serves the page on http://127.0.0.1:8080/ (loopback only; --bind exposes it).
@@ -338,7 +338,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse_from(&args);
     match cli.command {
         Command::Conform { bench, all, paths } => conform_cmd(bench, all, &paths),
-        Command::Sim(args) => helm_sim::cli::main(&args),
+        Command::Sim(args) => helm_sim_cli::cli::main(&args),
         Command::View(args) => viewer::cli::main(&args),
         Command::Check {
             mission,

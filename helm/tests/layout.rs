@@ -16,6 +16,7 @@ const HELM_CRATES: &[&str] = &[
     "helm-conform",
     "helm-app",
     "helm-sim",
+    "helm-sim-cli",
     "vehicle-model",
     "moos",
     "moosdb",
@@ -89,6 +90,7 @@ fn crates_depend_only_downward() {
         "helm-engine",
         "helm-app",
         "helm-sim",
+        "helm-sim-cli",
         "helm-conform",
         "behavior-api",
     ] {
@@ -108,6 +110,7 @@ fn crates_depend_only_downward() {
             "moosdb",
             "helm-app",
             "helm-sim",
+            "helm-sim-cli",
             "helm-conform",
             "helm",
         ],
@@ -119,7 +122,15 @@ fn crates_depend_only_downward() {
     // The client does not need the server.
     forbid("moos", &["moosdb"]);
     forbid("helm-app", &["helm-sim", "helm-conform", "helm"]);
-    forbid("helm-sim", &["helm-app", "helm-conform", "helm", "moosdb"]);
+    forbid(
+        "helm-sim",
+        &["helm-app", "helm-conform", "helm", "moosdb", "helm-sim-cli"],
+    );
+    // The command draws and writes; the simulation never calls back into it.
+    forbid(
+        "helm-sim-cli",
+        &["helm-app", "helm-conform", "helm", "moosdb"],
+    );
     forbid("vehicle-model", &["moos", "helm-engine"]);
     forbid("behavior-api", HELM_CRATES);
     // Behaviors, built in or plugins, know the SDK and nothing of the helm.

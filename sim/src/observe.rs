@@ -147,7 +147,7 @@ pub struct Observer {
     /// The first `[[end.when]]` condition that fired (its reason).
     pub fired: Option<String>,
     /// Depth over time (drawn when the helm's domain has depth).
-    pub depth: crate::depth_strip::DepthTrace,
+    pub depth: crate::depth::DepthTrace,
 }
 
 impl Observer {

@@ -7,7 +7,7 @@
 use std::collections::VecDeque;
 
 use super::spec::Comms;
-use crate::montecarlo::splitmix64;
+use crate::seed::splitmix64;
 
 /// What the comms model did, for the summary.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]

@@ -5,15 +5,11 @@
 //! all on one simulated clock ([`run`]); node reports travel between vehicles through
 //! the comms model ([`comms`], after uFldNodeComms) and every pair's closest approach,
 //! encounters, near misses and collisions are kept ([`collide`], after
-//! uFldCollisionDetect). [`output`] writes the summary; [`montecarlo`] runs a fleet
-//! many times from perturbed starts, in shards if asked.
+//! uFldCollisionDetect). Its summary, Monte Carlo, shards and picture are in
+//! `helm-sim-cli` (`fleet`).
 
-pub mod cli;
 pub mod collide;
 pub mod comms;
-pub mod montecarlo;
-pub mod output;
-pub mod picture;
 pub mod run;
 pub mod spec;
 pub mod vehicle;

@@ -8,7 +8,7 @@ pub use super::args::{Shard, SimArgs, EXIT_RUN_WENT_WRONG};
 use super::interrupt;
 use super::montecarlo;
 use super::output;
-use super::run::{Prepared, RunOptions, SimError, StartShift};
+use helm_sim::run::{Prepared, RunOptions, SimError, StartShift};
 
 /// Run `helm sim`; prints the summary and where the outputs are.
 pub fn main(args: &SimArgs) -> ExitCode {
@@ -44,7 +44,7 @@ fn fleet_scenario(args: &SimArgs) -> Option<PathBuf> {
             .join("scenario.toml"),
     };
     let text = std::fs::read_to_string(&path).ok()?;
-    super::fleet::is_fleet(&text).then_some(path)
+    helm_sim::fleet::is_fleet(&text).then_some(path)
 }
 
 fn run(args: &SimArgs) -> Result<u8, SimError> {

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::observe::AllStop;
-use super::run::{Outcome, SimError};
+use helm_sim::observe::AllStop;
+use helm_sim::run::{Outcome, SimError};
 
 /// `summary.json`.
 #[derive(Debug, Serialize)]
@@ -136,7 +136,7 @@ pub fn picture_titles(name: &str, o: &Outcome) -> (String, String) {
         o.observer
             .allstops
             .iter()
-            .filter(|a| super::observe::is_problem_allstop(&a.reason))
+            .filter(|a| helm_sim::observe::is_problem_allstop(&a.reason))
             .count(),
         o.observer.behavior_errors.len()
     );
@@ -167,7 +167,7 @@ fn allstop_text(stops: &[AllStop]) -> String {
     };
     let (problems, idle): (Vec<&AllStop>, Vec<&AllStop>) = stops
         .iter()
-        .partition(|a| super::observe::is_problem_allstop(&a.reason));
+        .partition(|a| helm_sim::observe::is_problem_allstop(&a.reason));
     let mut s = if problems.is_empty() {
         "none".to_string()
     } else {

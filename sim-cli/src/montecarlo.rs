@@ -4,13 +4,14 @@
 //! uniform in ±jitter), so a row is reproduced by `--runs 1 --seed <its seed>` with the
 //! same jitter, and the same `--seed` gives the same table whatever the thread count.
 
+use helm_sim::seed::splitmix64;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use rayon::prelude::*;
 
-use super::observe::ViewKind;
-use super::run::{Outcome, Prepared, RunOptions, SimError, StartShift};
+use helm_sim::observe::ViewKind;
+use helm_sim::run::{Outcome, Prepared, RunOptions, SimError, StartShift};
 
 /// Half-widths of the uniform start perturbation.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -45,14 +46,6 @@ impl std::str::FromStr for Jitter {
         }
         Ok(j)
     }
-}
-
-pub(crate) fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 /// Uniform in [-1, 1).
@@ -310,7 +303,7 @@ pub fn distribution(rows: &[Row]) -> String {
         seen.dedup();
         for a in seen
             .into_iter()
-            .filter(|a| super::observe::is_problem_allstop(a))
+            .filter(|a| helm_sim::observe::is_problem_allstop(a))
         {
             *stops.entry(a).or_default() += 1;
         }

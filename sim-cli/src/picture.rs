@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 
 use super::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
-use super::observe::{Observer, ViewKind};
+use helm_sim::observe::{Observer, ViewKind};
 
 const TRACK: &str = "#1f6fd1";
 const PATH: &str = "#e07b00";
@@ -42,7 +42,7 @@ fn posted_color(spec: &str, kind: ViewKind) -> Option<String> {
     spec.split(',')
         .filter_map(|f| f.split_once('='))
         .find(|(k, _)| k.trim().eq_ignore_ascii_case(key))
-        .and_then(|(_, v)| crate::fleet::spec::svg_color(v))
+        .and_then(|(_, v)| helm_sim::fleet::spec::svg_color(v))
 }
 
 /// Colour of a path or polygon its behavior erased (a finished plan, still worth seeing).

@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
-use super::run::{FleetOptions, FleetPlan};
 use crate::args::{progress, verdict, SimArgs};
 use crate::output;
-use crate::run::SimError;
+use helm_sim::fleet::run::{FleetOptions, FleetPlan};
+use helm_sim::run::SimError;
 
 /// Run the fleet of the scenario at `path` as `args` ask.
 pub fn run(args: &SimArgs, path: &Path) -> Result<u8, SimError> {
@@ -53,11 +53,11 @@ fn single(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
         },
     )?;
     bar.finish_and_clear();
-    let summary = o.summary(&plan.name);
+    let summary = super::output::summary(&o, &plan.name);
     let json = serde_json::to_string_pretty(&summary).unwrap_or_default();
     let summary_path = dir.join("summary.json");
     output::write(&summary_path, &(json + "\n"))?;
-    let (e, n, c) = super::collide::Detector::totals(&o.pairs);
+    let (e, n, c) = helm_sim::fleet::collide::Detector::totals(&o.pairs);
     let title = format!(
         "{}: {} vehicles, {} after {:.1} s",
         plan.name,
@@ -72,7 +72,7 @@ fn single(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
     );
     let picture = dir.join(format!("{}.svg", plan.name));
     output::write(&picture, &super::picture::svg(&o, &title, &sub))?;
-    println!("{}", o.terminal(&plan.name));
+    println!("{}", super::output::terminal(&o, &plan.name));
     println!("picture: {}", picture.display());
     println!("logs:    {}/<vehicle>.alog", dir.display());
     println!("summary: {}", summary_path.display());

@@ -15,12 +15,12 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::collide::Detector;
-use super::run::{FleetOptions, FleetPlan};
 use crate::args::{progress, verdict, SimArgs};
 use crate::montecarlo::{unit, Jitter};
 use crate::output;
-use crate::run::{SimError, StartShift};
+use helm_sim::fleet::collide::Detector;
+use helm_sim::fleet::run::{FleetOptions, FleetPlan};
+use helm_sim::run::{SimError, StartShift};
 
 /// Every vehicle's start shift for the run with `seed`.
 pub fn shifts(j: &Jitter, seed: u64, vehicles: usize) -> Vec<StartShift> {

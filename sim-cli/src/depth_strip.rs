@@ -4,69 +4,16 @@
 
 use std::fmt::Write as _;
 
-/// Samples kept at most; older ones are thinned two to one (first and latest kept).
-const CAP: usize = 4_000;
+use helm_sim::depth::DepthTrace;
+
 /// Height of the strip (its axes and labels included).
 pub const STRIP_H: f64 = 170.0;
-/// A vehicle shallower than this is at the surface.
-const SURFACE: f64 = 0.2;
-
-/// Depth over time, and whether to draw it.
-#[derive(Clone, Debug, Default)]
-pub struct DepthTrace {
-    /// Set when the helm's domain has a `depth` variable (its `IVPHELM_DOMAIN`).
-    pub enabled: bool,
-    /// (seconds from the start, depth).
-    samples: Vec<(f64, f64)>,
-    /// Times a dive came back to the surface.
-    surfacings: Vec<f64>,
-    submerged: bool,
-}
-
-impl DepthTrace {
-    pub fn push(&mut self, t: f64, depth: f64) {
-        if !depth.is_finite() {
-            return;
-        }
-        if depth > SURFACE {
-            self.submerged = true;
-        } else if self.submerged {
-            self.submerged = false;
-            if self.surfacings.len() < CAP {
-                self.surfacings.push(t);
-            }
-        }
-        if self.samples.len() >= CAP {
-            let last = self.samples.pop();
-            let mut i = 0;
-            self.samples.retain(|_| {
-                i += 1;
-                i % 2 == 1
-            });
-            self.samples.extend(last);
-        }
-        self.samples.push((t, depth));
-    }
-
-    pub fn samples(&self) -> &[(f64, f64)] {
-        &self.samples
-    }
-
-    /// When each dive ended at the surface (seconds from the start).
-    pub fn surfacings(&self) -> &[f64] {
-        &self.surfacings
-    }
-
-    pub fn max_depth(&self) -> f64 {
-        self.samples.iter().map(|s| s.1).fold(0.0, f64::max)
-    }
-}
 
 /// Draw the strip with its top at `top`, `width` wide; returns the height used.
 pub fn draw(o: &mut String, trace: &DepthTrace, top: f64, width: f64) -> f64 {
     let (left, right) = (60.0, width - 30.0);
     let (y0, y1) = (top + 25.0, top + STRIP_H - 30.0);
-    let t_end = trace.samples.last().map_or(1.0, |s| s.0).max(1.0);
+    let t_end = trace.samples().last().map_or(1.0, |s| s.0).max(1.0);
     let d_max = trace.max_depth().max(1.0);
     let px = |t: f64| left + (right - left) * t / t_end;
     let py = |d: f64| y0 + (y1 - y0) * d / d_max;
@@ -75,8 +22,12 @@ pub fn draw(o: &mut String, trace: &DepthTrace, top: f64, width: f64) -> f64 {
         r##"<text x="{left}" y="{:.1}" font-size="13" fill="#222">Depth over time (max {:.1} m, {} surfacing{})</text>"##,
         top + 15.0,
         trace.max_depth(),
-        trace.surfacings.len(),
-        if trace.surfacings.len() == 1 { "" } else { "s" }
+        trace.surfacings().len(),
+        if trace.surfacings().len() == 1 {
+            ""
+        } else {
+            "s"
+        }
     );
     let _ = writeln!(
         o,
@@ -84,7 +35,7 @@ pub fn draw(o: &mut String, trace: &DepthTrace, top: f64, width: f64) -> f64 {
         right - left,
         y1 - y0
     );
-    for s in &trace.surfacings {
+    for s in trace.surfacings() {
         let x = px(*s);
         let _ = writeln!(
             o,
@@ -92,7 +43,7 @@ pub fn draw(o: &mut String, trace: &DepthTrace, top: f64, width: f64) -> f64 {
         );
     }
     let mut pts = String::new();
-    for (t, d) in &trace.samples {
+    for (t, d) in trace.samples() {
         let _ = write!(pts, "{:.1},{:.1} ", px(*t), py(*d));
     }
     let _ = writeln!(
@@ -135,16 +86,5 @@ mod tests {
         assert_eq!(draw(&mut o, &t, 700.0, 900.0), STRIP_H);
         assert_eq!(o.matches("stroke-dasharray=\"3,3\"").count(), 2);
         assert!(o.contains("2 surfacings"));
-    }
-
-    #[test]
-    fn thinning_keeps_the_ends() {
-        let mut t = DepthTrace::default();
-        for i in 0..(3 * CAP) {
-            t.push(i as f64, 1.0);
-        }
-        assert!(t.samples().len() <= CAP);
-        assert_eq!(t.samples()[0].0, 0.0);
-        assert_eq!(t.samples().last().map(|s| s.0), Some((3 * CAP - 1) as f64));
     }
 }

@@ -6,9 +6,9 @@
 
 use std::fmt::Write as _;
 
-use super::collide::PairRecord;
-use super::run::FleetOutcome;
 use crate::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
+use helm_sim::fleet::collide::PairRecord;
+use helm_sim::fleet::run::FleetOutcome;
 
 const CPA: &str = "#c0392b";
 

@@ -1,0 +1,8 @@
+//! `helm sim` on a fleet (`helm_sim::fleet` runs it): the command ([`cli`]), the
+//! summary ([`output`]), the Monte Carlo with shards and merge ([`montecarlo`]) and the
+//! picture ([`picture`]).
+
+pub mod cli;
+pub mod montecarlo;
+pub mod output;
+pub mod picture;
