@@ -86,6 +86,9 @@ pub struct RunExtras {
     /// settings, resolved with the block's `verbose =`. None: `helm run`'s heartbeat and
     /// summary lines.
     pub phelmivp_verbose: Option<(Option<Verbose>, Option<Verbose>)>,
+    /// `HELM_VERBOSE` for `helm run` (pHelmIvP's form uses `phelmivp_verbose`): quiet
+    /// as `--quiet`, terse the heartbeat alone, verbose (or none) heartbeat and summaries.
+    pub run_verbose: Option<Verbose>,
 }
 
 impl RunExtras {
@@ -194,9 +197,13 @@ pub fn run(opts: &RunOptions) -> Result<(), AppError> {
 pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
     let loaded = helm_mission::load(&opts.mission, &opts.bhv, &opts.alias)?;
     // A closed stdout must not stop a helm (`helm run ... | head`): write errors are ignored.
+    // Quiet keeps only what needs attention: a library that could not be loaded.
+    let quiet = run_is_quiet(opts, extras);
     let mut out = std::io::stdout().lock();
     for line in &loaded.library_report {
-        let _ = writeln!(out, "{line}");
+        if !quiet || is_library_problem(line) {
+            let _ = writeln!(out, "{line}");
+        }
     }
     drop(out);
     let (mut helm, mission) = loaded.into_helm();
@@ -213,13 +220,15 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
         settings.host = "127.0.0.1".into();
         check_sim_block(&mission)?;
         let db = start_db(&mission)?;
-        let _ = writeln!(
-            std::io::stdout(),
-            "Embedded MOOSDB on 127.0.0.1:{} (community {}, time warp {})",
-            db.port(),
-            mission.global("Community").unwrap_or_else(|| "#1".into()),
-            settings.time_warp
-        );
+        if !quiet {
+            let _ = writeln!(
+                std::io::stdout(),
+                "Embedded MOOSDB on 127.0.0.1:{} (community {}, time warp {})",
+                db.port(),
+                mission.global("Community").unwrap_or_else(|| "#1".into()),
+                settings.time_warp
+            );
+        }
         let sim = embedded_sim::Sim::start(&mission).map_err(AppError::Sim)?;
         (Some(db), Some(sim))
     } else {
@@ -244,6 +253,18 @@ pub fn run_with(opts: &RunOptions, extras: &RunExtras) -> Result<(), AppError> {
     Ok(())
 }
 
+/// `helm run --quiet`, or `HELM_VERBOSE=quiet` (pHelmIvP's form decides in
+/// [`terminal_setup`] with its own rules).
+fn run_is_quiet(opts: &RunOptions, extras: &RunExtras) -> bool {
+    extras.phelmivp_verbose.is_none() && (opts.quiet || extras.run_verbose == Some(Verbose::Quiet))
+}
+
+/// A library report line that says something went wrong (shown even when quiet).
+fn is_library_problem(line: &str) -> bool {
+    let t = line.trim_start();
+    t.starts_with("skipped ") || t.starts_with("warning:") || t.starts_with("Could not find")
+}
+
 /// How the run talks to the terminal, and who it is for AppCasting.
 struct TermSetup {
     mode: terminal::Mode,
@@ -262,7 +283,8 @@ fn terminal_setup(
     use std::io::IsTerminal;
     let community = mission.global("Community").unwrap_or_default();
     let (mode, closing) = match extras.phelmivp_verbose {
-        None if opts.quiet => (terminal::Mode::Quiet, true),
+        None if run_is_quiet(opts, extras) => (terminal::Mode::Quiet, true),
+        None if extras.run_verbose == Some(Verbose::Terse) => (terminal::Mode::Terse, true),
         None => (terminal::Mode::Summary, true),
         Some((cli, env)) => {
             let v = crate::phelmivp::resolve_verbose(cli, env, helm.configured_verbose());

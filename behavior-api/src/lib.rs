@@ -29,6 +29,7 @@
 //! Everything a behavior needs comes through this crate, so a third party depends on
 //! `behavior-api` (and `abi_stable`) alone:
 //! - [`ivp`]: domains, ZAIC builders, coupler, reflector (the objective functions);
+//!   [`zaic`]: the ZAIC_PEAK and ZAIC_SPD shapes as named parameter structs;
 //! - [`geometry`]: angles, points and segments, convex polygons, the point / seglist /
 //!   polygon strings, and the VIEW_* spec strings ([`geometry::spec`]: `point_spec`,
 //!   `seglist_spec`, `Attrs`, ...);
@@ -68,7 +69,11 @@ pub mod platform;
 pub mod sdk;
 pub mod testing;
 pub mod value;
+pub mod zaic;
 
+// The tutorial's files are shown whole, their `#[cfg(test)]` tests included: rustdoc
+// compiles them, and helm/tests/plugin_copy.rs builds them as crates and runs the tests.
+#[allow(clippy::test_attr_in_doctest)]
 #[doc = include_str!("../TUTORIAL.md")]
 pub mod tutorial {}
 

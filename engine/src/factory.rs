@@ -46,6 +46,10 @@ pub struct BehaviorFactory {
     libraries: Vec<crate::loader::LoadedLibrary>,
     /// Directories searched for libraries, for error messages.
     pub searched_dirs: Vec<String>,
+    /// Set by the loader when none of the libraries shipped with the helm was found
+    /// (a binary copied alone, as `cargo install` does): said with any unknown type of
+    /// [`SHIPPED_LIBRARY_TYPES`], so the user learns where they belong.
+    pub bundled_missing: Option<String>,
 }
 
 impl BehaviorFactory {
@@ -55,6 +59,7 @@ impl BehaviorFactory {
             builtins: behaviors_std::builtin_types(),
             libraries: Vec::new(),
             searched_dirs: Vec::new(),
+            bundled_missing: None,
         }
     }
 

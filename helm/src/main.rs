@@ -366,8 +366,19 @@ fn main() -> ExitCode {
                 duration,
                 quiet,
             };
+            let run_verbose = match std::env::var("HELM_VERBOSE") {
+                Ok(v) => match helm_engine::config::parse_verbose(&v) {
+                    Some(v) => Some(v),
+                    None => {
+                        eprintln!("error: HELM_VERBOSE={v:?}: use verbose, terse or quiet");
+                        return ExitCode::from(2);
+                    }
+                },
+                Err(_) => None,
+            };
             let extras = helm_app::RunExtras {
                 alog,
+                run_verbose,
                 ..Default::default()
             };
             run_app(&opts, extras)

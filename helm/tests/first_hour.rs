@@ -491,3 +491,249 @@ fn help_is_one_text_and_a_phelmivp_link_refuses_subcommands() {
     assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
     assert!(common::text(&o).contains("run it as `helm sim ...`"));
 }
+
+#[test]
+fn run_embedded_takes_a_mission_folder() {
+    // alpha on a port of its own, copied into a folder: the folder is the argument.
+    let port = common::free_port();
+    let dir = alpha_copy("run-dir", |m| {
+        m.replace("ServerPort = 9000", &format!("ServerPort = {port}"))
+    });
+    let alog = dir.join("run.alog");
+    let o = helm(&[
+        "run",
+        "--embedded",
+        dir.to_str().expect("utf-8"),
+        "--duration",
+        "20",
+        "--quiet",
+        "--alog",
+        alog.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+    let log = std::fs::read_to_string(&alog).expect("the run wrote its log");
+    assert!(
+        log.lines().any(|l| l.contains("DESIRED_SPEED")),
+        "the helm of the folder's mission ran"
+    );
+}
+
+/// `helm run --quiet` and `HELM_VERBOSE=quiet` print the last line alone: no library
+/// report, no embedded-DB line, no heartbeat; `HELM_VERBOSE=terse` keeps the heartbeat.
+#[test]
+fn run_quiet_is_quiet_and_helm_verbose_is_read() {
+    let port = common::free_port();
+    let dir = alpha_copy("run-quiet", |m| {
+        m.replace("ServerPort = 9000", &format!("ServerPort = {port}"))
+    });
+    let d = dir.to_str().expect("utf-8");
+    let run = |flag: Option<&str>, env: Option<&str>| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_helm"));
+        c.args(["run", "--embedded", d, "--duration", "4"]);
+        if let Some(f) = flag {
+            c.arg(f);
+        }
+        match env {
+            Some(v) => c.env("HELM_VERBOSE", v),
+            None => c.env_remove("HELM_VERBOSE"),
+        };
+        c.output().expect("run helm")
+    };
+    for (flag, env) in [(Some("--quiet"), None), (None, Some("quiet"))] {
+        let o = run(flag, env);
+        assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(out.contains("final:"), "the last line stays: {out}");
+        for noisy in ["Embedded MOOSDB", "Loading behavior", "$", "*"] {
+            assert!(
+                !out.lines()
+                    .any(|l| !l.starts_with("final:") && l.contains(noisy)),
+                "{flag:?}/{env:?}: {noisy:?} printed: {out}"
+            );
+        }
+    }
+    let o = run(None, Some("terse"));
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains('$') || out.contains('*'),
+        "terse keeps the heartbeat: {out}"
+    );
+    let o = run(None, Some("loud"));
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "a bad HELM_VERBOSE is a usage error"
+    );
+    assert!(common::text(&o).contains("HELM_VERBOSE"));
+}
+
+// ---- point 12: Ctrl-C during a Monte Carlo keeps the finished runs ----------------------
+
+#[test]
+fn ctrl_c_during_a_monte_carlo_keeps_the_finished_runs() {
+    use std::io::BufRead;
+    let dir = alpha_copy("interrupt", |m| m.to_string());
+    let out = dir.join("mc");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args([
+            "sim",
+            dir.to_str().expect("utf-8"),
+            "--runs",
+            "200",
+            "--out",
+        ])
+        .arg(&out)
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start helm sim --runs 200");
+    // Off a terminal, progress comes as lines on stderr: wait for one that counts a run.
+    let stderr = child.stderr.take().expect("stderr");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut all = Vec::new();
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            let _ = tx.send(line.clone());
+            all.push(line);
+        }
+        all
+    });
+    let progressed = loop {
+        match rx.recv_timeout(std::time::Duration::from_secs(300)) {
+            Ok(l) if l.starts_with("runs ") => {
+                let n: u64 = l[5..]
+                    .split('/')
+                    .next()
+                    .and_then(|n| n.parse().ok())
+                    .unwrap_or(0);
+                if n >= 1 {
+                    break n;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => panic!("no progress line off a terminal: {e}"),
+        }
+    };
+    // SAFETY: kill(2) on our own child's pid.
+    let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    assert_eq!(sent, 0);
+    let o = child.wait_with_output().expect("wait");
+    let lines = reader.join().expect("reader");
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(130), "{stdout}\n{lines:?}");
+    // "alpha: interrupted after N of 200 runs", and runs.csv holds those N rows.
+    let said = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("alpha: interrupted after "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let n: usize = said
+        .strip_suffix(" of 200 runs")
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{said}"));
+    assert!(n as u64 >= progressed && n < 200, "{n} after {progressed}");
+    let csv = std::fs::read_to_string(out.join("runs.csv")).expect("runs.csv kept");
+    assert_eq!(
+        csv.lines().count(),
+        n + 1,
+        "header and one row per finished run"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.txt")).expect("summary.txt");
+    assert!(summary.starts_with(&format!("alpha: interrupted after {n} of 200 runs")));
+    assert!(
+        !out.join("runs.svg").exists(),
+        "no picture of a Monte Carlo that did not finish"
+    );
+}
+
+// ---- point 14 (rest): NothingToDo at a mission's normal end is no failure ----------------
+
+#[test]
+fn nothing_to_do_at_the_normal_end_is_not_a_failure() {
+    let dir = alpha_copy("nothing-to-do", |m| m.to_string());
+    let (o, out) = sim(&dir, &[]);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(0), "{stdout}");
+    // alpha's helm says NothingToDo once its waypoints are done: listed apart.
+    let stops = summary(&out)["allstops"].to_string();
+    assert!(stops.contains("NothingToDo"), "{stops}");
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("all-stops:"))
+        .unwrap_or_default();
+    assert!(
+        line.contains("all-stops: none (idle, no behavior active: NothingToDo at"),
+        "{stdout}"
+    );
+    let svg = std::fs::read_to_string(out.join("alpha.svg")).expect("svg");
+    assert!(
+        svg.contains(" 0 all-stop(s)"),
+        "the picture counts no failure"
+    );
+    // A Monte Carlo does not count it as a run with an all-stop.
+    let (o, _) = sim(&dir, &["--runs", "2"]);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(stdout.contains("runs with all-stop  none"), "{stdout}");
+}
+
+// ---- point 10: a helm copied alone says where its bundled libraries belong -------------
+
+#[test]
+fn a_helm_copied_alone_says_its_bundled_libraries_are_missing() {
+    let dir = common::temp_dir("helm-first-hour-alone");
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).expect("mkdir");
+    let helm = bin.join("helm");
+    std::fs::copy(env!("CARGO_BIN_EXE_helm"), &helm)
+        .expect("copy the binary, as cargo install does");
+    let mission = common::workspace().join("missions/plugins");
+    let out = dir.join("out");
+    for args in [
+        vec!["check"],
+        vec!["sim", "--out", out.to_str().expect("utf-8")],
+    ] {
+        let cmd = args[0];
+        let o = Command::new(&helm)
+            .args(&args)
+            .arg(&mission)
+            .env_remove("IVP_HELM_BUNDLED_DIR")
+            .env_remove("IVP_BEHAVIOR_DIRS")
+            .output()
+            .expect("run the copied helm");
+        let t = common::text(&o);
+        assert_eq!(o.status.code(), Some(1), "{cmd}: {t}");
+        let said = format!(
+            "BHV_ConstantSpeed (directories searched: {} (bundled)): it is one of the helm's \
+             shipped libraries: bundled behavior libraries not found beside {} (nor in \
+             ../lib/ivp-helm from it); set IVP_BEHAVIOR_DIRS=",
+            bin.display(),
+            helm.display()
+        );
+        assert!(t.contains(&said), "{cmd}: {t}");
+        assert!(!t.contains("did you mean BHV_ConstantSpeed"), "{t}");
+    }
+    // Beside the libraries it finds them: the same mission is fine.
+    let four = [
+        "bhv-constant-speed",
+        "bhv-constant-heading",
+        "bhv-constant-depth",
+        "bhv-station-keep",
+    ];
+    let built = common::build_plugins(&four);
+    for p in four {
+        let name = common::lib_name(p);
+        std::fs::copy(built.join(&name), bin.join(&name)).expect("copy a library");
+    }
+    let o = Command::new(&helm)
+        .args(["check", mission.to_str().expect("utf-8")])
+        .env_remove("IVP_HELM_BUNDLED_DIR")
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .output()
+        .expect("run the copied helm");
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
+}

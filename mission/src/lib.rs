@@ -298,7 +298,16 @@ fn is_bundled_library(p: &Path) -> bool {
 
 /// [`factory_for`] `dirs`, then the [`bundled_dirs`] for the types still missing.
 pub fn factory_with_bundled(dirs: &[PathBuf]) -> (BehaviorFactory, Vec<String>) {
-    factory_from(dirs, &bundled_dirs())
+    let bundled = bundled_dirs();
+    let (mut factory, report) = factory_from(dirs, &bundled);
+    if !factory
+        .libraries()
+        .iter()
+        .any(|l| is_bundled_library(&l.path))
+    {
+        factory.bundled_missing = Some(bundled_missing_text(&bundled));
+    }
+    (factory, report)
 }
 
 /// Built-in behaviors plus every library found in `dirs` (only those), and the start-up
@@ -344,6 +353,21 @@ fn factory_from(dirs: &[PathBuf], bundled: &[PathBuf]) -> (BehaviorFactory, Vec<
         factory.add_library(l);
     }
     (factory, report)
+}
+
+/// Why the shipped libraries were not found, and what to do (README, Install).
+fn bundled_missing_text(bundled: &[PathBuf]) -> String {
+    let fix = "set IVP_BEHAVIOR_DIRS=<the folder of the libbhv_* files> or copy them there \
+               (README: Install)";
+    if bundled.is_empty() {
+        return format!(
+            "bundled behavior libraries not looked for (IVP_HELM_BUNDLED_DIR is empty); {fix}"
+        );
+    }
+    let binary = std::env::current_exe()
+        .map(|e| e.display().to_string())
+        .unwrap_or_else(|_| "the helm binary".into());
+    format!("bundled behavior libraries not found beside {binary} (nor in ../lib/ivp-helm from it); {fix}")
 }
 
 fn report_events(events: &[LoadEvent], report: &mut Vec<String>) {

@@ -23,7 +23,8 @@ pub struct SimArgs {
     /// Stop after this many simulated seconds (overrides the scenario's max_time).
     #[arg(long, value_parser = positive_secs)]
     pub max_time: Option<f64>,
-    /// Monte Carlo: run the mission N times from perturbed starts, on all cores.
+    /// Monte Carlo: run the mission N times from perturbed starts, on all cores
+    /// (Ctrl-C keeps the runs finished so far in runs.csv; exit 130).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub runs: u64,
     /// Seed of the first run (run i uses seed+i).

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use super::args::{progress, verdict};
 pub use super::args::{Shard, SimArgs, EXIT_RUN_WENT_WRONG};
+use super::interrupt;
 use super::montecarlo;
 use super::output;
 use super::run::{Prepared, RunOptions, SimError, StartShift};
@@ -117,7 +118,12 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
         "{spinner} runs {pos}/{len} [{bar:40}] {elapsed_precise} eta {eta}",
     );
     let wall = std::time::Instant::now();
-    let done = || bar.inc(1);
+    interrupt::install();
+    let lines = interrupt::Progress::new(args.runs);
+    let done = || {
+        bar.inc(1);
+        lines.tick();
+    };
     let rows = montecarlo::run_all(
         prep,
         args.runs as usize,
@@ -128,6 +134,9 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
         &done,
     )?;
     bar.finish_and_clear();
+    if interrupt::requested() {
+        return interrupted(&dir, &prep.name, &rows, args.runs);
+    }
     let csv_path = dir.join("runs.csv");
     output::write(&csv_path, &montecarlo::csv(&rows))?;
     println!(
@@ -181,4 +190,34 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
         println!("PROBLEM: {panics} behavior panic(s) across the runs (runs.csv: behavior_panics)");
     }
     Ok(verdict(args.strict, panics, errors, !nominal.drove))
+}
+
+/// Ctrl-C during a Monte Carlo: keep the finished runs (`runs.csv`, `summary.txt`), or
+/// leave no folder when none finished; exit 130.
+fn interrupted(
+    dir: &std::path::Path,
+    name: &str,
+    rows: &[montecarlo::Row],
+    total: u64,
+) -> Result<u8, SimError> {
+    let line = interrupt::interrupted_line(name, rows.len(), total);
+    if rows.is_empty() {
+        let gone = interrupt::remove_if_empty(dir);
+        println!(
+            "{line}; nothing written{}",
+            if gone {
+                ""
+            } else {
+                " (the folder was not empty)"
+            }
+        );
+        return Ok(interrupt::EXIT_INTERRUPTED);
+    }
+    let csv_path = dir.join("runs.csv");
+    output::write(&csv_path, &montecarlo::csv(rows))?;
+    let text = format!("{line}\n{}\n", montecarlo::distribution(rows));
+    output::write(&dir.join("summary.txt"), &text)?;
+    print!("{text}");
+    println!("table:   {}", csv_path.display());
+    Ok(interrupt::EXIT_INTERRUPTED)
 }

@@ -29,6 +29,7 @@ pub(crate) mod canvas;
 pub mod cli;
 pub(crate) mod decor;
 pub mod fleet;
+pub mod interrupt;
 pub mod montecarlo;
 pub mod observe;
 pub mod output;

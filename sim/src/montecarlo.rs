@@ -157,7 +157,8 @@ fn min_dists(o: &Outcome) -> BTreeMap<String, f64> {
 }
 
 /// Run `n` simulations with seeds `seed..seed+n`; `done` is called after each. With
-/// `alog_dir`, run i writes its log there as [`run_alog_name`]`(i, n)`.
+/// `alog_dir`, run i writes its log there as [`run_alog_name`]`(i, n)`. After an
+/// [`interrupt`](super::interrupt), runs not yet started are skipped: fewer rows.
 pub fn run_all(
     prep: &Prepared,
     n: usize,
@@ -170,6 +171,9 @@ pub fn run_all(
     (0..n)
         .into_par_iter()
         .map(|i| {
+            if super::interrupt::requested() {
+                return Ok(None);
+            }
             let s = seed.wrapping_add(i as u64);
             let shift = jitter.shift(s);
             let o = prep.run(
@@ -181,7 +185,7 @@ pub fn run_all(
                 },
             )?;
             done();
-            Ok(Row {
+            Ok(Some(Row {
                 run: i,
                 seed: s,
                 end_reason: o.end_reason.clone(),
@@ -202,9 +206,10 @@ pub fn run_all(
                 helm_state: o.helm_state,
                 min_dist: min_dists(&o),
                 track: thin(o.observer.track.points()),
-            })
+            }))
         })
-        .collect()
+        .collect::<Result<Vec<Option<Row>>, SimError>>()
+        .map(|rows| rows.into_iter().flatten().collect())
 }
 
 /// The log of run `i` of `n`: zero-padded (at least 4 digits, more for 10 000 runs or
@@ -303,7 +308,10 @@ pub fn distribution(rows: &[Row]) -> String {
         let mut seen: Vec<&str> = r.allstops.iter().map(String::as_str).collect();
         seen.sort_unstable();
         seen.dedup();
-        for a in seen {
+        for a in seen
+            .into_iter()
+            .filter(|a| super::observe::is_problem_allstop(a))
+        {
             *stops.entry(a).or_default() += 1;
         }
     }

@@ -105,6 +105,13 @@ fn is_erase(spec: &str) -> bool {
         .any(|f| f.trim().eq_ignore_ascii_case("active=false"))
 }
 
+/// Whether an all-stop reason is a problem. `NothingToDo` is not: the helm all-stops
+/// with it whenever no behavior is active, which is how a mission normally ends (and
+/// how it waits between phases), so it is listed apart, never as a failure.
+pub fn is_problem_allstop(reason: &str) -> bool {
+    reason != "NothingToDo"
+}
+
 /// One all-stop: when the helm's `IVPHELM_ALLSTOP` became non-clear, and why.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct AllStop {

@@ -133,7 +133,11 @@ pub fn picture_titles(name: &str, o: &Outcome) -> (String, String) {
         o.helm_state,
         o.iterations,
         o.observer.waypoints_reached,
-        o.observer.allstops.len(),
+        o.observer
+            .allstops
+            .iter()
+            .filter(|a| super::observe::is_problem_allstop(&a.reason))
+            .count(),
         o.observer.behavior_errors.len()
     );
     // What went wrong leads: a picture of a parked or panicked run must say so.
@@ -149,6 +153,40 @@ pub fn picture_titles(name: &str, o: &Outcome) -> (String, String) {
     )
 }
 
+/// The all-stops line: the problems first; `NothingToDo` (no behavior active, as at a
+/// mission's normal end) said apart, not as a failure.
+fn allstop_text(stops: &[AllStop]) -> String {
+    let list = |v: Vec<&AllStop>| {
+        let more = if v.len() > 5 { ", ..." } else { "" };
+        v.iter()
+            .take(5)
+            .map(|a| format!("{} at {:.1} s", a.reason, a.time))
+            .collect::<Vec<_>>()
+            .join(", ")
+            + more
+    };
+    let (problems, idle): (Vec<&AllStop>, Vec<&AllStop>) = stops
+        .iter()
+        .partition(|a| super::observe::is_problem_allstop(&a.reason));
+    let mut s = if problems.is_empty() {
+        "none".to_string()
+    } else {
+        list(problems)
+    };
+    if !idle.is_empty() {
+        let times: Vec<String> = idle
+            .iter()
+            .take(5)
+            .map(|a| format!("{:.1} s", a.time))
+            .collect();
+        s.push_str(&format!(
+            " (idle, no behavior active: NothingToDo at {})",
+            times.join(", ")
+        ));
+    }
+    s
+}
+
 /// The terminal summary (lines).
 pub fn terminal_summary(name: &str, o: &Outcome) -> String {
     let speedup = if o.wall_time_s > 0.0 {
@@ -156,22 +194,7 @@ pub fn terminal_summary(name: &str, o: &Outcome) -> String {
     } else {
         "-".into()
     };
-    let stops = if o.observer.allstops.is_empty() {
-        "none".to_string()
-    } else {
-        o.observer
-            .allstops
-            .iter()
-            .take(5)
-            .map(|a| format!("{} at {:.1} s", a.reason, a.time))
-            .collect::<Vec<_>>()
-            .join(", ")
-            + if o.observer.allstops.len() > 5 {
-                ", ..."
-            } else {
-                ""
-            }
-    };
+    let stops = allstop_text(&o.observer.allstops);
     let errors = if o.observer.behavior_errors.is_empty() {
         "none".to_string()
     } else {

@@ -181,7 +181,7 @@ fn live(
     let stop = Arc::new(AtomicBool::new(false));
     std::thread::Builder::new()
         .name("view-moos".into())
-        .spawn(move || live::pump(&c, &h, feed, &extra, &stop))
+        .spawn(move || live::pump_warped(&c, &h, feed, &extra, &stop, warp))
         .map_err(|e| ViewError::Db {
             host: host.to_owned(),
             port,

@@ -259,14 +259,50 @@ impl Hub {
     }
 }
 
-/// Feed MOOS mail into the hub until `stop`: registers for what the page shows, asks
-/// every app for its appcast every 2 s (as pMarineViewer does), applies each posting.
+/// How the viewer asks for appcasts at time warp `warp`: the `APPCAST_REQ` value and
+/// how often to send it. An app counts a request's `duration` in MOOS seconds
+/// (duration ÷ warp real seconds) and posts at most every 0.5 real s. pMarineViewer's
+/// `duration=3.0` every 2 s lives 0.3 real s at warp 10: a request landing within
+/// 0.5 s of the app's last appcast was dropped, and the panel kept the helm's first
+/// appcast (`Helm Iteration: 0`) until a later request happened to land. Here a request
+/// lives 3 real s (at most 30 MOOS s, the apps' cap) and the next one goes out well
+/// before it ends, so the app posts its latest report every report interval.
+pub fn appcast_request(key: &str, warp: f64) -> (String, Duration) {
+    let warp = if warp.is_finite() && warp > 0.0 {
+        warp
+    } else {
+        1.0
+    };
+    let duration = (3.0 * warp).clamp(3.0, 30.0);
+    let lives = duration / warp;
+    let every = Duration::from_secs_f64((lives / 2.0).min(2.0));
+    (
+        format!("node=all,app=all,duration={duration:.1},key={key},thresh=any"),
+        every,
+    )
+}
+
+/// Feed MOOS mail into the hub until `stop`: registers for what the page shows, keeps
+/// every app asked for its appcast ([`appcast_request`]), applies each posting.
 pub fn pump(
+    client: &moos::Client,
+    hub: &Hub,
+    feed: Feed,
+    extra_vars: &[String],
+    stop: &AtomicBool,
+) {
+    pump_warped(client, hub, feed, extra_vars, stop, 1.0);
+}
+
+/// [`pump`] against a DB whose apps run at time warp `warp` (the appcast requests
+/// follow it: [`appcast_request`]).
+pub fn pump_warped(
     client: &moos::Client,
     hub: &Hub,
     mut feed: Feed,
     extra_vars: &[String],
     stop: &AtomicBool,
+    warp: f64,
 ) {
     for v in crate::feed::subscriptions() {
         let _ = client.register(v, 0.0);
@@ -278,12 +314,9 @@ pub fn pump(
     let mut mail = Vec::new();
     let mut last_req: Option<Instant> = None;
     let mut skipped = 0;
+    let (req, every) = appcast_request(client.name(), warp);
     while !stop.load(Ordering::SeqCst) {
-        if last_req.is_none_or(|l| l.elapsed() >= Duration::from_secs(2)) && client.is_connected() {
-            let req = format!(
-                "node=all,app=all,duration=3.0,key={},thresh=any",
-                client.name()
-            );
+        if last_req.is_none_or(|l| l.elapsed() >= every) && client.is_connected() {
             let _ = client.notify_string("APPCAST_REQ", &req, None);
             let _ = client.notify_string("APPCAST_REQ_ALL", &req, None);
             last_req = Some(Instant::now());
@@ -310,6 +343,34 @@ pub fn pump(
         if total != skipped {
             skipped = total;
             hub.set_skipped(crate::alog_index::summary(&feed.skipped));
+        }
+    }
+}
+
+#[cfg(test)]
+mod appcast_request_tests {
+    use super::*;
+
+    /// At every warp a request is alive all the time: the next one is sent before the
+    /// last one ends (in real seconds), so the app posts every report interval.
+    #[test]
+    fn a_request_lives_until_the_next_one_at_any_warp() {
+        for warp in [0.5, 1.0, 2.0, 4.0, 10.0, 20.0, 50.0, 100.0] {
+            let (req, every) = appcast_request("uHelmView", warp);
+            let duration: f64 = req
+                .split(',')
+                .find_map(|f| f.strip_prefix("duration="))
+                .and_then(|d| d.parse().ok())
+                .expect("a duration");
+            assert!(duration <= 30.0, "the apps clip at 30: {req}");
+            let lives = duration / warp;
+            assert!(
+                every.as_secs_f64() < lives,
+                "warp {warp}: a request every {every:?} lives {lives} s: {req}"
+            );
+            assert!(
+                req.starts_with("node=all,app=all,") && req.ends_with(",key=uHelmView,thresh=any")
+            );
         }
     }
 }

@@ -87,6 +87,42 @@ fn live_from_an_embedded_helm_in_a_real_browser() {
         "document.querySelector('#vars tr[data-var=\"IVPHELM_STATE\"]')",
         LIMIT,
     );
+    // The appcast panel follows the helm's latest APPCAST, not its first one (issue 24:
+    // it stayed at `Helm Iteration: 0`: the viewer's requests lived 0.3 real s at warp
+    // 10, and one landing within the 0.5 s report interval was dropped). The helm now
+    // reports every interval while the viewer watches: count its APPCASTs over 200 of
+    // its iterations (at least 5 real s at AppTick 4, warp 10; one per 0.5 s is 10 or
+    // more, one per 2 s as before about 3), then the page shows the last one or later.
+    let listen = {
+        let mut cfg = moos::ClientConfig::new("127.0.0.1", port, "uViewTestCasts");
+        cfg.time_warp = 10.0;
+        moos::Client::connect(cfg).expect("appcast listener")
+    };
+    listen.register("APPCAST", 0.0).expect("register APPCAST");
+    let helm_iteration = |cast: &str| -> Option<u64> {
+        let at = cast.find("Helm Iteration:")? + "Helm Iteration:".len();
+        cast[at..].split("!@").next()?.trim().parse().ok()
+    };
+    let mut casts = 0;
+    let mut first = None;
+    let latest = loop {
+        let cast = wait_mail(&listen, "APPCAST", "pHelmIvP");
+        let Some(n) = helm_iteration(&cast) else {
+            continue;
+        };
+        casts += 1;
+        let n0 = *first.get_or_insert(n);
+        if n >= n0 + 200 {
+            break n;
+        }
+    };
+    assert!(
+        casts >= 6,
+        "{casts} APPCASTs over the helm's iterations {first:?}..{latest}"
+    );
+    let page_iteration = "(() => { const m = /Helm Iteration:\\s+(\\d+)/\
+        .exec(document.getElementById('appcast').textContent); return m ? +m[1] : -1; })()";
+    b.wait_for(&format!("{page_iteration} >= {latest}"), LIMIT);
 
     // A polygon posted in the DB appears, then goes when erased.
     let sel = "document.querySelectorAll('#shapes [data-key=\"polygon:viewtest\"]').length";

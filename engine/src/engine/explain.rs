@@ -91,6 +91,8 @@ pub(crate) fn nearest_type(factory: &BehaviorFactory, type_name: &str) -> Option
     let limit = (want.chars().count() / 3).clamp(1, 4);
     names
         .into_iter()
+        // The type itself (a shipped library not loaded) is no suggestion.
+        .filter(|n| n != type_name)
         .map(|n| (edit_distance(&want, &strip(&n)), n))
         .filter(|(d, _)| *d <= limit)
         .min()

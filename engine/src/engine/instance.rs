@@ -31,8 +31,16 @@ pub(crate) fn make_instance(
         let hint = super::explain::nearest_type(factory, &bs.type_name)
             .map(|n| format!(" (did you mean {n}?)"))
             .unwrap_or_default();
+        // A type the helm ships as a library: the likely cause is a helm binary
+        // without its libraries beside it.
+        let shipped = match &factory.bundled_missing {
+            Some(why) if crate::factory::SHIPPED_LIBRARY_TYPES.contains(&bs.type_name.as_str()) => {
+                format!(": it is one of the helm's shipped libraries: {why}")
+            }
+            _ => String::new(),
+        };
         return Err(vec![format!(
-            "{where_}: unknown behavior type {}{hint} (directories searched: {dirs})",
+            "{where_}: unknown behavior type {}{hint} (directories searched: {dirs}){shipped}",
             bs.type_name
         )]);
     };

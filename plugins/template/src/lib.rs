@@ -3,10 +3,11 @@
 //! It prefers one speed (`speed`, default 1) with a ZAIC_PEAK of half-width `tolerance`
 //! (default 0.5) and posts `<report_var> = <NAV_SPEED>` every running iteration when
 //! `report_var` is set. Everything common (name, pwt, condition, duration, flags,
-//! updates, BHV_STATUS) is done by the helm. See `plugins/README.md`.
+//! updates, BHV_STATUS) is done by the helm. To copy it: `README.md` beside this folder.
 
-use behavior_api::ivp::{self, zaic::ZaicPeak};
+use behavior_api::ivp;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::zaic::Peak;
 use behavior_api::FunctionData;
 
 pub struct Template {
@@ -69,10 +70,12 @@ impl IvpBehavior for Template {
             ctx.post_emessage("No 'speed' variable in the helm domain");
             return None;
         };
-        let mut z = ZaicPeak::new(dom, "speed").ok()?;
-        z.set_summit(self.speed, 0);
-        z.set_base_width(self.tolerance, 0);
-        let mut f = z.extract(true)?;
+        let peak = Peak {
+            summit: self.speed,
+            base_width: self.tolerance,
+            ..Peak::default()
+        };
+        let mut f = peak.build(dom, "speed").ok()?;
         f.set_pwt(ctx.priority());
         Some(function_data(f))
     }
