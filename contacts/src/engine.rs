@@ -198,6 +198,17 @@ pub struct CpaEngine {
     theta_tn: f64,
     cn_tan: f64,
     tn_const: f64,
+    /// Per-degree values, when an objective function asked for them ([`Self::with_tables`]).
+    tables: Option<Box<DegreeTables>>,
+}
+
+/// The reference's per-degree tables (`gamcos`, `cnhcos`, `tancos`), the same numbers the
+/// on-demand path computes.
+#[derive(Clone, Debug, PartialEq)]
+struct DegreeTables {
+    gam: [f64; 360],
+    cnh: [f64; 360],
+    tan: [f64; 360],
 }
 
 impl CpaEngine {
@@ -243,6 +254,7 @@ impl CpaEngine {
             theta_tn: angle360(abs_os_cn + 90.0),
             cn_tan: 0.0,
             tn_const: 360.0 / (2.0 * rng * PI_12),
+            tables: None,
         };
         e.theta_gam = if e.os_port_of_cn() {
             angle360(cnh + 90.0)
@@ -276,11 +288,38 @@ impl CpaEngine {
         self.cn_to_os > 0.0
     }
 
+    /// The engine with its per-degree tables built (1080 cosines once): for an objective
+    /// function, which asks thousands of candidate headings per reset. Results are
+    /// bit-identical to the engine without tables.
+    pub fn with_tables(mut self) -> Self {
+        let mut t = DegreeTables {
+            gam: [0.0; 360],
+            cnh: [0.0; 360],
+            tan: [0.0; 360],
+        };
+        for i in 0..360 {
+            let d = f64::from(i as u16);
+            t.gam[i] = cos_star(fold(d, self.theta_gam));
+            t.cnh[i] = cos_star(fold(d, self.cnh));
+            t.tan[i] = cos_star(fold(d, self.theta_tn));
+        }
+        self.tables = Some(Box::new(t));
+        self
+    }
+
+    /// A table entry for an integer degree `i` (what [`deg_index`] gives).
+    fn table(&self, i: f64, pick: fn(&DegreeTables) -> &[f64; 360]) -> Option<f64> {
+        let t = self.tables.as_deref()?;
+        pick(t).get(i as usize).copied()
+    }
+
     fn gamcos(&self, i: f64) -> f64 {
-        cos_star(fold(i, self.theta_gam))
+        self.table(i, |t| &t.gam)
+            .unwrap_or_else(|| cos_star(fold(i, self.theta_gam)))
     }
     fn cnhcos(&self, i: f64) -> f64 {
-        cos_star(fold(i, self.cnh))
+        self.table(i, |t| &t.cnh)
+            .unwrap_or_else(|| cos_star(fold(i, self.cnh)))
     }
     fn relcos(&self, i: f64) -> f64 {
         let a = angle360(self.abs_os_cn - i);
@@ -291,7 +330,8 @@ impl CpaEngine {
         }
     }
     fn tancos(&self, i: f64) -> f64 {
-        cos_star(fold(i, self.theta_tn))
+        self.table(i, |t| &t.tan)
+            .unwrap_or_else(|| cos_star(fold(i, self.theta_tn)))
     }
 
     /// Closest approach within `tol` s if ownship holds (h, v); see [`cpa`] (here with

@@ -143,3 +143,47 @@ fn engine_hostile_numbers_do_not_panic() {
     let _ = e.crosses_bow_dist(-1e300, 5.0);
     let _ = e.passes_port_dist(720.5, 1.0);
 }
+
+#[test]
+fn tables_give_the_same_bits() {
+    // Head-on, crossing, on the stern line, overtaking: every per-heading function with
+    // and without the per-degree tables, at every degree and a few speeds.
+    for (cnx, cny, cnh, cnv) in [
+        (0.0, 100.0, 180.0, 2.0),
+        (60.0, 60.0, 270.0, 2.0),
+        (0.0, 40.0, 0.0, 1.0),
+        (-80.0, 100.0, 90.0, 1.5),
+    ] {
+        let e = CpaEngine::new(cnx, cny, cnh, cnv, 0.0, 0.0);
+        let t = e.clone().with_tables();
+        for h in 0..360 {
+            for v in [0.0, 0.4, 2.0, 3.7] {
+                let h = f64::from(h) + 0.25;
+                let a = (
+                    e.passes_port(h, v),
+                    e.passes_star(h, v),
+                    e.crosses_bow(h, v),
+                    e.crosses_stern(h, v),
+                    e.crosses_bow_or_stern(h, v),
+                );
+                let b = (
+                    t.passes_port(h, v),
+                    t.passes_star(h, v),
+                    t.crosses_bow(h, v),
+                    t.crosses_stern(h, v),
+                    t.crosses_bow_or_stern(h, v),
+                );
+                assert_eq!(a, b, "{cnx},{cny} h={h} v={v}");
+                for (x, y) in [
+                    (e.bearing_rate(h, v), t.bearing_rate(h, v)),
+                    (e.passes_port_dist(h, v), t.passes_port_dist(h, v)),
+                    (e.passes_star_dist(h, v), t.passes_star_dist(h, v)),
+                    (e.crosses_bow_dist(h, v), t.crosses_bow_dist(h, v)),
+                    (e.crosses_stern_dist(h, v), t.crosses_stern_dist(h, v)),
+                ] {
+                    assert_eq!(x.to_bits(), y.to_bits(), "{cnx},{cny} h={h} v={v}");
+                }
+            }
+        }
+    }
+}

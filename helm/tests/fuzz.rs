@@ -67,6 +67,18 @@ const DICT: &[&[u8]] = &[
     b"Behavior = BHV_LegRun\n{\n",
     b"Behavior = BHV_ConstantSpeed\n{\n",
     b"Behavior = BHV_StationKeep\n{\n",
+    b"Behavior = BHV_AvdColregsV22\n{\n  contact = gus",
+    b"Behavior = BHV_AvdColregsV19\n{\n  contact = gus",
+    b"Behavior = BHV_AvdColregsV17\n{\n  contact = gus",
+    b"\n  pwt_outer_dist = ",
+    b"\n  min_util_cpa_dist = ",
+    b"\n  completed_dist = ",
+    b"\n  giveway_bow_dist = ",
+    b"\n  velocity_filter = min_spd=1,max_spd=3,pct=20",
+    b"\n  avoid_mode = ",
+    b"\n  avoid_submode = ",
+    b"\n  eval_tol = ",
+    b"\n  use_refinery = true",
     b"\n  depth = ",
     b"\n  max_depth = ",
     b"\n  period = ",
@@ -131,6 +143,8 @@ const LONG_NAME: usize = 1500;
 /// Cases that got past the reader, and those that also posted a decision.
 static BUILT: AtomicUsize = AtomicUsize::new(0);
 static DECIDED: AtomicUsize = AtomicUsize::new(0);
+/// Cases where a COLREGS behavior ran its modes (posted its relevance).
+static COLREGS_RAN: AtomicUsize = AtomicUsize::new(0);
 
 fn check(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
@@ -166,6 +180,19 @@ fn check(data: &[u8]) {
             mail("NAV_SPEED", Value::Num(1.5), t),
             mail("NAV_DEPTH", Value::Num(0.0), t),
         ];
+        // A contact crossing ownship's track, and the alert the golden cases' contact
+        // templates spawn on, so contact behaviors run their modes too.
+        let report = format!(
+            "NAME=gus,X={},Y={},SPD=2,HDG=200,DEP=0,TYPE=kayak,TIME={t}",
+            10.0 + 4.0 * k as f64,
+            20.0 - 5.0 * k as f64
+        );
+        m.push(mail("NODE_REPORT", Value::Str(report), t));
+        m.push(mail(
+            "CONTACT_INFO",
+            Value::Str("name=gus # contact=gus".into()),
+            t,
+        ));
         // The files' own variables, flipped now and then, to move conditions and modes.
         for (i, (var, v)) in inits.iter().enumerate() {
             let value = match v {
@@ -180,6 +207,12 @@ fn check(data: &[u8]) {
     }
     if posts.iter().any(|p| p.var == "DESIRED_SPEED") {
         DECIDED.fetch_add(1, Ordering::Relaxed);
+    }
+    if posts
+        .iter()
+        .any(|p| p.var.starts_with("COL") && p.var.contains("_RELEVANCE"))
+    {
+        COLREGS_RAN.fetch_add(1, Ordering::Relaxed);
     }
     for p in &posts {
         if let Value::Str(s) = &p.value {
@@ -196,6 +229,8 @@ fn fuzz_helm_behaviors() {
         DECIDED.load(Ordering::Relaxed),
     );
     println!("helm_behaviors: {built} inputs read, {decided} of them drove (DESIRED_SPEED)");
+    let colregs = COLREGS_RAN.load(Ordering::Relaxed);
+    println!("helm_behaviors: {colregs} ran a COLREGS behavior's modes");
     assert!(
         decided > 0,
         "no case reached a decision: the harness tests nothing"

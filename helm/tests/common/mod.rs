@@ -29,6 +29,7 @@ pub const SHIPPED_PLUGINS: &[&str] = &[
     "bhv-depth",
     "bhv-survey",
     "bhv-contact",
+    "bhv-colregs",
 ];
 
 /// The root of the workspace (the repo).

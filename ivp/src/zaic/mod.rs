@@ -144,3 +144,29 @@ pub(crate) fn pieces_from_anchors(d: &[i32], r: &[f64], n: i32) -> Option<Pieces
     }
     Some(out)
 }
+
+/// A one-variable function from one utility per domain point of `var`, pieced exactly
+/// as ZAIC_PEAK pieces its samples (spec §3.1, tolerance 0.001). For builders outside
+/// this crate whose shape is not one of the ZAICs (the heading ZAIC of the COLREGS
+/// behaviors).
+///
+/// ```
+/// use ivp::{zaic::from_samples, Domain};
+/// let d = Domain::parse("course:0:3:4").unwrap();
+/// let f = from_samples(&d, "course", &[0.0, 50.0, 100.0, 100.0]).unwrap();
+/// assert_eq!(f.piece_count(), 2);
+/// assert!(from_samples(&d, "course", &[0.0]).is_err());
+/// ```
+pub fn from_samples(domain: &Domain, var: &str, values: &[f64]) -> Result<IvpFunction, IvpError> {
+    let d = one_var(domain, var)?;
+    if values.len() != d.var(0).points as usize || values.len() < 2 {
+        return Err(IvpError::Invalid {
+            param: "values".into(),
+            reason: format!("{} values for {} points", values.len(), d.var(0).points),
+        });
+    }
+    for (k, &v) in values.iter().enumerate() {
+        crate::error::finite(&format!("values[{k}]"), v)?;
+    }
+    Ok(pieces_from_samples(values).finish(d))
+}

@@ -1,0 +1,293 @@
+//! The analytical objective functions of the COLREGS modes (behaviors-contacts.md
+//! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
+//! each evaluated by the reflector on the decision grid.
+
+use behavior_api::contacts::CpaEngine;
+use behavior_api::geometry::{angle360, rel_ang};
+use behavior_api::ivp::{Aof, Domain};
+
+/// The contact and ownship as the functions see them.
+#[derive(Clone, Copy, Debug)]
+pub struct Scene {
+    pub cnx: f64,
+    pub cny: f64,
+    pub cnh: f64,
+    pub cnv: f64,
+    pub osx: f64,
+    pub osy: f64,
+    pub osh: f64,
+}
+
+impl Scene {
+    pub fn engine(&self) -> CpaEngine {
+        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy).with_tables()
+    }
+}
+
+/// CPA utility with a floor value at the collision distance: 0 below `mu`, 100 above
+/// `big`, else `floor + (100 − floor)·(p − mu)/(big − mu)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Metric {
+    pub mu: f64,
+    pub big: f64,
+    pub floor: f64,
+    /// `big == mu` gives 0 (R13, R16) instead of the formula.
+    pub zero_when_equal: bool,
+}
+
+impl Metric {
+    pub fn eval(&self, p: f64) -> f64 {
+        if p < self.mu {
+            0.0
+        } else if p > self.big {
+            100.0
+        } else if self.big == self.mu {
+            if self.zero_when_equal {
+                0.0
+            } else {
+                self.floor
+            }
+        } else {
+            self.floor + (100.0 - self.floor) * (p - self.mu) / (self.big - self.mu)
+        }
+    }
+}
+
+fn grid(domain: &Domain, index: &[u32]) -> (f64, f64) {
+    (domain.value(0, index[0]), domain.value(1, index[1]))
+}
+
+/// AOF_CPA (CPA mode and in-extremis stand-on): CPA within `tol` seconds.
+pub struct CpaAof {
+    pub engine: CpaEngine,
+    pub tol: f64,
+    pub metric: Metric,
+}
+
+impl CpaAof {
+    pub fn new(s: &Scene, tol: f64, mu: f64, big: f64) -> Option<Self> {
+        (mu <= big).then(|| CpaAof {
+            engine: s.engine(),
+            tol,
+            metric: Metric {
+                mu,
+                big,
+                floor: 25.0,
+                zero_when_equal: false,
+            },
+        })
+    }
+
+    pub fn utility(&self, c: f64, v: f64) -> f64 {
+        self.metric.eval(self.engine.cpa(c, v, self.tol))
+    }
+}
+
+impl Aof for CpaAof {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        let (c, v) = grid(domain, index);
+        self.utility(c, v)
+    }
+}
+
+/// Which side ownship overtakes on (R13).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Port,
+    Starboard,
+}
+
+/// AOF_R13 (overtaking): CPA utility, and candidates passing on the wrong side too
+/// close are refused.
+pub struct R13Aof {
+    pub engine: CpaEngine,
+    pub tol: f64,
+    pub metric: Metric,
+    pub side: Side,
+}
+
+impl R13Aof {
+    pub fn new(s: &Scene, tol: f64, mu: f64, big: f64, side: Option<Side>) -> Option<Self> {
+        let side = side?;
+        (mu <= big).then(|| R13Aof {
+            engine: s.engine(),
+            tol,
+            metric: Metric {
+                mu,
+                big,
+                floor: 15.0,
+                zero_when_equal: true,
+            },
+            side,
+        })
+    }
+
+    pub fn utility(&self, c: f64, v: f64) -> f64 {
+        let u = self.metric.eval(self.engine.cpa(c, v, self.tol));
+        if u > 0.0 && v != 0.0 {
+            let e = &self.engine;
+            let wrong = match self.side {
+                Side::Port => e.passes_star(c, v) && e.passes_port_dist(c, v) < self.metric.mu,
+                Side::Starboard => e.passes_port(c, v) && e.passes_star_dist(c, v) < self.metric.mu,
+            };
+            if wrong {
+                return 0.0;
+            }
+        }
+        u
+    }
+}
+
+impl Aof for R13Aof {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        let (c, v) = grid(domain, index);
+        self.utility(c, v)
+    }
+}
+
+/// AOF_R14 (head-on): no crossing the contact's bow from its port side, no passing it
+/// to starboard; CPA utility plus a reward for opening the bearing as a port-to-port
+/// pass does.
+pub struct R14Aof {
+    pub engine: CpaEngine,
+    pub tol: f64,
+    pub metric: Metric,
+    /// The bearing rate of the reference turn (both vessels 90° right), `b0`.
+    pub b0: f64,
+}
+
+impl R14Aof {
+    pub fn new(s: &Scene, tol: f64, mu: f64, big: f64) -> Option<Self> {
+        if mu > big {
+            return None;
+        }
+        // Contact at cn turned to relAng(cn, os) + 90, ownship turned to
+        // relAng(os, cn) + 90, both at the contact's speed.
+        let cnh_t = angle360(rel_ang(s.cnx, s.cny, s.osx, s.osy) + 90.0);
+        let osh_t = angle360(rel_ang(s.osx, s.osy, s.cnx, s.cny) + 90.0);
+        let turned = CpaEngine::new(s.cnx, s.cny, cnh_t, s.cnv, s.osx, s.osy);
+        let b0 = turned.bearing_rate(osh_t, s.cnv);
+        Some(R14Aof {
+            engine: s.engine(),
+            tol,
+            metric: Metric {
+                mu,
+                big,
+                floor: 25.0,
+                zero_when_equal: false,
+            },
+            b0,
+        })
+    }
+
+    pub fn utility(&self, c: f64, v: f64) -> f64 {
+        let e = &self.engine;
+        if e.on_contact || (e.os_port_of_cn() && e.crosses_bow(c, v)) || e.passes_star(c, v) {
+            return 0.0;
+        }
+        let m1 = self.metric.eval(e.cpa(c, v, self.tol));
+        let m3 = if self.b0 >= 0.0 {
+            0.0
+        } else {
+            let br = e.bearing_rate(c, v);
+            if br >= 0.0 {
+                0.0
+            } else if br <= self.b0 {
+                100.0
+            } else {
+                100.0 * br / self.b0
+            }
+        };
+        m1 + m3
+    }
+}
+
+impl Aof for R14Aof {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        let (c, v) = grid(domain, index);
+        self.utility(c, v)
+    }
+}
+
+/// Which way ownship gives way (R16).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    Stern,
+    Bow,
+}
+
+/// AOF_R16 (give-way): pass astern (or ahead) of the contact, turning the right way.
+pub struct R16Aof {
+    pub engine: CpaEngine,
+    pub osh: f64,
+    pub metric: Metric,
+    pub pass: Pass,
+    pub port_turns_ok: bool,
+}
+
+/// The give-way horizon, fixed whatever `time_on_leg` is.
+pub const R16_TOL: f64 = 120.0;
+
+impl R16Aof {
+    /// `Err` with the reasons the reference joins into its init error.
+    pub fn new(
+        s: &Scene,
+        mu: f64,
+        big: f64,
+        pass: Option<Pass>,
+        port_turns_ok: bool,
+    ) -> Result<Self, Vec<&'static str>> {
+        let mut why = Vec::new();
+        if mu > big {
+            why.push("collision distance above all-clear distance");
+        }
+        let Some(pass) = pass else {
+            why.push("bad passing side");
+            return Err(why);
+        };
+        if !why.is_empty() {
+            return Err(why);
+        }
+        Ok(R16Aof {
+            engine: s.engine(),
+            osh: s.osh,
+            metric: Metric {
+                mu,
+                big,
+                floor: 25.0,
+                zero_when_equal: true,
+            },
+            pass,
+            port_turns_ok,
+        })
+    }
+
+    pub fn utility(&self, c: f64, v: f64) -> f64 {
+        let e = &self.engine;
+        let delta = angle360(c - self.osh);
+        let star_turn = delta > 0.0 && delta < 180.0;
+        let port_turn = delta > 180.0;
+        let refused = match self.pass {
+            Pass::Stern if self.port_turns_ok => {
+                e.crosses_bow(c, v) || (!star_turn && !e.crosses_stern(c, v))
+            }
+            Pass::Stern => !e.crosses_stern(c, v) || port_turn,
+            Pass::Bow => star_turn && !e.crosses_bow(c, v),
+        };
+        if refused {
+            return 0.0;
+        }
+        self.metric.eval(e.cpa(c, v, R16_TOL))
+    }
+}
+
+impl Aof for R16Aof {
+    fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+        let (c, v) = grid(domain, index);
+        self.utility(c, v)
+    }
+}
+
+#[cfg(test)]
+#[path = "aof_tests.rs"]
+mod tests;

@@ -1,0 +1,83 @@
+//! Objective function values at chosen points, worked out by hand.
+
+use super::*;
+
+fn scene(cn: (f64, f64, f64, f64), osh: f64) -> Scene {
+    Scene {
+        cnx: cn.0,
+        cny: cn.1,
+        cnh: cn.2,
+        cnv: cn.3,
+        osx: 0.0,
+        osy: 0.0,
+        osh,
+    }
+}
+
+#[test]
+fn cpa_function_by_hand() {
+    // Contact 100 m north heading south at 2; collision distance 10, all-clear 30.
+    let a = CpaAof::new(&scene((0.0, 100.0, 180.0, 2.0), 0.0), 120.0, 10.0, 30.0).unwrap();
+    assert_eq!(a.utility(0.0, 2.0), 0.0); // straight at it: CPA 0
+                                          // East at 2: relative velocity (2, 2) from (0, −100): CPA 100/√2 = 70.7 > 30.
+    assert_eq!(a.utility(90.0, 2.0), 100.0);
+    // East at 0.4: CPA 100·0.4/√(0.16 + 4) = 19.61, in between.
+    let p = 40.0 / 4.16f64.sqrt();
+    let want = 25.0 + 75.0 * (p - 10.0) / 20.0;
+    assert!((a.utility(90.0, 0.4) - want).abs() < 1e-9);
+    assert!(CpaAof::new(&scene((0.0, 100.0, 180.0, 2.0), 0.0), 120.0, 31.0, 30.0).is_none());
+}
+
+#[test]
+fn r13_refuses_the_wrong_side() {
+    // Overtaking a contact 40 m ahead, 2 m to port (heading north at 1), at 3, on its
+    // port side. (Dead astern would be both port and starboard of it: avoided.)
+    let s = scene((-2.0, 40.0, 0.0, 1.0), 0.0);
+    let a = R13Aof::new(&s, 120.0, 10.0, 18.0, Some(Side::Port)).unwrap();
+    // 10° right passes it to starboard: refused.
+    assert_eq!(a.utility(10.0, 3.0), 0.0);
+    // 345° passes to port: relative velocity (3 sin 345°, 3 cos 345° − 1) from
+    // (2, −40): CPA |px·vy − py·vx| / |v| = 13.3: 15 + 85·(p − 10)/8.
+    let (vx, vy) = (
+        3.0 * 345f64.to_radians().sin(),
+        3.0 * 345f64.to_radians().cos() - 1.0,
+    );
+    let p = (2.0 * vy + 40.0 * vx).abs() / vx.hypot(vy);
+    assert!(p > 10.0 && p < 18.0);
+    let want = 15.0 + 85.0 * (p - 10.0) / 8.0;
+    assert!((a.utility(345.0, 3.0) - want).abs() < 1e-6);
+    assert!(R13Aof::new(&s, 120.0, 10.0, 18.0, None).is_none());
+}
+
+#[test]
+fn r14_rewards_a_port_to_port_pass() {
+    // Head-on at 100 m, contact south at 2. b0: contact turned to 270 and ownship to
+    // 90, both at 2: (−2·1 + 2·cos 180°)·360/(2·100·π) = −4·1.8/π.
+    let a = R14Aof::new(&scene((0.0, 100.0, 180.0, 2.0), 0.0), 120.0, 10.0, 18.0).unwrap();
+    // The engine's 12-digit π, not f64's (behaviors-contacts.md §1.3).
+    #[allow(clippy::approx_constant)]
+    let pi12 = 3.14159265359;
+    let k = 360.0 / (2.0 * 100.0 * pi12);
+    assert!((a.b0 + 4.0 * k).abs() < 1e-9);
+    // East at 2: bearing rate −2·k (half of b0) → m3 = 50; CPA 70.7 → m1 = 100.
+    assert!((a.utility(90.0, 2.0) - 150.0).abs() < 1e-9);
+    // West at 2 passes it to starboard: refused.
+    assert_eq!(a.utility(270.0, 2.0), 0.0);
+}
+
+#[test]
+fn r16_astern_only_with_a_starboard_turn() {
+    // Contact at (60, 20) heading west at 2, ownship heading north: give way astern.
+    let s = scene((60.0, 20.0, 270.0, 2.0), 0.0);
+    let a = R16Aof::new(&s, 10.0, 30.0, Some(Pass::Stern), true).unwrap();
+    // East at 2 (a starboard turn) runs parallel to it: CPA 20 at t = 15 s:
+    // 25 + 75·(20 − 10)/20.
+    assert!((a.utility(90.0, 2.0) - 62.5).abs() < 1e-9);
+    // A port turn that crosses ahead of it: refused.
+    assert_eq!(a.utility(330.0, 2.0), 0.0);
+    // Without port turns allowed, a port turn is refused whatever it crosses.
+    let b = R16Aof::new(&s, 10.0, 30.0, Some(Pass::Stern), false).unwrap();
+    assert_eq!(b.utility(200.0, 2.0), 0.0);
+    assert!(R16Aof::new(&s, 10.0, 30.0, None, true).is_err());
+    assert!(R16Aof::new(&s, 40.0, 30.0, Some(Pass::Bow), true).is_err());
+}
