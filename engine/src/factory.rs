@@ -13,6 +13,7 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
     "BHV_AvdColregsV19",
     "BHV_AvdColregsV22",
     "BHV_AvoidCollision",
+    "BHV_AvoidObstacleV24",
     "BHV_BearingLine",
     "BHV_ConstantDepth",
     "BHV_ConstantHeading",
@@ -34,6 +35,8 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
 /// Whether this project provides `type_name`, built in or as a shipped library.
 pub fn project_has_type(type_name: &str) -> bool {
     SHIPPED_LIBRARY_TYPES.contains(&type_name)
+        // Refused as the real helm refuses them, so a case naming one is run, not waiting.
+        || crate::engine::deprecated::DEPRECATED_TYPES.contains(&type_name)
         || behaviors_std::builtin_types()
             .iter()
             .any(|(n, _)| *n == type_name)

@@ -1,12 +1,14 @@
 //! Marine geometry shared by the helm and its behaviors (behaviors-std.md §1): compass
 //! angles, points and segments, convex polygons, every point/seglist/polygon string
 //! format a mission may write (specs/geometry-formats.md: `parse_polygon`,
-//! `parse_seglist`, `parse_point`, one module per format in `formats/`) and the VIEW_*
-//! spec formatting.
+//! `parse_seglist`, `parse_point`, one module per format in `formats/`), the VIEW_*
+//! spec formatting, and the geometry of polygon obstacles ([`obstacle`]: buffer polygon,
+//! tangent bearings, ray-to-polygon CPA).
 
 pub mod angles;
 mod formats;
 mod objects;
+pub mod obstacle;
 pub mod parse;
 pub mod points;
 pub mod polygon;

@@ -32,9 +32,13 @@ fn seeds() -> Vec<Vec<u8>> {
             v.push(b.as_bytes().to_vec());
         }
     }
+    // A V24 that runs without being spawned, so its parameters reach the run hook.
+    v.push(OBSTACLE_SEED.as_bytes().to_vec());
     assert!(v.len() > 10);
     v
 }
+
+const OBSTACLE_SEED: &str = "Behavior = BHV_AvoidObstacleV24\n{\n  name = avd\n  pwt = 500\n  poly = pts={10,-40:10,-10:30,-10:30,-40},label=ob_1\n  id = ob_1\n  allowable_ttc = 5\n  min_util_cpa_dist = 3\n  max_util_cpa_dist = 7\n  pwt_outer_dist = 40\n  completed_dist = 60\n  rng_flag = <20 RNG = $[RNG],$[OIDX]\n  cpa_flag = CPA = $[CPA]\n  visual_hints = gut_lcolor=red, edge_size=2\n  can_disable = true\n}\n";
 
 const DICT: &[&[u8]] = &[
     b"\n  speed = ",
@@ -79,6 +83,16 @@ const DICT: &[&[u8]] = &[
     b"\n  avoid_submode = ",
     b"\n  eval_tol = ",
     b"\n  use_refinery = true",
+    b"Behavior = BHV_AvoidObstacleV24\n{\n",
+    b"\n  poly = ",
+    b"\n  min_util_cpa_dist = ",
+    b"\n  max_util_cpa_dist = ",
+    b"\n  pwt_outer_dist = ",
+    b"\n  completed_dist = ",
+    b"\n  visual_hints = ",
+    b"\n  rng_flag = <",
+    b"\n  allowable_ttc = ",
+    b"pts={60,-12:60,6:80,6:80,-12},label=oba",
     b"\n  depth = ",
     b"\n  max_depth = ",
     b"\n  period = ",
@@ -223,6 +237,8 @@ fn check(data: &[u8]) {
 
 #[test]
 fn fuzz_helm_behaviors() {
+    // Build the plugin libraries before the first case, outside the per-case watchdog.
+    full_factory();
     fuzzkit::fuzz("helm_behaviors", 4000, &seeds(), DICT, check);
     let (built, decided) = (
         BUILT.load(Ordering::Relaxed),
@@ -261,4 +277,57 @@ fn long_behavior_names_do_not_multiply_bhv_ipf_packets() {
         .filter(|p| p.var == "BHV_IPF")
         .count();
     assert!(n < 10, "{n} BHV_IPF packets in one iteration");
+}
+
+/// The obstacle manager's alert mail (obstacles.md §1.3) into a V24 template: fuzzed
+/// `name=...#poly=...#id=...` strings spawn (or fail to spawn) instances, which then run
+/// a few iterations with `OBM_RESOLVED` and able-filter mail. No panic, no hang.
+#[test]
+fn fuzz_obstacle_alerts() {
+    const TEMPLATE: &str = "Behavior = BHV_AvoidObstacleV24\n{\n  name = avd_ob_\n  pwt = 500\n  templating = spawn\n  updates = OBSTACLE_ALERT\n  allowable_ttc = 5\n  min_util_cpa_dist = 3\n  max_util_cpa_dist = 7\n  pwt_outer_dist = 15\n  pwt_inner_dist = 5\n  completed_dist = 15\n  can_disable = true\n}\n";
+    let seeds: Vec<Vec<u8>> = [
+        "name=avd_ob_oba#poly=pts={60,-12:60,6:80,6:80,-12},label=oba#id=oba",
+        "name=avd_ob_pa#poly=pts={0,-5:0,5:8,5:8,-5},label=pa,vsource=sim#id=pa",
+        "name=avd_ob_x#poly=format=radial,x=5,y=0,radius=4,pts=8,label=x#id=x",
+        "name=avd_ob_y#poly=pts={3,3}#id=y",
+    ]
+    .iter()
+    .map(|s| s.as_bytes().to_vec())
+    .collect();
+    full_factory();
+    let dict: &[&[u8]] = &[
+        b"#", b"name=", b"poly=", b"id=", b"pts={", b"}", b":", b",label=", b"nan", b"1e308",
+    ];
+    fuzzkit::fuzz("obstacle_alerts", 1500, &seeds, dict, |data| {
+        let alert = String::from_utf8_lossy(data).into_owned();
+        let spec = bhv::parse_str(TEMPLATE, Path::new("t.bhv")).expect("the template parses");
+        let mut helm = helm_with(spec, full_factory());
+        helm.startup(1000.0);
+        for k in 0..6 {
+            let t = 1001.0 + k as f64;
+            let mut m = vec![
+                mail("NAV_X", Value::Num(2.0 * k as f64), t),
+                mail("NAV_Y", Value::Num(0.0), t),
+                mail("NAV_HEADING", Value::Num(90.0), t),
+                mail("NAV_SPEED", Value::Num(2.0), t),
+            ];
+            if k < 2 {
+                m.push(mail("OBSTACLE_ALERT", Value::Str(alert.clone()), t));
+            }
+            if k == 4 {
+                m.push(mail(
+                    "BHV_ABLE_FILTER",
+                    Value::Str(alert.replace('#', ",")),
+                    t,
+                ));
+                m.push(mail("OBM_RESOLVED", Value::Str(alert.clone()), t));
+            }
+            helm.handle_mail(t, &m);
+            for p in helm.iterate(t) {
+                if let Value::Str(s) = &p.value {
+                    assert!(!s.contains("behavior panicked"), "{} = {s}", p.var);
+                }
+            }
+        }
+    });
 }

@@ -56,6 +56,7 @@ pub mod error;
 pub mod function;
 pub mod ipf;
 pub mod reflector;
+mod regions;
 pub mod solver;
 pub mod zaic;
 

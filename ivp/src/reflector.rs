@@ -10,11 +10,18 @@
 
 use crate::domain::Domain;
 use crate::function::IvpFunction;
+pub use crate::regions::{box_subtract, intersects, IndexBox};
 
 /// An analytical objective function over a domain's grid.
 pub trait Aof {
     /// Utility at grid point `index` (one index per variable of `domain`).
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64;
+    /// Whether the utility ignores dimension `dim` entirely (BHV_AvoidObstacleV24's
+    /// speed, say): tiles that differ only there then share one fit, which is the same
+    /// fit bit for bit (that dimension's slope is exactly 0). Default: no.
+    fn ignores(&self, _dim: usize) -> bool {
+        false
+    }
 }
 
 /// The OF_Reflector builder.
@@ -29,6 +36,8 @@ pub struct Reflector<'a> {
     weights: Vec<f64>,
     gelbox: Vec<u32>,
     warnings: String,
+    /// Plateau then basin boxes with their constant utility (see [`Reflector::add_region`]).
+    regions: Vec<(IndexBox, f64)>,
 }
 
 /// Boxes of up to this many dimensions are fitted without heap allocation.
@@ -47,6 +56,23 @@ impl<'a> Reflector<'a> {
             weights: vec![],
             gelbox: vec![],
             warnings: String::new(),
+            regions: vec![],
+        }
+    }
+
+    /// A region of known constant utility `value` (a plateau at the AOF's maximum or a
+    /// basin at its minimum): the uniform tiling is cut around it and the region becomes
+    /// one constant piece. Regions must be disjoint; add plateaus before basins, the
+    /// pieces come in that order after the uniform ones. Ignored if the box does not fit
+    /// the domain.
+    pub fn add_region(&mut self, region: IndexBox, value: f64) {
+        let fits = region.len() == self.domain.size()
+            && region
+                .iter()
+                .zip(self.domain.vars())
+                .all(|(&(lo, hi), v)| lo <= hi && hi < v.points);
+        if fits {
+            self.regions.push((region, value));
         }
     }
 
@@ -169,6 +195,9 @@ impl<'a> Reflector<'a> {
         let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
         let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
         let total: usize = counts.iter().map(|&c| c as usize).product();
+        if !self.regions.is_empty() {
+            return self.create_with_regions(&size, &counts, total);
+        }
         // Tiles with dimension 0 varying fastest; the reference stores them reversed, so
         // tile i (dimension 0 fastest) is visited from the last to the first. Each tile is
         // computed in place: no per-tile allocation (this runs for thousands of pieces per
@@ -179,21 +208,88 @@ impl<'a> Reflector<'a> {
         self.weights.reserve(total * (n + 1));
         let mut tile = vec![(0u32, 0u32); n];
         let mut w = vec![0.0; n + 1];
+        // Fits shared by tiles equal in every dimension the AOF uses (and in whether the
+        // fit takes the centre point), when it ignores some dimension: slot = the tile's
+        // coordinates in the used dimensions (mixed radix) × 2 + centre.
+        let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();
+        let sharing = used.iter().any(|u| !u);
+        let slots: usize = if sharing {
+            2 * (0..n)
+                .filter(|&d| used[d])
+                .map(|d| counts[d] as usize)
+                .product::<usize>()
+        } else {
+            0
+        };
+        let mut shared: Vec<Option<usize>> = vec![None; slots];
         for i in (0..total).rev() {
             let mut rest = i;
+            let mut slot = 0usize;
             for d in 0..n {
                 let c = (rest % counts[d] as usize) as u32;
                 rest /= counts[d] as usize;
                 tile[d] = (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1);
+                if used[d] {
+                    slot = slot * counts[d] as usize + c as usize;
+                }
             }
             for &(lo, hi) in &tile {
                 self.bounds.push(lo as i32);
                 self.bounds.push(hi as i32);
             }
+            if sharing {
+                let centre = tile.iter().any(|&(lo, hi)| hi - lo + 1 > 2);
+                let slot = 2 * slot + usize::from(centre);
+                if let Some(at) = shared[slot] {
+                    self.weights.extend_from_within(at..at + n + 1);
+                    continue;
+                }
+                shared[slot] = Some(self.weights.len());
+            }
             self.fit_into(&tile, &mut w);
             self.weights.extend_from_slice(&w);
         }
         total
+    }
+
+    /// The uniform stage cut around the regions, then the regions as constant pieces.
+    fn create_with_regions(&mut self, size: &[u32], counts: &[u32], total: usize) -> usize {
+        let n = size.len();
+        let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
+        let tiles: Vec<IndexBox> = (0..total)
+            .rev()
+            .map(|i| {
+                let mut rest = i;
+                (0..n)
+                    .map(|d| {
+                        let c = (rest % counts[d] as usize) as u32;
+                        rest /= counts[d] as usize;
+                        (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1)
+                    })
+                    .collect()
+            })
+            .collect();
+        let tiles = crate::regions::cut_around(tiles, &self.regions);
+        self.bounds.clear();
+        self.weights.clear();
+        let mut w = vec![0.0; n + 1];
+        for t in &tiles {
+            for &(lo, hi) in t {
+                self.bounds.push(lo as i32);
+                self.bounds.push(hi as i32);
+            }
+            self.fit_into(t, &mut w);
+            self.weights.extend_from_slice(&w);
+        }
+        for (r, value) in &self.regions {
+            for &(lo, hi) in r {
+                self.bounds.push(lo as i32);
+                self.bounds.push(hi as i32);
+            }
+            self.weights.extend(std::iter::repeat_n(0.0, n));
+            self.weights.push(*value);
+        }
+        tiles.len() + self.regions.len()
     }
 
     /// Degree-1 fit of one box (spec §8 step 3) into `w` (n slopes, then the intercept).

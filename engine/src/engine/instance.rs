@@ -14,6 +14,9 @@ pub(crate) fn make_instance(
     ib: &InfoBuffer,
     ownship: &str,
 ) -> Result<BehaviorInstance, Vec<String>> {
+    if let Some(errors) = super::deprecated::refusal(bs) {
+        return Err(errors);
+    }
     let where_ = format!("{}:{}", bs.file.display(), bs.line);
     let created = factory.create(&bs.type_name, &env.helm_domain);
     if let Some(Err(panic)) = &created {

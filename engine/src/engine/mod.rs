@@ -6,6 +6,7 @@
 //! postings back as mail, as a MOOSDB does.
 
 mod build;
+pub mod deprecated;
 mod explain;
 mod instance;
 mod iterate;

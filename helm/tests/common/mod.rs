@@ -30,6 +30,7 @@ pub const SHIPPED_PLUGINS: &[&str] = &[
     "bhv-survey",
     "bhv-contact",
     "bhv-colregs",
+    "bhv-obstacle",
 ];
 
 /// The root of the workspace (the repo).
