@@ -287,6 +287,25 @@ fn four_shards_merged_equal_one_run() {
         "{}",
         common::text(&o)
     );
+    // A missing shard, and no shard at all.
+    let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args(["sim", "merge"])
+        .args(&dirs[..3])
+        .arg("--out")
+        .arg(base.join("bad2"))
+        .output()
+        .expect("merge");
+    assert_eq!(o.status.code(), Some(1), "{}", common::text(&o));
+    assert!(
+        common::text(&o).contains("shard(s) 4 of 4 missing"),
+        "{}",
+        common::text(&o)
+    );
+    let o = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args(["sim", "merge"])
+        .output()
+        .expect("merge");
+    assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
 }
 
 /// missions/fleet's expected outcome (its README line), over its first 200 s (each

@@ -13,6 +13,10 @@ use super::run::{Prepared, RunOptions, SimError, StartShift};
 /// Run `helm sim`; prints the summary and where the outputs are.
 pub fn main(args: &SimArgs) -> ExitCode {
     // `helm sim merge DIR...`: the shards' tables joined (the DIRs land in `bhv`).
+    if args.mission.as_os_str() == "merge" && args.bhv.is_empty() {
+        eprintln!("error: usage: helm sim merge SHARD_DIR... [--out DIR]");
+        return ExitCode::from(2);
+    }
     let result = if args.mission.as_os_str() == "merge" {
         super::fleet::montecarlo::merge_cli(&args.bhv, args.out.as_deref())
     } else {
