@@ -10,12 +10,15 @@
 
 pub mod cli;
 pub mod collide;
+pub mod colregs;
 pub mod comms;
 pub mod montecarlo;
+pub mod obstacles;
 pub mod output;
 pub mod picture;
 pub mod run;
 pub mod spec;
+pub mod stats;
 pub mod vehicle;
 
 pub use run::{FleetOptions, FleetOutcome, FleetPlan, VehicleOutcome};

@@ -50,6 +50,12 @@ pub struct FleetSummary<'a> {
     pub comms: CommsStats,
     /// What went wrong, in plain words, worst first.
     pub warnings: Vec<String>,
+    /// Vehicle-obstacle encounters, as uFldCollObDetect counts them (issue 22).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub obstacles: Option<&'a super::obstacles::ObstacleOutcome>,
+    /// Each ordered pair's COLREGS situation and verdict (see `fleet::colregs`).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub colregs: &'a [super::colregs::RuleRecord],
 }
 
 fn vehicle(v: &VehicleOutcome) -> VehicleSummary<'_> {
@@ -128,6 +134,8 @@ impl FleetOutcome {
             pairs: &self.pairs,
             comms: self.comms,
             warnings: self.warnings(),
+            obstacles: self.obstacles.as_ref(),
+            colregs: &self.colregs,
         }
     }
 
@@ -180,6 +188,7 @@ impl FleetOutcome {
                 p.a, p.b, p.closest_m, p.closest_time_s
             );
         }
+        super::stats::terminal(&mut s, self);
         let cm = &self.comms;
         let _ = write!(
             s,

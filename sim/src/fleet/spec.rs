@@ -131,6 +131,8 @@ pub struct FleetScenario {
     pub mission_over: bool,
     pub when: Vec<When>,
     pub path: PathBuf,
+    /// Obstacles (issue 22; see [`super::obstacles`]).
+    pub obstacles: Option<super::obstacles::ObstacleSetup>,
 }
 
 #[derive(Deserialize)]
@@ -143,6 +145,11 @@ struct Doc {
     #[serde(default)]
     poke: Vec<PokeDoc>,
     end: Option<EndDoc>,
+    #[serde(default)]
+    obstacle: Vec<super::obstacles::ObstacleDoc>,
+    obstacle_file: Option<Spanned<String>>,
+    obstacle_sim: Option<std::collections::BTreeMap<String, Spanned<toml::Value>>>,
+    obstacle_collision: Option<std::collections::BTreeMap<String, Spanned<toml::Value>>>,
 }
 
 #[derive(Deserialize)]
@@ -423,7 +430,18 @@ impl FleetScenario {
                 });
             }
         }
+        let obstacles = super::obstacles::read_setup(
+            &super::obstacles::Docs {
+                obstacle: &doc.obstacle,
+                obstacle_file: doc.obstacle_file.as_ref(),
+                obstacle_sim: doc.obstacle_sim.as_ref(),
+                obstacle_collision: doc.obstacle_collision.as_ref(),
+            },
+            &dir,
+            &bad,
+        )?;
         Ok(FleetScenario {
+            obstacles,
             vehicles,
             comms,
             ranges,
