@@ -609,3 +609,114 @@ pub fn picture_layer(s: &mut String, v: &crate::canvas::View, o: &ObstacleOutcom
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::spec::FleetScenario;
+    use std::path::PathBuf;
+
+    fn dir() -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fleet-obstacles-{}", std::process::id()));
+        std::fs::create_dir_all(&d).expect("temp dir");
+        std::fs::write(d.join("m.moos"), "Community = x\n").expect("write");
+        std::fs::write(
+            d.join("good.txt"),
+            "// rocks\nregion = pts={0,-60:0,60:200,60:200,-60}\nmin_range = 2\n\
+             poly = pts={60,-12:60,6:80,6:80,-12},label=ob_0\n",
+        )
+        .expect("write");
+        std::fs::write(
+            d.join("bad.txt"),
+            "poly = pts={60,-12:60,6:80,6:80,-12},label=ob_0\n\
+             poly = pts={0,0:10,0:5,1:10,10:0,10},label=dent\nmin_range = far\n",
+        )
+        .expect("write");
+        d
+    }
+
+    const V: &str = "[[vehicle]]\nname = \"abe\"\nmission = \"m.moos\"\n";
+
+    fn parse(t: &str) -> Result<FleetScenario, crate::scenario::ScenarioError> {
+        FleetScenario::parse(t, &dir().join("scenario.toml"))
+    }
+
+    #[test]
+    fn obstacles_from_the_file_and_the_scenario_with_their_blocks() {
+        let s = parse(&format!(
+            "obstacle_file = \"good.txt\"\n{V}[[obstacle]]\npoly = \"pts={{100,0:110,0:110,10:100,10}}\"\n\
+             [[obstacle]]\npoly = \"pts={{120,0:130,0:130,10}},label=pier\"\n\
+             [obstacle_sim]\napptick = 2\nmin_duration = 400\nmax_duration = 500\n\
+             [obstacle_collision]\nencounter_dist = 14\n"
+        ))
+        .expect("parses");
+        let o = s.obstacles.expect("obstacles");
+        let labels: Vec<&str> = o.file.obstacles.iter().map(|p| p.attrs.label.as_str()).collect();
+        // An unlabelled [[obstacle]] is named by its place in the list.
+        assert_eq!(labels, ["ob_0", "ob_1", "pier"]);
+        assert!(o.file.region.is_some());
+        assert_eq!((o.sim_tick, o.sim.max_duration), (2.0, 500.0));
+        assert_eq!(o.collision.encounter_dist, 14.0);
+        assert_eq!(o.collision.collision_dist, 1.0, "uFldCollObDetect's default");
+        // No obstacle entries: none, and the fleet is as before.
+        assert!(parse(V).expect("parses").obstacles.is_none());
+    }
+
+    #[test]
+    fn bad_obstacle_lines_are_refused_with_their_line() {
+        let cases = [
+            // Not convex (a dent at 5,1): the [[obstacle]]'s line.
+            (
+                format!("{V}\n[[obstacle]]\npoly = \"pts={{0,0:10,0:5,1:10,10:0,10}}\"\n"),
+                6,
+                "not a convex polygon",
+            ),
+            (format!("{V}[[obstacle]]\npoly = \"rock\"\n"), 5, "not a convex polygon"),
+            (format!("{V}[[obstacle]]\npolygon = \"x\"\n"), 5, "unknown field"),
+            (
+                format!(
+                    "{V}[[obstacle]]\npoly = \"pts={{0,0:9,0:9,9}},label=a\"\n\
+                     [[obstacle]]\npoly = \"pts={{20,0:29,0:29,9}},label=a\"\n"
+                ),
+                5,
+                "two obstacles labelled `a`",
+            ),
+            (
+                format!("obstacle_file = \"nope.txt\"\n{V}"),
+                1,
+                "obstacle file `nope.txt`",
+            ),
+            (
+                format!("{V}[[obstacle]]\npoly = \"pts={{0,0:9,0:9,9}}\"\n[obstacle_sim]\nrefresh_intervall = 5\n"),
+                7,
+                "[obstacle_sim]",
+            ),
+            (
+                format!("{V}[[obstacle]]\npoly = \"pts={{0,0:9,0:9,9}}\"\n[obstacle_sim]\napptick = 0\n"),
+                7,
+                "apptick",
+            ),
+            (
+                format!("{V}[[obstacle]]\npoly = \"pts={{0,0:9,0:9,9}}\"\n[obstacle_collision]\nnear_miss_dist = -1\n"),
+                7,
+                "[obstacle_collision]",
+            ),
+            (
+                format!("{V}[obstacle_collision]\nnear_miss_dist = 3\n"),
+                5,
+                "without obstacles",
+            ),
+        ];
+        for (text, line, has) in cases {
+            let e = parse(&text).expect_err(&text).to_string();
+            assert!(e.contains(&format!("scenario.toml:{line}: ")), "{text:?} -> {e}");
+            assert!(e.contains(has), "{text:?} -> {e}");
+        }
+        // The obstacle file's bad lines, each as file:line.
+        let e = parse(&format!("obstacle_file = \"bad.txt\"\n{V}"))
+            .expect_err("bad file")
+            .to_string();
+        assert!(e.contains("scenario.toml:1: bad obstacle file"), "{e}");
+        assert!(e.contains("bad.txt:2: Poorly specified obstacle"), "{e}");
+        assert!(e.contains("bad.txt:3: Poorly specified min_range: far"), "{e}");
+    }
+}
