@@ -650,13 +650,21 @@ mod tests {
         ))
         .expect("parses");
         let o = s.obstacles.expect("obstacles");
-        let labels: Vec<&str> = o.file.obstacles.iter().map(|p| p.attrs.label.as_str()).collect();
+        let labels: Vec<&str> = o
+            .file
+            .obstacles
+            .iter()
+            .map(|p| p.attrs.label.as_str())
+            .collect();
         // An unlabelled [[obstacle]] is named by its place in the list.
         assert_eq!(labels, ["ob_0", "ob_1", "pier"]);
         assert!(o.file.region.is_some());
         assert_eq!((o.sim_tick, o.sim.max_duration), (2.0, 500.0));
         assert_eq!(o.collision.encounter_dist, 14.0);
-        assert_eq!(o.collision.collision_dist, 1.0, "uFldCollObDetect's default");
+        assert_eq!(
+            o.collision.collision_dist, 1.0,
+            "uFldCollObDetect's default"
+        );
         // No obstacle entries: none, and the fleet is as before.
         assert!(parse(V).expect("parses").obstacles.is_none());
     }
@@ -708,7 +716,10 @@ mod tests {
         ];
         for (text, line, has) in cases {
             let e = parse(&text).expect_err(&text).to_string();
-            assert!(e.contains(&format!("scenario.toml:{line}: ")), "{text:?} -> {e}");
+            assert!(
+                e.contains(&format!("scenario.toml:{line}: ")),
+                "{text:?} -> {e}"
+            );
             assert!(e.contains(has), "{text:?} -> {e}");
         }
         // The obstacle file's bad lines, each as file:line.
@@ -717,6 +728,9 @@ mod tests {
             .to_string();
         assert!(e.contains("scenario.toml:1: bad obstacle file"), "{e}");
         assert!(e.contains("bad.txt:2: Poorly specified obstacle"), "{e}");
-        assert!(e.contains("bad.txt:3: Poorly specified min_range: far"), "{e}");
+        assert!(
+            e.contains("bad.txt:3: Poorly specified min_range: far"),
+            "{e}"
+        );
     }
 }
