@@ -29,6 +29,9 @@
 //!
 //! [[poke]]                  # as for one vehicle; `vehicle = "abe"` pokes one, else all
 //! [end]                     # as for one vehicle; mission_over: every helm is over
+//!
+//! obstacle_file = "..."     # obstacles: see [`super::obstacles`] (also [[obstacle]],
+//!                           # [obstacle_sim], [obstacle_collision])
 //! ```
 //!
 //! Everything is checked before anything runs: an unknown key, a missing mission file,
