@@ -82,15 +82,20 @@ const PLAIN_BLOCK: &str = r#"Behavior = BHV_AvoidObstacle
 "#;
 
 fn check(name: &str, bhv: &str) -> (i32, String, String) {
-    let built = common::build_plugins(&PACKAGES);
-    let libs = common::lib_folder(&built, &PACKAGES, "obstacle-behaviors-libs");
+    // Built and copied once: a copy rewrites the library while another test's helm may
+    // be loading it.
+    static LIBS: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    let libs = LIBS.get_or_init(|| {
+        let built = common::build_plugins(&PACKAGES);
+        common::lib_folder(&built, &PACKAGES, "obstacle-behaviors-libs")
+    });
     let d = common::scratch(Path::new("obstacle_behaviors").join(name));
     std::fs::write(d.join("m.moos"), MISSION).expect("write mission");
     std::fs::write(d.join("m.bhv"), bhv).expect("write bhv");
     let out = Command::new(env!("CARGO_BIN_EXE_helm"))
         .arg("check")
         .arg(d.join("m.moos"))
-        .env("IVP_BEHAVIOR_DIRS", &libs)
+        .env("IVP_BEHAVIOR_DIRS", libs)
         .env("IVP_HELM_BUNDLED_DIR", "")
         .output()
         .expect("run helm");

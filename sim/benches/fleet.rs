@@ -24,7 +24,7 @@ fn ten_vehicles() -> PathBuf {
     }
     let text = std::fs::read_to_string(dir.join("scenario.toml"))
         .expect("scenario")
-        .replace("max_time = 400", "max_time = 600")
+        .replace("max_time = 240", "max_time = 600")
         + "\n[[vehicle]]\nname = \"lia2\"\nmission = \"fleet.moos\"\nbhv = [\"lia.bhv\"]\nx = -100\ny = 0\nheading = 0\n\
            \n[[vehicle]]\nname = \"lou2\"\nmission = \"fleet.moos\"\nbhv = [\"lou.bhv\"]\nx = 40\ny = 0\nheading = 180\n";
     std::fs::write(dir.join("scenario.toml"), text).expect("write scenario");

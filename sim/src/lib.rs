@@ -28,6 +28,7 @@ pub mod bus;
 pub(crate) mod canvas;
 pub mod cli;
 pub(crate) mod decor;
+pub mod depth_strip;
 pub mod fleet;
 pub mod interrupt;
 pub mod montecarlo;

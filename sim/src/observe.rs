@@ -146,6 +146,8 @@ pub struct Observer {
     pub when: Vec<When>,
     /// The first `[[end.when]]` condition that fired (its reason).
     pub fired: Option<String>,
+    /// Depth over time (drawn when the helm's domain has depth).
+    pub depth: crate::depth_strip::DepthTrace,
 }
 
 impl Observer {
@@ -174,6 +176,9 @@ impl Observer {
             return;
         }
         match (var, value) {
+            ("IVPHELM_DOMAIN", Value::Str(s)) => {
+                self.depth.enabled = s.split(':').any(|v| v.starts_with("depth,"));
+            }
             ("IVPHELM_ALLSTOP", Value::Str(s)) if *s != self.last_allstop => {
                 self.last_allstop.clone_from(s);
                 if !s.eq_ignore_ascii_case("clear") && self.allstops.len() < LIST_CAP {

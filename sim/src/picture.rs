@@ -130,11 +130,15 @@ pub fn svg_with_tracks(
     }
     let v = View::fit(&all);
     let mut o = String::new();
+    let height = H + depth_strip_height(obs);
     let _ = writeln!(
         o,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="Helvetica, Arial, sans-serif">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{height}" viewBox="0 0 {W} {height}" font-family="Helvetica, Arial, sans-serif">"#
     );
-    let _ = writeln!(o, r##"<rect width="{W}" height="{H}" fill="#ffffff"/>"##);
+    let _ = writeln!(
+        o,
+        r##"<rect width="{W}" height="{height}" fill="#ffffff"/>"##
+    );
     let _ = writeln!(
         o,
         r##"<text x="{MARGIN}" y="28" font-size="18" font-weight="bold" fill="#222">{}</text>"##,
@@ -266,8 +270,20 @@ pub fn svg_with_tracks(
     );
     let only: Vec<Shape> = shapes.into_iter().map(|(s, _)| s).collect();
     legend(&mut o, &only, !others.is_empty());
+    if obs.depth.enabled {
+        crate::depth_strip::draw(&mut o, &obs.depth, H, W);
+    }
     o.push_str("</svg>\n");
     o
+}
+
+/// Extra height under the map for the depth strip (0 without depth in the domain).
+fn depth_strip_height(obs: &Observer) -> f64 {
+    if obs.depth.enabled {
+        crate::depth_strip::STRIP_H
+    } else {
+        0.0
+    }
 }
 
 fn legend(o: &mut String, shapes: &[Shape], others: bool) {

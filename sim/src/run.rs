@@ -346,6 +346,7 @@ impl Prepared {
                 last_sim = off;
                 let nav = model.nav();
                 bus.observer.track.push(nav.x, nav.y);
+                bus.observer.depth.push(off, nav.depth);
                 for (var, value) in nav.vars() {
                     bus.post(SIM_NAME, var, &Value::Num(value), "", now);
                 }

@@ -39,6 +39,13 @@ pub struct SimBlock {
     pub speed_lag: Option<f64>,
     pub turn_rate: Option<f64>,
     pub depth_rate: Option<f64>,
+    /// `max_depth_rate_speed`: the speed at which the full depth rate is reached (the
+    /// rate scales with speed below it).
+    pub depth_rate_speed: Option<f64>,
+    /// `buoyancy_rate`: how fast (m/s) a stopped vehicle rises toward the surface.
+    pub buoyancy_rate: Option<f64>,
+    /// `default_water_depth` (or `water_depth`): the bottom; the vehicle goes no deeper.
+    pub water_depth: Option<f64>,
     pub problems: Vec<BlockProblem>,
 }
 
@@ -53,10 +60,8 @@ const NOT_MODELLED: &[&str] = &[
     "drift_y",
     "drift_vector",
     "rotate_speed",
-    "buoyancy_rate",
     "max_acceleration",
     "max_deceleration",
-    "max_depth_rate_speed",
     "max_rudder_degs_per_sec",
     "sim_pause",
     "dual_state",
@@ -64,8 +69,6 @@ const NOT_MODELLED: &[&str] = &[
     "thrust_reflect",
     "thrust_map",
     "turn_loss",
-    "default_water_depth",
-    "water_depth",
     "trim_tolerance",
     "max_trim_delay",
     "post_des_thrust",
@@ -102,6 +105,10 @@ const MODELLED: &[&str] = &[
     "turn_rate",
     "depth_rate",
     "max_depth_rate",
+    "max_depth_rate_speed",
+    "buoyancy_rate",
+    "default_water_depth",
+    "water_depth",
 ];
 
 /// A number as uSimMarine reads one: the whole trimmed text, finite.
@@ -200,6 +207,22 @@ impl SimBlock {
                     None => self.problem(Severity::Error, file, l, bad("a number > 0")),
                 }
             }
+            "max_depth_rate_speed" | "default_water_depth" | "water_depth" => {
+                match number(value).filter(|v| *v > 0.0) {
+                    Some(v) => {
+                        if key == "max_depth_rate_speed" {
+                            self.depth_rate_speed = Some(v);
+                        } else {
+                            self.water_depth = Some(v);
+                        }
+                    }
+                    None => self.problem(Severity::Error, file, l, bad("a number > 0")),
+                }
+            }
+            "buoyancy_rate" => match number(value).filter(|v| *v >= 0.0) {
+                Some(v) => self.buoyancy_rate = Some(v),
+                None => self.problem(Severity::Error, file, l, bad("a number >= 0")),
+            },
             // The simulator's tick: read by whoever drives the model.
             "apptick" | "commstick" => {}
             k if NOT_MODELLED.contains(&k)

@@ -73,7 +73,10 @@ pub trait VehicleModel: Send {
 /// - heading turns toward `DESIRED_HEADING` the short way round, at most
 ///   `turn_rate·dt` degrees per step;
 /// - `x += sin(h)·v·dt`, `y += cos(h)·v·dt` (compass heading);
-/// - depth moves toward `DESIRED_DEPTH` at most `depth_rate·dt`.
+/// - depth moves toward `DESIRED_DEPTH` at most `depth_rate·dt`, the rate scaled by
+///   `speed / depth_rate_speed` below that speed (a UUV dives with its planes, so it
+///   needs way on); a vehicle below 0.1 m/s rises at `buoyancy_rate` instead; depth
+///   stays within the surface (0) and the bottom (`water_depth`).
 ///
 /// Until a desired value arrives the vehicle keeps its start value.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,6 +96,12 @@ pub struct Kinematics {
     pub turn_rate: f64,
     /// Largest depth change rate (m/s).
     pub depth_rate: f64,
+    /// Speed at which `depth_rate` is reached (`None`: at any speed).
+    pub depth_rate_speed: Option<f64>,
+    /// Rise rate of a stopped vehicle (m/s; 0: it stays).
+    pub buoyancy_rate: f64,
+    /// The bottom (`None`: no bottom).
+    pub water_depth: Option<f64>,
 }
 
 impl Kinematics {
@@ -119,7 +128,32 @@ impl Kinematics {
             speed_lag: b.speed_lag.unwrap_or(1.0),
             turn_rate: b.turn_rate.unwrap_or(20.0),
             depth_rate: b.depth_rate.unwrap_or(0.5),
+            depth_rate_speed: b.depth_rate_speed,
+            buoyancy_rate: b.buoyancy_rate.unwrap_or(0.0),
+            water_depth: b.water_depth,
         }
+    }
+}
+
+impl Kinematics {
+    /// The depth part of a step (see the type's docs).
+    fn step_depth(&mut self, dt: f64) {
+        if self.speed < 0.1 && self.buoyancy_rate > 0.0 {
+            self.depth -= self.buoyancy_rate * dt;
+        } else if let Some(d) = self.desired_depth {
+            let scale = self
+                .depth_rate_speed
+                .map_or(1.0, |s| (self.speed / s).clamp(0.0, 1.0));
+            let max = self.depth_rate * scale * dt;
+            self.depth += (d - self.depth).clamp(-max, max);
+        }
+        let bottom = self.water_depth.unwrap_or(f64::INFINITY);
+        self.depth = self.depth.clamp(0.0, bottom);
+    }
+
+    /// Height above the bottom (`None` without a `water_depth`).
+    pub fn altitude(&self) -> Option<f64> {
+        self.water_depth.map(|w| w - self.depth)
     }
 }
 
@@ -148,10 +182,7 @@ impl VehicleModel for Kinematics {
             let max = self.turn_rate * dt;
             self.heading = (self.heading + err.clamp(-max, max)).rem_euclid(360.0);
         }
-        if let Some(d) = self.desired_depth {
-            let max = self.depth_rate * dt;
-            self.depth += (d - self.depth).clamp(-max, max);
-        }
+        self.step_depth(dt);
         let rad = self.heading.to_radians();
         self.x += rad.sin() * self.speed * dt;
         self.y += rad.cos() * self.speed * dt;
@@ -249,6 +280,58 @@ mod tests {
             k.step(1.0);
         }
         assert!((k.heading - 350.0).abs() < 1e-9);
+    }
+
+    fn uuv(block: &str) -> Kinematics {
+        let text = format!("ProcessConfig = uSimMarine\n{{\n{block}\n}}\n");
+        let m = MissionFile::parse(&text, Path::new("t.moos")).expect("parses");
+        let b = SimBlock::read(&m);
+        assert!(b.problems.is_empty(), "{:?}", b.problems);
+        Kinematics::from_block(&b)
+    }
+
+    #[test]
+    fn depth_rate_scales_with_speed_and_stays_between_surface_and_bottom() {
+        let mut k = uuv(
+            "max_depth_rate = 1\nmax_depth_rate_speed = 2\ndefault_water_depth = 30\nbuoyancy_rate = 0.2",
+        );
+        assert_eq!(k.altitude(), Some(30.0));
+        k.on_mail("DESIRED_DEPTH", 50.0);
+        k.speed = 1.0;
+        k.desired_speed = Some(1.0);
+        k.step(1.0);
+        // Half the top speed: half the depth rate.
+        assert!((k.depth - 0.5).abs() < 1e-9, "{}", k.depth);
+        k.speed = 2.0;
+        k.desired_speed = Some(2.0);
+        for _ in 0..100 {
+            k.step(1.0);
+        }
+        assert_eq!(k.depth, 30.0, "the bottom stops it");
+        assert_eq!(k.altitude(), Some(0.0));
+        // Stopped: it floats up at the buoyancy rate, and no higher than the surface.
+        k.speed = 0.0;
+        k.desired_speed = Some(0.0);
+        k.step(1.0);
+        assert!((k.depth - 29.8).abs() < 1e-9, "{}", k.depth);
+        for _ in 0..1000 {
+            k.step(1.0);
+        }
+        assert_eq!(k.depth, 0.0);
+    }
+
+    #[test]
+    fn bad_depth_values_are_errors() {
+        let text =
+            "ProcessConfig = uSimMarine\n{\n buoyancy_rate = -1\n default_water_depth = deep\n}\n";
+        let m = MissionFile::parse(text, Path::new("t.moos")).expect("parses");
+        let b = SimBlock::read(&m);
+        assert_eq!(
+            b.problems_at_least(Severity::Error).count(),
+            2,
+            "{:?}",
+            b.problems
+        );
     }
 
     #[test]

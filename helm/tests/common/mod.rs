@@ -31,6 +31,8 @@ pub const SHIPPED_PLUGINS: &[&str] = &[
     "bhv-contact",
     "bhv-colregs",
     "bhv-obstacle",
+    "bhv-region",
+    "bhv-convoy",
 ];
 
 /// The root of the workspace (the repo).

@@ -1,6 +1,7 @@
 //! The visual-only behaviors of MOOS-IvP as one plugin library: BHV_HSLine (the helm's
-//! desired heading and speed as a line, behaviors-more.md §1) and BHV_BearingLine (a
-//! line toward a fixed point, §2). None of them ever produces an objective function:
+//! desired heading and speed as a line, behaviors-more.md §1), BHV_BearingLine (a
+//! line toward a fixed point, §2) and BHV_PModelView (the helm's platform-model turn
+//! path toward the desired heading, §3). None of them ever produces an objective function:
 //! they only post VIEW_* strings, so they share one library (one file to ship, one
 //! build unit).
 //!
@@ -25,11 +26,14 @@
 
 mod bearing_line;
 mod hsline;
+mod pmodel_view;
 
 pub use bearing_line::BearingLine;
 pub use hsline::HsLine;
+pub use pmodel_view::PModelView;
 
 behavior_api::export_behaviors! {
     "BHV_HSLine" => HsLine::new,
     "BHV_BearingLine" => BearingLine::new,
+    "BHV_PModelView" => PModelView::new,
 }

@@ -32,11 +32,24 @@ pub struct VehicleSummary<'a> {
     pub end: Pose,
 }
 
+/// An all-stop of one vehicle (the fleet summary's `allstops`).
+#[derive(Debug, Serialize)]
+pub struct VehicleAllStop<'a> {
+    pub vehicle: &'a str,
+    /// Seconds from the start of the run.
+    pub time: f64,
+    pub reason: &'a str,
+}
+
 /// `summary.json` of a fleet run.
 #[derive(Debug, Serialize)]
 pub struct FleetSummary<'a> {
     pub mission: &'a str,
     pub vehicles: Vec<VehicleSummary<'a>>,
+    /// Every vehicle's all-stops, vehicle after vehicle (as the one-vehicle summary has).
+    pub allstops: Vec<VehicleAllStop<'a>>,
+    /// Every vehicle's behavior errors, each `<vehicle>: <error>`.
+    pub behavior_errors: Vec<String>,
     pub sim_time_s: f64,
     pub wall_time_s: f64,
     pub end_reason: &'a str,
@@ -122,6 +135,27 @@ impl FleetOutcome {
         FleetSummary {
             mission,
             vehicles: self.vehicles.iter().map(vehicle).collect(),
+            allstops: self
+                .vehicles
+                .iter()
+                .flat_map(|v| {
+                    v.observer.allstops.iter().map(|a| VehicleAllStop {
+                        vehicle: &v.name,
+                        time: a.time,
+                        reason: &a.reason,
+                    })
+                })
+                .collect(),
+            behavior_errors: self
+                .vehicles
+                .iter()
+                .flat_map(|v| {
+                    v.observer
+                        .behavior_errors
+                        .iter()
+                        .map(move |e| format!("{}: {e}", v.name))
+                })
+                .collect(),
             sim_time_s: self.sim_time_s,
             wall_time_s: self.wall_time_s,
             end_reason: &self.end_reason,
