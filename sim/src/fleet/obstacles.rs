@@ -615,8 +615,9 @@ mod tests {
     use super::super::spec::FleetScenario;
     use std::path::PathBuf;
 
-    fn dir() -> PathBuf {
-        let d = std::env::temp_dir().join(format!("fleet-obstacles-{}", std::process::id()));
+    /// A folder per test: tests run in parallel and each writes the files.
+    fn dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fleet-obstacles-{tag}-{}", std::process::id()));
         std::fs::create_dir_all(&d).expect("temp dir");
         std::fs::write(d.join("m.moos"), "Community = x\n").expect("write");
         std::fs::write(
@@ -636,13 +637,13 @@ mod tests {
 
     const V: &str = "[[vehicle]]\nname = \"abe\"\nmission = \"m.moos\"\n";
 
-    fn parse(t: &str) -> Result<FleetScenario, crate::scenario::ScenarioError> {
-        FleetScenario::parse(t, &dir().join("scenario.toml"))
+    fn parse(tag: &str, t: &str) -> Result<FleetScenario, crate::scenario::ScenarioError> {
+        FleetScenario::parse(t, &dir(tag).join("scenario.toml"))
     }
 
     #[test]
     fn obstacles_from_the_file_and_the_scenario_with_their_blocks() {
-        let s = parse(&format!(
+        let s = parse("good", &format!(
             "obstacle_file = \"good.txt\"\n{V}[[obstacle]]\npoly = \"pts={{100,0:110,0:110,10:100,10}}\"\n\
              [[obstacle]]\npoly = \"pts={{120,0:130,0:130,10}},label=pier\"\n\
              [obstacle_sim]\napptick = 2\nmin_duration = 400\nmax_duration = 500\n\
@@ -666,7 +667,7 @@ mod tests {
             "uFldCollObDetect's default"
         );
         // No obstacle entries: none, and the fleet is as before.
-        assert!(parse(V).expect("parses").obstacles.is_none());
+        assert!(parse("good", V).expect("parses").obstacles.is_none());
     }
 
     #[test]
@@ -715,7 +716,7 @@ mod tests {
             ),
         ];
         for (text, line, has) in cases {
-            let e = parse(&text).expect_err(&text).to_string();
+            let e = parse("bad", &text).expect_err(&text).to_string();
             assert!(
                 e.contains(&format!("scenario.toml:{line}: ")),
                 "{text:?} -> {e}"
@@ -723,7 +724,7 @@ mod tests {
             assert!(e.contains(has), "{text:?} -> {e}");
         }
         // The obstacle file's bad lines, each as file:line.
-        let e = parse(&format!("obstacle_file = \"bad.txt\"\n{V}"))
+        let e = parse("bad", &format!("obstacle_file = \"bad.txt\"\n{V}"))
             .expect_err("bad file")
             .to_string();
         assert!(e.contains("scenario.toml:1: bad obstacle file"), "{e}");
