@@ -338,6 +338,30 @@ pub fn label(situation: &str) -> &'static str {
     }
 }
 
+/// The terminal lines of one run (each ending in a newline).
+pub fn terminal(
+    s: &mut String,
+    obstacles: Option<&super::obstacles::ObstacleOutcome>,
+    rules: &[RuleRecord],
+) {
+    use std::fmt::Write as _;
+    if let Some(ob) = obstacles {
+        let _ = writeln!(s, "{}", ob.terminal());
+    }
+    for r in rules {
+        let verdict = match r.passed {
+            Some(true) => format!("{}: yes", asks(&r.situation)),
+            Some(false) => format!("{}: NO", asks(&r.situation)),
+            None => "not judged".into(),
+        };
+        let _ = writeln!(
+            s,
+            "  COLREGS {} vs {}: {} ({} at {:.1} s, {:.0} m) — {verdict} ({})",
+            r.ownship, r.contact, r.situation, r.trigger, r.at_s, r.range_m, r.detail
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

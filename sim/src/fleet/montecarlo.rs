@@ -185,7 +185,13 @@ pub fn csv(vehicles: &[String], obstacles: bool, rows: &[Row]) -> String {
         for n in &r.spawned {
             let _ = write!(s, ",{n}");
         }
-        super::stats::cells(&mut s, vehicles.len(), obstacles, r);
+        super::stats::cells(
+            &mut s,
+            vehicles.len(),
+            obstacles,
+            r.obstacles.as_ref(),
+            &r.rules,
+        );
         s.push('\n');
     }
     s
@@ -254,7 +260,8 @@ pub fn distribution(rows: &[Row]) -> String {
             100.0 * hi
         );
     }
-    super::stats::distribution(&mut s, rows);
+    let obs: Vec<_> = rows.iter().filter_map(|r| r.obstacles.as_ref()).collect();
+    super::stats::distribution(&mut s, &obs, rows.iter().flat_map(|r| &r.rules), wilson);
     s.pop();
     s
 }

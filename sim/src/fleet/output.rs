@@ -222,7 +222,7 @@ impl FleetOutcome {
                 p.a, p.b, p.closest_m, p.closest_time_s
             );
         }
-        super::stats::terminal(&mut s, self);
+        super::colregs::terminal(&mut s, self.obstacles.as_ref(), &self.colregs);
         let cm = &self.comms;
         let _ = write!(
             s,

@@ -11,7 +11,6 @@ use std::fmt::Write as _;
 use serde::{Deserialize, Serialize};
 
 use super::colregs::{asks, label, tally};
-use super::montecarlo::{wilson, Row};
 use super::obstacles::ObstacleOutcome;
 use super::run::FleetOutcome;
 
@@ -91,9 +90,16 @@ pub fn header(s: &mut String, vehicles: &[String], obstacles: bool) {
     }
 }
 
-pub fn cells(s: &mut String, vehicles: usize, obstacles: bool, r: &Row) {
+/// A row's cells (`ob`, `rules`: the row's obstacle counts and rule cells).
+pub fn cells(
+    s: &mut String,
+    vehicles: usize,
+    obstacles: bool,
+    ob: Option<&ObstacleCells>,
+    rules: &[RuleCell],
+) {
     if obstacles {
-        match &r.obstacles {
+        match ob {
             Some(o) => {
                 let _ = write!(
                     s,
@@ -106,7 +112,7 @@ pub fn cells(s: &mut String, vehicles: usize, obstacles: bool, r: &Row) {
     }
     let n = ordered(vehicles).count();
     for k in 0..n {
-        match r.rules.get(k) {
+        match rules.get(k) {
             Some(c) => {
                 let ok = match c.passed {
                     Some(true) => "1",
@@ -121,7 +127,7 @@ pub fn cells(s: &mut String, vehicles: usize, obstacles: bool, r: &Row) {
 }
 
 /// "give-way crossings: 998 of 1000 passed astern (99.8%, 95% interval a–b)" lines.
-fn rule_lines(s: &mut String, t: &[(&'static str, usize, usize)]) {
+fn rule_lines(s: &mut String, t: &[(&'static str, usize, usize)], wilson: Wilson) {
     for &(sit, n, k) in t {
         if n == 0 {
             continue;
@@ -139,9 +145,17 @@ fn rule_lines(s: &mut String, t: &[(&'static str, usize, usize)]) {
     }
 }
 
-/// The Monte Carlo lines (each ending in a newline).
-pub fn distribution(s: &mut String, rows: &[Row]) {
-    let obs: Vec<&ObstacleCells> = rows.iter().filter_map(|r| r.obstacles.as_ref()).collect();
+/// The 95% interval of k successes in n trials (the Monte Carlo's own).
+pub type Wilson = fn(usize, usize) -> (f64, f64);
+
+/// The Monte Carlo lines (each ending in a newline), from the rows' obstacle counts and
+/// rule cells.
+pub fn distribution<'a>(
+    s: &mut String,
+    obs: &[&ObstacleCells],
+    rules: impl Iterator<Item = &'a RuleCell>,
+    wilson: Wilson,
+) {
     if !obs.is_empty() {
         let n = obs.len();
         let hit = obs.iter().filter(|o| o.collisions > 0).count();
@@ -168,28 +182,6 @@ pub fn distribution(s: &mut String, rows: &[Row]) {
             let _ = writeln!(s, "  closest to an obstacle over all runs {closest:.2} m");
         }
     }
-    let t = tally(
-        rows.iter()
-            .flat_map(|r| r.rules.iter().map(|c| (c.situation.as_str(), c.passed))),
-    );
-    rule_lines(s, &t);
-}
-
-/// The terminal lines of one run (each ending in a newline).
-pub fn terminal(s: &mut String, o: &FleetOutcome) {
-    if let Some(ob) = &o.obstacles {
-        let _ = writeln!(s, "{}", ob.terminal());
-    }
-    for r in &o.colregs {
-        let verdict = match r.passed {
-            Some(true) => format!("{}: yes", asks(&r.situation)),
-            Some(false) => format!("{}: NO", asks(&r.situation)),
-            None => "not judged".into(),
-        };
-        let _ = writeln!(
-            s,
-            "  COLREGS {} vs {}: {} ({} at {:.1} s, {:.0} m) — {verdict} ({})",
-            r.ownship, r.contact, r.situation, r.trigger, r.at_s, r.range_m, r.detail
-        );
-    }
+    let t = tally(rules.map(|c| (c.situation.as_str(), c.passed)));
+    rule_lines(s, &t, wilson);
 }
