@@ -129,9 +129,11 @@ impl FleetPlan {
         let clients: Vec<Value> = self
             .vehicles
             .iter()
-            .map(|_| {
+            .map(|p| {
+                // A vehicle running pObstacleMgr lists it too (the others as before).
+                let obm = if p.obm.is_some() { "pObstacleMgr," } else { "" };
                 Value::Str(format!(
-                    "uSimMarine,pHelmIvP,pContactMgrV20,pNodeReporter,{COMMS_NAME},"
+                    "uSimMarine,pHelmIvP,pContactMgrV20,pNodeReporter,{obm}{COMMS_NAME},"
                 ))
             })
             .collect();
