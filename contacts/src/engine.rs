@@ -65,10 +65,23 @@ fn unit(h_deg: f64) -> (f64, f64) {
 /// The CPA of two straight-line motions: `p` = ownship − contact, `w` = relative
 /// velocity, `tol` = horizon. Not closing (or no relative motion) → current range at 0 s.
 fn cpa_of(px: f64, py: f64, wx: f64, wy: f64, tol: f64) -> Cpa {
-    // The current range only when not closing (computed lazily: hypot is costly, and an
-    // objective function asks this for every candidate heading and speed).
+    cpa_of_ranged(px, py, wx, wy, tol, || px.hypot(py))
+}
+
+/// [`cpa_of`] with the current range `px.hypot(py)` supplied by `range_now` (the
+/// engine has it already: hypot is costly, and an objective function asks this for
+/// every candidate heading and speed).
+#[inline]
+fn cpa_of_ranged(
+    px: f64,
+    py: f64,
+    wx: f64,
+    wy: f64,
+    tol: f64,
+    range_now: impl FnOnce() -> f64,
+) -> Cpa {
     let now = || Cpa {
-        dist: px.hypot(py),
+        dist: range_now(),
         time: 0.0,
     };
     let ww = wx * wx + wy * wy;
@@ -145,13 +158,17 @@ fn fold(a: f64, b: f64) -> f64 {
 /// asks for the same 360 headings tens of thousands of times per iteration, and the
 /// table holds exactly what `unit` computes.
 fn unit_of_degree(d: f64) -> (f64, f64) {
-    static TABLE: std::sync::OnceLock<[(f64, f64); 360]> = std::sync::OnceLock::new();
-    let table = TABLE.get_or_init(|| std::array::from_fn(|i| unit(i as f64)));
     // deg_index gives an integer in 0..=359; anything else is computed.
-    match table.get(d as usize) {
+    match unit_table().get(d as usize) {
         Some(&u) if d == (d as usize) as f64 => u,
         _ => unit(d),
     }
+}
+
+/// `unit(i)` for i = 0..=359.
+fn unit_table() -> &'static [(f64, f64); 360] {
+    static TABLE: std::sync::OnceLock<[(f64, f64); 360]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| std::array::from_fn(|i| unit(i as f64)))
 }
 
 fn deg_index(h: f64) -> f64 {
@@ -200,6 +217,8 @@ pub struct CpaEngine {
     tn_const: f64,
     /// Per-degree values, when an objective function asked for them ([`Self::with_tables`]).
     tables: Option<Box<DegreeTables>>,
+    /// `rng` as computed at reset (kept private: `rng` is public and could be changed).
+    range_now: f64,
 }
 
 /// The reference's per-degree tables (`gamcos`, `cnhcos`, `tancos`), the same numbers the
@@ -255,6 +274,7 @@ impl CpaEngine {
             cn_tan: 0.0,
             tn_const: 360.0 / (2.0 * rng * PI_12),
             tables: None,
+            range_now: rng,
         };
         e.theta_gam = if e.os_port_of_cn() {
             angle360(cnh + 90.0)
@@ -336,29 +356,61 @@ impl CpaEngine {
 
     /// Closest approach within `tol` s if ownship holds (h, v); see [`cpa`] (here with
     /// the heading's integer degree).
+    // Inlined into the objective functions of the contact plugins, which call it for
+    // every corner of every tile of the decision grid.
+    #[inline]
     pub fn cpa(&self, h: f64, v: f64, tol: f64) -> f64 {
         self.cpa_time(h, v, tol).dist
     }
 
     /// Closest approach and the time to it within the horizon `tol`.
+    #[inline]
     pub fn cpa_time(&self, h: f64, v: f64, tol: f64) -> Cpa {
-        let (s, c) = unit_of_degree(deg_index(h));
+        // A heading already in [0, 360) (every grid heading) skips angle360's loops:
+        // its ⌊h⌋ is the same table row deg_index gives.
+        let (s, c) = if (0.0..360.0).contains(&h) {
+            unit_table()[h as usize]
+        } else {
+            unit_of_degree(deg_index(h))
+        };
         let v = v.max(0.0);
-        cpa_of(
+        // `range_now` is `(osx − cnx).hypot(osy − cny)`, the very value cpa_of computes.
+        cpa_of_ranged(
             self.osx - self.cnx,
             self.osy - self.cny,
             v * s - self.cn_vx,
             v * c - self.cn_vy,
             tol,
+            || self.range_now,
         )
     }
 
     /// Rate of closure (m/s, > 0 when the range decreases) if ownship holds (h, v).
+    #[inline]
     pub fn roc(&self, h: f64, v: f64) -> f64 {
         v * self.relcos(deg_index(h)) + self.cn_to_os
     }
 
     /// Least and greatest rate of closure at speed `vmax` over headings 0, 1, …, 359.
+    /// The heading cosines [`CpaEngine::roc`] uses, for every integer heading 0..=359: an
+    /// objective function asking `roc` per grid point computes them once with this and
+    /// calls [`CpaEngine::roc_with`].
+    pub fn roc_cosines(&self) -> [f64; 360] {
+        std::array::from_fn(|i| self.relcos(i as f64))
+    }
+
+    /// [`CpaEngine::roc`] with the cosine looked up in `cos` (from
+    /// [`CpaEngine::roc_cosines`] of this engine): the same value, without a `cos` per call.
+    #[inline]
+    pub fn roc_with(&self, cos: &[f64; 360], h: f64, v: f64) -> f64 {
+        let i = if (0.0..360.0).contains(&h) {
+            h as usize
+        } else {
+            deg_index(h) as usize
+        };
+        v * cos[i.min(359)] + self.cn_to_os
+    }
+
     pub fn min_max_roc(&self, vmax: f64) -> (f64, f64) {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for i in 0..360 {

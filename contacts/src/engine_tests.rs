@@ -187,3 +187,33 @@ fn tables_give_the_same_bits() {
         }
     }
 }
+
+/// `roc_with` over the engine's own cosine table is `roc`, bit for bit, for grid
+/// headings, fractional, negative, huge and non-finite ones.
+#[test]
+fn roc_with_the_cosine_table_is_roc() {
+    for &(cx, cy, ch, cv) in &[(0.0, 100.0, 180.0, 2.0), (37.5, -12.0, 33.3, 0.7)] {
+        let e = CpaEngine::new(cx, cy, ch, cv, 3.0, -4.0);
+        let cos = e.roc_cosines();
+        let mut hs: Vec<f64> = (0..360).map(f64::from).collect();
+        hs.extend([
+            0.5,
+            359.99,
+            -0.0,
+            -90.0,
+            720.0,
+            1e9,
+            f64::NAN,
+            f64::INFINITY,
+        ]);
+        for h in hs {
+            for v in [0.0, 0.1, 2.0, 4.0] {
+                assert_eq!(
+                    e.roc_with(&cos, h, v).to_bits(),
+                    e.roc(h, v).to_bits(),
+                    "{h} {v}"
+                );
+            }
+        }
+    }
+}

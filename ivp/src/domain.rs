@@ -23,6 +23,7 @@ impl DomainVar {
     }
 
     /// Value of discrete index `j`: `low + delta*j` (multiply, then add).
+    #[inline]
     pub fn value(&self, j: u32) -> f64 {
         self.low + self.delta() * f64::from(j)
     }
@@ -89,6 +90,20 @@ fn perr(spec: &str, field: &str, reason: &str) -> IvpError {
 /// formatter of MOOS-IvP's number strings).
 pub(crate) fn compact(v: f64) -> String {
     mbutil::compact(v, 5)
+}
+
+/// `compact(v)` appended to `out`; whole numbers (the usual domain bounds) without an
+/// intermediate string, by the same rule as `mbutil::compact`.
+pub(crate) fn push_compact(out: &mut String, v: f64) {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        if v == 0.0 {
+            out.push('0');
+        } else {
+            out.push_str(itoa::Buffer::new().format(v as i64));
+        }
+    } else {
+        out.push_str(&compact(v));
+    }
 }
 
 impl Domain {
@@ -201,6 +216,7 @@ impl Domain {
     }
 
     /// `low + delta*index` of dimension `dim`.
+    #[inline]
     pub fn value(&self, dim: usize, index: u32) -> f64 {
         self.vars[dim].value(index)
     }
@@ -280,20 +296,26 @@ impl Domain {
 
     /// `name;low;high;points` joined by `:` (the BHV_IPF `D` field).
     pub fn to_ipf_string(&self) -> String {
-        let parts: Vec<String> = self
-            .vars
-            .iter()
-            .map(|v| {
-                format!(
-                    "{};{};{};{}",
-                    v.name,
-                    compact(v.low),
-                    compact(v.high),
-                    v.points
-                )
-            })
-            .collect();
-        parts.join(":")
+        let mut s = String::new();
+        self.write_ipf(&mut s);
+        s
+    }
+
+    /// [`Domain::to_ipf_string`] appended to `out` (no intermediate strings: BHV_IPF
+    /// encodes it for every function of every iteration).
+    pub fn write_ipf(&self, out: &mut String) {
+        for (i, v) in self.vars.iter().enumerate() {
+            if i > 0 {
+                out.push(':');
+            }
+            out.push_str(&v.name);
+            out.push(';');
+            push_compact(out, v.low);
+            out.push(';');
+            push_compact(out, v.high);
+            out.push(';');
+            out.push_str(itoa::Buffer::new().format(v.points));
+        }
     }
 }
 

@@ -242,7 +242,7 @@ impl IvpFunction {
         f.pwt = raw.pwt;
         f.context = raw.context;
         if !raw.grid.is_empty() {
-            let cells = grid_cells(&f.domain, &f.gelbox).3;
+            let cells = grid_total(&f.domain, &f.gelbox);
             if raw.grid.len() != cells {
                 return Err(IvpError::Invalid {
                     param: "grid".into(),
@@ -311,27 +311,68 @@ impl IvpFunction {
     /// near-ties. Functions without a grid (e.g. coupled ones) get a fresh grid
     /// in the solver.
     pub fn build_grid(&mut self) {
-        let (ppg, _nc, stride, total) = grid_cells(&self.domain, &self.gelbox);
         let dim = self.dim();
+        // Cell sizes, strides (dimension 0 fastest) and, per piece, the corner cell and
+        // spans live on the stack up to `GRID_DIMS` dimensions (this runs for every
+        // piece of every function built, every iteration).
+        const GRID_DIMS: usize = 8;
+        let (mut ppg_st, mut stride_st) = ([0i32; GRID_DIMS], [0usize; GRID_DIMS]);
+        let (mut ppg_heap, mut stride_heap) = (vec![], vec![]);
+        let (ppg, stride): (&mut [i32], &mut [usize]) = if dim <= GRID_DIMS {
+            (&mut ppg_st[..dim], &mut stride_st[..dim])
+        } else {
+            ppg_heap.resize(dim, 0);
+            stride_heap.resize(dim, 0);
+            (&mut ppg_heap, &mut stride_heap)
+        };
+        let mut total = 1usize;
+        for (d, v) in self.domain.vars().iter().enumerate() {
+            let (p, n) = grid_dim(v, self.gelbox.get(d));
+            ppg[d] = p;
+            stride[d] = total;
+            total *= n as usize;
+        }
         let mut g = vec![f64::NEG_INFINITY; total];
+        let (mut lo_st, mut span_st) = ([0usize; GRID_DIMS], [0usize; GRID_DIMS]);
+        let (mut lo_heap, mut span_heap) = (vec![], vec![]);
+        let (idx_lo, span): (&mut [usize], &mut [usize]) = if dim <= GRID_DIMS {
+            (&mut lo_st[..dim], &mut span_st[..dim])
+        } else {
+            lo_heap.resize(dim, 0);
+            span_heap.resize(dim, 0);
+            (&mut lo_heap, &mut span_heap)
+        };
         for p in self.pieces() {
             let v = p.max_val();
-            let mut idx_lo = Vec::with_capacity(dim);
-            let mut span = Vec::with_capacity(dim);
             for d in 0..dim {
-                idx_lo.push((p.lo(d) / ppg[d]) as usize);
-                span.push((p.hi(d) / ppg[d] - p.lo(d) / ppg[d] + 1) as usize);
+                idx_lo[d] = (p.lo(d) / ppg[d]) as usize;
+                span[d] = (p.hi(d) / ppg[d] - p.lo(d) / ppg[d] + 1) as usize;
             }
-            let cnt: usize = span.iter().product();
-            for t in 0..cnt {
-                let (mut rem, mut c) = (t, 0usize);
-                for d in 0..dim {
-                    c += (idx_lo[d] + rem % span[d]) * stride[d];
-                    rem /= span[d];
-                }
+            // Cells in counting order, dimension 0 fastest, stepped by strides (no
+            // division per cell); `off[d]` is the digit of dimension d.
+            let mut off = [0usize; GRID_DIMS];
+            let mut off_heap = vec![];
+            let off: &mut [usize] = if dim <= GRID_DIMS {
+                &mut off[..dim]
+            } else {
+                off_heap.resize(dim, 0);
+                &mut off_heap
+            };
+            let mut c: usize = (0..dim).map(|d| idx_lo[d] * stride[d]).sum();
+            'cells: loop {
                 if g[c] == f64::NEG_INFINITY || v > g[c] {
                     g[c] = v;
                 }
+                for d in 0..dim {
+                    if off[d] + 1 < span[d] {
+                        off[d] += 1;
+                        c += stride[d];
+                        continue 'cells;
+                    }
+                    c -= off[d] * stride[d];
+                    off[d] = 0;
+                }
+                break;
             }
         }
         self.grid = g;
@@ -427,6 +468,10 @@ impl IvpFunction {
     pub fn set_context(&mut self, s: &str) {
         self.context = s.to_string();
     }
+    /// The context string to write in place (e.g. with `write!`, no temporary string).
+    pub fn context_mut(&mut self) -> &mut String {
+        &mut self.context
+    }
     /// True if any weight is NaN.
     pub fn has_nan(&self) -> bool {
         self.weights.iter().any(|w| w.is_nan())
@@ -475,25 +520,22 @@ impl IvpFunction {
 
 /// Grid geometry: (points per cell, cells, stride (dim 0 fastest), total cells).
 /// Points per cell = `gelbox+1` clamped to `[2, points]`.
-pub(crate) fn grid_cells(
-    domain: &Domain,
-    gelbox: &[u32],
-) -> (Vec<i32>, Vec<i32>, Vec<usize>, usize) {
-    let (mut ppg, mut nc, mut stride) = (vec![], vec![], vec![]);
+/// Points per grid cell and number of cells of variable `v` under gel-box entry `g`
+/// (none: one cell across the variable).
+fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
+    let pts = v.points as i32;
+    let g = g.map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
+    let p = (g + 1).max(2).min(pts).max(1);
+    (p, (pts + p - 1) / p)
+}
+
+/// Number of grid cells of `domain` under `gelbox`.
+fn grid_total(domain: &Domain, gelbox: &[u32]) -> usize {
     let mut total = 1usize;
     for (d, v) in domain.vars().iter().enumerate() {
-        let pts = v.points as i32;
-        let g = gelbox
-            .get(d)
-            .map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
-        let p = (g + 1).max(2).min(pts).max(1);
-        let n = (pts + p - 1) / p;
-        ppg.push(p);
-        nc.push(n);
-        stride.push(total);
-        total *= n as usize;
+        total *= grid_dim(v, gelbox.get(d)).1 as usize;
     }
-    (ppg, nc, stride, total)
+    total
 }
 
 /// For each own dimension, the target dimension of the same name.
@@ -520,6 +562,9 @@ pub(crate) fn translate_into(
 ) {
     let td = target.size();
     let n = src_w.len() / (od + 1);
+    // Sized once: these run for every coupled function of every iteration.
+    bounds.reserve(n * 2 * td);
+    weights.reserve(n * (td + 1));
     for k in 0..n {
         let b0 = bounds.len();
         let w0 = weights.len();

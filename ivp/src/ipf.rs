@@ -1,6 +1,6 @@
 //! BHV_IPF serialization (spec §9).
 
-use crate::domain::compact;
+use crate::domain::push_compact;
 use crate::function::IvpFunction;
 use std::fmt::Write;
 
@@ -19,20 +19,36 @@ pub fn encode_weight(w: f64, out: &mut String) {
         let _ = write!(out, "{a}");
         return;
     }
-    let n = (a * 10000.0 + 0.5).trunc();
-    if n == 0.0 {
-        out.push_str("0.0000");
-        return;
-    }
+    let x = a * 10000.0 + 0.5;
     // Integer arithmetic gives the same digits as the float form for every weight below
-    // 1e15 / 10000 and avoids float formatting on the per-iteration path.
-    if n < 1e15 {
-        let n = n as u64;
-        push_u64(out, n / 10000);
-        out.push('.');
-        push_frac4(out, (n % 10000) as u32);
+    // 1e15 / 10000 and avoids float formatting on the per-iteration path. Below 1e15
+    // (< 2^53) `x as u64` is exactly `x.trunc()`, without a libm call per weight.
+    if x < 1e15 {
+        let n = x as u64;
+        if n == 0 {
+            out.push_str("0.0000");
+            return;
+        }
+        // Integer part and up to four fractional digits on the stack, then one append.
+        let mut ib = itoa::Buffer::new();
+        out.push_str(ib.format(n / 10000));
+        let frac = (n % 10000) as u32;
+        let mut buf = [b'.', b'0', b'0', b'0', b'0'];
+        let mut len = 1;
+        if frac != 0 {
+            buf[1] += (frac / 1000) as u8;
+            buf[2] += (frac / 100 % 10) as u8;
+            buf[3] += (frac / 10 % 10) as u8;
+            buf[4] += (frac % 10) as u8;
+            len = 5;
+            while buf[len - 1] == b'0' {
+                len -= 1;
+            }
+        }
+        out.push_str(std::str::from_utf8(&buf[..len]).unwrap_or("."));
         return;
     }
+    let n = x.trunc();
     let int = (n / 10000.0).trunc();
     let frac = (n - int * 10000.0) as u32;
     let _ = write!(out, "{int:.0}.");
@@ -40,10 +56,6 @@ pub fn encode_weight(w: f64, out: &mut String) {
 }
 
 fn push_i32(out: &mut String, v: i32) {
-    out.push_str(itoa::Buffer::new().format(v));
-}
-
-fn push_u64(out: &mut String, v: u64) {
     out.push_str(itoa::Buffer::new().format(v));
 }
 
@@ -65,19 +77,25 @@ fn push_frac4(out: &mut String, frac: u32) {
 /// BHV_IPF whole-function string (spec §9.1).
 pub fn encode(f: &IvpFunction) -> String {
     let dim = f.dim();
-    let mut s = String::with_capacity(64 + f.piece_count() * (dim * 8 + (dim + 1) * 9));
+    // Generous: growing a string of thousands of pieces copies it each time.
+    let mut s = String::with_capacity(
+        96 + f.context().len() + f.piece_count() * (dim * 12 + (dim + 1) * 10),
+    );
     let _ = write!(
         s,
-        "H,{},{},{},{},1,{},D,{},G",
+        "H,{},{},{},{},1,",
         f.context().chars().count(),
         f.context(),
         dim,
         f.piece_count(),
-        compact(f.pwt()),
-        f.domain().to_ipf_string()
     );
-    for g in f.gelbox() {
-        let _ = write!(s, ",{g}");
+    push_compact(&mut s, f.pwt());
+    s.push_str(",D,");
+    f.domain().write_ipf(&mut s);
+    s.push_str(",G");
+    for &g in f.gelbox() {
+        s.push(',');
+        s.push_str(itoa::Buffer::new().format(g));
     }
     s.push_str(",F");
     for p in f.pieces() {

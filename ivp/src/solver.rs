@@ -37,6 +37,8 @@ struct Prepared {
     cell_items: Vec<u32>,
     cell_ub: Vec<f64>,
     cell_filled: Vec<bool>,
+    /// `maxVal` of each piece (the global bound and the cell bounds both need it).
+    maxv: Vec<f64>,
     cursor: Vec<u32>,
     seen: Vec<Cell<u32>>,
     stamp: Cell<u32>,
@@ -70,7 +72,57 @@ impl Prepared {
 
 /// Visit the grid cells overlapping box `b` like an odometer counting down,
 /// last dimension first (spec §2.4). `f` returns false to stop.
+///
+/// Runs for every piece of every function each iteration (cell lists, cheap bounds), so
+/// the odometer steps by strides on the stack instead of dividing per cell.
+#[inline]
 fn for_each_cell(
+    ppg: &[i32],
+    stride: &[usize],
+    b: &[i32],
+    dim: usize,
+    mut f: impl FnMut(usize) -> bool,
+) {
+    if dim > ODO_DIMS {
+        return for_each_cell_any(ppg, stride, b, dim, f);
+    }
+    let mut lo = [0usize; ODO_DIMS];
+    let mut hi = [0usize; ODO_DIMS];
+    let mut cur = [0usize; ODO_DIMS];
+    let mut idx = 0usize;
+    for d in 0..dim {
+        lo[d] = (b[2 * d] / ppg[d]) as usize;
+        hi[d] = (b[2 * d + 1] / ppg[d]) as usize;
+        cur[d] = hi[d];
+        idx += hi[d] * stride[d];
+    }
+    loop {
+        if !f(idx) {
+            return;
+        }
+        // Count down, last dimension fastest; wrap to `hi` and carry.
+        let mut d = dim;
+        loop {
+            if d == 0 {
+                return;
+            }
+            d -= 1;
+            if cur[d] > lo[d] {
+                cur[d] -= 1;
+                idx -= stride[d];
+                break;
+            }
+            idx += (hi[d] - lo[d]) * stride[d];
+            cur[d] = hi[d];
+        }
+    }
+}
+
+/// Dimensions the stack odometer of [`for_each_cell`] handles.
+const ODO_DIMS: usize = 8;
+
+/// [`for_each_cell`] for any number of dimensions (same order).
+fn for_each_cell_any(
     ppg: &[i32],
     stride: &[usize],
     b: &[i32],
@@ -517,11 +569,13 @@ impl Solver {
         }
         p.single = total == 1;
         p.global_ub = NO_BOUND;
+        p.maxv.clear();
         for k in 0..n {
             let v = max_val(
                 &p.bounds[k * bl..(k + 1) * bl],
                 &p.weights[k * wl..(k + 1) * wl],
             );
+            p.maxv.push(v);
             if k == 0 || v > p.global_ub {
                 p.global_ub = v;
             }
@@ -559,7 +613,7 @@ impl Solver {
 }
 
 fn build_cells(p: &mut Prepared, dim: usize, total: usize) {
-    let (bl, wl) = (2 * dim, dim + 1);
+    let bl = 2 * dim;
     let (ppg, stride) = (&p.ppg, &p.stride);
     p.cell_start.clear();
     p.cell_start.resize(total + 1, 0);
@@ -583,7 +637,7 @@ fn build_cells(p: &mut Prepared, dim: usize, total: usize) {
     // Pieces in array order inside every cell; cell bound = max piece maxVal.
     for k in 0..p.n {
         let b = &p.bounds[k * bl..(k + 1) * bl];
-        let v = max_val(b, &p.weights[k * wl..(k + 1) * wl]);
+        let v = p.maxv[k];
         for_each_cell(ppg, stride, b, dim, |c| {
             p.cell_items[p.cursor[c] as usize] = k as u32;
             p.cursor[c] += 1;
@@ -601,4 +655,47 @@ fn build_cells(p: &mut Prepared, dim: usize, total: usize) {
         s.set(0);
     }
     p.stamp.set(0);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stack odometer visits exactly the cells, in exactly the order, of the
+    /// reference's divide-per-cell count (the order fixes the search's tie-breaks).
+    #[test]
+    fn odometer_matches_the_divide_per_cell_order() {
+        let cases: [(&[i32], &[i32]); 4] = [
+            (&[9, 6], &[0, 359, 0, 40]),
+            (&[9, 6], &[17, 19, 5, 12]),
+            (&[4, 3, 2], &[3, 9, 0, 0, 1, 5]),
+            (&[2], &[7, 7]),
+        ];
+        for (ppg, b) in cases {
+            let mut stride = vec![];
+            let mut total = 1usize;
+            for &p in ppg {
+                stride.push(total);
+                total *= (400 / p as usize) + 1;
+            }
+            let dim = ppg.len();
+            let (mut fast, mut slow) = (vec![], vec![]);
+            for_each_cell(ppg, &stride, b, dim, |c| {
+                fast.push(c);
+                true
+            });
+            for_each_cell_any(ppg, &stride, b, dim, |c| {
+                slow.push(c);
+                true
+            });
+            assert!(!fast.is_empty());
+            assert_eq!(fast, slow, "{ppg:?} {b:?}");
+            let mut first = vec![];
+            for_each_cell(ppg, &stride, b, dim, |c| {
+                first.push(c);
+                false
+            });
+            assert_eq!(first, slow[..1]);
+        }
+    }
 }

@@ -268,8 +268,9 @@ pub fn svg_with_tracks(
         bx + bw + 8.0,
         by + 4.0
     );
+    let erased = shapes.iter().any(|(_, c)| c.as_deref() == Some(ERASED));
     let only: Vec<Shape> = shapes.into_iter().map(|(s, _)| s).collect();
-    legend(&mut o, &only, !others.is_empty());
+    legend(&mut o, &only, !others.is_empty(), erased);
     if obs.depth.enabled {
         crate::depth_strip::draw(&mut o, &obs.depth, H, W);
     }
@@ -286,7 +287,9 @@ fn depth_strip_height(obs: &Observer) -> f64 {
     }
 }
 
-fn legend(o: &mut String, shapes: &[Shape], others: bool) {
+/// `erased`: some shape is drawn grey because its behavior erased it (say so, or a
+/// reader matches the grey plan to the coloured legend entry and is misled).
+fn legend(o: &mut String, shapes: &[Shape], others: bool, erased: bool) {
     let x = W - 200.0;
     let top = MARGIN + 10.0;
     let has = |f: fn(&Shape) -> bool| shapes.iter().any(f);
@@ -331,6 +334,16 @@ fn legend(o: &mut String, shapes: &[Shape], others: bool) {
                 )
             },
             "waypoints (VIEW_SEGLIST)",
+        ));
+    }
+    if erased {
+        items.push((
+            |x, y| {
+                format!(
+                    r#"<path d="M{x},{y} h22" stroke="{ERASED}" stroke-width="1.5" stroke-dasharray="6,4"/>"#
+                )
+            },
+            "erased by its behavior",
         ));
     }
     if has(|s| matches!(s, Shape::Polygon(..))) {
@@ -452,6 +465,10 @@ mod tests {
         assert!(
             svg.contains(&format!(r#"stroke="{ERASED}""#)),
             "a finished path, grey"
+        );
+        assert!(
+            svg.contains("erased by its behavior"),
+            "the legend says what grey means"
         );
         assert!(svg.contains(">0,0</text>"), "the origin");
         assert!(

@@ -163,7 +163,23 @@ function drawShape(o, parent) {
       triangle: `${x},${y - r} ${x + r},${y + r} ${x - r},${y + r}`,
     }[o.marker];
     if (shape) el("polygon", { points: shape, fill: c, stroke: "#000" }, g);
-    else el("circle", { cx: x, cy: y, r, fill: c, stroke: "#000" }, g);
+    else if (o.marker === "kelp") {
+      // pMarineViewer's kelp: a small star.
+      const pts = [];
+      for (let i = 0; i < 10; i++) {
+        const a = (i * Math.PI) / 5, q = i % 2 ? r * 0.45 : r;
+        pts.push(`${(x + q * Math.sin(a)).toFixed(1)},${(y - q * Math.cos(a)).toFixed(1)}`);
+      }
+      el("polygon", { points: pts.join(" "), fill: c, stroke: "#000" }, g);
+    } else {
+      el("circle", { cx: x, cy: y, r, fill: c, stroke: "#000" }, g);
+      // efield: a plus inside the disc; gateway: a cross (what pMarineViewer draws in them).
+      const d = r * 0.7;
+      if (o.marker === "efield")
+        el("path", { d: `M${x - d},${y}H${x + d}M${x},${y - d}V${y + d}`, stroke: "#000" }, g);
+      else if (o.marker === "gateway")
+        el("path", { d: `M${x - d},${y - d}L${x + d},${y + d}M${x + d},${y - d}L${x - d},${y + d}`, stroke: "#000" }, g);
+    }
   } else {
     el("circle", { cx: x, cy: y, r: vs, fill: color(o.vertex_color, "#ffff00") }, g);
   }

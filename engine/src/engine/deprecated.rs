@@ -19,13 +19,11 @@ pub(crate) fn refusal(bs: &bhv::reader::BehaviorSpec) -> Option<Vec<String>> {
         return None;
     }
     let where_ = format!("{}:{}", bs.file.display(), bs.line);
+    // The helm's one reading of a boolean, as for every other flag.
     let acknowledged = bs.lines.iter().any(|l| {
         l.param
             .eq_ignore_ascii_case("i_understand_this_behavior_is_deprecated")
-            && matches!(
-                l.value.trim().to_ascii_lowercase().as_str(),
-                "true" | "yes" | "on"
-            )
+            && crate::config::parse_bool(l.value.trim()) == Some(true)
     });
     if acknowledged {
         return Some(vec![format!(

@@ -1,5 +1,7 @@
 //! One helm iteration (helm.md §6), the decision (§7) and the all-stop logic (§9).
 
+use std::fmt::Write as _;
+
 use super::{Helm, HelmState};
 use crate::posting::{Posting, Value};
 use crate::runtime::step;
@@ -266,7 +268,9 @@ impl Helm {
                 match self.to_ivp(fd) {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
-                        f.set_context(&format!("{iter}:{name}"));
+                        let context = f.context_mut();
+                        context.clear();
+                        let _ = write!(context, "{iter}:{name}");
                         let whole = ivp::ipf::encode(&f);
                         let id = format!("{name}^{iter}");
                         for p in ivp::ipf_packets(&id, &whole) {

@@ -221,7 +221,13 @@ impl BehaviorCore {
         let key = if given_key.eq_ignore_ascii_case("repeatable") {
             "repeatable".to_string()
         } else {
-            format!("{}{}{}", self.name, var, given_key)
+            // Sized and joined directly: `format!` costs more than the copy itself on
+            // this per-message path.
+            let mut k = String::with_capacity(self.name.len() + var.len() + given_key.len());
+            k.push_str(&self.name);
+            k.push_str(&var);
+            k.push_str(given_key);
+            k
         };
         self.messages.push(Message { var, value, key });
     }

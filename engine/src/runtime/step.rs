@@ -1,5 +1,7 @@
 //! One behavior's part in one helm iteration (behavior-common.md §4 and §6).
 
+use std::fmt::Write as _;
+
 use behavior_api::{CallResult, FunctionData, HelmCtx};
 use bhv::number::atof;
 
@@ -255,8 +257,8 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
                     post_flags(inst, env, ib, FlagKind::Active, true);
                 }
                 new = RunState::Active;
-                let info = format!(",pwt={:.5},pcs={}", f.pwt, f.piece_count().unwrap_or(0));
-                inst.core.status_info.push_str(&info);
+                let pcs = f.piece_count().unwrap_or(0);
+                let _ = write!(inst.core.status_info, ",pwt={:.5},pcs={pcs}", f.pwt);
                 outcome.function = Some(f);
             } else {
                 if old == RunState::Active {
@@ -283,21 +285,23 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     }
 
     let core = &mut inst.core;
-    let updates = if core.updates_var.is_empty() {
-        "n/a".to_string()
+    // `<status info>,state=<state>,updates=<good>/<total> or n/a`, written into one
+    // string sized up front (this runs for every behavior every iteration).
+    let mut status = String::with_capacity(core.status_info.len() + 40);
+    status.push_str(&core.status_info);
+    status.push_str(",state=");
+    status.push_str(new.as_str());
+    status.push_str(",updates=");
+    if core.updates_var.is_empty() {
+        status.push_str("n/a");
     } else {
-        format!(
+        let _ = write!(
+            status,
             "{}/{}",
             core.good_updates,
             core.good_updates + core.bad_updates
-        )
-    };
-    let status = format!(
-        "{},state={},updates={}",
-        core.status_info,
-        new.as_str(),
-        updates
-    );
+        );
+    }
     core.post("BHV_STATUS", Value::Str(status), "");
     if new != old {
         core.state_entry_time = now;

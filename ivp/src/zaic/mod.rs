@@ -61,9 +61,17 @@ impl Pieces1 {
     }
 }
 
+/// Pieces a sampled ZAIC usually has (a peak with wrap: under a dozen).
+const SAMPLE_PIECES: usize = 16;
+
 /// Piece construction from sampled values (spec §3.1, tolerance 0.001).
 pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
-    let mut out = Pieces1::default();
+    // Room for the usual few pieces up front, so the pushes below do not regrow the
+    // vectors step by step on every build.
+    let mut out = Pieces1 {
+        bounds: Vec::with_capacity(2 * SAMPLE_PIECES),
+        weights: Vec::with_capacity(2 * SAMPLE_PIECES),
+    };
     let n = v.len();
     if n < 2 {
         return out;

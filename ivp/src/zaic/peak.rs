@@ -45,7 +45,55 @@ impl Shape {
         }
     }
 
+    /// `out[i]` = utility at grid value `i·delta + low`: [`Shape::utility`] of
+    /// [`ZaicPeak::dist`], written without branches on the samples (selects of values
+    /// computed with the very same operations) so the loop runs straight through 360
+    /// headings several times per behavior per iteration.
+    fn sample(&self, summit: f64, wrap: bool, low: f64, high: f64, delta: f64, out: &mut [f64]) {
+        let flat_peak = self.sd <= 0.0;
+        let mut fi = 0.0f64; // i as f64, exact for any grid size
+        for v in out.iter_mut() {
+            let x = fi * delta + low;
+            fi += 1.0;
+            let dist = if wrap {
+                let above = summit > x;
+                let a = if above { summit - x } else { x - summit };
+                let b = if above {
+                    (x - low) + (high - summit) + delta
+                } else {
+                    (high - x) + (summit - low) + delta
+                };
+                if a < b {
+                    a
+                } else {
+                    b
+                }
+            } else {
+                (summit - x).abs()
+            };
+            let peak = if flat_peak {
+                self.maxutil
+            } else {
+                self.maxutil - self.peak_slope * dist
+            };
+            let base = self.edge - self.base_slope * (dist - self.pwidth);
+            let val = if dist <= self.pwidth {
+                peak
+            } else if dist <= self.reach {
+                base
+            } else {
+                self.minutil
+            };
+            *v = if val > self.maxutil {
+                self.maxutil
+            } else {
+                val
+            };
+        }
+    }
+
     /// Utility at distance `dist` from the summit (spec §3.1).
+    #[cfg(test)]
     fn utility(&self, dist: f64) -> f64 {
         let val = if dist <= self.pwidth {
             if self.sd <= 0.0 {
@@ -250,18 +298,25 @@ impl ZaicPeak {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
-        let var = self.domain.var(0).clone();
-        let n = var.points as usize;
+        // Borrowed: cloning the variable would copy its name every time.
+        let var = self.domain.var(0);
         let delta = var.delta();
+        let n = var.points as usize;
         let mut total = vec![0.0f64; n];
-        let mut vals = vec![0.0f64; n];
+        let mut vals = Vec::new();
         for (k, c) in self.comps.iter().enumerate() {
             let shape = Shape::of(c);
-            for (i, v) in vals.iter_mut().enumerate() {
-                let x = i as f64 * delta + var.low;
-                *v = shape.utility(self.dist(c.summit, x, var.low, var.high, delta));
-            }
-            if self.summit_insist && vals.iter().all(|&v| v == c.minutil) && n > 0 {
+            // The first component's samples go straight into `total` (what the
+            // combination below would copy there).
+            let first = k == 0;
+            let buf: &mut Vec<f64> = if first {
+                &mut total
+            } else {
+                vals.resize(n, 0.0);
+                &mut vals
+            };
+            shape.sample(c.summit, self.value_wrap, var.low, var.high, delta, buf);
+            if self.summit_insist && buf.iter().all(|&v| v == c.minutil) && n > 0 {
                 let ix = if c.summit < var.low {
                     0
                 } else if c.summit > var.high {
@@ -279,12 +334,13 @@ impl ZaicPeak {
                     }
                     best
                 };
-                vals[ix] = c.maxutil;
+                buf[ix] = c.maxutil;
+            }
+            if first {
+                continue;
             }
             for i in 0..n {
-                if k == 0 {
-                    total[i] = vals[i];
-                } else if maxval {
+                if maxval {
                     if vals[i] > total[i] {
                         total[i] = vals[i];
                     }
@@ -309,6 +365,41 @@ impl ZaicPeak {
             a
         } else {
             b
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The branch-free sampler gives, bit for bit, the utility of the distance.
+    #[test]
+    fn sample_is_bit_identical_to_utility_of_dist() {
+        let d = Domain::parse("course:0:359:360").unwrap();
+        let (low, high, delta) = (0.0, 359.0, 1.0);
+        let comps = [
+            (120.5, 0.0, 180.0, 50.0, 0.0, 100.0),
+            (10.0, 30.0, 180.0, 5.0, 0.0, 20.0),
+            (350.0, 0.0, 0.0, 0.0, 0.0, 100.0),
+            (-20.0, 15.0, 40.0, 0.0, 10.0, 90.0),
+            (200.0, 7.5, 0.25, 100.0, 0.0, 100.0),
+        ];
+        for wrap in [false, true] {
+            for &(summit, pw, bw, dl, mn, mx) in &comps {
+                let mut z = ZaicPeak::new(&d, "course").unwrap();
+                z.set_value_wrap(wrap);
+                z.set_params(summit, pw, bw, dl, mn, mx, 0);
+                let c = z.comps[0];
+                let shape = Shape::of(&c);
+                let mut out = vec![0.0; 360];
+                shape.sample(c.summit, wrap, low, high, delta, &mut out);
+                for (i, &v) in out.iter().enumerate() {
+                    let x = i as f64 * delta + low;
+                    let want = shape.utility(z.dist(c.summit, x, low, high, delta));
+                    assert_eq!(v.to_bits(), want.to_bits(), "{wrap} {summit} {i}");
+                }
+            }
         }
     }
 }

@@ -236,7 +236,7 @@ impl ZaicSpd {
             return Err(e.clone());
         }
         self.adjust();
-        let var = self.domain.var(0).clone();
+        let var = self.domain.var(0);
         let dlow = var.low;
         let (med, low, hgh) = (self.med, self.low, self.hgh);
         let (mu, min_u, low_u) = (self.max_util, self.min_util, self.low_util);

@@ -46,6 +46,9 @@ pub struct CutRangeAof {
     patience: f64,
     rmin: f64,
     rr: f64,
+    /// The engine's rate-of-closure cosine per integer heading, computed once: the
+    /// reflector asks for thousands of grid points per iteration.
+    cos: Box<[f64; 360]>,
 }
 
 impl CutRangeAof {
@@ -65,6 +68,7 @@ impl CutRangeAof {
             return None;
         }
         let (rmin, rmax) = engine.min_max_roc(vmax);
+        let cos = Box::new(engine.roc_cosines());
         Some(CutRangeAof {
             engine,
             tol,
@@ -72,6 +76,7 @@ impl CutRangeAof {
             patience,
             rmin,
             rr: rmax - rmin,
+            cos,
         })
     }
 
@@ -85,7 +90,7 @@ impl CutRangeAof {
             100.0 - 100.0 * cpa / self.dist
         };
         let nroc = if self.rr > 0.0 {
-            100.0 * (self.engine.roc(c, s) - self.rmin) / self.rr
+            100.0 * (self.engine.roc_with(&self.cos, c, s) - self.rmin) / self.rr
         } else {
             0.0
         };
