@@ -75,6 +75,15 @@ impl SimBus {
         }
     }
 
+    /// Connect one more app (e.g. a vehicle's pObstacleMgr); its index.
+    pub fn add_client(&mut self, name: &str) -> usize {
+        self.clients.push(Client {
+            name: name.to_string(),
+            ..Client::default()
+        });
+        self.clients.len() - 1
+    }
+
     pub fn subscribe(&mut self, client: usize, var: &str) -> bool {
         let subs = &mut self.clients[client].subs;
         if subs.contains(var) {

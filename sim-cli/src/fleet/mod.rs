@@ -4,5 +4,7 @@
 
 pub mod cli;
 pub mod montecarlo;
+pub mod obstacle_layer;
 pub mod output;
 pub mod picture;
+pub mod stats;

@@ -59,6 +59,12 @@ pub struct Row {
     pub spawned: Vec<u64>,
     pub behavior_panics: usize,
     pub behavior_errors: usize,
+    /// Obstacle counts, when the scenario has obstacles (issue 22).
+    #[serde(default)]
+    pub obstacles: Option<super::stats::ObstacleCells>,
+    /// Each ordered pair's COLREGS situation and verdict, in [`super::stats::rule_columns`]' order.
+    #[serde(default)]
+    pub rules: Vec<super::stats::RuleCell>,
 }
 
 /// Which runs of `runs` the shard `k` of `n` (1-based) runs: a contiguous slice.
@@ -118,6 +124,8 @@ pub fn run_range(
                     .iter()
                     .map(|v| v.observer.behavior_errors.len())
                     .sum(),
+                obstacles: o.obstacles.as_ref().map(super::stats::ObstacleCells::of),
+                rules: super::stats::rule_cells(&o),
             })
         })
         .collect()
@@ -142,7 +150,7 @@ fn pair_names(vehicles: &[String]) -> Vec<String> {
 }
 
 /// `runs.csv`: one row per run, fixed decimals (same runs, same bytes).
-pub fn csv(vehicles: &[String], rows: &[Row]) -> String {
+pub fn csv(vehicles: &[String], obstacles: bool, rows: &[Row]) -> String {
     let mut s = String::from(
         "run,seed,end_reason,sim_time_s,encounters,near_misses,collisions,closest_m,\
          behavior_panics,behavior_errors",
@@ -154,6 +162,7 @@ pub fn csv(vehicles: &[String], rows: &[Row]) -> String {
     for v in vehicles {
         let _ = write!(s, ",spawned_{}", column(v));
     }
+    super::stats::header(&mut s, vehicles, obstacles);
     s.push('\n');
     for r in rows {
         let _ = write!(
@@ -176,6 +185,13 @@ pub fn csv(vehicles: &[String], rows: &[Row]) -> String {
         for n in &r.spawned {
             let _ = write!(s, ",{n}");
         }
+        super::stats::cells(
+            &mut s,
+            vehicles.len(),
+            obstacles,
+            r.obstacles.as_ref(),
+            &r.rules,
+        );
         s.push('\n');
     }
     s
@@ -244,6 +260,8 @@ pub fn distribution(rows: &[Row]) -> String {
             100.0 * hi
         );
     }
+    let obs: Vec<_> = rows.iter().filter_map(|r| r.obstacles.as_ref()).collect();
+    super::stats::distribution(&mut s, &obs, rows.iter().flat_map(|r| &r.rules), wilson);
     s.pop();
     s
 }
@@ -260,6 +278,9 @@ pub struct ShardFile {
     pub shard: usize,
     pub shards: usize,
     pub rows: Vec<Row>,
+    /// The scenario has obstacles (the table has their columns).
+    #[serde(default)]
+    pub obstacles: bool,
     /// The rows as `runs.csv` lines, in the order of `rows`: merged as they are, so the
     /// table does not depend on how JSON carries floating-point numbers.
     pub lines: Vec<String>,
@@ -305,7 +326,8 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
     bar.finish_and_clear();
     let vehicles: Vec<String> = plan.vehicles.iter().map(|v| v.spec.name.clone()).collect();
     let csv_path = dir.join("runs.csv");
-    output::write(&csv_path, &csv(&vehicles, &rows))?;
+    let obstacles = plan.scenario.obstacles.is_some();
+    output::write(&csv_path, &csv(&vehicles, obstacles, &rows))?;
     println!(
         "{}: runs {}..{} of {runs} (seeds {}.., jitter {}) in {:.1} s wall on {} thread(s)",
         plan.name,
@@ -318,7 +340,7 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
     );
     println!("{}", distribution(&rows));
     if n > 1 {
-        let table = csv(&vehicles, &rows);
+        let table = csv(&vehicles, obstacles, &rows);
         let lines = table.lines().skip(1).map(str::to_string).collect();
         let shard = ShardFile {
             mission: plan.name.clone(),
@@ -330,6 +352,7 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
             shard: k,
             shards: n,
             rows,
+            obstacles,
             lines,
         };
         let path = dir.join("shard.json");
@@ -447,7 +470,7 @@ pub fn merge_cli(dirs: &[PathBuf], out: Option<&Path>) -> Result<u8, SimError> {
     let (head, merged) = merge_shards(dirs)?;
     let dir = output::out_dir(out, &format!("{}-mc{}-merged", head.mission, head.runs))?;
     let path = dir.join("runs.csv");
-    let mut table = csv(&head.vehicles, &[]);
+    let mut table = csv(&head.vehicles, head.obstacles, &[]);
     for (_, line) in &merged {
         table.push_str(line);
         table.push('\n');

@@ -63,6 +63,12 @@ pub struct FleetSummary<'a> {
     pub comms: CommsStats,
     /// What went wrong, in plain words, worst first.
     pub warnings: Vec<String>,
+    /// Vehicle-obstacle encounters, as uFldCollObDetect counts them (issue 22).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub obstacles: Option<&'a helm_sim::fleet::obstacles::ObstacleOutcome>,
+    /// Each ordered pair's COLREGS situation and verdict (see `helm_sim::fleet::colregs`).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub colregs: &'a [helm_sim::fleet::colregs::RuleRecord],
 }
 
 fn vehicle(v: &VehicleOutcome) -> VehicleSummary<'_> {
@@ -161,6 +167,8 @@ pub fn summary<'a>(o: &'a FleetOutcome, mission: &'a str) -> FleetSummary<'a> {
         pairs: &o.pairs,
         comms: o.comms,
         warnings: warnings(o),
+        obstacles: o.obstacles.as_ref(),
+        colregs: &o.colregs,
     }
 }
 
@@ -213,6 +221,7 @@ pub fn terminal(o: &FleetOutcome, mission: &str) -> String {
             p.a, p.b, p.closest_m, p.closest_time_s
         );
     }
+    helm_sim::fleet::colregs::terminal(&mut s, o.obstacles.as_ref(), &o.colregs);
     let cm = &o.comms;
     let _ = write!(
         s,

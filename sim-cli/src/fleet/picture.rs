@@ -18,9 +18,15 @@ pub fn svg(o: &FleetOutcome, title: &str, subtitle: &str) -> String {
     for v in &o.vehicles {
         all.extend(v.observer.track.points());
     }
+    if let Some(ob) = &o.obstacles {
+        all.extend(helm_sim::fleet::obstacles::picture_points(ob));
+    }
     let view = View::fit(&all);
     let mut s = String::new();
     header(&mut s, title, subtitle);
+    if let Some(ob) = &o.obstacles {
+        super::obstacle_layer::picture_layer(&mut s, &view, ob);
+    }
     tracks(&mut s, &view, o);
     time_ticks(&mut s, &view, o);
     closest_approaches(&mut s, &view, o);

@@ -9,7 +9,9 @@
 //! `helm-sim-cli` (`fleet`).
 
 pub mod collide;
+pub mod colregs;
 pub mod comms;
+pub mod obstacles;
 pub mod run;
 pub mod spec;
 pub mod vehicle;

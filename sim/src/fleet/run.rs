@@ -69,6 +69,10 @@ pub struct FleetOutcome {
     pub ranges: Ranges,
     /// s between the picture's time ticks.
     pub tick: f64,
+    /// Obstacles, when the scenario has some.
+    pub obstacles: Option<super::obstacles::ObstacleOutcome>,
+    /// The COLREGS verdict of every ordered pair that met.
+    pub colregs: Vec<super::colregs::RuleRecord>,
 }
 
 impl FleetPlan {
@@ -116,12 +120,20 @@ impl FleetPlan {
         let mut comms = CommsModel::new(sc.comms, opts.seed);
         let mut pos: Vec<(f64, f64)> = live.iter().map(|l| (l.nav().x, l.nav().y)).collect();
         detector.update(0.0, &pos);
+        let mut rules =
+            super::colregs::Tracker::new(live.len(), sc.ranges.encounter, sc.ranges.collision);
+        let mut world = sc
+            .obstacles
+            .as_ref()
+            .map(|o| super::obstacles::World::new(o, opts.seed));
         let clients: Vec<Value> = self
             .vehicles
             .iter()
-            .map(|_| {
+            .map(|p| {
+                // A vehicle running pObstacleMgr lists it too (the others as before).
+                let obm = if p.obm.is_some() { "pObstacleMgr," } else { "" };
                 Value::Str(format!(
-                    "uSimMarine,pHelmIvP,pContactMgrV20,pNodeReporter,{COMMS_NAME},"
+                    "uSimMarine,pHelmIvP,pContactMgrV20,pNodeReporter,{obm}{COMMS_NAME},"
                 ))
             })
             .collect();
@@ -143,7 +155,8 @@ impl FleetPlan {
                 .iter()
                 .zip(&self.vehicles)
                 .map(|(l, p)| l.next(p))
-                .fold(td.min(tp), f64::min);
+                .fold(td.min(tp), f64::min)
+                .min(world.as_ref().map_or(f64::INFINITY, |w| w.next()));
             if off > max_time {
                 off = max_time;
                 break "max-time".to_string();
@@ -175,6 +188,11 @@ impl FleetPlan {
                 }
                 kd += 1;
             }
+            if let Some(w) = &mut world {
+                let mut buses: Vec<&mut crate::bus::SimBus> =
+                    live.iter_mut().map(|l| &mut l.bus).collect();
+                w.step(off, now, &names, &mut buses, &pos);
+            }
             let mut moved = false;
             for (l, p) in live.iter_mut().zip(&self.vehicles) {
                 moved |= l.step(p, off, now, sc.mission_over);
@@ -185,6 +203,30 @@ impl FleetPlan {
                     *p = (n.x, n.y);
                 }
                 detector.update(off, &pos);
+                if let Some(w) = &mut world {
+                    w.collide(off, &names, &pos);
+                }
+                if live.len() > 1 {
+                    let vs: Vec<super::colregs::Vessel> = live
+                        .iter()
+                        .map(|l| {
+                            let n = l.nav();
+                            super::colregs::Vessel {
+                                x: n.x,
+                                y: n.y,
+                                heading: n.heading,
+                                speed: n.speed,
+                            }
+                        })
+                        .collect();
+                    let alerted = |i: usize, j: usize| {
+                        live[i]
+                            .mgr
+                            .alerted()
+                            .any(|(c, _)| c.eq_ignore_ascii_case(&names[j]))
+                    };
+                    rules.update(off, &vs, &alerted);
+                }
                 let due = ktick as f64 * sc.tick;
                 if off >= due {
                     for (t, p) in ticks.iter_mut().zip(&pos) {
@@ -210,6 +252,12 @@ impl FleetPlan {
             }
         };
         detector.finish();
+        let obm_alerts: Vec<(String, u64)> = live
+            .iter()
+            .zip(&names)
+            .filter_map(|(l, n)| l.obm.as_ref().map(|o| (n.clone(), o.alerts)))
+            .collect();
+        let obstacles = world.map(|w| w.finish(&obm_alerts));
         let mut vehicles = Vec::with_capacity(live.len());
         for ((mut l, p), ticks) in live.into_iter().zip(&self.vehicles).zip(ticks) {
             l.finish();
@@ -243,6 +291,8 @@ impl FleetPlan {
             comms: comms.stats,
             ranges: sc.ranges,
             tick: sc.tick,
+            obstacles,
+            colregs: rules.finish(&names),
         })
     }
 }

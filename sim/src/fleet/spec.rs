@@ -29,6 +29,9 @@
 //!
 //! [[poke]]                  # as for one vehicle; `vehicle = "abe"` pokes one, else all
 //! [end]                     # as for one vehicle; mission_over: every helm is over
+//!
+//! obstacle_file = "..."     # obstacles: see [`super::obstacles`] (also [[obstacle]],
+//!                           # [obstacle_sim], [obstacle_collision])
 //! ```
 //!
 //! Everything is checked before anything runs: an unknown key, a missing mission file,
@@ -131,6 +134,8 @@ pub struct FleetScenario {
     pub mission_over: bool,
     pub when: Vec<When>,
     pub path: PathBuf,
+    /// Obstacles (issue 22; see [`super::obstacles`]).
+    pub obstacles: Option<super::obstacles::ObstacleSetup>,
 }
 
 #[derive(Deserialize)]
@@ -143,6 +148,11 @@ struct Doc {
     #[serde(default)]
     poke: Vec<PokeDoc>,
     end: Option<EndDoc>,
+    #[serde(default)]
+    obstacle: Vec<super::obstacles::ObstacleDoc>,
+    obstacle_file: Option<Spanned<String>>,
+    obstacle_sim: Option<std::collections::BTreeMap<String, Spanned<toml::Value>>>,
+    obstacle_collision: Option<std::collections::BTreeMap<String, Spanned<toml::Value>>>,
 }
 
 #[derive(Deserialize)]
@@ -423,7 +433,18 @@ impl FleetScenario {
                 });
             }
         }
+        let obstacles = super::obstacles::read_setup(
+            &super::obstacles::Docs {
+                obstacle: &doc.obstacle,
+                obstacle_file: doc.obstacle_file.as_ref(),
+                obstacle_sim: doc.obstacle_sim.as_ref(),
+                obstacle_collision: doc.obstacle_collision.as_ref(),
+            },
+            &dir,
+            &bad,
+        )?;
         Ok(FleetScenario {
+            obstacles,
             vehicles,
             comms,
             ranges,

@@ -34,7 +34,7 @@ const CMGR: usize = 2;
 const SHORE: usize = 3;
 
 /// Block lines every MOOS app reads itself, not the contact manager's business.
-const APP_PARAMS: &[&str] = &[
+pub(super) const APP_PARAMS: &[&str] = &[
     "apptick",
     "commstick",
     "maxapptick",
@@ -61,6 +61,8 @@ pub struct VehiclePlan {
     pub library_report: Vec<String>,
     /// Unknown names in the simulator block, ignored but shown.
     pub warnings: Vec<String>,
+    /// Its pObstacleMgr, if the mission configures one.
+    pub obm: Option<super::obstacles::ObmPlan>,
 }
 
 fn fleet_err(name: &str, text: String) -> SimError {
@@ -139,7 +141,9 @@ impl VehiclePlan {
             .and_then(|v| moos::mission::config_f64(&v))
             .filter(|l| *l > 0.0)
             .unwrap_or(4.0);
+        let obm = super::obstacles::obm_plan(&file, &spec.mission, &spec.name, APP_PARAMS)?;
         Ok(VehiclePlan {
+            obm,
             spec: spec.clone(),
             helm_tick: file.app_tick(HELM_NAME, 5.0),
             sim_tick: file.app_tick(SIM_NAME, 10.0),
@@ -182,6 +186,7 @@ pub struct Live {
     mgr_in: Vec<Mail>,
     report: String,
     report_index: u64,
+    pub obm: Option<super::obstacles::ObmLive>,
 }
 
 impl Live {
@@ -226,6 +231,10 @@ impl Live {
         for var in mgr.subscriptions() {
             bus.subscribe(CMGR, &var);
         }
+        let obm = plan
+            .obm
+            .as_ref()
+            .map(|o| super::obstacles::ObmLive::new(o, &mut bus, t0));
         let mut helm = plan.recipe.build();
         let cycle = HelmCycle::startup(&mut helm, &mut bus, t0);
         bus.deliver();
@@ -251,6 +260,7 @@ impl Live {
             mgr_in: Vec::new(),
             report: String::new(),
             report_index: 0,
+            obm,
         })
     }
 
@@ -270,7 +280,8 @@ impl Live {
 
     /// The time (s from the start) of this vehicle's next app tick.
     pub fn next(&self, p: &VehiclePlan) -> f64 {
-        self.times(p).into_iter().fold(f64::INFINITY, f64::min)
+        let t = self.times(p).into_iter().fold(f64::INFINITY, f64::min);
+        self.obm.as_ref().map_or(t, |o| t.min(o.next()))
     }
 
     pub fn nav(&self) -> Nav {
@@ -318,6 +329,9 @@ impl Live {
         if tc == off {
             self.contact_manager(now);
             self.kc += 1;
+        }
+        if let Some(o) = &mut self.obm {
+            o.step(&mut self.bus, off, now);
         }
         if th == off {
             if mission_over && self.cycle.status.end.is_over(now) {
