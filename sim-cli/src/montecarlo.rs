@@ -337,6 +337,33 @@ pub fn distribution(rows: &[Row]) -> String {
 #[cfg(test)]
 mod tests {
 
+    /// Issue 20 point 14: the table has the end pose and helm state, only CSV-safe
+    /// column names, and no column for a marker that moved (alpha's next point).
+    #[test]
+    fn table_columns_end_pose_helm_state_safe_names_no_moving_markers() {
+        let mission = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/alpha");
+        let prep = Prepared::load(&mission, &[], None).expect("alpha loads");
+        let rows =
+            run_all(&prep, 2, 1, Jitter::default(), Some(60.0), None, &|| {}).expect("two runs");
+        let table = csv(&rows);
+        let header = table.lines().next().expect("a header");
+        for col in ["end_x", "end_y", "end_heading", "end_speed", "helm_state"] {
+            assert!(header.split(',').any(|c| c == col), "{col} in {header}");
+        }
+        for col in header.split(',') {
+            assert!(
+                !col.is_empty() && col.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
+                "column {col:?} is not CSV-safe"
+            );
+        }
+        assert!(
+            rows.iter()
+                .all(|r| r.min_dist.keys().all(|k| !k.contains("nextpt"))),
+            "a moving marker has no closest-approach column: {header}"
+        );
+        assert!(rows.iter().all(|r| r.helm_state == "DRIVE"));
+    }
+
     #[test]
     fn run_log_names_sort_in_run_order() {
         assert_eq!(run_alog_name(7, 1000), "run-0007.alog");
