@@ -57,17 +57,16 @@ fn single(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
     let json = serde_json::to_string_pretty(&summary).unwrap_or_default();
     let summary_path = dir.join("summary.json");
     output::write(&summary_path, &(json + "\n"))?;
-    let (e, n, c) = helm_sim::fleet::collide::Detector::totals(&o.pairs);
     let title = format!(
-        "{}: {} vehicles, {} after {:.1} s",
+        "{}: {}, {} after {:.1} s",
         plan.name,
-        o.vehicles.len(),
+        super::output::vehicles(o.vehicles.len()),
         o.end_reason,
         o.sim_time_s
     );
     let sub = format!(
-        "{e} encounter(s), {n} near miss(es), {c} collision(s); closest approach {:.1} m; ticks every {} s",
-        super::output::closest(&o.pairs),
+        "{}; ticks every {} s",
+        super::output::pair_line(&o.pairs),
         o.tick
     );
     let picture = dir.join(format!("{}.svg", plan.name));

@@ -91,6 +91,23 @@ fn vehicle(v: &VehicleOutcome) -> VehicleSummary<'_> {
     }
 }
 
+/// "1 vehicle", "8 vehicles".
+pub fn vehicles(n: usize) -> String {
+    format!("{n} vehicle{}", if n == 1 { "" } else { "s" })
+}
+
+/// The collision line of a picture's subtitle: nothing between pairs with one vehicle.
+pub fn pair_line(pairs: &[PairRecord]) -> String {
+    if pairs.is_empty() {
+        return "one vehicle: no pairs".into();
+    }
+    let (e, n, c) = Detector::totals(pairs);
+    format!(
+        "{e} encounter(s), {n} near miss(es), {c} collision(s); closest approach {:.1} m",
+        closest(pairs)
+    )
+}
+
 /// The closest approach over all pairs (infinite with one vehicle).
 pub fn closest(pairs: &[PairRecord]) -> f64 {
     pairs
@@ -185,8 +202,8 @@ pub fn terminal(o: &FleetOutcome, mission: &str) -> String {
     };
     let _ = writeln!(
         s,
-        "{mission}: {} vehicles, {} after {:.1} s simulated, {:.3} s wall ({speedup})",
-        o.vehicles.len(),
+        "{mission}: {}, {} after {:.1} s simulated, {:.3} s wall ({speedup})",
+        vehicles(o.vehicles.len()),
         o.end_reason,
         o.sim_time_s,
         o.wall_time_s
@@ -205,13 +222,16 @@ pub fn terminal(o: &FleetOutcome, mission: &str) -> String {
             v.end.y
         );
     }
-    let (e, n, c) = Detector::totals(&o.pairs);
-    let r = &o.ranges;
-    let _ = writeln!(
-        s,
-        "  encounters (< {} m) {e}, near misses (< {} m) {n}, collisions (< {} m) {c}",
-        r.encounter, r.near_miss, r.collision
-    );
+    // One vehicle has no pairs: no vessel-to-vessel line to print.
+    if !o.pairs.is_empty() {
+        let (e, n, c) = Detector::totals(&o.pairs);
+        let r = &o.ranges;
+        let _ = writeln!(
+            s,
+            "  encounters (< {} m) {e}, near misses (< {} m) {n}, collisions (< {} m) {c}",
+            r.encounter, r.near_miss, r.collision
+        );
+    }
     let mut pairs: Vec<&PairRecord> = o.pairs.iter().collect();
     pairs.sort_by(|a, b| a.closest_m.total_cmp(&b.closest_m));
     for p in pairs.iter().take(5) {

@@ -531,7 +531,7 @@ impl ObstacleOutcome {
     /// The terminal lines.
     pub fn terminal(&self) -> String {
         let mut s = format!(
-            "  obstacles: {} ; encounters (< {} m) {}, near misses (< {} m) {}, collisions (< {} m) {}; closest {:.1} m",
+            "  obstacles: {}; encounters (< {} m) {}, near misses (< {} m) {}, collisions (< {} m) {}; closest {:.1} m",
             self.obstacles.len(),
             self.encounter_dist,
             self.encounters,
