@@ -580,7 +580,6 @@ fn run_quiet_is_quiet_and_helm_verbose_is_read() {
 
 #[test]
 fn ctrl_c_during_a_monte_carlo_keeps_the_finished_runs() {
-    use std::io::BufRead;
     let dir = alpha_copy("interrupt", |m| m.to_string());
     let out = dir.join("mc");
     let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
@@ -598,41 +597,7 @@ fn ctrl_c_during_a_monte_carlo_keeps_the_finished_runs() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("start helm sim --runs 200");
-    // Off a terminal, progress comes as lines on stderr: wait for one that counts a run.
-    let stderr = child.stderr.take().expect("stderr");
-    let (tx, rx) = std::sync::mpsc::channel();
-    let reader = std::thread::spawn(move || {
-        let mut all = Vec::new();
-        for line in std::io::BufReader::new(stderr)
-            .lines()
-            .map_while(Result::ok)
-        {
-            let _ = tx.send(line.clone());
-            all.push(line);
-        }
-        all
-    });
-    let progressed = loop {
-        match rx.recv_timeout(std::time::Duration::from_secs(300)) {
-            Ok(l) if l.starts_with("runs ") => {
-                let n: u64 = l[5..]
-                    .split('/')
-                    .next()
-                    .and_then(|n| n.parse().ok())
-                    .unwrap_or(0);
-                if n >= 1 {
-                    break n;
-                }
-            }
-            Ok(_) => {}
-            Err(e) => panic!("no progress line off a terminal: {e}"),
-        }
-    };
-    // SAFETY: kill(2) on our own child's pid.
-    let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
-    assert_eq!(sent, 0);
-    let o = child.wait_with_output().expect("wait");
-    let lines = reader.join().expect("reader");
+    let (o, lines, progressed) = common::interrupt_after_first_run(child);
     let stdout = String::from_utf8_lossy(&o.stdout).to_string();
     assert_eq!(o.status.code(), Some(130), "{stdout}\n{lines:?}");
     // "alpha: interrupted after N of 200 runs", and runs.csv holds those N rows.

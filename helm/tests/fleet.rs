@@ -329,3 +329,46 @@ fn fleet_of_eight_avoids_each_other() {
     assert_eq!(sum["behavior_errors"].as_array().map(Vec::len), Some(0));
     assert!(sum["allstops"].is_array());
 }
+
+/// Ctrl-C during a fleet Monte Carlo keeps the finished runs (as for one vehicle):
+/// "interrupted after N of M runs", runs.csv with N rows, no shard file, exit 130.
+#[test]
+fn ctrl_c_during_a_fleet_monte_carlo_keeps_the_finished_runs() {
+    let out = std::env::temp_dir().join(format!("fleet-interrupt-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
+    cmd.args([
+        "sim",
+        s(&mission("encounter")),
+        "--runs",
+        "400",
+        "--out",
+        s(&out),
+    ])
+    .env("IVP_HELM_BUNDLED_DIR", "")
+    .stdout(std::process::Stdio::piped())
+    .stderr(std::process::Stdio::piped());
+    common::behavior_dirs(&mut cmd, Some(plugin_dir()));
+    let child = cmd.spawn().expect("start helm sim --runs 400");
+    let (o, lines, progressed) = common::interrupt_after_first_run(child);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(130), "{stdout}\n{lines:?}");
+    let said = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("encounter: interrupted after "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let n: usize = said
+        .strip_suffix(" of 400 runs")
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{said}"));
+    assert!(n as u64 >= progressed && n < 400, "{n} after {progressed}");
+    let csv = std::fs::read_to_string(out.join("runs.csv")).expect("runs.csv kept");
+    assert_eq!(
+        csv.lines().count(),
+        n + 1,
+        "header and one row per finished run"
+    );
+    assert!(out.join("summary.txt").exists());
+    assert!(!out.join("shard.json").exists());
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -219,3 +219,48 @@ pub fn nav_case(name: &str, bhv: &str, steps: usize, extra: impl Fn(usize) -> St
 pub fn builtin_case_helm(c: &Case, file: &str) -> Helm {
     build_helm(c, Path::new(file), &BehaviorFactory::with_builtins()).expect("helm builds")
 }
+
+/// A `helm sim --runs N` child (stderr piped, off a terminal): wait for its first
+/// progress line that counts a finished run, send SIGINT, and return its output, its
+/// stderr lines and the count that line gave.
+#[allow(dead_code)] // not every test file interrupts a Monte Carlo
+pub fn interrupt_after_first_run(
+    mut child: std::process::Child,
+) -> (std::process::Output, Vec<String>, u64) {
+    use std::io::BufRead;
+    let stderr = child.stderr.take().expect("stderr piped");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut all = Vec::new();
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            let _ = tx.send(line.clone());
+            all.push(line);
+        }
+        all
+    });
+    let progressed = loop {
+        match rx.recv_timeout(std::time::Duration::from_secs(300)) {
+            Ok(l) if l.starts_with("runs ") => {
+                let n: u64 = l[5..]
+                    .split('/')
+                    .next()
+                    .and_then(|n| n.parse().ok())
+                    .unwrap_or(0);
+                if n >= 1 {
+                    break n;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => panic!("no progress line off a terminal: {e}"),
+        }
+    };
+    // SAFETY: kill(2) on our own child's pid.
+    let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    assert_eq!(sent, 0);
+    let o = child.wait_with_output().expect("wait");
+    let lines = reader.join().expect("reader");
+    (o, lines, progressed)
+}

@@ -84,6 +84,10 @@ pub fn run_range(
     range
         .into_par_iter()
         .map(|i| {
+            // After Ctrl-C, runs not yet started are skipped: fewer rows.
+            if crate::interrupt::requested() {
+                return Ok(None);
+            }
             let s = seed.wrapping_add(i as u64);
             let o = plan.run(
                 &shifts(&jitter, s, plan.vehicles.len()),
@@ -95,7 +99,7 @@ pub fn run_range(
             )?;
             done();
             let (encounters, near_misses, collisions) = Detector::totals(&o.pairs);
-            Ok(Row {
+            Ok(Some(Row {
                 run: i,
                 seed: s,
                 end_reason: o.end_reason.clone(),
@@ -126,9 +130,10 @@ pub fn run_range(
                     .sum(),
                 obstacles: o.obstacles.as_ref().map(super::stats::ObstacleCells::of),
                 rules: super::stats::rule_cells(&o),
-            })
+            }))
         })
-        .collect()
+        .collect::<Result<Vec<Option<Row>>, SimError>>()
+        .map(|rows| rows.into_iter().flatten().collect())
 }
 
 /// A column name any CSV reader takes: letters, digits and `_`.
@@ -321,12 +326,32 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
         "{spinner} runs {pos}/{len} [{bar:40}] {elapsed_precise} eta {eta}",
     );
     let wall = std::time::Instant::now();
-    let done = || bar.inc(1);
+    crate::interrupt::install();
+    let lines = crate::interrupt::Progress::new(range.len() as u64);
+    let done = || {
+        bar.inc(1);
+        lines.tick();
+    };
     let rows = run_range(plan, range.clone(), args.seed, jitter, args.max_time, &done)?;
     bar.finish_and_clear();
     let vehicles: Vec<String> = plan.vehicles.iter().map(|v| v.spec.name.clone()).collect();
     let csv_path = dir.join("runs.csv");
     let obstacles = plan.scenario.obstacles.is_some();
+    if crate::interrupt::requested() {
+        // Ctrl-C: keep the finished runs (no shard.json: an incomplete shard must not merge).
+        let line = crate::interrupt::interrupted_line(&plan.name, rows.len(), range.len() as u64);
+        if rows.is_empty() {
+            crate::interrupt::remove_if_empty(&dir);
+            println!("{line}; nothing written");
+        } else {
+            output::write(&csv_path, &csv(&vehicles, obstacles, &rows))?;
+            let text = format!("{line}\n{}\n", distribution(&rows));
+            output::write(&dir.join("summary.txt"), &text)?;
+            print!("{text}");
+            println!("table:   {}", csv_path.display());
+        }
+        return Ok(crate::interrupt::EXIT_INTERRUPTED);
+    }
     output::write(&csv_path, &csv(&vehicles, obstacles, &rows))?;
     println!(
         "{}: runs {}..{} of {runs} (seeds {}.., jitter {}) in {:.1} s wall on {} thread(s)",
