@@ -582,7 +582,7 @@ fn run_quiet_is_quiet_and_helm_verbose_is_read() {
 fn ctrl_c_during_a_monte_carlo_keeps_the_finished_runs() {
     let dir = alpha_copy("interrupt", |m| m.to_string());
     let out = dir.join("mc");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_helm"))
+    let child = Command::new(env!("CARGO_BIN_EXE_helm"))
         .args([
             "sim",
             dir.to_str().expect("utf-8"),
