@@ -7,13 +7,15 @@
 //!
 //! It is driven like the helm engine: [`ContactManager::handle_mail`] with a batch of
 //! `(variable, value)` pairs and a time, then [`ContactManager::iterate`] with a time,
-//! which returns the postings. No sockets, clocks or threads; no MOOS types (values
+//! which returns the postings. The manager has no sockets, clocks or threads and no MOOS types (values
 //! are plain strings and numbers), so the simulator runs one per vehicle in-process
-//! and the `contactmgr` binary (`src/bin/contactmgr.rs`, the only user of `moos` in
-//! this crate) runs it as a MOOS app.
+//! and the `contactmgr` binary (`src/bin/contactmgr.rs`) runs it as a MOOS app in the
+//! frame of [`app`], which `obstaclemgr` shares; [`block`] reads a manager's
+//! `ProcessConfig` block for the binaries and the simulator alike. Only [`app`] uses
+//! `moos`'s client; [`block`] its mission-file reader.
 //!
 //! Depends on `contacts` (report parsing, type fixing, geodesy, CPA, extrapolation,
-//! filters) and `mbutil`; it must not depend on the helm crates, `behavior-api` or any
+//! filters), `mbutil` and `moos` (for [`app`] and [`block`] only); it must not depend on the helm crates, `behavior-api` or any
 //! plugin.
 //!
 //! ```
@@ -34,7 +36,9 @@
 //! ```
 
 pub mod alert;
+pub mod app;
 pub mod appcast;
+pub mod block;
 pub mod config;
 pub mod macros;
 pub mod manager;

@@ -66,6 +66,30 @@ pub fn body(m: &ObstacleManager) -> String {
     s
 }
 
+impl contact_manager::app::Manager for ObstacleManager {
+    fn subscriptions(&self) -> Vec<String> {
+        ObstacleManager::subscriptions(self)
+    }
+    fn handle_mail(&mut self, now: f64, mail: &[(&str, crate::MailValue<'_>)]) {
+        ObstacleManager::handle_mail(self, now, mail)
+    }
+    fn iterate(&mut self, now: f64) -> &[crate::Posting] {
+        ObstacleManager::iterate(self, now)
+    }
+    fn iterations(&self) -> u64 {
+        ObstacleManager::iterations(self)
+    }
+    fn warnings(&self) -> &crate::Warnings {
+        ObstacleManager::warnings(self)
+    }
+    fn warnings_mut(&mut self) -> &mut crate::Warnings {
+        ObstacleManager::warnings_mut(self)
+    }
+    fn appcast_body(&self, _now: f64) -> String {
+        body(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

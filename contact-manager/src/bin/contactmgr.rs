@@ -6,29 +6,20 @@
 //! appcast on request. In an Antler block: `Run = contactmgr @ NewConsole = false ~
 //! pContactMgrV20`.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
 
-use contact_manager::appcast::{self, Caster, BASE_VARS};
-use contact_manager::{Config, ContactManager, MailValue, Value, Warnings};
-use moos::client::{Client, ClientConfig};
-use moos::mission::{config_f64, MissionFile};
-use moos::Message;
+use contact_manager::app::{self, AppInfo};
+use contact_manager::{block, Config, ContactManager, Warnings};
+use moos::mission::MissionFile;
 
-const DEFAULT_NAME: &str = "pContactMgrV20";
-const DEFAULT_TICK: f64 = 4.0;
-
-/// Block lines every MOOS app reads itself (not the manager's business).
-const APP_PARAMS: &[&str] = &[
-    "apptick",
-    "commstick",
-    "maxapptick",
-    "iteratemode",
-    "app_logging",
-    "comms_policy",
-    "term_report_interval",
-];
+const INFO: AppInfo = AppInfo {
+    bin: "contactmgr",
+    stands_for: "pContactMgrV20",
+    default_tick: 4.0,
+    usage: USAGE,
+    example: EXAMPLE,
+    interface: INTERFACE,
+};
 
 const USAGE: &str = "\
 Usage: contactmgr MISSION.moos [NAME] [--alias=NAME] [OPTIONS]
@@ -99,230 +90,30 @@ PUBLICATIONS:
   <NAME>_PID, APPCAST
 ";
 
-struct Args {
-    mission: PathBuf,
-    name: String,
-}
-
-enum Cmd {
-    Run(Args),
-    Print(&'static str),
-}
-
-fn parse_args(args: &[String]) -> Result<Cmd, String> {
-    let (mut mission, mut name, mut alias) = (None, None, None);
-    for a in args {
-        match a.as_str() {
-            "-h" | "--help" | "-help" => return Ok(Cmd::Print(USAGE)),
-            "-e" | "--example" => return Ok(Cmd::Print(EXAMPLE)),
-            "-i" | "--interface" => return Ok(Cmd::Print(INTERFACE)),
-            "-v" | "--version" => {
-                return Ok(Cmd::Print(concat!(
-                    "contactmgr ",
-                    env!("CARGO_PKG_VERSION"),
-                    " (pContactMgrV20 behaviour)\n"
-                )))
-            }
-            _ => {
-                if let Some(n) = a.strip_prefix("--alias=") {
-                    alias = Some(n.to_string());
-                } else if a.starts_with('-') {
-                    return Err(format!("unknown option {a}"));
-                } else if mission.is_none() && a.ends_with(".moos") {
-                    mission = Some(PathBuf::from(a));
-                } else if name.is_none() {
-                    // pAntler passes the MOOS name after the mission (the run alias).
-                    name = Some(a.clone());
-                } else {
-                    return Err(format!("unexpected argument {a}"));
-                }
-            }
-        }
-    }
-    let mission = mission.ok_or("no mission file (MISSION.moos) given")?;
-    let name = alias.or(name).unwrap_or_else(|| DEFAULT_NAME.to_string());
-    if name.is_empty() {
-        return Err("empty app name".into());
-    }
-    Ok(Cmd::Run(Args { mission, name }))
-}
-
 /// The manager's configuration from the block; each refused line is reported as
 /// `file:line: problem` on stderr and kept as a configuration warning.
 fn read_config(mission: &MissionFile, name: &str, w: &mut Warnings) -> Config {
     let mut cfg = Config::default();
-    let file = mission.path().display();
-    let Some(lines) = mission.process_config(name) else {
-        let msg = format!("{file}: no ProcessConfig = {name} block; running with defaults");
-        eprintln!("{msg}");
-        w.config_warning(&msg);
-        return cfg;
-    };
-    for l in lines {
-        if APP_PARAMS.iter().any(|p| l.name_is(p)) {
-            continue;
-        }
-        let res = if l.value.is_empty() && l.raw == l.name {
-            Err(format!("not a parameter line: {}", l.raw))
-        } else {
-            cfg.set(&l.name, &l.value).map_err(|e| e.to_string())
-        };
-        if let Err(e) = res {
-            let msg = format!("{file}:{}: {e}", l.line);
-            eprintln!("{msg}");
-            w.config_warning(&msg);
-        }
+    for p in app::block_problems(mission, name, |k, v| {
+        cfg.set(k, v).map_err(|e| e.to_string())
+    }) {
+        w.config_warning(&p);
     }
     cfg
 }
 
-/// The mission's LatOrigin/LongOrigin, when both are numbers.
-fn origin(mission: &MissionFile) -> Option<(f64, f64)> {
-    let lat = mission.global("LatOrigin").and_then(|v| config_f64(&v))?;
-    let lon = mission.global("LongOrigin").and_then(|v| config_f64(&v))?;
-    Some((lat, lon))
-}
-
-fn client_config(mission: &MissionFile, name: &str) -> (ClientConfig, f64) {
-    let host = mission
-        .global("ServerHost")
-        .filter(|h| !h.is_empty() && !h.eq_ignore_ascii_case("localhost"))
-        .unwrap_or_else(|| "127.0.0.1".into());
-    let port = mission
-        .global_f64("ServerPort")
-        .filter(|p| (1.0..=65535.0).contains(p))
-        .map_or(9000, |p| p as u16);
-    let mut cfg = ClientConfig::new(&host, port, name);
-    cfg.time_warp = mission
-        .global_f64("MOOSTimeWarp")
-        .filter(|w| moos::time::warp_ok(*w))
-        .unwrap_or(1.0);
-    let tick = mission.app_tick(name, DEFAULT_TICK);
-    (cfg, tick)
-}
-
-fn publish(c: &Client, var: &str, val: &Value, now: f64) {
-    let m = match val {
-        Value::Num(v) => Message::notify_double(var, *v, now),
-        Value::Str(s) => Message::notify_string(var, s, now),
-    };
-    if let Err(e) = c.post(m) {
-        tracing::warn!(var, error = %e, "posting lost");
-    }
-}
-
-fn run(args: Args) -> Result<(), String> {
+fn run(args: app::Args) -> Result<(), String> {
     let mission = MissionFile::read(&args.mission).map_err(|e| e.to_string())?;
     let mut warnings = Warnings::default();
     let cfg = read_config(&mission, &args.name, &mut warnings);
     let community = mission.global("Community").unwrap_or_default();
-    let (ccfg, tick) = client_config(&mission, &args.name);
-    let warp = ccfg.time_warp;
-    let mut mgr = ContactManager::new(&community, cfg, origin(&mission));
+    let mut mgr = ContactManager::new(&community, cfg, block::origin(&mission));
     *mgr.warnings_mut() = warnings;
-    let client = Client::start(ccfg).map_err(|e| e.to_string())?;
-    while let Err(e) = client.wait_connected(Duration::from_secs(5)) {
-        if matches!(e, moos::ClientError::Poisoned(_)) {
-            return Err(e.to_string());
-        }
-        tracing::info!("waiting for the MOOSDB");
-    }
-    let mut subs = mgr.subscriptions();
-    subs.extend(BASE_VARS.iter().map(|s| s.to_string()));
-    for s in &subs {
-        client.register(s, 0.0).map_err(|e| e.to_string())?;
-    }
-    let pid_var = format!("{}_PID", args.name.to_ascii_uppercase());
-    client
-        .notify_double(&pid_var, f64::from(std::process::id()), None)
-        .map_err(|e| e.to_string())?;
-    tracing::info!(app = %args.name, community = %community, tick, "contactmgr running");
-    let community = client.community();
-    let community = if community.is_empty() {
-        mission.global("Community").unwrap_or_default()
-    } else {
-        community
-    };
-    let period = Duration::from_secs_f64(1.0 / (tick * warp));
-    let mut caster = Caster::new(warp);
-    let mut inbox = Vec::new();
-    let mut next = Instant::now();
-    let mut connects = client.connection_count();
-    loop {
-        next += period;
-        let now_i = Instant::now();
-        if next > now_i {
-            std::thread::sleep(next - now_i);
-        } else {
-            next = now_i;
-        }
-        // Subscriptions are renewed by the client on reconnect; the PID is re-posted.
-        if client.connection_count() != connects && client.is_connected() {
-            connects = client.connection_count();
-            let _ = client.notify_double(&pid_var, f64::from(std::process::id()), None);
-        }
-        let now = client.moos_time();
-        inbox.clear();
-        client.fetch(&mut inbox);
-        inbox.sort_by(|a, b| a.time.total_cmp(&b.time));
-        let texts: Vec<std::borrow::Cow<'_, str>> = inbox.iter().map(|m| m.string()).collect();
-        let mut mail = Vec::with_capacity(inbox.len());
-        for (m, text) in inbox.iter().zip(&texts) {
-            if caster.handle(&m.key, text, &community, &args.name, now) {
-                continue;
-            }
-            let v = if m.is_double() {
-                MailValue::Num(m.dval)
-            } else {
-                MailValue::Str(text)
-            };
-            mail.push((m.key.as_str(), v));
-        }
-        mgr.handle_mail(now, &mail);
-        for p in mgr.iterate(now) {
-            publish(&client, &p.var, &p.val, now);
-        }
-        if caster.due(now, mgr.iterations(), mgr.warnings()) {
-            let body = appcast::body(&mgr, now);
-            let cast = appcast::serialize(
-                &args.name,
-                &community,
-                mgr.iterations(),
-                &body,
-                mgr.warnings(),
-            );
-            publish(&client, "APPCAST", &Value::Str(cast), now);
-            mgr.warnings_mut().clear_new();
-        }
-    }
+    app::run(&INFO, &args, &mission, |_| mgr)
 }
 
 fn main() -> ExitCode {
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn")),
-        )
-        .with_writer(std::io::stderr)
-        .init();
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match parse_args(&args) {
-        Ok(Cmd::Print(text)) => {
-            print!("{text}");
-            ExitCode::SUCCESS
-        }
-        Ok(Cmd::Run(a)) => match run(a) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("contactmgr: {e}");
-                ExitCode::FAILURE
-            }
-        },
-        Err(e) => {
-            eprintln!("contactmgr: {e}\n\n{USAGE}");
-            ExitCode::from(2)
-        }
-    }
+    app::main(&INFO, run)
 }
 
 #[cfg(test)]
@@ -336,15 +127,16 @@ mod tests {
 
     #[test]
     fn command_line_like_pcontactmgrv20() {
+        let parse_args = |v: &[String]| app::parse_args(&INFO, v);
         let name = |v: &[&str]| match parse_args(&s(v)) {
-            Ok(Cmd::Run(a)) => a.name,
+            Ok(app::Cmd::Run(a)) => a.name,
             _ => panic!("not a run: {v:?}"),
         };
         assert_eq!(name(&["m.moos"]), "pContactMgrV20");
         assert_eq!(name(&["m.moos", "pContactMgrV20_2"]), "pContactMgrV20_2");
         assert_eq!(name(&["m.moos", "x", "--alias=cm"]), "cm");
-        assert!(matches!(parse_args(&s(&["-e"])), Ok(Cmd::Print(EXAMPLE))));
-        assert!(matches!(parse_args(&s(&["-i"])), Ok(Cmd::Print(INTERFACE))));
+        assert!(matches!(parse_args(&s(&["-e"])), Ok(app::Cmd::Print(t)) if t == EXAMPLE));
+        assert!(matches!(parse_args(&s(&["-i"])), Ok(app::Cmd::Print(t)) if t == INTERFACE));
         assert!(parse_args(&s(&[])).is_err());
         assert!(parse_args(&s(&["m.moos", "--bogus"])).is_err());
     }

@@ -207,23 +207,14 @@ pub struct ObmPlan {
 /// Read `ProcessConfig = pObstacleMgr` of a vehicle's mission.
 pub fn obm_plan(
     file: &moos::mission::MissionFile,
-    mission: &Path,
     vname: &str,
-    app_params: &[&str],
 ) -> Result<Option<ObmPlan>, SimError> {
-    let Some(lines) = file.process_config(OBM_NAME) else {
+    let mut cfg = Config::default();
+    let Some(bad) = contact_manager::block::read(file, OBM_NAME, |k, v| {
+        cfg.set(k, v).map_err(|e| e.to_string())
+    }) else {
         return Ok(None);
     };
-    let mut cfg = Config::default();
-    let mut bad = Vec::new();
-    for l in lines {
-        if app_params.iter().any(|p| l.name_is(p)) {
-            continue;
-        }
-        if let Err(e) = cfg.set(&l.name, &l.value) {
-            bad.push(format!("{}:{}: {e}", mission.display(), l.line));
-        }
-    }
     if !bad.is_empty() {
         return Err(SimError::Fleet(format!(
             "vehicle {vname}: bad {OBM_NAME} block:\n{}",

@@ -33,17 +33,6 @@ const SIM: usize = 1;
 const CMGR: usize = 2;
 const SHORE: usize = 3;
 
-/// Block lines every MOOS app reads itself, not the contact manager's business.
-pub(super) const APP_PARAMS: &[&str] = &[
-    "apptick",
-    "commstick",
-    "maxapptick",
-    "iteratemode",
-    "app_logging",
-    "comms_policy",
-    "term_report_interval",
-];
-
 /// A vehicle read once, ready to run any number of times.
 pub struct VehiclePlan {
     pub spec: VehicleSpec,
@@ -110,27 +99,16 @@ impl VehiclePlan {
 
         // The contact manager's block: a line it cannot take stops the run, with its line.
         let mut cmgr = Config::default();
-        let mut bad = Vec::new();
-        for l in file.process_config(CMGR_NAME).unwrap_or_default() {
-            if APP_PARAMS.iter().any(|p| l.name_is(p)) {
-                continue;
-            }
-            if let Err(e) = cmgr.set(&l.name, &l.value) {
-                bad.push(format!("{}:{}: {e}", spec.mission.display(), l.line));
-            }
-        }
+        let bad = contact_manager::block::read(&file, CMGR_NAME, |k, v| {
+            cmgr.set(k, v).map_err(|e| e.to_string())
+        })
+        .unwrap_or_default();
         if !bad.is_empty() {
             return Err(fleet_err(
                 &spec.name,
                 format!("bad {CMGR_NAME} block:\n{}", bad.join("\n")),
             ));
         }
-        let lat = file
-            .global("LatOrigin")
-            .and_then(|v| moos::mission::config_f64(&v));
-        let lon = file
-            .global("LongOrigin")
-            .and_then(|v| moos::mission::config_f64(&v));
         let vtype = spec
             .vtype
             .clone()
@@ -141,7 +119,7 @@ impl VehiclePlan {
             .and_then(|v| moos::mission::config_f64(&v))
             .filter(|l| *l > 0.0)
             .unwrap_or(4.0);
-        let obm = super::obstacles::obm_plan(&file, &spec.mission, &spec.name, APP_PARAMS)?;
+        let obm = super::obstacles::obm_plan(&file, &spec.name)?;
         Ok(VehiclePlan {
             obm,
             spec: spec.clone(),
@@ -152,7 +130,7 @@ impl VehiclePlan {
             recipe,
             start,
             cmgr,
-            origin: lat.zip(lon),
+            origin: contact_manager::block::origin(&file),
             community: file.global("Community").unwrap_or_default(),
             vtype,
             length,
