@@ -34,6 +34,8 @@ pub struct AppInfo {
     /// The MOOS app it stands in for, also its default name (`pContactMgrV20`).
     pub stands_for: &'static str,
     pub default_tick: f64,
+    /// The binary's own package version (`env!("CARGO_PKG_VERSION")` in the binary).
+    pub version: &'static str,
     pub usage: &'static str,
     pub example: &'static str,
     pub interface: &'static str,
@@ -62,9 +64,7 @@ pub fn parse_args(info: &AppInfo, args: &[String]) -> Result<Cmd, String> {
             "-v" | "--version" => {
                 return Ok(Cmd::Print(format!(
                     "{} {} ({} behaviour)\n",
-                    info.bin,
-                    env!("CARGO_PKG_VERSION"),
-                    info.stands_for
+                    info.bin, info.version, info.stands_for
                 )))
             }
             _ => {

@@ -16,6 +16,7 @@ const INFO: AppInfo = AppInfo {
     bin: "contactmgr",
     stands_for: "pContactMgrV20",
     default_tick: 4.0,
+    version: env!("CARGO_PKG_VERSION"),
     usage: USAGE,
     example: EXAMPLE,
     interface: INTERFACE,

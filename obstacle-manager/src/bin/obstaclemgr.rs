@@ -16,6 +16,7 @@ const INFO: AppInfo = AppInfo {
     bin: "obstaclemgr",
     stands_for: "pObstacleMgr",
     default_tick: 4.0,
+    version: env!("CARGO_PKG_VERSION"),
     usage: USAGE,
     example: EXAMPLE,
     interface: INTERFACE,
