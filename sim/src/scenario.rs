@@ -186,6 +186,39 @@ pub(crate) fn line_of(text: &str, at: usize) -> usize {
         + 1
 }
 
+/// The text of a scenario file, or the error naming it.
+pub(crate) fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    std::fs::read_to_string(path).map_err(|source| ScenarioError::Read {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// `file:line: message` at byte `span.start` of `text` (read from `path`).
+pub(crate) fn bad_at(
+    path: &Path,
+    text: &str,
+    span: std::ops::Range<usize>,
+    message: String,
+) -> ScenarioError {
+    ScenarioError::Bad {
+        path: path.to_path_buf(),
+        line: line_of(text, span.start),
+        message,
+    }
+}
+
+/// `text` as TOML of type `T`; a syntax or type error is a `file:line` error.
+pub(crate) fn parse_toml<T: serde::de::DeserializeOwned>(
+    text: &str,
+    path: &Path,
+) -> Result<T, ScenarioError> {
+    toml::from_str(text).map_err(|e| {
+        let span = e.span().unwrap_or(0..0);
+        bad_at(path, text, span, e.message().trim().to_string())
+    })
+}
+
 impl Scenario {
     /// `scenario.toml` in `dir`, or the defaults if there is none.
     pub fn beside(dir: &Path) -> Result<Scenario, ScenarioError> {
@@ -198,24 +231,13 @@ impl Scenario {
     }
 
     pub fn read(path: &Path) -> Result<Scenario, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Scenario::parse(&text, path)
+        Scenario::parse(&read_text(path)?, path)
     }
 
     /// Parse and check `text` (read from `path`, for messages).
     pub fn parse(text: &str, path: &Path) -> Result<Scenario, ScenarioError> {
-        let bad = |span: std::ops::Range<usize>, message: String| ScenarioError::Bad {
-            path: path.to_path_buf(),
-            line: line_of(text, span.start),
-            message,
-        };
-        let doc: FileDoc = toml::from_str(text).map_err(|e| {
-            let span = e.span().unwrap_or(0..0);
-            bad(span, e.message().trim().to_string())
-        })?;
+        let bad = |span, message| bad_at(path, text, span, message);
+        let doc: FileDoc = parse_toml(text, path)?;
         let finite = |v: &Spanned<f64>, what: &str| {
             if v.get_ref().is_finite() {
                 Ok(*v.get_ref())

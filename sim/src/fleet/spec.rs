@@ -43,7 +43,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::scenario::{line_of, Poke, ScenarioError, When, DEFAULT_MAX_TIME};
+use crate::scenario::{bad_at, parse_toml, read_text, Poke, ScenarioError, When, DEFAULT_MAX_TIME};
 use helm_engine::posting::Value;
 
 /// Colours of vehicles that name none, in order.
@@ -242,24 +242,13 @@ pub fn svg_color(s: &str) -> Option<String> {
 
 impl FleetScenario {
     pub fn read(path: &Path) -> Result<FleetScenario, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        FleetScenario::parse(&text, path)
+        FleetScenario::parse(&read_text(path)?, path)
     }
 
     /// Parse and check `text`, read from `path` (mission files are relative to it).
     pub fn parse(text: &str, path: &Path) -> Result<FleetScenario, ScenarioError> {
-        let bad = |span: std::ops::Range<usize>, message: String| ScenarioError::Bad {
-            path: path.to_path_buf(),
-            line: line_of(text, span.start),
-            message,
-        };
-        let doc: Doc = toml::from_str(text).map_err(|e| {
-            let span = e.span().unwrap_or(0..0);
-            bad(span, e.message().trim().to_string())
-        })?;
+        let bad = |span, message| bad_at(path, text, span, message);
+        let doc: Doc = parse_toml(text, path)?;
         let num = |v: &Spanned<f64>, what: &str, min: f64| {
             let x = *v.get_ref();
             if x.is_finite() && x >= min {
