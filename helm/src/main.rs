@@ -80,9 +80,13 @@ enum Command {
     /// Writes an .alog, an SVG picture and summary.json to runs/<mission>-<time>/ (or
     /// --out); with --runs N, runs it N times from perturbed starts on all cores and
     /// writes runs.csv. A scenario.toml beside the mission adds pokes, end conditions
-    /// and start overrides.
+    /// and start overrides; with [[vehicle]] entries it runs a fleet (node reports,
+    /// contact managers, collision and COLREGS statistics, obstacles); see
+    /// missions/README.md.
     ///
-    /// Example: helm sim missions/alpha
+    /// Examples: helm sim missions/alpha; helm sim missions/encounter --runs 1000
+    /// --jitter x=10,y=10,heading=15; helm sim missions/fleet --runs 400 --shard 2/4
+    /// --out shard2, then helm sim merge shard1 shard2 shard3 shard4 --out all
     Sim(helm_sim_cli::cli::SimArgs),
     /// A map in the browser: live from a MOOSDB, or replaying an .alog or a run folder.
     ///
