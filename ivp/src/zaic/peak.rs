@@ -5,6 +5,10 @@ use crate::domain::Domain;
 use crate::error::IvpError;
 use crate::function::IvpFunction;
 
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Component {
     summit: f64,
@@ -50,12 +54,13 @@ impl Shape {
     /// computed with the very same operations) so the loop runs straight through 360
     /// headings several times per behavior per iteration.
     fn sample(&self, summit: f64, wrap: bool, low: f64, high: f64, delta: f64, out: &mut [f64]) {
-        let flat_peak = self.sd <= 0.0;
-        let mut fi = 0.0f64; // i as f64, exact for any grid size
-        for v in out.iter_mut() {
-            let x = fi * delta + low;
-            fi += 1.0;
-            let dist = if wrap {
+        // Two loops without a branch on `wrap` inside, every choice a select: the
+        // compiler vectorizes them (this runs on every grid point of every ZAIC).
+        if wrap {
+            // `i as u32 as f64` is exact (grids are u32-sized) and vectorizes, where
+            // a float counter is a chain the compiler must keep.
+            for (i, v) in out.iter_mut().enumerate() {
+                let x = f64::from(i as u32) * delta + low;
                 let above = summit > x;
                 let a = if above { summit - x } else { x - summit };
                 let b = if above {
@@ -63,36 +68,39 @@ impl Shape {
                 } else {
                     (high - x) + (summit - low) + delta
                 };
-                if a < b {
-                    a
-                } else {
-                    b
-                }
-            } else {
-                (summit - x).abs()
-            };
-            let peak = if flat_peak {
-                self.maxutil
-            } else {
-                self.maxutil - self.peak_slope * dist
-            };
-            let base = self.edge - self.base_slope * (dist - self.pwidth);
-            let val = if dist <= self.pwidth {
-                peak
-            } else if dist <= self.reach {
-                base
-            } else {
-                self.minutil
-            };
-            *v = if val > self.maxutil {
-                self.maxutil
-            } else {
-                val
-            };
+                *v = self.at(if a < b { a } else { b });
+            }
+        } else {
+            for (i, v) in out.iter_mut().enumerate() {
+                let x = f64::from(i as u32) * delta + low;
+                *v = self.at((summit - x).abs());
+            }
         }
     }
 
-    /// Utility at distance `dist` from the summit (spec §3.1).
+    /// The utility at distance `dist` from the summit, as a chain of selects.
+    #[inline(always)]
+    fn at(&self, dist: f64) -> f64 {
+        let peak = if self.sd <= 0.0 {
+            self.maxutil
+        } else {
+            self.maxutil - self.peak_slope * dist
+        };
+        let base = self.edge - self.base_slope * (dist - self.pwidth);
+        let val = if dist <= self.pwidth {
+            peak
+        } else if dist <= self.reach {
+            base
+        } else {
+            self.minutil
+        };
+        if val > self.maxutil {
+            self.maxutil
+        } else {
+            val
+        }
+    }
+
     #[cfg(test)]
     fn utility(&self, dist: f64) -> f64 {
         let val = if dist <= self.pwidth {
@@ -298,23 +306,29 @@ impl ZaicPeak {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
-        // Borrowed: cloning the variable would copy its name every time.
+        let n = self.domain.var(0).points as usize;
+        // Sample buffers reused per thread: this runs for every ZAIC of every behavior
+        // every iteration, and fresh zeroed vectors cost more than the sampling.
+        SCRATCH.with_borrow_mut(|scratch| {
+            scratch.resize(2 * n, 0.0);
+            let (total, vals) = scratch.split_at_mut(n);
+            self.sample_into(maxval, total, vals);
+            Ok(pieces_from_samples(total).finish(self.domain.clone()))
+        })
+    }
+
+    /// Sum (or max, `maxval`) of the components' samples into `total`; `vals` is scratch
+    /// of the same length.
+    fn sample_into(&self, maxval: bool, total: &mut [f64], vals: &mut [f64]) {
         let var = self.domain.var(0);
         let delta = var.delta();
         let n = var.points as usize;
-        let mut total = vec![0.0f64; n];
-        let mut vals = Vec::new();
         for (k, c) in self.comps.iter().enumerate() {
             let shape = Shape::of(c);
             // The first component's samples go straight into `total` (what the
             // combination below would copy there).
             let first = k == 0;
-            let buf: &mut Vec<f64> = if first {
-                &mut total
-            } else {
-                vals.resize(n, 0.0);
-                &mut vals
-            };
+            let buf: &mut [f64] = if first { &mut *total } else { &mut *vals };
             shape.sample(c.summit, self.value_wrap, var.low, var.high, delta, buf);
             if self.summit_insist && buf.iter().all(|&v| v == c.minutil) && n > 0 {
                 let ix = if c.summit < var.low {
@@ -349,7 +363,6 @@ impl ZaicPeak {
                 }
             }
         }
-        Ok(pieces_from_samples(&total).finish(self.domain.clone()))
     }
 
     fn dist(&self, summit: f64, x: f64, low: f64, high: f64, delta: f64) -> f64 {
