@@ -6,6 +6,7 @@
 
 mod heq;
 mod peak;
+mod peak_scan;
 mod spd;
 mod vector;
 
@@ -66,18 +67,30 @@ const SAMPLE_PIECES: usize = 16;
 
 /// Piece construction from sampled values (spec §3.1, tolerance 0.001).
 pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
+    pieces_by_scan(v.len(), |i| v[i], |_, i| i)
+}
+
+/// The piece construction of [`pieces_from_samples`] over `n` samples given by `value`
+/// (called in increasing index order, mostly once per index). `skip(first, i)`, asked
+/// while a piece's line is set, returns the next index the scan must look at (≥ `i`,
+/// < `n`): a caller that can prove the samples in between lie on the current piece's
+/// line (so the scan would do nothing there) lets the scan jump over them.
+pub(crate) fn pieces_by_scan(
+    n: usize,
+    mut value: impl FnMut(usize) -> f64,
+    mut skip: impl FnMut(usize, usize) -> usize,
+) -> Pieces1 {
     // Room for the usual few pieces up front, so the pushes below do not regrow the
     // vectors step by step on every build.
     let mut out = Pieces1 {
         bounds: Vec::with_capacity(2 * SAMPLE_PIECES),
         weights: Vec::with_capacity(2 * SAMPLE_PIECES),
     };
-    let n = v.len();
     if n < 2 {
         return out;
     }
     let tol = 0.001;
-    let (mut first, mut fv) = (0usize, v[0]);
+    let (mut first, mut fv) = (0usize, value(0));
     let (mut trend, mut m, mut b) = (false, 0.0f64, 0.0f64);
     let chord = |first: usize, fv: f64, end: usize, ve: f64| {
         if end == first {
@@ -86,33 +99,51 @@ pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
             (ve - fv) / (end - first) as f64
         }
     };
-    for i in 1..n {
+    // The previous sample, when it was the one just looked at.
+    let mut prev = (0usize, fv);
+    let mut i = 1;
+    while i < n {
+        if trend {
+            let j = skip(first, i);
+            if j > i {
+                i = j;
+                continue;
+            }
+        }
+        let vp = if prev.0 + 1 == i {
+            prev.1
+        } else {
+            value(i - 1)
+        };
+        let vi = value(i);
+        prev = (i, vi);
         let fi = i as f64;
         if !trend {
-            m = (v[i] - fv) / (i - first) as f64;
-            b = v[i] - m * fi;
+            m = (vi - fv) / (i - first) as f64;
+            b = vi - m * fi;
             trend = true;
         }
-        let mut brk = ((m * fi + b) - v[i]).abs() > tol;
-        let lm = v[i] - v[i - 1];
+        let mut brk = ((m * fi + b) - vi).abs() > tol;
+        let lm = vi - vp;
         if (lm < 0.0 && m > 0.0) || (lm > 0.0 && m < 0.0) {
             brk = true;
         }
         if i == n - 1 {
             if brk {
-                out.push(i as i32, i as i32, 0.0, v[i]);
+                out.push(i as i32, i as i32, 0.0, vi);
             } else {
-                let s = chord(first, fv, i, v[i]);
+                let s = chord(first, fv, i, vi);
                 out.push(first as i32, i as i32, s, fv - s * first as f64);
             }
         }
         if brk {
-            let s = chord(first, fv, i - 1, v[i - 1]);
+            let s = chord(first, fv, i - 1, vp);
             out.push(first as i32, (i - 1) as i32, s, fv - s * first as f64);
             trend = false;
             first = i;
-            fv = v[i];
+            fv = vi;
         }
+        i += 1;
     }
     out
 }

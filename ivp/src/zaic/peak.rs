@@ -10,22 +10,23 @@ thread_local! {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Component {
-    summit: f64,
-    pwidth: f64,
-    bwidth: f64,
-    delta: f64,
-    minutil: f64,
-    maxutil: f64,
+pub(crate) struct Component {
+    pub(crate) summit: f64,
+    pub(crate) pwidth: f64,
+    pub(crate) bwidth: f64,
+    pub(crate) delta: f64,
+    pub(crate) minutil: f64,
+    pub(crate) maxutil: f64,
 }
 
 /// A component's utility shape with its loop-invariant quotients computed once: the
 /// same IEEE operations on the same operands as computing them per sample, so the
 /// values are bit-identical, without two divisions per sample.
-struct Shape {
+#[derive(Clone, Copy)]
+pub(crate) struct Shape {
     pwidth: f64,
     reach: f64,
-    sd: f64,
+    pub(crate) sd: f64,
     peak_slope: f64,
     edge: f64,
     base_slope: f64,
@@ -33,8 +34,30 @@ struct Shape {
     maxutil: f64,
 }
 
+/// Distance from the summit to `x` on the grid `[low, high]` step `delta`, the short
+/// way round when `wrap`: every sample and the skipping scan (`peak_scan`) use this one
+/// expression, so their values agree bit for bit.
+#[inline(always)]
+pub(crate) fn dist_of(summit: f64, x: f64, wrap: bool, low: f64, high: f64, delta: f64) -> f64 {
+    if !wrap {
+        return (summit - x).abs();
+    }
+    let above = summit > x;
+    let a = if above { summit - x } else { x - summit };
+    let b = if above {
+        (x - low) + (high - summit) + delta
+    } else {
+        (high - x) + (summit - low) + delta
+    };
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
 impl Shape {
-    fn of(c: &Component) -> Shape {
+    pub(crate) fn of(c: &Component) -> Shape {
         let sd = if c.pwidth > 0.0 { c.delta } else { 0.0 };
         let edge = c.maxutil - sd;
         Shape {
@@ -61,26 +84,19 @@ impl Shape {
             // a float counter is a chain the compiler must keep.
             for (i, v) in out.iter_mut().enumerate() {
                 let x = f64::from(i as u32) * delta + low;
-                let above = summit > x;
-                let a = if above { summit - x } else { x - summit };
-                let b = if above {
-                    (x - low) + (high - summit) + delta
-                } else {
-                    (high - x) + (summit - low) + delta
-                };
-                *v = self.at(if a < b { a } else { b });
+                *v = self.at(dist_of(summit, x, true, low, high, delta));
             }
         } else {
             for (i, v) in out.iter_mut().enumerate() {
                 let x = f64::from(i as u32) * delta + low;
-                *v = self.at((summit - x).abs());
+                *v = self.at(dist_of(summit, x, false, low, high, delta));
             }
         }
     }
 
     /// The utility at distance `dist` from the summit, as a chain of selects.
     #[inline(always)]
-    fn at(&self, dist: f64) -> f64 {
+    pub(crate) fn at(&self, dist: f64) -> f64 {
         let peak = if self.sd <= 0.0 {
             self.maxutil
         } else {
@@ -139,7 +155,7 @@ impl Default for Component {
 #[derive(Debug, Clone)]
 pub struct ZaicPeak {
     domain: Domain,
-    comps: Vec<Component>,
+    pub(crate) comps: Vec<Component>,
     value_wrap: bool,
     summit_insist: bool,
     warnings: String,
@@ -306,7 +322,18 @@ impl ZaicPeak {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
-        let n = self.domain.var(0).points as usize;
+        let var = self.domain.var(0);
+        let grid = super::peak_scan::Grid {
+            low: var.low,
+            high: var.high,
+            delta: var.delta(),
+            points: var.points as usize,
+            wrap: self.value_wrap,
+        };
+        if let Some(p) = super::peak_scan::pieces(&self.comps, grid, maxval) {
+            return Ok(p.finish(self.domain.clone()));
+        }
+        let n = grid.points;
         // Sample buffers reused per thread: this runs for every ZAIC of every behavior
         // every iteration, and fresh zeroed vectors cost more than the sampling.
         SCRATCH.with_borrow_mut(|scratch| {
@@ -319,7 +346,7 @@ impl ZaicPeak {
 
     /// Sum (or max, `maxval`) of the components' samples into `total`; `vals` is scratch
     /// of the same length.
-    fn sample_into(&self, maxval: bool, total: &mut [f64], vals: &mut [f64]) {
+    pub(crate) fn sample_into(&self, maxval: bool, total: &mut [f64], vals: &mut [f64]) {
         let var = self.domain.var(0);
         let delta = var.delta();
         let n = var.points as usize;

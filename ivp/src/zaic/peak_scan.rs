@@ -1,0 +1,281 @@
+//! ZAIC_PEAK pieces without sampling every grid point (same pieces, bit for bit).
+//!
+//! The sampled peak sum is linear between its kinks (each component's summit, the ends
+//! of its peak and base, and with wrap the points where the distance goes round the
+//! other way). The piece scan (`pieces_by_scan`) does nothing at a sample that lies on
+//! the current piece's line, so once a piece's line is fitted on two samples of one
+//! linear stretch, the scan may jump to the stretch's last sample: every sample in
+//! between is within about 1e-9 of that line (tolerance 0.001), and its step to the
+//! next sample has the line's sign, provided the stretch is exactly flat (every
+//! component constant there) or its slope is far from 0. Near kinks every sample is
+//! still evaluated, with the sampler's own arithmetic. A course ZAIC of 360 points then
+//! looks at a few dozen of them.
+//!
+//! Where that argument needs care it is not used (the caller samples every point):
+//! small grids, the max of several components, a component that could be all
+//! `minutil` (the summit-insist rule), a wrapped summit outside the domain, utilities
+//! large enough that rounding could approach the tolerance.
+
+use super::peak::{dist_of, Component, Shape};
+use super::{pieces_by_scan, Pieces1};
+
+/// Below this many points sampling them all is as cheap as finding the kinks.
+const MIN_POINTS: usize = 64;
+/// Components handled (kinks on the stack).
+const MAX_COMPS: usize = 8;
+/// Kinks per component: summit, peak and base ends both sides, and with wrap the same
+/// the other way round plus the antipode.
+const KINKS_PER_COMP: usize = 14;
+/// A sample this close (in grid steps) to a kink counts as on it.
+const NEAR: f64 = 1e-6;
+/// Slopes (utility per grid step) this small are not trusted to keep their sign.
+const MIN_SLOPE: f64 = 1e-6;
+/// Utilities up to this size keep rounding far below the scan's 0.001 tolerance.
+const MAX_UTIL: f64 = 1e6;
+
+/// The grid the ZAIC is sampled on.
+#[derive(Clone, Copy)]
+pub(crate) struct Grid {
+    pub low: f64,
+    pub high: f64,
+    pub delta: f64,
+    pub points: usize,
+    pub wrap: bool,
+}
+
+/// The pieces of the sum of `comps` on `grid`, or `None` where every point must be
+/// sampled (see the module docs).
+pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pieces1> {
+    let n = grid.points;
+    if n < MIN_POINTS || comps.is_empty() || comps.len() > MAX_COMPS {
+        return None;
+    }
+    if maxval && comps.len() > 1 {
+        return None;
+    }
+    let Grid {
+        low, high, delta, ..
+    } = grid;
+    if delta.is_nan() || delta <= 0.0 {
+        return None;
+    }
+    let mut shapes = [None; MAX_COMPS];
+    let mut util = 0.0;
+    for (k, c) in comps.iter().enumerate() {
+        util += c.maxutil.abs().max(c.minutil.abs());
+        if grid.wrap && (c.summit < low - delta || c.summit > high + delta) {
+            return None;
+        }
+        shapes[k] = Some(Shape::of(c));
+    }
+    if util > MAX_UTIL {
+        return None;
+    }
+    let shapes = &shapes[..comps.len()];
+    let one = |k: usize, i: usize| -> f64 {
+        let x = f64::from(i as u32) * delta + low;
+        let d = dist_of(comps[k].summit, x, grid.wrap, low, high, delta);
+        shapes[k].as_ref().map_or(0.0, |s| s.at(d))
+    };
+    // Exactly the sampler's arithmetic: the first component, then each next one added.
+    let value = |i: usize| -> f64 {
+        let mut t = one(0, i);
+        for k in 1..comps.len() {
+            t += one(k, i);
+        }
+        t
+    };
+    // The summit-insist rule rewrites a component whose every sample is `minutil`: its
+    // sample nearest the summit then is `minutil` too, so that case samples everything.
+    for (k, c) in comps.iter().enumerate() {
+        let near = ((c.summit - low) / delta)
+            .round()
+            .clamp(0.0, (n - 1) as f64) as usize;
+        if one(k, near) == c.minutil {
+            return None;
+        }
+    }
+    let mut kinks = [0.0f64; MAX_COMPS * KINKS_PER_COMP];
+    let mut nk = 0;
+    let span = (high - low) + delta;
+    for c in comps {
+        let reach = c.pwidth + c.bwidth;
+        let mut add = |x: f64| {
+            kinks[nk] = (x - low) / delta;
+            nk += 1;
+        };
+        for w in [0.0, c.pwidth, reach] {
+            if !grid.wrap {
+                add(c.summit - w);
+                add(c.summit + w);
+            } else if w <= span / 2.0 + 1e-9 * span {
+                // Going round, the distance never exceeds half the span: a width past
+                // it is no kink (a stretch wrongly cut there is scanned to its end).
+                add(c.summit - w);
+                add(c.summit + w);
+                add(c.summit - (span - w));
+                add(c.summit + (span - w));
+            }
+        }
+        if grid.wrap {
+            add(c.summit - span / 2.0);
+            add(c.summit + span / 2.0);
+        }
+    }
+    let kinks = &mut kinks[..nk];
+    if kinks.iter().any(|k| !k.is_finite()) {
+        return None;
+    }
+    kinks.sort_by(f64::total_cmp);
+    let kinks = &*kinks;
+    // Is component k constant on the stretch that holds sample i (off any kink)?
+    let flat_at = |k: usize, i: usize| -> bool {
+        let c = &comps[k];
+        let x = f64::from(i as u32) * delta + low;
+        let d = dist_of(c.summit, x, grid.wrap, low, high, delta);
+        let reach = c.pwidth + c.bwidth;
+        d > reach || (d <= c.pwidth && Shape::of(c).sd <= 0.0)
+    };
+    let mut cursor = 0usize;
+    let skip = |first: usize, i: usize| -> usize {
+        // First kink at or after `first` (the scan only moves forward).
+        let from = first as f64 - NEAR;
+        while cursor < kinks.len() && kinks[cursor] < from {
+            cursor += 1;
+        }
+        let next = kinks.get(cursor).copied().unwrap_or(f64::INFINITY);
+        if next <= i as f64 + NEAR {
+            return i;
+        }
+        // Last sample strictly before the kink (by more than NEAR), and never the last
+        // sample (its step closes the final piece).
+        let before = (next - NEAR).ceil() - 1.0;
+        let j = if before >= (n - 2) as f64 {
+            n - 2
+        } else {
+            before as usize
+        };
+        if j <= i {
+            return i;
+        }
+        let flat = (0..comps.len()).all(|k| flat_at(k, first));
+        if !flat {
+            let slope = (value(j) - value(first)) / (j - first) as f64;
+            if slope.is_nan() || slope.abs() < MIN_SLOPE {
+                return i;
+            }
+        }
+        j + 1
+    };
+    Some(pieces_by_scan(n, value, skip))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::pieces_from_samples;
+    use super::*;
+    use crate::zaic::ZaicPeak;
+    use crate::Domain;
+
+    fn rng(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Every random peak sum gives, with the skipping scan, the pieces of sampling
+    /// every point, bit for bit (bounds and weights).
+    #[test]
+    fn skipping_scan_equals_sampling_every_point() {
+        let domains = [
+            "x:0:359:360",
+            "x:0:4:41",
+            "x:-50:50:201",
+            "x:0:10:101",
+            "x:0:359:72",
+        ];
+        let mut seed = 11u64;
+        let mut used = 0;
+        for spec in domains {
+            let d = Domain::parse(spec).unwrap();
+            let v = d.var(0).clone();
+            for round in 0..600 {
+                let mut z = ZaicPeak::new(&d, "x").unwrap();
+                let wrap = round % 2 == 0;
+                z.set_value_wrap(wrap);
+                let comps = 1 + (round / 2) % 3;
+                for k in 0..comps {
+                    let k = if k == 0 { 0 } else { z.add_component() };
+                    let r = |s: &mut u64| rng(s);
+                    let span = v.high - v.low;
+                    let summit = v.low - 0.1 * span + 1.2 * span * r(&mut seed);
+                    // Some round numbers, so kinks fall on grid points too.
+                    let summit = if round % 5 == 0 {
+                        summit.round()
+                    } else {
+                        summit
+                    };
+                    let pw = if round % 7 == 0 {
+                        0.0
+                    } else {
+                        span * 0.2 * r(&mut seed)
+                    };
+                    let bw = if round % 11 == 0 {
+                        0.0
+                    } else {
+                        span * 0.6 * r(&mut seed)
+                    };
+                    let delta = 100.0 * r(&mut seed);
+                    let max = 10.0 + 90.0 * r(&mut seed);
+                    z.set_params(summit, pw, bw, delta, 0.0, max, k);
+                }
+                let maxval = round % 3 == 0;
+                let comps_now = z.comps.clone();
+                let grid = Grid {
+                    low: v.low,
+                    high: v.high,
+                    delta: v.delta(),
+                    points: v.points as usize,
+                    wrap,
+                };
+                let Some(fast) = pieces(&comps_now, grid, maxval) else {
+                    continue;
+                };
+                used += 1;
+                let n = v.points as usize;
+                let (mut total, mut vals) = (vec![0.0; n], vec![0.0; n]);
+                z.sample_into(maxval, &mut total, &mut vals);
+                let slow = pieces_from_samples(&total);
+                assert_eq!(fast.bounds, slow.bounds, "{spec} round {round}");
+                let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&fast.weights), bits(&slow.weights), "{spec} {round}");
+            }
+        }
+        assert!(used > 1000, "the skipping scan ran on {used} cases only");
+    }
+
+    /// The Waypoint's course function (two wrapped components on 360 points) takes the
+    /// skipping scan: that is what it is for.
+    #[test]
+    fn the_waypoint_course_function_skips() {
+        let d = Domain::parse("course:0:359:360").unwrap();
+        let mut z = ZaicPeak::new(&d, "course").unwrap();
+        z.set_value_wrap(true);
+        z.set_params(123.4, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+        let k = z.add_component();
+        z.set_params(100.2, 30.0, 180.0, 5.0, 0.0, 20.0, k);
+        let grid = Grid {
+            low: 0.0,
+            high: 359.0,
+            delta: 1.0,
+            points: 360,
+            wrap: true,
+        };
+        let p = pieces(&z.comps, grid, false).expect("the skipping scan applies");
+        assert_eq!(
+            p.bounds,
+            [0, 70, 71, 100, 101, 123, 124, 130, 131, 280, 281, 303, 304, 359]
+        );
+    }
+}
