@@ -100,8 +100,13 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     let span = (high - low) + delta;
     for c in comps {
         let reach = c.pwidth + c.bwidth;
+        // Kinks off the grid (by more than a step) cut no stretch: left out.
         let mut add = |x: f64| {
-            kinks[nk] = (x - low) / delta;
+            let k = (x - low) / delta;
+            if !(-2.0..=(n + 1) as f64).contains(&k) && k.is_finite() {
+                return;
+            }
+            kinks[nk] = k;
             nk += 1;
         };
         for w in [0.0, c.pwidth, reach] {
@@ -126,7 +131,7 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     if kinks.iter().any(|k| !k.is_finite()) {
         return None;
     }
-    kinks.sort_by(f64::total_cmp);
+    kinks.sort_unstable_by(f64::total_cmp);
     let kinks = &*kinks;
     // Is component k constant on the stretch that holds sample i (off any kink)?
     let flat_at = |k: usize, i: usize| -> bool {
