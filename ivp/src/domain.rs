@@ -326,14 +326,19 @@ impl fmt::Display for Domain {
             if i > 0 {
                 f.write_str(":")?;
             }
-            write!(
-                f,
-                "{},{},{},{}",
-                v.name,
-                compact(v.low),
-                compact(v.high),
-                v.points
-            )?;
+            // Field by field without intermediate strings: plugins turn every function's
+            // domain into this text each iteration (FunctionData).
+            f.write_str(&v.name)?;
+            for x in [v.low, v.high] {
+                f.write_str(",")?;
+                if x.fract() == 0.0 && x.abs() < 1e15 && x != 0.0 {
+                    f.write_str(itoa::Buffer::new().format(x as i64))?;
+                } else {
+                    f.write_str(&compact(x))?;
+                }
+            }
+            f.write_str(",")?;
+            f.write_str(itoa::Buffer::new().format(v.points))?;
         }
         Ok(())
     }
