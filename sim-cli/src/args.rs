@@ -30,7 +30,9 @@ pub struct SimArgs {
     /// Seed of the first run (run i uses seed+i).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Start perturbation, uniform in ± each amount: `x=5,y=5,heading=20` (m, m, deg).
+    /// Perturbation, uniform in ± each amount: `x=5,y=5,heading=20` moves the start
+    /// (m, m, deg); `speed=10` makes every vehicle go up to 10% faster or slower than
+    /// commanded (in a fleet: the contacts' speeds vary too).
     #[arg(long)]
     pub jitter: Option<Jitter>,
     /// With --runs: also write each run's `.alog` (`run-0000.alog`, ... beside

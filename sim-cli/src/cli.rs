@@ -144,14 +144,11 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
     let csv_path = dir.join("runs.csv");
     output::write(&csv_path, &montecarlo::csv(&rows))?;
     println!(
-        "{}: {} runs (seeds {}..{}, jitter x={} y={} heading={}) in {:.1} s wall on {} thread(s)",
+        "{}: {} runs (seeds {}..{}, jitter {jitter}) in {:.1} s wall on {} thread(s)",
         prep.name,
         rows.len(),
         args.seed,
         args.seed.wrapping_add(args.runs - 1),
-        jitter.x,
-        jitter.y,
-        jitter.heading,
         wall.elapsed().as_secs_f64(),
         rayon::current_num_threads()
     );
@@ -170,12 +167,9 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
         .filter(|r| r.end_reason == nominal.end_reason)
         .count();
     let title = format!(
-        "{}: {} runs, jitter x={} y={} heading={}",
+        "{}: {} runs, jitter {jitter}",
         prep.name,
-        rows.len(),
-        jitter.x,
-        jitter.y,
-        jitter.heading
+        rows.len()
     );
     let sub = format!(
         "{ok} of {} end like the unperturbed run ({} after {:.1} s); table: runs.csv",

@@ -13,12 +13,15 @@ use rayon::prelude::*;
 use helm_sim::observe::ViewKind;
 use helm_sim::run::{Outcome, Prepared, RunOptions, SimError, StartShift};
 
-/// Half-widths of the uniform start perturbation.
+/// Half-widths of the uniform perturbation: the start pose, and each vehicle's speed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Jitter {
     pub x: f64,
     pub y: f64,
     pub heading: f64,
+    /// Percent of every commanded speed (below 100): in a fleet, the speeds the vessels
+    /// see each other make good vary run to run.
+    pub speed: f64,
 }
 
 impl std::str::FromStr for Jitter {
@@ -41,10 +44,32 @@ impl std::str::FromStr for Jitter {
                 "x" => j.x = v,
                 "y" => j.y = v,
                 "heading" => j.heading = v,
-                other => return Err(format!("`{other}`: jitter keys are x, y, heading")),
+                // 100% or more could stop a vehicle or turn its speed negative.
+                "speed" if v < 100.0 => j.speed = v,
+                "speed" => {
+                    return Err(format!(
+                        "`{part}`: the speed amount is a percent of the commanded speed, below 100"
+                    ))
+                }
+                other => {
+                    return Err(format!(
+                        "`{other}`: jitter keys are x, y, heading (m, m, deg) and speed (%)"
+                    ))
+                }
             }
         }
         Ok(j)
+    }
+}
+
+impl std::fmt::Display for Jitter {
+    /// `x=5 y=5 heading=20`, and ` speed=10%` when the speed is perturbed.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "x={} y={} heading={}", self.x, self.y, self.heading)?;
+        if self.speed > 0.0 {
+            write!(f, " speed={}%", self.speed)?;
+        }
+        Ok(())
     }
 }
 
@@ -57,10 +82,13 @@ impl Jitter {
     /// The start shift of the run with `seed`.
     pub fn shift(&self, seed: u64) -> StartShift {
         let mut s = seed;
+        // The speed is drawn last, so the pose draws of a seed are what they were
+        // before speed jitter existed.
         StartShift {
             dx: self.x * unit(&mut s),
             dy: self.y * unit(&mut s),
             dheading: self.heading * unit(&mut s),
+            dspeed_pct: self.speed * unit(&mut s),
         }
     }
 }
@@ -229,8 +257,8 @@ pub fn csv(rows: &[Row]) -> String {
     let labels: BTreeSet<&String> = rows.iter().flat_map(|r| r.min_dist.keys()).collect();
     let mut s = String::from(
         "run,seed,end_reason,sim_time_s,distance_m,iterations,allstops,behavior_errors,\
-         behavior_panics,waypoints_reached,start_dx,start_dy,start_dheading,end_x,end_y,\
-         end_heading,end_speed,helm_state",
+         behavior_panics,waypoints_reached,start_dx,start_dy,start_dheading,start_dspeed_pct,\
+         end_x,end_y,end_heading,end_speed,helm_state",
     );
     for l in &labels {
         let _ = write!(s, ",min_dist_{}", csv_column(l));
@@ -239,7 +267,7 @@ pub fn csv(rows: &[Row]) -> String {
     for r in rows {
         let _ = write!(
             s,
-            "{},{},{},{:.2},{:.2},{},{},{},{},{},{:.3},{:.3},{:.3},{:.2},{:.2},{:.1},{:.2},{}",
+            "{},{},{},{:.2},{:.2},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.2},{:.2},{:.1},{:.2},{}",
             r.run,
             r.seed,
             csv_field(&r.end_reason),
@@ -253,6 +281,7 @@ pub fn csv(rows: &[Row]) -> String {
             r.start.dx,
             r.start.dy,
             r.start.dheading,
+            r.start.dspeed_pct,
             r.end.x,
             r.end.y,
             r.end.heading,
@@ -388,15 +417,49 @@ mod tests {
             Jitter {
                 x: 5.0,
                 y: 2.5,
-                heading: 20.0
+                heading: 20.0,
+                speed: 0.0
             }
         );
         assert!("z=1"
             .parse::<Jitter>()
             .unwrap_err()
-            .contains("x, y, heading"));
+            .contains("x, y, heading (m, m, deg) and speed (%)"));
         assert!("x=-1".parse::<Jitter>().is_err());
         assert!("x".parse::<Jitter>().is_err());
+        let s: Jitter = "speed=15".parse().expect("parses");
+        assert_eq!(s.speed, 15.0);
+        assert!("speed=100"
+            .parse::<Jitter>()
+            .unwrap_err()
+            .contains("below 100"));
+        assert_eq!(j.to_string(), "x=5 y=2.5 heading=20");
+        assert_eq!(s.to_string(), "x=0 y=0 heading=0 speed=15%");
+    }
+
+    #[test]
+    fn speed_jitter_leaves_the_pose_draws_of_a_seed_alone() {
+        let pose = Jitter {
+            x: 5.0,
+            y: 1.0,
+            heading: 20.0,
+            speed: 0.0,
+        };
+        let both = Jitter {
+            speed: 10.0,
+            ..pose
+        };
+        let mut seen_faster = false;
+        let mut seen_slower = false;
+        for s in 0..1000 {
+            let (a, b) = (pose.shift(s), both.shift(s));
+            assert_eq!((a.dx, a.dy, a.dheading), (b.dx, b.dy, b.dheading));
+            assert_eq!(a.dspeed_pct, 0.0);
+            assert!(b.dspeed_pct.abs() <= 10.0);
+            seen_faster |= b.dspeed_pct > 5.0;
+            seen_slower |= b.dspeed_pct < -5.0;
+        }
+        assert!(seen_faster && seen_slower, "the draws cover both sides");
     }
 
     #[test]
@@ -405,6 +468,7 @@ mod tests {
             x: 5.0,
             y: 1.0,
             heading: 20.0,
+            speed: 0.0,
         };
         assert_eq!(j.shift(7), j.shift(7));
         assert_ne!(j.shift(7), j.shift(8));

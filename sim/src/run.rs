@@ -117,12 +117,28 @@ pub struct Prepared {
     community: String,
 }
 
-/// A change of the start pose (Monte Carlo).
+/// A change of the start pose, and of how fast the vehicle goes (Monte Carlo).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StartShift {
     pub dx: f64,
     pub dy: f64,
     pub dheading: f64,
+    /// Percent added to every commanded speed: 10 makes the vehicle go 10% faster than
+    /// its `DESIRED_SPEED` says (as a thrust mismatch would), so that in a fleet each
+    /// vessel's speed — what the others see as a contact's speed — varies run to run.
+    pub dspeed_pct: f64,
+}
+
+impl StartShift {
+    /// A helm's command as the simulated vehicle carries it out: `DESIRED_SPEED` scaled
+    /// by the speed change, anything else as it is (a speed change of 0 is exact).
+    pub fn command(&self, var: &str, value: f64) -> f64 {
+        if var == "DESIRED_SPEED" {
+            value * (1.0 + self.dspeed_pct / 100.0)
+        } else {
+            value
+        }
+    }
 }
 
 /// What to do besides running.
@@ -338,7 +354,7 @@ impl Prepared {
                 for m in &sim_in {
                     if let Value::Num(v) = m.value {
                         if !(parked && m.var == "DESIRED_HEADING") {
-                            model.on_mail(&m.var, v);
+                            model.on_mail(&m.var, shift.command(&m.var, v));
                         }
                     }
                 }
@@ -391,5 +407,46 @@ impl Prepared {
             helm_state: helm.state().as_str(),
             drove,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_speed_change_scales_only_the_speed_command() {
+        let s = StartShift {
+            dspeed_pct: 20.0,
+            ..StartShift::default()
+        };
+        assert_eq!(s.command("DESIRED_SPEED", 2.0), 2.4);
+        assert_eq!(s.command("DESIRED_HEADING", 90.0), 90.0);
+        // No change is exact, so unperturbed runs keep their bytes.
+        assert_eq!(StartShift::default().command("DESIRED_SPEED", 1.7), 1.7);
+    }
+
+    #[test]
+    fn a_faster_vehicle_covers_more_ground_in_the_same_time() {
+        let mission = Path::new(env!("CARGO_MANIFEST_DIR")).join("../missions/alpha");
+        let prep = Prepared::load(&mission, &[], None).expect("alpha loads");
+        let opts = RunOptions {
+            max_time: Some(60.0),
+            ..RunOptions::default()
+        };
+        let nominal = prep.run(StartShift::default(), &opts).expect("runs");
+        let fast = prep
+            .run(
+                StartShift {
+                    dspeed_pct: 20.0,
+                    ..StartShift::default()
+                },
+                &opts,
+            )
+            .expect("runs");
+        let ratio = fast.observer.track.distance / nominal.observer.track.distance;
+        assert!((1.1..1.3).contains(&ratio), "distance ratio {ratio}");
+        let speeds = fast.end.speed / nominal.end.speed;
+        assert!((1.15..1.25).contains(&speeds), "end speed ratio {speeds}");
     }
 }

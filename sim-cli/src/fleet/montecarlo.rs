@@ -22,16 +22,25 @@ use helm_sim::fleet::collide::Detector;
 use helm_sim::fleet::run::{FleetOptions, FleetPlan};
 use helm_sim::run::{SimError, StartShift};
 
-/// Every vehicle's start shift for the run with `seed`.
+/// Every vehicle's start shift and speed change for the run with `seed`: the poses
+/// vehicle after vehicle, then the speeds, so a seed's poses are what they were before
+/// speed jitter existed.
 pub fn shifts(j: &Jitter, seed: u64, vehicles: usize) -> Vec<StartShift> {
     let mut s = seed;
-    (0..vehicles)
+    let mut all: Vec<StartShift> = (0..vehicles)
         .map(|_| StartShift {
             dx: j.x * unit(&mut s),
             dy: j.y * unit(&mut s),
             dheading: j.heading * unit(&mut s),
+            dspeed_pct: 0.0,
         })
-        .collect()
+        .collect();
+    if j.speed > 0.0 {
+        for v in &mut all {
+            v.dspeed_pct = j.speed * unit(&mut s);
+        }
+    }
+    all
 }
 
 /// One pair in a row.
@@ -57,6 +66,10 @@ pub struct Row {
     pub pairs: Vec<PairCells>,
     /// Behaviors each vehicle's helm spawned.
     pub spawned: Vec<u64>,
+    /// Each vehicle's speed change (percent of its commanded speed); empty when the run
+    /// set does not perturb speeds.
+    #[serde(default)]
+    pub speed_pct: Vec<f64>,
     pub behavior_panics: usize,
     pub behavior_errors: usize,
     /// Obstacle counts, when the scenario has obstacles (issue 22).
@@ -89,8 +102,9 @@ pub fn run_range(
                 return Ok(None);
             }
             let s = seed.wrapping_add(i as u64);
+            let shifts = shifts(&jitter, s, plan.vehicles.len());
             let o = plan.run(
-                &shifts(&jitter, s, plan.vehicles.len()),
+                &shifts,
                 &FleetOptions {
                     max_time,
                     seed: s,
@@ -118,6 +132,11 @@ pub fn run_range(
                     })
                     .collect(),
                 spawned: o.vehicles.iter().map(|v| v.observer.spawns).collect(),
+                speed_pct: if jitter.speed > 0.0 {
+                    shifts.iter().map(|v| v.dspeed_pct).collect()
+                } else {
+                    Vec::new()
+                },
                 behavior_panics: o
                     .vehicles
                     .iter()
@@ -167,6 +186,12 @@ pub fn csv(vehicles: &[String], obstacles: bool, rows: &[Row]) -> String {
     for v in vehicles {
         let _ = write!(s, ",spawned_{}", column(v));
     }
+    let speeds = rows.iter().any(|r| !r.speed_pct.is_empty());
+    if speeds {
+        for v in vehicles {
+            let _ = write!(s, ",speed_pct_{}", column(v));
+        }
+    }
     super::stats::header(&mut s, vehicles, obstacles);
     s.push('\n');
     for r in rows {
@@ -189,6 +214,16 @@ pub fn csv(vehicles: &[String], obstacles: bool, rows: &[Row]) -> String {
         }
         for n in &r.spawned {
             let _ = write!(s, ",{n}");
+        }
+        if speeds {
+            for i in 0..vehicles.len() {
+                match r.speed_pct.get(i) {
+                    Some(p) => {
+                        let _ = write!(s, ",{p:.3}");
+                    }
+                    None => s.push(','),
+                }
+            }
         }
         super::stats::cells(
             &mut s,
@@ -305,8 +340,14 @@ fn run_set(f: &ShardFile) -> String {
     )
 }
 
+/// The jitter as a shard's run set names it (speed only when perturbed, so shards
+/// written before speed jitter existed still merge with new ones).
 fn jitter_text(j: &Jitter) -> String {
-    format!("x={},y={},heading={}", j.x, j.y, j.heading)
+    let mut t = format!("x={},y={},heading={}", j.x, j.y, j.heading);
+    if j.speed > 0.0 {
+        t.push_str(&format!(",speed={}", j.speed));
+    }
+    t
 }
 
 /// `helm sim` with `--runs` or `--shard` on a fleet.
@@ -540,12 +581,57 @@ mod tests {
             x: 5.0,
             y: 5.0,
             heading: 10.0,
+            speed: 0.0,
         };
         let a = shifts(&j, 3, 4);
         assert_eq!(a, shifts(&j, 3, 4));
         assert_ne!(a[0], a[1]);
         assert!(a
             .iter()
-            .all(|s| s.dx.abs() <= 5.0 && s.dheading.abs() <= 10.0));
+            .all(|s| s.dx.abs() <= 5.0 && s.dheading.abs() <= 10.0 && s.dspeed_pct == 0.0));
+        // Speeds are drawn after every pose: a seed's poses do not move.
+        let fast = Jitter { speed: 20.0, ..j };
+        let b = shifts(&fast, 3, 4);
+        for (p, q) in a.iter().zip(&b) {
+            assert_eq!((p.dx, p.dy, p.dheading), (q.dx, q.dy, q.dheading));
+            assert!(q.dspeed_pct.abs() <= 20.0 && q.dspeed_pct != 0.0);
+        }
+        assert_ne!(b[0].dspeed_pct, b[1].dspeed_pct);
+    }
+
+    #[test]
+    fn speed_columns_only_when_speeds_are_perturbed() {
+        let row = |speed_pct: Vec<f64>| Row {
+            run: 0,
+            seed: 1,
+            end_reason: "timeout".into(),
+            sim_time_s: 10.0,
+            encounters: 0,
+            near_misses: 0,
+            collisions: 0,
+            closest_m: 50.0,
+            pairs: vec![PairCells {
+                closest_m: 50.0,
+                near_misses: 0,
+                collisions: 0,
+            }],
+            spawned: vec![1, 1],
+            speed_pct,
+            behavior_panics: 0,
+            behavior_errors: 0,
+            obstacles: None,
+            rules: vec![],
+        };
+        let names = ["abe".to_string(), "ben".to_string()];
+        let plain = csv(&names, false, &[row(vec![])]);
+        assert!(!plain.contains("speed_pct"), "{plain}");
+        let fast = csv(&names, false, &[row(vec![12.5, -3.25])]);
+        let mut lines = fast.lines();
+        let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+        let cells: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+        let at = |name: &str| head.iter().position(|h| *h == name).expect(name);
+        assert_eq!(cells[at("speed_pct_abe")], "12.500");
+        assert_eq!(cells[at("speed_pct_ben")], "-3.250");
+        assert_eq!(head.len(), cells.len());
     }
 }

@@ -146,6 +146,8 @@ pub struct Live {
     helm: Helm,
     cycle: HelmCycle,
     model: Drift<Kinematics>,
+    /// This run's perturbation (its speed change applies to every speed command).
+    shift: StartShift,
     pub mgr: ContactManager,
     geo: Option<Geodesy>,
     kh: u64,
@@ -223,6 +225,7 @@ impl Live {
             helm,
             cycle,
             model,
+            shift,
             mgr,
             geo: plan.origin.map(|(la, lo)| Geodesy::new(la, lo)),
             kh: 1,
@@ -287,7 +290,7 @@ impl Live {
             for m in &self.sim_in {
                 if let Value::Num(v) = m.value {
                     if !(parked && m.var == "DESIRED_HEADING") {
-                        self.model.on_mail(&m.var, v);
+                        self.model.on_mail(&m.var, self.shift.command(&m.var, v));
                     }
                 }
             }
