@@ -166,11 +166,7 @@ fn monte_carlo(args: &SimArgs, prep: &Prepared) -> Result<u8, SimError> {
         .iter()
         .filter(|r| r.end_reason == nominal.end_reason)
         .count();
-    let title = format!(
-        "{}: {} runs, jitter {jitter}",
-        prep.name,
-        rows.len()
-    );
+    let title = format!("{}: {} runs, jitter {jitter}", prep.name, rows.len());
     let sub = format!(
         "{ok} of {} end like the unperturbed run ({} after {:.1} s); table: runs.csv",
         rows.len(),
