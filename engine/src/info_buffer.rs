@@ -12,16 +12,27 @@ struct Entry {
     time: f64,
     /// Timestamp of the message that last wrote it.
     msg_time: f64,
+    /// This iteration's strings are the first `str_count`; the strings past it are
+    /// kept cleared for their allocation (the next iteration's deltas reuse them).
     str_deltas: Vec<String>,
+    str_count: usize,
     dbl_deltas: Vec<f64>,
+}
+
+impl Entry {
+    fn has_deltas(&self) -> bool {
+        self.str_count > 0 || !self.dbl_deltas.is_empty()
+    }
 }
 
 /// Latest values per variable, their times, and this iteration's values.
 #[derive(Debug, Default)]
 pub struct InfoBuffer {
     vars: HashMap<String, Entry>,
-    /// Variables with deltas this iteration, so clearing touches only those.
+    /// Variables with deltas this iteration (the first `touched_count`; the rest are
+    /// spare strings), so clearing touches only those.
     touched: Vec<String>,
+    touched_count: usize,
     curr_time: f64,
     start_time: f64,
 }
@@ -55,14 +66,14 @@ impl InfoBuffer {
 
     fn touch(&mut self, var: &str, first_delta: bool) {
         if first_delta {
-            self.touched.push(var.to_string());
+            push_reused(&mut self.touched, &mut self.touched_count, var);
         }
     }
 
     pub fn set_string(&mut self, var: &str, val: &str, msg_time: f64) {
         let now = self.curr_time;
         let e = self.entry(var);
-        let first = e.str_deltas.is_empty() && e.dbl_deltas.is_empty();
+        let first = !e.has_deltas();
         match &mut e.sval {
             Some(s) => {
                 s.clear();
@@ -72,14 +83,14 @@ impl InfoBuffer {
         }
         e.time = now;
         e.msg_time = msg_time;
-        e.str_deltas.push(val.to_string());
+        push_reused(&mut e.str_deltas, &mut e.str_count, val);
         self.touch(var, first);
     }
 
     pub fn set_double(&mut self, var: &str, val: f64, msg_time: f64) {
         let now = self.curr_time;
         let e = self.entry(var);
-        let first = e.str_deltas.is_empty() && e.dbl_deltas.is_empty();
+        let first = !e.has_deltas();
         e.dval = Some(val);
         e.time = now;
         e.msg_time = msg_time;
@@ -148,7 +159,9 @@ impl InfoBuffer {
     }
 
     pub fn string_deltas(&self, var: &str) -> &[String] {
-        self.vars.get(var).map_or(&[], |e| &e.str_deltas)
+        self.vars
+            .get(var)
+            .map_or(&[], |e| &e.str_deltas[..e.str_count])
     }
     pub fn double_deltas(&self, var: &str) -> &[f64] {
         self.vars.get(var).map_or(&[], |e| &e.dbl_deltas)
@@ -156,13 +169,26 @@ impl InfoBuffer {
 
     /// End of an iteration (or parked): this iteration's values are forgotten.
     pub fn clear_deltas(&mut self) {
-        for var in self.touched.drain(..) {
-            if let Some(e) = self.vars.get_mut(&var) {
-                e.str_deltas.clear();
+        for var in &self.touched[..self.touched_count] {
+            if let Some(e) = self.vars.get_mut(var) {
+                e.str_count = 0;
                 e.dbl_deltas.clear();
             }
         }
+        self.touched_count = 0;
     }
+}
+
+/// Append `text` as the `count`th string of `list`, reusing a kept string's allocation.
+fn push_reused(list: &mut Vec<String>, count: &mut usize, text: &str) {
+    match list.get_mut(*count) {
+        Some(slot) => {
+            slot.clear();
+            slot.push_str(text);
+        }
+        None => list.push(text.to_string()),
+    }
+    *count += 1;
 }
 
 impl VarSource for InfoBuffer {

@@ -66,5 +66,6 @@ pub mod posting;
 pub mod run_warnings;
 pub mod runtime;
 pub mod status;
+pub mod string_pool;
 
 pub use engine::{Helm, HelmState, Mail};

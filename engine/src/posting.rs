@@ -28,7 +28,17 @@ impl DuplicateFilter {
             Value::Str(s) if !s.is_empty() => {
                 let same = self.strings.get(key).is_some_and(|old| old == s);
                 if repeatable || !same {
-                    remember(&mut self.strings, key, s.clone());
+                    // Copied into the kept string (no new allocation once it is long
+                    // enough).
+                    match self.strings.get_mut(key) {
+                        Some(old) => {
+                            old.clear();
+                            old.push_str(s);
+                        }
+                        None => {
+                            self.strings.insert(key.to_string(), s.clone());
+                        }
+                    }
                     return true;
                 }
                 false

@@ -1,66 +1,154 @@
 //! BHV_IPF serialization (spec §9).
+//!
+//! Written for the decision step, where every kept function is serialised every
+//! iteration: everything is appended to caller-owned strings (reused across iterations),
+//! digits are written a character at a time (ASCII, no UTF-8 re-validation, no `format!`
+//! per piece).
 
 use crate::domain::push_compact;
 use crate::function::IvpFunction;
 use std::fmt::Write;
 
-/// The custom 4-decimal weight encoding of spec §9.1.
-pub fn encode_weight(w: f64, out: &mut String) {
-    let mut a = w;
-    if a < 0.0 {
-        out.push('-');
-        a = -a;
+/// Appends to a string's bytes directly, one whole UTF-8 sequence at a time (an ASCII
+/// byte or a whole `&str`), so digits go in without `char` encoding or re-validation.
+struct Utf8Out<'a> {
+    bytes: &'a mut Vec<u8>,
+}
+
+impl<'a> Utf8Out<'a> {
+    fn new(s: &'a mut String) -> Self {
+        // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits) and
+        // `str` (a whole `&str`), so they are valid UTF-8 after every call, as a `String`
+        // requires, whenever `s` can be seen again.
+        let bytes = unsafe { s.as_mut_vec() };
+        Utf8Out { bytes }
     }
-    if a == 0.0 {
-        out.push('0');
-        return;
+
+    fn reserve(&mut self, extra: usize) {
+        self.bytes.reserve(extra);
     }
-    if !a.is_finite() {
-        let _ = write!(out, "{a}");
-        return;
+
+    /// One ASCII character (callers pass digits and punctuation).
+    #[inline]
+    fn byte(&mut self, b: u8) {
+        self.bytes.push(b & 0x7f);
     }
-    let x = a * 10000.0 + 0.5;
-    // Integer arithmetic gives the same digits as the float form for every weight below
-    // 1e15 / 10000 and avoids float formatting on the per-iteration path. Below 1e15
-    // (< 2^53) `x as u64` is exactly `x.trunc()`, without a libm call per weight.
-    if x < 1e15 {
-        let n = x as u64;
-        if n == 0 {
-            out.push_str("0.0000");
+
+    fn str(&mut self, s: &str) {
+        self.bytes.extend_from_slice(s.as_bytes());
+    }
+
+    /// Decimal digits of `n`.
+    #[inline]
+    fn u64(&mut self, n: u64) {
+        // Box bounds and integer parts are mostly under 1000: no loop for those.
+        if n < 10 {
+            self.byte(b'0' + n as u8);
+        } else if n < 100 {
+            self.byte(b'0' + (n / 10) as u8);
+            self.byte(b'0' + (n % 10) as u8);
+        } else if n < 1000 {
+            self.byte(b'0' + (n / 100) as u8);
+            self.byte(b'0' + (n / 10 % 10) as u8);
+            self.byte(b'0' + (n % 10) as u8);
+        } else {
+            self.long_u64(n);
+        }
+    }
+
+    fn long_u64(&mut self, mut n: u64) {
+        let mut buf = [0u8; 20];
+        let mut i = buf.len();
+        while n > 0 {
+            i -= 1;
+            buf[i] = b'0' + (n % 10) as u8;
+            n /= 10;
+        }
+        for &b in &buf[i..] {
+            self.byte(b);
+        }
+    }
+
+    fn i32(&mut self, v: i32) {
+        if v < 0 {
+            self.byte(b'-');
+        }
+        self.u64(u64::from(v.unsigned_abs()));
+    }
+
+    /// The custom 4-decimal weight encoding of spec §9.1.
+    #[inline]
+    fn weight(&mut self, w: f64) {
+        let mut a = w;
+        if a < 0.0 {
+            self.byte(b'-');
+            a = -a;
+        }
+        if a == 0.0 {
+            self.byte(b'0');
             return;
         }
-        // Integer part and up to four fractional digits on the stack, then one append.
-        let mut ib = itoa::Buffer::new();
-        out.push_str(ib.format(n / 10000));
-        let frac = (n % 10000) as u32;
-        let mut buf = [b'.', b'0', b'0', b'0', b'0'];
-        let mut len = 1;
-        if frac != 0 {
-            buf[1] += (frac / 1000) as u8;
-            buf[2] += (frac / 100 % 10) as u8;
-            buf[3] += (frac / 10 % 10) as u8;
-            buf[4] += (frac % 10) as u8;
-            len = 5;
-            while buf[len - 1] == b'0' {
-                len -= 1;
+        let x = a * 10000.0 + 0.5;
+        // Integer arithmetic gives the same digits as the float form for every weight
+        // below 1e15 / 10000. Below 1e15 (< 2^53) `x as u64` is exactly `x.trunc()`.
+        // (NaN and infinities fail the test and go the float way.)
+        if x < 1e15 {
+            let n = x as u64;
+            if n == 0 {
+                self.str("0.0000");
+                return;
             }
+            self.u64(n / 10000);
+            self.byte(b'.');
+            self.frac4((n % 10000) as u32);
+            return;
         }
-        out.push_str(std::str::from_utf8(&buf[..len]).unwrap_or("."));
-        return;
+        self.float_weight(a);
     }
-    let n = x.trunc();
-    let int = (n / 10000.0).trunc();
-    let frac = (n - int * 10000.0) as u32;
-    let _ = write!(out, "{int:.0}.");
-    push_frac4(out, frac);
+
+    /// Four fractional digits with trailing zeros removed (nothing for 0).
+    #[inline]
+    fn frac4(&mut self, frac: u32) {
+        if frac == 0 {
+            return;
+        }
+        let digits = [frac / 1000, frac / 100 % 10, frac / 10 % 10, frac % 10];
+        let mut last = 4;
+        while digits[last - 1] == 0 {
+            last -= 1;
+        }
+        for &d in &digits[..last] {
+            self.byte(b'0' + d as u8);
+        }
+    }
+
+    /// Weights of 1e11 and more, infinities and NaN, printed as they always were.
+    #[cold]
+    fn float_weight(&mut self, a: f64) {
+        let mut text = String::new();
+        if !a.is_finite() {
+            let _ = write!(text, "{a}");
+            self.str(&text);
+            return;
+        }
+        let n = (a * 10000.0 + 0.5).trunc();
+        let int = (n / 10000.0).trunc();
+        let frac = (n - int * 10000.0) as u32;
+        let _ = write!(text, "{int:.0}.");
+        push_float_frac4(&mut text, frac);
+        self.str(&text);
+    }
 }
 
-fn push_i32(out: &mut String, v: i32) {
-    out.push_str(itoa::Buffer::new().format(v));
+/// The custom 4-decimal weight encoding of spec §9.1.
+pub fn encode_weight(w: f64, out: &mut String) {
+    Utf8Out::new(out).weight(w);
 }
 
-/// Four fractional digits with trailing zeros removed (nothing for 0).
-fn push_frac4(out: &mut String, frac: u32) {
+/// The fractional digits of the float path (weights of 1e11 and more), as they have
+/// always been printed: float rounding can leave `frac` at 10000 or more there, whose
+/// first "digit" then prints past `9` (kept byte for byte; no mission reaches it).
+fn push_float_frac4(out: &mut String, frac: u32) {
     if frac == 0 {
         return;
     }
@@ -76,41 +164,54 @@ fn push_frac4(out: &mut String, frac: u32) {
 
 /// BHV_IPF whole-function string (spec §9.1).
 pub fn encode(f: &IvpFunction) -> String {
+    let mut s = String::new();
+    encode_into(f, &mut s);
+    s
+}
+
+/// BHV_IPF whole-function string (spec §9.1) written into `s` (cleared first), whose
+/// allocation is kept: the decision step reuses one string for every function.
+pub fn encode_into(f: &IvpFunction, s: &mut String) {
+    s.clear();
     let dim = f.dim();
-    // Generous: growing a string of thousands of pieces copies it each time.
-    let mut s = String::with_capacity(
-        96 + f.context().len() + f.piece_count() * (dim * 12 + (dim + 1) * 10),
-    );
-    let _ = write!(
-        s,
-        "H,{},{},{},{},1,",
-        f.context().chars().count(),
-        f.context(),
-        dim,
-        f.piece_count(),
-    );
-    push_compact(&mut s, f.pwt());
+    s.push_str("H,");
+    s.push_str(itoa::Buffer::new().format(f.context().chars().count()));
+    s.push(',');
+    s.push_str(f.context());
+    s.push(',');
+    s.push_str(itoa::Buffer::new().format(dim));
+    s.push(',');
+    s.push_str(itoa::Buffer::new().format(f.piece_count()));
+    s.push_str(",1,");
+    push_compact(s, f.pwt());
     s.push_str(",D,");
-    f.domain().write_ipf(&mut s);
+    f.domain().write_ipf(s);
     s.push_str(",G");
     for &g in f.gelbox() {
         s.push(',');
         s.push_str(itoa::Buffer::new().format(g));
     }
     s.push_str(",F");
-    for p in f.pieces() {
-        for d in 0..dim {
-            s.push(',');
-            push_i32(&mut s, p.lo(d));
-            s.push(',');
-            push_i32(&mut s, p.hi(d));
+    if dim == 0 {
+        return;
+    }
+    let mut out = Utf8Out::new(s);
+    // Generous: growing a string of thousands of pieces copies it each time.
+    out.reserve(f.piece_count() * (dim * 12 + (dim + 1) * 10));
+    let pieces = f
+        .bounds()
+        .chunks_exact(2 * dim)
+        .zip(f.weights().chunks_exact(dim + 1));
+    for (bounds, weights) in pieces {
+        for &b in bounds {
+            out.byte(b',');
+            out.i32(b);
         }
-        for &w in p.weights() {
-            s.push(',');
-            encode_weight(w, &mut s);
+        for &w in weights {
+            out.byte(b',');
+            out.weight(w);
         }
     }
-    s
 }
 
 /// Smallest packet body. The spec's `2000 - header` goes to 0 and below for behavior
@@ -118,33 +219,71 @@ pub fn encode(f: &IvpFunction) -> String {
 /// under 1450 characters never reach this floor, so real missions are split as specified.
 const MIN_BODY: usize = 500;
 
+/// The BHV_IPF packets of one whole-function string (spec §9.2, packet size 2000),
+/// measured once and written one at a time into caller-owned strings.
+#[derive(Clone, Copy, Debug)]
+pub struct Packets<'a> {
+    id: &'a str,
+    whole: &'a str,
+    /// Characters of body per packet.
+    body: usize,
+    count: usize,
+    /// Bytes are characters (the usual case): bodies are byte slices.
+    ascii: bool,
+}
+
+impl<'a> Packets<'a> {
+    pub fn new(id: &'a str, whole: &'a str) -> Self {
+        let ascii = whole.is_ascii();
+        let header = id.chars().count() + 50;
+        let body = 2000usize.saturating_sub(header).max(MIN_BODY);
+        let chars = if ascii {
+            whole.len()
+        } else {
+            whole.chars().count()
+        };
+        Packets {
+            id,
+            whole,
+            body,
+            count: chars / body + 1,
+            ascii,
+        }
+    }
+
+    /// How many packets.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Packet `k` (1-based) written into `out` (cleared first; its allocation is kept).
+    pub fn write(&self, k: usize, out: &mut String) {
+        out.clear();
+        out.push_str("P,");
+        out.push_str(self.id);
+        out.push(',');
+        out.push_str(itoa::Buffer::new().format(self.count));
+        out.push(',');
+        out.push_str(itoa::Buffer::new().format(k));
+        out.push(',');
+        let first = k.saturating_sub(1) * self.body;
+        if self.ascii {
+            let a = first.min(self.whole.len());
+            let b = (first + self.body).min(self.whole.len());
+            out.push_str(&self.whole[a..b]);
+        } else {
+            out.extend(self.whole.chars().skip(first).take(self.body));
+        }
+    }
+}
+
 /// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
 pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
-    if whole.is_ascii() && id.is_ascii() {
-        let header = id.len() + 50;
-        let body = 2000usize.saturating_sub(header).max(MIN_BODY);
-        let count = whole.len() / body + 1;
-        return (1..=count)
-            .map(|k| {
-                let a = ((k - 1) * body).min(whole.len());
-                let b = (k * body).min(whole.len());
-                let mut p = String::with_capacity(id.len() + 24 + (b - a));
-                let _ = write!(p, "P,{id},{count},{k},");
-                p.push_str(&whole[a..b]);
-                p
-            })
-            .collect();
-    }
-    let chars: Vec<char> = whole.chars().collect();
-    let header = id.chars().count() + 50;
-    let body = 2000usize.saturating_sub(header).max(MIN_BODY);
-    let count = chars.len() / body + 1;
-    (1..=count)
+    let packets = Packets::new(id, whole);
+    (1..=packets.count())
         .map(|k| {
-            let a = ((k - 1) * body).min(chars.len());
-            let b = (k * body).min(chars.len());
-            let mut p = format!("P,{id},{count},{k},");
-            p.extend(&chars[a..b]);
+            let mut p = String::new();
+            packets.write(k, &mut p);
             p
         })
         .collect()
@@ -154,6 +293,272 @@ pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
 mod tests {
     use super::*;
     use crate::domain::Domain;
+
+    /// The encoder and packet splitter as they were before the reusable-buffer rewrite,
+    /// kept as the reference the fast ones are checked against.
+    mod reference {
+        use crate::domain::push_compact;
+        use crate::function::IvpFunction;
+        use std::fmt::Write;
+        /// The custom 4-decimal weight encoding of spec §9.1.
+        pub(super) fn encode_weight(w: f64, out: &mut String) {
+            let mut a = w;
+            if a < 0.0 {
+                out.push('-');
+                a = -a;
+            }
+            if a == 0.0 {
+                out.push('0');
+                return;
+            }
+            if !a.is_finite() {
+                let _ = write!(out, "{a}");
+                return;
+            }
+            let x = a * 10000.0 + 0.5;
+            // Integer arithmetic gives the same digits as the float form for every weight below
+            // 1e15 / 10000 and avoids float formatting on the per-iteration path. Below 1e15
+            // (< 2^53) `x as u64` is exactly `x.trunc()`, without a libm call per weight.
+            if x < 1e15 {
+                let n = x as u64;
+                if n == 0 {
+                    out.push_str("0.0000");
+                    return;
+                }
+                // Integer part and up to four fractional digits on the stack, then one append.
+                let mut ib = itoa::Buffer::new();
+                out.push_str(ib.format(n / 10000));
+                let frac = (n % 10000) as u32;
+                let mut buf = [b'.', b'0', b'0', b'0', b'0'];
+                let mut len = 1;
+                if frac != 0 {
+                    buf[1] += (frac / 1000) as u8;
+                    buf[2] += (frac / 100 % 10) as u8;
+                    buf[3] += (frac / 10 % 10) as u8;
+                    buf[4] += (frac % 10) as u8;
+                    len = 5;
+                    while buf[len - 1] == b'0' {
+                        len -= 1;
+                    }
+                }
+                out.push_str(std::str::from_utf8(&buf[..len]).unwrap_or("."));
+                return;
+            }
+            let n = x.trunc();
+            let int = (n / 10000.0).trunc();
+            let frac = (n - int * 10000.0) as u32;
+            let _ = write!(out, "{int:.0}.");
+            push_frac4(out, frac);
+        }
+
+        fn push_i32(out: &mut String, v: i32) {
+            out.push_str(itoa::Buffer::new().format(v));
+        }
+
+        /// Four fractional digits with trailing zeros removed (nothing for 0).
+        fn push_frac4(out: &mut String, frac: u32) {
+            if frac == 0 {
+                return;
+            }
+            let digits = [frac / 1000, frac / 100 % 10, frac / 10 % 10, frac % 10];
+            let mut last = 4;
+            while last > 0 && digits[last - 1] == 0 {
+                last -= 1;
+            }
+            for d in &digits[..last] {
+                out.push((b'0' + *d as u8) as char);
+            }
+        }
+
+        /// BHV_IPF whole-function string (spec §9.1).
+        pub(super) fn encode(f: &IvpFunction) -> String {
+            let dim = f.dim();
+            // Generous: growing a string of thousands of pieces copies it each time.
+            let mut s = String::with_capacity(
+                96 + f.context().len() + f.piece_count() * (dim * 12 + (dim + 1) * 10),
+            );
+            let _ = write!(
+                s,
+                "H,{},{},{},{},1,",
+                f.context().chars().count(),
+                f.context(),
+                dim,
+                f.piece_count(),
+            );
+            push_compact(&mut s, f.pwt());
+            s.push_str(",D,");
+            f.domain().write_ipf(&mut s);
+            s.push_str(",G");
+            for &g in f.gelbox() {
+                s.push(',');
+                s.push_str(itoa::Buffer::new().format(g));
+            }
+            s.push_str(",F");
+            for p in f.pieces() {
+                for d in 0..dim {
+                    s.push(',');
+                    push_i32(&mut s, p.lo(d));
+                    s.push(',');
+                    push_i32(&mut s, p.hi(d));
+                }
+                for &w in p.weights() {
+                    s.push(',');
+                    encode_weight(w, &mut s);
+                }
+            }
+            s
+        }
+
+        /// Smallest packet body. The spec's `2000 - header` goes to 0 and below for behavior
+        /// names of 1950+ characters (one packet per character, thousands per iteration); names
+        /// under 1450 characters never reach this floor, so real missions are split as specified.
+        const MIN_BODY: usize = 500;
+
+        /// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
+        pub(super) fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
+            if whole.is_ascii() && id.is_ascii() {
+                let header = id.len() + 50;
+                let body = 2000usize.saturating_sub(header).max(MIN_BODY);
+                let count = whole.len() / body + 1;
+                return (1..=count)
+                    .map(|k| {
+                        let a = ((k - 1) * body).min(whole.len());
+                        let b = (k * body).min(whole.len());
+                        let mut p = String::with_capacity(id.len() + 24 + (b - a));
+                        let _ = write!(p, "P,{id},{count},{k},");
+                        p.push_str(&whole[a..b]);
+                        p
+                    })
+                    .collect();
+            }
+            let chars: Vec<char> = whole.chars().collect();
+            let header = id.chars().count() + 50;
+            let body = 2000usize.saturating_sub(header).max(MIN_BODY);
+            let count = chars.len() / body + 1;
+            (1..=count)
+                .map(|k| {
+                    let a = ((k - 1) * body).min(chars.len());
+                    let b = (k * body).min(chars.len());
+                    let mut p = format!("P,{id},{count},{k},");
+                    p.extend(&chars[a..b]);
+                    p
+                })
+                .collect()
+        }
+    }
+
+    fn rng(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A weight of the kinds the encoder distinguishes: zero, signs, tiny values that
+    /// round to `0.0000`, values on the rounding edge of the 4th decimal, integers,
+    /// huge values past the integer path, infinities and NaN.
+    fn random_weight(seed: &mut u64, finite_only: bool) -> f64 {
+        let r = rng(seed);
+        let sign = if rng(seed) < 0.5 { -1.0 } else { 1.0 };
+        let kinds = if finite_only { 9.0 } else { 11.0 };
+        match (rng(seed) * kinds) as u32 {
+            0 => 0.0 * sign,
+            1 => sign * r * 0.0001,
+            2 => sign * ((r * 1e6).floor() + 0.5) / 10000.0,
+            3 => sign * (r * 1000.0).floor(),
+            4 => sign * r * 100.0,
+            5 => sign * r * 1e9,
+            6 => sign * r * 1e12,
+            7 => sign * (1e11 + r * 1e13),
+            8 => sign * 10f64.powf(r * 30.0 - 10.0),
+            9 => sign * f64::INFINITY,
+            _ => f64::NAN,
+        }
+    }
+
+    #[test]
+    fn fast_weight_encoding_matches_the_reference() {
+        let mut seed = 7u64;
+        let (mut a, mut b) = (String::new(), String::new());
+        for _ in 0..200_000 {
+            let w = random_weight(&mut seed, false);
+            a.clear();
+            b.clear();
+            encode_weight(w, &mut a);
+            reference::encode_weight(w, &mut b);
+            assert_eq!(a, b, "weight {w:e}");
+        }
+    }
+
+    /// Random functions (1-3 dimensions, random boxes and weights, pwt, contexts with
+    /// and without non-ASCII characters, behavior names of every length class) give the
+    /// reference's whole string and packets, written into reused strings.
+    #[test]
+    fn fast_encoder_and_packets_match_the_reference() {
+        let mut seed = 3u64;
+        let mut whole = String::new();
+        let mut packet = String::new();
+        for case in 0..1500 {
+            let dim = 1 + (rng(&mut seed) * 3.0) as usize;
+            let mut d = Domain::new();
+            for i in 0..dim {
+                let points = 1 + (rng(&mut seed) * 400.0) as u32;
+                let low = (rng(&mut seed) * 20.0).floor() - 10.0;
+                let high = if points == 1 {
+                    low
+                } else {
+                    low + 1.0 + (rng(&mut seed) * 5000.0).floor() / 8.0
+                };
+                d.add_var(&format!("v{i}"), low, high, points).unwrap();
+            }
+            let pieces = if case % 50 == 0 {
+                2000
+            } else {
+                (rng(&mut seed) * 120.0) as usize
+            };
+            let mut specs = Vec::with_capacity(pieces);
+            for _ in 0..pieces {
+                let boxes = d
+                    .vars()
+                    .iter()
+                    .map(|v| {
+                        let n = v.points as f64;
+                        let lo = (rng(&mut seed) * n) as i32;
+                        let hi = lo + (rng(&mut seed) * (n - lo as f64)) as i32;
+                        (lo, hi.min(v.points as i32 - 1))
+                    })
+                    .collect();
+                let weights = (0..=dim).map(|_| random_weight(&mut seed, true)).collect();
+                specs.push((boxes, weights));
+            }
+            let mut f = IvpFunction::from_pieces(d, &specs).unwrap();
+            f.set_pwt(match case % 4 {
+                0 => 100.0,
+                1 => rng(&mut seed) * 250.0,
+                2 => 1e16 * rng(&mut seed),
+                _ => (rng(&mut seed) * 1000.0).floor(),
+            });
+            let name = match case % 5 {
+                0 => "waypt_survey".to_string(),
+                1 => "n".repeat(1 + (rng(&mut seed) * 3000.0) as usize),
+                2 => "avoid_é".to_string(),
+                _ => format!("b{case}"),
+            };
+            f.set_context(&format!("{case}:{name}"));
+            encode_into(&f, &mut whole);
+            let expected = reference::encode(&f);
+            assert_eq!(whole, expected, "case {case}");
+            let id = format!("{name}^{case}");
+            let want = reference::ipf_packets(&id, &expected);
+            let packets = Packets::new(&id, &whole);
+            assert_eq!(packets.count(), want.len(), "case {case}");
+            for (k, w) in want.iter().enumerate() {
+                packets.write(k + 1, &mut packet);
+                assert_eq!(&packet, w, "case {case} packet {}", k + 1);
+            }
+            assert_eq!(ipf_packets(&id, &whole), want);
+        }
+    }
 
     fn enc(w: f64) -> String {
         let mut s = String::new();

@@ -53,7 +53,13 @@ impl Helm {
     /// Start a new batch of postings once the last one was handed out.
     pub(crate) fn fresh_outbox(&mut self) {
         if std::mem::take(&mut self.outbox_taken) {
-            self.outbox.clear();
+            for p in self.outbox.drain(..) {
+                self.pool.give(p.var);
+                self.pool.give(p.source_aux);
+                if let Value::Str(s) = p.value {
+                    self.pool.give(s);
+                }
+            }
         }
     }
 
@@ -205,11 +211,11 @@ impl Helm {
     fn maintain_ledger(&mut self, now: f64) {
         // Field by field, so the summaries go straight from the ledger into the posting
         // (no extra copy each iteration).
-        let (ledger, outbox) = (&mut self.env.ledger, &mut self.outbox);
-        let post = |outbox: &mut Vec<Posting>, var: &str, text: &str| {
+        let (ledger, outbox, pool) = (&mut self.env.ledger, &mut self.outbox, &mut self.pool);
+        let mut post = |outbox: &mut Vec<Posting>, var: &str, text: &str| {
             outbox.push(Posting {
-                var: var.to_string(),
-                value: Value::Str(text.to_string()),
+                var: pool.copy_of(var),
+                value: Value::Str(pool.copy_of(text)),
                 source_aux: String::new(),
             })
         };
@@ -258,31 +264,22 @@ impl Helm {
         }
         self.mode_pairs = pairs;
 
-        self.functions.clear();
+        for (name, _) in self.functions.drain(..) {
+            self.pool.give(name);
+        }
         let created = std::time::Instant::now();
         for i in 0..self.behaviors.len() {
             let t = std::time::Instant::now();
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
-                let name = self.behaviors[i].core.name.clone();
+                let name = self.pool.copy_of(&self.behaviors[i].core.name);
                 match self.to_ivp(fd) {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         let context = f.context_mut();
                         context.clear();
                         let _ = write!(context, "{iter}:{name}");
-                        let whole = ivp::ipf::encode(&f);
-                        let id = format!("{name}^{iter}");
-                        for p in ivp::ipf_packets(&id, &whole) {
-                            self.behaviors[i]
-                                .core
-                                .messages
-                                .push(crate::runtime::Message {
-                                    var: "BHV_IPF".into(),
-                                    value: Value::Str(p),
-                                    key: "repeatable".into(),
-                                });
-                        }
+                        self.post_ipf(i, &f, &name, iter);
                         self.functions.push((name, f));
                     }
                     Err(msg) => {
@@ -332,6 +329,27 @@ impl Helm {
         }
         summary.solve_secs = solving.elapsed().as_secs_f64();
         summary
+    }
+
+    /// BHV_IPF (behavior-common.md §4 step 10.7): the function serialised into packets,
+    /// queued as the behavior's messages; every string is a reused one.
+    fn post_ipf(&mut self, i: usize, f: &ivp::IvpFunction, name: &str, iter: u64) {
+        ivp::ipf::encode_into(f, &mut self.ipf_whole);
+        self.ipf_id.clear();
+        self.ipf_id.push_str(name);
+        self.ipf_id.push('^');
+        self.ipf_id.push_str(itoa::Buffer::new().format(iter));
+        let packets = ivp::ipf::Packets::new(&self.ipf_id, &self.ipf_whole);
+        for k in 1..=packets.count() {
+            let mut p = self.pool.take();
+            packets.write(k, &mut p);
+            let message = crate::runtime::Message {
+                var: self.pool.copy_of("BHV_IPF"),
+                value: Value::Str(p),
+                key: self.pool.copy_of("repeatable"),
+            };
+            self.behaviors[i].core.messages.push(message);
+        }
     }
 
     /// A function from a behavior, placed on the helm domain's variables.

@@ -125,6 +125,11 @@ pub struct Helm {
     pub(crate) mode_pairs: Vec<(String, String)>,
     /// What the AppCasting report shows (run warnings, events, last postings).
     pub(crate) report: report::ReportFeed,
+    /// Strings of handed-out postings, reused by the next ones.
+    pub(crate) pool: crate::string_pool::StringPool,
+    /// BHV_IPF whole-function string and packet id, reused for every function.
+    pub(crate) ipf_whole: String,
+    pub(crate) ipf_id: String,
 }
 
 impl Helm {
@@ -179,15 +184,17 @@ impl Helm {
     }
 
     pub(crate) fn post(&mut self, var: &str, value: crate::posting::Value, aux: &str) {
+        let (var, source_aux) = (self.pool.copy_of(var), self.pool.copy_of(aux));
         self.outbox.push(Posting {
-            var: var.to_string(),
+            var,
             value,
-            source_aux: aux.to_string(),
+            source_aux,
         });
     }
 
     pub(crate) fn post_str(&mut self, var: &str, value: &str) {
-        self.post(var, crate::posting::Value::Str(value.to_string()), "");
+        let value = self.pool.copy_of(value);
+        self.post(var, crate::posting::Value::Str(value), "");
     }
 
     pub(crate) fn post_num(&mut self, var: &str, value: f64) {

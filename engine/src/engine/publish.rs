@@ -23,14 +23,23 @@ impl Helm {
         self.post_on_change("IVPHELM_BHV_CNT_EVER", Value::Num(ever));
         self.post_num("IVPHELM_ITER", iter as f64);
 
+        let mut name = self.pool.take();
+        let mut aux = self.pool.take();
         for i in 0..self.behaviors.len() {
-            let messages = std::mem::take(&mut self.behaviors[i].core.messages);
-            let name = self.behaviors[i].core.name.clone();
-            let aux = format!("{iter}:{name}");
-            for m in &messages {
+            let mut messages = std::mem::take(&mut self.behaviors[i].core.messages);
+            // About as many strings as these messages took, for the next ones (a
+            // message has up to three).
+            let wanted = 3 * messages.len();
+            name.clear();
+            name.push_str(&self.behaviors[i].core.name);
+            aux.clear();
+            aux.push_str(itoa::Buffer::new().format(iter));
+            aux.push(':');
+            aux.push_str(&name);
+            for m in messages.drain(..) {
                 match m.var.as_str() {
                     "BHV_IPF" => {
-                        self.post(&m.var, m.value.clone(), &name);
+                        self.post_message(m, &name);
                         continue;
                     }
                     "BHV_WARNING" | "BHV_ERROR" | "BHV_EVENT" => {
@@ -49,16 +58,22 @@ impl Helm {
                 }
                 self.ib.set_value(&m.var, &m.value, now);
                 if self.filter.allow(&m.key, &m.value) {
-                    self.post(&m.var, m.value.clone(), &aux);
                     self.report
                         .posted(&m.var, &name, now - self.start_time, iter, &m.value);
+                    self.post_message(m, &aux);
+                } else {
+                    self.recycle_message(m);
                 }
             }
             // Give the buffer back so its allocation is reused next iteration.
-            let mut messages = messages;
-            messages.clear();
-            self.behaviors[i].core.messages = messages;
+            let core = &mut self.behaviors[i].core;
+            core.messages = messages;
+            while core.pool.len() < wanted && !self.pool.is_empty() {
+                core.pool.give(self.pool.take());
+            }
         }
+        self.pool.give(name);
+        self.pool.give(aux);
 
         // The state-space variables change only with the behavior set's conditions and
         // flags (tracked by the subscription signature), not every iteration.
@@ -138,6 +153,26 @@ impl Helm {
                 "IVPHELM_LIFE_EVENT",
                 &format!("iter=0{time}, {ev},iter={iter}"),
             );
+        }
+    }
+
+    /// A behavior's message posted as it is (its strings move into the posting).
+    fn post_message(&mut self, m: crate::runtime::Message, aux: &str) {
+        let source_aux = self.pool.copy_of(aux);
+        self.pool.give(m.key);
+        self.outbox.push(crate::posting::Posting {
+            var: m.var,
+            value: m.value,
+            source_aux,
+        });
+    }
+
+    /// A behavior's message not posted: its strings are kept for later postings.
+    fn recycle_message(&mut self, m: crate::runtime::Message) {
+        self.pool.give(m.var);
+        self.pool.give(m.key);
+        if let Value::Str(s) = m.value {
+            self.pool.give(s);
         }
     }
 

@@ -125,7 +125,7 @@ impl HelmContext for HostCtx<'_> {
     }
     fn post(&mut self, var: RStr<'_>, value: PostValue<'_>, key: RStr<'_>) {
         let value = match value {
-            PostValue::Str(s) => Value::Str(s.as_str().to_string()),
+            PostValue::Str(s) => Value::Str(self.core.pool.copy_of(s.as_str())),
             PostValue::Num(v) => Value::Num(v),
         };
         // A repeatable BHV_ERROR is what the error helper posts: it halts the helm.

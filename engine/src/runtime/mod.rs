@@ -142,6 +142,9 @@ pub struct BehaviorCore {
     pub condition_cache: HashMap<String, LogicCondition>,
     /// Flags posted by the type itself, parsed once.
     pub flag_cache: HashMap<String, FlagSpec>,
+    /// Spare strings for this behavior's messages, topped up by the helm as it
+    /// publishes them.
+    pub pool: crate::string_pool::StringPool,
 }
 
 impl BehaviorCore {
@@ -208,27 +211,30 @@ impl BehaviorCore {
             counters: [0; 6],
             condition_cache: HashMap::new(),
             flag_cache: HashMap::new(),
+            pool: Default::default(),
         }
     }
 
     /// Queue a message (behavior-common.md §8: post_mapping, then the key rule).
     pub fn post(&mut self, var: &str, value: Value, given_key: &str) {
         let var = match self.post_mapping.get(var) {
-            Some(to) if to.eq_ignore_ascii_case("silent") => return,
-            Some(to) => to.clone(),
-            None => var.to_string(),
+            Some(to) if to.eq_ignore_ascii_case("silent") => {
+                if let Value::Str(s) = value {
+                    self.pool.give(s);
+                }
+                return;
+            }
+            Some(to) => self.pool.copy_of(to),
+            None => self.pool.copy_of(var),
         };
-        let key = if given_key.eq_ignore_ascii_case("repeatable") {
-            "repeatable".to_string()
+        let mut key = self.pool.take();
+        if given_key.eq_ignore_ascii_case("repeatable") {
+            key.push_str("repeatable");
         } else {
-            // Sized and joined directly: `format!` costs more than the copy itself on
-            // this per-message path.
-            let mut k = String::with_capacity(self.name.len() + var.len() + given_key.len());
-            k.push_str(&self.name);
-            k.push_str(&var);
-            k.push_str(given_key);
-            k
-        };
+            key.push_str(&self.name);
+            key.push_str(&var);
+            key.push_str(given_key);
+        }
         self.messages.push(Message { var, value, key });
     }
 

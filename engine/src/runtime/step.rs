@@ -285,9 +285,9 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     }
 
     let core = &mut inst.core;
-    // `<status info>,state=<state>,updates=<good>/<total> or n/a`, written into one
-    // string sized up front (this runs for every behavior every iteration).
-    let mut status = String::with_capacity(core.status_info.len() + 40);
+    // `<status info>,state=<state>,updates=<good>/<total> or n/a`, written into a
+    // spare string (this runs for every behavior every iteration).
+    let mut status = core.pool.take();
     status.push_str(&core.status_info);
     status.push_str(",state=");
     status.push_str(new.as_str());
@@ -295,12 +295,10 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     if core.updates_var.is_empty() {
         status.push_str("n/a");
     } else {
-        let _ = write!(
-            status,
-            "{}/{}",
-            core.good_updates,
-            core.good_updates + core.bad_updates
-        );
+        let mut digits = itoa::Buffer::new();
+        status.push_str(digits.format(core.good_updates));
+        status.push('/');
+        status.push_str(digits.format(core.good_updates + core.bad_updates));
     }
     core.post("BHV_STATUS", Value::Str(status), "");
     if new != old {
