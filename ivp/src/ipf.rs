@@ -122,7 +122,9 @@ impl<'a> Utf8Out<'a> {
         }
     }
 
-    /// Weights of 1e11 and more, infinities and NaN, printed as they always were.
+    /// Weights of 1e11 and more, infinities and NaN. `n = trunc(a·10000 + 0.5)` is an
+    /// integer-valued float here; its digits come from exact integer arithmetic, as the
+    /// spec's fixed-point rule says (u128 holds every such `n` below 2^128).
     #[cold]
     fn float_weight(&mut self, a: f64) {
         let mut text = String::new();
@@ -132,10 +134,15 @@ impl<'a> Utf8Out<'a> {
             return;
         }
         let n = (a * 10000.0 + 0.5).trunc();
-        let int = (n / 10000.0).trunc();
-        let frac = (n - int * 10000.0) as u32;
-        let _ = write!(text, "{int:.0}.");
-        push_float_frac4(&mut text, frac);
+        if n < 3.4e38 {
+            let n = n as u128;
+            self.str(itoa::Buffer::new().format(n / 10000));
+            self.byte(b'.');
+            self.frac4((n % 10000) as u32);
+            return;
+        }
+        // Past u128 a double has no fractional digits left: the integer part alone.
+        let _ = write!(text, "{:.0}.", (n / 10000.0).trunc());
         self.str(&text);
     }
 }
@@ -143,23 +150,6 @@ impl<'a> Utf8Out<'a> {
 /// The custom 4-decimal weight encoding of spec §9.1.
 pub fn encode_weight(w: f64, out: &mut String) {
     Utf8Out::new(out).weight(w);
-}
-
-/// The fractional digits of the float path (weights of 1e11 and more), as they have
-/// always been printed: float rounding can leave `frac` at 10000 or more there, whose
-/// first "digit" then prints past `9` (kept byte for byte; no mission reaches it).
-fn push_float_frac4(out: &mut String, frac: u32) {
-    if frac == 0 {
-        return;
-    }
-    let digits = [frac / 1000, frac / 100 % 10, frac / 10 % 10, frac % 10];
-    let mut last = 4;
-    while last > 0 && digits[last - 1] == 0 {
-        last -= 1;
-    }
-    for d in &digits[..last] {
-        out.push((b'0' + *d as u8) as char);
-    }
 }
 
 /// BHV_IPF whole-function string (spec §9.1).
@@ -344,11 +334,16 @@ mod tests {
                 out.push_str(std::str::from_utf8(&buf[..len]).unwrap_or("."));
                 return;
             }
+            // Past the u64 path: the same fixed-point rule in u128 (the float
+            // arithmetic this replaced printed `:` for a digit there).
             let n = x.trunc();
-            let int = (n / 10000.0).trunc();
-            let frac = (n - int * 10000.0) as u32;
-            let _ = write!(out, "{int:.0}.");
-            push_frac4(out, frac);
+            if n < 3.4e38 {
+                let n = n as u128;
+                let _ = write!(out, "{}.", n / 10000);
+                push_frac4(out, (n % 10000) as u32);
+            } else {
+                let _ = write!(out, "{:.0}.", (n / 10000.0).trunc());
+            }
         }
 
         fn push_i32(out: &mut String, v: i32) {
@@ -473,6 +468,25 @@ mod tests {
             8 => sign * 10f64.powf(r * 30.0 - 10.0),
             9 => sign * f64::INFINITY,
             _ => f64::NAN,
+        }
+    }
+
+    #[test]
+    fn large_weights_print_the_fixed_point_digits() {
+        // n = trunc(123456789012.34567 * 10000 + 0.5) = 1234567890123457 (exact in f64).
+        assert_eq!(enc(123_456_789_012.345_67), "123456789012.3457");
+        assert_eq!(enc(-2e15), "-2000000000000000.");
+        // 1e20 · 10000 is not a double: the product rounds to 999999999999999983222784,
+        // whose fixed-point digits the rule prints.
+        assert_eq!(enc(1e20), "99999999999999998322.2784");
+        let mut seed = 11u64;
+        for _ in 0..100_000 {
+            let w = 1e11 + rng(&mut seed) * 1e24;
+            let text = enc(w);
+            assert!(
+                text.bytes().all(|b| b.is_ascii_digit() || b == b'.'),
+                "{w:e} -> {text}"
+            );
         }
     }
 
