@@ -171,6 +171,18 @@ fn unit_table() -> &'static [(f64, f64); 360] {
     TABLE.get_or_init(|| std::array::from_fn(|i| unit(i as f64)))
 }
 
+/// The entry of a [`CpaEngine::roc_cosines`] table that [`CpaEngine::roc_with`] uses for
+/// heading `h`.
+#[inline]
+pub fn roc_cosine(cos: &[f64; 360], h: f64) -> f64 {
+    let i = if (0.0..360.0).contains(&h) {
+        h as usize
+    } else {
+        deg_index(h) as usize
+    };
+    cos[i.min(359)]
+}
+
 fn deg_index(h: f64) -> f64 {
     let h = angle360(h);
     if h.is_finite() {
@@ -285,25 +297,34 @@ impl CpaEngine {
         e
     }
 
+    // The side predicates are inlined: the objective functions ask them per grid point,
+    // across the crate boundary.
+    #[inline]
     pub fn os_fore_of_cn(&self) -> bool {
         !self.on_contact && (self.beta <= 90.0 || self.beta >= 270.0)
     }
+    #[inline]
     pub fn os_aft_of_cn(&self) -> bool {
         !self.on_contact && (90.0..=270.0).contains(&self.beta)
     }
+    #[inline]
     pub fn os_port_of_cn(&self) -> bool {
         !self.on_contact && self.beta >= 180.0
     }
+    #[inline]
     pub fn os_star_of_cn(&self) -> bool {
         !self.on_contact && self.beta <= 180.0
     }
+    #[inline]
     pub fn on_bowstern(&self) -> bool {
         self.on_contact || self.on_bowline || self.on_sternline
     }
+    #[inline]
     pub fn on_beam(&self) -> bool {
         self.on_contact || (self.os_fore_of_cn() && self.os_aft_of_cn())
     }
     /// The contact is closing on ownship (its own motion only).
+    #[inline]
     pub fn closing(&self) -> bool {
         self.cn_to_os > 0.0
     }
@@ -403,12 +424,13 @@ impl CpaEngine {
     /// [`CpaEngine::roc_cosines`] of this engine): the same value, without a `cos` per call.
     #[inline]
     pub fn roc_with(&self, cos: &[f64; 360], h: f64, v: f64) -> f64 {
-        let i = if (0.0..360.0).contains(&h) {
-            h as usize
-        } else {
-            deg_index(h) as usize
-        };
-        v * cos[i.min(359)] + self.cn_to_os
+        self.roc_of_cosine(roc_cosine(cos, h), v)
+    }
+
+    /// [`CpaEngine::roc_with`] given the table entry [`roc_cosine`] reads for the heading.
+    #[inline]
+    pub fn roc_of_cosine(&self, cosine: f64, v: f64) -> f64 {
+        v * cosine + self.cn_to_os
     }
 
     pub fn min_max_roc(&self, vmax: f64) -> (f64, f64) {
@@ -602,6 +624,10 @@ impl CpaEngine {
         }
     }
 }
+
+#[path = "engine_heading.rs"]
+mod heading;
+pub use heading::Heading;
 
 #[cfg(test)]
 #[path = "engine_tests.rs"]

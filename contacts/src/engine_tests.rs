@@ -217,3 +217,85 @@ fn roc_with_the_cosine_table_is_roc() {
         }
     }
 }
+
+fn rng(seed: &mut u64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*seed >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Every `*_at` query at `heading(h)` is its plain counterpart at h, bit for bit, over
+/// random geometries (plus the special ones: on the contact, on the bow and stern
+/// lines, abeam, a still contact), with and without tables, at grid, fractional,
+/// negative, huge and non-finite headings and random speeds (some ≤ 0).
+#[test]
+fn queries_at_a_heading_give_the_same_bits() {
+    let mut seed = 11u64;
+    let mut scenes: Vec<(f64, f64, f64, f64)> = vec![
+        (0.0, 0.0, 30.0, 2.0),
+        (0.0, 100.0, 180.0, 2.0),
+        (0.0, -50.0, 0.0, 1.0),
+        (50.0, 0.0, 0.0, 1.0),
+        (0.0, 80.0, 90.0, 0.0),
+    ];
+    for _ in 0..300 {
+        scenes.push((
+            (rng(&mut seed) - 0.5) * 400.0,
+            (rng(&mut seed) - 0.5) * 400.0,
+            (rng(&mut seed) * 720.0 - 180.0).round() / 2.0,
+            (rng(&mut seed) * 5.0 - 0.5).max(-0.1),
+        ));
+    }
+    let mut hs: Vec<f64> = (0..360).map(f64::from).collect();
+    hs.extend([
+        0.5,
+        359.99,
+        -0.0,
+        -90.0,
+        720.0,
+        1e9,
+        f64::NAN,
+        f64::INFINITY,
+    ]);
+    for (k, &(cx, cy, ch, cv)) in scenes.iter().enumerate() {
+        let plain = CpaEngine::new(cx, cy, ch, cv, 0.0, 0.0);
+        let engines = [plain.clone(), plain.with_tables()];
+        let e = &engines[k % 2];
+        for &h in &hs {
+            let hd = e.heading(h);
+            for _ in 0..3 {
+                let v = (rng(&mut seed) * 5.0 - 0.5).max(-0.2);
+                let tol = 10.0 + rng(&mut seed) * 200.0;
+                let at = (
+                    e.passes_port_or_star_at(&hd, v),
+                    e.passes_port_at(&hd, v),
+                    e.passes_star_at(&hd, v),
+                    e.crosses_bow_at(&hd, v),
+                    e.crosses_stern_at(&hd, v),
+                );
+                let plain = (
+                    e.passes_port_or_star(h, v),
+                    e.passes_port(h, v),
+                    e.passes_star(h, v),
+                    e.crosses_bow(h, v),
+                    e.crosses_stern(h, v),
+                );
+                assert_eq!(at, plain, "{cx},{cy},{ch},{cv} h={h} v={v}");
+                let (a, p) = (e.cpa_at(&hd, v, tol), e.cpa_time(h, v, tol));
+                let u = e.cpa_unit(e.unit(h), v, tol);
+                for (x, y) in [
+                    (a.dist, p.dist),
+                    (a.time, p.time),
+                    (u.dist, p.dist),
+                    (u.time, p.time),
+                    (e.bearing_rate_at(&hd, v), e.bearing_rate(h, v)),
+                    (e.passes_port_dist_at(&hd, v), e.passes_port_dist(h, v)),
+                    (e.passes_star_dist_at(&hd, v), e.passes_star_dist(h, v)),
+                ] {
+                    assert_eq!(x.to_bits(), y.to_bits(), "{cx},{cy},{ch},{cv} h={h} v={v}");
+                }
+            }
+        }
+    }
+}

@@ -58,6 +58,7 @@ pub mod ipf;
 pub mod reflector;
 mod regions;
 pub mod solver;
+mod tiling;
 pub mod zaic;
 
 pub use coupler::{couple, try_couple};

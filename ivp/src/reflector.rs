@@ -22,6 +22,72 @@ pub trait Aof {
     fn ignores(&self, _dim: usize) -> bool {
         false
     }
+    /// Utilities at every point of the grid `axes[0] × axes[1] × …` (one list of indices
+    /// per variable of `domain`) into `out`, dimension 0 fastest: the point
+    /// `(axes[0][i0], axes[1][i1], …)` goes to `out[i0 + len0·(i1 + len1·(…))]`, and
+    /// `out` holds the product of the axes' lengths. The reflector asks for its tiles'
+    /// corners and centres this way. An AOF may override it to do per-course work once
+    /// for all speeds, but must give exactly what [`Aof::eval`] gives at each point (the
+    /// pieces are the same bit for bit either way). Default: [`eval_grid_pointwise`].
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        eval_grid_pointwise(self, domain, axes, out);
+    }
+}
+
+/// [`Aof::eval_grid`] by one [`Aof::eval`] per point (the default, and a fallback for
+/// AOFs whose batched form covers only some domains).
+pub fn eval_grid_pointwise<A: Aof + ?Sized>(
+    aof: &A,
+    domain: &Domain,
+    axes: &[&[u32]],
+    out: &mut [f64],
+) {
+    let n = axes.len();
+    if n == 0 || axes.iter().any(|a| a.is_empty()) {
+        return;
+    }
+    let mut at = vec![0usize; n];
+    let mut index: Vec<u32> = axes.iter().map(|a| a[0]).collect();
+    for slot in out.iter_mut() {
+        *slot = aof.eval(domain, &index);
+        // Next point, dimension 0 fastest.
+        for d in 0..n {
+            at[d] += 1;
+            if at[d] < axes[d].len() {
+                index[d] = axes[d][at[d]];
+                break;
+            }
+            at[d] = 0;
+            index[d] = axes[d][0];
+        }
+    }
+}
+
+/// [`Aof::eval_grid`] for an AOF of the first two variables whose work splits in two:
+/// `prep` of the first variable's value (once per index of `axes[0]`), then `point` of
+/// that and the second variable's value, per grid point. `point(&prep(x), y)` must be
+/// what [`Aof::eval`] gives at (x, y). Grids of other than two axes go point by point.
+pub fn eval_grid_2d<A: Aof + ?Sized, T>(
+    aof: &A,
+    domain: &Domain,
+    axes: &[&[u32]],
+    out: &mut [f64],
+    prep: impl Fn(f64) -> T,
+    point: impl Fn(&T, f64) -> f64,
+) {
+    let [xs, ys] = axes else {
+        return eval_grid_pointwise(aof, domain, axes, out);
+    };
+    if xs.is_empty() {
+        return;
+    }
+    let prepared: Vec<T> = xs.iter().map(|&i| prep(domain.value(0, i))).collect();
+    for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+        let y = domain.value(1, j);
+        for (o, p) in row.iter_mut().zip(&prepared) {
+            *o = point(p, y);
+        }
+    }
 }
 
 /// The OF_Reflector builder.
@@ -38,10 +104,13 @@ pub struct Reflector<'a> {
     warnings: String,
     /// Plateau then basin boxes with their constant utility (see [`Reflector::add_region`]).
     regions: Vec<(IndexBox, f64)>,
+    /// Fit the uniform tiling from grid evaluations ([`crate::tiling`]); off only in
+    /// tests, which compare it with fitting tile by tile.
+    grid_eval: bool,
 }
 
 /// Boxes of up to this many dimensions are fitted without heap allocation.
-const FIT_DIMS: usize = 4;
+pub(crate) const FIT_DIMS: usize = 4;
 
 impl<'a> Reflector<'a> {
     pub fn new(domain: &Domain, aof: &'a dyn Aof) -> Self {
@@ -57,7 +126,16 @@ impl<'a> Reflector<'a> {
             gelbox: vec![],
             warnings: String::new(),
             regions: vec![],
+            grid_eval: true,
         }
+    }
+
+    /// This reflector fitting its uniform tiling tile by tile, one AOF call per point
+    /// (the reference for the grid evaluation's tests).
+    #[cfg(test)]
+    pub(crate) fn tile_by_tile(mut self) -> Self {
+        self.grid_eval = false;
+        self
     }
 
     /// A region of known constant utility `value` (a plateau at the AOF's maximum or a
@@ -221,6 +299,18 @@ impl<'a> Reflector<'a> {
         } else {
             0
         };
+        if self.grid_eval && !sharing && n <= FIT_DIMS {
+            crate::tiling::fit_uniform(
+                self.aof,
+                &self.domain,
+                &size,
+                &counts,
+                self.strict_range,
+                &mut self.bounds,
+                &mut self.weights,
+            );
+            return total;
+        }
         let mut shared: Vec<Option<usize>> = vec![None; slots];
         for i in (0..total).rev() {
             let mut rest = i;
@@ -292,82 +382,37 @@ impl<'a> Reflector<'a> {
         tiles.len() + self.regions.len()
     }
 
-    /// Degree-1 fit of one box (spec §8 step 3) into `w` (n slopes, then the intercept).
-    /// Up to [`FIT_DIMS`] dimensions the corners live on the stack.
-    fn fit_into(&self, b: &[(u32, u32)], w: &mut [f64]) {
+    /// Degree-1 fit of one box (spec §8 step 3) into `w` (n slopes, then the intercept),
+    /// from its corners and centre evaluated one by one. Up to [`FIT_DIMS`] dimensions
+    /// the corners live on the stack.
+    pub(crate) fn fit_into(&self, b: &[(u32, u32)], w: &mut [f64]) {
         let n = b.len();
-        if n > FIT_DIMS {
+        if n > FIT_DIMS || n == 0 {
             w.copy_from_slice(&self.fit(b));
             return;
         }
-        let ncorner = 1usize << n;
-        let mut points = [[0u32; FIT_DIMS]; (1 << FIT_DIMS) + 1];
         let mut vals = [0.0f64; (1 << FIT_DIMS) + 1];
-        for mask in 0..ncorner {
+        let mut point = [0u32; FIT_DIMS];
+        for mask in 0..1usize << n {
             for d in 0..n {
-                points[mask][d] = if mask & (1 << d) != 0 { b[d].1 } else { b[d].0 };
+                point[d] = if mask & (1 << d) != 0 { b[d].1 } else { b[d].0 };
             }
-            vals[mask] = self.aof.eval(&self.domain, &points[mask][..n]);
+            vals[mask] = self.aof.eval(&self.domain, &point[..n]);
         }
-        let mut m = ncorner;
-        for x in w.iter_mut() {
-            *x = 0.0;
-        }
-        for d in 0..n {
-            let width = f64::from(b[d].1 - b[d].0);
-            if width == 0.0 {
-                continue;
-            }
-            let mut sum = 0.0;
-            let mut cnt = 0.0;
-            for mask in 0..ncorner {
-                if mask & (1 << d) == 0 {
-                    sum += vals[mask | (1 << d)] - vals[mask];
-                    cnt += 1.0;
-                }
-            }
-            w[d] = (sum / cnt) / width;
-        }
-        if b.iter().any(|&(lo, hi)| hi - lo + 1 > 2) {
+        let mut m = 1 << n;
+        if takes_centre(b) {
             for d in 0..n {
-                points[m][d] = b[d].0 + (b[d].1 - b[d].0) / 2;
+                point[d] = b[d].0 + (b[d].1 - b[d].0) / 2;
             }
-            vals[m] = self.aof.eval(&self.domain, &points[m][..n]);
+            vals[m] = self.aof.eval(&self.domain, &point[..n]);
             m += 1;
         }
-        let plane = |w: &[f64], p: &[u32]| -> f64 {
-            let mut acc = 0.0;
-            for d in 0..n {
-                acc += w[d] * f64::from(p[d]);
-            }
-            acc
-        };
-        let mut isum = 0.0;
-        for k in 0..m {
-            isum += vals[k] - plane(w, &points[k]);
-        }
-        let mut icpt = isum / m as f64;
-        if self.strict_range {
-            let vmin = vals[..m].iter().copied().fold(f64::INFINITY, f64::min);
-            let vmax = vals[..m].iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let (mut pmin, mut pmax) = (f64::INFINITY, f64::NEG_INFINITY);
-            for p in &points[..m] {
-                let v = plane(w, p) + icpt;
-                pmin = pmin.min(v);
-                pmax = pmax.max(v);
-            }
-            if pmax > vmax {
-                icpt -= pmax - vmax;
-            } else if pmin < vmin {
-                icpt += vmin - pmin;
-            }
-        }
-        w[n] = icpt;
+        fit_values(b, &vals[..m], self.strict_range, w);
     }
 
     /// Degree-1 fit of one box of any dimension (spec §8 step 3); [`Self::fit_into`] is
     /// the same arithmetic with the corners on the stack.
-    fn fit(&self, b: &[(u32, u32)]) -> Vec<f64> {
+    pub(crate) fn fit(&self, b: &[(u32, u32)]) -> Vec<f64> {
         let n = b.len();
         let ncorner = 1usize << n;
         let mut pt = vec![0u32; n];
@@ -447,4 +492,112 @@ impl<'a> Reflector<'a> {
         }
         Some(f)
     }
+
+    /// [`Reflector::extract`] for a reflector used once: the pieces move into the
+    /// function instead of being copied.
+    pub fn into_function(self, normalize: bool) -> Option<IvpFunction> {
+        if self.weights.is_empty() {
+            return None;
+        }
+        let mut f =
+            IvpFunction::from_flat(self.domain, self.bounds, self.weights, self.gelbox).ok()?;
+        f.build_grid();
+        if normalize {
+            f.normalize(0.0, 100.0);
+        }
+        Some(f)
+    }
+}
+
+/// Whether the fit of box `b` takes its centre point too (some edge spans more than 2
+/// grid points).
+fn takes_centre(b: &[(u32, u32)]) -> bool {
+    b.iter().any(|&(lo, hi)| hi - lo + 1 > 2)
+}
+
+/// The degree-1 fit of box `b` (1 to [`FIT_DIMS`] dimensions) from its values: `vals`
+/// holds the corners (`vals[mask]`, bit d of `mask` set = dimension d at its high end)
+/// and, when [`takes_centre`], the centre last. The n slopes then the intercept go to
+/// `w`. Spec §8 step 3: slopes from the mean corner differences, intercept from the mean
+/// residual, shifted into the values' range when `strict`.
+pub(crate) fn fit_values(b: &[(u32, u32)], vals: &[f64], strict: bool, w: &mut [f64]) {
+    match b.len() {
+        1 => fit_values_n::<1>(b, vals, strict, w),
+        2 => fit_values_n::<2>(b, vals, strict, w),
+        3 => fit_values_n::<3>(b, vals, strict, w),
+        _ => fit_values_n::<FIT_DIMS>(b, vals, strict, w),
+    }
+}
+
+/// [`fit_values`] for `N` dimensions (a constant, so the loops unroll). The arithmetic
+/// is [`Reflector::fit`]'s, with two exact shortcuts: each point's plane value is
+/// computed once and used for both the mean residual and the range check, and the
+/// minima and maxima are taken by comparison. Those skip NaNs as `f64::min`/`max` do
+/// (the running value starts infinite, never NaN) and may differ from them only in the
+/// sign of a zero, which the shift (a difference of two values known to be unequal)
+/// never shows.
+pub(crate) fn fit_values_n<const N: usize>(
+    b: &[(u32, u32)],
+    vals: &[f64],
+    strict: bool,
+    w: &mut [f64],
+) {
+    let ncorner = 1usize << N;
+    let m = vals.len();
+    let lo: [f64; N] = std::array::from_fn(|d| f64::from(b[d].0));
+    let hi: [f64; N] = std::array::from_fn(|d| f64::from(b[d].1));
+    for d in 0..N {
+        let width = f64::from(b[d].1 - b[d].0);
+        if width == 0.0 {
+            w[d] = 0.0;
+            continue;
+        }
+        let mut sum = 0.0;
+        let mut cnt = 0.0;
+        for mask in 0..ncorner {
+            if mask & (1 << d) == 0 {
+                sum += vals[mask | (1 << d)] - vals[mask];
+                cnt += 1.0;
+            }
+        }
+        w[d] = (sum / cnt) / width;
+    }
+    // The plane (without intercept) at each corner, then at the centre.
+    let mut plane = [0.0f64; (1 << FIT_DIMS) + 1];
+    for (mask, p) in plane.iter_mut().enumerate().take(ncorner) {
+        let mut acc = 0.0;
+        for d in 0..N {
+            acc += w[d] * if mask & (1 << d) != 0 { hi[d] } else { lo[d] };
+        }
+        *p = acc;
+    }
+    if m > ncorner {
+        let mut acc = 0.0;
+        for d in 0..N {
+            acc += w[d] * f64::from(b[d].0 + (b[d].1 - b[d].0) / 2);
+        }
+        plane[ncorner] = acc;
+    }
+    let mut isum = 0.0;
+    for k in 0..m {
+        isum += vals[k] - plane[k];
+    }
+    let mut icpt = isum / m as f64;
+    if strict {
+        let (mut vmin, mut vmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut pmin, mut pmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..m {
+            let (v, p) = (vals[k], plane[k] + icpt);
+            vmin = if v < vmin { v } else { vmin };
+            vmax = if v > vmax { v } else { vmax };
+            pmin = if p < pmin { p } else { pmin };
+            pmax = if p > pmax { p } else { pmax };
+        }
+        if pmax > vmax {
+            icpt -= pmax - vmax;
+        } else if pmin < vmin {
+            icpt += vmin - pmin;
+        }
+    }
+    w[N] = icpt;
 }

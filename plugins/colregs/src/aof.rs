@@ -2,8 +2,10 @@
 //! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
 //! each evaluated by the reflector on the decision grid.
 
+use behavior_api::contacts::engine::Heading;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
+use behavior_api::ivp::reflector::eval_grid_2d;
 use behavior_api::ivp::{Aof, Domain};
 
 /// The contact and ownship as the functions see them.
@@ -79,7 +81,13 @@ impl CpaAof {
     }
 
     pub fn utility(&self, c: f64, v: f64) -> f64 {
-        self.metric.eval(self.engine.cpa(c, v, self.tol))
+        self.utility_of_unit(self.engine.unit(c), v)
+    }
+
+    /// [`Self::utility`] of the course whose unit vector is `u`.
+    #[inline]
+    fn utility_of_unit(&self, u: (f64, f64), v: f64) -> f64 {
+        self.metric.eval(self.engine.cpa_unit(u, v, self.tol).dist)
     }
 }
 
@@ -87,6 +95,17 @@ impl Aof for CpaAof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
+    }
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        let e = &self.engine;
+        eval_grid_2d(
+            self,
+            domain,
+            axes,
+            out,
+            |c| e.unit(c),
+            |&u, v| self.utility_of_unit(u, v),
+        );
     }
 }
 
@@ -123,12 +142,19 @@ impl R13Aof {
     }
 
     pub fn utility(&self, c: f64, v: f64) -> f64 {
-        let u = self.metric.eval(self.engine.cpa(c, v, self.tol));
+        self.utility_at(&self.engine.heading(c), v)
+    }
+
+    /// [`Self::utility`] at a heading the engine prepared.
+    #[inline]
+    fn utility_at(&self, hd: &Heading, v: f64) -> f64 {
+        let u = self.metric.eval(self.engine.cpa_at(hd, v, self.tol).dist);
         if u > 0.0 && v != 0.0 {
             let e = &self.engine;
+            let mu = self.metric.mu;
             let wrong = match self.side {
-                Side::Port => e.passes_star(c, v) && e.passes_port_dist(c, v) < self.metric.mu,
-                Side::Starboard => e.passes_port(c, v) && e.passes_star_dist(c, v) < self.metric.mu,
+                Side::Port => e.passes_star_at(hd, v) && e.passes_port_dist_at(hd, v) < mu,
+                Side::Starboard => e.passes_port_at(hd, v) && e.passes_star_dist_at(hd, v) < mu,
             };
             if wrong {
                 return 0.0;
@@ -142,6 +168,17 @@ impl Aof for R13Aof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
+    }
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        let e = &self.engine;
+        eval_grid_2d(
+            self,
+            domain,
+            axes,
+            out,
+            |c| e.heading(c),
+            |hd, v| self.utility_at(hd, v),
+        );
     }
 }
 
@@ -181,15 +218,22 @@ impl R14Aof {
     }
 
     pub fn utility(&self, c: f64, v: f64) -> f64 {
+        self.utility_at(&self.engine.heading(c), v)
+    }
+
+    /// [`Self::utility`] at a heading the engine prepared.
+    #[inline]
+    fn utility_at(&self, hd: &Heading, v: f64) -> f64 {
         let e = &self.engine;
-        if e.on_contact || (e.os_port_of_cn() && e.crosses_bow(c, v)) || e.passes_star(c, v) {
+        if e.on_contact || (e.os_port_of_cn() && e.crosses_bow_at(hd, v)) || e.passes_star_at(hd, v)
+        {
             return 0.0;
         }
-        let m1 = self.metric.eval(e.cpa(c, v, self.tol));
+        let m1 = self.metric.eval(e.cpa_at(hd, v, self.tol).dist);
         let m3 = if self.b0 >= 0.0 {
             0.0
         } else {
-            let br = e.bearing_rate(c, v);
+            let br = e.bearing_rate_at(hd, v);
             if br >= 0.0 {
                 0.0
             } else if br <= self.b0 {
@@ -206,6 +250,17 @@ impl Aof for R14Aof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
+    }
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        let e = &self.engine;
+        eval_grid_2d(
+            self,
+            domain,
+            axes,
+            out,
+            |c| e.heading(c),
+            |hd, v| self.utility_at(hd, v),
+        );
     }
 }
 
@@ -263,21 +318,33 @@ impl R16Aof {
     }
 
     pub fn utility(&self, c: f64, v: f64) -> f64 {
-        let e = &self.engine;
+        self.utility_at(&self.course(c), v)
+    }
+
+    /// What [`Self::utility_at`] needs of course `c`: the engine's heading, and whether
+    /// it is a starboard or a port turn from ownship's heading.
+    fn course(&self, c: f64) -> (Heading, bool, bool) {
         let delta = angle360(c - self.osh);
         let star_turn = delta > 0.0 && delta < 180.0;
         let port_turn = delta > 180.0;
+        (self.engine.heading(c), star_turn, port_turn)
+    }
+
+    /// [`Self::utility`] at a course prepared by [`Self::course`].
+    #[inline]
+    fn utility_at(&self, &(ref hd, star_turn, port_turn): &(Heading, bool, bool), v: f64) -> f64 {
+        let e = &self.engine;
         let refused = match self.pass {
             Pass::Stern if self.port_turns_ok => {
-                e.crosses_bow(c, v) || (!star_turn && !e.crosses_stern(c, v))
+                e.crosses_bow_at(hd, v) || (!star_turn && !e.crosses_stern_at(hd, v))
             }
-            Pass::Stern => !e.crosses_stern(c, v) || port_turn,
-            Pass::Bow => star_turn && !e.crosses_bow(c, v),
+            Pass::Stern => !e.crosses_stern_at(hd, v) || port_turn,
+            Pass::Bow => star_turn && !e.crosses_bow_at(hd, v),
         };
         if refused {
             return 0.0;
         }
-        self.metric.eval(e.cpa(c, v, R16_TOL))
+        self.metric.eval(e.cpa_at(hd, v, R16_TOL).dist)
     }
 }
 
@@ -285,6 +352,16 @@ impl Aof for R16Aof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
+    }
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        eval_grid_2d(
+            self,
+            domain,
+            axes,
+            out,
+            |c| self.course(c),
+            |p, v| self.utility_at(p, v),
+        );
     }
 }
 

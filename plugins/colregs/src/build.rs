@@ -49,7 +49,7 @@ fn reflect(domain: &Domain, grid: &str, aof: &dyn Aof) -> Option<IvpFunction> {
     refl.set_param("uniform_piece", "discrete@course:3,speed:3");
     refl.set_param("uniform_grid", grid);
     refl.create(None, None);
-    refl.extract(true)
+    refl.into_function(true)
 }
 
 /// Build the function of `m.mode`; `factor` scales both util distances (velocity

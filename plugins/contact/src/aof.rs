@@ -1,7 +1,9 @@
 //! The analytical objective functions of the contact behaviors, evaluated on the
 //! decision grid by the reflector (ivp-solver.md §8).
 
+use behavior_api::contacts::engine::roc_cosine;
 use behavior_api::contacts::CpaEngine;
+use behavior_api::ivp::reflector::eval_grid_2d;
 use behavior_api::ivp::{Aof, Domain};
 
 /// AOF_AvoidCollision (contacts-appcast.md §3.5): utility of the CPA a candidate
@@ -29,11 +31,30 @@ impl AvoidAof {
     }
 }
 
+impl AvoidAof {
+    /// Utility at speed `v` of the course whose unit vector is `u` ([`CpaEngine::unit`]).
+    #[inline]
+    fn utility_of_unit(&self, u: (f64, f64), v: f64) -> f64 {
+        self.metric(self.engine.cpa_unit(u, v, self.tol).dist)
+    }
+}
+
 impl Aof for AvoidAof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let c = domain.value(0, index[0]);
         let v = domain.value(1, index[1]);
-        self.metric(self.engine.cpa(c, v, self.tol))
+        self.utility_of_unit(self.engine.unit(c), v)
+    }
+    /// The course's unit vector once per course, then the CPA per speed.
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        eval_grid_2d(
+            self,
+            domain,
+            axes,
+            out,
+            |c| self.engine.unit(c),
+            |&u, v| self.utility_of_unit(u, v),
+        );
     }
 }
 
@@ -81,7 +102,19 @@ impl CutRangeAof {
     }
 
     pub fn utility(&self, c: f64, s: f64) -> f64 {
-        let cpa = self.engine.cpa(c, s, self.tol);
+        self.utility_at(&self.course(c), s)
+    }
+
+    /// What [`Self::utility_at`] needs of course `c`: its unit vector and rate of
+    /// closure cosine.
+    fn course(&self, c: f64) -> ((f64, f64), f64) {
+        (self.engine.unit(c), roc_cosine(&self.cos, c))
+    }
+
+    /// [`Self::utility`] at speed `s` of a course prepared by [`Self::course`].
+    #[inline]
+    fn utility_at(&self, &(unit, cosine): &((f64, f64), f64), s: f64) -> f64 {
+        let cpa = self.engine.cpa_unit(unit, s, self.tol).dist;
         let metric = if cpa < 0.0 {
             100.0
         } else if cpa > self.dist {
@@ -90,7 +123,7 @@ impl CutRangeAof {
             100.0 - 100.0 * cpa / self.dist
         };
         let nroc = if self.rr > 0.0 {
-            100.0 * (self.engine.roc_with(&self.cos, c, s) - self.rmin) / self.rr
+            100.0 * (self.engine.roc_of_cosine(cosine, s) - self.rmin) / self.rr
         } else {
             0.0
         };
@@ -102,6 +135,17 @@ impl CutRangeAof {
 impl Aof for CutRangeAof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         self.utility(domain.value(0, index[0]), domain.value(1, index[1]))
+    }
+    /// The course's unit vector and cosine once per course, then the rest per speed.
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        eval_grid_2d(
+            self,
+            domain,
+            axes,
+            out,
+            |c| self.course(c),
+            |p, s| self.utility_at(p, s),
+        );
     }
 }
 

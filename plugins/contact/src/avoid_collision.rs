@@ -96,7 +96,7 @@ impl AvoidCollision {
             let w = refl.warnings().to_string();
             ctx.post_message("AVD_DEBUG", &w);
         }
-        let mut f = refl.extract(true)?;
+        let mut f = refl.into_function(true)?;
         f.normalize(0.0, 100.0);
         Some(f)
     }

@@ -95,7 +95,7 @@ impl CutRange {
             ctx.post_wmessage(&w);
             return None;
         }
-        refl.extract(true)
+        refl.into_function(true)
     }
 }
 

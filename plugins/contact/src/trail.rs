@@ -102,7 +102,7 @@ impl Trail {
         refl.set_param("uniform_piece", "discrete@course:3,speed:2");
         refl.set_param("uniform_grid", "discrete@course:9,speed:6");
         refl.create(None, None);
-        refl.extract(true)
+        refl.into_function(true)
     }
 
     fn set_num(&mut self, param: &str, v: f64) -> bool {

@@ -170,9 +170,10 @@ impl AvoidObstacleV24 {
             }
         }
         refl.create(None, None);
-        let f = refl.extract(true);
-        if f.is_none() && !refl.warnings().is_empty() {
-            ctx.post_wmessage(refl.warnings());
+        let warnings = refl.warnings().to_string();
+        let f = refl.into_function(true);
+        if f.is_none() && !warnings.is_empty() {
+            ctx.post_wmessage(&warnings);
         }
         f
     }

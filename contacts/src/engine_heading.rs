@@ -1,0 +1,196 @@
+//! The engine's per-candidate queries split in two: what depends on the candidate
+//! heading only ([`Heading`]: its unit vector and the per-degree cosines) is looked up
+//! once, then each speed costs a few multiplications. An objective function evaluated
+//! on a (course, speed) grid asks every query for the same heading at many speeds.
+//! Each `*_at` method is its plain counterpart's formula, operation for operation, so
+//! the results are the same bit for bit (engine_tests.rs checks it at random).
+
+use super::{cpa_of_ranged, deg_index, unit_of_degree, unit_table, Cpa, CpaEngine};
+
+/// One candidate heading as the engine's queries use it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Heading {
+    /// sin and cos of the heading's integer degree (the CPA's ownship velocity).
+    sin: f64,
+    cos: f64,
+    /// The engine's per-degree cosines at that degree: `gamcos`, `cnhcos`, `tancos`.
+    gam: f64,
+    cnh: f64,
+    tan: f64,
+}
+
+/// The unit vector [`CpaEngine::cpa_time`] takes for heading `h`.
+#[inline]
+fn unit_of(h: f64) -> (f64, f64) {
+    if (0.0..360.0).contains(&h) {
+        unit_table()[h as usize]
+    } else {
+        unit_of_degree(deg_index(h))
+    }
+}
+
+impl CpaEngine {
+    /// Heading `h` for the `*_at` queries (the per-degree cosines come from the tables of
+    /// [`CpaEngine::with_tables`] when built, else computed: three cosines).
+    pub fn heading(&self, h: f64) -> Heading {
+        let (sin, cos) = unit_of(h);
+        let i = deg_index(h);
+        Heading {
+            sin,
+            cos,
+            gam: self.gamcos(i),
+            cnh: self.cnhcos(i),
+            tan: self.tancos(i),
+        }
+    }
+
+    /// The unit vector of heading `h`, all [`CpaEngine::cpa_unit`] needs (no cosines).
+    #[inline]
+    pub fn unit(&self, h: f64) -> (f64, f64) {
+        unit_of(h)
+    }
+
+    /// [`CpaEngine::cpa_time`] for the heading whose [`CpaEngine::unit`] is `u`.
+    #[inline]
+    pub fn cpa_unit(&self, u: (f64, f64), v: f64, tol: f64) -> Cpa {
+        let (s, c) = u;
+        let v = v.max(0.0);
+        cpa_of_ranged(
+            self.osx - self.cnx,
+            self.osy - self.cny,
+            v * s - self.cn_vx,
+            v * c - self.cn_vy,
+            tol,
+            || self.range_now,
+        )
+    }
+
+    /// [`CpaEngine::cpa_time`] at a [`Heading`].
+    #[inline]
+    pub fn cpa_at(&self, hd: &Heading, v: f64, tol: f64) -> Cpa {
+        self.cpa_unit((hd.sin, hd.cos), v, tol)
+    }
+
+    /// [`CpaEngine::bearing_rate`] at a [`Heading`].
+    #[inline]
+    pub fn bearing_rate_at(&self, hd: &Heading, v: f64) -> f64 {
+        (-v * hd.tan + self.cn_tan) * self.tn_const
+    }
+
+    #[inline]
+    fn beam_closing_at(&self, hd: &Heading, v: f64) -> f64 {
+        let w = hd.cnh * v;
+        if self.os_aft_of_cn() {
+            w - self.cnv
+        } else {
+            self.cnv - w
+        }
+    }
+
+    /// [`CpaEngine::passes_port_or_star`] at a [`Heading`].
+    #[inline]
+    pub fn passes_port_or_star_at(&self, hd: &Heading, v: f64) -> bool {
+        self.on_beam() || self.beam_closing_at(hd, v) > 0.0
+    }
+
+    /// [`CpaEngine::passes_port`] at a [`Heading`].
+    #[inline]
+    pub fn passes_port_at(&self, hd: &Heading, v: f64) -> bool {
+        if self.on_contact || !self.passes_port_or_star_at(hd, v) {
+            return false;
+        }
+        if self.on_beam() {
+            return self.os_port_of_cn();
+        }
+        if self.os_aft_of_cn() {
+            self.bearing_rate_at(hd, v) > 0.0
+        } else {
+            self.bearing_rate_at(hd, v) < 0.0
+        }
+    }
+
+    /// [`CpaEngine::passes_star`] at a [`Heading`].
+    #[inline]
+    pub fn passes_star_at(&self, hd: &Heading, v: f64) -> bool {
+        if self.on_contact || !self.passes_port_or_star_at(hd, v) {
+            return false;
+        }
+        !self.passes_port_at(hd, v)
+    }
+
+    /// [`CpaEngine::passes_port_dist`] at a [`Heading`].
+    pub fn passes_port_dist_at(&self, hd: &Heading, v: f64) -> f64 {
+        self.passes_side_dist_at(hd, v, true)
+    }
+
+    /// [`CpaEngine::passes_star_dist`] at a [`Heading`].
+    pub fn passes_star_dist_at(&self, hd: &Heading, v: f64) -> f64 {
+        self.passes_side_dist_at(hd, v, false)
+    }
+
+    fn passes_side_dist_at(&self, hd: &Heading, v: f64, port: bool) -> f64 {
+        let (same, other) = if port {
+            (self.os_port_of_cn(), self.os_star_of_cn())
+        } else {
+            (self.os_star_of_cn(), self.os_port_of_cn())
+        };
+        if self.on_contact || (self.on_beam() && other) {
+            return -1.0;
+        }
+        if self.on_beam() && same {
+            return self.rng;
+        }
+        let e = self.beam_closing_at(hd, v);
+        if e <= 0.0 {
+            return -1.0;
+        }
+        let t = self.range_epsilon / e;
+        let g = t * hd.gam * v;
+        let x = if same && g <= self.range_gamma {
+            self.range_gamma - g
+        } else if other && g > self.range_gamma {
+            g - self.range_gamma
+        } else {
+            -1.0
+        };
+        if x < 0.0 {
+            -1.0
+        } else {
+            x
+        }
+    }
+
+    /// [`CpaEngine::crosses_stern`] at a [`Heading`].
+    #[inline]
+    pub fn crosses_stern_at(&self, hd: &Heading, v: f64) -> bool {
+        if self.on_sternline {
+            return true;
+        }
+        if v <= 0.0 || hd.gam <= 0.0 {
+            return false;
+        }
+        let br = self.bearing_rate_at(hd, v);
+        if self.os_port_of_cn() {
+            br <= 0.0
+        } else {
+            br >= 0.0
+        }
+    }
+
+    /// [`CpaEngine::crosses_bow`] at a [`Heading`].
+    #[inline]
+    pub fn crosses_bow_at(&self, hd: &Heading, v: f64) -> bool {
+        if self.on_sternline {
+            return true;
+        }
+        if v <= 0.0 || hd.gam <= 0.0 {
+            return false;
+        }
+        let br = self.bearing_rate_at(hd, v);
+        if self.os_port_of_cn() {
+            br >= 0.0
+        } else {
+            br <= 0.0
+        }
+    }
+}
