@@ -135,10 +135,16 @@ fn check_layout(
             reason: format!("needs {dim} entries"),
         });
     }
+    // Highest index per dimension, looked up once (every function crossing the ABI
+    // is checked piece by piece).
+    let tops: Vec<i64> = domain
+        .vars()
+        .iter()
+        .map(|v| i64::from(v.points) - 1)
+        .collect();
     for (k, b) in bounds.chunks_exact(bl).enumerate() {
-        for d in 0..dim {
+        for (d, &top) in tops.iter().enumerate() {
             let (lo, hi) = (b[2 * d], b[2 * d + 1]);
-            let top = i64::from(domain.var(d).points) - 1;
             if lo < 0 || lo > hi || i64::from(hi) > top {
                 return Err(IvpError::BadPiece {
                     piece: k,

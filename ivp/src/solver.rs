@@ -343,13 +343,19 @@ impl Search<'_> {
         for k in 0..f0.n {
             let pb = &self.boxes[self.active[0]][k * bl..(k + 1) * bl];
             let pw = &f0.weights[k * wl..(k + 1) * wl];
-            self.node_b[..bl].copy_from_slice(pb);
-            self.node_w[..wl].copy_from_slice(pw);
             let mv = max_val(pb, pw);
             if m == 1 {
-                self.leaf(0, mv);
+                // The piece is the leaf: copied only when it becomes the incumbent.
+                if !self.found || mv > self.best {
+                    self.best = mv;
+                    self.found = true;
+                    self.best_b.copy_from_slice(pb);
+                    self.best_w.copy_from_slice(pw);
+                }
                 continue;
             }
+            self.node_b[..bl].copy_from_slice(pb);
+            self.node_w[..wl].copy_from_slice(pw);
             let bound = self.bound_rest(1, pb, mv);
             if !self.found || bound > self.best {
                 self.recurse(1);
