@@ -52,44 +52,66 @@ pub fn try_couple(
     // piece is then f1's box beside f2's, with the weights each function's translation
     // would give summed (`+ 0.0` where the other has no slope, as that sum is), without
     // translating both functions first (this runs for every Waypoint every iteration).
-    let dom = f1.domain().union(f2.domain());
     let (d1, d2) = (f1.dim(), f2.dim());
+    let (n1, n2) = (f1.piece_count(), f2.piece_count());
+    // The union of two disjoint domains: f1's variables then f2's, moved, not copied.
+    let mut dom = f1.take_domain();
+    dom.append_disjoint(f2.take_domain());
     let td = dom.size();
     debug_assert_eq!(td, d1 + d2);
-    let (n1, n2) = (f1.piece_count(), f2.piece_count());
     let (bl, wl) = (2 * td, td + 1);
-    let mut bounds = Vec::with_capacity(n1 * n2 * bl);
-    let mut weights = Vec::with_capacity(n1 * n2 * wl);
     let (b1, w1s, b2, w2s) = (f1.bounds(), f1.weights(), f2.bounds(), f2.weights());
     let full = |d: usize| (0, dom.var(d).points as i32 - 1);
+    // f2's side of every coupled piece, worked out once: its box within the full
+    // ranges (None if that leaves it empty) and its slopes as `0.0 + b`.
+    let mut q_boxes = Vec::with_capacity(n2 * 2 * d2);
+    let mut q_slopes = Vec::with_capacity(n2 * d2);
+    let mut q_ok = Vec::with_capacity(n2);
+    for q in 0..n2 {
+        let qb = &b2[q * 2 * d2..(q + 1) * 2 * d2];
+        let mut ok = true;
+        for d in 0..d2 {
+            let (flo, fhi) = full(d1 + d);
+            let (lo, hi) = (flo.max(qb[2 * d]), fhi.min(qb[2 * d + 1]));
+            ok &= lo <= hi;
+            q_boxes.push(lo);
+            q_boxes.push(hi);
+        }
+        q_slopes.extend(w2s[q * (d2 + 1)..q * (d2 + 1) + d2].iter().map(|b| 0.0 + b));
+        q_ok.push(ok);
+    }
+    let mut bounds = Vec::with_capacity(n1 * n2 * bl);
+    let mut weights = Vec::with_capacity(n1 * n2 * wl);
+    let mut p_box = Vec::with_capacity(2 * d1);
+    let mut p_slopes = Vec::with_capacity(d1);
     for p in 0..n1 {
         let (pb, pw) = (
             &b1[p * 2 * d1..(p + 1) * 2 * d1],
             &w1s[p * (d1 + 1)..(p + 1) * (d1 + 1)],
         );
+        p_box.clear();
+        let mut ok = true;
+        for d in 0..d1 {
+            let (flo, fhi) = full(d);
+            let (lo, hi) = (pb[2 * d].max(flo), pb[2 * d + 1].min(fhi));
+            ok &= lo <= hi;
+            p_box.push(lo);
+            p_box.push(hi);
+        }
+        if !ok {
+            continue;
+        }
+        p_slopes.clear();
+        p_slopes.extend(pw[..d1].iter().map(|a| a + 0.0));
         for q in 0..n2 {
-            let (qb, qw) = (
-                &b2[q * 2 * d2..(q + 1) * 2 * d2],
-                &w2s[q * (d2 + 1)..(q + 1) * (d2 + 1)],
-            );
-            for d in 0..d1 {
-                let (flo, fhi) = full(d);
-                bounds.push(pb[2 * d].max(flo));
-                bounds.push(pb[2 * d + 1].min(fhi));
-            }
-            for d in 0..d2 {
-                let (flo, fhi) = full(d1 + d);
-                bounds.push(flo.max(qb[2 * d]));
-                bounds.push(fhi.min(qb[2 * d + 1]));
-            }
-            let b0 = bounds.len() - bl;
-            if bounds[b0..].chunks_exact(2).any(|lh| lh[0] > lh[1]) {
-                bounds.truncate(b0);
+            if !q_ok[q] {
                 continue;
             }
-            weights.extend(pw[..d1].iter().map(|a| a + 0.0));
-            weights.extend(qw[..d2].iter().map(|b| 0.0 + b));
-            weights.push(pw[d1] + qw[d2]);
+            bounds.extend_from_slice(&p_box);
+            bounds.extend_from_slice(&q_boxes[q * 2 * d2..(q + 1) * 2 * d2]);
+            weights.extend_from_slice(&p_slopes);
+            weights.extend_from_slice(&q_slopes[q * d2..(q + 1) * d2]);
+            weights.push(pw[d1] + w2s[q * (d2 + 1) + d2]);
         }
     }
     let mut out = IvpFunction::new_unchecked(dom, bounds, weights);

@@ -285,13 +285,29 @@ impl Domain {
         out
     }
 
+    /// Append the variables of `other`, none of which is in `self` (the union of two
+    /// disjoint domains, moving the variables instead of copying them).
+    pub(crate) fn append_disjoint(&mut self, other: Domain) {
+        debug_assert!(other.vars.iter().all(|v| self.index_of(&v.name).is_none()));
+        self.vars.extend(other.vars);
+    }
+
+    /// The variables, moved out.
+    pub(crate) fn into_vars(self) -> Vec<DomainVar> {
+        self.vars
+    }
+
     /// Build from already-validated variables.
     pub fn from_vars(vars: Vec<DomainVar>) -> Result<Domain, IvpError> {
-        let mut d = Domain::new();
-        for v in vars {
-            d.add_var(&v.name, v.low, v.high, v.points)?;
+        // The same checks as `add_var` one by one, keeping the variables (and their
+        // names) instead of copying them: every plugin function crosses the ABI this way.
+        for (k, v) in vars.iter().enumerate() {
+            validate(&v.name, v.low, v.high, v.points)?;
+            if vars[..k].iter().any(|u| u.name == v.name) {
+                return Err(IvpError::DuplicateVar(v.name.clone()));
+            }
         }
-        Ok(d)
+        Ok(Domain { vars })
     }
 
     /// `name;low;high;points` joined by `:` (the BHV_IPF `D` field).

@@ -23,7 +23,10 @@ pub struct Decision {
 /// One function, normalized, weighted and translated into the problem domain.
 #[derive(Debug, Default)]
 struct Prepared {
+    /// The boxes in the problem domain, unless `borrowed` (the function's own boxes
+    /// already are: same dimensions in the same order).
     bounds: Vec<i32>,
+    borrowed: bool,
     weights: Vec<f64>,
     n: usize,
     map: Vec<usize>,
@@ -33,12 +36,20 @@ struct Prepared {
     ppg: Vec<i32>,
     ncells: Vec<i32>,
     stride: Vec<usize>,
+    /// Cell coordinate of every index, dimension `d` at `coord[coord_off[d]..]` (no
+    /// division per box; kept while the geometry stays the same).
+    coord: Vec<u32>,
+    coord_off: Vec<usize>,
+    /// Points then points per cell the table was made for.
+    coord_key: Vec<i32>,
+    /// Position in `active` of the first function with the same grid geometry: boxes
+    /// cover the same cells of both.
+    geom: usize,
     cell_start: Vec<u32>,
     cell_items: Vec<u32>,
+    /// Cell bound, `NO_BOUND` for an empty cell.
     cell_ub: Vec<f64>,
     cell_filled: Vec<bool>,
-    /// `maxVal` of each piece (the global bound and the cell bounds both need it).
-    maxv: Vec<f64>,
     cursor: Vec<u32>,
     seen: Vec<Cell<u32>>,
     stamp: Cell<u32>,
@@ -46,10 +57,96 @@ struct Prepared {
 
 const NO_BOUND: f64 = -99999.0;
 
+/// The grid cells a box overlaps: per dimension the lowest and highest cell
+/// coordinate, and the number of the cell at the highest corner (where the odometer
+/// starts).
+#[derive(Clone, Copy)]
+struct CellRange {
+    lo: [usize; ODO_DIMS],
+    hi: [usize; ODO_DIMS],
+    top: usize,
+    one: bool,
+}
+
 impl Prepared {
+    /// Cell coordinate of index `i` in dimension `d` (`i / ppg`).
+    #[inline(always)]
+    fn coord(&self, d: usize, i: i32) -> usize {
+        let (at, len) = (self.coord_off[d], self.coord_off[d + 1] - self.coord_off[d]);
+        // Indices are inside the problem domain; anything else divides as before.
+        if (i as usize) < len {
+            self.coord[at + i as usize] as usize
+        } else {
+            (i / self.ppg[d]) as usize
+        }
+    }
+
+    /// The cells box `b` overlaps (`dim <= ODO_DIMS`).
+    #[inline(always)]
+    fn range(&self, b: &[i32], dim: usize) -> CellRange {
+        let mut r = CellRange {
+            lo: [0; ODO_DIMS],
+            hi: [0; ODO_DIMS],
+            top: 0,
+            one: true,
+        };
+        for d in 0..dim {
+            r.lo[d] = self.coord(d, b[2 * d]);
+            r.hi[d] = self.coord(d, b[2 * d + 1]);
+            r.top += r.hi[d] * self.stride[d];
+            r.one &= r.lo[d] == r.hi[d];
+        }
+        r
+    }
+
+    /// (Re)make the coordinate table when points or cell sizes changed.
+    fn make_coord_table(&mut self, pts: &[i32]) {
+        let dim = pts.len();
+        let fresh = self.coord_key.len() == 2 * dim
+            && self.coord_key[..dim] == *pts
+            && self.coord_key[dim..] == self.ppg[..];
+        if fresh {
+            return;
+        }
+        self.coord_key.clear();
+        self.coord_key.extend_from_slice(pts);
+        self.coord_key.extend_from_slice(&self.ppg);
+        self.coord.clear();
+        self.coord_off.clear();
+        for d in 0..dim {
+            self.coord_off.push(self.coord.len());
+            let ppg = self.ppg[d];
+            self.coord
+                .extend((0..pts[d].max(0)).map(|i| (i / ppg) as u32));
+        }
+        self.coord_off.push(self.coord.len());
+    }
+
     #[inline]
     fn for_each_cell(&self, b: &[i32], dim: usize, f: impl FnMut(usize) -> bool) {
-        for_each_cell(&self.ppg, &self.stride, b, dim, f)
+        if dim > ODO_DIMS {
+            return for_each_cell_any(&self.ppg, &self.stride, b, dim, f);
+        }
+        walk_cells(&self.range(b, dim), &self.stride, dim, f)
+    }
+
+    /// Cheap bound over the cells of `r` (spec §2.4).
+    #[inline]
+    fn bound_over(&self, r: &CellRange, dim: usize) -> f64 {
+        if r.one {
+            // An empty cell holds NO_BOUND, the bound of no filled cell.
+            return self.cell_ub[r.top];
+        }
+        let mut best = NO_BOUND;
+        let mut any = false;
+        walk_cells(r, &self.stride, dim, |c| {
+            if self.cell_filled[c] && (!any || self.cell_ub[c] > best) {
+                best = self.cell_ub[c];
+                any = true;
+            }
+            true
+        });
+        best
     }
 
     #[inline]
@@ -75,27 +172,37 @@ impl Prepared {
 ///
 /// Runs for every piece of every function each iteration (cell lists, cheap bounds), so
 /// the odometer steps by strides on the stack instead of dividing per cell.
-#[inline]
+#[cfg(test)]
 fn for_each_cell(
     ppg: &[i32],
     stride: &[usize],
     b: &[i32],
     dim: usize,
-    mut f: impl FnMut(usize) -> bool,
+    f: impl FnMut(usize) -> bool,
 ) {
     if dim > ODO_DIMS {
         return for_each_cell_any(ppg, stride, b, dim, f);
     }
-    let mut lo = [0usize; ODO_DIMS];
-    let mut hi = [0usize; ODO_DIMS];
-    let mut cur = [0usize; ODO_DIMS];
-    let mut idx = 0usize;
+    let mut r = CellRange {
+        lo: [0; ODO_DIMS],
+        hi: [0; ODO_DIMS],
+        top: 0,
+        one: true,
+    };
     for d in 0..dim {
-        lo[d] = (b[2 * d] / ppg[d]) as usize;
-        hi[d] = (b[2 * d + 1] / ppg[d]) as usize;
-        cur[d] = hi[d];
-        idx += hi[d] * stride[d];
+        r.lo[d] = (b[2 * d] / ppg[d]) as usize;
+        r.hi[d] = (b[2 * d + 1] / ppg[d]) as usize;
+        r.top += r.hi[d] * stride[d];
     }
+    walk_cells(&r, stride, dim, f)
+}
+
+/// The odometer of [`for_each_cell`] over a computed range (`dim <= ODO_DIMS`).
+#[inline]
+fn walk_cells(r: &CellRange, stride: &[usize], dim: usize, mut f: impl FnMut(usize) -> bool) {
+    let (lo, hi) = (&r.lo, &r.hi);
+    let mut cur = *hi;
+    let mut idx = r.top;
     loop {
         if !f(idx) {
             return;
@@ -119,7 +226,7 @@ fn for_each_cell(
 }
 
 /// Dimensions the stack odometer of [`for_each_cell`] handles.
-const ODO_DIMS: usize = 8;
+const ODO_DIMS: usize = 4;
 
 /// [`for_each_cell`] for any number of dimensions (same order).
 fn for_each_cell_any(
@@ -169,6 +276,9 @@ pub struct Solver {
 }
 
 /// `acc + Σ_{k >= level} cheapBound(F[k], b)`, accumulated left to right.
+///
+/// Functions with the same grid geometry share the box's cell range (computed once),
+/// and a box inside one cell reads that cell's bound directly.
 #[inline]
 fn bound_rest(
     funcs: &[Prepared],
@@ -178,14 +288,38 @@ fn bound_rest(
     b: &[i32],
     mut acc: f64,
 ) -> f64 {
+    if dim > ODO_DIMS {
+        for &fi in &active[level..] {
+            acc += funcs[fi].cheap_bound(b, dim);
+        }
+        return acc;
+    }
+    let mut range_of = usize::MAX;
+    let mut range = CellRange {
+        lo: [0; ODO_DIMS],
+        hi: [0; ODO_DIMS],
+        top: 0,
+        one: true,
+    };
     for &fi in &active[level..] {
-        acc += funcs[fi].cheap_bound(b, dim);
+        let f = &funcs[fi];
+        if f.single {
+            acc += f.global_ub;
+            continue;
+        }
+        if f.geom != range_of {
+            range = f.range(b, dim);
+            range_of = f.geom;
+        }
+        acc += f.bound_over(&range, dim);
     }
     acc
 }
 
 struct Search<'a> {
     funcs: &'a [Prepared],
+    /// The boxes of function `fi` (see [`Prepared::bounds`]).
+    boxes: &'a [&'a [i32]],
     active: &'a [usize],
     dim: usize,
     node_b: &'a mut [i32],
@@ -207,15 +341,21 @@ impl Search<'_> {
         let (bl, wl) = (2 * dim, dim + 1);
         let f0 = &self.funcs[self.active[0]];
         for k in 0..f0.n {
-            let pb = &f0.bounds[k * bl..(k + 1) * bl];
+            let pb = &self.boxes[self.active[0]][k * bl..(k + 1) * bl];
             let pw = &f0.weights[k * wl..(k + 1) * wl];
-            self.node_b[..bl].copy_from_slice(pb);
-            self.node_w[..wl].copy_from_slice(pw);
             let mv = max_val(pb, pw);
             if m == 1 {
-                self.leaf(0, mv);
+                // The piece is the leaf: copied only when it becomes the incumbent.
+                if !self.found || mv > self.best {
+                    self.best = mv;
+                    self.found = true;
+                    self.best_b.copy_from_slice(pb);
+                    self.best_w.copy_from_slice(pw);
+                }
                 continue;
             }
+            self.node_b[..bl].copy_from_slice(pb);
+            self.node_w[..wl].copy_from_slice(pw);
             let bound = self.bound_rest(1, pb, mv);
             if !self.found || bound > self.best {
                 self.recurse(1);
@@ -240,13 +380,12 @@ impl Search<'_> {
     /// computed on the fly with exactly the operations of `maxVal(node ∩ q)`
     /// (summed weights, intercept first, then dimensions in order); the leaf is
     /// only materialized when it becomes the incumbent.
-    fn last_level_single(&mut self, level: usize, f: &Prepared) {
+    fn last_level_single(&mut self, level: usize, f: &Prepared, fb: &[i32]) {
         let dim = self.dim;
         let (bl, wl) = (2 * dim, dim + 1);
         let node_b = &self.node_b[(level - 1) * bl..level * bl];
         let node_w = &self.node_w[(level - 1) * wl..level * wl];
-        for (qb, qw) in f
-            .bounds
+        for (qb, qw) in fb
             .chunks_exact(bl)
             .zip(f.weights.chunks_exact(wl))
             .take(f.n)
@@ -284,9 +423,10 @@ impl Search<'_> {
         let (bl, wl) = (2 * dim, dim + 1);
         let funcs = self.funcs;
         let f = &funcs[self.active[level]];
+        let fb = self.boxes[self.active[level]];
         let last = level + 1 == self.active.len();
         if last && f.single {
-            self.last_level_single(level, f);
+            self.last_level_single(level, f, fb);
             return;
         }
         let visit = |s: &mut Self, q: usize| {
@@ -294,7 +434,7 @@ impl Search<'_> {
             let (nw, cw) = s.node_w.split_at_mut(level * wl);
             let node_b = &nb[(level - 1) * bl..];
             let node_w = &nw[(level - 1) * wl..];
-            let qb = &f.bounds[q * bl..(q + 1) * bl];
+            let qb = &fb[q * bl..(q + 1) * bl];
             let qw = &f.weights[q * wl..(q + 1) * wl];
             let child_b = &mut cb[..bl];
             let child_w = &mut cw[..wl];
@@ -319,7 +459,7 @@ impl Search<'_> {
             for q in 0..f.n {
                 let hit = {
                     let node_b = &self.node_b[(level - 1) * bl..level * bl];
-                    intersects(node_b, &f.bounds[q * bl..(q + 1) * bl], dim)
+                    intersects(node_b, &fb[q * bl..(q + 1) * bl], dim)
                 };
                 if hit {
                     visit(self, q);
@@ -346,7 +486,7 @@ impl Search<'_> {
                 for &q in &f.cell_items[f.cell_start[c] as usize..f.cell_start[c + 1] as usize] {
                     let q = q as usize;
                     if f.seen[q].get() == stamp
-                        || !intersects(node_copy, &f.bounds[q * bl..(q + 1) * bl], dim)
+                        || !intersects(node_copy, &fb[q * bl..(q + 1) * bl], dim)
                     {
                         continue;
                     }
@@ -454,14 +594,33 @@ impl Solver {
         if self.active.is_empty() || dim == 0 {
             return Ok(false);
         }
+        for k in 0..self.active.len() {
+            let fk = &self.funcs[self.active[k]];
+            let first = (0..k)
+                .find(|&j| self.funcs[self.active[j]].ppg == fk.ppg)
+                .unwrap_or(k);
+            self.funcs[self.active[k]].geom = first;
+        }
         let m = self.active.len();
         let (bl, wl) = (2 * dim, dim + 1);
         self.node_b.resize(m * bl, 0);
         self.node_w.resize(m * wl, 0.0);
         self.best_b.resize(bl, 0);
         self.best_w.resize(wl, 0.0);
+        let boxes: Vec<&[i32]> = functions
+            .iter()
+            .zip(&self.funcs)
+            .map(|(f, p)| {
+                if p.borrowed {
+                    f.bounds()
+                } else {
+                    &p.bounds[..]
+                }
+            })
+            .collect();
         let mut s = Search {
             funcs: &self.funcs,
+            boxes: &boxes,
             active: &self.active,
             dim,
             node_b: &mut self.node_b,
@@ -509,7 +668,7 @@ impl Solver {
             p.map
                 .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
-        let (mn, mx) = (f.min_wt(), f.max_wt());
+        let (mn, mx) = f.min_max_wt();
         let norm = mx - mn > 100.0;
         let r = mx - mn;
         let (shift, scale) = (0.0 - mn, 100.0 / r);
@@ -517,35 +676,51 @@ impl Solver {
         let n = f.piece_count();
         p.n = n;
         let (bl, wl) = (2 * dim, dim + 1);
+        let (fb, fw) = (f.bounds(), f.weights());
+        let identity = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t);
         p.bounds.clear();
         p.weights.clear();
-        p.bounds.resize(n * bl, 0);
-        p.weights.resize(n * wl, 0.0);
-        let (fb, fw) = (f.bounds(), f.weights());
-        for k in 0..n {
-            let b = &mut p.bounds[k * bl..(k + 1) * bl];
-            let w = &mut p.weights[k * wl..(k + 1) * wl];
-            for d in 0..dim {
-                b[2 * d] = 0;
-                b[2 * d + 1] = self.pts[d] - 1;
-                w[d] = 0.0;
-            }
-            let src = &fw[k * (od + 1)..(k + 1) * (od + 1)];
-            let tf = |x: f64, is_int: bool| {
-                let mut x = x;
-                if norm {
-                    if is_int {
-                        x += shift;
-                    }
-                    x *= scale;
+        p.borrowed = identity;
+        if identity && !norm {
+            // Same dimensions in the same order: the function's own boxes are used as
+            // they are, and every weight (slope or intercept) becomes x*pwt.
+            p.weights.extend(fw[..n * wl].iter().map(|&x| x * pwt));
+        } else {
+            p.weights.resize(n * wl, 0.0);
+        }
+        if !identity {
+            p.bounds.resize(n * bl, 0);
+            for k in 0..n {
+                let b = &mut p.bounds[k * bl..(k + 1) * bl];
+                for d in 0..dim {
+                    b[2 * d] = 0;
+                    b[2 * d + 1] = self.pts[d] - 1;
                 }
-                x * pwt
-            };
-            w[dim] = tf(src[od], true);
-            for (d, &t) in p.map.iter().enumerate() {
-                b[2 * t] = fb[k * 2 * od + 2 * d];
-                b[2 * t + 1] = fb[k * 2 * od + 2 * d + 1];
-                w[t] = tf(src[d], false);
+                for (d, &t) in p.map.iter().enumerate() {
+                    b[2 * t] = fb[k * 2 * od + 2 * d];
+                    b[2 * t + 1] = fb[k * 2 * od + 2 * d + 1];
+                }
+            }
+        }
+        // Weights: slope x -> (x*scale)*pwt, intercept x -> ((x+shift)*scale)*pwt when
+        // normalizing, x*pwt otherwise; dimensions the function lacks get slope 0.
+        let weighed = identity && !norm;
+        for (w, src) in p
+            .weights
+            .chunks_exact_mut(wl)
+            .zip(fw.chunks_exact(od + 1))
+            .take(if weighed { 0 } else { n })
+        {
+            if norm {
+                w[dim] = ((src[od] + shift) * scale) * pwt;
+                for (d, &t) in p.map.iter().enumerate() {
+                    w[t] = (src[d] * scale) * pwt;
+                }
+            } else {
+                w[dim] = src[od] * pwt;
+                for (d, &t) in p.map.iter().enumerate() {
+                    w[t] = src[d] * pwt;
+                }
             }
         }
         // Grid.
@@ -568,39 +743,41 @@ impl Solver {
             total *= nc as usize;
         }
         p.single = total == 1;
-        p.global_ub = NO_BOUND;
-        p.maxv.clear();
-        for k in 0..n {
-            let v = max_val(
-                &p.bounds[k * bl..(k + 1) * bl],
-                &p.weights[k * wl..(k + 1) * wl],
-            );
-            p.maxv.push(v);
-            if k == 0 || v > p.global_ub {
-                p.global_ub = v;
+        // A builder-made grid is kept (its bounds transformed like the weights)
+        // when no translation is needed; otherwise the bounds come from the pieces.
+        let same =
+            identity && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
+        let g = f.grid_bounds();
+        let keep_grid = same && g.len() == total;
+        let tg = |x: f64| {
+            let mut x = x;
+            if norm {
+                x = (x + shift) * scale;
+            }
+            x * pwt
+        };
+        if keep_grid && p.single {
+            let v = tg(g[0]);
+            p.global_ub = if v == f64::NEG_INFINITY { NO_BOUND } else { v };
+        } else if p.single {
+            p.global_ub = NO_BOUND;
+            let bounds = if identity { fb } else { &p.bounds[..] };
+            for k in 0..n {
+                let v = max_val(
+                    &bounds[k * bl..(k + 1) * bl],
+                    &p.weights[k * wl..(k + 1) * wl],
+                );
+                if k == 0 || v > p.global_ub {
+                    p.global_ub = v;
+                }
             }
         }
         if !p.single {
-            build_cells(p, dim, total);
-        }
-        // A builder-made grid is kept (its bounds transformed like the weights)
-        // when no translation is needed; otherwise the grid is rebuilt above.
-        let same = od == dim
-            && p.map.iter().enumerate().all(|(d, &t)| d == t)
-            && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
-        let g = f.grid_bounds();
-        if same && g.len() == total {
-            let tg = |x: f64| {
-                let mut x = x;
-                if norm {
-                    x = (x + shift) * scale;
-                }
-                x * pwt
-            };
-            if p.single {
-                let v = tg(g[0]);
-                p.global_ub = if v == f64::NEG_INFINITY { NO_BOUND } else { v };
-            } else {
+            p.make_coord_table(&self.pts);
+            let own = std::mem::take(&mut p.bounds);
+            build_cells(p, if identity { fb } else { &own }, dim, total, !keep_grid);
+            p.bounds = own;
+            if keep_grid {
                 for (c, &x) in g.iter().enumerate() {
                     let v = tg(x);
                     p.cell_filled[c] = v != f64::NEG_INFINITY && !v.is_nan();
@@ -612,42 +789,57 @@ impl Solver {
     }
 }
 
-fn build_cells(p: &mut Prepared, dim: usize, total: usize) {
+/// Cell lists of a multi-cell grid and, if `bounds`, the cell bounds from the pieces.
+fn build_cells(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize, bounds: bool) {
     let bl = 2 * dim;
-    let (ppg, stride) = (&p.ppg, &p.stride);
     p.cell_start.clear();
     p.cell_start.resize(total + 1, 0);
     p.cell_ub.clear();
     p.cell_ub.resize(total, NO_BOUND);
     p.cell_filled.clear();
     p.cell_filled.resize(total, false);
+    let mut cell_start = std::mem::take(&mut p.cell_start);
     for k in 0..p.n {
-        for_each_cell(ppg, stride, &p.bounds[k * bl..(k + 1) * bl], dim, |c| {
-            p.cell_start[c + 1] += 1;
+        p.for_each_cell(&boxes[k * bl..(k + 1) * bl], dim, |c| {
+            cell_start[c + 1] += 1;
             true
         });
     }
     for c in 0..total {
-        p.cell_start[c + 1] += p.cell_start[c];
+        cell_start[c + 1] += cell_start[c];
     }
     p.cell_items.clear();
-    p.cell_items.resize(p.cell_start[total] as usize, 0);
+    p.cell_items.resize(cell_start[total] as usize, 0);
     p.cursor.clear();
-    p.cursor.extend_from_slice(&p.cell_start[..total]);
+    p.cursor.extend_from_slice(&cell_start[..total]);
+    p.cell_start = cell_start;
+    let mut items = std::mem::take(&mut p.cell_items);
+    let mut cursor = std::mem::take(&mut p.cursor);
+    let (mut ub, mut filled) = (
+        std::mem::take(&mut p.cell_ub),
+        std::mem::take(&mut p.cell_filled),
+    );
     // Pieces in array order inside every cell; cell bound = max piece maxVal.
     for k in 0..p.n {
-        let b = &p.bounds[k * bl..(k + 1) * bl];
-        let v = p.maxv[k];
-        for_each_cell(ppg, stride, b, dim, |c| {
-            p.cell_items[p.cursor[c] as usize] = k as u32;
-            p.cursor[c] += 1;
-            if !p.cell_filled[c] || v > p.cell_ub[c] {
-                p.cell_ub[c] = v;
+        let b = &boxes[k * bl..(k + 1) * bl];
+        let v = if bounds {
+            max_val(b, &p.weights[k * (dim + 1)..(k + 1) * (dim + 1)])
+        } else {
+            0.0
+        };
+        p.for_each_cell(b, dim, |c| {
+            items[cursor[c] as usize] = k as u32;
+            cursor[c] += 1;
+            if bounds {
+                if !filled[c] || v > ub[c] {
+                    ub[c] = v;
+                }
+                filled[c] = true;
             }
-            p.cell_filled[c] = true;
             true
         });
     }
+    (p.cell_items, p.cursor, p.cell_ub, p.cell_filled) = (items, cursor, ub, filled);
     if p.seen.len() < p.n {
         p.seen.resize_with(p.n, || Cell::new(0));
     }
@@ -696,6 +888,116 @@ mod tests {
                 false
             });
             assert_eq!(first, slow[..1]);
+        }
+    }
+
+    fn rng(seed: &mut u64) -> u64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *seed >> 33
+    }
+
+    /// A random function over `dom`: random boxes and weights (overlapping, as some
+    /// builders make them), a random gel box, with or without a builder grid.
+    fn random_function(dom: &Domain, seed: &mut u64) -> IvpFunction {
+        let dim = dom.size();
+        let n = 1 + rng(seed) as usize % 40;
+        let mut pieces = vec![];
+        for _ in 0..n {
+            let mut b = vec![];
+            let mut w = vec![];
+            for d in 0..dim {
+                let pts = dom.var(d).points as u64;
+                let lo = (rng(seed) % pts) as i32;
+                let hi = lo + (rng(seed) % (pts - lo as u64)) as i32;
+                b.push((lo, hi));
+                w.push((rng(seed) % 2001) as f64 / 100.0 - 10.0);
+            }
+            w.push((rng(seed) % 20001) as f64 / 100.0 - 50.0);
+            pieces.push((b, w));
+        }
+        let mut f = IvpFunction::from_pieces(dom.clone(), &pieces).unwrap();
+        let gel = (0..dim)
+            .map(|d| (rng(seed) % u64::from(dom.var(d).points + 2)) as u32)
+            .collect();
+        f.set_gelbox(gel).unwrap();
+        if rng(seed).is_multiple_of(2) {
+            f.build_grid();
+        }
+        f.set_pwt(1.0 + (rng(seed) % 100) as f64);
+        f
+    }
+
+    /// The bounds the search prunes with (shared cell ranges, one-cell reads, tables)
+    /// are bit for bit the divide-per-cell cheap bounds summed left to right.
+    #[test]
+    fn bound_rest_equals_the_divide_per_cell_sum() {
+        let doms = [
+            Domain::parse("course:0:359:360,speed:0:4:41").unwrap(),
+            Domain::parse("x:0:9:10,y:0:6:7,z:0:2:3").unwrap(),
+            Domain::parse("x:0:20:21").unwrap(),
+        ];
+        let mut seed = 11u64;
+        for round in 0..300 {
+            let dom = &doms[round % doms.len()];
+            let dim = dom.size();
+            let m = 1 + rng(&mut seed) as usize % 5;
+            let mut fs: Vec<IvpFunction> =
+                (0..m).map(|_| random_function(dom, &mut seed)).collect();
+            // Same gel boxes now and then, so functions share a grid geometry.
+            if m > 1 && round.is_multiple_of(2) {
+                let g = fs[0].gelbox().to_vec();
+                fs[1].set_gelbox(g).unwrap();
+            }
+            let refs: Vec<&IvpFunction> = fs.iter().collect();
+            let mut solver = Solver::new();
+            solver.solve(dom, &refs).unwrap();
+            let (funcs, active) = (&solver.funcs, &solver.active);
+            for _ in 0..50 {
+                let mut b = vec![];
+                for d in 0..dim {
+                    let pts = dom.var(d).points as u64;
+                    let lo = (rng(&mut seed) % pts) as i32;
+                    b.push(lo);
+                    b.push(lo + (rng(&mut seed) % (pts - lo as u64)) as i32);
+                }
+                let acc = (rng(&mut seed) % 1000) as f64 / 7.0;
+                for level in 0..active.len() {
+                    let mut want = acc;
+                    for &fi in &active[level..] {
+                        let f = &funcs[fi];
+                        want += if f.single {
+                            f.global_ub
+                        } else {
+                            let (mut best, mut any) = (NO_BOUND, false);
+                            for_each_cell(&f.ppg, &f.stride, &b, dim, |c| {
+                                if f.cell_filled[c] && (!any || f.cell_ub[c] > best) {
+                                    best = f.cell_ub[c];
+                                    any = true;
+                                }
+                                true
+                            });
+                            best
+                        };
+                    }
+                    let got = bound_rest(funcs, active, dim, level, &b, acc);
+                    assert_eq!(got.to_bits(), want.to_bits(), "round {round} box {b:?}");
+                }
+            }
+        }
+    }
+
+    /// One pass for both extremes gives the two separate passes' values.
+    #[test]
+    fn min_max_wt_equals_min_wt_and_max_wt() {
+        let dom = Domain::parse("x:0:9:10,y:0:6:7").unwrap();
+        let mut seed = 5u64;
+        for _ in 0..500 {
+            let f = random_function(&dom, &mut seed);
+            let (mn, mx) = f.min_max_wt();
+            assert_eq!(mn.to_bits(), f.min_wt().to_bits());
+            assert_eq!(mx.to_bits(), f.max_wt().to_bits());
         }
     }
 }
