@@ -3,7 +3,7 @@
 //! postings. Also AppCasting ([`appcast`]), the terminal ([`terminal`]) and pHelmIvP's
 //! command line ([`phelmivp`]).
 //!
-//! It may depend on `helm-engine` (which decides), `moos` (client, DB, alog) and
+//! It may depend on `helm-engine` (which decides) and `helm-cycle` (the loop that drives it), `moos` (client, DB, alog) and
 //! `vehicle-model` (the embedded simulator's model); it must not depend on `helm-sim`,
 //! and nothing but the `helm` binary depends on it.
 //!
@@ -18,11 +18,11 @@
 //!    variable the helm lists (posting `IVPHELM_REGISTER=<var>` for each, and again for
 //!    variables that appear later), then loops at the block's AppTick (default 5 Hz, in
 //!    MOOS time, so a time warp speeds it up): fetch → mail → iterate → publish, through
-//!    [`helm_engine::cycle::HelmCycle`], the same code `helm sim` drives the helm with;
+//!    [`helm_cycle::HelmCycle`], the same code `helm sim` drives the helm with;
 //! 4. prints the heartbeat (`$` DRIVE, `*` PARK) and a summary line every 5 s
 //!    ([`terminal`]), unless `--quiet`; always a last `final: ...` line;
 //! 5. stops after `--duration` MOOS seconds, or, with `--embedded`, once the mission is
-//!    over ([`helm_engine::status::EndWatch`]: after a first clear decision, the all-stop stayed
+//!    over ([`helm_cycle::status::EndWatch`]: after a first clear decision, the all-stop stayed
 //!    non-clear for 5 MOOS seconds). Ctrl-C ends the process (default signal action).
 //!
 //! Which command line is pHelmIvP's (what pAntler runs) rather than `helm`'s own:
@@ -50,8 +50,8 @@ use moos::wire::Message;
 use moosdb::{Db, DbConfig, DbError};
 
 use crate::appcast::{AppCast, Caster};
+use helm_cycle::{Bus, HelmCycle};
 use helm_engine::config::Verbose;
-use helm_engine::cycle::{Bus, HelmCycle};
 use helm_engine::posting::{Posting, Value};
 use helm_engine::Helm;
 use moos_io::{AlogSink, AppSettings, Registrar};

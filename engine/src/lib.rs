@@ -3,7 +3,8 @@
 //! A caller hands it mail and a time and takes its postings; it never reads a socket, a
 //! wall clock or a thread of its own, and knows nothing of simulation. The MOOS app
 //! (`helm-app`), the simulator (`helm-sim`) and the conformance runner (`helm-conform`) all
-//! drive it the same way, through [`cycle::HelmCycle`] or [`Helm`] directly.
+//! drive it the same way, through `helm_cycle::HelmCycle` (the `helm-cycle` crate) or
+//! [`Helm`] directly.
 //!
 //! It may depend on `behavior-api`, `behaviors-std`, `bhv`, `ivp` and `contacts`. It must
 //! not depend on MOOS (client, DB or files), the app or the simulator; a test in
@@ -20,8 +21,8 @@
 //!   iteration), built-in and plugin alike through `behavior-api`;
 //! - a decision is made in [`engine`]: `Helm::handle_mail` → `Helm::iterate` (modes,
 //!   behaviors, `decide` with `ivp::Solver`, postings), with spawning and reports;
-//! - [`cycle`] is one helm cycle as every driver runs it; [`status`] what a run
-//!   remembers for its terminal and its end.
+//! - one helm cycle as every driver runs it, and what a run remembers for its terminal
+//!   and its end, are the `helm-cycle` crate's.
 //! - conformance cases are replayed by the `helm-conform` crate.
 //!
 //! One decision, driven by hand: a block, a `.bhv`, navigation mail, and the postings:
@@ -57,7 +58,6 @@
 //! ```
 
 pub mod config;
-pub mod cycle;
 pub mod engine;
 pub mod factory;
 pub mod info_buffer;
@@ -65,7 +65,6 @@ pub mod loader;
 pub mod posting;
 pub mod run_warnings;
 pub mod runtime;
-pub mod status;
 pub mod string_pool;
 
 pub use engine::{Helm, HelmState, Mail};

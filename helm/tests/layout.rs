@@ -12,6 +12,7 @@ mod common;
 const HELM_CRATES: &[&str] = &[
     "helm",
     "helm-engine",
+    "helm-cycle",
     "helm-mission",
     "helm-conform",
     "helm-app",
@@ -88,6 +89,7 @@ fn crates_depend_only_downward() {
     let packages = workspace_packages();
     for needed in [
         "helm-engine",
+        "helm-cycle",
         "helm-app",
         "helm-sim",
         "helm-sim-cli",
@@ -105,6 +107,19 @@ fn crates_depend_only_downward() {
     // The engine decides; it knows no sockets (moos: client and DB), app or simulator.
     forbid(
         "helm-engine",
+        &[
+            "moos",
+            "moosdb",
+            "helm-app",
+            "helm-sim",
+            "helm-sim-cli",
+            "helm-conform",
+            "helm",
+        ],
+    );
+    // The cycle drives the engine; the drivers (app, simulator) depend on it, not it on them.
+    forbid(
+        "helm-cycle",
         &[
             "moos",
             "moosdb",

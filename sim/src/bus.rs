@@ -21,7 +21,7 @@ use std::collections::{HashMap, HashSet};
 use moos::wire::Message;
 
 use super::observe::Observer;
-use helm_engine::cycle;
+use helm_cycle as cycle;
 use helm_engine::posting::{Posting, Value};
 use helm_engine::Mail;
 
@@ -228,7 +228,7 @@ impl cycle::Bus for SimBus {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use helm_engine::cycle::Bus;
+    use helm_cycle::Bus;
 
     #[test]
     fn own_postings_come_back_next_step_to_subscribers_only() {

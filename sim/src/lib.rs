@@ -1,6 +1,6 @@
 //! `helm-sim`: `helm sim`, a mission in deterministic fast time, in one process.
 //!
-//! The helm (driven by the same [`helm_engine::cycle::HelmCycle`] as `helm run`), the
+//! The helm (driven by the same [`helm_cycle::HelmCycle`] as `helm run`), the
 //! vehicle simulator ([`vehicle_model`]) and an in-process MOOS bus ([`bus`]) run on a
 //! simulated clock ([`run`]); a [`scenario`] file adds pokes, end conditions and start
 //! overrides; [`observe`] keeps what the run shows (track, VIEW_* shapes, all-stops,
@@ -8,7 +8,7 @@
 //! them, a contact manager each and collision statistics. The `helm sim` command, its
 //! Monte Carlo, output files and pictures are the `helm-sim-cli` crate's.
 //!
-//! It may depend on `helm-engine`, `vehicle-model`, `moos` (for the `.alog` and mission
+//! It may depend on `helm-engine` and `helm-cycle` (the cycle that drives it), `vehicle-model`, `moos` (for the `.alog` and mission
 //! files; never a socket), `geometry`, `contact-manager` and `contacts`, and `mbutil`; it must not depend on `helm-app`; only `helm-sim-cli` and the `helm`
 //! binary depend on it.
 //!

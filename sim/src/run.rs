@@ -9,7 +9,7 @@
 //! delivered at its end (see [`super::bus`]), so the order inside a step only orders
 //! the log.
 //!
-//! The helm is driven by [`helm_engine::cycle::HelmCycle`], the code `helm run` uses.
+//! The helm is driven by [`helm_cycle::HelmCycle`], the code `helm run` uses.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -17,7 +17,7 @@ use std::time::Instant;
 use super::bus::{SimBus, HELM};
 use super::observe::Observer;
 use super::scenario::{Scenario, ScenarioError};
-use helm_engine::cycle::HelmCycle;
+use helm_cycle::HelmCycle;
 use helm_engine::posting::Value;
 use helm_engine::Mail;
 use helm_mission::HelmRecipe;

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 use contact_manager::{Config, ContactManager, MailValue};
 use contacts::{Geodesy, NodeReport};
-use helm_engine::cycle::HelmCycle;
+use helm_cycle::HelmCycle;
 use helm_engine::posting::Value;
 use helm_engine::{Helm, HelmState, Mail};
 use helm_mission::HelmRecipe;

@@ -1,12 +1,64 @@
-//! One helm cycle, shared by `helm run` (a MOOS client over sockets) and `helm sim` (an
-//! in-process bus on a simulated clock): start-up, then per AppTick
+//! `helm-cycle`: one helm cycle, shared by `helm run` (a MOOS client over sockets) and
+//! `helm sim` (an in-process bus on a simulated clock): start-up, then per AppTick
 //! mail → [`Helm::handle_mail`] → [`Helm::iterate`] → postings, with the subscriptions
 //! kept in step with the helm's list. Both commands drive the helm through this and
-//! nothing else, so what the helm decides cannot depend on which one runs it.
+//! nothing else, so what the helm decides cannot depend on which one runs it. [`status`]
+//! is what a run remembers of the traffic for its terminal lines and its stop rule.
+//!
+//! It may depend on `helm-engine` alone (it drives the engine through its public API);
+//! it must not depend on MOOS, the app or the simulator, which depend on it.
+//!
+//! A cycle on a bus that only records (start-up, navigation mail, one decision):
+//!
+//! ```
+//! use helm_cycle::{Bus, HelmCycle};
+//! use helm_engine::config::{BlockLine, HelmConfig};
+//! use helm_engine::factory::BehaviorFactory;
+//! use helm_engine::posting::{Posting, Value};
+//! use helm_engine::{Helm, Mail};
+//!
+//! #[derive(Default)]
+//! struct Recorder { subscribed: Vec<String>, posted: Vec<Posting> }
+//! impl Bus for Recorder {
+//!     fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
+//!         let new: Vec<String> = subs.iter().filter(|v| !self.subscribed.contains(v)).cloned().collect();
+//!         self.subscribed.extend(new.iter().cloned());
+//!         new
+//!     }
+//!     fn publish(&mut self, p: &Posting, _now: f64) { self.posted.push(p.clone()); }
+//! }
+//!
+//! let line = |name: &str, value: &str| BlockLine { line: 1, name: name.into(), value: value.into() };
+//! let (config, _) = HelmConfig::from_lines(&[
+//!     line("domain", "course:0:359:360"),
+//!     line("domain", "speed:0:4:41"),
+//!     line("start_in_drive", "true"),
+//! ]);
+//! let bhv = "Behavior = BHV_Waypoint\n{\n  name = go\n  points = 0,50:0,100\n  speed = 2\n}\n";
+//! let spec = bhv::reader::parse_str(bhv, std::path::Path::new("doc.bhv")).unwrap();
+//! let mut helm = Helm::new(config, spec, &BehaviorFactory::with_builtins(), "doc", vec![]);
+//! let mut bus = Recorder::default();
+//! let mut cycle = HelmCycle::startup(&mut helm, &mut bus, 0.0);
+//! assert!(bus.subscribed.iter().any(|v| v == "NAV_X"));
+//! let nav = |var: &str| Mail {
+//!     var: var.into(),
+//!     value: Value::Num(0.0),
+//!     time: 1.0,
+//!     source: "uSimMarine".into(),
+//!     source_aux: String::new(),
+//! };
+//! cycle.mail(&mut helm, 1.0, &["NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"].map(nav));
+//! cycle.iterate(&mut helm, &mut bus, 1.0);
+//! let speed = bus.posted.iter().find(|p| p.var == "DESIRED_SPEED").unwrap();
+//! assert_eq!(speed.value, Value::Num(2.0));
+//! assert_eq!(cycle.status.iterations, 1);
+//! ```
 
-use crate::posting::{Posting, Value};
-use crate::status::Status;
-use crate::{Helm, Mail};
+pub mod status;
+
+use helm_engine::posting::{Posting, Value};
+use helm_engine::{Helm, Mail};
+use status::Status;
 
 /// Where the helm's postings go and how it subscribes.
 pub trait Bus {

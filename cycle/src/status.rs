@@ -1,7 +1,7 @@
 //! What `helm run` remembers of the traffic for its terminal lines and its stop rule.
 
-use crate::posting::{Posting, Value};
-use crate::Mail;
+use helm_engine::posting::{Posting, Value};
+use helm_engine::Mail;
 
 /// How long (MOOS s) the all-stop must stay non-clear before the mission counts as over.
 pub const MISSION_OVER_AFTER: f64 = 5.0;
