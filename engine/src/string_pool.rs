@@ -37,6 +37,13 @@ impl StringPool {
         }
     }
 
+    /// Keep the string of a string value (a number has none).
+    pub fn give_value(&mut self, value: crate::posting::Value) {
+        if let crate::posting::Value::Str(s) = value {
+            self.give(s);
+        }
+    }
+
     /// Spare strings held.
     pub fn len(&self) -> usize {
         self.spare.len()
@@ -64,5 +71,10 @@ mod tests {
         let t = pool.copy_of("x");
         assert_eq!((t.as_str(), t.as_ptr()), ("x", ptr));
         assert!(pool.is_empty());
+        pool.give_value(crate::posting::Value::Num(1.0));
+        assert!(pool.is_empty());
+        pool.give_value(crate::posting::Value::Str(t));
+        let back = pool.take();
+        assert_eq!(back.as_ptr(), ptr);
     }
 }

@@ -56,9 +56,7 @@ impl Helm {
             for p in self.outbox.drain(..) {
                 self.pool.give(p.var);
                 self.pool.give(p.source_aux);
-                if let Value::Str(s) = p.value {
-                    self.pool.give(s);
-                }
+                self.pool.give_value(p.value);
             }
         }
     }

@@ -171,9 +171,7 @@ impl Helm {
     fn recycle_message(&mut self, m: crate::runtime::Message) {
         self.pool.give(m.var);
         self.pool.give(m.key);
-        if let Value::Str(s) = m.value {
-            self.pool.give(s);
-        }
+        self.pool.give_value(m.value);
     }
 
     /// §6 step 21: behavior lists and counts, each only when changed.

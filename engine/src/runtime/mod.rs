@@ -219,9 +219,7 @@ impl BehaviorCore {
     pub fn post(&mut self, var: &str, value: Value, given_key: &str) {
         let var = match self.post_mapping.get(var) {
             Some(to) if to.eq_ignore_ascii_case("silent") => {
-                if let Value::Str(s) = value {
-                    self.pool.give(s);
-                }
+                self.pool.give_value(value);
                 return;
             }
             Some(to) => self.pool.copy_of(to),
