@@ -466,67 +466,22 @@ impl CpaEngine {
 
     /// Ownship passes the contact on the contact's port side.
     pub fn passes_port(&self, h: f64, v: f64) -> bool {
-        if self.on_contact || !self.passes_port_or_star(h, v) {
-            return false;
-        }
-        if self.on_beam() {
-            return self.os_port_of_cn();
-        }
-        if self.os_aft_of_cn() {
-            self.bearing_rate(h, v) > 0.0
-        } else {
-            self.bearing_rate(h, v) < 0.0
-        }
+        self.passes_port_at(&self.heading(h), v)
     }
 
     /// Ownship passes the contact on the contact's starboard side.
     pub fn passes_star(&self, h: f64, v: f64) -> bool {
-        if self.on_contact || !self.passes_port_or_star(h, v) {
-            return false;
-        }
-        !self.passes_port(h, v)
+        self.passes_star_at(&self.heading(h), v)
     }
 
     /// Passing distance on the contact's port side, −1 when not passing port.
     pub fn passes_port_dist(&self, h: f64, v: f64) -> f64 {
-        self.passes_side_dist(h, v, true)
+        self.passes_port_dist_at(&self.heading(h), v)
     }
 
     /// Passing distance on the contact's starboard side, −1 when not passing starboard.
     pub fn passes_star_dist(&self, h: f64, v: f64) -> f64 {
-        self.passes_side_dist(h, v, false)
-    }
-
-    fn passes_side_dist(&self, h: f64, v: f64, port: bool) -> f64 {
-        let (same, other) = if port {
-            (self.os_port_of_cn(), self.os_star_of_cn())
-        } else {
-            (self.os_star_of_cn(), self.os_port_of_cn())
-        };
-        if self.on_contact || (self.on_beam() && other) {
-            return -1.0;
-        }
-        if self.on_beam() && same {
-            return self.rng;
-        }
-        let e = self.beam_closing(h, v);
-        if e <= 0.0 {
-            return -1.0;
-        }
-        let t = self.range_epsilon / e;
-        let g = t * self.gamcos(deg_index(h)) * v;
-        let x = if same && g <= self.range_gamma {
-            self.range_gamma - g
-        } else if other && g > self.range_gamma {
-            g - self.range_gamma
-        } else {
-            -1.0
-        };
-        if x < 0.0 {
-            -1.0
-        } else {
-            x
-        }
+        self.passes_star_dist_at(&self.heading(h), v)
     }
 
     /// Ownship will cross the contact's bow-stern line.
@@ -539,35 +494,13 @@ impl CpaEngine {
 
     /// Ownship crosses astern of the contact.
     pub fn crosses_stern(&self, h: f64, v: f64) -> bool {
-        if self.on_sternline {
-            return true;
-        }
-        if v <= 0.0 || self.gamcos(deg_index(h)) <= 0.0 {
-            return false;
-        }
-        let br = self.bearing_rate(h, v);
-        if self.os_port_of_cn() {
-            br <= 0.0
-        } else {
-            br >= 0.0
-        }
+        self.crosses_stern_at(&self.heading(h), v)
     }
 
     /// Ownship crosses ahead of the contact (true on the stern line too, as the
     /// reference has it).
     pub fn crosses_bow(&self, h: f64, v: f64) -> bool {
-        if self.on_sternline {
-            return true;
-        }
-        if v <= 0.0 || self.gamcos(deg_index(h)) <= 0.0 {
-            return false;
-        }
-        let br = self.bearing_rate(h, v);
-        if self.os_port_of_cn() {
-            br >= 0.0
-        } else {
-            br <= 0.0
-        }
+        self.crosses_bow_at(&self.heading(h), v)
     }
 
     /// How far ahead of the contact ownship crosses its bow line, −1 when it does not.
