@@ -86,6 +86,37 @@ pub(crate) fn min_val(bounds: &[i32], w: &[f64]) -> f64 {
     acc
 }
 
+/// [`IvpFunction::min_max_wt`] of the pieces in `bounds`/`weights` for `N` dimensions
+/// (a constant): [`min_val`] and [`max_val`] with the same operations in the same order,
+/// folded the same way.
+fn min_max_n<const N: usize>(bounds: &[i32], weights: &[f64]) -> (f64, f64) {
+    let piece = |b: &[i32], w: &[f64]| -> (f64, f64) {
+        let (b, w) = (&b[..2 * N], &w[..=N]);
+        let (mut lo, mut hi) = (w[N], w[N]);
+        for d in 0..N {
+            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+            hi += w[d] * if w[d] < 0.0 { l } else { h };
+            lo += w[d] * if w[d] < 0.0 { h } else { l };
+        }
+        (lo, hi)
+    };
+    let mut pieces = bounds.chunks_exact(2 * N).zip(weights.chunks_exact(N + 1));
+    let Some((b, w)) = pieces.next() else {
+        return (0.0, 0.0);
+    };
+    let (mut mn, mut mx) = piece(b, w);
+    for (b, w) in pieces {
+        let (lo, hi) = piece(b, w);
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
+}
+
 /// The raw parts of an [`IvpFunction`], all fields public so the buffers can be
 /// moved (not copied) into another container, e.g. `abi_stable::std_types::RVec`.
 #[derive(Debug, Clone, PartialEq)]
@@ -135,8 +166,12 @@ fn check_layout(
             reason: format!("needs {dim} entries"),
         });
     }
-    // Highest index per dimension, looked up once (every function crossing the ABI
-    // is checked piece by piece).
+    // Every function crossing the ABI is checked piece by piece: first whether all
+    // pieces are in range (no branch per piece), and only when one is not, which one.
+    if bounds_in_range(domain, bounds) {
+        return Ok(());
+    }
+    // Highest index per dimension, looked up once.
     let tops: Vec<i64> = domain
         .vars()
         .iter()
@@ -157,6 +192,41 @@ fn check_layout(
         }
     }
     Ok(())
+}
+
+/// Whether every piece's `lo, hi` satisfy `0 <= lo <= hi <= points - 1` in every
+/// dimension (`bounds` holds whole pieces of `domain`'s dimension, at least 1).
+fn bounds_in_range(domain: &Domain, bounds: &[i32]) -> bool {
+    // The highest index as an i32: above i32::MAX no i32 exceeds it.
+    let tops: Vec<i32> = domain
+        .vars()
+        .iter()
+        .map(|v| (i64::from(v.points) - 1).min(i64::from(i32::MAX)) as i32)
+        .collect();
+    fn all_in<const N: usize>(bounds: &[i32], tops: &[i32]) -> bool {
+        let tops: [i32; N] = std::array::from_fn(|d| tops[d]);
+        let mut bad = false;
+        for b in bounds.chunks_exact(2 * N) {
+            let b = &b[..2 * N];
+            for d in 0..N {
+                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+                bad |= (lo < 0) | (lo > hi) | (hi > tops[d]);
+            }
+        }
+        !bad
+    }
+    match tops.len() {
+        1 => all_in::<1>(bounds, &tops),
+        2 => all_in::<2>(bounds, &tops),
+        3 => all_in::<3>(bounds, &tops),
+        4 => all_in::<4>(bounds, &tops),
+        n => bounds.chunks_exact(2 * n).all(|b| {
+            (0..n).all(|d| {
+                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+                lo >= 0 && lo <= hi && hi <= tops[d]
+            })
+        }),
+    }
 }
 
 impl IvpFunction {
@@ -225,6 +295,29 @@ impl IvpFunction {
             context: String::new(),
             gelbox,
             grid: Vec::new(),
+        }
+    }
+
+    /// A builder's function whose search grid it computed along with the pieces (what
+    /// [`IvpFunction::build_grid`] gives for them); the layout is correct by
+    /// construction (checked in debug builds).
+    pub(crate) fn with_grid_unchecked(
+        domain: Domain,
+        bounds: Vec<i32>,
+        weights: Vec<f64>,
+        gelbox: Vec<u32>,
+        grid: Vec<f64>,
+    ) -> IvpFunction {
+        debug_assert!(check_layout(&domain, &bounds, &weights, &gelbox).is_ok());
+        debug_assert_eq!(grid.len(), grid_total(&domain, &gelbox));
+        IvpFunction {
+            domain,
+            bounds,
+            weights,
+            pwt: 10.0,
+            context: String::new(),
+            gelbox,
+            grid,
         }
     }
 
@@ -488,6 +581,14 @@ impl IvpFunction {
         if dim == 0 {
             return (self.min_wt(), self.max_wt());
         }
+        // The usual dimensions with the per-piece loops unrolled (the solver and the
+        // behaviors' normalization ask this of every function, every iteration).
+        match dim {
+            1 => return min_max_n::<1>(&self.bounds, &self.weights),
+            2 => return min_max_n::<2>(&self.bounds, &self.weights),
+            3 => return min_max_n::<3>(&self.bounds, &self.weights),
+            _ => {}
+        }
         let mut pieces = self
             .bounds
             .chunks_exact(2 * dim)
@@ -510,7 +611,13 @@ impl IvpFunction {
 
     /// Shift then scale so the range becomes `[base, base+range]`; flat functions untouched.
     pub fn normalize(&mut self, base: f64, range: f64) {
-        let (mn, mx) = self.min_max_wt();
+        let min_max = self.min_max_wt();
+        self.normalize_from(min_max, base, range);
+    }
+
+    /// [`IvpFunction::normalize`] given what [`IvpFunction::min_max_wt`] returns (a
+    /// builder that has it already).
+    pub(crate) fn normalize_from(&mut self, (mn, mx): (f64, f64), base: f64, range: f64) {
         let r = mx - mn;
         if r.is_nan() || r <= 0.0 {
             return;
@@ -605,7 +712,7 @@ impl IvpFunction {
 /// Points per cell = `gelbox+1` clamped to `[2, points]`.
 /// Points per grid cell and number of cells of variable `v` under gel-box entry `g`
 /// (none: one cell across the variable).
-fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
+pub(crate) fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
     let pts = v.points as i32;
     let g = g.map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
     let p = (g + 1).max(2).min(pts).max(1);
@@ -775,7 +882,124 @@ mod tests {
         }
     }
 
+    /// `min_max_wt` as it was before the unrolled dimensions (the reference).
+    fn min_max_wt_reference(f: &IvpFunction) -> (f64, f64) {
+        let dim = f.dim();
+        let mut pieces = f
+            .bounds
+            .chunks_exact(2 * dim)
+            .zip(f.weights.chunks_exact(dim + 1));
+        let Some((b, w)) = pieces.next() else {
+            return (0.0, 0.0);
+        };
+        let (mut mn, mut mx) = (min_val(b, w), max_val(b, w));
+        for (b, w) in pieces {
+            let (lo, hi) = (min_val(b, w), max_val(b, w));
+            if lo < mn {
+                mn = lo;
+            }
+            if hi > mx {
+                mx = hi;
+            }
+        }
+        (mn, mx)
+    }
+
+    /// `check_layout`'s piece loop as it was (the reference for `bounds_in_range`).
+    fn in_range_reference(domain: &Domain, bounds: &[i32]) -> bool {
+        let tops: Vec<i64> = domain
+            .vars()
+            .iter()
+            .map(|v| i64::from(v.points) - 1)
+            .collect();
+        bounds.chunks_exact(2 * tops.len()).all(|b| {
+            tops.iter().enumerate().all(|(d, &top)| {
+                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+                !(lo < 0 || lo > hi || i64::from(hi) > top)
+            })
+        })
+    }
+
+    /// The unrolled `min_max_wt` and the branch-free range check give what the plain
+    /// loops give, over random pieces of 1 to 5 dimensions with awkward weights (signed
+    /// zeros, ties, NaNs, infinities) and bounds (negative, crossed, past the top).
+    #[test]
+    fn unrolled_piece_loops_equal_the_plain_ones() {
+        let mut seed = 11u64;
+        let mut rng = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed >> 33
+        };
+        let specs = [
+            "a:0:9:10",
+            "a:0:9:10,b:0:40:41",
+            "a:0:9:10,b:0:4:5,c:0:20:21",
+            "a:0:9:10,b:0:4:5,c:0:20:21,d:0:2:3",
+            "a:0:9:10,b:0:4:5,c:0:20:21,d:0:2:3,e:0:7:8",
+        ];
+        for round in 0..4000 {
+            let dom = Domain::parse(specs[round % specs.len()]).unwrap();
+            let dim = dom.size();
+            let n = rng() as usize % 40;
+            let mut bounds = vec![];
+            let mut weights = vec![];
+            for _ in 0..n {
+                for v in dom.vars() {
+                    let lo = rng() as i32 % v.points as i32;
+                    let hi = lo + rng() as i32 % (v.points as i32 - lo);
+                    bounds.push(lo);
+                    bounds.push(hi);
+                }
+                for _ in 0..=dim {
+                    weights.push(match rng() % 12 {
+                        0 => 0.0,
+                        1 => -0.0,
+                        2 => f64::NAN,
+                        3 => f64::INFINITY,
+                        4 => f64::NEG_INFINITY,
+                        5 => 2.5,
+                        _ => (rng() % 2001) as f64 / 8.0 - 125.0,
+                    });
+                }
+            }
+            let f =
+                IvpFunction::from_flat(dom.clone(), bounds.clone(), weights, vec![0; dim]).unwrap();
+            let (a, b) = (f.min_max_wt(), min_max_wt_reference(&f));
+            assert_eq!(
+                bits(&[a.0, a.1]),
+                bits(&[b.0, b.1]),
+                "round {round}: {a:?} {b:?}"
+            );
+            // Spoil one bound now and then.
+            if n > 0 && round % 2 == 0 {
+                let k = rng() as usize % bounds.len();
+                bounds[k] = match rng() % 3 {
+                    0 => -1,
+                    1 => bounds[k] + 1 + rng() as i32 % 50,
+                    _ => i32::MAX,
+                };
+            }
+            assert_eq!(
+                bounds_in_range(&dom, &bounds),
+                in_range_reference(&dom, &bounds),
+                "round {round}: {bounds:?}"
+            );
+        }
+    }
+
+    /// The bits of each value, every NaN as the canonical NaN (Rust leaves an arithmetic
+    /// NaN's sign and payload unspecified; see tiling's tests).
     fn bits(v: &[f64]) -> Vec<u64> {
-        v.iter().map(|x| x.to_bits()).collect()
+        v.iter()
+            .map(|x| {
+                if x.is_nan() {
+                    f64::NAN.to_bits()
+                } else {
+                    x.to_bits()
+                }
+            })
+            .collect()
     }
 }

@@ -104,6 +104,8 @@ pub struct Reflector<'a> {
     warnings: String,
     /// Plateau then basin boxes with their constant utility (see [`Reflector::add_region`]).
     regions: Vec<(IndexBox, f64)>,
+    /// The search grid and value range of the pieces, when the fit gave them.
+    summary: Option<crate::tiling::Summary>,
     /// Fit the uniform tiling from grid evaluations ([`crate::tiling`]); off only in
     /// tests, which compare it with fitting tile by tile.
     grid_eval: bool,
@@ -126,6 +128,7 @@ impl<'a> Reflector<'a> {
             gelbox: vec![],
             warnings: String::new(),
             regions: vec![],
+            summary: None,
             grid_eval: true,
         }
     }
@@ -273,6 +276,7 @@ impl<'a> Reflector<'a> {
         let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
         let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
         let total: usize = counts.iter().map(|&c| c as usize).product();
+        self.summary = None;
         if !self.regions.is_empty() {
             return self.create_with_regions(&size, &counts, total);
         }
@@ -300,15 +304,19 @@ impl<'a> Reflector<'a> {
             0
         };
         if self.grid_eval && !sharing && n <= FIT_DIMS {
+            let mut summary = crate::tiling::Summary::default();
             crate::tiling::fit_uniform(
                 self.aof,
                 &self.domain,
                 &size,
                 &counts,
                 self.strict_range,
+                &self.gelbox,
                 &mut self.bounds,
                 &mut self.weights,
+                &mut summary,
             );
+            self.summary = Some(summary);
             return total;
         }
         let mut shared: Vec<Option<usize>> = vec![None; slots];
@@ -479,18 +487,18 @@ impl<'a> Reflector<'a> {
         if self.weights.is_empty() {
             return None;
         }
-        let mut f = IvpFunction::from_flat(
+        let summary = self.summary.as_ref().map(|s| crate::tiling::Summary {
+            grid: s.grid.clone(),
+            min_max: s.min_max,
+        });
+        Self::function(
             self.domain.clone(),
             self.bounds.clone(),
             self.weights.clone(),
             self.gelbox.clone(),
+            summary,
+            normalize,
         )
-        .ok()?;
-        f.build_grid();
-        if normalize {
-            f.normalize(0.0, 100.0);
-        }
-        Some(f)
     }
 
     /// [`Reflector::extract`] for a reflector used once: the pieces move into the
@@ -499,11 +507,38 @@ impl<'a> Reflector<'a> {
         if self.weights.is_empty() {
             return None;
         }
-        let mut f =
-            IvpFunction::from_flat(self.domain, self.bounds, self.weights, self.gelbox).ok()?;
-        f.build_grid();
+        Self::function(
+            self.domain,
+            self.bounds,
+            self.weights,
+            self.gelbox,
+            self.summary,
+            normalize,
+        )
+    }
+
+    /// The function of these pieces with its search grid, normalized if asked. The
+    /// uniform fit hands over the grid and value range it took while fitting (what
+    /// build_grid and min_max_wt would compute again from the pieces).
+    fn function(
+        domain: Domain,
+        bounds: Vec<i32>,
+        weights: Vec<f64>,
+        gelbox: Vec<u32>,
+        summary: Option<crate::tiling::Summary>,
+        normalize: bool,
+    ) -> Option<IvpFunction> {
+        let Some(s) = summary else {
+            let mut f = IvpFunction::from_flat(domain, bounds, weights, gelbox).ok()?;
+            f.build_grid();
+            if normalize {
+                f.normalize(0.0, 100.0);
+            }
+            return Some(f);
+        };
+        let mut f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, s.grid);
         if normalize {
-            f.normalize(0.0, 100.0);
+            f.normalize_from(s.min_max.unwrap_or((0.0, 0.0)), 0.0, 100.0);
         }
         Some(f)
     }
@@ -529,13 +564,8 @@ pub(crate) fn fit_values(b: &[(u32, u32)], vals: &[f64], strict: bool, w: &mut [
     }
 }
 
-/// [`fit_values`] for `N` dimensions (a constant, so the loops unroll). The arithmetic
-/// is [`Reflector::fit`]'s, with two exact shortcuts: each point's plane value is
-/// computed once and used for both the mean residual and the range check, and the
-/// minima and maxima are taken by comparison. Those skip NaNs as `f64::min`/`max` do
-/// (the running value starts infinite, never NaN) and may differ from them only in the
-/// sign of a zero, which the shift (a difference of two values known to be unequal)
-/// never shows.
+/// [`fit_values`] for `N` dimensions: [`fit_box`] on the box and values copied into
+/// fixed-size arrays.
 pub(crate) fn fit_values_n<const N: usize>(
     b: &[(u32, u32)],
     vals: &[f64],
@@ -543,11 +573,44 @@ pub(crate) fn fit_values_n<const N: usize>(
     w: &mut [f64],
 ) {
     let ncorner = 1usize << N;
-    let m = vals.len();
-    let lo: [f64; N] = std::array::from_fn(|d| f64::from(b[d].0));
-    let hi: [f64; N] = std::array::from_fn(|d| f64::from(b[d].1));
+    let lo: [u32; N] = std::array::from_fn(|d| b[d].0);
+    let hi: [u32; N] = std::array::from_fn(|d| b[d].1);
+    let mut v = [0.0f64; (1 << FIT_DIMS) + 1];
+    v[..vals.len()].copy_from_slice(vals);
+    let mut out = [0.0f64; FIT_DIMS + 1];
+    if vals.len() > ncorner {
+        fit_box::<N, true>(&lo, &hi, &v, strict, &mut out);
+    } else {
+        fit_box::<N, false>(&lo, &hi, &v, strict, &mut out);
+    }
+    w[..=N].copy_from_slice(&out[..=N]);
+}
+
+/// The degree-1 fit of the box `lo..=hi` from `vals`: the corners (`vals[mask]`, bit d
+/// of `mask` set = dimension d at its high end), then, when `CENTRE`, the centre at
+/// `vals[2^N]`. The n slopes then the intercept go to `w[..=N]`. `N` and `CENTRE` are
+/// constants, so every loop unrolls and the values stay in registers.
+///
+/// The arithmetic is [`Reflector::fit`]'s, with two exact shortcuts: each point's plane
+/// value is computed once and used for both the mean residual and the range check, and
+/// the minima and maxima are taken by comparison. Those skip NaNs as `f64::min`/`max`
+/// do (the running value starts infinite, never NaN) and may differ from them only in
+/// the sign of a zero, which the shift (a difference of two values known to be unequal)
+/// never shows.
+#[inline(always)]
+pub(crate) fn fit_box<const N: usize, const CENTRE: bool>(
+    lo: &[u32; N],
+    hi: &[u32; N],
+    vals: &[f64; (1 << FIT_DIMS) + 1],
+    strict: bool,
+    w: &mut [f64; FIT_DIMS + 1],
+) {
+    let ncorner = 1usize << N;
+    let m = ncorner + usize::from(CENTRE);
+    let lof: [f64; N] = std::array::from_fn(|d| f64::from(lo[d]));
+    let hif: [f64; N] = std::array::from_fn(|d| f64::from(hi[d]));
     for d in 0..N {
-        let width = f64::from(b[d].1 - b[d].0);
+        let width = f64::from(hi[d] - lo[d]);
         if width == 0.0 {
             w[d] = 0.0;
             continue;
@@ -567,14 +630,14 @@ pub(crate) fn fit_values_n<const N: usize>(
     for (mask, p) in plane.iter_mut().enumerate().take(ncorner) {
         let mut acc = 0.0;
         for d in 0..N {
-            acc += w[d] * if mask & (1 << d) != 0 { hi[d] } else { lo[d] };
+            acc += w[d] * if mask & (1 << d) != 0 { hif[d] } else { lof[d] };
         }
         *p = acc;
     }
-    if m > ncorner {
+    if CENTRE {
         let mut acc = 0.0;
         for d in 0..N {
-            acc += w[d] * f64::from(b[d].0 + (b[d].1 - b[d].0) / 2);
+            acc += w[d] * f64::from(lo[d] + (hi[d] - lo[d]) / 2);
         }
         plane[ncorner] = acc;
     }

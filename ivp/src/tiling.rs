@@ -3,58 +3,109 @@
 //! on the grid of their midpoints, so the AOF is asked for those two grids at once
 //! ([`Aof::eval_grid`]) instead of point by point, and each tile's fit reads its values
 //! from them. The pieces are those of the point-by-point fit bit for bit: the same
-//! points, the same fit arithmetic ([`crate::reflector::fit_values`]).
+//! points, the same fit arithmetic ([`crate::reflector::fit_box`]). The same pass folds
+//! each piece into the function's search grid and value range, which the reflector hands
+//! over instead of having them computed again from the pieces.
 
 use crate::domain::Domain;
-use crate::reflector::{fit_values_n, Aof, FIT_DIMS};
+use crate::function::grid_dim;
+use crate::reflector::{fit_box, Aof, FIT_DIMS};
+
+/// What the fitting pass gives besides the pieces: what the function's
+/// [`IvpFunction::build_grid`](crate::IvpFunction::build_grid) and
+/// [`IvpFunction::min_max_wt`](crate::IvpFunction::min_max_wt) would compute from them,
+/// taken while each piece is at hand.
+#[derive(Debug, Default)]
+pub(crate) struct Summary {
+    /// The search grid of the pieces under the reflector's gel box.
+    pub grid: Vec<f64>,
+    /// The least piece minimum and the greatest piece maximum (`None`: no pieces).
+    pub min_max: Option<(f64, f64)>,
+}
 
 /// The uniform tiling of `domain` by boxes of edge `size` (`counts` of them per
 /// dimension, the last one clipped), fitted and appended to `bounds` and `weights` in the
 /// reflector's order: tile `i` numbered with dimension 0 fastest, from the last tile to
-/// the first. At most [`FIT_DIMS`] dimensions.
+/// the first. At most [`FIT_DIMS`] dimensions. The pieces' grid under `gelbox` and their
+/// value range go to `summary`.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_uniform(
     aof: &dyn Aof,
     domain: &Domain,
     size: &[u32],
     counts: &[u32],
     strict: bool,
+    gelbox: &[u32],
     bounds: &mut Vec<i32>,
     weights: &mut Vec<f64>,
+    summary: &mut Summary,
 ) {
-    let out = (bounds, weights);
+    let out = (bounds, weights, summary);
+    let shape = (size, counts, gelbox);
     match size.len() {
-        1 => fit_uniform_n::<1>(aof, domain, size, counts, strict, out),
-        2 => fit_uniform_n::<2>(aof, domain, size, counts, strict, out),
-        3 => fit_uniform_n::<3>(aof, domain, size, counts, strict, out),
-        _ => fit_uniform_n::<FIT_DIMS>(aof, domain, size, counts, strict, out),
+        1 => fit_uniform_n::<1>(aof, domain, shape, strict, out),
+        2 => fit_uniform_n::<2>(aof, domain, shape, strict, out),
+        3 => fit_uniform_n::<3>(aof, domain, shape, strict, out),
+        _ => fit_uniform_n::<FIT_DIMS>(aof, domain, shape, strict, out),
     }
+}
+
+/// Tiles of the tiling per dimension: their edges, and where they lie in the search grid.
+struct Axis {
+    /// (low, high) edge of each tile.
+    edges: Vec<(u32, u32)>,
+    /// Per tile: its first grid cell's offset in the grid (cell × stride) and how many
+    /// cells it spans.
+    cells: Vec<(usize, usize)>,
+    /// The search grid's stride of this dimension (cells, dimension 0 fastest).
+    stride: usize,
 }
 
 /// [`fit_uniform`] for `N` dimensions (a constant, so the per-tile loops unroll).
 fn fit_uniform_n<const N: usize>(
     aof: &dyn Aof,
     domain: &Domain,
-    size: &[u32],
-    counts: &[u32],
+    (size, counts, gelbox): (&[u32], &[u32], &[u32]),
     strict: bool,
-    (bounds, weights): (&mut Vec<i32>, &mut Vec<f64>),
+    (bounds, weights, summary): (&mut Vec<i32>, &mut Vec<f64>, &mut Summary),
 ) {
     let pts: Vec<u32> = domain.vars().iter().map(|v| v.points).collect();
-    // Per dimension: the tiles' (low, high) edges side by side, and their midpoints.
-    let edges: Vec<Vec<(u32, u32)>> = (0..N)
+    // The search grid's geometry, as build_grid finds it: cells of `ppg` points, cell
+    // of index i = i / ppg.
+    let mut grid_stride = 1usize;
+    let axes: Vec<Axis> = (0..N)
         .map(|d| {
-            (0..counts[d])
+            let (ppg, ncells) = grid_dim(domain.var(d), gelbox.get(d));
+            let edges: Vec<(u32, u32)> = (0..counts[d])
                 .map(|c| (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1))
-                .collect()
+                .collect();
+            let cells = edges
+                .iter()
+                .map(|&(lo, hi)| {
+                    let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
+                    (a * grid_stride, b - a + 1)
+                })
+                .collect();
+            let stride = grid_stride;
+            grid_stride *= ncells as usize;
+            Axis {
+                edges,
+                cells,
+                stride,
+            }
         })
         .collect();
-    let corner_axes: Vec<Vec<u32>> = edges
+    let grid_strides: [usize; N] = std::array::from_fn(|d| axes[d].stride);
+    let grid = &mut summary.grid;
+    grid.clear();
+    grid.resize(grid_stride, f64::NEG_INFINITY);
+    let corner_axes: Vec<Vec<u32>> = axes
         .iter()
-        .map(|e| e.iter().flat_map(|&(lo, hi)| [lo, hi]).collect())
+        .map(|a| a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect())
         .collect();
-    let mid_axes: Vec<Vec<u32>> = edges
+    let mid_axes: Vec<Vec<u32>> = axes
         .iter()
-        .map(|e| e.iter().map(|&(lo, hi)| lo + (hi - lo) / 2).collect())
+        .map(|a| a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2).collect())
         .collect();
     let mut corners = Scratch::take();
     evaluate(aof, domain, &corner_axes, &mut corners.0);
@@ -85,29 +136,48 @@ fn fit_uniform_n<const N: usize>(
     let total: usize = counts.iter().map(|&c| c as usize).product();
     bounds.reserve(total * 2 * N);
     weights.reserve(total * (N + 1));
+    let mut folds = Folds {
+        grid,
+        min_max: None,
+    };
+    if N == 2 {
+        // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
+        fit_rows_2(
+            &axes,
+            (&corners.0, &mids.0),
+            strict,
+            (bounds, weights),
+            &mut folds,
+        );
+        summary.min_max = folds.min_max;
+        return;
+    }
     let mut coord: [usize; N] = std::array::from_fn(|d| counts[d] as usize - 1);
     let mut vals = [0.0f64; (1 << FIT_DIMS) + 1];
     let mut w = [0.0f64; FIT_DIMS + 1];
     let ncorner = 1usize << N;
     for _ in 0..total {
-        let b: [(u32, u32); N] = std::array::from_fn(|d| edges[d][coord[d]]);
+        let lo: [u32; N] = std::array::from_fn(|d| axes[d].edges[coord[d]].0);
+        let hi: [u32; N] = std::array::from_fn(|d| axes[d].edges[coord[d]].1);
         let (mut corner_at, mut mid_at) = (0usize, 0usize);
         for d in 0..N {
-            bounds.push(b[d].0 as i32);
-            bounds.push(b[d].1 as i32);
+            bounds.push(lo[d] as i32);
+            bounds.push(hi[d] as i32);
             corner_at += 2 * coord[d] * corner_stride[d];
             mid_at += coord[d] * mid_stride[d];
         }
         for mask in 0..ncorner {
             vals[mask] = corners.0[corner_at + corner_offset[mask]];
         }
-        let mut m = ncorner;
-        if b.iter().any(|&(lo, hi)| hi - lo + 1 > 2) {
-            vals[m] = mids.0[mid_at];
-            m += 1;
+        if (0..N).any(|d| hi[d] - lo[d] + 1 > 2) {
+            vals[ncorner] = mids.0[mid_at];
+            fit_box::<N, true>(&lo, &hi, &vals, strict, &mut w);
+        } else {
+            fit_box::<N, false>(&lo, &hi, &vals, strict, &mut w);
         }
-        fit_values_n::<N>(&b, &vals[..m], strict, &mut w[..=N]);
         weights.extend_from_slice(&w[..=N]);
+        let pmax = folds.add::<N>(&lo, &hi, &w);
+        raise_cells::<N>(folds.grid, &axes, &grid_strides, &coord, pmax);
         // The previous tile: dimension 0 counts down first.
         for d in 0..N {
             if coord[d] > 0 {
@@ -116,6 +186,127 @@ fn fit_uniform_n<const N: usize>(
             }
             coord[d] = counts[d] as usize - 1;
         }
+    }
+    summary.min_max = folds.min_max;
+}
+
+/// The running value range of the pieces fitted so far, and their grid.
+struct Folds<'a> {
+    grid: &'a mut Vec<f64>,
+    min_max: Option<(f64, f64)>,
+}
+
+impl Folds<'_> {
+    /// Fold in the piece `lo..=hi` with weights `w`: its least and greatest value
+    /// (function.rs's min_val and max_val, the same operations in the same order),
+    /// folded as min_max_wt folds them. Returns the greatest.
+    #[inline(always)]
+    fn add<const N: usize>(
+        &mut self,
+        lo: &[u32; N],
+        hi: &[u32; N],
+        w: &[f64; FIT_DIMS + 1],
+    ) -> f64 {
+        let (mut pmin, mut pmax) = (w[N], w[N]);
+        for d in 0..N {
+            let (l, h) = (f64::from(lo[d] as i32), f64::from(hi[d] as i32));
+            pmax += w[d] * if w[d] < 0.0 { l } else { h };
+            pmin += w[d] * if w[d] < 0.0 { h } else { l };
+        }
+        self.min_max = Some(match self.min_max {
+            None => (pmin, pmax),
+            Some((mn, mx)) => (
+                if pmin < mn { pmin } else { mn },
+                if pmax > mx { pmax } else { mx },
+            ),
+        });
+        pmax
+    }
+}
+
+/// The tiles of a 2-dimensional tiling fitted in the reflector's order (the last tile
+/// first, dimension 0 fastest), reading each tile's corners from two rows of the corner
+/// grid and its centre from the grid of midpoints; what the general loop of
+/// [`fit_uniform_n`] does, tile for tile.
+fn fit_rows_2(
+    axes: &[Axis],
+    (corners, mids): (&[f64], &[f64]),
+    strict: bool,
+    (bounds, weights): (&mut Vec<i32>, &mut Vec<f64>),
+    folds: &mut Folds<'_>,
+) {
+    let (xs, ys) = (&axes[0], &axes[1]);
+    let row = 2 * xs.edges.len();
+    let mut vals = [0.0f64; (1 << FIT_DIMS) + 1];
+    let mut w = [0.0f64; FIT_DIMS + 1];
+    for (cy, (&(ylo, yhi), &(ycell, yspan))) in ys.edges.iter().zip(&ys.cells).enumerate().rev() {
+        let low_row = &corners[2 * cy * row..][..row];
+        let high_row = &corners[(2 * cy + 1) * row..][..row];
+        // Read only when some tile takes its centre (else the midpoints were not asked).
+        let mid_row = cy * xs.edges.len();
+        let y_centre = yhi - ylo + 1 > 2;
+        for (cx, (&(xlo, xhi), &(xcell, xspan))) in xs.edges.iter().zip(&xs.cells).enumerate().rev()
+        {
+            let (lo, hi) = ([xlo, ylo], [xhi, yhi]);
+            bounds.extend_from_slice(&[xlo as i32, xhi as i32, ylo as i32, yhi as i32]);
+            vals[0] = low_row[2 * cx];
+            vals[1] = low_row[2 * cx + 1];
+            vals[2] = high_row[2 * cx];
+            vals[3] = high_row[2 * cx + 1];
+            if y_centre || xhi - xlo + 1 > 2 {
+                vals[4] = mids[mid_row + cx];
+                fit_box::<2, true>(&lo, &hi, &vals, strict, &mut w);
+            } else {
+                fit_box::<2, false>(&lo, &hi, &vals, strict, &mut w);
+            }
+            weights.extend_from_slice(&w[..3]);
+            let v = folds.add::<2>(&lo, &hi, &w);
+            if xspan == 1 && yspan == 1 {
+                let g = &mut folds.grid[xcell + ycell];
+                if *g == f64::NEG_INFINITY || v > *g {
+                    *g = v;
+                }
+            } else {
+                raise_cells::<2>(folds.grid, axes, &[1, ys.stride], &[cx, cy], v);
+            }
+        }
+    }
+}
+
+/// Raise the grid cells of the tile at `coord` to the piece maximum `v`, as
+/// build_grid does (a cell still at -inf takes `v` whatever it is).
+#[inline(always)]
+fn raise_cells<const N: usize>(
+    grid: &mut [f64],
+    axes: &[Axis],
+    strides: &[usize; N],
+    coord: &[usize; N],
+    v: f64,
+) {
+    let mut first = 0usize;
+    let mut span = [1usize; N];
+    for d in 0..N {
+        let (at, n) = axes[d].cells[coord[d]];
+        first += at;
+        span[d] = n;
+    }
+    let mut off = [0usize; N];
+    let mut c = first;
+    'cells: loop {
+        let g = &mut grid[c];
+        if *g == f64::NEG_INFINITY || v > *g {
+            *g = v;
+        }
+        for d in 0..N {
+            if off[d] + 1 < span[d] {
+                off[d] += 1;
+                c += strides[d];
+                continue 'cells;
+            }
+            c -= off[d] * strides[d];
+            off[d] = 0;
+        }
+        break;
     }
 }
 
@@ -175,6 +366,18 @@ mod tests {
         (*seed >> 11) as f64 / (1u64 << 53) as f64
     }
 
+    /// The bits of `x`, every NaN as the one canonical NaN: Rust leaves the sign and
+    /// payload of an arithmetic NaN unspecified (the compiler may swap the operands of
+    /// a sum, and x86 then passes on the other NaN), so those bits are no property of
+    /// the code; all else (signed zeros, infinities, every finite value) must match.
+    pub(crate) fn bits_of(x: f64) -> u64 {
+        if x.is_nan() {
+            f64::NAN.to_bits()
+        } else {
+            x.to_bits()
+        }
+    }
+
     /// A bumpy surface with flat clipped stretches (ties in the strict-range shift).
     struct Bumps {
         k: Vec<f64>,
@@ -194,14 +397,17 @@ mod tests {
 
     /// Fitting from the two grid evaluations gives the pieces of fitting tile by tile,
     /// bit for bit, over random domains (1 to 3 dimensions, clipped last tiles, edges of
-    /// 1 to 6 points) and random surfaces, plain and normalized.
+    /// 1 to 6 points), random surfaces (smooth, or with ties, signed zeros, NaNs and
+    /// infinities) and random search grids, plain and normalized; so do the search grid
+    /// and the value range the fit takes along (against build_grid and min_max_wt).
     #[test]
     fn grid_evaluation_equals_tile_by_tile() {
         let mut seed = 7u64;
-        for case in 0..600 {
+        for case in 0..2400 {
             let dims = 1 + case % 3;
             let mut spec = Vec::new();
             let mut piece = Vec::new();
+            let mut gel = Vec::new();
             for d in 0..dims {
                 let points = 1 + (rng(&mut seed) * 60.0) as u32;
                 let low = (rng(&mut seed) * 20.0).floor() - 10.0;
@@ -210,26 +416,40 @@ mod tests {
                 let high = if points == 1 { low } else { high };
                 spec.push(format!("x{d}:{low}:{high}:{points}"));
                 piece.push(format!("x{d}:{}", 1 + (rng(&mut seed) * 6.0) as u32));
+                gel.push(format!("x{d}:{}", 1 + (rng(&mut seed) * 12.0) as u32));
             }
             let Ok(domain) = Domain::parse(&spec.join(",")) else {
                 continue;
             };
-            let aof = Bumps {
+            let bumps = Bumps {
                 k: (0..6).map(|_| rng(&mut seed) * 2.0 - 1.0).collect(),
                 clip: 10.0 + rng(&mut seed) * 60.0,
             };
+            let awkward = Awkward(case as u64);
+            let aof: &dyn Aof = if case % 5 == 4 { &awkward } else { &bumps };
             let strict = case % 4 != 3;
+            let with_grid = case % 3 != 0;
             let build = |r: Reflector<'_>| {
                 let mut r = r;
                 r.set_param("uniform_piece", &format!("discrete@{}", piece.join(",")));
+                if with_grid {
+                    r.set_param("uniform_grid", &format!("discrete@{}", gel.join(",")));
+                }
                 r.set_param("strict_range", if strict { "true" } else { "false" });
                 let n = r.create(None, None);
                 let f = r.extract(case % 2 == 0).expect("pieces");
-                let bits: Vec<u64> = f.weights().iter().map(|w| w.to_bits()).collect();
-                (n, f.bounds().to_vec(), bits)
+                let bits = |v: &[f64]| v.iter().map(|&w| bits_of(w)).collect::<Vec<u64>>();
+                let (mn, mx) = f.min_max_wt();
+                (
+                    n,
+                    f.bounds().to_vec(),
+                    bits(f.weights()),
+                    bits(f.grid_bounds()),
+                    bits(&[mn, mx]),
+                )
             };
-            let grid = build(Reflector::new(&domain, &aof));
-            let tiles = build(Reflector::new(&domain, &aof).tile_by_tile());
+            let grid = build(Reflector::new(&domain, aof));
+            let tiles = build(Reflector::new(&domain, aof).tile_by_tile());
             assert_eq!(grid, tiles, "case {case}: {spec:?} {piece:?}");
         }
     }
@@ -281,7 +501,7 @@ mod tests {
             let mut w = vec![0.0; n + 1];
             r.fit_into(&b, &mut w);
             let want = r.fit(&b);
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let bits = |v: &[f64]| v.iter().map(|&x| bits_of(x)).collect::<Vec<_>>();
             assert_eq!(bits(&w), bits(&want), "case {case}: {b:?}");
         }
     }
