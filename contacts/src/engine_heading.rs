@@ -194,3 +194,27 @@ impl CpaEngine {
         }
     }
 }
+
+impl CpaEngine {
+    /// [`CpaEngine::cpa_unit`]'s distance for a row of courses at one speed: `out[k]` is
+    /// `cpa_unit((sins[k], coss[k]), v, tol).dist`. Each candidate's every branch is
+    /// computed and the answer picked, with the same operations in the same order, so
+    /// the row has no jumps and the compiler can do several candidates at once (an
+    /// objective function asks this for every corner of every tile of the grid).
+    pub fn cpa_dists(&self, (sins, coss): (&[f64], &[f64]), v: f64, tol: f64, out: &mut [f64]) {
+        let v = v.max(0.0);
+        let (px, py) = (self.osx - self.cnx, self.osy - self.cny);
+        let (cn_vx, cn_vy, now) = (self.cn_vx, self.cn_vy, self.range_now);
+        for ((o, &s), &c) in out.iter_mut().zip(sins).zip(coss) {
+            let (wx, wy) = (v * s - cn_vx, v * c - cn_vy);
+            let ww = wx * wx + wy * wy;
+            let t = -(px * wx + py * wy) / ww;
+            let closing = !(ww == 0.0) & !(t.is_nan() | (t <= 0.0));
+            let t = if t > tol { tol } else { t };
+            let (dx, dy) = (px + wx * t, py + wy * t);
+            let d2 = dx * dx + dy * dy;
+            let d = if d2 > 0.0 { d2.sqrt() } else { 0.0 };
+            *o = if closing { d } else { now };
+        }
+    }
+}

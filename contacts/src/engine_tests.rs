@@ -299,3 +299,59 @@ fn queries_at_a_heading_give_the_same_bits() {
         }
     }
 }
+
+/// The row kernel `cpa_dists` is `cpa_unit(..).dist` per course, bit for bit, over
+/// random geometries (a still contact, ownship on the contact, relative motion exactly
+/// cancelled), every grid course and odd unit vectors (zeros, NaN, infinities), and
+/// speeds ≤ 0, NaN and infinite, with horizons 0, tiny, huge and infinite.
+#[test]
+fn cpa_row_kernel_is_cpa_unit() {
+    let mut seed = 5u64;
+    let mut scenes: Vec<(f64, f64, f64, f64, f64, f64)> = vec![
+        (0.0, 0.0, 30.0, 2.0, 0.0, 0.0),
+        (0.0, 100.0, 180.0, 2.0, 0.0, 0.0),
+        (0.0, 80.0, 90.0, 0.0, 0.0, 0.0),
+        (0.0, 80.0, 0.0, 1.0, 0.0, 0.0),
+        (10.0, 10.0, 45.0, 3.0, -20.0, 5.0),
+    ];
+    for _ in 0..400 {
+        scenes.push((
+            (rng(&mut seed) - 0.5) * 400.0,
+            (rng(&mut seed) - 0.5) * 400.0,
+            (rng(&mut seed) * 720.0 - 180.0).round() / 2.0,
+            (rng(&mut seed) * 5.0 - 0.5).max(-0.1),
+            (rng(&mut seed) - 0.5) * 100.0,
+            (rng(&mut seed) - 0.5) * 100.0,
+        ));
+    }
+    let mut units: Vec<(f64, f64)> = (0..360).map(|h| unit(f64::from(h))).collect();
+    units.extend([
+        (0.0, 0.0),
+        (-0.0, 1.0),
+        (f64::NAN, 0.5),
+        (f64::INFINITY, 0.0),
+        (1.0, f64::NEG_INFINITY),
+    ]);
+    let (sins, coss): (Vec<f64>, Vec<f64>) = units.iter().copied().unzip();
+    let mut row = vec![0.0; units.len()];
+    for (k, &(cx, cy, ch, cv, ox, oy)) in scenes.iter().enumerate() {
+        let e = CpaEngine::new(cx, cy, ch, cv, ox, oy);
+        // The contact's velocity matched exactly by ownship at grid speed cv.
+        let mut speeds = vec![0.0, -0.0, -1.0, cv, f64::NAN, f64::INFINITY];
+        speeds.extend((0..6).map(|_| rng(&mut seed) * 5.0));
+        let tols = [0.0, 1e-300, 120.0, 1e300, f64::INFINITY, 10.0 + k as f64];
+        for &v in &speeds {
+            for &tol in &tols {
+                e.cpa_dists((&sins, &coss), v, tol, &mut row);
+                for (i, &u) in units.iter().enumerate() {
+                    let want = e.cpa_unit(u, v, tol).dist;
+                    let got = row[i];
+                    assert!(
+                        got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                        "{cx},{cy},{ch},{cv} os {ox},{oy} u={u:?} v={v} tol={tol}: {got} {want}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -5,7 +5,7 @@
 use behavior_api::contacts::engine::Heading;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
-use behavior_api::ivp::reflector::eval_grid_2d;
+use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
 
 /// The contact and ownship as the functions see them.
@@ -55,6 +55,44 @@ impl Metric {
     }
 }
 
+/// [`Aof::eval_grid`] for a COLREGS AOF of course × speed whose utility needs the CPA
+/// distance within `tol`: the courses' unit vectors and `prep` once per course, then
+/// per speed a row of CPA distances ([`CpaEngine::cpa_dists`], no jumps) and
+/// `point(prepared course, speed, CPA distance)` per course. `point` must give what
+/// [`Aof::eval`] gives with that CPA distance (the one `cpa_at`/`cpa_unit` gives).
+fn eval_rows<A: Aof + ?Sized, P>(
+    aof: &A,
+    engine: &CpaEngine,
+    tol: f64,
+    (domain, axes, out): (&Domain, &[&[u32]], &mut [f64]),
+    prep: impl Fn(f64) -> P,
+    point: impl Fn(&P, f64, f64) -> f64,
+) {
+    let [xs, ys] = axes else {
+        return eval_grid_pointwise(aof, domain, axes, out);
+    };
+    if xs.is_empty() {
+        return;
+    }
+    let mut sins = Vec::with_capacity(xs.len());
+    let mut coss = Vec::with_capacity(xs.len());
+    let mut prepared = Vec::with_capacity(xs.len());
+    for &i in xs.iter() {
+        let c = domain.value(0, i);
+        let (s, k) = engine.unit(c);
+        sins.push(s);
+        coss.push(k);
+        prepared.push(prep(c));
+    }
+    for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+        let v = domain.value(1, j);
+        engine.cpa_dists((&sins, &coss), v, tol, row);
+        for (o, p) in row.iter_mut().zip(&prepared) {
+            *o = point(p, v, *o);
+        }
+    }
+}
+
 fn grid(domain: &Domain, index: &[u32]) -> (f64, f64) {
     (domain.value(0, index[0]), domain.value(1, index[1]))
 }
@@ -97,14 +135,13 @@ impl Aof for CpaAof {
         self.utility(c, v)
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        let e = &self.engine;
-        eval_grid_2d(
+        eval_rows(
             self,
-            domain,
-            axes,
-            out,
-            |c| e.unit(c),
-            |&u, v| self.utility_of_unit(u, v),
+            &self.engine,
+            self.tol,
+            (domain, axes, out),
+            |_| (),
+            |_, _, cpa| self.metric.eval(cpa),
         );
     }
 }
@@ -148,7 +185,13 @@ impl R13Aof {
     /// [`Self::utility`] at a heading the engine prepared.
     #[inline]
     fn utility_at(&self, hd: &Heading, v: f64) -> f64 {
-        let u = self.metric.eval(self.engine.cpa_at(hd, v, self.tol).dist);
+        self.utility_with(hd, v, self.engine.cpa_at(hd, v, self.tol).dist)
+    }
+
+    /// [`Self::utility_at`] given the CPA distance.
+    #[inline]
+    fn utility_with(&self, hd: &Heading, v: f64, cpa: f64) -> f64 {
+        let u = self.metric.eval(cpa);
         if u > 0.0 && v != 0.0 {
             let e = &self.engine;
             let mu = self.metric.mu;
@@ -171,13 +214,13 @@ impl Aof for R13Aof {
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         let e = &self.engine;
-        eval_grid_2d(
+        eval_rows(
             self,
-            domain,
-            axes,
-            out,
+            e,
+            self.tol,
+            (domain, axes, out),
             |c| e.heading(c),
-            |hd, v| self.utility_at(hd, v),
+            |hd, v, cpa| self.utility_with(hd, v, cpa),
         );
     }
 }
@@ -224,12 +267,18 @@ impl R14Aof {
     /// [`Self::utility`] at a heading the engine prepared.
     #[inline]
     fn utility_at(&self, hd: &Heading, v: f64) -> f64 {
+        self.utility_with(hd, v, || self.engine.cpa_at(hd, v, self.tol).dist)
+    }
+
+    /// [`Self::utility_at`] with the CPA distance from `cpa` (asked only when used).
+    #[inline]
+    fn utility_with(&self, hd: &Heading, v: f64, cpa: impl FnOnce() -> f64) -> f64 {
         let e = &self.engine;
         if e.on_contact || (e.os_port_of_cn() && e.crosses_bow_at(hd, v)) || e.passes_star_at(hd, v)
         {
             return 0.0;
         }
-        let m1 = self.metric.eval(e.cpa_at(hd, v, self.tol).dist);
+        let m1 = self.metric.eval(cpa());
         let m3 = if self.b0 >= 0.0 {
             0.0
         } else {
@@ -253,13 +302,13 @@ impl Aof for R14Aof {
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         let e = &self.engine;
-        eval_grid_2d(
+        eval_rows(
             self,
-            domain,
-            axes,
-            out,
+            e,
+            self.tol,
+            (domain, axes, out),
             |c| e.heading(c),
-            |hd, v| self.utility_at(hd, v),
+            |hd, v, cpa| self.utility_with(hd, v, || cpa),
         );
     }
 }
@@ -332,7 +381,18 @@ impl R16Aof {
 
     /// [`Self::utility`] at a course prepared by [`Self::course`].
     #[inline]
-    fn utility_at(&self, &(ref hd, star_turn, port_turn): &(Heading, bool, bool), v: f64) -> f64 {
+    fn utility_at(&self, p: &(Heading, bool, bool), v: f64) -> f64 {
+        self.utility_with(p, v, || self.engine.cpa_at(&p.0, v, R16_TOL).dist)
+    }
+
+    /// [`Self::utility_at`] with the CPA distance from `cpa` (asked only when used).
+    #[inline]
+    fn utility_with(
+        &self,
+        &(ref hd, star_turn, port_turn): &(Heading, bool, bool),
+        v: f64,
+        cpa: impl FnOnce() -> f64,
+    ) -> f64 {
         let e = &self.engine;
         let refused = match self.pass {
             Pass::Stern if self.port_turns_ok => {
@@ -344,7 +404,7 @@ impl R16Aof {
         if refused {
             return 0.0;
         }
-        self.metric.eval(e.cpa_at(hd, v, R16_TOL).dist)
+        self.metric.eval(cpa())
     }
 }
 
@@ -354,13 +414,13 @@ impl Aof for R16Aof {
         self.utility(c, v)
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_grid_2d(
+        eval_rows(
             self,
-            domain,
-            axes,
-            out,
+            &self.engine,
+            R16_TOL,
+            (domain, axes, out),
             |c| self.course(c),
-            |p, v| self.utility_at(p, v),
+            |p, v, cpa| self.utility_with(p, v, || cpa),
         );
     }
 }

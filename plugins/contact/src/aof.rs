@@ -3,7 +3,7 @@
 
 use behavior_api::contacts::engine::roc_cosine;
 use behavior_api::contacts::CpaEngine;
-use behavior_api::ivp::reflector::eval_grid_2d;
+use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
 
 /// AOF_AvoidCollision (contacts-appcast.md §3.5): utility of the CPA a candidate
@@ -37,6 +37,28 @@ impl AvoidAof {
     fn utility_of_unit(&self, u: (f64, f64), v: f64) -> f64 {
         self.metric(self.engine.cpa_unit(u, v, self.tol).dist)
     }
+
+    /// [`Self::metric`] of each CPA distance in `row`, in place: the formula computed
+    /// for every entry and the answer picked, so the row runs without jumps.
+    fn metric_row(&self, row: &mut [f64]) {
+        let (cd, acd) = (self.cd, self.acd);
+        for d in row.iter_mut() {
+            let x = *d;
+            let mid = 25.0 + 75.0 * (x - cd) / (acd - cd);
+            let high = if x > acd { 100.0 } else { mid };
+            *d = if x < cd { 0.0 } else { high };
+        }
+    }
+}
+
+/// The unit vectors of the courses `xs` (indices of the domain's first variable) as two
+/// lists, sines and cosines, for [`CpaEngine::cpa_dists`].
+pub(crate) fn course_units(
+    engine: &CpaEngine,
+    domain: &Domain,
+    xs: &[u32],
+) -> (Vec<f64>, Vec<f64>) {
+    xs.iter().map(|&i| engine.unit(domain.value(0, i))).unzip()
 }
 
 impl Aof for AvoidAof {
@@ -45,16 +67,20 @@ impl Aof for AvoidAof {
         let v = domain.value(1, index[1]);
         self.utility_of_unit(self.engine.unit(c), v)
     }
-    /// The course's unit vector once per course, then the CPA per speed.
+    /// The courses' unit vectors once, then a row of CPAs and their metric per speed.
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_grid_2d(
-            self,
-            domain,
-            axes,
-            out,
-            |c| self.engine.unit(c),
-            |&u, v| self.utility_of_unit(u, v),
-        );
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let (sins, coss) = course_units(&self.engine, domain, xs);
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let v = domain.value(1, j);
+            self.engine.cpa_dists((&sins, &coss), v, self.tol, row);
+            self.metric_row(row);
+        }
     }
 }
 
@@ -115,18 +141,19 @@ impl CutRangeAof {
     #[inline]
     fn utility_at(&self, &(unit, cosine): &((f64, f64), f64), s: f64) -> f64 {
         let cpa = self.engine.cpa_unit(unit, s, self.tol).dist;
-        let metric = if cpa < 0.0 {
-            100.0
-        } else if cpa > self.dist {
-            0.0
-        } else {
-            100.0 - 100.0 * cpa / self.dist
-        };
-        let nroc = if self.rr > 0.0 {
-            100.0 * (self.engine.roc_of_cosine(cosine, s) - self.rmin) / self.rr
-        } else {
-            0.0
-        };
+        self.blend(cpa, cosine, s)
+    }
+
+    /// The utility given the CPA distance `cpa` and rate-of-closure cosine `cosine` of a
+    /// course at speed `s`; every branch computed and the answer picked (no jumps, so a
+    /// row of them runs several at once), with [`Self::utility_at`]'s operations.
+    #[inline(always)]
+    fn blend(&self, cpa: f64, cosine: f64, s: f64) -> f64 {
+        let mid = 100.0 - 100.0 * cpa / self.dist;
+        let far = if cpa > self.dist { 0.0 } else { mid };
+        let metric = if cpa < 0.0 { 100.0 } else { far };
+        let scaled = 100.0 * (self.engine.roc_of_cosine(cosine, s) - self.rmin) / self.rr;
+        let nroc = if self.rr > 0.0 { scaled } else { 0.0 };
         let p = self.patience / 100.0;
         (1.0 - p) * nroc + p * metric
     }
@@ -136,16 +163,27 @@ impl Aof for CutRangeAof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         self.utility(domain.value(0, index[0]), domain.value(1, index[1]))
     }
-    /// The course's unit vector and cosine once per course, then the rest per speed.
+    /// The courses' unit vectors and cosines once, then a row of CPAs and the blend per
+    /// speed.
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_grid_2d(
-            self,
-            domain,
-            axes,
-            out,
-            |c| self.course(c),
-            |p, s| self.utility_at(p, s),
-        );
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let (sins, coss) = course_units(&self.engine, domain, xs);
+        let cosines: Vec<f64> = xs
+            .iter()
+            .map(|&i| roc_cosine(&self.cos, domain.value(0, i)))
+            .collect();
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let s = domain.value(1, j);
+            self.engine.cpa_dists((&sins, &coss), s, self.tol, row);
+            for (o, &cosine) in row.iter_mut().zip(&cosines) {
+                *o = self.blend(*o, cosine, s);
+            }
+        }
     }
 }
 
@@ -171,6 +209,74 @@ mod tests {
         // abeam; it comes within hypot(20·2... ) — simply: far better than head-on.
         assert_eq!(a.eval(&d, &[0, 20]), 0.0);
         assert!(a.eval(&d, &[90, 40]) > 90.0);
+    }
+
+    /// The AOFs' row evaluation gives what `eval` gives at every grid point, bit for
+    /// bit, over random scenes (a still contact, ownship on or near it, ranges inside
+    /// the collision distance) and distance settings (equal, crossed, zero), on the
+    /// whole course × speed grid.
+    #[test]
+    fn rows_equal_pointwise() {
+        let mut seed = 9u64;
+        let mut rng = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let xs: Vec<u32> = (0..360).collect();
+        let ys: Vec<u32> = (0..41).collect();
+        let mut grid = vec![0.0; 360 * 41];
+        let bits = |v: f64| {
+            if v.is_nan() {
+                f64::NAN.to_bits()
+            } else {
+                v.to_bits()
+            }
+        };
+        for case in 0..150 {
+            let cn = (
+                ((rng() - 0.5) * 300.0).round(),
+                ((rng() - 0.5) * 300.0).round(),
+                (rng() * 720.0).round() / 2.0,
+                if case % 5 == 0 { 0.0 } else { rng() * 4.0 },
+            );
+            let os = if case % 7 == 0 {
+                (cn.0, cn.1)
+            } else {
+                (0.0, 0.0)
+            };
+            let (cd, acd) = match case % 4 {
+                0 => (10.0, 10.0),
+                1 => (0.0, 25.0),
+                2 => (30.0, 20.0),
+                _ => (rng() * 20.0, 20.0 + rng() * 60.0),
+            };
+            let avoid = AvoidAof {
+                engine: CpaEngine::new(cn.0, cn.1, cn.2, cn.3, os.0, os.1),
+                tol: [0.0, 60.0, 120.0][case % 3],
+                cd,
+                acd,
+            };
+            let tol = [1.0, 15.0, 200.0][case % 3];
+            let patience = [0.0, 50.0, 100.0, rng() * 100.0][case % 4];
+            let cut = CutRangeAof::new(cn, os, tol, patience, [0.0, 4.0][case % 2]);
+            let aofs: Vec<&dyn Aof> = match &cut {
+                Some(c) => vec![&avoid, c],
+                None => vec![&avoid],
+            };
+            for aof in aofs {
+                aof.eval_grid(&d, &[&xs, &ys], &mut grid);
+                for j in 0..41u32 {
+                    for i in 0..360u32 {
+                        let got = grid[(i + 360 * j) as usize];
+                        let want = aof.eval(&d, &[i, j]);
+                        assert_eq!(bits(got), bits(want), "case {case} at ({i}, {j})");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
