@@ -111,8 +111,8 @@ fn encodes(c: &mut Criterion) {
         for j in 0..21 {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
             let r = (seed >> 11) as f64 / (1u64 << 53) as f64;
-            let lo_s = (j * 41 / 21) as i32;
-            let hi_s = (((j + 1) * 41 / 21) as i32 - 1).max(lo_s);
+            let lo_s = j * 41 / 21;
+            let hi_s = ((j + 1) * 41 / 21 - 1).max(lo_s);
             pieces.push((
                 vec![(i * 5, i * 5 + 4), (lo_s, hi_s)],
                 vec![r * 3.0 - 1.5, 0.25 - r, r * 100.0],
