@@ -18,7 +18,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use moos::wire::Message;
+use moos::alog::LineValue;
 
 use super::observe::Observer;
 use helm_cycle as cycle;
@@ -167,13 +167,11 @@ impl SimBus {
 
     fn log(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
         let Some(w) = &mut self.alog else { return };
-        let mut m = match value {
-            Value::Num(v) => Message::notify_double(var, *v, now),
-            Value::Str(s) => Message::notify_string(var, s, now),
+        let value = match value {
+            Value::Num(v) => LineValue::Double(*v),
+            Value::Str(s) => LineValue::Text(s),
         };
-        m.source = source.to_string();
-        m.source_aux = aux.to_string();
-        if let Err(e) = w.write(&m) {
+        if let Err(e) = w.write_line(now, var, source, aux, value) {
             self.alog = None;
             self.alog_error = Some(e);
         }
