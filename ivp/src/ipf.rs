@@ -17,8 +17,9 @@ struct Utf8Out<'a> {
 
 impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
-        // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits) and
-        // `str` (a whole `&str`), so they are valid UTF-8 after every call, as a `String`
+        // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
+        // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes, masked to 7 bits as
+        // they were written), so they are valid UTF-8 after every call, as a `String`
         // requires, whenever `s` can be seen again.
         let bytes = unsafe { s.as_mut_vec() };
         Utf8Out { bytes }
@@ -36,6 +37,13 @@ impl<'a> Utf8Out<'a> {
 
     fn str(&mut self, s: &str) {
         self.bytes.extend_from_slice(s.as_bytes());
+    }
+
+    /// A batch of formatted pieces.
+    fn ascii(&mut self, text: &mut PieceText) {
+        let b = text.take();
+        debug_assert!(b.is_ascii());
+        self.bytes.extend_from_slice(b);
     }
 
     /// Decimal digits of `n`.
@@ -192,15 +200,192 @@ pub fn encode_into(f: &IvpFunction, s: &mut String) {
         .bounds()
         .chunks_exact(2 * dim)
         .zip(f.weights().chunks_exact(dim + 1));
+    if dim > PieceText::MAX_DIM {
+        for (bounds, weights) in pieces {
+            for &b in bounds {
+                out.byte(b',');
+                out.i32(b);
+            }
+            for &w in weights {
+                out.byte(b',');
+                out.weight(w);
+            }
+        }
+        return;
+    }
+    // Pieces are formatted on the stack and appended a batch at a time: no capacity
+    // check per character.
+    let mut text = PieceText::new();
     for (bounds, weights) in pieces {
+        if text.len > PieceText::FLUSH_AT {
+            out.ascii(&mut text);
+        }
         for &b in bounds {
-            out.byte(b',');
-            out.i32(b);
+            text.byte(b',');
+            text.i32(b);
         }
         for &w in weights {
-            out.byte(b',');
-            out.weight(w);
+            text.byte(b',');
+            if !text.weight(w) {
+                // Huge, infinite or NaN: the rare slow way, straight into the string.
+                out.ascii(&mut text);
+                out.weight(w);
+            }
         }
+    }
+    out.ascii(&mut text);
+}
+
+/// `"00".."99"`: two digits per table read.
+const DIGIT_PAIRS: [u8; 200] = {
+    let mut t = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        t[2 * i] = b'0' + (i / 10) as u8;
+        t[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    t
+};
+
+/// A batch of pieces' text (ASCII digits and punctuation only) on the stack.
+struct PieceText {
+    buf: [u8; PieceText::SIZE],
+    len: usize,
+}
+
+impl PieceText {
+    const SIZE: usize = 1024;
+    /// Dimensions whose whole piece always fits after a flush: bounds take at most
+    /// 12 bytes each (`,` sign and 10 digits), fast-path weights 18 (`,` sign, 11 integer
+    /// digits, `.` and 4 decimals): 2·8·12 + 9·18 = 354.
+    const MAX_DIM: usize = 8;
+    /// Flush before a piece once this much is buffered (1024 - 354 leaves room for one).
+    const FLUSH_AT: usize = Self::SIZE - 360;
+
+    fn new() -> Self {
+        PieceText {
+            buf: [0; Self::SIZE],
+            len: 0,
+        }
+    }
+
+    /// The buffered text, emptied.
+    fn take(&mut self) -> &[u8] {
+        let n = std::mem::take(&mut self.len);
+        &self.buf[..n]
+    }
+
+    /// One ASCII character (masked to 7 bits: the buffer only ever holds ASCII).
+    #[inline(always)]
+    fn byte(&mut self, b: u8) {
+        self.buf[self.len] = b & 0x7f;
+        self.len += 1;
+    }
+
+    /// Two digits of `n < 100`.
+    #[inline(always)]
+    fn pair(&mut self, n: u32) {
+        let i = 2 * n as usize;
+        self.buf[self.len..self.len + 2].copy_from_slice(&DIGIT_PAIRS[i..i + 2]);
+        self.len += 2;
+    }
+
+    /// Decimal digits of `n` (at most 20).
+    #[inline(always)]
+    fn u64(&mut self, n: u64) {
+        if n < 100 {
+            if n < 10 {
+                self.byte(b'0' + n as u8);
+            } else {
+                self.pair(n as u32);
+            }
+        } else if n < 10_000 {
+            let n = n as u32;
+            if n < 1000 {
+                self.byte(b'0' + (n / 100) as u8);
+            } else {
+                self.pair(n / 100);
+            }
+            self.pair(n % 100);
+        } else {
+            self.long_u64(n);
+        }
+    }
+
+    fn long_u64(&mut self, mut n: u64) {
+        let mut tmp = [0u8; 20];
+        let mut i = tmp.len();
+        while n >= 100 {
+            let p = 2 * (n % 100) as usize;
+            n /= 100;
+            i -= 2;
+            tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
+        }
+        if n >= 10 {
+            i -= 2;
+            tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
+        } else {
+            i -= 1;
+            tmp[i] = b'0' + n as u8;
+        }
+        let k = tmp.len() - i;
+        self.buf[self.len..self.len + k].copy_from_slice(&tmp[i..]);
+        self.len += k;
+    }
+
+    #[inline(always)]
+    fn i32(&mut self, v: i32) {
+        if v < 0 {
+            self.byte(b'-');
+        }
+        self.u64(u64::from(v.unsigned_abs()));
+    }
+
+    /// The 4-decimal weight encoding (spec §9.1) for the weights the integer path
+    /// covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
+    /// infinities, NaN), which [`Utf8Out::weight`] handles.
+    #[inline(always)]
+    fn weight(&mut self, w: f64) -> bool {
+        let a = w.abs();
+        let x = a * 10000.0 + 0.5;
+        if x.is_nan() || x >= 1e15 {
+            return false;
+        }
+        if w < 0.0 {
+            self.byte(b'-');
+        }
+        if a == 0.0 {
+            self.byte(b'0');
+            return true;
+        }
+        // Below 1e15 (< 2^53) `x as u64` is exactly `x.trunc()`.
+        let n = x as u64;
+        if n == 0 {
+            self.buf[self.len..self.len + 6].copy_from_slice(b"0.0000");
+            self.len += 6;
+            return true;
+        }
+        self.u64(n / 10000);
+        self.byte(b'.');
+        // Four decimals, trailing zeros removed.
+        let frac = (n % 10000) as u32;
+        let (hi, lo) = (frac / 100, frac % 100);
+        if lo != 0 {
+            self.pair(hi);
+            if lo % 10 == 0 {
+                self.byte(b'0' + (lo / 10) as u8);
+            } else {
+                self.pair(lo);
+            }
+        } else if hi != 0 {
+            if hi % 10 == 0 {
+                self.byte(b'0' + (hi / 10) as u8);
+            } else {
+                self.pair(hi);
+            }
+        }
+        true
     }
 }
 
@@ -504,6 +689,52 @@ mod tests {
         }
     }
 
+    /// The stack writer of the piece loop gives the reference's text for every weight it
+    /// takes, and declines (writing nothing) exactly the huge and non-finite ones.
+    #[test]
+    fn piece_text_weights_match_the_reference() {
+        let mut seed = 19u64;
+        let mut want = String::new();
+        for _ in 0..300_000 {
+            let w = random_weight(&mut seed, false);
+            want.clear();
+            reference::encode_weight(w, &mut want);
+            let mut text = PieceText::new();
+            if text.weight(w) {
+                assert_eq!(text.take(), want.as_bytes(), "weight {w:e}");
+            } else {
+                assert_eq!(text.len, 0);
+                let x = w.abs() * 10000.0 + 0.5;
+                assert!(x.is_nan() || x >= 1e15, "declined {w:e}");
+            }
+        }
+        for v in [
+            0,
+            7,
+            10,
+            99,
+            100,
+            999,
+            1000,
+            9999,
+            10_000,
+            123_456_789,
+            u32::MAX,
+        ] {
+            let mut text = PieceText::new();
+            text.u64(u64::from(v));
+            assert_eq!(text.take(), v.to_string().as_bytes());
+        }
+        let mut text = PieceText::new();
+        text.u64(u64::MAX);
+        assert_eq!(text.take(), u64::MAX.to_string().as_bytes());
+        for v in [i32::MIN, -1, 0, 1, i32::MAX] {
+            let mut text = PieceText::new();
+            text.i32(v);
+            assert_eq!(text.take(), v.to_string().as_bytes());
+        }
+    }
+
     /// Random functions (1-3 dimensions, random boxes and weights, pwt, contexts with
     /// and without non-ASCII characters, behavior names of every length class) give the
     /// reference's whole string and packets, written into reused strings.
@@ -513,7 +744,12 @@ mod tests {
         let mut whole = String::new();
         let mut packet = String::new();
         for case in 0..1500 {
-            let dim = 1 + (rng(&mut seed) * 3.0) as usize;
+            // Now and then past the stack writer's dimension limit (the per-byte path).
+            let dim = if case % 97 == 0 {
+                PieceText::MAX_DIM + 1 + case % 2
+            } else {
+                1 + (rng(&mut seed) * 3.0) as usize
+            };
             let mut d = Domain::new();
             for i in 0..dim {
                 let points = 1 + (rng(&mut seed) * 400.0) as u32;

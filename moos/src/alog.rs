@@ -73,34 +73,53 @@ impl<W: Write> AlogWriter<W> {
 
     /// Append one message.
     pub fn write(&mut self, m: &Message) -> io::Result<()> {
+        let text;
+        let value = match m.data_type {
+            DataType::DOUBLE => LineValue::Double(m.dval),
+            DataType::BINARY => LineValue::Binary(m.sval.len()),
+            _ => {
+                text = m.string();
+                LineValue::Text(&text)
+            }
+        };
+        self.write_line(m.time, &m.key, &m.source, &m.source_aux, value)
+    }
+
+    /// Append one message given by its parts (what [`AlogWriter::write`] writes for a
+    /// message with these fields), for a caller that holds them apart and need not
+    /// build a [`Message`] (copying its value) per line.
+    pub fn write_line(
+        &mut self,
+        time: f64,
+        key: &str,
+        source: &str,
+        source_aux: &str,
+        value: LineValue<'_>,
+    ) -> io::Result<()> {
         use std::fmt::Write as _;
         let line = &mut self.line;
         line.clear();
-        let _ = write!(line, "{:.3}", m.time - self.start);
+        let _ = write!(line, "{:.3}", time - self.start);
         // The time is ASCII: its length is its width.
         let pad = 15usize.saturating_sub(line.len());
         line.extend(std::iter::repeat_n(' ', pad));
         line.push(' ');
-        push_column(line, &[&m.key], 20);
+        push_column(line, &[key], 20);
         line.push(' ');
-        if m.source_aux.is_empty() {
-            push_column(line, &[&m.source], 15);
+        if source_aux.is_empty() {
+            push_column(line, &[source], 15);
         } else {
-            push_column(line, &[&m.source, ":", &m.source_aux], 15);
+            push_column(line, &[source, ":", source_aux], 15);
         }
         line.push(' ');
-        match m.data_type {
-            DataType::DOUBLE => {
-                let _ = write!(line, "{}", m.dval);
+        match value {
+            LineValue::Double(v) => {
+                let _ = write!(line, "{v}");
             }
-            DataType::BINARY => {
-                let _ = write!(line, "<binary {} bytes>", m.sval.len());
+            LineValue::Binary(n) => {
+                let _ = write!(line, "<binary {n} bytes>");
             }
-            _ => line.extend(
-                m.string()
-                    .chars()
-                    .map(|c| if c == '\n' || c == '\r' { ' ' } else { c }),
-            ),
+            LineValue::Text(t) => push_one_line(line, t),
         }
         line.push('\n');
         self.w.write_all(line.as_bytes())
@@ -113,6 +132,28 @@ impl<W: Write> AlogWriter<W> {
     pub fn into_inner(self) -> W {
         self.w
     }
+}
+
+/// A value as [`AlogWriter::write_line`] takes it.
+#[derive(Clone, Copy, Debug)]
+pub enum LineValue<'a> {
+    Double(f64),
+    Text(&'a str),
+    /// A binary payload of this many bytes (logged as its size).
+    Binary(usize),
+}
+
+/// `text` with its line breaks turned into blanks (one line per message), pushed a run
+/// of characters at a time.
+fn push_one_line(line: &mut String, text: &str) {
+    let mut rest = text;
+    while let Some(i) = rest.find(['\n', '\r']) {
+        line.push_str(&rest[..i]);
+        line.push(' ');
+        // Both breaks are one byte: `i + 1` is a character boundary.
+        rest = &rest[i + 1..];
+    }
+    line.push_str(rest);
 }
 
 /// A key or source (the concatenation of `parts`) as one column padded to `width`
@@ -252,6 +293,43 @@ mod tests {
                 "0.000           NAV_X                uSim            -2.5",
             ]
         );
+    }
+
+    /// Line breaks become blanks exactly as the character-by-character rule did, for
+    /// texts with runs of breaks, breaks at either end, `\r\n` pairs and multi-byte
+    /// characters.
+    #[test]
+    fn text_values_stay_on_one_line() {
+        let texts = [
+            "",
+            "plain",
+            "\n",
+            "\r\n",
+            "a\r\nb\n\nc\r",
+            "\nédge\n",
+            "x=1,y=2\nlabel=é→\r",
+            "no break but ünïcode",
+        ];
+        for t in texts {
+            let mut fast = String::new();
+            push_one_line(&mut fast, t);
+            let slow: String = t
+                .chars()
+                .map(|c| if c == '\n' || c == '\r' { ' ' } else { c })
+                .collect();
+            assert_eq!(fast, slow, "{t:?}");
+        }
+        let mut a = AlogWriter::new(Vec::new(), 0.0, "t.alog").expect("header");
+        let mut b = AlogWriter::new(Vec::new(), 0.0, "t.alog").expect("header");
+        let m = Message::notify_string("VIEW POINT", "x=1\ny=2", 3.25);
+        a.write(&m).expect("write");
+        b.write_line(3.25, "VIEW POINT", "", "", LineValue::Text("x=1\ny=2"))
+            .expect("write");
+        let n = Message::notify_double("NAV_X", -0.5, 1.0);
+        a.write(&n).expect("write");
+        b.write_line(1.0, "NAV_X", "", "", LineValue::Double(-0.5))
+            .expect("write");
+        assert_eq!(a.into_inner(), b.into_inner());
     }
 
     #[test]

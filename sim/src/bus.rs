@@ -18,7 +18,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use moos::wire::Message;
+use moos::alog::LineValue;
 
 use super::observe::Observer;
 use helm_cycle as cycle;
@@ -130,6 +130,13 @@ impl SimBus {
         }
     }
 
+    /// Whether anything on this bus ever reads `var`: an app subscribed to it, the
+    /// `.alog`, the in-memory record, or an end condition on it. (The helm is asked
+    /// after start-up, when every app has subscribed.)
+    pub fn is_read(&self, var: &str) -> bool {
+        self.alog.is_some() || self.wanted(var) || self.observer.when.iter().any(|w| w.var == var)
+    }
+
     fn wanted(&self, var: &str) -> bool {
         self.record.is_some() || self.clients.iter().any(|c| c.subs.contains(var))
     }
@@ -160,13 +167,11 @@ impl SimBus {
 
     fn log(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
         let Some(w) = &mut self.alog else { return };
-        let mut m = match value {
-            Value::Num(v) => Message::notify_double(var, *v, now),
-            Value::Str(s) => Message::notify_string(var, s, now),
+        let value = match value {
+            Value::Num(v) => LineValue::Double(*v),
+            Value::Str(s) => LineValue::Text(s),
         };
-        m.source = source.to_string();
-        m.source_aux = aux.to_string();
-        if let Err(e) = w.write(&m) {
+        if let Err(e) = w.write_line(now, var, source, aux, value) {
             self.alog = None;
             self.alog_error = Some(e);
         }
@@ -229,6 +234,23 @@ impl cycle::Bus for SimBus {
 mod tests {
     use super::*;
     use helm_cycle::Bus;
+
+    #[test]
+    fn a_variable_is_read_by_a_subscriber_a_record_or_an_end_condition() {
+        let mut bus = SimBus::new(&["pHelmIvP", "uSimMarine"], Observer::default());
+        assert!(!bus.is_read("BHV_IPF"));
+        bus.subscribe(1, "BHV_IPF");
+        assert!(bus.is_read("BHV_IPF"));
+        let mut bus = SimBus::new(&["pHelmIvP"], Observer::default());
+        bus.record = Some(Vec::new());
+        assert!(bus.is_read("BHV_IPF"));
+        let when = vec![crate::scenario::When {
+            var: "BHV_IPF".into(),
+            value: Value::Str("x".into()),
+        }];
+        let bus = SimBus::new(&["pHelmIvP"], Observer::new(0.0, when));
+        assert!(bus.is_read("BHV_IPF") && !bus.is_read("DESIRED_SPEED"));
+    }
 
     #[test]
     fn own_postings_come_back_next_step_to_subscribers_only() {

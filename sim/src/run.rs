@@ -311,6 +311,8 @@ impl Prepared {
 
         let mut helm = self.recipe.build();
         let mut cycle = HelmCycle::startup(&mut helm, &mut bus, t0);
+        // Functions are serialised only for a reader (a log, a record, a subscriber).
+        helm.set_ipf_posting(bus.is_read("BHV_IPF"));
         bus.deliver();
 
         let (mut kh, mut ks, mut kd, mut kp) = (1u64, 0u64, 0u64, 0usize);

@@ -162,6 +162,7 @@ impl Helm {
             pool: Default::default(),
             ipf_whole: String::new(),
             ipf_id: String::new(),
+            ipf_off: false,
             apps_seen: Vec::new(),
             nav_warned: false,
             last_heartbeat: None,

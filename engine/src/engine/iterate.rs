@@ -332,6 +332,9 @@ impl Helm {
     /// BHV_IPF (behavior-common.md §4 step 10.7): the function serialised into packets,
     /// queued as the behavior's messages; every string is a reused one.
     fn post_ipf(&mut self, i: usize, f: &ivp::IvpFunction, name: &str, iter: u64) {
+        if self.ipf_off {
+            return;
+        }
         ivp::ipf::encode_into(f, &mut self.ipf_whole);
         self.ipf_id.clear();
         self.ipf_id.push_str(name);

@@ -130,6 +130,8 @@ pub struct Helm {
     /// BHV_IPF whole-function string and packet id, reused for every function.
     pub(crate) ipf_whole: String,
     pub(crate) ipf_id: String,
+    /// BHV_IPF is not made at all (see [`Helm::set_ipf_posting`]).
+    pub(crate) ipf_off: bool,
 }
 
 impl Helm {
@@ -166,6 +168,14 @@ impl Helm {
     /// Set the MOOS app name (the source of its own postings, `pHelmIvP` by default).
     pub fn set_app_name(&mut self, name: &str) {
         self.app_name = name.to_string();
+    }
+
+    /// Whether functions are serialised and posted as BHV_IPF (on by default, as the
+    /// real helm always does). A host that knows no one reads BHV_IPF (a simulated
+    /// bus with no subscriber and no log) turns it off: the encoding is the largest
+    /// cost of an iteration with big functions, and nothing else depends on it.
+    pub fn set_ipf_posting(&mut self, on: bool) {
+        self.ipf_off = !on;
     }
 
     /// Name of the helm as a MOOS app (the source of its postings).

@@ -217,6 +217,8 @@ impl Live {
             .map(|o| super::obstacles::ObmLive::new(o, &mut bus, t0));
         let mut helm = plan.recipe.build();
         let cycle = HelmCycle::startup(&mut helm, &mut bus, t0);
+        // Functions are serialised only for a reader (a log or a subscriber).
+        helm.set_ipf_posting(bus.is_read("BHV_IPF"));
         bus.deliver();
         let drove = helm.state() == HelmState::Drive;
         Ok(Live {
