@@ -28,9 +28,10 @@ pub(super) struct LastIndex {
     dim: usize,
     ppg: Vec<i32>,
     stride: Vec<usize>,
-    /// Cell coordinate of every index, dimension `d` at `coord[coord_off[d]..]`.
+    /// Cell coordinate of every index, dimension `d` at `coord[span[d].0..]`, `span[d].1`
+    /// entries (the points of `d`).
     coord: Vec<u32>,
-    coord_off: Vec<usize>,
+    span: [(usize, usize); ODO_DIMS],
     /// Points then points per cell the coordinate table was made for.
     coord_key: Vec<i32>,
     start: Vec<u32>,
@@ -133,22 +134,21 @@ impl LastIndex {
         self.coord_key.extend_from_slice(pts);
         self.coord_key.extend_from_slice(&self.ppg);
         self.coord.clear();
-        self.coord_off.clear();
         for d in 0..dim {
-            self.coord_off.push(self.coord.len());
+            let at = self.coord.len();
             let ppg = self.ppg[d];
             self.coord
                 .extend((0..pts[d].max(0)).map(|i| (i / ppg) as u32));
+            self.span[d] = (at, self.coord.len() - at);
         }
-        self.coord_off.push(self.coord.len());
     }
 
     /// Cell coordinate of index `i` in dimension `d`, `None` outside the domain.
     #[inline(always)]
     fn coord(&self, d: usize, i: i32) -> Option<usize> {
-        let (at, end) = (self.coord_off[d], self.coord_off[d + 1]);
+        let (at, len) = self.span[d];
         let i = usize::try_from(i).ok()?;
-        if i < end - at {
+        if i < len {
             Some(self.coord[at + i] as usize)
         } else {
             None
@@ -172,12 +172,20 @@ impl LastIndex {
     #[inline]
     pub(super) fn cell_of(&self, b: &[i32]) -> Option<usize> {
         let mut c = 0;
-        for d in 0..self.dim {
-            let lo = self.coord(d, b[2 * d])?;
-            if self.coord(d, b[2 * d + 1])? != lo {
+        for (d, (&(at, len), &stride)) in self.span.iter().zip(&self.stride).enumerate() {
+            if d == self.dim {
+                break;
+            }
+            // A negative index turns huge and fails the range test.
+            let (lo, hi) = (b[2 * d] as usize, b[2 * d + 1] as usize);
+            if lo >= len || hi >= len {
                 return None;
             }
-            c += lo * self.stride[d];
+            let k = self.coord[at + lo];
+            if self.coord[at + hi] != k {
+                return None;
+            }
+            c += k as usize * stride;
         }
         Some(c)
     }

@@ -322,10 +322,18 @@ fn bound_pair(
     last: Option<&LastIndex>,
 ) -> (f64, f64) {
     let m = active.len();
-    if let Some(c) = last.and_then(|ix| ix.cell_of(b)) {
-        let ix = last.map_or(0.0, |ix| ix.bound(c));
-        let prefix = bound_upto(funcs, active, dim, level, m - 1, b, acc);
-        return (prefix + funcs[active[m - 1]].global_ub, prefix + ix);
+    if let Some(ix) = last {
+        if let Some(c) = ix.cell_of(b) {
+            let prefix = if level + 1 == m {
+                acc
+            } else {
+                bound_upto(funcs, active, dim, level, m - 1, b, acc)
+            };
+            return (
+                prefix + funcs[active[m - 1]].global_ub,
+                prefix + ix.bound(c),
+            );
+        }
     }
     let r = bound_rest(funcs, active, dim, level, b, acc);
     (r, r)
@@ -851,7 +859,7 @@ impl Solver {
             p.map
                 .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
-        let (mn, mx) = f.min_max_wt();
+        let (mn, mx) = min_max_wt(f);
         let norm = mx - mn > 100.0;
         let r = mx - mn;
         let (shift, scale) = (0.0 - mn, 100.0 / r);
@@ -873,15 +881,17 @@ impl Solver {
         }
         if !identity {
             p.bounds.resize(n * bl, 0);
-            for k in 0..n {
-                let b = &mut p.bounds[k * bl..(k + 1) * bl];
-                for d in 0..dim {
-                    b[2 * d] = 0;
-                    b[2 * d + 1] = self.pts[d] - 1;
+            let whole = od < dim;
+            for (b, src) in p.bounds.chunks_exact_mut(bl).zip(fb.chunks_exact(2 * od)) {
+                if whole {
+                    for d in 0..dim {
+                        b[2 * d] = 0;
+                        b[2 * d + 1] = self.pts[d] - 1;
+                    }
                 }
-                for (d, &t) in p.map.iter().enumerate() {
-                    b[2 * t] = fb[k * 2 * od + 2 * d];
-                    b[2 * t + 1] = fb[k * 2 * od + 2 * d + 1];
+                for (s, &t) in src.chunks_exact(2).zip(&p.map) {
+                    b[2 * t] = s[0];
+                    b[2 * t + 1] = s[1];
                 }
             }
         }
@@ -896,13 +906,13 @@ impl Solver {
         {
             if norm {
                 w[dim] = ((src[od] + shift) * scale) * pwt;
-                for (d, &t) in p.map.iter().enumerate() {
-                    w[t] = (src[d] * scale) * pwt;
+                for (&x, &t) in src.iter().zip(&p.map) {
+                    w[t] = (x * scale) * pwt;
                 }
             } else {
                 w[dim] = src[od] * pwt;
-                for (d, &t) in p.map.iter().enumerate() {
-                    w[t] = src[d] * pwt;
+                for (&x, &t) in src.iter().zip(&p.map) {
+                    w[t] = x * pwt;
                 }
             }
         }
@@ -1054,6 +1064,48 @@ fn seed_value(
         }
     }
     Some(max_val(seed_b, seed_w))
+}
+
+/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
+/// dimensions: each accumulates the same terms in the same order, and the pieces are
+/// compared in the same order, so the values are the same bit for bit.
+fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
+    let od = f.dim();
+    if od == 0 || f.piece_count() == 0 {
+        return f.min_max_wt();
+    }
+    let extremes = |b: &[i32], w: &[f64]| {
+        let (mut lo, mut hi) = (w[od], w[od]);
+        for (d, &x) in w[..od].iter().enumerate() {
+            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+            if x < 0.0 {
+                hi += x * l;
+                lo += x * h;
+            } else {
+                hi += x * h;
+                lo += x * l;
+            }
+        }
+        (lo, hi)
+    };
+    let mut pieces = f
+        .bounds()
+        .chunks_exact(2 * od)
+        .zip(f.weights().chunks_exact(od + 1));
+    let Some((b, w)) = pieces.next() else {
+        return f.min_max_wt();
+    };
+    let (mut mn, mut mx) = extremes(b, w);
+    for (b, w) in pieces {
+        let (lo, hi) = extremes(b, w);
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
 }
 
 /// Largest `|intercept| + Σ_d |slope_d|·(pts_d - 1)` over the pieces (problem order).

@@ -149,3 +149,20 @@ fn min_max_wt_equals_min_wt_and_max_wt() {
         assert_eq!(mx.to_bits(), f.max_wt().to_bits());
     }
 }
+
+/// The solver's one-loop extremes equal the function's, bit for bit.
+#[test]
+fn solver_min_max_wt_equals_the_functions() {
+    let doms = [
+        Domain::parse("x:0:9:10,y:0:6:7").unwrap(),
+        Domain::parse("x:0:359:360").unwrap(),
+        Domain::parse("x:0:9:10,y:0:6:7,z:0:3:4").unwrap(),
+    ];
+    let mut seed = 7u64;
+    for round in 0..600 {
+        let f = random_function(&doms[round % doms.len()], &mut seed);
+        let (a, b) = min_max_wt(&f);
+        let (c, d) = f.min_max_wt();
+        assert_eq!((a.to_bits(), b.to_bits()), (c.to_bits(), d.to_bits()));
+    }
+}
