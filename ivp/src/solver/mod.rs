@@ -59,6 +59,8 @@ struct Prepared {
     /// Largest `|intercept| + Σ |slope_d|·(points_d - 1)` over the pieces: no partial
     /// sum of a value or bound of this function exceeds it (sizes the rounding slack).
     term_scale: f64,
+    /// `maxVal` of every piece (scratch of [`copy_cells`]).
+    piece_ub: Vec<f64>,
 }
 
 const NO_BOUND: f64 = -99999.0;
@@ -974,9 +976,36 @@ impl Solver {
         }
         if !p.single {
             p.make_coord_table(&self.pts);
-            let own = std::mem::take(&mut p.bounds);
-            build_cells(p, if identity { fb } else { &own }, dim, total, !keep_grid);
-            p.bounds = own;
+            // The same boxes as an earlier function's (the contacts' uniform tilings,
+            // translated alike): the same cell lists, only the cell bounds are new.
+            let twin = if identity {
+                None
+            } else {
+                let me = &self.funcs[fi];
+                self.active.iter().skip(1).copied().find(|&j| {
+                    let q = &self.funcs[j];
+                    !q.borrowed && !q.single && q.ppg == me.ppg && q.bounds == me.bounds
+                })
+            };
+            let (p, twin) = match twin {
+                // `fi` is not active yet, so `j != fi`.
+                Some(j) if j < fi => {
+                    let (a, b) = self.funcs.split_at_mut(fi);
+                    (&mut b[0], Some(&a[j]))
+                }
+                Some(j) => {
+                    let (a, b) = self.funcs.split_at_mut(j);
+                    (&mut a[fi], Some(&b[0]))
+                }
+                None => (&mut self.funcs[fi], None),
+            };
+            if let Some(t) = twin {
+                copy_cells(p, t, dim, total, !keep_grid);
+            } else {
+                let own = std::mem::take(&mut p.bounds);
+                build_cells(p, if identity { fb } else { &own }, dim, total, !keep_grid);
+                p.bounds = own;
+            }
             if keep_grid {
                 for (c, &x) in g.iter().enumerate() {
                     let v = tg(x);
@@ -1123,6 +1152,47 @@ fn term_scale(weights: &[f64], pts: &[i32]) -> f64 {
         }
     }
     most
+}
+
+/// [`build_cells`] for a function whose boxes (problem order) and cell sizes equal
+/// those of `twin`: its cell lists are copied; the cell bounds, if `bounds`, are
+/// taken per cell over its list, which holds the cell's pieces in array order, so
+/// every cell sees the same comparisons in the same order as in [`build_cells`].
+fn copy_cells(p: &mut Prepared, twin: &Prepared, dim: usize, total: usize, bounds: bool) {
+    let (bl, wl) = (2 * dim, dim + 1);
+    p.cell_start.clone_from(&twin.cell_start);
+    p.cell_items.clone_from(&twin.cell_items);
+    p.cell_ub.clear();
+    p.cell_ub.resize(total, NO_BOUND);
+    p.cell_filled.clear();
+    p.cell_filled.resize(total, false);
+    if bounds {
+        p.piece_ub.clear();
+        p.piece_ub.extend(
+            p.bounds
+                .chunks_exact(bl)
+                .zip(p.weights.chunks_exact(wl))
+                .take(p.n)
+                .map(|(b, w)| max_val(b, w)),
+        );
+        for c in 0..total {
+            let list = &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize];
+            for &k in list {
+                let v = p.piece_ub[k as usize];
+                if !p.cell_filled[c] || v > p.cell_ub[c] {
+                    p.cell_ub[c] = v;
+                }
+                p.cell_filled[c] = true;
+            }
+        }
+    }
+    if p.seen.len() < p.n {
+        p.seen.resize_with(p.n, || Cell::new(0));
+    }
+    for s in &p.seen {
+        s.set(0);
+    }
+    p.stamp.set(0);
 }
 
 /// Cell lists of a multi-cell grid and, if `bounds`, the cell bounds from the pieces.
