@@ -7,7 +7,10 @@
 use crate::domain::Domain;
 use crate::error::IvpError;
 use crate::function::{max_val, IvpFunction};
+use last_index::LastIndex;
 use std::cell::Cell;
+
+mod last_index;
 
 /// The solver's answer, one entry per *helm* domain variable.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -53,6 +56,11 @@ struct Prepared {
     cursor: Vec<u32>,
     seen: Vec<Cell<u32>>,
     stamp: Cell<u32>,
+    /// Largest `|intercept| + Σ |slope_d|·(points_d - 1)` over the pieces: no partial
+    /// sum of a value or bound of this function exceeds it (sizes the rounding slack).
+    term_scale: f64,
+    /// `maxVal` of every piece (scratch of [`copy_cells`]).
+    piece_ub: Vec<f64>,
 }
 
 const NO_BOUND: f64 = -99999.0;
@@ -273,6 +281,16 @@ pub struct Solver {
     node_w: Vec<f64>,
     best_b: Vec<i32>,
     best_w: Vec<f64>,
+    last: LastIndex,
+    /// The previous decision point (problem indices), to seed the next search. Any
+    /// point of the domain is a valid seed (see [`seed_value`]); a stale one only
+    /// prunes less.
+    prev: Vec<i32>,
+    seed_b: Vec<i32>,
+    seed_w: Vec<f64>,
+    /// Last solve: (seeded, searched again unseeded), for the tests.
+    #[cfg(test)]
+    stats: (usize, usize),
 }
 
 /// `acc + Σ_{k >= level} cheapBound(F[k], b)`, accumulated left to right.
@@ -286,10 +304,56 @@ fn bound_rest(
     dim: usize,
     level: usize,
     b: &[i32],
+    acc: f64,
+) -> f64 {
+    bound_upto(funcs, active, dim, level, active.len(), b, acc)
+}
+
+/// The reference bound [`bound_rest`] and a tighter one: with a [`LastIndex`] cell
+/// holding the box, the last function's term (its global bound, a one-cell function)
+/// is replaced by the cell's bound. The first is bit for bit [`bound_rest`]: the same
+/// sum, the last term added last.
+#[inline]
+fn bound_pair(
+    funcs: &[Prepared],
+    active: &[usize],
+    dim: usize,
+    level: usize,
+    b: &[i32],
+    acc: f64,
+    last: Option<&LastIndex>,
+) -> (f64, f64) {
+    let m = active.len();
+    if let Some(ix) = last {
+        if let Some(c) = ix.cell_of(b) {
+            let prefix = if level + 1 == m {
+                acc
+            } else {
+                bound_upto(funcs, active, dim, level, m - 1, b, acc)
+            };
+            return (
+                prefix + funcs[active[m - 1]].global_ub,
+                prefix + ix.bound(c),
+            );
+        }
+    }
+    let r = bound_rest(funcs, active, dim, level, b, acc);
+    (r, r)
+}
+
+/// `acc + Σ_{level <= k < upto} cheapBound(F[k], b)`, accumulated left to right.
+#[inline]
+fn bound_upto(
+    funcs: &[Prepared],
+    active: &[usize],
+    dim: usize,
+    level: usize,
+    upto: usize,
+    b: &[i32],
     mut acc: f64,
 ) -> f64 {
     if dim > ODO_DIMS {
-        for &fi in &active[level..] {
+        for &fi in &active[level..upto] {
             acc += funcs[fi].cheap_bound(b, dim);
         }
         return acc;
@@ -301,7 +365,7 @@ fn bound_rest(
         top: 0,
         one: true,
     };
-    for &fi in &active[level..] {
+    for &fi in &active[level..upto] {
         let f = &funcs[fi];
         if f.single {
             acc += f.global_ub;
@@ -326,14 +390,78 @@ struct Search<'a> {
     node_w: &'a mut [f64],
     best_b: &'a mut [i32],
     best_w: &'a mut [f64],
+    /// The incumbent's value once `found`; before that, when `seeded`, the floor
+    /// `B` (see [`Search::prune`]).
     best: f64,
     found: bool,
+    seeded: bool,
+    /// Rounding tolerance: a bound or leaf value is within `tol` of its exact value.
+    tol: f64,
+    /// Set when a seeded search came too close to its floor to be sure it follows the
+    /// reference (see [`Search::prune`]); the caller then searches again unseeded.
+    doubt: Cell<bool>,
+    last: Option<&'a LastIndex>,
 }
 
 impl Search<'_> {
     #[inline]
-    fn bound_rest(&self, level: usize, b: &[i32], acc: f64) -> f64 {
-        bound_rest(self.funcs, self.active, self.dim, level, b, acc)
+    fn bounds(&self, level: usize, b: &[i32], acc: f64) -> (f64, f64) {
+        bound_pair(self.funcs, self.active, self.dim, level, b, acc, self.last)
+    }
+
+    /// Whether to skip a subtree with reference bound `rb` (spec §6.1, computed
+    /// exactly as the reference does) and tighter bound `tb` (see `last_index.rs`).
+    ///
+    /// The answer must be the reference branch and bound's, bit for bit, including
+    /// its rare rounding prunes (a bound a few ulps below a leaf under it: the golden
+    /// `plugin_constant_depth` depends on one). So:
+    ///
+    /// * `rb <= best` prunes exactly as the reference does;
+    /// * `tb <= best - 2 tol` prunes a subtree whose every leaf is below `best`: the
+    ///   reference, exploring it, would take none of them, so skipping it changes no
+    ///   incumbent and no later decision;
+    /// * seeded (no leaf taken yet): `best` holds the floor `B = S - 16 tol`, `S` the
+    ///   value of a leaf holding the previous decision point. The reference's final
+    ///   value is at least `S - tol > B`; let `L` be the first leaf it takes above `B`.
+    ///   Before `L` the reference takes only leaves at most `B`, and the seeded search
+    ///   prunes at least what the reference prunes, taking nothing (a leaf above `B`
+    ///   visited by it but not by the reference would sit under a reference prune with
+    ///   `rb <= B`, which the seeded search makes too). `L` itself is reached and taken
+    ///   unless its value or a bound above it is within `2 tol` of `B` -- flagged as
+    ///   `doubt`, for an unseeded rerun. From `L` on both searches hold the same
+    ///   incumbent and decide alike.
+    #[inline]
+    fn prune(&self, rb: f64, tb: f64) -> bool {
+        if !(self.found || self.seeded) {
+            return false;
+        }
+        if rb <= self.best {
+            if !self.found && rb > self.best - 2.0 * self.tol {
+                self.doubt.set(true);
+            }
+            return true;
+        }
+        tb <= self.best - 2.0 * self.tol
+    }
+
+    /// Whether a leaf of value `v` becomes the incumbent (`v > best`, or the very
+    /// first leaf of an unseeded search).
+    #[inline]
+    fn takes(&self, v: f64) -> bool {
+        if self.found || self.seeded {
+            if !self.found && v > self.best && v <= self.best + 2.0 * self.tol {
+                self.doubt.set(true);
+            }
+            v > self.best
+        } else {
+            true
+        }
+    }
+
+    #[inline]
+    fn set_best(&mut self, v: f64) {
+        self.best = v;
+        self.found = true;
     }
 
     fn run(&mut self) {
@@ -346,18 +474,17 @@ impl Search<'_> {
             let mv = max_val(pb, pw);
             if m == 1 {
                 // The piece is the leaf: copied only when it becomes the incumbent.
-                if !self.found || mv > self.best {
-                    self.best = mv;
-                    self.found = true;
+                if self.takes(mv) {
+                    self.set_best(mv);
                     self.best_b.copy_from_slice(pb);
                     self.best_w.copy_from_slice(pw);
                 }
                 continue;
             }
-            self.node_b[..bl].copy_from_slice(pb);
-            self.node_w[..wl].copy_from_slice(pw);
-            let bound = self.bound_rest(1, pb, mv);
-            if !self.found || bound > self.best {
+            let (rb, tb) = self.bounds(1, pb, mv);
+            if !self.prune(rb, tb) {
+                self.node_b[..bl].copy_from_slice(pb);
+                self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);
             }
         }
@@ -365,10 +492,9 @@ impl Search<'_> {
 
     #[inline]
     fn leaf(&mut self, slot: usize, v: f64) {
-        if !self.found || v > self.best {
+        if self.takes(v) {
             let (bl, wl) = (2 * self.dim, self.dim + 1);
-            self.best = v;
-            self.found = true;
+            self.set_best(v);
             self.best_b
                 .copy_from_slice(&self.node_b[slot * bl..(slot + 1) * bl]);
             self.best_w
@@ -379,19 +505,41 @@ impl Search<'_> {
     /// Fast path for the deepest level with a single-cell grid: leaf values are
     /// computed on the fly with exactly the operations of `maxVal(node ∩ q)`
     /// (summed weights, intercept first, then dimensions in order); the leaf is
-    /// only materialized when it becomes the incumbent.
+    /// only materialized when it becomes the incumbent. A node inside one cell of the
+    /// [`LastIndex`] meets only that cell's pieces (array order, as here).
     fn last_level_single(&mut self, level: usize, f: &Prepared, fb: &[i32]) {
+        let bl = 2 * self.dim;
+        let cell = {
+            let node_b = &self.node_b[(level - 1) * bl..level * bl];
+            self.last
+                .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
+        };
+        match cell {
+            Some(list) => {
+                for &q in list {
+                    self.last_leaf(level, f, fb, q as usize);
+                }
+            }
+            None => {
+                for q in 0..f.n {
+                    self.last_leaf(level, f, fb, q);
+                }
+            }
+        }
+    }
+
+    /// The leaf `node ∩ q` of [`Search::last_level_single`], if they meet.
+    #[inline(always)]
+    fn last_leaf(&mut self, level: usize, f: &Prepared, fb: &[i32], q: usize) {
         let dim = self.dim;
         let (bl, wl) = (2 * dim, dim + 1);
         let node_b = &self.node_b[(level - 1) * bl..level * bl];
         let node_w = &self.node_w[(level - 1) * wl..level * wl];
-        for (qb, qw) in fb
-            .chunks_exact(bl)
-            .zip(f.weights.chunks_exact(wl))
-            .take(f.n)
+        let qb = &fb[q * bl..(q + 1) * bl];
+        let qw = &f.weights[q * wl..(q + 1) * wl];
         {
             if !intersects(node_b, qb, dim) {
-                continue;
+                return;
             }
             let mut acc = node_w[dim] + qw[dim];
             for d in 0..dim {
@@ -403,9 +551,10 @@ impl Search<'_> {
                 };
                 acc += w * f64::from(c);
             }
-            if !self.found || acc > self.best {
-                self.found = true;
+            if self.takes(acc) {
+                // `set_best`, field by field (the node is borrowed).
                 self.best = acc;
+                self.found = true;
                 for d in 0..dim {
                     self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
                     self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
@@ -449,8 +598,8 @@ impl Search<'_> {
             if last {
                 s.leaf(level, mv);
             } else {
-                let bound = bound_rest(s.funcs, s.active, dim, level + 1, &cb[..bl], mv);
-                if !s.found || bound > s.best {
+                let (rb, tb) = bound_pair(s.funcs, s.active, dim, level + 1, &cb[..bl], mv, s.last);
+                if !s.prune(rb, tb) {
                     s.recurse(level + 1);
                 }
             }
@@ -588,7 +737,8 @@ impl Solver {
             if f.pwt() <= 0.0 {
                 continue;
             }
-            self.prepare(fi, f, helm, dim)?;
+            let first = self.active.is_empty();
+            self.prepare(fi, f, helm, dim, first)?;
             self.active.push(fi);
         }
         if self.active.is_empty() || dim == 0 {
@@ -618,6 +768,28 @@ impl Solver {
                 }
             })
             .collect();
+        index_last(&mut self.last, &self.funcs, &self.active, &self.pts, &boxes);
+        // Rounding tolerance: a leaf value or a bound is a sum of fewer than
+        // `4(m + dim + 2)` rounded operations (builder grids: a few more, once) on
+        // terms no larger than `scale`, so within `tol` of its exact value. A
+        // non-finite or NaN scale turns the seed and the tighter bound off.
+        let scale: f64 = self
+            .active
+            .iter()
+            .map(|&fi| self.funcs[fi].term_scale)
+            .sum();
+        let tol = scale * f64::EPSILON * 16.0 * (m + dim + 8) as f64;
+        let sure = tol.is_finite();
+        let seed = seed_value(
+            &self.funcs,
+            &self.active,
+            &self.pts,
+            &self.prev,
+            &boxes,
+            (&mut self.seed_b, &mut self.seed_w),
+        );
+        let seed = seed.filter(|s| sure && s.is_finite());
+        let last = (sure && self.last.on).then_some(&self.last);
         let mut s = Search {
             funcs: &self.funcs,
             boxes: &boxes,
@@ -627,20 +799,40 @@ impl Solver {
             node_w: &mut self.node_w,
             best_b: &mut self.best_b,
             best_w: &mut self.best_w,
-            best: 0.0,
+            best: seed.map_or(0.0, |s| s - 16.0 * tol),
             found: false,
+            seeded: seed.is_some(),
+            tol,
+            doubt: Cell::new(false),
+            last,
         };
         s.run();
+        #[cfg(test)]
+        let seeded = s.seeded;
+        let rerun = s.seeded && (s.doubt.get() || !s.found);
+        #[cfg(test)]
+        {
+            self.stats = (usize::from(seeded), usize::from(rerun));
+        }
+        if rerun {
+            // Too close to the floor to be sure (see `Search::prune`): the reference
+            // search, unseeded. (`!found` cannot happen: the seed is a leaf's value.)
+            s.seeded = false;
+            s.found = false;
+            s.run();
+        }
         let (found, best) = (s.found, s.best);
         if !found {
             return Ok(false);
         }
+        self.prev.clear();
         for (d, &h) in self.prob_to_helm.iter().enumerate() {
             let ix = if self.best_w[d] < 0.0 {
                 self.best_b[2 * d]
             } else {
                 self.best_b[2 * d + 1]
             };
+            self.prev.push(ix);
             let ix = ix.max(0) as u32;
             out.indices[h] = Some(ix);
             out.values[h] = Some(helm.value(h, ix));
@@ -656,6 +848,7 @@ impl Solver {
         f: &IvpFunction,
         helm: &Domain,
         dim: usize,
+        first: bool,
     ) -> Result<(), IvpError> {
         let p = &mut self.funcs[fi];
         let od = f.dim();
@@ -668,7 +861,7 @@ impl Solver {
             p.map
                 .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
-        let (mn, mx) = f.min_max_wt();
+        let (mn, mx) = min_max_wt(f);
         let norm = mx - mn > 100.0;
         let r = mx - mn;
         let (shift, scale) = (0.0 - mn, 100.0 / r);
@@ -690,15 +883,17 @@ impl Solver {
         }
         if !identity {
             p.bounds.resize(n * bl, 0);
-            for k in 0..n {
-                let b = &mut p.bounds[k * bl..(k + 1) * bl];
-                for d in 0..dim {
-                    b[2 * d] = 0;
-                    b[2 * d + 1] = self.pts[d] - 1;
+            let whole = od < dim;
+            for (b, src) in p.bounds.chunks_exact_mut(bl).zip(fb.chunks_exact(2 * od)) {
+                if whole {
+                    for d in 0..dim {
+                        b[2 * d] = 0;
+                        b[2 * d + 1] = self.pts[d] - 1;
+                    }
                 }
-                for (d, &t) in p.map.iter().enumerate() {
-                    b[2 * t] = fb[k * 2 * od + 2 * d];
-                    b[2 * t + 1] = fb[k * 2 * od + 2 * d + 1];
+                for (s, &t) in src.chunks_exact(2).zip(&p.map) {
+                    b[2 * t] = s[0];
+                    b[2 * t + 1] = s[1];
                 }
             }
         }
@@ -713,16 +908,17 @@ impl Solver {
         {
             if norm {
                 w[dim] = ((src[od] + shift) * scale) * pwt;
-                for (d, &t) in p.map.iter().enumerate() {
-                    w[t] = (src[d] * scale) * pwt;
+                for (&x, &t) in src.iter().zip(&p.map) {
+                    w[t] = (x * scale) * pwt;
                 }
             } else {
                 w[dim] = src[od] * pwt;
-                for (d, &t) in p.map.iter().enumerate() {
-                    w[t] = src[d] * pwt;
+                for (&x, &t) in src.iter().zip(&p.map) {
+                    w[t] = x * pwt;
                 }
             }
         }
+        p.term_scale = term_scale(&p.weights, &self.pts);
         // Grid.
         p.ppg.clear();
         p.ncells.clear();
@@ -743,6 +939,12 @@ impl Solver {
             total *= nc as usize;
         }
         p.single = total == 1;
+        if first {
+            // The first function's pieces are enumerated in array order and never
+            // bounded (bounds start at level 1): its cells would go unused. Its cell
+            // size is still known (`ppg`), for the geometry sharing and the last index.
+            return Ok(());
+        }
         // A builder-made grid is kept (its bounds transformed like the weights)
         // when no translation is needed; otherwise the bounds come from the pieces.
         let same =
@@ -774,9 +976,36 @@ impl Solver {
         }
         if !p.single {
             p.make_coord_table(&self.pts);
-            let own = std::mem::take(&mut p.bounds);
-            build_cells(p, if identity { fb } else { &own }, dim, total, !keep_grid);
-            p.bounds = own;
+            // The same boxes as an earlier function's (the contacts' uniform tilings,
+            // translated alike): the same cell lists, only the cell bounds are new.
+            let twin = if identity {
+                None
+            } else {
+                let me = &self.funcs[fi];
+                self.active.iter().skip(1).copied().find(|&j| {
+                    let q = &self.funcs[j];
+                    !q.borrowed && !q.single && q.ppg == me.ppg && q.bounds == me.bounds
+                })
+            };
+            let (p, twin) = match twin {
+                // `fi` is not active yet, so `j != fi`.
+                Some(j) if j < fi => {
+                    let (a, b) = self.funcs.split_at_mut(fi);
+                    (&mut b[0], Some(&a[j]))
+                }
+                Some(j) => {
+                    let (a, b) = self.funcs.split_at_mut(j);
+                    (&mut a[fi], Some(&b[0]))
+                }
+                None => (&mut self.funcs[fi], None),
+            };
+            if let Some(t) = twin {
+                copy_cells(p, t, dim, total, !keep_grid);
+            } else {
+                let own = std::mem::take(&mut p.bounds);
+                build_cells(p, if identity { fb } else { &own }, dim, total, !keep_grid);
+                p.bounds = own;
+            }
             if keep_grid {
                 for (c, &x) in g.iter().enumerate() {
                     let v = tg(x);
@@ -787,6 +1016,183 @@ impl Solver {
         }
         Ok(())
     }
+}
+
+/// Build the [`LastIndex`] when the last function has a one-cell grid and several
+/// pieces, on the cell size of the function above it (see `last_index.rs`).
+fn index_last(
+    last: &mut LastIndex,
+    funcs: &[Prepared],
+    active: &[usize],
+    pts: &[i32],
+    boxes: &[&[i32]],
+) {
+    last.on = false;
+    let m = active.len();
+    if m < 2 {
+        return;
+    }
+    let (above, fl) = (active[m - 2], active[m - 1]);
+    let f = &funcs[fl];
+    if !f.single || f.n < 2 || funcs[above].single {
+        return;
+    }
+    last.build(&funcs[above].ppg, pts, boxes[fl], &f.weights, f.n);
+}
+
+/// The seed for the search: the value of a leaf holding the previous decision
+/// point, computed with exactly the operations the search uses for that leaf
+/// (per function in problem order the first piece holding the point; boxes
+/// intersected; weights summed left to right; `maxVal`). Any leaf would do, the
+/// previous optimum's is usually close to the new one. `None` when the point is
+/// not in the domain or some function has no piece there.
+fn seed_value(
+    funcs: &[Prepared],
+    active: &[usize],
+    pts: &[i32],
+    x: &[i32],
+    boxes: &[&[i32]],
+    (seed_b, seed_w): (&mut Vec<i32>, &mut Vec<f64>),
+) -> Option<f64> {
+    let dim = pts.len();
+    if x.len() != dim || (0..dim).any(|d| x[d] < 0 || x[d] >= pts[d]) {
+        return None;
+    }
+    let (bl, wl) = (2 * dim, dim + 1);
+    seed_b.resize(bl, 0);
+    seed_w.resize(wl, 0.0);
+    for (k, &fi) in active.iter().enumerate() {
+        let f = &funcs[fi];
+        let fb = boxes[fi];
+        let holds = |q: usize| {
+            let b = &fb[q * bl..(q + 1) * bl];
+            (0..dim).all(|d| b[2 * d] <= x[d] && x[d] <= b[2 * d + 1])
+        };
+        // Functions below the first have cell lists: only the point's cell's.
+        let q = if k > 0 && !f.single {
+            let c: usize = (0..dim).map(|d| f.coord(d, x[d]) * f.stride[d]).sum();
+            f.cell_items[f.cell_start[c] as usize..f.cell_start[c + 1] as usize]
+                .iter()
+                .map(|&q| q as usize)
+                .find(|&q| holds(q))
+        } else {
+            (0..f.n).find(|&q| holds(q))
+        }?;
+        let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &f.weights[q * wl..(q + 1) * wl]);
+        if k == 0 {
+            seed_b.copy_from_slice(qb);
+            seed_w.copy_from_slice(qw);
+        } else {
+            for d in 0..dim {
+                seed_b[2 * d] = seed_b[2 * d].max(qb[2 * d]);
+                seed_b[2 * d + 1] = seed_b[2 * d + 1].min(qb[2 * d + 1]);
+            }
+            for i in 0..wl {
+                seed_w[i] += qw[i];
+            }
+        }
+    }
+    Some(max_val(seed_b, seed_w))
+}
+
+/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
+/// dimensions: each accumulates the same terms in the same order, and the pieces are
+/// compared in the same order, so the values are the same bit for bit.
+fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
+    let od = f.dim();
+    if od == 0 || f.piece_count() == 0 {
+        return f.min_max_wt();
+    }
+    let extremes = |b: &[i32], w: &[f64]| {
+        let (mut lo, mut hi) = (w[od], w[od]);
+        for (d, &x) in w[..od].iter().enumerate() {
+            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+            if x < 0.0 {
+                hi += x * l;
+                lo += x * h;
+            } else {
+                hi += x * h;
+                lo += x * l;
+            }
+        }
+        (lo, hi)
+    };
+    let mut pieces = f
+        .bounds()
+        .chunks_exact(2 * od)
+        .zip(f.weights().chunks_exact(od + 1));
+    let Some((b, w)) = pieces.next() else {
+        return f.min_max_wt();
+    };
+    let (mut mn, mut mx) = extremes(b, w);
+    for (b, w) in pieces {
+        let (lo, hi) = extremes(b, w);
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
+}
+
+/// Largest `|intercept| + Σ_d |slope_d|·(pts_d - 1)` over the pieces (problem order).
+fn term_scale(weights: &[f64], pts: &[i32]) -> f64 {
+    let dim = pts.len();
+    let mut most = 0.0f64;
+    for w in weights.chunks_exact(dim + 1) {
+        let mut t = w[dim].abs();
+        for d in 0..dim {
+            t += w[d].abs() * f64::from((pts[d] - 1).max(0));
+        }
+        // NaN must not be lost by `max`.
+        if t > most || t.is_nan() {
+            most = t;
+        }
+    }
+    most
+}
+
+/// [`build_cells`] for a function whose boxes (problem order) and cell sizes equal
+/// those of `twin`: its cell lists are copied; the cell bounds, if `bounds`, are
+/// taken per cell over its list, which holds the cell's pieces in array order, so
+/// every cell sees the same comparisons in the same order as in [`build_cells`].
+fn copy_cells(p: &mut Prepared, twin: &Prepared, dim: usize, total: usize, bounds: bool) {
+    let (bl, wl) = (2 * dim, dim + 1);
+    p.cell_start.clone_from(&twin.cell_start);
+    p.cell_items.clone_from(&twin.cell_items);
+    p.cell_ub.clear();
+    p.cell_ub.resize(total, NO_BOUND);
+    p.cell_filled.clear();
+    p.cell_filled.resize(total, false);
+    if bounds {
+        p.piece_ub.clear();
+        p.piece_ub.extend(
+            p.bounds
+                .chunks_exact(bl)
+                .zip(p.weights.chunks_exact(wl))
+                .take(p.n)
+                .map(|(b, w)| max_val(b, w)),
+        );
+        for c in 0..total {
+            let list = &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize];
+            for &k in list {
+                let v = p.piece_ub[k as usize];
+                if !p.cell_filled[c] || v > p.cell_ub[c] {
+                    p.cell_ub[c] = v;
+                }
+                p.cell_filled[c] = true;
+            }
+        }
+    }
+    if p.seen.len() < p.n {
+        p.seen.resize_with(p.n, || Cell::new(0));
+    }
+    for s in &p.seen {
+        s.set(0);
+    }
+    p.stamp.set(0);
 }
 
 /// Cell lists of a multi-cell grid and, if `bounds`, the cell bounds from the pieces.
@@ -850,154 +1256,6 @@ fn build_cells(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize, bounds
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The stack odometer visits exactly the cells, in exactly the order, of the
-    /// reference's divide-per-cell count (the order fixes the search's tie-breaks).
-    #[test]
-    fn odometer_matches_the_divide_per_cell_order() {
-        let cases: [(&[i32], &[i32]); 4] = [
-            (&[9, 6], &[0, 359, 0, 40]),
-            (&[9, 6], &[17, 19, 5, 12]),
-            (&[4, 3, 2], &[3, 9, 0, 0, 1, 5]),
-            (&[2], &[7, 7]),
-        ];
-        for (ppg, b) in cases {
-            let mut stride = vec![];
-            let mut total = 1usize;
-            for &p in ppg {
-                stride.push(total);
-                total *= (400 / p as usize) + 1;
-            }
-            let dim = ppg.len();
-            let (mut fast, mut slow) = (vec![], vec![]);
-            for_each_cell(ppg, &stride, b, dim, |c| {
-                fast.push(c);
-                true
-            });
-            for_each_cell_any(ppg, &stride, b, dim, |c| {
-                slow.push(c);
-                true
-            });
-            assert!(!fast.is_empty());
-            assert_eq!(fast, slow, "{ppg:?} {b:?}");
-            let mut first = vec![];
-            for_each_cell(ppg, &stride, b, dim, |c| {
-                first.push(c);
-                false
-            });
-            assert_eq!(first, slow[..1]);
-        }
-    }
-
-    fn rng(seed: &mut u64) -> u64 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        *seed >> 33
-    }
-
-    /// A random function over `dom`: random boxes and weights (overlapping, as some
-    /// builders make them), a random gel box, with or without a builder grid.
-    fn random_function(dom: &Domain, seed: &mut u64) -> IvpFunction {
-        let dim = dom.size();
-        let n = 1 + rng(seed) as usize % 40;
-        let mut pieces = vec![];
-        for _ in 0..n {
-            let mut b = vec![];
-            let mut w = vec![];
-            for d in 0..dim {
-                let pts = dom.var(d).points as u64;
-                let lo = (rng(seed) % pts) as i32;
-                let hi = lo + (rng(seed) % (pts - lo as u64)) as i32;
-                b.push((lo, hi));
-                w.push((rng(seed) % 2001) as f64 / 100.0 - 10.0);
-            }
-            w.push((rng(seed) % 20001) as f64 / 100.0 - 50.0);
-            pieces.push((b, w));
-        }
-        let mut f = IvpFunction::from_pieces(dom.clone(), &pieces).unwrap();
-        let gel = (0..dim)
-            .map(|d| (rng(seed) % u64::from(dom.var(d).points + 2)) as u32)
-            .collect();
-        f.set_gelbox(gel).unwrap();
-        if rng(seed).is_multiple_of(2) {
-            f.build_grid();
-        }
-        f.set_pwt(1.0 + (rng(seed) % 100) as f64);
-        f
-    }
-
-    /// The bounds the search prunes with (shared cell ranges, one-cell reads, tables)
-    /// are bit for bit the divide-per-cell cheap bounds summed left to right.
-    #[test]
-    fn bound_rest_equals_the_divide_per_cell_sum() {
-        let doms = [
-            Domain::parse("course:0:359:360,speed:0:4:41").unwrap(),
-            Domain::parse("x:0:9:10,y:0:6:7,z:0:2:3").unwrap(),
-            Domain::parse("x:0:20:21").unwrap(),
-        ];
-        let mut seed = 11u64;
-        for round in 0..300 {
-            let dom = &doms[round % doms.len()];
-            let dim = dom.size();
-            let m = 1 + rng(&mut seed) as usize % 5;
-            let mut fs: Vec<IvpFunction> =
-                (0..m).map(|_| random_function(dom, &mut seed)).collect();
-            // Same gel boxes now and then, so functions share a grid geometry.
-            if m > 1 && round.is_multiple_of(2) {
-                let g = fs[0].gelbox().to_vec();
-                fs[1].set_gelbox(g).unwrap();
-            }
-            let refs: Vec<&IvpFunction> = fs.iter().collect();
-            let mut solver = Solver::new();
-            solver.solve(dom, &refs).unwrap();
-            let (funcs, active) = (&solver.funcs, &solver.active);
-            for _ in 0..50 {
-                let mut b = vec![];
-                for d in 0..dim {
-                    let pts = dom.var(d).points as u64;
-                    let lo = (rng(&mut seed) % pts) as i32;
-                    b.push(lo);
-                    b.push(lo + (rng(&mut seed) % (pts - lo as u64)) as i32);
-                }
-                let acc = (rng(&mut seed) % 1000) as f64 / 7.0;
-                for level in 0..active.len() {
-                    let mut want = acc;
-                    for &fi in &active[level..] {
-                        let f = &funcs[fi];
-                        want += if f.single {
-                            f.global_ub
-                        } else {
-                            let (mut best, mut any) = (NO_BOUND, false);
-                            for_each_cell(&f.ppg, &f.stride, &b, dim, |c| {
-                                if f.cell_filled[c] && (!any || f.cell_ub[c] > best) {
-                                    best = f.cell_ub[c];
-                                    any = true;
-                                }
-                                true
-                            });
-                            best
-                        };
-                    }
-                    let got = bound_rest(funcs, active, dim, level, &b, acc);
-                    assert_eq!(got.to_bits(), want.to_bits(), "round {round} box {b:?}");
-                }
-            }
-        }
-    }
-
-    /// One pass for both extremes gives the two separate passes' values.
-    #[test]
-    fn min_max_wt_equals_min_wt_and_max_wt() {
-        let dom = Domain::parse("x:0:9:10,y:0:6:7").unwrap();
-        let mut seed = 5u64;
-        for _ in 0..500 {
-            let f = random_function(&dom, &mut seed);
-            let (mn, mx) = f.min_max_wt();
-            assert_eq!(mn.to_bits(), f.min_wt().to_bits());
-            assert_eq!(mx.to_bits(), f.max_wt().to_bits());
-        }
-    }
-}
+mod equivalence_tests;
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,232 @@
+//! A finer index over the problem's last function when its own grid is one cell.
+//!
+//! The helm's last function is typically a Waypoint coupled function (tens of pieces,
+//! one grid cell), searched below every piece of a contact function's uniform tiling.
+//! With one cell, every node would test every piece for intersection and be bounded by
+//! the function's global maximum. This index lays the grid of the level above it (the
+//! cell size of the function at level `m-2`) over the last function and keeps, per
+//! cell, its pieces overlapping the cell **in array order** and a bound
+//! `max maxVal(piece ∩ cell)`.
+//!
+//! Neither changes the result:
+//! * a node inside one cell meets only pieces of that cell's list, and the list keeps
+//!   array order, which is the one-cell grid order: the same leaves in the same order;
+//! * a leaf below such a node lies in `node ∩ q ⊆ q ∩ cell`, so its value is at most
+//!   `maxVal(node) + maxVal(q ∩ cell)`: a valid bound (up to rounding, which the
+//!   search's slack covers).
+//!
+//! Nodes spanning several cells use the function's own (global) bound and scan all
+//! pieces, as before.
+
+use super::ODO_DIMS;
+use crate::function::max_val;
+
+#[derive(Debug, Default)]
+pub(super) struct LastIndex {
+    /// Whether the index was built for the current problem.
+    pub(super) on: bool,
+    dim: usize,
+    ppg: Vec<i32>,
+    stride: Vec<usize>,
+    /// Cell coordinate of every index, dimension `d` at `coord[span[d].0..]`, `span[d].1`
+    /// entries (the points of `d`).
+    coord: Vec<u32>,
+    span: [(usize, usize); ODO_DIMS],
+    /// Points then points per cell the coordinate table was made for.
+    coord_key: Vec<i32>,
+    start: Vec<u32>,
+    items: Vec<u32>,
+    cursor: Vec<u32>,
+    /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets.
+    ub: Vec<f64>,
+    clip: Vec<i32>,
+}
+
+impl LastIndex {
+    /// Index pieces `boxes`/`weights` (problem order, `n` pieces) on cells of `ppg`
+    /// points over a domain of `pts` points. Leaves the index off when a box leaves
+    /// the domain or the dimension is beyond the stack odometer.
+    pub(super) fn build(
+        &mut self,
+        ppg: &[i32],
+        pts: &[i32],
+        boxes: &[i32],
+        weights: &[f64],
+        n: usize,
+    ) {
+        let dim = pts.len();
+        self.on = false;
+        if dim == 0 || dim > ODO_DIMS || ppg.len() != dim || ppg.iter().any(|&p| p < 1) {
+            return;
+        }
+        self.dim = dim;
+        self.ppg.clear();
+        self.ppg.extend_from_slice(ppg);
+        self.stride.clear();
+        let mut total = 1usize;
+        for d in 0..dim {
+            self.stride.push(total);
+            total *= ((pts[d] + ppg[d] - 1) / ppg[d]).max(1) as usize;
+        }
+        self.make_coord_table(pts);
+        let (bl, wl) = (2 * dim, dim + 1);
+        self.start.clear();
+        self.start.resize(total + 1, 0);
+        self.ub.clear();
+        self.ub.resize(total, f64::NEG_INFINITY);
+        // Pass 1: count the pieces per cell (and check every box is inside the table).
+        for k in 0..n {
+            let Some((lo, hi)) = self.cell_span(&boxes[k * bl..(k + 1) * bl]) else {
+                return;
+            };
+            let start = &mut self.start;
+            walk(&lo, &hi, &self.stride, dim, |c, _| start[c + 1] += 1);
+        }
+        for c in 0..total {
+            self.start[c + 1] += self.start[c];
+        }
+        self.items.clear();
+        self.items.resize(self.start[total] as usize, 0);
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.start[..total]);
+        self.clip.clear();
+        self.clip.resize(bl, 0);
+        // Pass 2: pieces in array order into every cell they meet; cell bounds.
+        for k in 0..n {
+            let b = &boxes[k * bl..(k + 1) * bl];
+            let w = &weights[k * wl..(k + 1) * wl];
+            let Some((lo, hi)) = self.cell_span(b) else {
+                return;
+            };
+            let (items, cursor, ub, clip, ppg) = (
+                &mut self.items,
+                &mut self.cursor,
+                &mut self.ub,
+                &mut self.clip,
+                &self.ppg,
+            );
+            walk(&lo, &hi, &self.stride, dim, |c, cur| {
+                items[cursor[c] as usize] = k as u32;
+                cursor[c] += 1;
+                for d in 0..dim {
+                    let cell_lo = cur[d] as i32 * ppg[d];
+                    clip[2 * d] = b[2 * d].max(cell_lo);
+                    clip[2 * d + 1] = b[2 * d + 1].min(cell_lo + ppg[d] - 1);
+                }
+                let v = max_val(clip, w);
+                if v > ub[c] || v.is_nan() {
+                    ub[c] = v;
+                }
+            });
+        }
+        self.on = true;
+    }
+
+    fn make_coord_table(&mut self, pts: &[i32]) {
+        let dim = pts.len();
+        let fresh = self.coord_key.len() == 2 * dim
+            && self.coord_key[..dim] == *pts
+            && self.coord_key[dim..] == self.ppg[..];
+        if fresh {
+            return;
+        }
+        self.coord_key.clear();
+        self.coord_key.extend_from_slice(pts);
+        self.coord_key.extend_from_slice(&self.ppg);
+        self.coord.clear();
+        for d in 0..dim {
+            let at = self.coord.len();
+            let ppg = self.ppg[d];
+            self.coord
+                .extend((0..pts[d].max(0)).map(|i| (i / ppg) as u32));
+            self.span[d] = (at, self.coord.len() - at);
+        }
+    }
+
+    /// Cell coordinate of index `i` in dimension `d`, `None` outside the domain.
+    #[inline(always)]
+    fn coord(&self, d: usize, i: i32) -> Option<usize> {
+        let (at, len) = self.span[d];
+        let i = usize::try_from(i).ok()?;
+        if i < len {
+            Some(self.coord[at + i] as usize)
+        } else {
+            None
+        }
+    }
+
+    /// Lowest and highest cell coordinates box `b` meets.
+    fn cell_span(&self, b: &[i32]) -> Option<([usize; ODO_DIMS], [usize; ODO_DIMS])> {
+        let (mut lo, mut hi) = ([0; ODO_DIMS], [0; ODO_DIMS]);
+        for d in 0..self.dim {
+            lo[d] = self.coord(d, b[2 * d])?;
+            hi[d] = self.coord(d, b[2 * d + 1])?;
+            if lo[d] > hi[d] {
+                return None;
+            }
+        }
+        Some((lo, hi))
+    }
+
+    /// The one cell holding all of box `b`, if there is one.
+    #[inline]
+    pub(super) fn cell_of(&self, b: &[i32]) -> Option<usize> {
+        let mut c = 0;
+        for (d, (&(at, len), &stride)) in self.span.iter().zip(&self.stride).enumerate() {
+            if d == self.dim {
+                break;
+            }
+            // A negative index turns huge and fails the range test.
+            let (lo, hi) = (b[2 * d] as usize, b[2 * d + 1] as usize);
+            if lo >= len || hi >= len {
+                return None;
+            }
+            let k = self.coord[at + lo];
+            if self.coord[at + hi] != k {
+                return None;
+            }
+            c += k as usize * stride;
+        }
+        Some(c)
+    }
+
+    /// The bound of cell `c` (`-inf`: no piece meets it).
+    #[inline]
+    pub(super) fn bound(&self, c: usize) -> f64 {
+        self.ub[c]
+    }
+
+    /// The pieces meeting cell `c`, in array order.
+    #[inline]
+    pub(super) fn pieces(&self, c: usize) -> &[u32] {
+        &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
+}
+
+/// Visit the cells from `lo` to `hi` (any order will do: callers only append per cell),
+/// with each cell's coordinates.
+fn walk(
+    lo: &[usize; ODO_DIMS],
+    hi: &[usize; ODO_DIMS],
+    stride: &[usize],
+    dim: usize,
+    mut f: impl FnMut(usize, &[usize; ODO_DIMS]),
+) {
+    let mut cur = *lo;
+    loop {
+        let c = (0..dim).map(|d| cur[d] * stride[d]).sum();
+        f(c, &cur);
+        let mut d = 0;
+        loop {
+            if d == dim {
+                return;
+            }
+            if cur[d] < hi[d] {
+                cur[d] += 1;
+                break;
+            }
+            cur[d] = lo[d];
+            d += 1;
+        }
+    }
+}

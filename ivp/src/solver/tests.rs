@@ -1,0 +1,168 @@
+//! Unit tests of the solver's pieces (odometer, bounds).
+
+use super::*;
+
+/// The stack odometer visits exactly the cells, in exactly the order, of the
+/// reference's divide-per-cell count (the order fixes the search's tie-breaks).
+#[test]
+fn odometer_matches_the_divide_per_cell_order() {
+    let cases: [(&[i32], &[i32]); 4] = [
+        (&[9, 6], &[0, 359, 0, 40]),
+        (&[9, 6], &[17, 19, 5, 12]),
+        (&[4, 3, 2], &[3, 9, 0, 0, 1, 5]),
+        (&[2], &[7, 7]),
+    ];
+    for (ppg, b) in cases {
+        let mut stride = vec![];
+        let mut total = 1usize;
+        for &p in ppg {
+            stride.push(total);
+            total *= (400 / p as usize) + 1;
+        }
+        let dim = ppg.len();
+        let (mut fast, mut slow) = (vec![], vec![]);
+        for_each_cell(ppg, &stride, b, dim, |c| {
+            fast.push(c);
+            true
+        });
+        for_each_cell_any(ppg, &stride, b, dim, |c| {
+            slow.push(c);
+            true
+        });
+        assert!(!fast.is_empty());
+        assert_eq!(fast, slow, "{ppg:?} {b:?}");
+        let mut first = vec![];
+        for_each_cell(ppg, &stride, b, dim, |c| {
+            first.push(c);
+            false
+        });
+        assert_eq!(first, slow[..1]);
+    }
+}
+
+fn rng(seed: &mut u64) -> u64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    *seed >> 33
+}
+
+/// A random function over `dom`: random boxes and weights (overlapping, as some
+/// builders make them), a random gel box, with or without a builder grid.
+fn random_function(dom: &Domain, seed: &mut u64) -> IvpFunction {
+    let dim = dom.size();
+    let n = 1 + rng(seed) as usize % 40;
+    let mut pieces = vec![];
+    for _ in 0..n {
+        let mut b = vec![];
+        let mut w = vec![];
+        for d in 0..dim {
+            let pts = dom.var(d).points as u64;
+            let lo = (rng(seed) % pts) as i32;
+            let hi = lo + (rng(seed) % (pts - lo as u64)) as i32;
+            b.push((lo, hi));
+            w.push((rng(seed) % 2001) as f64 / 100.0 - 10.0);
+        }
+        w.push((rng(seed) % 20001) as f64 / 100.0 - 50.0);
+        pieces.push((b, w));
+    }
+    let mut f = IvpFunction::from_pieces(dom.clone(), &pieces).unwrap();
+    let gel = (0..dim)
+        .map(|d| (rng(seed) % u64::from(dom.var(d).points + 2)) as u32)
+        .collect();
+    f.set_gelbox(gel).unwrap();
+    if rng(seed).is_multiple_of(2) {
+        f.build_grid();
+    }
+    f.set_pwt(1.0 + (rng(seed) % 100) as f64);
+    f
+}
+
+/// The bounds the search prunes with (shared cell ranges, one-cell reads, tables;
+/// from level 1, the first function has no cells)
+/// are bit for bit the divide-per-cell cheap bounds summed left to right.
+#[test]
+fn bound_rest_equals_the_divide_per_cell_sum() {
+    let doms = [
+        Domain::parse("course:0:359:360,speed:0:4:41").unwrap(),
+        Domain::parse("x:0:9:10,y:0:6:7,z:0:2:3").unwrap(),
+        Domain::parse("x:0:20:21").unwrap(),
+    ];
+    let mut seed = 11u64;
+    for round in 0..300 {
+        let dom = &doms[round % doms.len()];
+        let dim = dom.size();
+        let m = 1 + rng(&mut seed) as usize % 5;
+        let mut fs: Vec<IvpFunction> = (0..m).map(|_| random_function(dom, &mut seed)).collect();
+        // Same gel boxes now and then, so functions share a grid geometry.
+        if m > 1 && round.is_multiple_of(2) {
+            let g = fs[0].gelbox().to_vec();
+            fs[1].set_gelbox(g).unwrap();
+        }
+        let refs: Vec<&IvpFunction> = fs.iter().collect();
+        let mut solver = Solver::new();
+        solver.solve(dom, &refs).unwrap();
+        let (funcs, active) = (&solver.funcs, &solver.active);
+        for _ in 0..50 {
+            let mut b = vec![];
+            for d in 0..dim {
+                let pts = dom.var(d).points as u64;
+                let lo = (rng(&mut seed) % pts) as i32;
+                b.push(lo);
+                b.push(lo + (rng(&mut seed) % (pts - lo as u64)) as i32);
+            }
+            let acc = (rng(&mut seed) % 1000) as f64 / 7.0;
+            for level in 1..active.len() {
+                let mut want = acc;
+                for &fi in &active[level..] {
+                    let f = &funcs[fi];
+                    want += if f.single {
+                        f.global_ub
+                    } else {
+                        let (mut best, mut any) = (NO_BOUND, false);
+                        for_each_cell(&f.ppg, &f.stride, &b, dim, |c| {
+                            if f.cell_filled[c] && (!any || f.cell_ub[c] > best) {
+                                best = f.cell_ub[c];
+                                any = true;
+                            }
+                            true
+                        });
+                        best
+                    };
+                }
+                let got = bound_rest(funcs, active, dim, level, &b, acc);
+                assert_eq!(got.to_bits(), want.to_bits(), "round {round} box {b:?}");
+            }
+        }
+    }
+}
+
+/// One pass for both extremes gives the two separate passes' values.
+#[test]
+fn min_max_wt_equals_min_wt_and_max_wt() {
+    let dom = Domain::parse("x:0:9:10,y:0:6:7").unwrap();
+    let mut seed = 5u64;
+    for _ in 0..500 {
+        let f = random_function(&dom, &mut seed);
+        let (mn, mx) = f.min_max_wt();
+        assert_eq!(mn.to_bits(), f.min_wt().to_bits());
+        assert_eq!(mx.to_bits(), f.max_wt().to_bits());
+    }
+}
+
+/// The solver's one-loop extremes equal the function's, bit for bit.
+#[test]
+fn solver_min_max_wt_equals_the_functions() {
+    let doms = [
+        Domain::parse("x:0:9:10,y:0:6:7").unwrap(),
+        Domain::parse("x:0:359:360").unwrap(),
+        Domain::parse("x:0:9:10,y:0:6:7,z:0:3:4").unwrap(),
+    ];
+    let mut seed = 7u64;
+    for round in 0..600 {
+        let f = random_function(&doms[round % doms.len()], &mut seed);
+        let (a, b) = min_max_wt(&f);
+        let (c, d) = f.min_max_wt();
+        assert_eq!((a.to_bits(), b.to_bits()), (c.to_bits(), d.to_bits()));
+    }
+}
