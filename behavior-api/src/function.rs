@@ -52,7 +52,9 @@ impl FunctionData {
 impl FunctionData {
     /// Move an `ivp` function into the ABI form: the piece buffers are moved, not copied.
     pub fn from_ivp(f: ivp::IvpFunction) -> FunctionData {
-        let domain = f.domain().to_string();
+        // One string of about the right size, written in place (not grown step by step).
+        let mut domain = String::with_capacity(32 * f.dim());
+        let _ = std::fmt::Write::write_fmt(&mut domain, format_args!("{}", f.domain()));
         let raw = f.into_raw_parts();
         FunctionData {
             domain: domain.into(),

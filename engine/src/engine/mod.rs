@@ -110,8 +110,10 @@ pub struct Helm {
     pub(crate) last_heartbeat: Option<f64>,
     /// The behavior set's conditions or flags changed: IVPHELM_STATEVARS may grow.
     pub(crate) statevars_dirty: bool,
-    /// Fields of the last IVPHELM_SUMMARY (empty: the next one is full).
-    pub(crate) summary_last: std::collections::HashMap<&'static str, String>,
+    /// Fields of the last IVPHELM_SUMMARY by position (empty: the next one is full),
+    /// and this iteration's, both kept for their strings.
+    pub(crate) summary_last: Vec<String>,
+    pub(crate) summary_fields: Vec<String>,
     pub(crate) last_decide_secs: f64,
     /// Apps seen in DB_CLIENTS (for `hold_on_apps`).
     pub(crate) apps_seen: Vec<String>,
@@ -130,6 +132,8 @@ pub struct Helm {
     /// BHV_IPF whole-function string and packet id, reused for every function.
     pub(crate) ipf_whole: String,
     pub(crate) ipf_id: String,
+    /// The solver's list of this iteration's functions, kept for its allocation.
+    pub(crate) function_refs: Vec<&'static ivp::IvpFunction>,
 }
 
 impl Helm {
@@ -201,16 +205,30 @@ impl Helm {
         self.post(var, crate::posting::Value::Num(value), "");
     }
 
-    /// Post only when the text differs from what was last posted under `var`.
+    /// Post only when the text differs from what was last posted under `var`. The
+    /// text is formatted into a scratch string and compared first: only a changed
+    /// value is kept (a new string the first time a variable is posted).
     pub(crate) fn post_on_change(&mut self, var: &'static str, value: crate::posting::Value) {
-        let text = match &value {
-            crate::posting::Value::Str(s) => s.clone(),
-            crate::posting::Value::Num(v) => format!("{v}"),
-        };
-        if self.last_posted.get(var) != Some(&text) {
-            self.last_posted.insert(var, text);
-            self.post(var, value, "");
+        use std::fmt::Write as _;
+        let mut text = self.pool.take();
+        match &value {
+            crate::posting::Value::Str(s) => text.push_str(s),
+            crate::posting::Value::Num(v) => {
+                let _ = write!(text, "{v}");
+            }
         }
+        if self.last_posted.get(var) == Some(&text) {
+            self.pool.give(text);
+            self.pool.give_value(value);
+            return;
+        }
+        if let Some(last) = self.last_posted.get_mut(var) {
+            std::mem::swap(last, &mut text);
+            self.pool.give(text);
+        } else {
+            self.last_posted.insert(var, text);
+        }
+        self.post(var, value, "");
     }
 
     pub(crate) fn register(&mut self, var: &str) {

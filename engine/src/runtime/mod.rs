@@ -20,6 +20,7 @@ use bhv::logic::LogicCondition;
 
 use crate::posting::Value;
 
+pub use behavior_api::push_compact;
 pub use common_params::apply_config_line;
 pub use macros::fmt3;
 pub use step::StepOutcome;
