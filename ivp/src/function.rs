@@ -206,28 +206,6 @@ impl IvpFunction {
         })
     }
 
-    /// Unchecked constructor for builders of this crate (layout is correct by construction).
-    pub(crate) fn new_unchecked(
-        domain: Domain,
-        bounds: Vec<i32>,
-        weights: Vec<f64>,
-    ) -> IvpFunction {
-        let gelbox = domain
-            .vars()
-            .iter()
-            .map(|v| v.points.saturating_sub(1))
-            .collect();
-        IvpFunction {
-            domain,
-            bounds,
-            weights,
-            pwt: 10.0,
-            context: String::new(),
-            gelbox,
-            grid: Vec::new(),
-        }
-    }
-
     /// Give the buffers away (no copy).
     pub fn into_raw_parts(self) -> RawFunction {
         RawFunction {
@@ -665,6 +643,9 @@ pub(crate) fn translate_into(
         debug_assert_eq!(weights.len() - w0, td + 1);
     }
 }
+
+// Building functions in recycled storage (issue 19).
+mod reuse;
 
 #[cfg(test)]
 mod tests {

@@ -169,6 +169,7 @@ impl Helm {
             summary_last: Default::default(),
             summary_fields: Default::default(),
             function_refs: Vec::new(),
+            report_var: String::new(),
             last_decide_secs: 0.0,
             desired_names: config
                 .domain

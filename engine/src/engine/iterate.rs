@@ -263,8 +263,10 @@ impl Helm {
         }
         self.mode_pairs = pairs;
 
-        for (name, _) in self.functions.drain(..) {
+        // Last iteration's functions: their storage goes to this iteration's builders.
+        for (name, f) in self.functions.drain(..) {
             self.pool.give(name);
+            f.recycle();
         }
         let created = std::time::Instant::now();
         for i in 0..self.behaviors.len() {
@@ -272,7 +274,7 @@ impl Helm {
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
-                match self.to_ivp(fd) {
+                match fd.into_ivp_on(&self.config.domain) {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         let context = f.context_mut();
@@ -352,41 +354,6 @@ impl Helm {
             };
             self.behaviors[i].core.messages.push(message);
         }
-    }
-
-    /// A function from a behavior, placed on the helm domain's variables.
-    fn to_ivp(&self, fd: behavior_api::FunctionData) -> Result<ivp::IvpFunction, String> {
-        let mut vars = Vec::new();
-        for spec in fd.domain.as_str().split(':').filter(|s| !s.is_empty()) {
-            let mut f = spec.split(',');
-            let name = f.next().unwrap_or("");
-            let Some(i) = self.config.domain.index_of(name) else {
-                return Err(format!("DomainVar {name} not recognized "));
-            };
-            let var = self.config.domain.var(i);
-            // The function must be on the helm's grid for that variable, not only share
-            // its name.
-            let num = |s: Option<&str>| s.and_then(|s| s.parse::<f64>().ok());
-            let same = num(f.next()).is_some_and(|v| (v - var.low).abs() <= 1e-5)
-                && num(f.next()).is_some_and(|v| (v - var.high).abs() <= 1e-5)
-                && num(f.next()).is_some_and(|v| v == f64::from(var.points));
-            if !same {
-                return Err(format!(
-                    "IvP function rejected: its variable `{spec}` is not the helm's `{name}` grid"
-                ));
-            }
-            vars.push(var.clone());
-        }
-        let raw = ivp::RawFunction {
-            vars,
-            bounds: fd.bounds.into_vec(),
-            weights: fd.weights.into_vec(),
-            pwt: fd.pwt,
-            context: String::new(),
-            gelbox: fd.gelbox.into_vec(),
-            grid: fd.grid.into_vec(),
-        };
-        ivp::IvpFunction::from_raw_parts(raw).map_err(|e| format!("IvP function rejected: {e}"))
     }
 
     /// §9.1: all-stop or the decision.

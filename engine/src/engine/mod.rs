@@ -132,6 +132,8 @@ pub struct Helm {
     /// BHV_IPF whole-function string and packet id, reused for every function.
     pub(crate) ipf_whole: String,
     pub(crate) ipf_id: String,
+    /// Scratch for a contact report's info-buffer variable names.
+    pub(crate) report_var: String,
     /// The solver's list of this iteration's functions, kept for its allocation.
     pub(crate) function_refs: Vec<&'static ivp::IvpFunction>,
 }
@@ -222,11 +224,8 @@ impl Helm {
             self.pool.give_value(value);
             return;
         }
-        if let Some(last) = self.last_posted.get_mut(var) {
-            std::mem::swap(last, &mut text);
-            self.pool.give(text);
-        } else {
-            self.last_posted.insert(var, text);
+        if let Some(old) = self.last_posted.insert(var, text) {
+            self.pool.give(old);
         }
         self.post(var, value, "");
     }

@@ -211,11 +211,8 @@ impl Helm {
                 continue;
             }
             self.post_str(var, &names);
-            match self.last_posted.get_mut(var) {
-                Some(last) => self.pool.give(std::mem::replace(last, names)),
-                None => {
-                    self.last_posted.insert(var, names);
-                }
+            if let Some(old) = self.last_posted.insert(var, names) {
+                self.pool.give(old);
             }
             self.post_num(cnt_var, n as f64);
         }

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 
 use super::iterate::DecisionSummary;
 use super::Helm;
-use crate::runtime::{push_compact, BehaviorCore, RunState};
+use crate::runtime::{push_compact, RunState};
 
 /// The summary's fields in order (`""`: the decisions, written without a name).
 const FIELDS: [&str; 14] = [
@@ -27,20 +27,6 @@ const FIELDS: [&str; 14] = [
     "ivpdomain",
     "halt_msg",
 ];
-
-/// `good/total` updates, or `n/a` (see [`BehaviorCore::update_counts`]).
-fn push_update_counts(out: &mut String, core: &BehaviorCore) {
-    if core.updates_var.is_empty() {
-        out.push_str("n/a");
-    } else {
-        let _ = write!(
-            out,
-            "{}/{}",
-            core.good_updates,
-            core.good_updates + core.bad_updates
-        );
-    }
-}
 
 impl Helm {
     /// Pieces of the function `name` produced this iteration (0 if none).
@@ -65,11 +51,11 @@ impl Helm {
                     "{}${:.2}${:.5}${}${:.5}$",
                     c.name, c.state_entry_time, c.pwt, pcs, 0.0
                 );
-                push_update_counts(out, c);
+                c.push_update_counts(out);
                 out.push_str("$1$$");
             } else {
                 let _ = write!(out, "{}${:.2}$", c.name, c.state_entry_time);
-                push_update_counts(out, c);
+                c.push_update_counts(out);
             }
         }
         if out.len() == start {
