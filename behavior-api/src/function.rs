@@ -8,6 +8,11 @@
 use abi_stable::std_types::{RString, RVec};
 use abi_stable::StableAbi;
 
+thread_local! {
+    /// Domain texts of functions the host has read, for the next ones built here.
+    static SPARE_TEXT: std::cell::RefCell<Vec<RString>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// An IvP function of degree 1 as plain data.
 #[repr(C)]
 #[derive(StableAbi, Clone, Debug, Default, PartialEq)]
@@ -51,17 +56,86 @@ impl FunctionData {
 
 impl FunctionData {
     /// Move an `ivp` function into the ABI form: the piece buffers are moved, not copied.
-    pub fn from_ivp(f: ivp::IvpFunction) -> FunctionData {
-        let domain = f.domain().to_string();
-        let raw = f.into_raw_parts();
+    ///
+    /// The domain text is written into a spare string of this thread and the rest of
+    /// the function (its domain) is recycled for later builds (see
+    /// [`ivp::IvpFunction::recycle`]).
+    pub fn from_ivp(mut f: ivp::IvpFunction) -> FunctionData {
+        let mut domain = SPARE_TEXT
+            .try_with(|s| s.borrow_mut().pop())
+            .ok()
+            .flatten()
+            .unwrap_or_default();
+        domain.clear();
+        domain.reserve(32 * f.dim());
+        let _ = std::fmt::Write::write_fmt(&mut domain, format_args!("{}", f.domain()));
+        let pwt = f.pwt();
+        let (bounds, weights, gelbox, grid) = f.take_buffers();
+        f.recycle();
         FunctionData {
-            domain: domain.into(),
-            bounds: raw.bounds.into(),
-            weights: raw.weights.into(),
-            pwt: raw.pwt,
-            gelbox: raw.gelbox.into(),
-            grid: raw.grid.into(),
+            domain,
+            bounds: bounds.into(),
+            weights: weights.into(),
+            pwt,
+            gelbox: gelbox.into(),
+            grid: grid.into(),
         }
+    }
+
+    /// Keep a function's domain text (once the host has read it) for a later
+    /// [`FunctionData::from_ivp`] on this thread. The text keeps its own allocator,
+    /// so one from a plugin is reused as it is, not copied.
+    pub fn recycle_domain(text: RString) {
+        let _ = SPARE_TEXT.try_with(|s| {
+            let mut s = s.borrow_mut();
+            if s.len() < 64 && text.capacity() > 0 {
+                s.push(text);
+            }
+        });
+    }
+
+    /// The host's side of [`FunctionData::from_ivp`]: the function placed on the helm
+    /// domain's variables, or why it is rejected. Its domain and buffers go into
+    /// storage recycled on this thread (see [`ivp::IvpFunction::recycle`]) and its domain
+    /// text is kept for the next `from_ivp`.
+    pub fn into_ivp_on(self, helm: &ivp::Domain) -> Result<ivp::IvpFunction, String> {
+        let fd = self;
+        let specs = || fd.domain.as_str().split(':').filter(|s| !s.is_empty());
+        for spec in specs() {
+            let mut f = spec.split(',');
+            let name = f.next().unwrap_or("");
+            let Some(i) = helm.index_of(name) else {
+                return Err(format!("DomainVar {name} not recognized "));
+            };
+            let var = helm.var(i);
+            // The function must be on the helm's grid for that variable, not only share
+            // its name.
+            let num = |s: Option<&str>| s.and_then(|s| s.parse::<f64>().ok());
+            let same = num(f.next()).is_some_and(|v| (v - var.low).abs() <= 1e-5)
+                && num(f.next()).is_some_and(|v| (v - var.high).abs() <= 1e-5)
+                && num(f.next()).is_some_and(|v| v == f64::from(var.points));
+            if !same {
+                return Err(format!(
+                    "IvP function rejected: its variable `{spec}` is not the helm's `{name}` grid"
+                ));
+            }
+        }
+        // Every name was found above.
+        let vars = specs()
+            .filter_map(|spec| helm.index_of(spec.split(',').next().unwrap_or("")))
+            .map(|i| helm.var(i));
+        let rejected = |e: ivp::IvpError| format!("IvP function rejected: {e}");
+        let domain = ivp::Domain::from_var_refs(vars).map_err(rejected)?;
+        FunctionData::recycle_domain(fd.domain);
+        ivp::IvpFunction::from_buffers(
+            domain,
+            fd.bounds.into_vec(),
+            fd.weights.into_vec(),
+            fd.gelbox.into_vec(),
+            fd.grid.into_vec(),
+            fd.pwt,
+        )
+        .map_err(rejected)
     }
 
     /// Variable names of the function's domain, in dimension order.

@@ -107,6 +107,18 @@ pub fn condition_vars(cond: &str) -> Vec<String> {
     out
 }
 
+/// [`fmt_f0`] appended to `out`.
+pub fn push_f0(out: &mut String, v: f64) {
+    use std::fmt::Write as _;
+    if v.is_nan() {
+        out.push_str("nan");
+    } else if v.is_infinite() {
+        out.push_str(if v > 0.0 { "inf" } else { "-inf" });
+    } else {
+        let _ = write!(out, "{v:.0}");
+    }
+}
+
 /// printf `%.0f` of a ratio, with C's spelling of infinities and NaN.
 pub fn fmt_f0(v: f64) -> String {
     if v.is_nan() {
@@ -154,5 +166,18 @@ mod tests {
         assert_eq!(fmt_f0(f64::INFINITY), "inf");
         assert_eq!(fmt_f0(f64::NAN), "nan");
         assert_eq!(fmt_f0(2.5), "2");
+        for v in [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            2.5,
+            -0.4,
+            1e20,
+            3.0,
+        ] {
+            let mut s = String::from("d=");
+            push_f0(&mut s, v);
+            assert_eq!(s, format!("d={}", fmt_f0(v)));
+        }
     }
 }

@@ -1,7 +1,24 @@
 //! OF_Coupler (spec §4): two functions over disjoint variables → one function.
 
+use std::cell::RefCell;
+
 use crate::error::IvpError;
 use crate::function::IvpFunction;
+
+/// The coupler's working lists, kept per thread (it runs for every Waypoint every
+/// iteration): f2's boxes, slopes and emptiness, one f1 box and its slopes.
+#[derive(Default)]
+struct Scratch {
+    q_boxes: Vec<i32>,
+    q_slopes: Vec<f64>,
+    q_ok: Vec<bool>,
+    p_box: Vec<i32>,
+    p_slopes: Vec<f64>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
 
 /// `couple(f1, f2, w1, w2)`: normalize f1 to `[0,w1]` and f2 to `[0,w2]`,
 /// then every `p ∩ q` (f1 outer, f2 inner) with summed weights over
@@ -60,13 +77,58 @@ pub fn try_couple(
     let td = dom.size();
     debug_assert_eq!(td, d1 + d2);
     let (bl, wl) = (2 * td, td + 1);
-    let (b1, w1s, b2, w2s) = (f1.bounds(), f1.weights(), f2.bounds(), f2.weights());
-    let full = |d: usize| (0, dom.var(d).points as i32 - 1);
+    let mut bounds = crate::zaic::spare::ints();
+    let mut weights = crate::zaic::spare::floats();
+    bounds.reserve(n1 * n2 * bl);
+    weights.reserve(n1 * n2 * wl);
+    SCRATCH.with_borrow_mut(|scratch| {
+        let (b1, b2) = (f1.bounds(), f2.bounds());
+        let (w1s, w2s) = (f1.weights(), f2.weights());
+        let full = |d: usize| (0, dom.var(d).points as i32 - 1);
+        pair_pieces(
+            scratch,
+            [b1, b2],
+            [w1s, w2s],
+            [d1, d2],
+            full,
+            &mut bounds,
+            &mut weights,
+        );
+    });
+    // The two inputs' storage goes to the next builds.
+    f1.recycle();
+    f2.recycle();
+    let mut out = IvpFunction::assemble(dom, bounds, weights);
+    if normalize {
+        out.normalize(0.0, 100.0);
+    }
+    Ok(out)
+}
+
+/// Every coupled piece: f1's piece `p` (outer) beside f2's `q` (inner), each box within
+/// the full ranges (`full(d)` in the union's dimension order), skipped when empty.
+fn pair_pieces(
+    scratch: &mut Scratch,
+    [b1, b2]: [&[i32]; 2],
+    [w1s, w2s]: [&[f64]; 2],
+    [d1, d2]: [usize; 2],
+    full: impl Fn(usize) -> (i32, i32),
+    bounds: &mut Vec<i32>,
+    weights: &mut Vec<f64>,
+) {
+    let (n1, n2) = (w1s.len() / (d1 + 1), w2s.len() / (d2 + 1));
+    let Scratch {
+        q_boxes,
+        q_slopes,
+        q_ok,
+        p_box,
+        p_slopes,
+    } = scratch;
+    q_boxes.clear();
+    q_slopes.clear();
+    q_ok.clear();
     // f2's side of every coupled piece, worked out once: its box within the full
     // ranges (None if that leaves it empty) and its slopes as `0.0 + b`.
-    let mut q_boxes = Vec::with_capacity(n2 * 2 * d2);
-    let mut q_slopes = Vec::with_capacity(n2 * d2);
-    let mut q_ok = Vec::with_capacity(n2);
     for q in 0..n2 {
         let qb = &b2[q * 2 * d2..(q + 1) * 2 * d2];
         let mut ok = true;
@@ -80,10 +142,6 @@ pub fn try_couple(
         q_slopes.extend(w2s[q * (d2 + 1)..q * (d2 + 1) + d2].iter().map(|b| 0.0 + b));
         q_ok.push(ok);
     }
-    let mut bounds = Vec::with_capacity(n1 * n2 * bl);
-    let mut weights = Vec::with_capacity(n1 * n2 * wl);
-    let mut p_box = Vec::with_capacity(2 * d1);
-    let mut p_slopes = Vec::with_capacity(d1);
     for p in 0..n1 {
         let (pb, pw) = (
             &b1[p * 2 * d1..(p + 1) * 2 * d1],
@@ -107,18 +165,13 @@ pub fn try_couple(
             if !q_ok[q] {
                 continue;
             }
-            bounds.extend_from_slice(&p_box);
+            bounds.extend_from_slice(p_box);
             bounds.extend_from_slice(&q_boxes[q * 2 * d2..(q + 1) * 2 * d2]);
-            weights.extend_from_slice(&p_slopes);
+            weights.extend_from_slice(p_slopes);
             weights.extend_from_slice(&q_slopes[q * d2..(q + 1) * d2]);
             weights.push(pw[d1] + w2s[q * (d2 + 1) + d2]);
         }
     }
-    let mut out = IvpFunction::new_unchecked(dom, bounds, weights);
-    if normalize {
-        out.normalize(0.0, 100.0);
-    }
-    Ok(out)
 }
 
 #[cfg(test)]
@@ -172,6 +225,43 @@ mod tests {
             }
         }
         (bounds, weights)
+    }
+
+    /// The waypoint's build (two peaks, coupled, normalized) for parameters `k`.
+    fn build(d: &Domain, k: u32) -> IvpFunction {
+        let x = f64::from(k);
+        let mut c = ZaicPeak::new(d, "course").unwrap();
+        c.set_value_wrap(true);
+        c.set_params((x * 37.0) % 360.0, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+        let i = c.add_component();
+        c.set_params((x * 71.0) % 360.0, 30.0, 180.0, 5.0, 0.0, 20.0, i);
+        let mut s = ZaicPeak::new(d, "speed").unwrap();
+        s.set_params((x * 0.13) % 4.0, 1.0, 1.6, 20.0, 0.0, 100.0, 0);
+        let (c, s) = (c.extract(false).unwrap(), s.extract(true).unwrap());
+        couple(c, s, 50.0, 50.0, true).unwrap()
+    }
+
+    #[test]
+    fn functions_built_in_recycled_storage_equal_fresh_ones() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        // On a thread of its own, every function built in fresh storage.
+        let fresh: Vec<IvpFunction> = std::thread::spawn({
+            let d = d.clone();
+            move || (0..60).map(|k| build(&d, k)).collect()
+        })
+        .join()
+        .unwrap();
+        // Here, each in the storage of the ones recycled before it (of other sizes).
+        for (k, want) in (0..60).zip(&fresh) {
+            let got = build(&d, k);
+            assert_eq!(&got, want, "build {k}");
+            let bits =
+                |f: &IvpFunction| f.weights().iter().map(|w| w.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&got), bits(want));
+            assert_eq!(got.grid_bounds(), want.grid_bounds());
+            got.recycle();
+            build(&d, k + 1000).recycle();
+        }
     }
 
     #[test]

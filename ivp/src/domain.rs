@@ -101,8 +101,45 @@ pub(crate) fn push_compact(out: &mut String, v: f64) {
         } else {
             out.push_str(itoa::Buffer::new().format(v as i64));
         }
-    } else {
+    } else if v.is_nan() {
         out.push_str(&compact(v));
+    } else {
+        // `%.5f` written in place, then trimmed as `compact` trims it (BHV_IPF writes
+        // every piece's numbers this way, every iteration).
+        use std::fmt::Write as _;
+        let start = out.len();
+        let _ = write!(out, "{v:.5}");
+        if out[start..].contains('.') {
+            let kept = out.trim_end_matches('0').trim_end_matches('.').len();
+            out.truncate(kept.max(start));
+        }
+        if &out[start..] == "-0" {
+            out.truncate(start);
+            out.push('0');
+        }
+    }
+}
+
+thread_local! {
+    /// Domains of functions done with, for the next ones built on this thread (see
+    /// `crate::zaic::spare`).
+    static SPARE_DOMAINS: std::cell::RefCell<Vec<Domain>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// A domain of copies of `vars`, in a spare domain's storage (its variable names
+/// reused). Room for a few variables is kept, so that coupling two functions' domains
+/// into one does not grow it.
+pub(crate) fn domain_of(vars: &[DomainVar]) -> Domain {
+    let spare = SPARE_DOMAINS.try_with(|s| s.borrow_mut().pop());
+    let mut d = spare.ok().flatten().unwrap_or_default();
+    d.assign_from(vars);
+    d
+}
+
+/// Keep a domain's storage for later builds.
+pub(crate) fn give_domain(domain: Domain) {
+    if domain.vars.capacity() > 0 {
+        let _ = SPARE_DOMAINS.try_with(|s| crate::zaic::spare::keep(&mut s.borrow_mut(), domain));
     }
 }
 
@@ -287,9 +324,54 @@ impl Domain {
 
     /// Append the variables of `other`, none of which is in `self` (the union of two
     /// disjoint domains, moving the variables instead of copying them).
-    pub(crate) fn append_disjoint(&mut self, other: Domain) {
+    pub(crate) fn append_disjoint(&mut self, mut other: Domain) {
         debug_assert!(other.vars.iter().all(|v| self.index_of(&v.name).is_none()));
-        self.vars.extend(other.vars);
+        self.vars.append(&mut other.vars);
+        give_domain(other);
+    }
+
+    /// Become a copy of `vars`, reusing this domain's variables and names (room for a
+    /// few variables is kept). Names of variables dropped or added go through the spare
+    /// strings of [`crate::zaic::spare`].
+    pub(crate) fn assign_from(&mut self, vars: &[DomainVar]) {
+        self.vars.reserve(vars.len().max(4));
+        while self.vars.len() > vars.len() {
+            if let Some(v) = self.vars.pop() {
+                crate::zaic::spare::give_string(v.name);
+            }
+        }
+        for (k, v) in vars.iter().enumerate() {
+            if let Some(slot) = self.vars.get_mut(k) {
+                slot.name.clear();
+                slot.name.push_str(&v.name);
+                (slot.low, slot.high, slot.points) = (v.low, v.high, v.points);
+            } else {
+                let mut name = crate::zaic::spare::string();
+                name.push_str(&v.name);
+                self.vars.push(DomainVar { name, ..*v });
+            }
+        }
+    }
+
+    /// A domain of copies of `vars`, checked as [`Domain::from_vars`] checks them, built
+    /// in the storage of a function recycled on this thread when there is one (see
+    /// [`crate::IvpFunction::recycle`]).
+    pub fn from_var_refs<'a>(
+        vars: impl IntoIterator<Item = &'a DomainVar>,
+    ) -> Result<Domain, IvpError> {
+        let mut d = domain_of(&[]);
+        for v in vars {
+            let mut name = crate::zaic::spare::string();
+            name.push_str(&v.name);
+            d.vars.push(DomainVar { name, ..*v });
+        }
+        for (k, v) in d.vars.iter().enumerate() {
+            validate(&v.name, v.low, v.high, v.points)?;
+            if d.vars[..k].iter().any(|u| u.name == v.name) {
+                return Err(IvpError::DuplicateVar(v.name.clone()));
+            }
+        }
+        Ok(d)
     }
 
     /// The variables, moved out.
@@ -347,7 +429,9 @@ impl fmt::Display for Domain {
             f.write_str(&v.name)?;
             for x in [v.low, v.high] {
                 f.write_str(",")?;
-                if x.fract() == 0.0 && x.abs() < 1e15 && x != 0.0 {
+                if x == 0.0 {
+                    f.write_str("0")?;
+                } else if x.fract() == 0.0 && x.abs() < 1e15 {
                     f.write_str(itoa::Buffer::new().format(x as i64))?;
                 } else {
                     f.write_str(&compact(x))?;
@@ -429,5 +513,46 @@ mod tests {
             d.union(&e).to_string(),
             "course,0,359,360:speed,0,2,21:depth,0,10,11"
         );
+    }
+
+    #[test]
+    fn push_compact_is_compact() {
+        let mut seed = 5u64;
+        let mut out = String::from("w=");
+        for k in 0..50_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let scale = [1e-7, 1e-4, 1.0, 1e3, 1e9, 1e17][k % 6];
+            let v = ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale;
+            for v in [
+                v,
+                v.round(),
+                -0.0,
+                f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ] {
+                out.truncate(2);
+                push_compact(&mut out, v);
+                assert_eq!(&out[2..], compact(v), "{v}");
+            }
+        }
+    }
+
+    #[test]
+    fn copies_reuse_and_check() {
+        let d = Domain::parse("course:0:359:360,speed:0:2:21").unwrap();
+        let mut e = Domain::parse("a:0:1:2,b:0:1:2,c:0:1:2").unwrap();
+        e.assign_from(d.vars());
+        assert_eq!(e, d);
+        e.assign_from(&d.vars()[1..]);
+        assert_eq!(e, d.sub_domain(&["speed"]));
+        let f = Domain::from_var_refs([d.var(1), d.var(0)]).unwrap();
+        assert_eq!(f, d.sub_domain(&["speed", "course"]));
+        assert!(matches!(
+            Domain::from_var_refs([d.var(0), d.var(0)]),
+            Err(IvpError::DuplicateVar(_))
+        ));
     }
 }

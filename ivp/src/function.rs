@@ -198,11 +198,7 @@ fn check_layout(
 /// dimension (`bounds` holds whole pieces of `domain`'s dimension, at least 1).
 fn bounds_in_range(domain: &Domain, bounds: &[i32]) -> bool {
     // The highest index as an i32: above i32::MAX no i32 exceeds it.
-    let tops: Vec<i32> = domain
-        .vars()
-        .iter()
-        .map(|v| (i64::from(v.points) - 1).min(i64::from(i32::MAX)) as i32)
-        .collect();
+    let top = |d: usize| (i64::from(domain.var(d).points) - 1).min(i64::from(i32::MAX)) as i32;
     fn all_in<const N: usize>(bounds: &[i32], tops: &[i32]) -> bool {
         let tops: [i32; N] = std::array::from_fn(|d| tops[d]);
         let mut bad = false;
@@ -215,7 +211,13 @@ fn bounds_in_range(domain: &Domain, bounds: &[i32]) -> bool {
         }
         !bad
     }
-    match tops.len() {
+    // The tops on the stack: this runs for every function crossing the ABI.
+    let n = domain.size();
+    let mut tops = [0i32; 4];
+    for (d, t) in tops.iter_mut().enumerate().take(n) {
+        *t = top(d);
+    }
+    match n {
         1 => all_in::<1>(bounds, &tops),
         2 => all_in::<2>(bounds, &tops),
         3 => all_in::<3>(bounds, &tops),
@@ -223,7 +225,7 @@ fn bounds_in_range(domain: &Domain, bounds: &[i32]) -> bool {
         n => bounds.chunks_exact(2 * n).all(|b| {
             (0..n).all(|d| {
                 let (lo, hi) = (b[2 * d], b[2 * d + 1]);
-                lo >= 0 && lo <= hi && hi <= tops[d]
+                lo >= 0 && lo <= hi && hi <= top(d)
             })
         }),
     }
@@ -274,28 +276,6 @@ impl IvpFunction {
             gelbox,
             grid: Vec::new(),
         })
-    }
-
-    /// Unchecked constructor for builders of this crate (layout is correct by construction).
-    pub(crate) fn new_unchecked(
-        domain: Domain,
-        bounds: Vec<i32>,
-        weights: Vec<f64>,
-    ) -> IvpFunction {
-        let gelbox = domain
-            .vars()
-            .iter()
-            .map(|v| v.points.saturating_sub(1))
-            .collect();
-        IvpFunction {
-            domain,
-            bounds,
-            weights,
-            pwt: 10.0,
-            context: String::new(),
-            gelbox,
-            grid: Vec::new(),
-        }
     }
 
     /// A builder's function whose search grid it computed along with the pieces (what
@@ -772,6 +752,9 @@ pub(crate) fn translate_into(
         debug_assert_eq!(weights.len() - w0, td + 1);
     }
 }
+
+// Building functions in recycled storage (issue 19).
+mod reuse;
 
 #[cfg(test)]
 mod tests {

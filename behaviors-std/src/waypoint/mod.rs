@@ -3,16 +3,21 @@
 
 pub mod engine;
 pub mod ipf;
+mod macros;
 pub mod params;
 
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{FunctionData, PostValue};
 use geometry::{
-    dist, fmt_x, perp_seg_int_pt, point_spec, project_point, pts_spec, rel_ang, seglist_spec,
-    Attrs, Polygon, Vertex,
+    dist, fmt_x, perp_seg_int_pt, point_spec, project_point, rel_ang, seglist_spec, Attrs, Polygon,
+    Vertex,
 };
 
-use crate::common::{fmt_f0, platform_update, subst, Platform};
+use std::fmt::Write as _;
+
+use behavior_api::push_compact;
+
+use crate::common::{platform_update, push_f0, Platform};
 use engine::{Advance, WaypointEngine};
 use params::WptHints;
 
@@ -27,6 +32,14 @@ pub struct BhvWaypoint {
     /// the same for as long as the vehicle heads to one waypoint (parameters clear them).
     nextpt_spec: Option<((u64, u64), String)>,
     trk_erase_spec: Option<String>,
+    /// Ownship and this behavior's name, read once per configuration (they do not
+    /// change while the behavior runs), and what is built from them every iteration:
+    /// the path's attributes, the trackpt's attribute fields, and a text buffer.
+    own: String,
+    me: String,
+    seg_attrs: Option<Attrs>,
+    trk_attrs: String,
+    text: String,
     ivp_domain: Option<ivp::Domain>,
     speed_high: Option<f64>,
     pub(crate) engine: WaypointEngine,
@@ -91,6 +104,11 @@ impl BhvWaypoint {
             path_tags: Vec::new(),
             nextpt_spec: None,
             trk_erase_spec: None,
+            own: String::new(),
+            me: String::new(),
+            seg_attrs: None,
+            trk_attrs: String::new(),
+            text: String::new(),
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
             speed_high: helm.var("speed").map(|v| v.high),
@@ -137,8 +155,21 @@ impl BhvWaypoint {
         }
     }
 
-    fn sfx(&self, var: &str) -> String {
-        format!("{var}{}", self.post_suffix)
+    /// `var` with the post suffix (borrowed as it is without one).
+    fn sfx<'a>(&self, var: &'a str) -> std::borrow::Cow<'a, str> {
+        if self.post_suffix.is_empty() {
+            var.into()
+        } else {
+            format!("{var}{}", self.post_suffix).into()
+        }
+    }
+
+    /// Read ownship and the behavior's name again, and forget what was built from them.
+    fn refresh_names(&mut self, ctx: &Ctx<'_>) {
+        self.own = ctx.ownship();
+        self.me = ctx.name();
+        self.seg_attrs = None;
+        self.trk_attrs.clear();
     }
 
     fn silent(v: &str) -> bool {
@@ -342,15 +373,21 @@ impl BhvWaypoint {
             let d = dist(self.plat.x, self.plat.y, nx, ny);
             let cap = self.engine.capture_hits();
             let tot = cap + self.engine.slip_hits();
-            let v = format!(
-                "vname={},behavior-name={},index={ix},hits={cap}/{tot},cycles={},dist={},eta={}",
-                ctx.ownship(),
-                ctx.name(),
+            // Written into the kept text buffer: this posting changes every iteration.
+            let mut v = std::mem::take(&mut self.text);
+            v.clear();
+            let _ = write!(
+                v,
+                "vname={},behavior-name={},index={ix},hits={cap}/{tot},cycles={},dist=",
+                self.own,
+                self.me,
                 self.engine.cycles(),
-                fmt_f0(d),
-                fmt_f0(d / self.plat.speed)
             );
+            push_f0(&mut v, d);
+            v.push_str(",eta=");
+            push_f0(&mut v, d / self.plat.speed);
             ctx.post_message(&self.sfx(&self.var_report), &v);
+            self.text = v;
         }
         if !Self::silent(&self.var_index) && ix as i64 != self.prev_waypt_index {
             ctx.post_message_num(&self.sfx(&self.var_index), ix as f64);
@@ -361,29 +398,28 @@ impl BhvWaypoint {
     }
 
     fn post_views(&mut self, ctx: &mut Ctx<'_>) {
-        let own = ctx.ownship();
-        let name = ctx.name();
-        let off = matches!(
-            self.hints.edge_color.to_ascii_lowercase().as_str(),
-            "off" | "inactive"
-        );
-        let seg = if off {
-            geometry::seglist_erase_spec(&format!("{own}_{name}"))
+        let (own, name) = (&self.own, &self.me);
+        let edge = &self.hints.edge_color;
+        if edge.eq_ignore_ascii_case("off") || edge.eq_ignore_ascii_case("inactive") {
+            let seg = geometry::seglist_erase_spec(&format!("{own}_{name}"));
+            ctx.post_message("VIEW_SEGLIST", &seg);
         } else {
-            let attrs = Attrs {
+            // The attributes are built once per configuration, the spec once per path.
+            let hints = &self.hints;
+            let attrs = self.seg_attrs.get_or_insert_with(|| Attrs {
                 label: format!("{own}_{name}"),
-                label_color: self.hints.label_color.clone(),
-                edge_color: self.hints.edge_color.clone(),
-                vertex_color: self.hints.vertex_color.clone(),
-                vertex_size: Some(self.hints.vertex_size),
-                edge_size: Some(self.hints.edge_size),
+                label_color: hints.label_color.clone(),
+                edge_color: hints.edge_color.clone(),
+                vertex_color: hints.vertex_color.clone(),
+                vertex_size: Some(hints.vertex_size),
+                edge_size: Some(hints.edge_size),
                 ..Attrs::default()
-            };
-            self.view_cache
-                .get_tagged(self.engine.points(), &self.path_tags, 3, &attrs)
-                .to_string()
-        };
-        ctx.post_message("VIEW_SEGLIST", &seg);
+            });
+            let seg = self
+                .view_cache
+                .get_tagged(self.engine.points(), &self.path_tags, 3, attrs);
+            ctx.post_message("VIEW_SEGLIST", seg);
+        }
         if self.draw_path_loop {
             let mut poly = Polygon::new(self.engine.points().to_vec());
             if poly.is_convex() {
@@ -399,29 +435,43 @@ impl BhvWaypoint {
         let (nx, ny) = self.nextpt.unwrap_or((0.0, 0.0));
         let key = (nx.to_bits(), ny.to_bits());
         if self.nextpt_spec.as_ref().is_none_or(|(k, _)| *k != key) {
-            let spec = point_spec(nx, ny, None, &self.nextpt_attrs(&own, true));
+            let spec = point_spec(nx, ny, None, &self.nextpt_attrs(&self.own, true));
             self.nextpt_spec = Some((key, spec));
         }
         if let Some((_, np)) = &self.nextpt_spec {
             ctx.post_message_key("VIEW_POINT", PostValue::from(np.as_str()), "wpt");
         }
         let (tx, ty) = self.trackpt;
-        let trk = if dist(tx, ty, nx, ny) > 5.0 {
-            let attrs = Attrs {
-                active: Some(true),
-                label: format!("{own}'s trackpt"),
-                label_color: self.hints.nextpt_color.clone(),
-                vertex_color: self.hints.nextpt_color.clone(),
-                vertex_size: Some(4.0),
-                ..Attrs::default()
-            };
-            point_spec(tx, ty, None, &attrs)
+        if dist(tx, ty, nx, ny) > 5.0 {
+            // `point_spec` written into the kept text buffer (the point moves every
+            // iteration), its attribute fields formatted once.
+            if self.trk_attrs.is_empty() {
+                let attrs = Attrs {
+                    active: Some(true),
+                    label: format!("{}'s trackpt", self.own),
+                    label_color: self.hints.nextpt_color.clone(),
+                    vertex_color: self.hints.nextpt_color.clone(),
+                    vertex_size: Some(4.0),
+                    ..Attrs::default()
+                };
+                self.trk_attrs = attrs.spec();
+            }
+            let mut trk = std::mem::take(&mut self.text);
+            trk.clear();
+            trk.push_str("x=");
+            push_compact(&mut trk, tx, 2);
+            trk.push_str(",y=");
+            push_compact(&mut trk, ty, 2);
+            trk.push_str(&self.trk_attrs);
+            ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
+            self.text = trk;
         } else {
-            self.trk_erase_spec
-                .get_or_insert_with(|| geometry::point_erase_spec(&format!("{own}'s trackpt")))
-                .clone()
-        };
-        ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
+            let own = &self.own;
+            let trk = self
+                .trk_erase_spec
+                .get_or_insert_with(|| geometry::point_erase_spec(&format!("{own}'s trackpt")));
+            ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
+        }
     }
 
     fn post_distances(&self, ctx: &mut Ctx<'_>) {
@@ -485,72 +535,6 @@ impl BhvWaypoint {
             }
         }
     }
-
-    /// Expand this type's macros (§2.6) in `text`.
-    pub fn expand_type_macros(&self, text: &str) -> String {
-        let mut s = text.to_string();
-        if !s.contains("$[") && !s.contains("$(") {
-            return s;
-        }
-        let n = self.engine.size();
-        let ix = self.engine.index();
-        let f3 = |v: f64| fmt_x(v, 3);
-        let b = |v: bool| if v { "1" } else { "0" };
-        let (nx, ny) = self
-            .nextpt
-            .or_else(|| self.engine.current().map(|p| (p.x, p.y)))
-            .unwrap_or((0.0, 0.0));
-        let (px, py) = self.prev_pt.unwrap_or((0.0, 0.0));
-        let cycrem = if self.engine.repeats_endless() {
-            "forever".to_string()
-        } else {
-            self.engine
-                .repeats()
-                .saturating_sub(self.engine.repeats_sofar())
-                .to_string()
-        };
-        let hits = self.engine.capture_hits() + self.engine.slip_hits();
-        let (ox, oy) = (self.plat.x, self.plat.y);
-        let subs: Vec<(&str, String)> = vec![
-            ("POINTS", pts_spec(self.engine.points(), 1)),
-            ("SPEED", f3(self.cruise_speed)),
-            ("SPEED_ALT", f3(self.speed_alt)),
-            ("USE_SPEED_ALT", b(self.use_alt_speed).into()),
-            ("IPF_TYPE", self.ipf_type.clone()),
-            ("WPT_FLAG_ON_START", b(self.wptflag_on_start).into()),
-            ("LEAD_TO_START", b(self.lead_to_start).into()),
-            ("LEAD_DAMPER", f3(self.lead_damper)),
-            (
-                "ORDER",
-                if self.engine.reverse() {
-                    "reverse"
-                } else {
-                    "normal"
-                }
-                .into(),
-            ),
-            ("NI", ix.to_string()),
-            ("IX", ix.to_string()),
-            ("NX", f3(nx)),
-            ("NY", f3(ny)),
-            ("PI", self.prev_waypt_index.to_string()),
-            ("PX", f3(px)),
-            ("PY", f3(py)),
-            ("X", f3(px)),
-            ("Y", f3(py)),
-            ("CYCLES", self.engine.cycles().to_string()),
-            ("CYCREM", cycrem),
-            ("WPTS_HIT", hits.to_string()),
-            ("WPTS_REM", n.saturating_sub(ix).to_string()),
-            ("WPTS", n.to_string()),
-            ("CYC_DIST_TOGO", f3(self.engine.dist_to_go_cycle(ox, oy))),
-            ("ALL_DIST_TOGO", f3(self.engine.dist_to_go_all(ox, oy))),
-        ];
-        for (k, v) in subs {
-            subst(&mut s, k, &v);
-        }
-        s
-    }
 }
 
 impl IvpBehavior for BhvWaypoint {
@@ -566,10 +550,13 @@ impl IvpBehavior for BhvWaypoint {
         // Hints and names may change what the cached point specs say.
         self.nextpt_spec = None;
         self.trk_erase_spec = None;
+        self.seg_attrs = None;
+        self.trk_attrs.clear();
         self.set_wpt_param(ctx, param, value)
     }
 
     fn on_params_complete(&mut self, ctx: &mut Ctx<'_>) {
+        self.refresh_names(ctx);
         ctx.add_info_vars("NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING");
         let settings = self.settings(&ctx.name());
         ctx.post_repeatable_message("BHV_SETTINGS", PostValue::from(settings.as_str()));
@@ -639,6 +626,9 @@ impl IvpBehavior for BhvWaypoint {
             return None;
         }
         self.engine.set_perpetual(ctx.perpetual());
+        if self.own.is_empty() && self.me.is_empty() {
+            self.refresh_names(ctx);
+        }
         let Some(p) = platform_update(ctx) else {
             self.post_nextpt_inactive(ctx);
             return None;

@@ -168,6 +168,9 @@ impl Helm {
             last_heartbeat: None,
             statevars_dirty: true,
             summary_last: Default::default(),
+            summary_fields: Default::default(),
+            function_refs: Vec::new(),
+            report_var: String::new(),
             last_decide_secs: 0.0,
             desired_names: config
                 .domain

@@ -87,14 +87,15 @@ impl Helm {
                 HelmState::Park
             };
         }
-        let mut state = self.state.as_str().to_string();
+        let mut state = self.pool.take();
+        state.push_str(self.state.as_str());
         if self.config.standby.is_some() && self.enabled() {
             state.push('+');
         }
         if self.state == HelmState::Disabled {
             self.post_on_change("IVPHELM_STATE", Value::Str(state));
         } else {
-            self.post_str("IVPHELM_STATE", &state);
+            self.post("IVPHELM_STATE", Value::Str(state), "");
         }
         if !self.enabled() {
             self.ib.clear_deltas();
@@ -262,8 +263,10 @@ impl Helm {
         }
         self.mode_pairs = pairs;
 
-        for (name, _) in self.functions.drain(..) {
+        // Last iteration's functions: their storage goes to this iteration's builders.
+        for (name, f) in self.functions.drain(..) {
             self.pool.give(name);
+            f.recycle();
         }
         let created = std::time::Instant::now();
         for i in 0..self.behaviors.len() {
@@ -271,7 +274,7 @@ impl Helm {
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
-                match self.to_ivp(fd) {
+                match fd.into_ivp_on(&self.config.domain) {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         let context = f.context_mut();
@@ -317,7 +320,9 @@ impl Helm {
         let solving = std::time::Instant::now();
         self.functions
             .sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
-        let refs: Vec<&ivp::IvpFunction> = self.functions.iter().map(|(_, f)| f).collect();
+        // The list of references lives in last iteration's allocation.
+        let mut refs = reuse_refs(std::mem::take(&mut self.function_refs));
+        refs.extend(self.functions.iter().map(|(_, f)| f));
         match self
             .solver
             .solve_into(&self.config.domain, &refs, &mut self.decision)
@@ -325,6 +330,7 @@ impl Helm {
             Ok(found) => summary.solved = found,
             Err(e) => summary.halted = Some(e.to_string()),
         }
+        self.function_refs = reuse_refs(refs);
         summary.solve_secs = solving.elapsed().as_secs_f64();
         summary
     }
@@ -353,44 +359,9 @@ impl Helm {
         }
     }
 
-    /// A function from a behavior, placed on the helm domain's variables.
-    fn to_ivp(&self, fd: behavior_api::FunctionData) -> Result<ivp::IvpFunction, String> {
-        let mut vars = Vec::new();
-        for spec in fd.domain.as_str().split(':').filter(|s| !s.is_empty()) {
-            let mut f = spec.split(',');
-            let name = f.next().unwrap_or("");
-            let Some(i) = self.config.domain.index_of(name) else {
-                return Err(format!("DomainVar {name} not recognized "));
-            };
-            let var = self.config.domain.var(i);
-            // The function must be on the helm's grid for that variable, not only share
-            // its name.
-            let num = |s: Option<&str>| s.and_then(|s| s.parse::<f64>().ok());
-            let same = num(f.next()).is_some_and(|v| (v - var.low).abs() <= 1e-5)
-                && num(f.next()).is_some_and(|v| (v - var.high).abs() <= 1e-5)
-                && num(f.next()).is_some_and(|v| v == f64::from(var.points));
-            if !same {
-                return Err(format!(
-                    "IvP function rejected: its variable `{spec}` is not the helm's `{name}` grid"
-                ));
-            }
-            vars.push(var.clone());
-        }
-        let raw = ivp::RawFunction {
-            vars,
-            bounds: fd.bounds.into_vec(),
-            weights: fd.weights.into_vec(),
-            pwt: fd.pwt,
-            context: String::new(),
-            gelbox: fd.gelbox.into_vec(),
-            grid: fd.grid.into_vec(),
-        };
-        ivp::IvpFunction::from_raw_parts(raw).map_err(|e| format!("IvP function rejected: {e}"))
-    }
-
     /// §9.1: all-stop or the decision.
     fn decide_all_stop(&mut self, s: &DecisionSummary) {
-        let mut msg = "clear".to_string();
+        let mut msg = std::borrow::Cow::Borrowed("clear");
         if s.halted.is_some() {
             msg = "BehaviorError".into();
         } else if s.functions == 0 {
@@ -398,18 +369,14 @@ impl Helm {
             // goals_mandatory "no active goal" is exactly this case, and NothingToDo
             // comes first in the spec's order.
             msg = "NothingToDo".into();
-        } else {
+        } else if (0..self.config.domain.size()).any(|i| self.missing_decision(i)) || !s.solved {
             let missing: Vec<String> = (0..self.config.domain.size())
-                .filter(|&i| {
-                    !self.config.optional.get(i).copied().unwrap_or(false)
-                        && self.decision.values.get(i).copied().flatten().is_none()
-                })
+                .filter(|&i| self.missing_decision(i))
                 .map(|i| self.config.domain.var(i).name.clone())
                 .collect();
-            if !missing.is_empty() || !s.solved {
-                msg = format!("MissingDecVars:{}", missing.join(","));
-                self.post_str("BHV_ERROR", &msg);
-            }
+            let text = format!("MissingDecVars:{}", missing.join(","));
+            self.post_str("BHV_ERROR", &text);
+            msg = text.into();
         }
         if msg != "clear" {
             self.all_stop(&msg);
@@ -418,10 +385,21 @@ impl Helm {
         self.all_stop("clear");
         for i in 0..self.config.domain.size() {
             if let Some(v) = self.decision.values.get(i).copied().flatten() {
-                let var = self.desired_names[i].0.clone();
-                self.post_num(&var, v);
+                let var = self.pool.copy_of(&self.desired_names[i].0);
+                let source_aux = self.pool.take();
+                self.outbox.push(Posting {
+                    var,
+                    value: Value::Num(v),
+                    source_aux,
+                });
             }
         }
+    }
+
+    /// A decision variable that is not optional and got no value.
+    fn missing_decision(&self, i: usize) -> bool {
+        !self.config.optional.get(i).copied().unwrap_or(false)
+            && self.decision.values.get(i).copied().flatten().is_none()
     }
 
     /// §9.2: the all-stop routine.
@@ -460,6 +438,13 @@ impl Helm {
             self.post_num(&var, 0.0);
         }
     }
+}
+
+/// An empty list of function references in `v`'s allocation (the solver's input is
+/// rebuilt every iteration; collecting in place keeps the buffer).
+fn reuse_refs<'b>(mut v: Vec<&ivp::IvpFunction>) -> Vec<&'b ivp::IvpFunction> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("cleared")).collect()
 }
 
 /// `DESIRED_<UPPER(name)>`, with course published as heading.

@@ -156,30 +156,27 @@ impl Helm {
             return;
         };
         let now = self.ib.curr_time();
-        let (group_var, type_var, group, vtype) = match self.env.ledger.ingest(report, now) {
+        // `<NAME>_NAV_GROUP` and `<NAME>_NAV_TYPE` written into a kept string (a report
+        // comes from every contact every second).
+        let mut var = std::mem::take(&mut self.report_var);
+        match self.env.ledger.ingest(report, now) {
             Ok(a) => {
-                let up = a.name.to_uppercase();
-                (
-                    format!("{up}_NAV_GROUP"),
-                    format!("{up}_NAV_TYPE"),
-                    a.group.to_string(),
-                    a.vtype.to_string(),
-                )
+                for (suffix, value) in [("_NAV_GROUP", &a.group), ("_NAV_TYPE", &a.vtype)] {
+                    var.clear();
+                    var.extend(a.name.chars().flat_map(char::to_uppercase));
+                    var.push_str(suffix);
+                    self.ib.set_string(&var, value, m.time);
+                }
             }
             Err(e) => {
                 for w in e.run_warnings(report) {
                     self.run_warning(&w);
                 }
-                (
-                    "_NAV_GROUP".into(),
-                    "_NAV_TYPE".into(),
-                    String::new(),
-                    String::new(),
-                )
+                self.ib.set_string("_NAV_GROUP", "", m.time);
+                self.ib.set_string("_NAV_TYPE", "", m.time);
             }
-        };
-        self.ib.set_string(&group_var, &group, m.time);
-        self.ib.set_string(&type_var, &vtype, m.time);
+        }
+        self.report_var = var;
     }
 
     /// Ownship's own report (pNodeReporter): not a contact, only its group, type, colour

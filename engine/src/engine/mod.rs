@@ -110,8 +110,10 @@ pub struct Helm {
     pub(crate) last_heartbeat: Option<f64>,
     /// The behavior set's conditions or flags changed: IVPHELM_STATEVARS may grow.
     pub(crate) statevars_dirty: bool,
-    /// Fields of the last IVPHELM_SUMMARY (empty: the next one is full).
-    pub(crate) summary_last: std::collections::HashMap<&'static str, String>,
+    /// Fields of the last IVPHELM_SUMMARY by position (empty: the next one is full),
+    /// and this iteration's, both kept for their strings.
+    pub(crate) summary_last: Vec<String>,
+    pub(crate) summary_fields: Vec<String>,
     pub(crate) last_decide_secs: f64,
     /// Apps seen in DB_CLIENTS (for `hold_on_apps`).
     pub(crate) apps_seen: Vec<String>,
@@ -132,6 +134,10 @@ pub struct Helm {
     pub(crate) ipf_id: String,
     /// BHV_IPF is not made at all (see [`Helm::set_ipf_posting`]).
     pub(crate) ipf_off: bool,
+    /// Scratch for a contact report's info-buffer variable names.
+    pub(crate) report_var: String,
+    /// The solver's list of this iteration's functions, kept for its allocation.
+    pub(crate) function_refs: Vec<&'static ivp::IvpFunction>,
 }
 
 impl Helm {
@@ -211,16 +217,27 @@ impl Helm {
         self.post(var, crate::posting::Value::Num(value), "");
     }
 
-    /// Post only when the text differs from what was last posted under `var`.
+    /// Post only when the text differs from what was last posted under `var`. The
+    /// text is formatted into a scratch string and compared first: only a changed
+    /// value is kept (a new string the first time a variable is posted).
     pub(crate) fn post_on_change(&mut self, var: &'static str, value: crate::posting::Value) {
-        let text = match &value {
-            crate::posting::Value::Str(s) => s.clone(),
-            crate::posting::Value::Num(v) => format!("{v}"),
-        };
-        if self.last_posted.get(var) != Some(&text) {
-            self.last_posted.insert(var, text);
-            self.post(var, value, "");
+        use std::fmt::Write as _;
+        let mut text = self.pool.take();
+        match &value {
+            crate::posting::Value::Str(s) => text.push_str(s),
+            crate::posting::Value::Num(v) => {
+                let _ = write!(text, "{v}");
+            }
         }
+        if self.last_posted.get(var) == Some(&text) {
+            self.pool.give(text);
+            self.pool.give_value(value);
+            return;
+        }
+        if let Some(old) = self.last_posted.insert(var, text) {
+            self.pool.give(old);
+        }
+        self.post(var, value, "");
     }
 
     pub(crate) fn register(&mut self, var: &str) {

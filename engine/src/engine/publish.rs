@@ -174,47 +174,47 @@ impl Helm {
         self.pool.give_value(m.value);
     }
 
-    /// §6 step 21: behavior lists and counts, each only when changed.
+    /// §6 step 21: behavior lists and counts, each only when changed (the list is
+    /// written into a spare string and compared before anything is kept).
     pub(crate) fn publish_behavior_lists(&mut self) {
-        let list = |h: &Helm, s: &[RunState]| -> (String, usize) {
-            let names: Vec<&str> = h
-                .behaviors
-                .iter()
-                .filter(|b| s.contains(&b.core.state))
-                .map(|b| b.core.name.as_str())
-                .collect();
-            (names.join(","), names.len())
-        };
-        let groups: [(&'static str, &'static str, &[RunState]); 4] = [
+        let groups = [
             (
                 "IVPHELM_BHV_ACTIVE",
                 "IVPHELM_BHV_ACTIVE_CNT",
-                &[RunState::Active],
+                RunState::Active,
             ),
             (
                 "IVPHELM_BHV_RUNNING",
                 "IVPHELM_BHV_RUNNING_CNT",
-                &[RunState::Running],
+                RunState::Running,
             ),
-            (
-                "IVPHELM_BHV_IDLE",
-                "IVPHELM_BHV_IDLE_CNT",
-                &[RunState::Idle],
-            ),
+            ("IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT", RunState::Idle),
             (
                 "IVPHELM_BHV_DISABLED",
                 "IVPHELM_BHV_DISABLED_CNT",
-                &[RunState::Disabled],
+                RunState::Disabled,
             ),
         ];
-        for (var, cnt_var, states) in groups {
-            let (names, n) = list(self, states);
-            let last = self.last_posted.get(var).cloned().unwrap_or_default();
-            if names != last {
-                self.last_posted.insert(var, names.clone());
-                self.post_str(var, &names);
-                self.post_num(cnt_var, n as f64);
+        for (var, cnt_var, state) in groups {
+            let mut names = self.pool.take();
+            let mut n = 0;
+            for b in self.behaviors.iter().filter(|b| b.core.state == state) {
+                if n > 0 {
+                    names.push(',');
+                }
+                names.push_str(&b.core.name);
+                n += 1;
             }
+            let last = self.last_posted.get(var).map_or("", String::as_str);
+            if names == last {
+                self.pool.give(names);
+                continue;
+            }
+            self.post_str(var, &names);
+            if let Some(old) = self.last_posted.insert(var, names) {
+                self.pool.give(old);
+            }
+            self.post_num(cnt_var, n as f64);
         }
     }
 }

@@ -46,7 +46,7 @@ fn value_text(v: &Value, out: &mut String) {
     out.clear();
     match v {
         Value::Str(s) => out.push_str(s),
-        Value::Num(n) => out.push_str(&compact(*n)),
+        Value::Num(n) => crate::runtime::push_compact(out, *n, 5),
     }
 }
 

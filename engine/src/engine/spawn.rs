@@ -67,12 +67,13 @@ impl Helm {
     pub(crate) fn process_spawns(&mut self, now: f64) {
         let mut warnings = Vec::new();
         for t in 0..self.templates.len() {
-            let Some(var) = self.templates[t].spec.updates_var.clone() else {
+            // Borrowed: nothing is copied unless a request came (the usual case).
+            let Some(var) = &self.templates[t].spec.updates_var else {
                 continue;
             };
             let requests: Vec<String> = self
                 .ib
-                .string_deltas(&var)
+                .string_deltas(var)
                 .iter()
                 .filter(|u| u.contains("name"))
                 .cloned()

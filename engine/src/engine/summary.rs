@@ -1,13 +1,32 @@
 //! `IVPHELM_SUMMARY` (helm.md §8.5): the first report is full, later ones carry `iter`,
 //! `utc_time` and the fields that changed.
+//!
+//! Every field is written into a string kept from the last iteration and compared with
+//! the field last reported, so a steady summary allocates nothing.
+
+use std::fmt::Write as _;
 
 use super::iterate::DecisionSummary;
 use super::Helm;
-use crate::runtime::RunState;
+use crate::runtime::{push_compact, RunState};
 
-fn compact(v: f64) -> String {
-    crate::runtime::fmt3(v)
-}
+/// The summary's fields in order (`""`: the decisions, written without a name).
+const FIELDS: [&str; 14] = [
+    "ofnum",
+    "total_pcs_formed",
+    "total_pcs_cached",
+    "warnings",
+    "",
+    "halted",
+    "active_goal",
+    "modes",
+    "running_bhvs",
+    "active_bhvs",
+    "disabled_bhvs",
+    "idle_bhvs",
+    "ivpdomain",
+    "halt_msg",
+];
 
 impl Helm {
     /// Pieces of the function `name` produced this iteration (0 if none).
@@ -18,79 +37,123 @@ impl Helm {
             .map_or(0, |(_, f)| f.piece_count())
     }
 
-    fn bhv_list(&self, states: &[RunState], active: bool) -> String {
-        let items: Vec<String> = self
-            .behaviors
-            .iter()
-            .filter(|b| states.contains(&b.core.state))
-            .map(|b| {
-                let upd = b.core.update_counts();
-                if active {
-                    let pcs = self.pieces_of(&b.core.name);
-                    format!(
-                        "{}${:.2}${:.5}${}${:.5}${}$1$$",
-                        b.core.name, b.core.state_entry_time, b.core.pwt, pcs, 0.0, upd
-                    )
-                } else {
-                    format!("{}${:.2}${}", b.core.name, b.core.state_entry_time, upd)
+    fn push_bhv_list(&self, out: &mut String, state: RunState, active: bool) {
+        let start = out.len();
+        for b in self.behaviors.iter().filter(|b| b.core.state == state) {
+            if out.len() > start {
+                out.push(':');
+            }
+            let c = &b.core;
+            if active {
+                let pcs = self.pieces_of(&c.name);
+                let _ = write!(
+                    out,
+                    "{}${:.2}${:.5}${}${:.5}$",
+                    c.name, c.state_entry_time, c.pwt, pcs, 0.0
+                );
+                c.push_update_counts(out);
+                out.push_str("$1$$");
+            } else {
+                let _ = write!(out, "{}${:.2}$", c.name, c.state_entry_time);
+                c.push_update_counts(out);
+            }
+        }
+        if out.len() == start {
+            out.push_str("none");
+        }
+    }
+
+    /// The modes as `var@value` joined by `#` (numbers compacted), or `none`.
+    fn push_modes(&self, out: &mut String) {
+        let cur = self.modes.current();
+        if cur.is_empty() {
+            out.push_str("none");
+        }
+        for (k, (var, val)) in cur.iter().enumerate() {
+            if k > 0 {
+                out.push('#');
+            }
+            out.push_str(var);
+            out.push('@');
+            if bhv::number::is_number(val) {
+                push_compact(out, bhv::number::atof(val), 6);
+            } else {
+                out.push_str(val);
+            }
+        }
+    }
+
+    /// Field `k` of this iteration's summary, written into `out` (cleared).
+    fn write_field(&self, k: usize, out: &mut String, s: &DecisionSummary) {
+        out.clear();
+        let mut digits = itoa::Buffer::new();
+        match k {
+            0 => out.push_str(digits.format(s.functions)),
+            1 => {
+                let pcs: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
+                out.push_str(digits.format(pcs));
+            }
+            2 => out.push('0'),
+            3 => out.push_str(digits.format(self.config_warnings.len())),
+            4 => {
+                for i in 0..self.config.domain.size() {
+                    if i > 0 {
+                        out.push(',');
+                    }
+                    out.push_str("var=");
+                    out.push_str(&self.config.domain.var(i).name);
+                    out.push(':');
+                    match self.decision.values.get(i).copied().flatten() {
+                        Some(v) if s.halted.is_none() && s.functions > 0 => push_compact(out, v, 3),
+                        _ => out.push_str("varbalk"),
+                    }
                 }
-            })
-            .collect();
-        if items.is_empty() {
-            "none".into()
-        } else {
-            items.join(":")
+            }
+            5 => out.push_str(if s.halted.is_some() { "true" } else { "false" }),
+            6 => out.push_str(if s.functions > 0 { "true" } else { "false" }),
+            7 => self.push_modes(out),
+            8 => self.push_bhv_list(out, RunState::Running, false),
+            9 => self.push_bhv_list(out, RunState::Active, true),
+            10 => self.push_bhv_list(out, RunState::Disabled, false),
+            11 => self.push_bhv_list(out, RunState::Idle, false),
+            12 => {
+                out.push('"');
+                out.push_str(&self.env.helm_domain);
+                out.push('"');
+            }
+            _ => out.push_str(s.halted.as_deref().unwrap_or("none")),
         }
     }
 
     /// Post IVPHELM_SUMMARY for this decision iteration.
     pub(crate) fn post_summary(&mut self, now: f64, s: &DecisionSummary) {
-        let mut fields: Vec<(&'static str, String)> = Vec::with_capacity(16);
-        fields.push(("ofnum", s.functions.to_string()));
-        let pcs: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
-        fields.push(("total_pcs_formed", pcs.to_string()));
-        fields.push(("total_pcs_cached", "0".into()));
-        fields.push(("warnings", self.config_warnings.len().to_string()));
-        let mut decisions = Vec::new();
-        for i in 0..self.config.domain.size() {
-            let name = &self.config.domain.var(i).name;
-            match self.decision.values.get(i).copied().flatten() {
-                Some(v) if s.halted.is_none() && s.functions > 0 => {
-                    decisions.push(format!("var={name}:{}", compact(v)))
-                }
-                _ => decisions.push(format!("var={name}:varbalk")),
-            }
+        let mut fields = std::mem::take(&mut self.summary_fields);
+        fields.resize_with(FIELDS.len(), String::new);
+        for (k, field) in fields.iter_mut().enumerate() {
+            self.write_field(k, field, s);
         }
-        fields.push(("", decisions.join(",")));
-        fields.push(("halted", s.halted.is_some().to_string()));
-        fields.push(("active_goal", (s.functions > 0).to_string()));
-        fields.push(("modes", self.modes.summary()));
-        fields.push(("running_bhvs", self.bhv_list(&[RunState::Running], false)));
-        fields.push(("active_bhvs", self.bhv_list(&[RunState::Active], true)));
-        fields.push(("disabled_bhvs", self.bhv_list(&[RunState::Disabled], false)));
-        fields.push(("idle_bhvs", self.bhv_list(&[RunState::Idle], false)));
-        fields.push(("ivpdomain", format!("\"{}\"", self.env.helm_domain)));
-        fields.push((
-            "halt_msg",
-            s.halted.clone().unwrap_or_else(|| "none".into()),
-        ));
-
         let full = self.summary_last.is_empty();
-        let mut out = format!("iter={},utc_time={:.2}", self.env.helm_iteration, now);
-        for (k, v) in &fields {
+        let mut out = self.pool.take();
+        let _ = write!(out, "iter={},utc_time={:.2}", self.env.helm_iteration, now);
+        for (k, v) in fields.iter().enumerate() {
             let changed = self.summary_last.get(k) != Some(v);
             if full || changed {
                 out.push(',');
-                if !k.is_empty() {
-                    out.push_str(k);
+                if !FIELDS[k].is_empty() {
+                    out.push_str(FIELDS[k]);
                     out.push('=');
                 }
                 out.push_str(v);
             }
         }
-        for (k, v) in fields {
-            self.summary_last.insert(k, v);
+        self.summary_last.resize_with(FIELDS.len(), String::new);
+        for (last, v) in self.summary_last.iter_mut().zip(&fields) {
+            if last != v {
+                last.clear();
+                last.push_str(v);
+            }
         }
-        self.post_str("IVPHELM_SUMMARY", &out);
+        self.summary_fields = fields;
+        self.post("IVPHELM_SUMMARY", crate::posting::Value::Str(out), "");
     }
 }

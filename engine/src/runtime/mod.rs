@@ -20,6 +20,7 @@ use bhv::logic::LogicCondition;
 
 use crate::posting::Value;
 
+pub use behavior_api::push_compact;
 pub use common_params::apply_config_line;
 pub use macros::fmt3;
 pub use step::StepOutcome;
@@ -151,14 +152,19 @@ impl BehaviorCore {
     /// Good updates over all updates (`3/4`), or `n/a` without an updates variable: the
     /// form of the appcast report and IVPHELM_SUMMARY.
     pub fn update_counts(&self) -> String {
+        let mut out = String::new();
+        self.push_update_counts(&mut out);
+        out
+    }
+
+    /// [`BehaviorCore::update_counts`] appended to `out`.
+    pub fn push_update_counts(&self, out: &mut String) {
+        use std::fmt::Write as _;
         if self.updates_var.is_empty() {
-            "n/a".to_string()
+            out.push_str("n/a");
         } else {
-            format!(
-                "{}/{}",
-                self.good_updates,
-                self.good_updates + self.bad_updates
-            )
+            let (good, all) = (self.good_updates, self.good_updates + self.bad_updates);
+            let _ = write!(out, "{good}/{all}");
         }
     }
 

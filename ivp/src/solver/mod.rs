@@ -288,9 +288,18 @@ pub struct Solver {
     prev: Vec<i32>,
     seed_b: Vec<i32>,
     seed_w: Vec<f64>,
+    /// The allocation of each solve's list of box slices, kept empty between solves.
+    boxes_buf: Vec<&'static [i32]>,
     /// Last solve: (seeded, searched again unseeded), for the tests.
     #[cfg(test)]
     stats: (usize, usize),
+}
+
+/// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
+/// in place, so the buffer is kept and nothing of the old borrows remains.
+fn recycle_slices<'b>(mut v: Vec<&[i32]>) -> Vec<&'b [i32]> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("cleared")).collect()
 }
 
 /// `acc + Σ_{k >= level} cheapBound(F[k], b)`, accumulated left to right.
@@ -757,17 +766,14 @@ impl Solver {
         self.node_w.resize(m * wl, 0.0);
         self.best_b.resize(bl, 0);
         self.best_w.resize(wl, 0.0);
-        let boxes: Vec<&[i32]> = functions
-            .iter()
-            .zip(&self.funcs)
-            .map(|(f, p)| {
-                if p.borrowed {
-                    f.bounds()
-                } else {
-                    &p.bounds[..]
-                }
-            })
-            .collect();
+        let mut boxes = recycle_slices(std::mem::take(&mut self.boxes_buf));
+        boxes.extend(functions.iter().zip(&self.funcs).map(|(f, p)| {
+            if p.borrowed {
+                f.bounds()
+            } else {
+                &p.bounds[..]
+            }
+        }));
         index_last(&mut self.last, &self.funcs, &self.active, &self.pts, &boxes);
         // Rounding tolerance: a leaf value or a bound is a sum of fewer than
         // `4(m + dim + 2)` rounded operations (builder grids: a few more, once) on
@@ -822,6 +828,7 @@ impl Solver {
             s.run();
         }
         let (found, best) = (s.found, s.best);
+        self.boxes_buf = recycle_slices(boxes);
         if !found {
             return Ok(false);
         }

@@ -7,6 +7,7 @@
 mod heq;
 mod peak;
 mod peak_scan;
+pub mod spare;
 mod spd;
 mod vector;
 
@@ -21,11 +22,11 @@ use crate::function::IvpFunction;
 
 /// The one-variable domain of a builder.
 pub(crate) fn one_var(domain: &Domain, var: &str) -> Result<Domain, IvpError> {
-    let d = domain.sub_domain(&[var]);
-    if d.size() != 1 {
-        return Err(IvpError::UnknownVar(var.to_string()));
+    match domain.index_of(var) {
+        // In a spare domain's storage (every builder is made again every iteration).
+        Some(i) => Ok(crate::domain::domain_of(&domain.vars()[i..=i])),
+        None => Err(IvpError::UnknownVar(var.to_string())),
     }
-    Ok(d)
 }
 
 /// Accumulates 1-D pieces in order.
@@ -36,6 +37,15 @@ pub(crate) struct Pieces1 {
 }
 
 impl Pieces1 {
+    /// Empty, in spare buffers with room for the usual few pieces, so the pushes do not
+    /// regrow them step by step on every build.
+    pub(crate) fn spare() -> Pieces1 {
+        let (mut bounds, mut weights) = (spare::ints(), spare::floats());
+        bounds.reserve(2 * SAMPLE_PIECES);
+        weights.reserve(2 * SAMPLE_PIECES);
+        Pieces1 { bounds, weights }
+    }
+
     pub(crate) fn push(&mut self, lo: i32, hi: i32, slope: f64, intercept: f64) {
         self.bounds.push(lo);
         self.bounds.push(hi);
@@ -56,8 +66,8 @@ impl Pieces1 {
 
     /// The function, with its (single-cell) grid built as the reference builders do.
     pub(crate) fn finish(self, domain: Domain) -> IvpFunction {
-        let mut f = IvpFunction::new_unchecked(domain, self.bounds, self.weights);
-        f.build_grid();
+        let mut f = IvpFunction::assemble(domain, self.bounds, self.weights);
+        f.build_whole_grid();
         f
     }
 }
@@ -80,12 +90,7 @@ pub(crate) fn pieces_by_scan(
     mut value: impl FnMut(usize) -> f64,
     mut skip: impl FnMut(usize, usize) -> usize,
 ) -> Pieces1 {
-    // Room for the usual few pieces up front, so the pushes below do not regrow the
-    // vectors step by step on every build.
-    let mut out = Pieces1 {
-        bounds: Vec::with_capacity(2 * SAMPLE_PIECES),
-        weights: Vec::with_capacity(2 * SAMPLE_PIECES),
-    };
+    let mut out = Pieces1::spare();
     if n < 2 {
         return out;
     }
@@ -159,7 +164,7 @@ pub(crate) fn pieces_from_anchors(d: &[i32], r: &[f64], n: i32) -> Option<Pieces
     {
         return None;
     }
-    let mut out = Pieces1::default();
+    let mut out = Pieces1::spare();
     if k == 1 {
         out.push_anchor(d[0], d[0], r[0], d[0], r[0]);
         return Some(out);

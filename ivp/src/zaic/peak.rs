@@ -6,6 +6,11 @@ use crate::error::IvpError;
 use crate::function::IvpFunction;
 
 thread_local! {
+    /// Components of dropped builders, for the next ones on this thread.
+    static SPARE_COMPS: std::cell::RefCell<Vec<Vec<Component>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+thread_local! {
     static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
@@ -162,12 +167,30 @@ pub struct ZaicPeak {
     error: Option<IvpError>,
 }
 
+/// A builder's storage goes to the spares when it is dropped (one is made for every
+/// ZAIC of every behavior every iteration).
+impl Drop for ZaicPeak {
+    fn drop(&mut self) {
+        let mut comps = std::mem::take(&mut self.comps);
+        if comps.capacity() > 0 {
+            comps.clear();
+            let _ = SPARE_COMPS.try_with(|s| super::spare::keep(&mut s.borrow_mut(), comps));
+        }
+        crate::domain::give_domain(std::mem::take(&mut self.domain));
+    }
+}
+
 impl ZaicPeak {
     /// Builder over variable `var` of `domain` (fails if `var` is missing).
     pub fn new(domain: &Domain, var: &str) -> Result<Self, IvpError> {
         Ok(ZaicPeak {
             domain: one_var(domain, var)?,
-            comps: vec![Component::default()],
+            comps: {
+                let spare = SPARE_COMPS.try_with(|s| s.borrow_mut().pop());
+                let mut comps = spare.ok().flatten().unwrap_or_default();
+                comps.push(Component::default());
+                comps
+            },
             value_wrap: false,
             summit_insist: true,
             warnings: String::new(),
@@ -331,7 +354,7 @@ impl ZaicPeak {
             wrap: self.value_wrap,
         };
         if let Some(p) = super::peak_scan::pieces(&self.comps, grid, maxval) {
-            return Ok(p.finish(self.domain.clone()));
+            return Ok(p.finish(crate::domain::domain_of(self.domain.vars())));
         }
         let n = grid.points;
         // Sample buffers reused per thread: this runs for every ZAIC of every behavior
@@ -340,7 +363,7 @@ impl ZaicPeak {
             scratch.resize(2 * n, 0.0);
             let (total, vals) = scratch.split_at_mut(n);
             self.sample_into(maxval, total, vals);
-            Ok(pieces_from_samples(total).finish(self.domain.clone()))
+            Ok(pieces_from_samples(total).finish(crate::domain::domain_of(self.domain.vars())))
         })
     }
 

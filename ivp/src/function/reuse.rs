@@ -1,0 +1,102 @@
+//! Functions rebuilt every iteration live in the buffers of the ones dropped before
+//! them (issue 19: a helm iteration allocates nothing in steady state), kept per
+//! thread in `crate::zaic::spare` (domains in `crate::domain`).
+
+use super::{grid_total, max_val, IvpFunction};
+use crate::domain::Domain;
+use crate::error::IvpError;
+use crate::zaic::spare;
+
+impl IvpFunction {
+    /// Give this function's buffers to the builders of later functions on this thread
+    /// (the helm does this with every function once it has solved).
+    pub fn recycle(self) {
+        spare::give_ints(self.bounds);
+        spare::give_floats(self.weights);
+        spare::give_floats(self.grid);
+        spare::give_uints(self.gelbox);
+        spare::give_string(self.context);
+        crate::domain::give_domain(self.domain);
+    }
+
+    /// Move out the piece buffers (bounds, weights, gel box, grid), leaving them empty:
+    /// the rest of the function can then be recycled apart.
+    pub fn take_buffers(&mut self) -> (Vec<i32>, Vec<f64>, Vec<u32>, Vec<f64>) {
+        (
+            std::mem::take(&mut self.bounds),
+            std::mem::take(&mut self.weights),
+            std::mem::take(&mut self.gelbox),
+            std::mem::take(&mut self.grid),
+        )
+    }
+
+    /// [`IvpFunction::from_raw_parts`] over a domain built apart (e.g. by
+    /// [`Domain::from_var_refs`]), checked the same way; the context string is a spare.
+    pub fn from_buffers(
+        domain: Domain,
+        bounds: Vec<i32>,
+        weights: Vec<f64>,
+        gelbox: Vec<u32>,
+        grid: Vec<f64>,
+        pwt: f64,
+    ) -> Result<IvpFunction, IvpError> {
+        let mut f = Self::from_flat(domain, bounds, weights, gelbox)?;
+        f.pwt = pwt;
+        f.context = spare::string();
+        if !grid.is_empty() {
+            let cells = grid_total(&f.domain, &f.gelbox);
+            if grid.len() != cells {
+                return Err(IvpError::Invalid {
+                    param: "grid".into(),
+                    reason: format!("needs {cells} cell bounds"),
+                });
+            }
+            f.grid = grid;
+        }
+        Ok(f)
+    }
+
+    /// Unchecked constructor for builders of this crate (layout is correct by
+    /// construction), with the gel box (the whole domain) in a spare buffer.
+    pub(crate) fn assemble(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>) -> IvpFunction {
+        let mut gelbox = spare::uints();
+        gelbox.extend(domain.vars().iter().map(|v| v.points.saturating_sub(1)));
+        IvpFunction {
+            domain,
+            bounds,
+            weights,
+            pwt: 10.0,
+            context: String::new(),
+            gelbox,
+            grid: Vec::new(),
+        }
+    }
+
+    /// [`IvpFunction::build_grid`] for a builder's function, in a spare buffer: with the
+    /// whole domain as gel box there is one cell, the max over the pieces (the same
+    /// rule as there); any other gel box goes to `build_grid`.
+    pub(crate) fn build_whole_grid(&mut self) {
+        let dim = self.dim();
+        if dim == 0 || grid_total(&self.domain, &self.gelbox) != 1 {
+            self.build_grid();
+            return;
+        }
+        let mut g = std::mem::take(&mut self.grid);
+        if g.capacity() == 0 {
+            g = spare::floats();
+        }
+        g.clear();
+        g.push(f64::NEG_INFINITY);
+        for (b, w) in self
+            .bounds
+            .chunks_exact(2 * dim)
+            .zip(self.weights.chunks_exact(dim + 1))
+        {
+            let v = max_val(b, w);
+            if g[0] == f64::NEG_INFINITY || v > g[0] {
+                g[0] = v;
+            }
+        }
+        self.grid = g;
+    }
+}

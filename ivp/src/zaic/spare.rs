@@ -1,0 +1,92 @@
+//! Spare buffers of functions that are done with, for the next ones built on this thread
+//! (issue 19: a helm iteration allocates nothing in steady state).
+//!
+//! A behavior builds its objective functions again every iteration (ZAICs, then the
+//! coupler), and the helm drops them after the solve. The helm hands each dropped
+//! function to [`crate::IvpFunction::recycle`]; builders take their buffers from here
+//! (domains are kept the same way in `crate::domain`). The storage only changes hands
+//! within one thread (the helm runs its behaviors on its own thread), so no lock is
+//! needed. A plugin has its own copy of this crate and so its own, usually empty,
+//! spares: it allocates as before, with the same results.
+
+use std::cell::RefCell;
+
+/// More spares of one kind than any iteration uses are let go.
+pub(crate) const MAX_SPARE: usize = 64;
+
+#[derive(Default)]
+struct Spare {
+    ints: Vec<Vec<i32>>,
+    floats: Vec<Vec<f64>>,
+    uints: Vec<Vec<u32>>,
+    strings: Vec<String>,
+}
+
+thread_local! {
+    static SPARE: RefCell<Spare> = RefCell::new(Spare::default());
+}
+
+fn take<T: Default>(pick: impl FnOnce(&mut Spare) -> Option<T>) -> T {
+    SPARE
+        .try_with(|s| s.try_borrow_mut().ok().and_then(|mut s| pick(&mut s)))
+        .ok()
+        .flatten()
+        .unwrap_or_default()
+}
+
+fn give(put: impl FnOnce(&mut Spare)) {
+    let _ = SPARE.try_with(|s| {
+        if let Ok(mut s) = s.try_borrow_mut() {
+            put(&mut s);
+        }
+    });
+}
+
+/// Keep `item` in `list` unless it is full (the caller cleared it).
+pub(crate) fn keep<T>(list: &mut Vec<T>, item: T) {
+    if list.len() < MAX_SPARE {
+        list.push(item);
+    }
+}
+
+/// An empty vector, in a spare allocation when one is kept.
+pub(crate) fn ints() -> Vec<i32> {
+    take(|s| s.ints.pop())
+}
+pub(crate) fn floats() -> Vec<f64> {
+    take(|s| s.floats.pop())
+}
+pub(crate) fn uints() -> Vec<u32> {
+    take(|s| s.uints.pop())
+}
+/// An empty string, in a spare allocation when one is kept.
+pub fn string() -> String {
+    take(|s| s.strings.pop())
+}
+
+/// Keep a vector's allocation for later builds (an empty one is not worth keeping).
+pub(crate) fn give_ints(mut v: Vec<i32>) {
+    if v.capacity() > 0 {
+        v.clear();
+        give(|s| keep(&mut s.ints, v));
+    }
+}
+pub(crate) fn give_floats(mut v: Vec<f64>) {
+    if v.capacity() > 0 {
+        v.clear();
+        give(|s| keep(&mut s.floats, v));
+    }
+}
+pub(crate) fn give_uints(mut v: Vec<u32>) {
+    if v.capacity() > 0 {
+        v.clear();
+        give(|s| keep(&mut s.uints, v));
+    }
+}
+/// Keep a string for later builds (a function's context, a variable's name).
+pub fn give_string(mut text: String) {
+    if text.capacity() > 0 {
+        text.clear();
+        give(|s| keep(&mut s.strings, text));
+    }
+}
