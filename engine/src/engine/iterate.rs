@@ -348,7 +348,7 @@ impl Helm {
         self.ipf_id.push_str(itoa::Buffer::new().format(iter));
         let packets = ivp::ipf::Packets::new(&self.ipf_id, &self.ipf_whole);
         for k in 1..=packets.count() {
-            let mut p = self.pool.take();
+            let mut p = self.pool.take_long();
             packets.write(k, &mut p);
             let message = crate::runtime::Message {
                 var: self.pool.copy_of("BHV_IPF"),
