@@ -560,7 +560,7 @@ impl CpaEngine {
 
 #[path = "engine_heading.rs"]
 mod heading;
-pub use heading::Heading;
+pub use heading::{BowStarRate, Heading, Sides};
 
 #[cfg(test)]
 #[path = "engine_tests.rs"]

@@ -282,6 +282,16 @@ fn queries_at_a_heading_give_the_same_bits() {
                     e.crosses_stern(h, v),
                 );
                 assert_eq!(at, plain, "{cx},{cy},{ch},{cv} h={h} v={v}");
+                let jumpless = e.bow_star_rate_at(&e.sides(), &hd, v);
+                assert_eq!(
+                    (jumpless.crosses_bow, jumpless.passes_star),
+                    (at.3, at.2),
+                    "{cx},{cy},{ch},{cv} h={h} v={v}"
+                );
+                assert_eq!(
+                    jumpless.bearing_rate.to_bits(),
+                    e.bearing_rate_at(&hd, v).to_bits()
+                );
                 let (a, p) = (e.cpa_at(&hd, v, tol), e.cpa_time(h, v, tol));
                 let u = e.cpa_unit(e.unit(h), v, tol);
                 for (x, y) in [

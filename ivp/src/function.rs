@@ -117,6 +117,44 @@ fn min_max_n<const N: usize>(bounds: &[i32], weights: &[f64]) -> (f64, f64) {
     (mn, mx)
 }
 
+/// [`IvpFunction::normalize_from`]'s pass over the weights for `N` dimensions (a
+/// constant; at least one piece), each piece then folded as [`min_max_n`] folds it.
+fn normalize_min_max_n<const N: usize>(
+    bounds: &[i32],
+    weights: &mut [f64],
+    shift: f64,
+    scale: f64,
+) -> (f64, f64) {
+    let (mut mn, mut mx) = (f64::NAN, f64::NAN);
+    let pieces = bounds
+        .chunks_exact(2 * N)
+        .zip(weights.chunks_exact_mut(N + 1));
+    for (k, (b, w)) in pieces.enumerate() {
+        let (b, w) = (&b[..2 * N], &mut w[..=N]);
+        w[N] += shift;
+        for x in w.iter_mut() {
+            *x *= scale;
+        }
+        let (mut lo, mut hi) = (w[N], w[N]);
+        for d in 0..N {
+            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+            hi += w[d] * if w[d] < 0.0 { l } else { h };
+            lo += w[d] * if w[d] < 0.0 { h } else { l };
+        }
+        if k == 0 {
+            (mn, mx) = (lo, hi);
+            continue;
+        }
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
+}
+
 /// The raw parts of an [`IvpFunction`], all fields public so the buffers can be
 /// moved (not copied) into another container, e.g. `abi_stable::std_types::RVec`.
 #[derive(Debug, Clone, PartialEq)]
@@ -614,6 +652,40 @@ impl IvpFunction {
         for g in &mut self.grid {
             *g = (*g + shift) * scale;
         }
+    }
+
+    /// [`IvpFunction::normalize_from`], returning what [`IvpFunction::min_max_wt`] gives
+    /// afterwards: for 1 to 3 dimensions each piece's new least and greatest value are
+    /// taken as its weights are written (the same operations on the same values, folded
+    /// in the same order), saving a pass over the pieces when normalizing again.
+    pub(crate) fn normalize_from_and_min_max(
+        &mut self,
+        (mn, mx): (f64, f64),
+        base: f64,
+        range: f64,
+    ) -> (f64, f64) {
+        let r = mx - mn;
+        if r.is_nan() || r <= 0.0 {
+            return self.min_max_wt();
+        }
+        if self.weights.is_empty() {
+            self.normalize_from((mn, mx), base, range);
+            return self.min_max_wt();
+        }
+        let (shift, scale) = (base - mn, range / r);
+        let folded = match self.dim() {
+            1 => normalize_min_max_n::<1>(&self.bounds, &mut self.weights, shift, scale),
+            2 => normalize_min_max_n::<2>(&self.bounds, &mut self.weights, shift, scale),
+            3 => normalize_min_max_n::<3>(&self.bounds, &mut self.weights, shift, scale),
+            _ => {
+                self.normalize_from((mn, mx), base, range);
+                return self.min_max_wt();
+            }
+        };
+        for g in &mut self.grid {
+            *g = (*g + shift) * scale;
+        }
+        folded
     }
 
     /// Multiply every weight (slopes and intercepts) by `w`.

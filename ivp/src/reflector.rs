@@ -32,6 +32,13 @@ pub trait Aof {
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         eval_grid_pointwise(self, domain, axes, out);
     }
+    /// Whether [`Aof::eval_grid`] writes every slot of `out`, whatever it was given.
+    /// The reflector then hands it a buffer left from the last build instead of a
+    /// zeroed one (an AOF that may skip slots gets zeros there, as always). Default:
+    /// no; the default `eval_grid` does fill every slot, but an override may not.
+    fn eval_grid_fills(&self) -> bool {
+        false
+    }
 }
 
 /// [`Aof::eval_grid`] by one [`Aof::eval`] per point (the default, and a fallback for
@@ -498,6 +505,7 @@ impl<'a> Reflector<'a> {
             self.gelbox.clone(),
             summary,
             normalize,
+            false,
         )
     }
 
@@ -514,12 +522,33 @@ impl<'a> Reflector<'a> {
             self.gelbox,
             self.summary,
             normalize,
+            false,
+        )
+    }
+
+    /// [`Reflector::into_function`]`(true)` then [`IvpFunction::normalize`]`(0, 100)` on
+    /// the result, bit for bit (the contact behaviors normalize the reflector's
+    /// normalized function once more): the second normalization's value range is taken
+    /// while the first one writes the weights, instead of in a pass of its own.
+    pub fn into_function_normalized_twice(self) -> Option<IvpFunction> {
+        if self.weights.is_empty() {
+            return None;
+        }
+        Self::function(
+            self.domain,
+            self.bounds,
+            self.weights,
+            self.gelbox,
+            self.summary,
+            true,
+            true,
         )
     }
 
     /// The function of these pieces with its search grid, normalized if asked. The
     /// uniform fit hands over the grid and value range it took while fitting (what
-    /// build_grid and min_max_wt would compute again from the pieces).
+    /// build_grid and min_max_wt would compute again from the pieces). `again`:
+    /// normalized a second time (only with `normalize`).
     fn function(
         domain: Domain,
         bounds: Vec<i32>,
@@ -527,18 +556,26 @@ impl<'a> Reflector<'a> {
         gelbox: Vec<u32>,
         summary: Option<crate::tiling::Summary>,
         normalize: bool,
+        again: bool,
     ) -> Option<IvpFunction> {
         let Some(s) = summary else {
             let mut f = IvpFunction::from_flat(domain, bounds, weights, gelbox).ok()?;
             f.build_grid();
             if normalize {
                 f.normalize(0.0, 100.0);
+                if again {
+                    f.normalize(0.0, 100.0);
+                }
             }
             return Some(f);
         };
         let mut f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, s.grid);
-        if normalize {
-            f.normalize_from(s.min_max.unwrap_or((0.0, 0.0)), 0.0, 100.0);
+        let min_max = s.min_max.unwrap_or((0.0, 0.0));
+        if normalize && again {
+            let min_max = f.normalize_from_and_min_max(min_max, 0.0, 100.0);
+            f.normalize_from(min_max, 0.0, 100.0);
+        } else if normalize {
+            f.normalize_from(min_max, 0.0, 100.0);
         }
         Some(f)
     }
@@ -586,6 +623,20 @@ pub(crate) fn fit_values_n<const N: usize>(
     w[..=N].copy_from_slice(&out[..=N]);
 }
 
+/// `q / width` as an `f64` division, by a multiplication when `width` is a power of two:
+/// `q · 2⁻ᵏ` and `q / 2ᵏ` are the same exact real number, rounded once the same way
+/// (subnormal results included), so the same bits; the multiplication does not wait on
+/// the divider. `width` is not 0 (a zero-width dimension has slope 0, not divided).
+#[inline(always)]
+pub(crate) fn div_by_width(q: f64, width: u32) -> f64 {
+    if width.is_power_of_two() {
+        // Exact: 1 / 2^k for k < 32.
+        q * (1.0 / f64::from(width))
+    } else {
+        q / f64::from(width)
+    }
+}
+
 /// The degree-1 fit of the box `lo..=hi` from `vals`: the corners (`vals[mask]`, bit d
 /// of `mask` set = dimension d at its high end), then, when `CENTRE`, the centre at
 /// `vals[2^N]`. The n slopes then the intercept go to `w[..=N]`. `N` and `CENTRE` are
@@ -623,7 +674,7 @@ pub(crate) fn fit_box<const N: usize, const CENTRE: bool>(
                 cnt += 1.0;
             }
         }
-        w[d] = (sum / cnt) / width;
+        w[d] = div_by_width(sum / cnt, hi[d] - lo[d]);
     }
     // The plane (without intercept) at each corner, then at the centre.
     let mut plane = [0.0f64; (1 << FIT_DIMS) + 1];

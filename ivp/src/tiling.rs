@@ -345,9 +345,16 @@ impl Drop for Scratch {
 /// The AOF's values on the grid `axes[0] × axes[1] × …` into `out` (resized to fit).
 fn evaluate(aof: &dyn Aof, domain: &Domain, axes: &[Vec<u32>], out: &mut Vec<f64>) {
     let len: usize = axes.iter().map(Vec::len).product();
-    // Zeroed, not left from the last build: an AOF's eval_grid should fill every slot.
-    out.clear();
-    out.resize(len, 0.0);
+    if aof.eval_grid_fills() {
+        // Every slot is written: what the last build left there does not matter.
+        if out.len() < len {
+            out.resize(len, 0.0);
+        }
+    } else {
+        // Zeroed, not left from the last build: a slot the AOF skips reads 0.
+        out.clear();
+        out.resize(len, 0.0);
+    }
     let mut refs: [&[u32]; FIT_DIMS] = [&[]; FIT_DIMS];
     for (r, a) in refs.iter_mut().zip(axes) {
         *r = a;
@@ -503,6 +510,155 @@ mod tests {
             let want = r.fit(&b);
             let bits = |v: &[f64]| v.iter().map(|&x| bits_of(x)).collect::<Vec<_>>();
             assert_eq!(bits(&w), bits(&want), "case {case}: {b:?}");
+        }
+    }
+
+    /// Random awkward values: signed zeros, infinities, NaN, subnormals, huge and tiny
+    /// normals, ordinary values.
+    fn awkward_value(seed: &mut u64) -> f64 {
+        let r = rng(seed);
+        let k = (rng(seed) * 14.0) as u32;
+        let sign = if rng(seed) < 0.5 { -1.0 } else { 1.0 };
+        sign * match k {
+            0 => 0.0,
+            1 => f64::INFINITY,
+            2 => f64::NAN,
+            3 => f64::MIN_POSITIVE * r,               // subnormal
+            4 => f64::from_bits((r * 4.0e15) as u64), // subnormal, any bits
+            5 => f64::MIN_POSITIVE * (1.0 + r),       // smallest normals
+            6 => f64::MAX * r,
+            7 => 2.5,
+            _ => (r - 0.5) * 250.0,
+        }
+    }
+
+    /// Dividing by a power of two as [`crate::reflector::div_by_width`] does (a
+    /// multiplication by the exact reciprocal) gives the division's bits, subnormal
+    /// results, signed zeros and infinities included; other widths are divided.
+    #[test]
+    fn division_by_a_power_of_two_width_is_the_division() {
+        let mut seed = 5u64;
+        for _ in 0..200_000 {
+            let q = awkward_value(&mut seed);
+            let width = match (rng(&mut seed) * 3.0) as u32 {
+                0 => 1u32 << (rng(&mut seed) * 32.0) as u32,
+                1 => 1 + (rng(&mut seed) * 10.0) as u32,
+                _ => (rng(&mut seed) * 4.0e9) as u32 | 1,
+            };
+            let got = crate::reflector::div_by_width(q, width);
+            let want = q / f64::from(width);
+            assert_eq!(bits_of(got), bits_of(want), "{q:e} / {width}");
+        }
+    }
+
+    /// Normalizing while folding the new pieces' range gives what normalizing then
+    /// asking min_max_wt gives (weights, grid and range, bit for bit), over random
+    /// functions of 1 to 5 dimensions with awkward weights and ranges.
+    #[test]
+    fn normalize_with_range_equals_normalize_then_range() {
+        let mut seed = 13u64;
+        let specs = [
+            "a:0:9:10",
+            "a:0:9:10,b:0:40:41",
+            "a:0:9:10,b:0:4:5,c:0:20:21",
+            "a:0:9:10,b:0:4:5,c:0:20:21,d:0:2:3",
+            "a:0:9:10,b:0:4:5,c:0:20:21,d:0:2:3,e:0:7:8",
+        ];
+        for round in 0..4000 {
+            let dom = Domain::parse(specs[round % specs.len()]).unwrap();
+            let dim = dom.size();
+            let n = (rng(&mut seed) * 40.0) as usize;
+            let (mut bounds, mut weights) = (vec![], vec![]);
+            for _ in 0..n {
+                for v in dom.vars() {
+                    let lo = (rng(&mut seed) * f64::from(v.points)) as i32;
+                    let hi = lo + (rng(&mut seed) * f64::from(v.points as i32 - lo)) as i32;
+                    bounds.extend([lo, hi]);
+                }
+                for _ in 0..=dim {
+                    let w = if rng(&mut seed) < 0.7 {
+                        (rng(&mut seed) - 0.5) * 300.0
+                    } else {
+                        awkward_value(&mut seed)
+                    };
+                    weights.push(w);
+                }
+            }
+            let gel = vec![1 + (rng(&mut seed) * 3.0) as u32; dim];
+            let Ok(mut f) = crate::IvpFunction::from_flat(dom, bounds, weights, gel) else {
+                continue;
+            };
+            f.build_grid();
+            let (base, range) = [(0.0, 100.0), (-3.0, 0.5), (7.0, -1.0)][round % 3];
+            let min_max = match round % 4 {
+                0 => (awkward_value(&mut seed), awkward_value(&mut seed)),
+                1 => (-1.0, 1.0),
+                _ => f.min_max_wt(),
+            };
+            let mut want = f.clone();
+            want.normalize_from(min_max, base, range);
+            let want_range = want.min_max_wt();
+            let got_range = f.normalize_from_and_min_max(min_max, base, range);
+            let bits = |v: &[f64]| v.iter().map(|&x| bits_of(x)).collect::<Vec<_>>();
+            assert_eq!(bits(f.weights()), bits(want.weights()), "round {round}");
+            assert_eq!(
+                bits(f.grid_bounds()),
+                bits(want.grid_bounds()),
+                "round {round}"
+            );
+            assert_eq!(
+                bits(&[got_range.0, got_range.1]),
+                bits(&[want_range.0, want_range.1]),
+                "round {round}"
+            );
+        }
+    }
+
+    /// The reflector's function normalized twice in one step is its normalized function
+    /// normalized once more (the previous way), bit for bit, from the grid fit and from
+    /// the tile-by-tile fit, over random domains and surfaces.
+    #[test]
+    fn normalized_twice_equals_normalize_after_into_function() {
+        let mut seed = 21u64;
+        for case in 0..900 {
+            let dims = 1 + case % 3;
+            let (mut spec, mut piece) = (vec![], vec![]);
+            for d in 0..dims {
+                let points = 2 + (rng(&mut seed) * 60.0) as u32;
+                let low = (rng(&mut seed) * 20.0).floor() - 10.0;
+                let high = low + (points - 1) as f64 * (0.1 + rng(&mut seed));
+                spec.push(format!("x{d}:{low}:{high}:{points}"));
+                piece.push(format!("x{d}:{}", 1 + (rng(&mut seed) * 6.0) as u32));
+            }
+            let Ok(domain) = Domain::parse(&spec.join(",")) else {
+                continue;
+            };
+            let bumps = Bumps {
+                k: (0..6).map(|_| rng(&mut seed) * 2.0 - 1.0).collect(),
+                clip: 10.0 + rng(&mut seed) * 60.0,
+            };
+            let awkward = Awkward(case as u64);
+            let aof: &dyn Aof = if case % 5 == 4 { &awkward } else { &bumps };
+            for tiles in [false, true] {
+                let make = || {
+                    let r = Reflector::new(&domain, aof);
+                    let mut r = if tiles { r.tile_by_tile() } else { r };
+                    r.set_param("uniform_piece", &format!("discrete@{}", piece.join(",")));
+                    r.create(None, None);
+                    r
+                };
+                let got = make().into_function_normalized_twice().expect("pieces");
+                let mut want = make().into_function(true).expect("pieces");
+                want.normalize(0.0, 100.0);
+                let bits = |v: &[f64]| v.iter().map(|&x| bits_of(x)).collect::<Vec<_>>();
+                assert_eq!(bits(got.weights()), bits(want.weights()), "case {case}");
+                assert_eq!(got.bounds(), want.bounds(), "case {case}");
+                assert_eq!(
+                    bits(got.grid_bounds()),
+                    bits(want.grid_bounds()),
+                    "case {case}"
+                );
+            }
         }
     }
 }

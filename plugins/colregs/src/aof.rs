@@ -2,7 +2,7 @@
 //! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
 //! each evaluated by the reflector on the decision grid.
 
-use behavior_api::contacts::engine::Heading;
+use behavior_api::contacts::engine::{Heading, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
@@ -51,6 +51,25 @@ impl Metric {
             }
         } else {
             self.floor + (100.0 - self.floor) * (p - self.mu) / (self.big - self.mu)
+        }
+    }
+
+    /// [`Metric::eval`] with every case computed and the answer picked (no jumps, for
+    /// rows of candidates): the same comparisons and the same formula.
+    #[inline(always)]
+    pub fn eval_jumpless(&self, p: f64) -> f64 {
+        let formula = self.floor + (100.0 - self.floor) * (p - self.mu) / (self.big - self.mu);
+        let equal = if self.zero_when_equal {
+            0.0
+        } else {
+            self.floor
+        };
+        let between = if self.big == self.mu { equal } else { formula };
+        let above_low = if p > self.big { 100.0 } else { between };
+        if p < self.mu {
+            0.0
+        } else {
+            above_low
         }
     }
 }
@@ -141,8 +160,12 @@ impl Aof for CpaAof {
             self.tol,
             (domain, axes, out),
             |_| (),
-            |_, _, cpa| self.metric.eval(cpa),
+            |_, _, cpa| self.metric.eval_jumpless(cpa),
         );
+    }
+    /// Every slot of every row is written.
+    fn eval_grid_fills(&self) -> bool {
+        true
     }
 }
 
@@ -223,6 +246,10 @@ impl Aof for R13Aof {
             |hd, v, cpa| self.utility_with(hd, v, cpa),
         );
     }
+    /// Every slot of every row is written.
+    fn eval_grid_fills(&self) -> bool {
+        true
+    }
 }
 
 /// AOF_R14 (head-on): no crossing the contact's bow from its port side, no passing it
@@ -293,6 +320,27 @@ impl R14Aof {
         };
         m1 + m3
     }
+
+    /// [`Self::utility_with`] given the CPA distance, every rule computed and the
+    /// answer picked (no jumps; the same comparisons and formulas on the same values),
+    /// `s` being the engine's [`CpaEngine::sides`].
+    #[inline(always)]
+    fn utility_jumpless(&self, s: &Sides, hd: &Heading, v: f64, cpa: f64) -> f64 {
+        let r = self.engine.bow_star_rate_at(s, hd, v);
+        let refused = s.on_contact | (s.port_of_cn & r.crosses_bow) | r.passes_star;
+        let m1 = self.metric.eval_jumpless(cpa);
+        let br = r.bearing_rate;
+        let scaled = 100.0 * br / self.b0;
+        let beyond = if br <= self.b0 { 100.0 } else { scaled };
+        let opening = if br >= 0.0 { 0.0 } else { beyond };
+        let m3 = if self.b0 >= 0.0 { 0.0 } else { opening };
+        let u = m1 + m3;
+        if refused {
+            0.0
+        } else {
+            u
+        }
+    }
 }
 
 impl Aof for R14Aof {
@@ -302,14 +350,19 @@ impl Aof for R14Aof {
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         let e = &self.engine;
+        let sides = e.sides();
         eval_rows(
             self,
             e,
             self.tol,
             (domain, axes, out),
             |c| e.heading(c),
-            |hd, v, cpa| self.utility_with(hd, v, || cpa),
+            |hd, v, cpa| self.utility_jumpless(&sides, hd, v, cpa),
         );
+    }
+    /// Every slot of every row is written.
+    fn eval_grid_fills(&self) -> bool {
+        true
     }
 }
 
@@ -422,6 +475,10 @@ impl Aof for R16Aof {
             |c| self.course(c),
             |p, v, cpa| self.utility_with(p, v, || cpa),
         );
+    }
+    /// Every slot of every row is written.
+    fn eval_grid_fills(&self) -> bool {
+        true
     }
 }
 

@@ -142,6 +142,9 @@ fn grid_rows_equal_pointwise() {
             );
         }
         for aof in &aofs {
+            // Said to fill every slot: a slot left alone would keep the sentinel.
+            assert!(aof.eval_grid_fills());
+            grid.fill(-1234.5678);
             aof.eval_grid(&d, &[&xs, &ys], &mut grid);
             for j in 0..41u32 {
                 for i in 0..360u32 {

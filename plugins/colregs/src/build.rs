@@ -14,6 +14,8 @@ const FIXED_TOL: f64 = 120.0;
 
 /// What a build gave.
 pub enum Built {
+    /// The mode's function, normalized to [0, 100] (the reflector's functions twice, as
+    /// the reference normalizes them once more after the reflector).
     Function(IvpFunction),
     /// A BHV_ERROR text (an AOF that failed to initialise): no function.
     Error(String),
@@ -49,7 +51,7 @@ fn reflect(domain: &Domain, grid: &str, aof: &dyn Aof) -> Option<IvpFunction> {
     refl.set_param("uniform_piece", "discrete@course:3,speed:3");
     refl.set_param("uniform_grid", grid);
     refl.create(None, None);
-    refl.into_function(true)
+    refl.into_function_normalized_twice()
 }
 
 /// Build the function of `m.mode`; `factor` scales both util distances (velocity
@@ -122,7 +124,10 @@ pub fn build_function(
         }
         Mode::StandOn | Mode::StandOnOt if !inextremis => {
             match standon::build(domain, held.0, held.1) {
-                Ok(f) => Built::Function(f),
+                Ok(mut f) => {
+                    f.normalize(0.0, 100.0);
+                    Built::Function(f)
+                }
                 Err(e) => Built::Warning(e.message()),
             }
         }

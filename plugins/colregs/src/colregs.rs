@@ -469,7 +469,6 @@ impl IvpBehavior for Colregs {
         }
         if let Some(g) = f.as_mut() {
             self.actual_pwt = relevance * ctx.priority();
-            g.normalize(0.0, 100.0);
             g.set_pwt(self.actual_pwt);
         }
         self.post_status(ctx);

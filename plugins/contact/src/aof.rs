@@ -82,6 +82,10 @@ impl Aof for AvoidAof {
             self.metric_row(row);
         }
     }
+    /// Every slot of every row is written.
+    fn eval_grid_fills(&self) -> bool {
+        true
+    }
 }
 
 /// AOF_CutRangeCPA (behaviors-contacts.md §2.4): a blend of the rate of closure and the
@@ -185,6 +189,10 @@ impl Aof for CutRangeAof {
             }
         }
     }
+    /// Every slot of every row is written.
+    fn eval_grid_fills(&self) -> bool {
+        true
+    }
 }
 
 #[cfg(test)]
@@ -267,6 +275,9 @@ mod tests {
                 None => vec![&avoid],
             };
             for aof in aofs {
+                // Said to fill every slot: a slot left alone would keep the sentinel.
+                assert!(aof.eval_grid_fills());
+                grid.fill(-1234.5678);
                 aof.eval_grid(&d, &[&xs, &ys], &mut grid);
                 for j in 0..41u32 {
                     for i in 0..360u32 {

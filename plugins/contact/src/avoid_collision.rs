@@ -96,9 +96,8 @@ impl AvoidCollision {
             let w = refl.warnings().to_string();
             ctx.post_message("AVD_DEBUG", &w);
         }
-        let mut f = refl.into_function(true)?;
-        f.normalize(0.0, 100.0);
-        Some(f)
+        // The reference normalizes the reflector's normalized function once more.
+        refl.into_function_normalized_twice()
     }
 
     fn set_dist(&mut self, param: &str, v: f64) {

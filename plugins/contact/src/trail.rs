@@ -74,6 +74,7 @@ impl Trail {
         (self.base.os.x - tp.0).hypot(self.base.os.y - tp.1)
     }
 
+    /// The coupled course and speed peaks, normalized to [0, 100].
     fn peaks(&self, hdg: f64, spd: f64) -> Option<IvpFunction> {
         let domain = self.domain.as_ref()?;
         let mut zc = ZaicPeak::new(domain, "course").ok()?;
@@ -81,9 +82,13 @@ impl Trail {
         zc.set_value_wrap(true);
         let mut zs = ZaicPeak::new(domain, "speed").ok()?;
         zs.set_params(spd, 0.1, 2.0, 50.0, 0.0, 100.0, 0);
-        couple(zc.extract(true)?, zs.extract(true)?, 50.0, 50.0, true)
+        let mut f = couple(zc.extract(true)?, zs.extract(true)?, 50.0, 50.0, true)?;
+        f.normalize(0.0, 100.0);
+        Some(f)
     }
 
+    /// The cut-range function toward the trail point, normalized to [0, 100] (twice,
+    /// as the reference does: the reflector's, then the behavior's).
     fn far(&self, ctx: &mut Ctx<'_>, tp: (f64, f64)) -> Option<IvpFunction> {
         let domain = self.domain.as_ref()?;
         let vmax = domain.var(domain.index_of("speed")?).high;
@@ -102,7 +107,7 @@ impl Trail {
         refl.set_param("uniform_piece", "discrete@course:3,speed:2");
         refl.set_param("uniform_grid", "discrete@course:9,speed:6");
         refl.create(None, None);
-        refl.into_function(true)
+        refl.into_function_normalized_twice()
     }
 
     fn set_num(&mut self, param: &str, v: f64) -> bool {
@@ -256,6 +261,7 @@ impl IvpBehavior for Trail {
         let th = math_angle(angle360(cn.hdg));
         let (hx, hy) = (th.cos(), th.sin());
         let os = self.base.os;
+        // Each branch's function comes normalized to [0, 100].
         let mut f = if d > self.radius && d > self.nm_radius {
             ctx.post_message("REGION", "Outside nm_radius");
             self.far(ctx, tp)?
@@ -282,7 +288,6 @@ impl IvpBehavior for Trail {
             ctx.post_message_num("TRAIL_SPEED", modv);
             self.peaks(angle360(cn.hdg), modv)?
         };
-        f.normalize(0.0, 100.0);
         f.set_pwt(relevance * ctx.priority());
         Some(function_data(f))
     }
