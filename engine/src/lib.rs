@@ -65,6 +65,5 @@ pub mod loader;
 pub mod posting;
 pub mod run_warnings;
 pub mod runtime;
-pub mod string_pool;
 
 pub use engine::{Helm, HelmState, Mail};

@@ -4,6 +4,13 @@ use std::collections::HashMap;
 
 pub use bhv::number::Value;
 
+/// Keep the string of a string value for later postings (a number has none).
+pub(crate) fn give_value(pool: &mut mbutil::StringPool, value: Value) {
+    if let Value::Str(s) = value {
+        pool.give(s);
+    }
+}
+
 /// One publication of the helm: what goes out to MOOS.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Posting {

@@ -171,104 +171,6 @@ pub struct RawFunction {
     pub grid: Vec<f64>,
 }
 
-fn check_layout(
-    domain: &Domain,
-    bounds: &[i32],
-    weights: &[f64],
-    gelbox: &[u32],
-) -> Result<(), IvpError> {
-    let dim = domain.size();
-    if dim == 0 {
-        if bounds.is_empty() && weights.is_empty() {
-            return Ok(());
-        }
-        return Err(IvpError::BadPiece {
-            piece: 0,
-            reason: "pieces over an empty domain".into(),
-        });
-    }
-    let bl = 2 * dim;
-    let wl = dim + 1;
-    if bounds.len() / bl * bl != bounds.len()
-        || weights.len() / wl * wl != weights.len()
-        || bounds.len() / bl != weights.len() / wl
-    {
-        return Err(IvpError::BadPiece {
-            piece: 0,
-            reason: "bounds/weights lengths do not match the dimension".into(),
-        });
-    }
-    if gelbox.len() != dim {
-        return Err(IvpError::Invalid {
-            param: "gelbox".into(),
-            reason: format!("needs {dim} entries"),
-        });
-    }
-    // Every function crossing the ABI is checked piece by piece: first whether all
-    // pieces are in range (no branch per piece), and only when one is not, which one.
-    if bounds_in_range(domain, bounds) {
-        return Ok(());
-    }
-    // Highest index per dimension, looked up once.
-    let tops: Vec<i64> = domain
-        .vars()
-        .iter()
-        .map(|v| i64::from(v.points) - 1)
-        .collect();
-    for (k, b) in bounds.chunks_exact(bl).enumerate() {
-        for (d, &top) in tops.iter().enumerate() {
-            let (lo, hi) = (b[2 * d], b[2 * d + 1]);
-            if lo < 0 || lo > hi || i64::from(hi) > top {
-                return Err(IvpError::BadPiece {
-                    piece: k,
-                    reason: format!(
-                        "bounds [{lo},{hi}] outside 0..={top} of `{}`",
-                        domain.var(d).name
-                    ),
-                });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Whether every piece's `lo, hi` satisfy `0 <= lo <= hi <= points - 1` in every
-/// dimension (`bounds` holds whole pieces of `domain`'s dimension, at least 1).
-fn bounds_in_range(domain: &Domain, bounds: &[i32]) -> bool {
-    // The highest index as an i32: above i32::MAX no i32 exceeds it.
-    let top = |d: usize| (i64::from(domain.var(d).points) - 1).min(i64::from(i32::MAX)) as i32;
-    fn all_in<const N: usize>(bounds: &[i32], tops: &[i32]) -> bool {
-        let tops: [i32; N] = std::array::from_fn(|d| tops[d]);
-        let mut bad = false;
-        for b in bounds.chunks_exact(2 * N) {
-            let b = &b[..2 * N];
-            for d in 0..N {
-                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
-                bad |= (lo < 0) | (lo > hi) | (hi > tops[d]);
-            }
-        }
-        !bad
-    }
-    // The tops on the stack: this runs for every function crossing the ABI.
-    let n = domain.size();
-    let mut tops = [0i32; 4];
-    for (d, t) in tops.iter_mut().enumerate().take(n) {
-        *t = top(d);
-    }
-    match n {
-        1 => all_in::<1>(bounds, &tops),
-        2 => all_in::<2>(bounds, &tops),
-        3 => all_in::<3>(bounds, &tops),
-        4 => all_in::<4>(bounds, &tops),
-        n => bounds.chunks_exact(2 * n).all(|b| {
-            (0..n).all(|d| {
-                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
-                lo >= 0 && lo <= hi && hi <= top(d)
-            })
-        }),
-    }
-}
-
 impl IvpFunction {
     /// Build from `(per-dimension (lo,hi), weights)` pieces; weights are the
     /// slopes in dimension order then the intercept. Gel box = whole domain, pwt 10.
@@ -423,126 +325,6 @@ impl IvpFunction {
             self.build_grid();
         }
         Ok(())
-    }
-
-    /// Build the search grid (spec §2.4): per cell of `gelbox+1` points, the max
-    /// `maxVal` of the pieces overlapping it (`-inf` for an empty cell). Builders
-    /// call this when they extract, as the reference does. Afterwards
-    /// [`normalize`](Self::normalize) and [`apply_weight`](Self::apply_weight)
-    /// transform the stored bounds arithmetically instead of rebuilding them —
-    /// the reference solver prunes with these bounds, which decides rare exact
-    /// near-ties. Functions without a grid (e.g. coupled ones) get a fresh grid
-    /// in the solver.
-    pub fn build_grid(&mut self) {
-        let dim = self.dim();
-        // Cell sizes, strides (dimension 0 fastest) and, per piece, the corner cell and
-        // spans live on the stack up to `GRID_DIMS` dimensions (this runs for every
-        // piece of every function built, every iteration).
-        const GRID_DIMS: usize = 8;
-        let (mut ppg_st, mut stride_st) = ([0i32; GRID_DIMS], [0usize; GRID_DIMS]);
-        let (mut ppg_heap, mut stride_heap) = (vec![], vec![]);
-        let (ppg, stride): (&mut [i32], &mut [usize]) = if dim <= GRID_DIMS {
-            (&mut ppg_st[..dim], &mut stride_st[..dim])
-        } else {
-            ppg_heap.resize(dim, 0);
-            stride_heap.resize(dim, 0);
-            (&mut ppg_heap, &mut stride_heap)
-        };
-        let mut total = 1usize;
-        for (d, v) in self.domain.vars().iter().enumerate() {
-            let (p, n) = grid_dim(v, self.gelbox.get(d));
-            ppg[d] = p;
-            stride[d] = total;
-            total *= n as usize;
-        }
-        let mut g = vec![f64::NEG_INFINITY; total];
-        if total == 1 && dim > 0 {
-            // One cell (the builders' whole-domain gel box): the max over the pieces.
-            for (b, w) in self
-                .bounds
-                .chunks_exact(2 * dim)
-                .zip(self.weights.chunks_exact(dim + 1))
-            {
-                let v = max_val(b, w);
-                if g[0] == f64::NEG_INFINITY || v > g[0] {
-                    g[0] = v;
-                }
-            }
-            self.grid = g;
-            return;
-        }
-        // Cell coordinate of every index, per dimension, when the pieces are many
-        // (uniform tilings): a table read instead of two divisions per piece and
-        // dimension.
-        let points: usize = self.domain.vars().iter().map(|v| v.points as usize).sum();
-        let mut coord: Vec<u32> = vec![];
-        let mut coord_at = [0usize; GRID_DIMS + 1];
-        if dim <= GRID_DIMS && self.piece_count() * 2 * dim > points {
-            coord.reserve(points);
-            for (d, v) in self.domain.vars().iter().enumerate() {
-                coord_at[d] = coord.len();
-                let (p, mut c, mut left) = (ppg[d] as u32, 0u32, ppg[d] as u32);
-                for _ in 0..v.points {
-                    coord.push(c);
-                    left -= 1;
-                    if left == 0 {
-                        c += 1;
-                        left = p;
-                    }
-                }
-            }
-            coord_at[dim] = coord.len();
-        }
-        let cell_of = |d: usize, i: i32| -> usize {
-            let at = coord_at[d];
-            match coord.get(at.wrapping_add(i as usize)) {
-                Some(&c) if !coord.is_empty() && (i as usize) < coord_at[d + 1] - at => c as usize,
-                _ => (i / ppg[d]) as usize,
-            }
-        };
-        let (mut lo_st, mut span_st) = ([0usize; GRID_DIMS], [0usize; GRID_DIMS]);
-        let (mut lo_heap, mut span_heap) = (vec![], vec![]);
-        let (idx_lo, span): (&mut [usize], &mut [usize]) = if dim <= GRID_DIMS {
-            (&mut lo_st[..dim], &mut span_st[..dim])
-        } else {
-            lo_heap.resize(dim, 0);
-            span_heap.resize(dim, 0);
-            (&mut lo_heap, &mut span_heap)
-        };
-        for p in self.pieces() {
-            let v = p.max_val();
-            for d in 0..dim {
-                idx_lo[d] = cell_of(d, p.lo(d));
-                span[d] = cell_of(d, p.hi(d)) - idx_lo[d] + 1;
-            }
-            // Cells in counting order, dimension 0 fastest, stepped by strides (no
-            // division per cell); `off[d]` is the digit of dimension d.
-            let mut off = [0usize; GRID_DIMS];
-            let mut off_heap = vec![];
-            let off: &mut [usize] = if dim <= GRID_DIMS {
-                &mut off[..dim]
-            } else {
-                off_heap.resize(dim, 0);
-                &mut off_heap
-            };
-            let mut c: usize = (0..dim).map(|d| idx_lo[d] * stride[d]).sum();
-            'cells: loop {
-                if g[c] == f64::NEG_INFINITY || v > g[c] {
-                    g[c] = v;
-                }
-                for d in 0..dim {
-                    if off[d] + 1 < span[d] {
-                        off[d] += 1;
-                        c += stride[d];
-                        continue 'cells;
-                    }
-                    c -= off[d] * stride[d];
-                    off[d] = 0;
-                }
-                break;
-            }
-        }
-        self.grid = g;
     }
 
     /// Whether the function carries a builder-made grid.
@@ -760,26 +542,6 @@ impl IvpFunction {
     }
 }
 
-/// Grid geometry: (points per cell, cells, stride (dim 0 fastest), total cells).
-/// Points per cell = `gelbox+1` clamped to `[2, points]`.
-/// Points per grid cell and number of cells of variable `v` under gel-box entry `g`
-/// (none: one cell across the variable).
-pub(crate) fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
-    let pts = v.points as i32;
-    let g = g.map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
-    let p = (g + 1).max(2).min(pts).max(1);
-    (p, (pts + p - 1) / p)
-}
-
-/// Number of grid cells of `domain` under `gelbox`.
-fn grid_total(domain: &Domain, gelbox: &[u32]) -> usize {
-    let mut total = 1usize;
-    for (d, v) in domain.vars().iter().enumerate() {
-        total *= grid_dim(v, gelbox.get(d)).1 as usize;
-    }
-    total
-}
-
 /// For each own dimension, the target dimension of the same name.
 pub(crate) fn dim_map(own: &Domain, target: &Domain) -> Result<Vec<usize>, IvpError> {
     own.vars()
@@ -826,7 +588,13 @@ pub(crate) fn translate_into(
 }
 
 // Building functions in recycled storage (issue 19).
+mod grid;
+mod layout;
 mod reuse;
+
+pub(crate) use grid::grid_dim;
+use grid::grid_total;
+use layout::check_layout;
 
 #[cfg(test)]
 mod tests {
@@ -1037,7 +805,7 @@ mod tests {
                 };
             }
             assert_eq!(
-                bounds_in_range(&dom, &bounds),
+                layout::bounds_in_range(&dom, &bounds),
                 in_range_reference(&dom, &bounds),
                 "round {round}: {bounds:?}"
             );

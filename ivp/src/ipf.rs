@@ -77,13 +77,6 @@ impl<'a> Utf8Out<'a> {
         }
     }
 
-    fn i32(&mut self, v: i32) {
-        if v < 0 {
-            self.byte(b'-');
-        }
-        self.u64(u64::from(v.unsigned_abs()));
-    }
-
     /// The custom 4-decimal weight encoding of spec §9.1.
     #[inline]
     fn weight(&mut self, w: f64) {
@@ -200,31 +193,17 @@ pub fn encode_into(f: &IvpFunction, s: &mut String) {
         .bounds()
         .chunks_exact(2 * dim)
         .zip(f.weights().chunks_exact(dim + 1));
-    if dim > PieceText::MAX_DIM {
-        for (bounds, weights) in pieces {
-            for &b in bounds {
-                out.byte(b',');
-                out.i32(b);
-            }
-            for &w in weights {
-                out.byte(b',');
-                out.weight(w);
-            }
-        }
-        return;
-    }
     // Pieces are formatted on the stack and appended a batch at a time: no capacity
-    // check per character.
+    // check per character, one per number.
     let mut text = PieceText::new();
     for (bounds, weights) in pieces {
-        if text.len > PieceText::FLUSH_AT {
-            out.ascii(&mut text);
-        }
         for &b in bounds {
+            text.make_room(&mut out);
             text.byte(b',');
             text.i32(b);
         }
         for &w in weights {
+            text.make_room(&mut out);
             text.byte(b',');
             if !text.weight(w) {
                 // Huge, infinite or NaN: the rare slow way, straight into the string.
@@ -256,17 +235,23 @@ struct PieceText {
 
 impl PieceText {
     const SIZE: usize = 1024;
-    /// Dimensions whose whole piece always fits after a flush: bounds take at most
-    /// 12 bytes each (`,` sign and 10 digits), fast-path weights 18 (`,` sign, 11 integer
-    /// digits, `.` and 4 decimals): 2·8·12 + 9·18 = 354.
-    const MAX_DIM: usize = 8;
-    /// Flush before a piece once this much is buffered (1024 - 354 leaves room for one).
-    const FLUSH_AT: usize = Self::SIZE - 360;
+    /// Flushed before a number once this much is buffered: a bound takes at most 12
+    /// bytes (`,` sign and 10 digits), a fast-path weight 18 (`,` sign, 11 integer
+    /// digits, `.` and 4 decimals).
+    const FLUSH_AT: usize = Self::SIZE - 18;
 
     fn new() -> Self {
         PieceText {
             buf: [0; Self::SIZE],
             len: 0,
+        }
+    }
+
+    /// Room for one more number: the batch so far goes to `out` when near full.
+    #[inline(always)]
+    fn make_room(&mut self, out: &mut Utf8Out<'_>) {
+        if self.len > Self::FLUSH_AT {
+            out.ascii(self);
         }
     }
 
@@ -744,9 +729,9 @@ mod tests {
         let mut whole = String::new();
         let mut packet = String::new();
         for case in 0..1500 {
-            // Now and then past the stack writer's dimension limit (the per-byte path).
+            // Now and then many dimensions (batches flushed inside a piece).
             let dim = if case % 97 == 0 {
-                PieceText::MAX_DIM + 1 + case % 2
+                9 + case % 2
             } else {
                 1 + (rng(&mut seed) * 3.0) as usize
             };

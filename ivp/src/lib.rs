@@ -50,9 +50,11 @@
 // Index loops over dimensions read closest to the spec's formulas.
 #![allow(clippy::needless_range_loop)]
 
+mod aof;
 pub mod coupler;
 pub mod domain;
 pub mod error;
+mod fit;
 pub mod function;
 pub mod ipf;
 pub mod reflector;

@@ -3,13 +3,14 @@
 //! on the grid of their midpoints, so the AOF is asked for those two grids at once
 //! ([`Aof::eval_grid`]) instead of point by point, and each tile's fit reads its values
 //! from them. The pieces are those of the point-by-point fit bit for bit: the same
-//! points, the same fit arithmetic ([`crate::reflector::fit_box`]). The same pass folds
+//! points, the same fit arithmetic ([`crate::fit::fit_box`]). The same pass folds
 //! each piece into the function's search grid and value range, which the reflector hands
 //! over instead of having them computed again from the pieces.
 
+use crate::aof::Aof;
 use crate::domain::Domain;
+use crate::fit::{fit_box, FIT_DIMS};
 use crate::function::grid_dim;
-use crate::reflector::{fit_box, Aof, FIT_DIMS};
 
 /// What the fitting pass gives besides the pieces: what the function's
 /// [`IvpFunction::build_grid`](crate::IvpFunction::build_grid) and
@@ -532,7 +533,7 @@ mod tests {
         }
     }
 
-    /// Dividing by a power of two as [`crate::reflector::div_by_width`] does (a
+    /// Dividing by a power of two as [`crate::fit::div_by_width`] does (a
     /// multiplication by the exact reciprocal) gives the division's bits, subnormal
     /// results, signed zeros and infinities included; other widths are divided.
     #[test]
@@ -545,7 +546,7 @@ mod tests {
                 1 => 1 + (rng(&mut seed) * 10.0) as u32,
                 _ => (rng(&mut seed) * 4.0e9) as u32 | 1,
             };
-            let got = crate::reflector::div_by_width(q, width);
+            let got = crate::fit::div_by_width(q, width);
             let want = q / f64::from(width);
             assert_eq!(bits_of(got), bits_of(want), "{q:e} / {width}");
         }

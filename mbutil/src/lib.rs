@@ -2,7 +2,8 @@
 //! shares (named after MOOS-IvP's `lib_mbutil`). A leaf crate: the `.bhv` reader (`bhv`),
 //! the geometry (`geometry`) and every behavior use the same number test, the same C
 //! `atof`, the same compact number formatter and the same colour parser, so a value a
-//! user writes means one thing wherever it appears.
+//! user writes means one thing wherever it appears. Also the helm's pool of spare
+//! strings ([`StringPool`]), which its postings are written into.
 //!
 //! ```
 //! assert!(mbutil::is_number(" -3.5 "));
@@ -13,6 +14,8 @@
 pub mod color;
 pub mod file;
 pub mod number;
+pub mod string_pool;
 
 pub use color::{is_color, parse_color, Color};
 pub use number::{atof, compact, is_number, parse_number, strip_quotes};
+pub use string_pool::StringPool;

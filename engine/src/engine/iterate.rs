@@ -56,7 +56,7 @@ impl Helm {
             for p in self.outbox.drain(..) {
                 self.pool.give(p.var);
                 self.pool.give(p.source_aux);
-                self.pool.give_value(p.value);
+                crate::posting::give_value(&mut self.pool, p.value);
             }
         }
     }

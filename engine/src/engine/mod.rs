@@ -128,7 +128,7 @@ pub struct Helm {
     /// What the AppCasting report shows (run warnings, events, last postings).
     pub(crate) report: report::ReportFeed,
     /// Strings of handed-out postings, reused by the next ones.
-    pub(crate) pool: crate::string_pool::StringPool,
+    pub(crate) pool: mbutil::StringPool,
     /// BHV_IPF whole-function string and packet id, reused for every function.
     pub(crate) ipf_whole: String,
     pub(crate) ipf_id: String,
@@ -231,7 +231,7 @@ impl Helm {
         }
         if self.last_posted.get(var) == Some(&text) {
             self.pool.give(text);
-            self.pool.give_value(value);
+            crate::posting::give_value(&mut self.pool, value);
             return;
         }
         if let Some(old) = self.last_posted.insert(var, text) {

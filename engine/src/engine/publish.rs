@@ -171,7 +171,7 @@ impl Helm {
     fn recycle_message(&mut self, m: crate::runtime::Message) {
         self.pool.give(m.var);
         self.pool.give(m.key);
-        self.pool.give_value(m.value);
+        crate::posting::give_value(&mut self.pool, m.value);
     }
 
     /// §6 step 21: behavior lists and counts, each only when changed (the list is

@@ -145,7 +145,7 @@ pub struct BehaviorCore {
     pub flag_cache: HashMap<String, FlagSpec>,
     /// Spare strings for this behavior's messages, topped up by the helm as it
     /// publishes them.
-    pub pool: crate::string_pool::StringPool,
+    pub pool: mbutil::StringPool,
 }
 
 impl BehaviorCore {
@@ -225,7 +225,7 @@ impl BehaviorCore {
     pub fn post(&mut self, var: &str, value: Value, given_key: &str) {
         let var = match self.post_mapping.get(var) {
             Some(to) if to.eq_ignore_ascii_case("silent") => {
-                self.pool.give_value(value);
+                crate::posting::give_value(&mut self.pool, value);
                 return;
             }
             Some(to) => self.pool.copy_of(to),

@@ -1263,6 +1263,9 @@ fn build_cells(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize, bounds
 }
 
 #[cfg(test)]
-mod equivalence_tests;
+mod equivalence_tests {
+    // Unit tests only, in a `tests.rs` like every test module.
+    mod tests;
+}
 #[cfg(test)]
 mod tests;

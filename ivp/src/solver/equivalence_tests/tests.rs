@@ -5,7 +5,7 @@
 //! seed from the previous decision is used, also when the optimum moved), the
 //! decisions must be identical: indices, values and utility bits.
 
-use super::*;
+use super::super::*;
 
 fn rng(seed: &mut u64) -> u64 {
     *seed = seed

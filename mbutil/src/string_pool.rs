@@ -1,5 +1,5 @@
-//! Spare strings whose allocations the next postings reuse (issue 19: the decision
-//! path allocates nothing in steady state).
+//! Spare strings whose allocations the next texts reuse (the helm's decision path
+//! allocates nothing in steady state, issue 19).
 //!
 //! Postings and behavior messages own their strings; when a batch of postings has been
 //! handed out, its strings come back here cleared, and the next iteration's postings are
@@ -61,13 +61,6 @@ impl StringPool {
         }
     }
 
-    /// Keep the string of a string value (a number has none).
-    pub fn give_value(&mut self, value: crate::posting::Value) {
-        if let crate::posting::Value::Str(s) = value {
-            self.give(s);
-        }
-    }
-
     /// Spare strings held.
     pub fn len(&self) -> usize {
         self.spare.len() + self.long.len()
@@ -95,9 +88,7 @@ mod tests {
         let t = pool.copy_of("x");
         assert_eq!((t.as_str(), t.as_ptr()), ("x", ptr));
         assert!(pool.is_empty());
-        pool.give_value(crate::posting::Value::Num(1.0));
-        assert!(pool.is_empty());
-        pool.give_value(crate::posting::Value::Str(t));
+        pool.give(t);
         let back = pool.take();
         assert_eq!(back.as_ptr(), ptr);
     }

@@ -1,0 +1,103 @@
+//! The layout check of a function's pieces (every function that crosses the plugin ABI
+//! goes through it).
+
+use crate::domain::Domain;
+use crate::error::IvpError;
+
+pub(super) fn check_layout(
+    domain: &Domain,
+    bounds: &[i32],
+    weights: &[f64],
+    gelbox: &[u32],
+) -> Result<(), IvpError> {
+    let dim = domain.size();
+    if dim == 0 {
+        if bounds.is_empty() && weights.is_empty() {
+            return Ok(());
+        }
+        return Err(IvpError::BadPiece {
+            piece: 0,
+            reason: "pieces over an empty domain".into(),
+        });
+    }
+    let bl = 2 * dim;
+    let wl = dim + 1;
+    if bounds.len() / bl * bl != bounds.len()
+        || weights.len() / wl * wl != weights.len()
+        || bounds.len() / bl != weights.len() / wl
+    {
+        return Err(IvpError::BadPiece {
+            piece: 0,
+            reason: "bounds/weights lengths do not match the dimension".into(),
+        });
+    }
+    if gelbox.len() != dim {
+        return Err(IvpError::Invalid {
+            param: "gelbox".into(),
+            reason: format!("needs {dim} entries"),
+        });
+    }
+    // Every function crossing the ABI is checked piece by piece: first whether all
+    // pieces are in range (no branch per piece), and only when one is not, which one.
+    if bounds_in_range(domain, bounds) {
+        return Ok(());
+    }
+    // Highest index per dimension, looked up once.
+    let tops: Vec<i64> = domain
+        .vars()
+        .iter()
+        .map(|v| i64::from(v.points) - 1)
+        .collect();
+    for (k, b) in bounds.chunks_exact(bl).enumerate() {
+        for (d, &top) in tops.iter().enumerate() {
+            let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+            if lo < 0 || lo > hi || i64::from(hi) > top {
+                return Err(IvpError::BadPiece {
+                    piece: k,
+                    reason: format!(
+                        "bounds [{lo},{hi}] outside 0..={top} of `{}`",
+                        domain.var(d).name
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether every piece's `lo, hi` satisfy `0 <= lo <= hi <= points - 1` in every
+/// dimension (`bounds` holds whole pieces of `domain`'s dimension, at least 1).
+pub(super) fn bounds_in_range(domain: &Domain, bounds: &[i32]) -> bool {
+    // The highest index as an i32: above i32::MAX no i32 exceeds it.
+    let top = |d: usize| (i64::from(domain.var(d).points) - 1).min(i64::from(i32::MAX)) as i32;
+    fn all_in<const N: usize>(bounds: &[i32], tops: &[i32]) -> bool {
+        let tops: [i32; N] = std::array::from_fn(|d| tops[d]);
+        let mut bad = false;
+        for b in bounds.chunks_exact(2 * N) {
+            let b = &b[..2 * N];
+            for d in 0..N {
+                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+                bad |= (lo < 0) | (lo > hi) | (hi > tops[d]);
+            }
+        }
+        !bad
+    }
+    // The tops on the stack: this runs for every function crossing the ABI.
+    let n = domain.size();
+    let mut tops = [0i32; 4];
+    for (d, t) in tops.iter_mut().enumerate().take(n) {
+        *t = top(d);
+    }
+    match n {
+        1 => all_in::<1>(bounds, &tops),
+        2 => all_in::<2>(bounds, &tops),
+        3 => all_in::<3>(bounds, &tops),
+        4 => all_in::<4>(bounds, &tops),
+        n => bounds.chunks_exact(2 * n).all(|b| {
+            (0..n).all(|d| {
+                let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+                lo >= 0 && lo <= hi && hi <= top(d)
+            })
+        }),
+    }
+}
