@@ -37,6 +37,8 @@ pub struct SimArgs {
     pub jitter: Option<Jitter>,
     /// With --runs: also write each run's `.alog` (`run-0000.alog`, ... beside
     /// `runs.csv`), so `helm view DIR` can replay every run. About 2 MB per alpha run.
+    /// Without it the helms do not serialise their functions (BHV_IPF), which only a
+    /// log would read: the runs are the same, faster.
     #[arg(long)]
     pub alogs: bool,
     /// Exit 3 also when a behavior posted any error or the helm never drove (a
