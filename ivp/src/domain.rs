@@ -95,29 +95,7 @@ pub(crate) fn compact(v: f64) -> String {
 /// `compact(v)` appended to `out`; whole numbers (the usual domain bounds) without an
 /// intermediate string, by the same rule as `mbutil::compact`.
 pub(crate) fn push_compact(out: &mut String, v: f64) {
-    if v.fract() == 0.0 && v.abs() < 1e15 {
-        if v == 0.0 {
-            out.push('0');
-        } else {
-            out.push_str(itoa::Buffer::new().format(v as i64));
-        }
-    } else if v.is_nan() {
-        out.push_str(&compact(v));
-    } else {
-        // `%.5f` written in place, then trimmed as `compact` trims it (BHV_IPF writes
-        // every piece's numbers this way, every iteration).
-        use std::fmt::Write as _;
-        let start = out.len();
-        let _ = write!(out, "{v:.5}");
-        if out[start..].contains('.') {
-            let kept = out.trim_end_matches('0').trim_end_matches('.').len();
-            out.truncate(kept.max(start));
-        }
-        if &out[start..] == "-0" {
-            out.truncate(start);
-            out.push('0');
-        }
-    }
+    mbutil::push_compact(out, v, 5);
 }
 
 thread_local! {

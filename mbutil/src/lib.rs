@@ -17,5 +17,5 @@ pub mod number;
 pub mod string_pool;
 
 pub use color::{is_color, parse_color, Color};
-pub use number::{atof, compact, is_number, parse_number, strip_quotes};
+pub use number::{atof, compact, is_number, parse_number, push_compact, strip_quotes};
 pub use string_pool::StringPool;

@@ -213,31 +213,34 @@ pub fn parse_number(s: &str) -> Option<f64> {
 /// assert_eq!(mbutil::compact(-0.0001, 2), "0");
 /// ```
 pub fn compact(v: f64, decimals: usize) -> String {
+    let mut s = String::new();
+    push_compact(&mut s, v, decimals);
+    s
+}
+
+/// [`compact`] appended to `out`, with no string of its own (the helm's summary, a
+/// behavior's status postings and BHV_IPF headers format numbers every iteration).
+pub fn push_compact(out: &mut String, v: f64, decimals: usize) {
+    use std::fmt::Write as _;
     // glibc prints NaN as `nan` / `-nan` by its sign bit (Rust would print `NaN`).
     if v.is_nan() {
-        return if v.is_sign_negative() { "-nan" } else { "nan" }.to_string();
-    }
-    // Whole numbers print the same at any precision (flag macros, mode values).
-    if v.fract() == 0.0 && v.abs() < 1e15 {
-        return if v == 0.0 {
-            "0".to_string()
-        } else {
-            (v as i64).to_string()
-        };
-    }
-    let mut s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        while s.ends_with('0') {
-            s.pop();
+        out.push_str(if v.is_sign_negative() { "-nan" } else { "nan" });
+    } else if v.fract() == 0.0 && v.abs() < 1e15 {
+        // Whole numbers print the same at any precision (flag macros, mode values);
+        // -0 prints as 0.
+        let _ = write!(out, "{}", v as i64);
+    } else {
+        let start = out.len();
+        let _ = write!(out, "{v:.decimals$}");
+        if out[start..].contains('.') {
+            let kept = out.trim_end_matches('0').trim_end_matches('.').len();
+            out.truncate(kept.max(start));
         }
-        if s.ends_with('.') {
-            s.pop();
+        if &out[start..] == "-0" {
+            out.truncate(start);
+            out.push('0');
         }
     }
-    if s == "-0" {
-        s = "0".to_string();
-    }
-    s
 }
 
 #[cfg(test)]
@@ -322,6 +325,70 @@ mod tests {
             let _ = is_number(&s);
             let _ = atof(&s);
             let _ = parse_number(&s);
+        }
+    }
+}
+
+#[cfg(test)]
+mod push_compact_tests {
+    use super::*;
+
+    /// `compact` as it was written before it shared `push_compact`'s body.
+    fn compact_reference(v: f64, decimals: usize) -> String {
+        // glibc prints NaN as `nan` / `-nan` by its sign bit (Rust would print `NaN`).
+        if v.is_nan() {
+            return if v.is_sign_negative() { "-nan" } else { "nan" }.to_string();
+        }
+        // Whole numbers print the same at any precision (flag macros, mode values).
+        if v.fract() == 0.0 && v.abs() < 1e15 {
+            return if v == 0.0 {
+                "0".to_string()
+            } else {
+                (v as i64).to_string()
+            };
+        }
+        let mut s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            while s.ends_with('0') {
+                s.pop();
+            }
+            if s.ends_with('.') {
+                s.pop();
+            }
+        }
+        if s == "-0" {
+            s = "0".to_string();
+        }
+        s
+    }
+
+    #[test]
+    fn push_compact_appends_what_compact_gave() {
+        let mut seed = 11u64;
+        let mut out = String::from("x=");
+        for k in 0..20_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let scale = [1e-6, 1e-3, 1.0, 1e3, 1e9, 1e17][k % 6];
+            let mut v = ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale;
+            if k % 7 == 0 {
+                v = v.round();
+            }
+            for v in [
+                v,
+                -0.0,
+                f64::NAN,
+                -f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ] {
+                for dec in [0, 2, 3, 5, 6] {
+                    out.truncate(2);
+                    push_compact(&mut out, v, dec);
+                    assert_eq!(&out[2..], compact_reference(v, dec), "{v} {dec}");
+                }
+            }
         }
     }
 }
