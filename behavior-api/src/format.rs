@@ -2,4 +2,4 @@
 //! ([`mbutil::compact`]) without a string of its own, for text a helm or a behavior
 //! writes every iteration into kept buffers. One implementation, in `mbutil`.
 
-pub use mbutil::push_compact;
+pub use mbutil::{push_compact, push_fixed, push_i64, push_u64};

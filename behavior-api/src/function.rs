@@ -11,6 +11,8 @@ use abi_stable::StableAbi;
 thread_local! {
     /// Domain texts of functions the host has read, for the next ones built here.
     static SPARE_TEXT: std::cell::RefCell<Vec<RString>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// Where a domain's text is written before it goes into the ABI string.
+    static DOMAIN_TEXT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
 }
 
 /// An IvP function of degree 1 as plain data.
@@ -68,7 +70,15 @@ impl FunctionData {
             .unwrap_or_default();
         domain.clear();
         domain.reserve(32 * f.dim());
-        let _ = std::fmt::Write::write_fmt(&mut domain, format_args!("{}", f.domain()));
+        let written = DOMAIN_TEXT.try_with(|t| {
+            let mut t = t.borrow_mut();
+            t.clear();
+            f.domain().push_text(&mut t);
+            domain.push_str(&t);
+        });
+        if written.is_err() {
+            let _ = std::fmt::Write::write_fmt(&mut domain, format_args!("{}", f.domain()));
+        }
         let pwt = f.pwt();
         let (bounds, weights, gelbox, grid) = f.take_buffers();
         f.recycle();

@@ -82,7 +82,7 @@ pub use abi_stable;
 pub use behavior::{BehaviorBox, CallResult};
 pub use contacts;
 pub use context::HelmCtx;
-pub use format::push_compact;
+pub use format::{push_compact, push_fixed, push_i64, push_u64};
 pub use function::FunctionData;
 pub use geometry;
 pub use ivp;

@@ -109,13 +109,12 @@ pub fn condition_vars(cond: &str) -> Vec<String> {
 
 /// [`fmt_f0`] appended to `out`.
 pub fn push_f0(out: &mut String, v: f64) {
-    use std::fmt::Write as _;
     if v.is_nan() {
         out.push_str("nan");
     } else if v.is_infinite() {
         out.push_str(if v > 0.0 { "inf" } else { "-inf" });
     } else {
-        let _ = write!(out, "{v:.0}");
+        behavior_api::push_fixed(out, v, 0);
     }
 }
 

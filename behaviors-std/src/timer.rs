@@ -28,8 +28,17 @@ impl BhvTimer {
     fn post_status(&self, ctx: &mut Ctx<'_>) {
         let idle = ctx.dur_idle_time();
         let run = ctx.dur_run_time();
-        ctx.post_message_num(&format!("{}{}", self.var_idle, self.suffix), idle);
-        ctx.post_message_num(&format!("{}{}", self.var_running, self.suffix), run);
+        ctx.post_message_num(&suffixed(&self.var_idle, &self.suffix), idle);
+        ctx.post_message_num(&suffixed(&self.var_running, &self.suffix), run);
+    }
+}
+
+/// `var` with the suffix; without one, the name as it is (no string built per post).
+fn suffixed<'a>(var: &'a str, suffix: &str) -> std::borrow::Cow<'a, str> {
+    if suffix.is_empty() {
+        var.into()
+    } else {
+        format!("{var}{suffix}").into()
     }
 }
 

@@ -1,6 +1,6 @@
 //! The info buffer: the behaviors' view of MOOS data (behavior-common.md §7).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use bhv::logic::VarSource;
 
@@ -28,7 +28,9 @@ impl Entry {
 /// Latest values per variable, their times, and this iteration's values.
 #[derive(Debug, Default)]
 pub struct InfoBuffer {
-    vars: HashMap<String, Entry>,
+    /// Looked up many times per iteration by name; never iterated, so the hasher's
+    /// order cannot show. Fx: SipHash's DoS resistance buys nothing here.
+    vars: FxHashMap<String, Entry>,
     /// Variables with deltas this iteration (the first `touched_count`; the rest are
     /// spare strings), so clearing touches only those.
     touched: Vec<String>,

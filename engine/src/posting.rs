@@ -1,6 +1,6 @@
 //! Postings leaving the helm, and the duplicate ("key") filter of helm.md §8.1.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 pub use bhv::number::Value;
 

@@ -88,11 +88,7 @@ fn perr(spec: &str, field: &str, reason: &str) -> IvpError {
 
 /// Compact number format: 5 decimals, trailing zeros and a trailing `.` removed (the one
 /// formatter of MOOS-IvP's number strings).
-pub(crate) fn compact(v: f64) -> String {
-    mbutil::compact(v, 5)
-}
-
-/// `compact(v)` appended to `out`; whole numbers (the usual domain bounds) without an
+/// `mbutil::compact(v, 5)` appended to `out`; whole numbers (the usual domain bounds) without an
 /// intermediate string, by the same rule as `mbutil::compact`.
 pub(crate) fn push_compact(out: &mut String, v: f64) {
     mbutil::push_compact(out, v, 5);
@@ -398,27 +394,35 @@ impl Domain {
 /// `domainToString`: `name,low,high,points` joined by `:`.
 impl fmt::Display for Domain {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut text = String::with_capacity(32 * self.vars.len());
+        self.push_text(&mut text);
+        f.write_str(&text)
+    }
+}
+
+impl Domain {
+    /// The domain's text (`course,0,359,360:speed,0,4,41`, what `Display` shows)
+    /// appended to `out`: plugins turn every function's domain into this text each
+    /// iteration (FunctionData), so no formatter and no intermediate strings.
+    pub fn push_text(&self, out: &mut String) {
         for (i, v) in self.vars.iter().enumerate() {
             if i > 0 {
-                f.write_str(":")?;
+                out.push(':');
             }
-            // Field by field without intermediate strings: plugins turn every function's
-            // domain into this text each iteration (FunctionData).
-            f.write_str(&v.name)?;
+            out.push_str(&v.name);
             for x in [v.low, v.high] {
-                f.write_str(",")?;
+                out.push(',');
                 if x == 0.0 {
-                    f.write_str("0")?;
+                    out.push('0');
                 } else if x.fract() == 0.0 && x.abs() < 1e15 {
-                    f.write_str(itoa::Buffer::new().format(x as i64))?;
+                    out.push_str(itoa::Buffer::new().format(x as i64));
                 } else {
-                    f.write_str(&compact(x))?;
+                    push_compact(out, x);
                 }
             }
-            f.write_str(",")?;
-            f.write_str(itoa::Buffer::new().format(v.points))?;
+            out.push(',');
+            out.push_str(itoa::Buffer::new().format(v.points));
         }
-        Ok(())
     }
 }
 
@@ -513,7 +517,7 @@ mod tests {
             ] {
                 out.truncate(2);
                 push_compact(&mut out, v);
-                assert_eq!(&out[2..], compact(v), "{v}");
+                assert_eq!(&out[2..], mbutil::compact(v, 5), "{v}");
             }
         }
     }

@@ -13,9 +13,11 @@
 
 pub mod color;
 pub mod file;
+pub mod fixed;
 pub mod number;
 pub mod string_pool;
 
 pub use color::{is_color, parse_color, Color};
+pub use fixed::{push_fixed, push_i64, push_u64};
 pub use number::{atof, compact, is_number, parse_number, push_compact, strip_quotes};
 pub use string_pool::StringPool;

@@ -221,17 +221,16 @@ pub fn compact(v: f64, decimals: usize) -> String {
 /// [`compact`] appended to `out`, with no string of its own (the helm's summary, a
 /// behavior's status postings and BHV_IPF headers format numbers every iteration).
 pub fn push_compact(out: &mut String, v: f64, decimals: usize) {
-    use std::fmt::Write as _;
     // glibc prints NaN as `nan` / `-nan` by its sign bit (Rust would print `NaN`).
     if v.is_nan() {
         out.push_str(if v.is_sign_negative() { "-nan" } else { "nan" });
     } else if v.fract() == 0.0 && v.abs() < 1e15 {
         // Whole numbers print the same at any precision (flag macros, mode values);
         // -0 prints as 0.
-        let _ = write!(out, "{}", v as i64);
+        crate::fixed::push_i64(out, v as i64);
     } else {
         let start = out.len();
-        let _ = write!(out, "{v:.decimals$}");
+        crate::fixed::push_fixed(out, v, decimals);
         if out[start..].contains('.') {
             let kept = out.trim_end_matches('0').trim_end_matches('.').len();
             out.truncate(kept.max(start));

@@ -13,8 +13,6 @@ use geometry::{
     Vertex,
 };
 
-use std::fmt::Write as _;
-
 use behavior_api::push_compact;
 
 use crate::common::{platform_update, push_f0, Platform};
@@ -376,13 +374,19 @@ impl BhvWaypoint {
             // Written into the kept text buffer: this posting changes every iteration.
             let mut v = std::mem::take(&mut self.text);
             v.clear();
-            let _ = write!(
-                v,
-                "vname={},behavior-name={},index={ix},hits={cap}/{tot},cycles={},dist=",
-                self.own,
-                self.me,
-                self.engine.cycles(),
-            );
+            v.push_str("vname=");
+            v.push_str(&self.own);
+            v.push_str(",behavior-name=");
+            v.push_str(&self.me);
+            v.push_str(",index=");
+            behavior_api::push_u64(&mut v, ix as u64);
+            v.push_str(",hits=");
+            behavior_api::push_u64(&mut v, cap as u64);
+            v.push('/');
+            behavior_api::push_u64(&mut v, tot as u64);
+            v.push_str(",cycles=");
+            behavior_api::push_u64(&mut v, self.engine.cycles() as u64);
+            v.push_str(",dist=");
             push_f0(&mut v, d);
             v.push_str(",eta=");
             push_f0(&mut v, d / self.plat.speed);

@@ -1,7 +1,5 @@
 //! One helm iteration (helm.md §6), the decision (§7) and the all-stop logic (§9).
 
-use std::fmt::Write as _;
-
 use super::{Helm, HelmState};
 use crate::posting::{Posting, Value};
 use crate::runtime::step;
@@ -279,7 +277,9 @@ impl Helm {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         let context = f.context_mut();
                         context.clear();
-                        let _ = write!(context, "{iter}:{name}");
+                        mbutil::push_u64(context, iter);
+                        context.push(':');
+                        context.push_str(&name);
                         self.post_ipf(i, &f, &name, iter);
                         self.functions.push((name, f));
                     }

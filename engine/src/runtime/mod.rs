@@ -12,7 +12,7 @@ mod macros;
 mod step;
 mod updates;
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use behavior_api::BehaviorBox;
 use bhv::flag::FlagSpec;
@@ -183,7 +183,7 @@ impl BehaviorCore {
             duration_idle_decay: true,
             perpetual: false,
             updates_var: String::new(),
-            post_mapping: HashMap::new(),
+            post_mapping: HashMap::default(),
             comms_policy: "open".into(),
             build_info: String::new(),
             ownship: ownship.to_string(),
@@ -215,8 +215,8 @@ impl BehaviorCore {
             platform: [0.0; 4],
             now_origin: None,
             counters: [0; 6],
-            condition_cache: HashMap::new(),
-            flag_cache: HashMap::new(),
+            condition_cache: HashMap::default(),
+            flag_cache: HashMap::default(),
             pool: Default::default(),
         }
     }

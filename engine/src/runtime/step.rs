@@ -1,7 +1,5 @@
 //! One behavior's part in one helm iteration (behavior-common.md §4 and §6).
 
-use std::fmt::Write as _;
-
 use behavior_api::{CallResult, FunctionData, HelmCtx};
 use bhv::number::atof;
 
@@ -258,7 +256,11 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
                 }
                 new = RunState::Active;
                 let pcs = f.piece_count().unwrap_or(0);
-                let _ = write!(inst.core.status_info, ",pwt={:.5},pcs={pcs}", f.pwt);
+                let info = &mut inst.core.status_info;
+                info.push_str(",pwt=");
+                mbutil::push_fixed(info, f.pwt, 5);
+                info.push_str(",pcs=");
+                mbutil::push_u64(info, pcs as u64);
                 outcome.function = Some(f);
             } else {
                 if old == RunState::Active {

@@ -1,0 +1,184 @@
+//! Fixed-point number text without `core::fmt`: the helm formats a few numbers into its
+//! postings every iteration (`pwt=`, `dist=`, the summary), and the formatting machinery
+//! cost more than the numbers' decisions. Every function here writes exactly what
+//! `write!(out, "{v:.decimals$}")` writes; where it cannot be sure cheaply (near a
+//! rounding tie, very large values, NaN and infinities) it asks `core::fmt`.
+
+use std::fmt::Write as _;
+
+/// Powers of ten exact in both `u64` and `f64`, for up to 15 decimals.
+const POW10: [u64; 16] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+    1_000_000_000,
+    10_000_000_000,
+    100_000_000_000,
+    1_000_000_000_000,
+    10_000_000_000_000,
+    100_000_000_000_000,
+    1_000_000_000_000_000,
+];
+
+/// Scaled values up to this stay within 2^-13 of the exact product (relative error
+/// 2^-53), far less than the tie margin below.
+const SCALED_MAX: f64 = (1u64 << 40) as f64;
+
+/// How far from a rounding tie (in units of the last decimal) the fast path decides.
+const TIE_MARGIN: f64 = 1e-3;
+
+/// `write!(out, "{v:.decimals$}")`, the same text.
+///
+/// ```
+/// let mut s = String::new();
+/// mbutil::push_fixed(&mut s, -2.345678, 3);
+/// assert_eq!(s, "-2.346");
+/// ```
+pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
+    if !fast_fixed(out, v, decimals) {
+        let _ = write!(out, "{v:.decimals$}");
+    }
+}
+
+/// The unsigned integer's decimal digits, appended.
+pub fn push_u64(out: &mut String, n: u64) {
+    out.push_str(itoa::Buffer::new().format(n));
+}
+
+/// The signed integer's decimal digits, appended (`write!(out, "{n}")`).
+pub fn push_i64(out: &mut String, n: i64) {
+    if n < 0 {
+        out.push('-');
+    }
+    push_u64(out, n.unsigned_abs());
+}
+
+/// The rounded digits when the rounding direction is certain; false otherwise.
+fn fast_fixed(out: &mut String, v: f64, decimals: usize) -> bool {
+    if !v.is_finite() || decimals >= POW10.len() {
+        return false;
+    }
+    let scale = POW10[decimals];
+    let y = v.abs() * scale as f64;
+    if y >= SCALED_MAX {
+        return false;
+    }
+    let whole = y.floor();
+    let frac = y - whole;
+    // Rounding to the nearest integer only jumps at .5: away from it, the computed and
+    // the exact product round alike.
+    if (frac - 0.5).abs() <= TIE_MARGIN {
+        return false;
+    }
+    let n = whole as u64 + u64::from(frac > 0.5);
+    if v.is_sign_negative() {
+        out.push('-');
+    }
+    push_u64(out, n / scale);
+    if decimals > 0 {
+        out.push('.');
+        let mut digits = itoa::Buffer::new();
+        let digits = digits.format(n % scale);
+        for _ in digits.len()..decimals {
+            out.push('0');
+        }
+        out.push_str(digits);
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn by_fmt(v: f64, d: usize) -> String {
+        format!("{v:.d$}")
+    }
+
+    fn ours(v: f64, d: usize) -> String {
+        let mut s = String::new();
+        push_fixed(&mut s, v, d);
+        s
+    }
+
+    #[test]
+    fn special_values_match_fmt() {
+        let values = [
+            0.0,
+            -0.0,
+            0.5,
+            1.5,
+            2.5,
+            -0.5,
+            0.125,
+            0.375,
+            -0.001,
+            1e-300,
+            -1e-300,
+            0.045,
+            1.005,
+            2.675,
+            123456.789,
+            9.9999999,
+            -9.9995,
+            99.5,
+            1e11,
+            1e15,
+            1e16,
+            1e300,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for v in values {
+            for d in 0..=17 {
+                assert_eq!(ours(v, d), by_fmt(v, d), "{v:e} at {d} decimals");
+            }
+        }
+    }
+
+    #[test]
+    fn random_values_match_fmt() {
+        // A fixed xorshift: the same values on every run, spread over magnitudes.
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..400_000 {
+            let r = next();
+            let mantissa = (r >> 11) as f64 / (1u64 << 53) as f64;
+            let exp = (next() % 24) as i32 - 12;
+            let mut v = mantissa * 10f64.powi(exp);
+            if r & 1 == 1 {
+                v = -v;
+            }
+            let d = (next() % 8) as usize;
+            assert_eq!(ours(v, d), by_fmt(v, d), "{v:e} at {d} decimals");
+            // Values on a decimal grid: ties and near-ties at every precision.
+            let g = (next() % 2_000_000) as f64 / 1000.0 - 1000.0;
+            assert_eq!(ours(g, d), by_fmt(g, d), "{g:e} at {d} decimals");
+            let w = (next() % 100_000) as f64 - 50_000.0;
+            assert_eq!(ours(w, d), by_fmt(w, d), "{w:e} at {d} decimals");
+        }
+    }
+
+    #[test]
+    fn integers_match_fmt() {
+        for n in [0i64, 1, -1, 9, 10, 99, 100, -12345, i64::MAX, i64::MIN] {
+            let mut s = String::new();
+            push_i64(&mut s, n);
+            assert_eq!(s, n.to_string());
+        }
+    }
+}
