@@ -109,6 +109,18 @@ impl FunctionData {
     /// storage recycled on this thread (see [`ivp::IvpFunction::recycle`]) and its domain
     /// text is kept for the next `from_ivp`.
     pub fn into_ivp_on(self, helm: &ivp::Domain) -> Result<ivp::IvpFunction, String> {
+        self.place_on(helm, false)
+    }
+
+    /// [`FunctionData::into_ivp_on`] for a function made by a loaded library: its
+    /// buffers belong to the library's allocator (moving them into the host would copy
+    /// them into new allocations), so they are copied into the host's recycled storage
+    /// and handed back to the library's allocator.
+    pub fn copied_onto(self, helm: &ivp::Domain) -> Result<ivp::IvpFunction, String> {
+        self.place_on(helm, true)
+    }
+
+    fn place_on(self, helm: &ivp::Domain, copy: bool) -> Result<ivp::IvpFunction, String> {
         let fd = self;
         let specs = || fd.domain.as_str().split(':').filter(|s| !s.is_empty());
         for spec in specs() {
@@ -137,15 +149,24 @@ impl FunctionData {
         let rejected = |e: ivp::IvpError| format!("IvP function rejected: {e}");
         let domain = ivp::Domain::from_var_refs(vars).map_err(rejected)?;
         FunctionData::recycle_domain(fd.domain);
-        ivp::IvpFunction::from_buffers(
-            domain,
-            fd.bounds.into_vec(),
-            fd.weights.into_vec(),
-            fd.gelbox.into_vec(),
-            fd.grid.into_vec(),
-            fd.pwt,
-        )
-        .map_err(rejected)
+        let (bounds, weights, gelbox, grid) = if copy {
+            use ivp::zaic::spare;
+            (
+                spare::ints_from(&fd.bounds),
+                spare::floats_from(&fd.weights),
+                spare::uints_from(&fd.gelbox),
+                spare::floats_from(&fd.grid),
+            )
+        } else {
+            (
+                fd.bounds.into_vec(),
+                fd.weights.into_vec(),
+                fd.gelbox.into_vec(),
+                fd.grid.into_vec(),
+            )
+        };
+        ivp::IvpFunction::from_buffers(domain, bounds, weights, gelbox, grid, fd.pwt)
+            .map_err(rejected)
     }
 
     /// Variable names of the function's domain, in dimension order.

@@ -42,7 +42,7 @@ use crate::geometry::angle360;
 use crate::params::parse_bool;
 use crate::platform::{platform_update, Platform};
 use crate::sdk::Ctx;
-use crate::{compact, parse_number, PostValue};
+use crate::{parse_number, push_compact, PostValue};
 
 pub use able::AbleOutcome;
 pub use macros::POST_MORTEM_MACRO;
@@ -102,6 +102,11 @@ pub struct ContactBase {
     /// asked to complete (see [`ContactBase::on_complete`]).
     before: Option<(Platform, Pose, Option<ContactRelation>)>,
     self_completed: bool,
+    /// `<ownship>_<name>`, the bearing lines' label: neither changes once the behavior
+    /// exists (an update may not rename it), so it is asked of the helm once.
+    line_label: std::cell::OnceCell<String>,
+    /// The bearing line's text, written again each iteration into this kept string.
+    line_text: std::cell::RefCell<String>,
 }
 
 impl ContactBase {
@@ -143,6 +148,8 @@ impl ContactBase {
             warned: false,
             before: None,
             self_completed: false,
+            line_label: std::cell::OnceCell::new(),
+            line_text: std::cell::RefCell::new(String::new()),
         }
     }
 
@@ -335,8 +342,9 @@ impl ContactBase {
             return true;
         }
         ctx.set_contact(&self.contact);
-        let msg = format!("{} x/y/heading/speed info not found", self.contact);
+        let msg = || format!("{} x/y/heading/speed info not found", self.contact);
         let Some(c) = ctx.contact(&self.contact) else {
+            let msg = msg();
             if self.on_no_contact_ok {
                 ctx.post_wmessage(&msg);
                 self.warned = true;
@@ -346,7 +354,7 @@ impl ContactBase {
             return false;
         };
         if self.warned {
-            ctx.post_retract_wmessage(&msg);
+            ctx.post_retract_wmessage(&msg());
             self.warned = false;
         }
         self.cn = Pose {
@@ -480,17 +488,37 @@ impl ContactBase {
         } else {
             "off"
         };
-        let s = format!(
-            "pts={{{},{}:{},{}}},label={}_{},label_color={label_color},edge_color={color},time={},duration=100",
-            compact(self.os.x, 2),
-            compact(self.os.y, 2),
-            compact(self.cn.x, 2),
-            compact(self.cn.y, 2),
-            ctx.ownship(),
-            ctx.name(),
-            compact(ctx.get_buffer_curr_time(), 2),
-        );
+        let label = self.line_label(ctx);
+        let Ok(mut s) = self.line_text.try_borrow_mut() else {
+            return;
+        };
+        s.clear();
+        s.push_str("pts={");
+        for (k, v) in [self.os.x, self.os.y, self.cn.x, self.cn.y]
+            .into_iter()
+            .enumerate()
+        {
+            if k > 0 {
+                s.push(if k == 2 { ':' } else { ',' });
+            }
+            push_compact(&mut s, v, 2);
+        }
+        s.push_str("},label=");
+        s.push_str(label);
+        s.push_str(",label_color=");
+        s.push_str(label_color);
+        s.push_str(",edge_color=");
+        s.push_str(color);
+        s.push_str(",time=");
+        push_compact(&mut s, ctx.get_buffer_curr_time(), 2);
+        s.push_str(",duration=100");
         ctx.post_message("VIEW_SEGLIST", &s);
+    }
+
+    /// `<ownship>_<name>`, asked of the helm the first time only.
+    fn line_label(&self, ctx: &Ctx<'_>) -> &str {
+        self.line_label
+            .get_or_init(|| format!("{}_{}", ctx.ownship(), ctx.name()))
     }
 
     /// The inactive bearing line (inactive hook, disabled state, completion).
@@ -499,9 +527,8 @@ impl ContactBase {
             return;
         }
         let s = format!(
-            "pts={{0,0:9,0:0,9}},active=false,label={}_{}",
-            ctx.ownship(),
-            ctx.name()
+            "pts={{0,0:9,0:0,9}},active=false,label={}",
+            self.line_label(ctx)
         );
         ctx.post_message("VIEW_SEGLIST", &s);
     }

@@ -272,7 +272,12 @@ impl Helm {
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
-                match fd.into_ivp_on(&self.config.domain) {
+                let placed = if self.behaviors[i].core.from_library {
+                    fd.copied_onto(&self.config.domain)
+                } else {
+                    fd.into_ivp_on(&self.config.domain)
+                };
+                match placed {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         let context = f.context_mut();

@@ -96,6 +96,9 @@ pub struct BehaviorCore {
     pub ownship: String,
     /// The behavior's own domain is empty ("Null IvPDomain").
     pub empty_domain: bool,
+    /// Made by a loaded library (not built in): its functions' buffers belong to the
+    /// library's allocator, so the host copies them into its own recycled storage.
+    pub from_library: bool,
     /// For behaviors spawned from a template: the template's name prefix.
     pub spawn_prefix: Option<String>,
     /// Disabled after a panic or a function that could not be trusted.
@@ -188,6 +191,7 @@ impl BehaviorCore {
             build_info: String::new(),
             ownship: ownship.to_string(),
             empty_domain: false,
+            from_library: false,
             faulted: false,
             spawn_prefix: None,
             state: RunState::Fresh,

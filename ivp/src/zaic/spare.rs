@@ -59,6 +59,34 @@ pub(crate) fn floats() -> Vec<f64> {
 pub(crate) fn uints() -> Vec<u32> {
     take(|s| s.uints.pop())
 }
+/// The most recently kept spare with room for `n` items (the spares are of every size:
+/// a small one would grow), else the most recent one.
+fn fitting<T>(list: &mut Vec<Vec<T>>, n: usize) -> Option<Vec<T>> {
+    match list.iter().rposition(|v| v.capacity() >= n) {
+        Some(k) => Some(list.swap_remove(k)),
+        None => list.pop(),
+    }
+}
+
+/// A copy of `items`, in a spare allocation when one is kept: the host copies a loaded
+/// library's function buffers this way (moving them in would allocate anew each time).
+pub fn ints_from(items: &[i32]) -> Vec<i32> {
+    let mut v = take(|s| fitting(&mut s.ints, items.len()));
+    v.extend_from_slice(items);
+    v
+}
+/// See [`ints_from`].
+pub fn floats_from(items: &[f64]) -> Vec<f64> {
+    let mut v = take(|s| fitting(&mut s.floats, items.len()));
+    v.extend_from_slice(items);
+    v
+}
+/// See [`ints_from`].
+pub fn uints_from(items: &[u32]) -> Vec<u32> {
+    let mut v = take(|s| fitting(&mut s.uints, items.len()));
+    v.extend_from_slice(items);
+    v
+}
 /// An empty string, in a spare allocation when one is kept.
 pub fn string() -> String {
     take(|s| s.strings.pop())
