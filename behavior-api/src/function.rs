@@ -121,9 +121,18 @@ impl FunctionData {
     }
 
     fn place_on(self, helm: &ivp::Domain, copy: bool) -> Result<ivp::IvpFunction, String> {
-        let fd = self;
-        let specs = || fd.domain.as_str().split(':').filter(|s| !s.is_empty());
-        for spec in specs() {
+        let mut vars = Vec::new();
+        self.helm_vars_into(helm, &mut vars)?;
+        self.place_with(helm, &vars, copy)
+    }
+
+    /// The helm-domain index of each of the function's variables, in its dimension
+    /// order, into `out` (cleared first); or why the function is rejected: a variable
+    /// the helm lacks, or one not on the helm's grid for it. A host that saw the same
+    /// domain text before may keep the answer and call [`FunctionData::place_with`].
+    pub fn helm_vars_into(&self, helm: &ivp::Domain, out: &mut Vec<usize>) -> Result<(), String> {
+        out.clear();
+        for spec in self.domain.as_str().split(':').filter(|s| !s.is_empty()) {
             let mut f = spec.split(',');
             let name = f.next().unwrap_or("");
             let Some(i) = helm.index_of(name) else {
@@ -141,13 +150,30 @@ impl FunctionData {
                     "IvP function rejected: its variable `{spec}` is not the helm's `{name}` grid"
                 ));
             }
+            out.push(i);
         }
-        // Every name was found above.
-        let vars = specs()
-            .filter_map(|spec| helm.index_of(spec.split(',').next().unwrap_or("")))
-            .map(|i| helm.var(i));
+        Ok(())
+    }
+
+    /// The function placed on the helm domain's variables `vars` (what
+    /// [`FunctionData::helm_vars_into`] found for this domain text); `copy` for a
+    /// function made by a loaded library (see [`FunctionData::copied_onto`]).
+    pub fn place_with(
+        self,
+        helm: &ivp::Domain,
+        vars: &[usize],
+        copy: bool,
+    ) -> Result<ivp::IvpFunction, String> {
+        let fd = self;
         let rejected = |e: ivp::IvpError| format!("IvP function rejected: {e}");
-        let domain = ivp::Domain::from_var_refs(vars).map_err(rejected)?;
+        if vars.iter().any(|&i| i >= helm.size()) {
+            return Err(format!(
+                "IvP function rejected: a variable index past the helm's {}",
+                helm.size()
+            ));
+        }
+        let domain =
+            ivp::Domain::from_var_refs(vars.iter().map(|&i| helm.var(i))).map_err(rejected)?;
         FunctionData::recycle_domain(fd.domain);
         let (bounds, weights, gelbox, grid) = if copy {
             use ivp::zaic::spare;

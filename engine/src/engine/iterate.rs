@@ -272,12 +272,7 @@ impl Helm {
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
-                let placed = if self.behaviors[i].core.from_library {
-                    fd.copied_onto(&self.config.domain)
-                } else {
-                    fd.into_ivp_on(&self.config.domain)
-                };
-                match placed {
+                match place(&mut self.behaviors[i].core, fd, &self.config.domain) {
                     Ok(mut f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
                         let context = f.context_mut();
@@ -470,4 +465,20 @@ pub(crate) fn typed(s: &str) -> Value {
     } else {
         Value::Str(s.to_string())
     }
+}
+
+/// A behavior's function on the helm domain. Its domain text is parsed and checked
+/// against the helm's grid only when it differs from the behavior's previous one (a
+/// behavior's domain rarely changes, and the text's numbers are slow to read).
+fn place(
+    core: &mut crate::runtime::BehaviorCore,
+    fd: behavior_api::FunctionData,
+    helm: &ivp::Domain,
+) -> Result<ivp::IvpFunction, String> {
+    if core.placed_domain != fd.domain.as_str() {
+        core.placed_domain.clear();
+        fd.helm_vars_into(helm, &mut core.placed_vars)?;
+        core.placed_domain.push_str(fd.domain.as_str());
+    }
+    fd.place_with(helm, &core.placed_vars, core.from_library)
 }

@@ -99,6 +99,10 @@ pub struct BehaviorCore {
     /// Made by a loaded library (not built in): its functions' buffers belong to the
     /// library's allocator, so the host copies them into its own recycled storage.
     pub from_library: bool,
+    /// The domain text of the behavior's last function and where its variables are in
+    /// the helm domain (see `Helm::decide`): checked again only when the text changes.
+    pub placed_domain: String,
+    pub placed_vars: Vec<usize>,
     /// For behaviors spawned from a template: the template's name prefix.
     pub spawn_prefix: Option<String>,
     /// Disabled after a panic or a function that could not be trusted.
@@ -192,6 +196,8 @@ impl BehaviorCore {
             ownship: ownship.to_string(),
             empty_domain: false,
             from_library: false,
+            placed_domain: String::new(),
+            placed_vars: Vec::new(),
             faulted: false,
             spawn_prefix: None,
             state: RunState::Fresh,
