@@ -23,5 +23,6 @@ pub use points::{dist, dist_point_to_seg, perp_seg_int_pt, project_point, segmen
 pub use polygon::Polygon;
 pub use spec::{
     fmt_x, is_color, object_spec, point_erase_spec, point_spec, pts_props_spec, pts_spec,
-    seglist_erase_spec, seglist_spec, Attrs, EdgeTag, SeglistSpecCache, Vertex,
+    push_point_spec, push_pts_props_spec, seglist_erase_spec, seglist_spec, Attrs, EdgeTag,
+    SeglistSpecCache, Vertex,
 };

@@ -93,8 +93,15 @@ impl Attrs {
     /// The attributes as `,key=value` fields (leading comma included for each).
     pub fn spec(&self) -> String {
         let mut s = String::new();
+        self.push_spec(&mut s);
+        s
+    }
+
+    /// [`Attrs::spec`] appended to `out` (behaviors post these every iteration: no
+    /// string of their own, no formatter).
+    pub fn push_spec(&self, out: &mut String) {
         if let Some(a) = self.active {
-            s.push_str(if a { ",active=true" } else { ",active=false" });
+            out.push_str(if a { ",active=true" } else { ",active=false" });
         }
         let strs = [
             ("label", &self.label),
@@ -109,26 +116,33 @@ impl Attrs {
         ];
         for (k, v) in strs {
             if !v.is_empty() {
-                s.push_str(&format!(",{k}={v}"));
+                push_field(out, k, v);
             }
         }
-        if let Some(t) = self.time {
-            s.push_str(&format!(",time={}", fmt_x(t, 2)));
+        let nums = [
+            ("time", self.time, 2),
+            ("duration", self.duration, 2),
+            ("vertex_size", self.vertex_size, 1),
+            ("edge_size", self.edge_size, 1),
+            ("fill_transparency", self.fill_transparency, 2),
+        ];
+        for (k, v, decimals) in nums {
+            if let Some(v) = v {
+                out.push(',');
+                out.push_str(k);
+                out.push('=');
+                mbutil::push_compact(out, v, decimals);
+            }
         }
-        if let Some(d) = self.duration {
-            s.push_str(&format!(",duration={}", fmt_x(d, 2)));
-        }
-        if let Some(v) = self.vertex_size {
-            s.push_str(&format!(",vertex_size={}", fmt_x(v, 1)));
-        }
-        if let Some(v) = self.edge_size {
-            s.push_str(&format!(",edge_size={}", fmt_x(v, 1)));
-        }
-        if let Some(v) = self.fill_transparency {
-            s.push_str(&format!(",fill_transparency={}", fmt_x(v, 2)));
-        }
-        s
     }
+}
+
+/// `,key=value` appended.
+fn push_field(out: &mut String, key: &str, value: &str) {
+    out.push(',');
+    out.push_str(key);
+    out.push('=');
+    out.push_str(value);
 }
 
 /// A vertex (x, y, optional z).
@@ -147,19 +161,30 @@ impl Vertex {
 
 /// `x=..,y=..[,z=..]` (2 decimals compact) then the attributes.
 pub fn point_spec(x: f64, y: f64, z: Option<f64>, attrs: &Attrs) -> String {
-    let mut s = format!("x={},y={}", fmt_x(x, 2), fmt_x(y, 2));
-    if let Some(z) = z {
-        s.push_str(&format!(",z={}", fmt_x(z, 2)));
-    }
-    s.push_str(&attrs.spec());
+    let mut s = String::new();
+    push_point_spec(&mut s, x, y, z, attrs);
     s
+}
+
+/// [`point_spec`] appended to `out`.
+pub fn push_point_spec(out: &mut String, x: f64, y: f64, z: Option<f64>, attrs: &Attrs) {
+    out.push_str("x=");
+    mbutil::push_compact(out, x, 2);
+    out.push_str(",y=");
+    mbutil::push_compact(out, y, 2);
+    if let Some(z) = z {
+        out.push_str(",z=");
+        mbutil::push_compact(out, z, 2);
+    }
+    attrs.push_spec(out);
 }
 
 /// Inactive point used to erase a drawn point: `x=0,y=0,active=false[,label=L]`.
 pub fn point_erase_spec(label: &str) -> String {
-    let mut s = "x=0,y=0,active=false".to_string();
+    let mut s = String::with_capacity(32 + label.len());
+    s.push_str("x=0,y=0,active=false");
     if !label.is_empty() {
-        s.push_str(&format!(",label={label}"));
+        push_field(&mut s, "label", label);
     }
     s
 }
@@ -172,24 +197,33 @@ pub fn pts_spec(pts: &[Vertex], precision: usize) -> String {
 /// [`pts_spec`] with per-vertex properties (`props` empty, or one per vertex): a vertex
 /// with a property prints `x,y,z,property` even when z is 0 (geometry-formats.md §3.6).
 pub fn pts_props_spec(pts: &[Vertex], props: &[String], precision: usize) -> String {
-    let body: Vec<String> = pts
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let mut v = format!("{},{}", fmt_x(p.x, precision), fmt_x(p.y, precision));
-            let prop = props.get(i).map_or("", String::as_str);
-            let z = p.z.unwrap_or(0.0);
-            if z != 0.0 || !prop.is_empty() {
-                v.push_str(&format!(",{}", fmt_x(z, precision)));
-            }
-            if !prop.is_empty() {
-                v.push(',');
-                v.push_str(prop);
-            }
-            v
-        })
-        .collect();
-    format!("pts={{{}}}", body.join(":"))
+    let mut s = String::new();
+    push_pts_props_spec(&mut s, pts, props, precision);
+    s
+}
+
+/// [`pts_props_spec`] appended to `out`.
+pub fn push_pts_props_spec(out: &mut String, pts: &[Vertex], props: &[String], precision: usize) {
+    out.push_str("pts={");
+    for (i, p) in pts.iter().enumerate() {
+        if i > 0 {
+            out.push(':');
+        }
+        mbutil::push_compact(out, p.x, precision);
+        out.push(',');
+        mbutil::push_compact(out, p.y, precision);
+        let prop = props.get(i).map_or("", String::as_str);
+        let z = p.z.unwrap_or(0.0);
+        if z != 0.0 || !prop.is_empty() {
+            out.push(',');
+            mbutil::push_compact(out, z, precision);
+        }
+        if !prop.is_empty() {
+            out.push(',');
+            out.push_str(prop);
+        }
+    }
+    out.push('}');
 }
 
 /// An edge tag of a seglist: the edge from vertex `from` to vertex `to` is tagged `tag`
@@ -283,16 +317,18 @@ impl SeglistSpecCache {
 }
 
 pub fn seglist_spec(pts: &[Vertex], precision: usize, attrs: &Attrs) -> String {
-    let mut s = pts_spec(pts, precision);
-    s.push_str(&attrs.spec());
+    let mut s = String::new();
+    push_pts_props_spec(&mut s, pts, &[], precision);
+    attrs.push_spec(&mut s);
     s
 }
 
 /// Inactive seglist/polygon used for erasing: `pts={0,0:9,0:0,9},active=false[,label=L]`.
 pub fn seglist_erase_spec(label: &str) -> String {
-    let mut s = "pts={0,0:9,0:0,9},active=false".to_string();
+    let mut s = String::with_capacity(48 + label.len());
+    s.push_str("pts={0,0:9,0:0,9},active=false");
     if !label.is_empty() {
-        s.push_str(&format!(",label={label}"));
+        push_field(&mut s, "label", label);
     }
     s
 }
