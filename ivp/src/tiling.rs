@@ -313,33 +313,15 @@ fn fit_rows_2(
             a = b;
         }
     }
-    // The pieces in the reflector's order (the last tile first): bounds and weights
-    // written, ranges folded, grid cells raised.
     let total = nx * ny;
-    bounds.reserve(4 * total);
-    weights.reserve(3 * total);
     let [w0, w1, w2, lo, hi] = &lists.pieces;
-    // Written in place of pushed (no length and capacity checks per piece) and not
-    // zeroed first: the loop below writes every one of the new slots.
-    let mut out = bounds.spare_capacity_mut()[..4 * total]
-        .chunks_exact_mut(4)
-        .zip(weights.spare_capacity_mut()[..3 * total].chunks_exact_mut(3));
-    let mut written = 0;
-    for (cy, (&(ylo, yhi), &(ycell, yspan))) in ys.edges.iter().zip(&ys.cells).enumerate().rev() {
-        for (cx, (&(xlo, xhi), &(xcell, xspan))) in xs.edges.iter().zip(&xs.cells).enumerate().rev()
-        {
-            let k = cy * nx + cx;
-            if let Some((b, w)) = out.next() {
-                for (slot, x) in b.iter_mut().zip([xlo, xhi, ylo, yhi]) {
-                    slot.write(x as i32);
-                }
-                for (slot, x) in w.iter_mut().zip([w0[k], w1[k], w2[k]]) {
-                    slot.write(x);
-                }
-                written += 1;
-            }
-            let v = hi[k];
-            folds.fold(lo[k], v);
+    // The pieces' ranges folded and grid cells raised in the reflector's order (the
+    // last tile first).
+    for (cy, &(ycell, yspan)) in ys.cells.iter().enumerate().rev() {
+        let (lo, hi) = (&lo[cy * nx..][..nx], &hi[cy * nx..][..nx]);
+        for (cx, &(xcell, xspan)) in xs.cells.iter().enumerate().rev() {
+            let v = hi[cx];
+            folds.fold(lo[cx], v);
             if xspan == 1 && yspan == 1 {
                 let g = &mut folds.grid[xcell + ycell];
                 if *g == f64::NEG_INFINITY || v > *g {
@@ -350,9 +332,33 @@ fn fit_rows_2(
             }
         }
     }
-    assert_eq!(written, total, "every piece written");
-    // SAFETY: the loop wrote the first 4·total (3·total) slots of the spare capacity,
-    // one piece per tile (checked just above).
+    // Their bounds and weights in that order, written in place (no length and capacity
+    // checks per piece) and not zeroed first: every new slot is written below.
+    bounds.reserve(4 * total);
+    weights.reserve(3 * total);
+    let bs = &mut bounds.spare_capacity_mut()[..4 * total];
+    let ws = &mut weights.spare_capacity_mut()[..3 * total];
+    for (cy, &(ylo, yhi)) in ys.edges.iter().enumerate() {
+        // Row cy is the reflector's pieces (ny − 1 − cy)·nx .. (ny − cy)·nx, its last
+        // tile first.
+        let p = (ny - 1 - cy) * nx;
+        let rows = bs[4 * p..4 * (p + nx)]
+            .chunks_exact_mut(4)
+            .zip(ws[3 * p..3 * (p + nx)].chunks_exact_mut(3));
+        for ((b, w), cx) in rows.zip((0..nx).rev()) {
+            let (xlo, xhi) = xs.edges[cx];
+            b[0].write(xlo as i32);
+            b[1].write(xhi as i32);
+            b[2].write(ylo as i32);
+            b[3].write(yhi as i32);
+            let k = cy * nx + cx;
+            w[0].write(w0[k]);
+            w[1].write(w1[k]);
+            w[2].write(w2[k]);
+        }
+    }
+    // SAFETY: each row above wrote all the slots of its nx pieces, and the rows' pieces
+    // are 0..total: the first 4·total (3·total) spare slots are written.
     unsafe {
         bounds.set_len(bounds.len() + 4 * total);
         weights.set_len(weights.len() + 3 * total);
