@@ -274,21 +274,75 @@ impl CpaEngine {
     /// `cpa_unit((sins[k], coss[k]), v, tol).dist`. Each candidate's every branch is
     /// computed and the answer picked, with the same operations in the same order, so
     /// the row has no jumps and the compiler can do several candidates at once (an
-    /// objective function asks this for every corner of every tile of the grid).
-    pub fn cpa_dists(&self, (sins, coss): (&[f64], &[f64]), v: f64, tol: f64, out: &mut [f64]) {
-        let v = v.max(0.0);
-        let (px, py) = (self.osx - self.cnx, self.osy - self.cny);
-        let (cn_vx, cn_vy, now) = (self.cn_vx, self.cn_vy, self.range_now);
-        for ((o, &s), &c) in out.iter_mut().zip(sins).zip(coss) {
-            let (wx, wy) = (v * s - cn_vx, v * c - cn_vy);
-            let ww = wx * wx + wy * wy;
-            let t = -(px * wx + py * wy) / ww;
-            let closing = !(ww == 0.0) & !(t.is_nan() | (t <= 0.0));
-            let t = if t > tol { tol } else { t };
-            let (dx, dy) = (px + wx * t, py + wy * t);
-            let d2 = dx * dx + dy * dy;
-            let d = if d2 > 0.0 { d2.sqrt() } else { 0.0 };
-            *o = if closing { d } else { now };
+    /// objective function asks this for every corner of every tile of the grid). On a
+    /// CPU with AVX2 the same loop runs compiled for it (four candidates per
+    /// instruction instead of two; IEEE operations give the same bits at any width).
+    pub fn cpa_dists(&self, units: (&[f64], &[f64]), v: f64, tol: f64, out: &mut [f64]) {
+        let row = CpaRow {
+            v: v.max(0.0),
+            px: self.osx - self.cnx,
+            py: self.osy - self.cny,
+            cn_vx: self.cn_vx,
+            cn_vy: self.cn_vy,
+            now: self.range_now,
+            tol,
+        };
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { cpa_row_avx2(&row, units, out) };
         }
+        cpa_row(&row, units, out);
+    }
+}
+
+/// What a row of CPA distances needs of the engine and the speed.
+pub(super) struct CpaRow {
+    /// Ownship's speed (negative counted as 0).
+    pub v: f64,
+    /// Ownship − contact.
+    pub px: f64,
+    pub py: f64,
+    /// The contact's velocity.
+    pub cn_vx: f64,
+    pub cn_vy: f64,
+    /// The current range (the CPA when not closing).
+    pub now: f64,
+    /// The horizon.
+    pub tol: f64,
+}
+
+/// [`CpaEngine::cpa_dists`]'s loop compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn cpa_row_avx2(row: &CpaRow, units: (&[f64], &[f64]), out: &mut [f64]) {
+    cpa_row(row, units, out);
+}
+
+/// [`CpaEngine::cpa_dists`]'s loop, for the target's baseline instructions (and inlined
+/// into [`cpa_row_avx2`]).
+#[inline(always)]
+pub(super) fn cpa_row(row: &CpaRow, (sins, coss): (&[f64], &[f64]), out: &mut [f64]) {
+    let &CpaRow {
+        v,
+        px,
+        py,
+        cn_vx,
+        cn_vy,
+        now,
+        tol,
+    } = row;
+    let n = out.len().min(sins.len()).min(coss.len());
+    let (sins, coss, out) = (&sins[..n], &coss[..n], &mut out[..n]);
+    for k in 0..n {
+        let (wx, wy) = (v * sins[k] - cn_vx, v * coss[k] - cn_vy);
+        let ww = wx * wx + wy * wy;
+        let t = -(px * wx + py * wy) / ww;
+        let closing = !(ww == 0.0) & !(t.is_nan() | (t <= 0.0));
+        let t = if t > tol { tol } else { t };
+        let (dx, dy) = (px + wx * t, py + wy * t);
+        let d2 = dx * dx + dy * dy;
+        let d = if d2 > 0.0 { d2.sqrt() } else { 0.0 };
+        out[k] = if closing { d } else { now };
     }
 }

@@ -365,3 +365,56 @@ fn cpa_row_kernel_is_cpa_unit() {
         }
     }
 }
+
+/// The row kernel compiled for AVX2 gives the baseline compilation's bits, over rows of
+/// every length 0..=41 (the vector loop's tails) and random awkward units, speeds and
+/// horizons (NaN compared as NaN: its sign is no property of the code).
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn cpa_row_avx2_is_the_plain_row() {
+    use super::heading::{cpa_row, cpa_row_avx2, CpaRow};
+    if !std::arch::is_x86_feature_detected!("avx2") {
+        return;
+    }
+    let mut seed = 77u64;
+    let odd = [
+        0.0,
+        -0.0,
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        1e-310,
+        1e300,
+    ];
+    let pick = |seed: &mut u64, scale: f64| {
+        if rng(seed) < 0.1 {
+            odd[(rng(seed) * odd.len() as f64) as usize % odd.len()]
+        } else {
+            (rng(seed) - 0.5) * scale
+        }
+    };
+    for case in 0..3000 {
+        let n = case % 42;
+        let sins: Vec<f64> = (0..n).map(|_| pick(&mut seed, 2.0)).collect();
+        let coss: Vec<f64> = (0..n).map(|_| pick(&mut seed, 2.0)).collect();
+        let row = CpaRow {
+            v: pick(&mut seed, 8.0).max(0.0),
+            px: pick(&mut seed, 400.0),
+            py: pick(&mut seed, 400.0),
+            cn_vx: pick(&mut seed, 6.0),
+            cn_vy: pick(&mut seed, 6.0),
+            now: pick(&mut seed, 400.0),
+            tol: pick(&mut seed, 300.0),
+        };
+        let (mut plain, mut wide) = (vec![1.5; n], vec![-2.5; n]);
+        cpa_row(&row, (&sins, &coss), &mut plain);
+        // SAFETY: AVX2 is present (checked above).
+        unsafe { cpa_row_avx2(&row, (&sins, &coss), &mut wide) };
+        for (a, b) in plain.iter().zip(&wide) {
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "case {case}: {a} {b}"
+            );
+        }
+    }
+}

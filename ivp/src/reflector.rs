@@ -411,6 +411,7 @@ impl<'a> Reflector<'a> {
         let summary = self.summary.as_ref().map(|s| crate::tiling::Summary {
             grid: s.grid.clone(),
             min_max: s.min_max,
+            pieces: None,
         });
         Self::function(
             self.domain.clone(),
@@ -483,8 +484,16 @@ impl<'a> Reflector<'a> {
             }
             return Some(f);
         };
-        let mut f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, s.grid);
+        let (mut weights, mut grid) = (weights, s.grid);
         let min_max = s.min_max.unwrap_or((0.0, 0.0));
+        if let (true, Some(mut pieces)) = (normalize && again, s.pieces) {
+            // The 2-dimensional fit's pieces, normalized several at a time.
+            if pieces.normalize_twice(min_max, (0.0, 100.0), &mut weights, &mut grid) {
+                let f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);
+                return Some(f);
+            }
+        }
+        let mut f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);
         if normalize && again {
             let min_max = f.normalize_from_and_min_max(min_max, 0.0, 100.0);
             f.normalize_from(min_max, 0.0, 100.0);

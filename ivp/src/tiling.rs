@@ -22,6 +22,9 @@ pub(crate) struct Summary {
     pub grid: Vec<f64>,
     /// The least piece minimum and the greatest piece maximum (`None`: no pieces).
     pub min_max: Option<(f64, f64)>,
+    /// The pieces of a 2-dimensional fit in lists, for normalizing them several at a
+    /// time ([`rows::Pieces::normalize_twice`]).
+    pub pieces: Option<rows::Pieces>,
 }
 
 /// The uniform tiling of `domain` by boxes of edge `size` (`counts` of them per
@@ -100,9 +103,20 @@ fn fit_uniform_n<const N: usize>(
     let grid = &mut summary.grid;
     grid.clear();
     grid.resize(grid_stride, f64::NEG_INFINITY);
+    // Corner grid axes: each tile's low and high edge side by side, except dimension 0
+    // of a 2-dimensional tiling, where all the low edges come first, then all the high
+    // ones (the row fit reads each corner's values as one list; see fit_rows_2).
     let corner_axes: Vec<Vec<u32>> = axes
         .iter()
-        .map(|a| a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect())
+        .enumerate()
+        .map(|(d, a)| {
+            if N == 2 && d == 0 {
+                let lows = a.edges.iter().map(|&(lo, _)| lo);
+                lows.chain(a.edges.iter().map(|&(_, hi)| hi)).collect()
+            } else {
+                a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect()
+            }
+        })
         .collect();
     let mid_axes: Vec<Vec<u32>> = axes
         .iter()
@@ -143,14 +157,15 @@ fn fit_uniform_n<const N: usize>(
     };
     if N == 2 {
         // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
-        fit_rows_2(
+        let pieces = fit_rows_2(
             &axes,
-            (&corners.0, &mids.0),
+            (&corners.0, if any_centre { &mids.0 } else { &[] }),
             strict,
             (bounds, weights),
             &mut folds,
         );
         summary.min_max = folds.min_max;
+        summary.pieces = Some(pieces);
         return;
     }
     let mut coord: [usize; N] = std::array::from_fn(|d| counts[d] as usize - 1);
@@ -214,6 +229,13 @@ impl Folds<'_> {
             pmax += w[d] * if w[d] < 0.0 { l } else { h };
             pmin += w[d] * if w[d] < 0.0 { h } else { l };
         }
+        self.fold(pmin, pmax);
+        pmax
+    }
+
+    /// Fold in a piece's least and greatest value as min_max_wt folds them.
+    #[inline(always)]
+    fn fold(&mut self, pmin: f64, pmax: f64) {
         self.min_max = Some(match self.min_max {
             None => (pmin, pmax),
             Some((mn, mx)) => (
@@ -221,47 +243,85 @@ impl Folds<'_> {
                 if pmax > mx { pmax } else { mx },
             ),
         });
-        pmax
     }
 }
 
 /// The tiles of a 2-dimensional tiling fitted in the reflector's order (the last tile
-/// first, dimension 0 fastest), reading each tile's corners from two rows of the corner
-/// grid and its centre from the grid of midpoints; what the general loop of
-/// [`fit_uniform_n`] does, tile for tile.
+/// first, dimension 0 fastest); what the general loop of [`fit_uniform_n`] does, tile
+/// for tile. Each row's tiles are fitted a run of equal widths at a time
+/// ([`rows::fit_run`], several tiles per instruction), from the corner grid's rows (all
+/// low-edge corners of a row, then all high-edge ones) and the grid of midpoints; then
+/// the pieces are written out and folded in the reflector's order.
 fn fit_rows_2(
     axes: &[Axis],
     (corners, mids): (&[f64], &[f64]),
     strict: bool,
     (bounds, weights): (&mut Vec<i32>, &mut Vec<f64>),
     folds: &mut Folds<'_>,
-) {
+) -> rows::Pieces {
     let (xs, ys) = (&axes[0], &axes[1]);
-    let row = 2 * xs.edges.len();
-    let mut vals = [0.0f64; (1 << FIT_DIMS) + 1];
-    let mut w = [0.0f64; FIT_DIMS + 1];
-    for (cy, (&(ylo, yhi), &(ycell, yspan))) in ys.edges.iter().zip(&ys.cells).enumerate().rev() {
+    let (nx, ny) = (xs.edges.len(), ys.edges.len());
+    let row = 2 * nx;
+    let mut pieces = rows::Pieces::new(&xs.edges, &ys.edges);
+    let mut lists = pieces.lists_mut();
+    for (cy, &(ylo, yhi)) in ys.edges.iter().enumerate() {
         let low_row = &corners[2 * cy * row..][..row];
         let high_row = &corners[(2 * cy + 1) * row..][..row];
-        // Read only when some tile takes its centre (else the midpoints were not asked).
-        let mid_row = cy * xs.edges.len();
+        // Empty when no tile takes its centre (the midpoints were not asked then).
+        let mid_row = if mids.is_empty() {
+            &[][..]
+        } else {
+            &mids[cy * nx..][..nx]
+        };
         let y_centre = yhi - ylo + 1 > 2;
-        for (cx, (&(xlo, xhi), &(xcell, xspan))) in xs.edges.iter().zip(&xs.cells).enumerate().rev()
-        {
-            let (lo, hi) = ([xlo, ylo], [xhi, yhi]);
-            bounds.extend_from_slice(&[xlo as i32, xhi as i32, ylo as i32, yhi as i32]);
-            vals[0] = low_row[2 * cx];
-            vals[1] = low_row[2 * cx + 1];
-            vals[2] = high_row[2 * cx];
-            vals[3] = high_row[2 * cx + 1];
-            if y_centre || xhi - xlo + 1 > 2 {
-                vals[4] = mids[mid_row + cx];
-                fit_box::<2, true>(&lo, &hi, &vals, strict, &mut w);
-            } else {
-                fit_box::<2, false>(&lo, &hi, &vals, strict, &mut w);
-            }
-            weights.extend_from_slice(&w[..3]);
-            let v = folds.add::<2>(&lo, &hi, &w);
+        let y = [
+            f64::from(ylo),
+            f64::from(yhi),
+            f64::from(ylo + (yhi - ylo) / 2),
+        ];
+        let at = cy * nx;
+        let mut a = 0;
+        while a < nx {
+            let width = xs.edges[a].1 - xs.edges[a].0;
+            let b = a + xs.edges[a..]
+                .iter()
+                .take_while(|&&(lo, hi)| hi - lo == width)
+                .count();
+            let centre = y_centre || width + 1 > 2;
+            let run = rows::Run {
+                x: [&lists.xl[a..b], &lists.xh[a..b], &lists.xm[a..b]],
+                y,
+                widths: (width, yhi - ylo),
+                vals: [
+                    &low_row[a..b],
+                    &low_row[nx + a..nx + b],
+                    &high_row[a..b],
+                    &high_row[nx + a..nx + b],
+                    if centre { &mid_row[a..b] } else { &[] },
+                ],
+                strict,
+                centre,
+            };
+            let (i, j) = (at + a, at + b);
+            let [w0, w1, w2, lo, hi] = &mut lists.pieces;
+            let mut out = rows::RunOut {
+                w: [&mut w0[i..j], &mut w1[i..j], &mut w2[i..j]],
+                min: &mut lo[i..j],
+                max: &mut hi[i..j],
+            };
+            rows::fit_run(&run, &mut out);
+            a = b;
+        }
+    }
+    let total = nx * ny;
+    let [w0, w1, w2, lo, hi] = &lists.pieces;
+    // The pieces' ranges folded and grid cells raised in the reflector's order (the
+    // last tile first).
+    for (cy, &(ycell, yspan)) in ys.cells.iter().enumerate().rev() {
+        let (lo, hi) = (&lo[cy * nx..][..nx], &hi[cy * nx..][..nx]);
+        for (cx, &(xcell, xspan)) in xs.cells.iter().enumerate().rev() {
+            let v = hi[cx];
+            folds.fold(lo[cx], v);
             if xspan == 1 && yspan == 1 {
                 let g = &mut folds.grid[xcell + ycell];
                 if *g == f64::NEG_INFINITY || v > *g {
@@ -272,7 +332,42 @@ fn fit_rows_2(
             }
         }
     }
+    // Their bounds and weights in that order, written in place (no length and capacity
+    // checks per piece) and not zeroed first: every new slot is written below.
+    bounds.reserve(4 * total);
+    weights.reserve(3 * total);
+    let bs = &mut bounds.spare_capacity_mut()[..4 * total];
+    let ws = &mut weights.spare_capacity_mut()[..3 * total];
+    for (cy, &(ylo, yhi)) in ys.edges.iter().enumerate() {
+        // Row cy is the reflector's pieces (ny − 1 − cy)·nx .. (ny − cy)·nx, its last
+        // tile first.
+        let p = (ny - 1 - cy) * nx;
+        let rows = bs[4 * p..4 * (p + nx)]
+            .chunks_exact_mut(4)
+            .zip(ws[3 * p..3 * (p + nx)].chunks_exact_mut(3));
+        for ((b, w), cx) in rows.zip((0..nx).rev()) {
+            let (xlo, xhi) = xs.edges[cx];
+            b[0].write(xlo as i32);
+            b[1].write(xhi as i32);
+            b[2].write(ylo as i32);
+            b[3].write(yhi as i32);
+            let k = cy * nx + cx;
+            w[0].write(w0[k]);
+            w[1].write(w1[k]);
+            w[2].write(w2[k]);
+        }
+    }
+    // SAFETY: each row above wrote all the slots of its nx pieces, and the rows' pieces
+    // are 0..total: the first 4·total (3·total) spare slots are written.
+    unsafe {
+        bounds.set_len(bounds.len() + 4 * total);
+        weights.set_len(weights.len() + 3 * total);
+    }
+    pieces
 }
+
+#[path = "tiling_rows.rs"]
+mod rows;
 
 /// Raise the grid cells of the tile at `coord` to the piece maximum `v`, as
 /// build_grid does (a cell still at -inf takes `v` whatever it is).
@@ -313,6 +408,7 @@ fn raise_cells<const N: usize>(
 
 /// A grid-values buffer kept per thread between builds (a behavior builds every
 /// iteration; the buffer is taken out while in use, so a nested build gets its own).
+#[derive(Debug)]
 struct Scratch(Vec<f64>);
 
 thread_local! {
@@ -335,7 +431,7 @@ impl Drop for Scratch {
         let v = std::mem::take(&mut self.0);
         SCRATCH.with(|s| {
             let mut pool = s.take();
-            if pool.len() < 4 {
+            if pool.len() < 8 {
                 pool.push(v);
             }
             s.set(pool);

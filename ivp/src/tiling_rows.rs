@@ -1,0 +1,410 @@
+//! The fit of a run of tiles of one row of a 2-dimensional uniform tiling (tiles of
+//! equal widths) in structure-of-arrays form: the values of each corner, the slopes,
+//! intercepts and piece ranges each in a list of their own, so that each step is one
+//! loop over the run that the compiler does several tiles at a time (four on a CPU with
+//! AVX2, which gets a copy of the loops compiled for it). Per tile these are
+//! [`crate::fit::fit_box`]'s operations for 2 dimensions, in its order, and the piece
+//! range of the tiling's fold, so the bits are the same at any width.
+
+/// One run of tiles: equal widths, one row.
+pub(super) struct Run<'a> {
+    /// Per tile, in dimension 0: low edge, high edge, centre (`lo + (hi − lo) / 2`).
+    pub x: [&'a [f64]; 3],
+    /// The row's low edge, high edge and centre in dimension 1.
+    pub y: [f64; 3],
+    /// The tiles' widths (`hi − lo`) in dimensions 0 and 1.
+    pub widths: (u32, u32),
+    /// Per tile, the values at the corners by mask (bit 0: high in dimension 0, bit 1:
+    /// high in dimension 1), then at the centre (read only when the fit takes it).
+    pub vals: [&'a [f64]; 5],
+    /// Shift each intercept into its values' range (spec §8 strict range).
+    pub strict: bool,
+    /// The fit takes the centre (some width spans more than 2 points).
+    pub centre: bool,
+}
+
+/// What the fit of a run gives per tile.
+pub(super) struct RunOut<'a> {
+    /// Slopes in dimensions 0 and 1, then the intercept.
+    pub w: [&'a mut [f64]; 3],
+    /// The piece's least and greatest value over its box.
+    pub min: &'a mut [f64],
+    pub max: &'a mut [f64],
+}
+
+/// Fit the run's tiles into `out` (as many as `out.min` holds).
+pub(super) fn fit_run(run: &Run<'_>, out: &mut RunOut<'_>) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { fit_run_avx2(run, out) };
+    }
+    fit_run_plain(run, out);
+}
+
+/// [`fit_run`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn fit_run_avx2(run: &Run<'_>, out: &mut RunOut<'_>) {
+    fit_run_body(run, out);
+}
+
+/// [`fit_run`] for the target's baseline instructions.
+pub(super) fn fit_run_plain(run: &Run<'_>, out: &mut RunOut<'_>) {
+    fit_run_body(run, out);
+}
+
+#[inline(always)]
+fn fit_run_body(run: &Run<'_>, out: &mut RunOut<'_>) {
+    let n = out.min.len();
+    let [v0, v1, v2, v3, v4] = run.vals;
+    let (v0, v1, v2, v3) = (&v0[..n], &v1[..n], &v2[..n], &v3[..n]);
+    let [w0, w1, w2] = &mut out.w;
+    let (w0, w1) = (&mut w0[..n], &mut w1[..n]);
+    // Slopes: the mean of the two corner differences along the dimension, divided by
+    // the width (0 for a zero width), as fit_box sums them (from 0, mask order).
+    slopes(w0, run.widths.0, |k| {
+        let mut sum = 0.0;
+        sum += v1[k] - v0[k];
+        sum += v3[k] - v2[k];
+        sum / 2.0
+    });
+    slopes(w1, run.widths.1, |k| {
+        let mut sum = 0.0;
+        sum += v2[k] - v0[k];
+        sum += v3[k] - v1[k];
+        sum / 2.0
+    });
+    let planes = Planes {
+        x: run.x.map(|s| &s[..n]),
+        y: run.y,
+        w0,
+        w1,
+        vals: [v0, v1, v2, v3],
+        strict: run.strict,
+    };
+    let out = (&mut w2[..n], &mut out.min[..n], &mut out.max[..n]);
+    if run.centre {
+        intercepts::<true>(&planes, &v4[..n], out);
+    } else {
+        intercepts::<false>(&planes, &[], out);
+    }
+}
+
+/// `w[k] = div_by_width(numer(k), width)` for every tile (0 when `width` is 0), the
+/// width's case decided once for the run.
+#[inline(always)]
+fn slopes(w: &mut [f64], width: u32, numer: impl Fn(usize) -> f64) {
+    if width == 0 {
+        w.fill(0.0);
+    } else if width.is_power_of_two() {
+        // Exact: see crate::fit::div_by_width.
+        let r = 1.0 / f64::from(width);
+        for (k, x) in w.iter_mut().enumerate() {
+            *x = numer(k) * r;
+        }
+    } else {
+        let d = f64::from(width);
+        for (k, x) in w.iter_mut().enumerate() {
+            *x = numer(k) / d;
+        }
+    }
+}
+
+/// The run's slopes with what the intercepts need.
+struct Planes<'a> {
+    x: [&'a [f64]; 3],
+    y: [f64; 3],
+    w0: &'a [f64],
+    w1: &'a [f64],
+    vals: [&'a [f64]; 4],
+    strict: bool,
+}
+
+/// Intercepts (the mean residual, shifted into the values' range when strict) and the
+/// pieces' least and greatest values, with fit_box's and the fold's operations.
+#[inline(always)]
+fn intercepts<const CENTRE: bool>(
+    p: &Planes<'_>,
+    centres: &[f64],
+    (w2, min, max): (&mut [f64], &mut [f64], &mut [f64]),
+) {
+    let n = w2.len();
+    let [xl, xh, xm] = p.x;
+    let [yl, yh, ym] = p.y;
+    let [v0, v1, v2, v3] = p.vals;
+    let (xl, xh, xm, w0, w1) = (&xl[..n], &xh[..n], &xm[..n], &p.w0[..n], &p.w1[..n]);
+    let (v0, v1, v2, v3) = (&v0[..n], &v1[..n], &v2[..n], &v3[..n]);
+    let (min, max) = (&mut min[..n], &mut max[..n]);
+    let m = if CENTRE { 5.0 } else { 4.0 };
+    for k in 0..n {
+        let (a, b) = (w0[k], w1[k]);
+        let plane = |x: f64, y: f64| {
+            let mut acc = 0.0;
+            acc += a * x;
+            acc += b * y;
+            acc
+        };
+        let vals = [
+            v0[k],
+            v1[k],
+            v2[k],
+            v3[k],
+            if CENTRE { centres[k] } else { 0.0 },
+        ];
+        let planes = [
+            plane(xl[k], yl),
+            plane(xh[k], yl),
+            plane(xl[k], yh),
+            plane(xh[k], yh),
+            if CENTRE { plane(xm[k], ym) } else { 0.0 },
+        ];
+        let cnt = if CENTRE { 5 } else { 4 };
+        let mut isum = 0.0;
+        for j in 0..cnt {
+            isum += vals[j] - planes[j];
+        }
+        let icpt = isum / m;
+        let (mut vmin, mut vmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut pmin, mut pmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        for j in 0..cnt {
+            let (v, q) = (vals[j], planes[j] + icpt);
+            vmin = if v < vmin { v } else { vmin };
+            vmax = if v > vmax { v } else { vmax };
+            pmin = if q < pmin { q } else { pmin };
+            pmax = if q > pmax { q } else { pmax };
+        }
+        let down = icpt - (pmax - vmax);
+        let up = icpt + (vmin - pmin);
+        let icpt = if p.strict & (pmax > vmax) {
+            down
+        } else if p.strict & (pmin < vmin) {
+            up
+        } else {
+            icpt
+        };
+        w2[k] = icpt;
+        // The piece's range over its box (the tiling's Folds::add).
+        let (mut lo, mut hi) = (icpt, icpt);
+        hi += a * if a < 0.0 { xl[k] } else { xh[k] };
+        lo += a * if a < 0.0 { xh[k] } else { xl[k] };
+        hi += b * if b < 0.0 { yl } else { yh };
+        lo += b * if b < 0.0 { yh } else { yl };
+        min[k] = lo;
+        max[k] = hi;
+    }
+}
+
+/// The pieces of a 2-dimensional uniform fit as lists (tile `cx + nx·cy` at index
+/// `cx + nx·cy`, the grid's order, not the reflector's): the tiles' edges as numbers
+/// and, per tile, the slopes, intercept and range of its piece. One buffer kept per
+/// thread between builds.
+#[derive(Debug)]
+pub(crate) struct Pieces {
+    buf: super::Scratch,
+    nx: usize,
+    ny: usize,
+}
+
+/// [`Pieces`]' lists, borrowed.
+pub(super) struct Lists<'a> {
+    /// Per tile of dimension 0: low edge, high edge, centre.
+    pub xl: &'a mut [f64],
+    pub xh: &'a mut [f64],
+    pub xm: &'a mut [f64],
+    /// Per tile of dimension 1: low edge, high edge.
+    pub yl: &'a mut [f64],
+    pub yh: &'a mut [f64],
+    /// Per tile: slope 0, slope 1, intercept, least value, greatest value.
+    pub pieces: [&'a mut [f64]; 5],
+}
+
+impl Pieces {
+    /// Lists for the tiles with these edges (per dimension, `(lo, hi)` per tile).
+    pub(super) fn new(xs: &[(u32, u32)], ys: &[(u32, u32)]) -> Pieces {
+        let (nx, ny) = (xs.len(), ys.len());
+        let mut buf = super::Scratch::take();
+        // Every list is written before it is read (the edges here, the pieces by the
+        // fit): what the last build left needs no clearing.
+        let len = 3 * nx + 2 * ny + 5 * nx * ny;
+        if buf.0.len() < len {
+            buf.0.resize(len, 0.0);
+        }
+        let mut p = Pieces { buf, nx, ny };
+        let l = p.lists_mut();
+        for (k, &(lo, hi)) in xs.iter().enumerate() {
+            (l.xl[k], l.xh[k]) = (f64::from(lo), f64::from(hi));
+            l.xm[k] = f64::from(lo + (hi - lo) / 2);
+        }
+        for (k, &(lo, hi)) in ys.iter().enumerate() {
+            (l.yl[k], l.yh[k]) = (f64::from(lo), f64::from(hi));
+        }
+        p
+    }
+
+    pub(super) fn lists_mut(&mut self) -> Lists<'_> {
+        let (nx, ny, n) = (self.nx, self.ny, self.nx * self.ny);
+        let (xl, rest) = self.buf.0.split_at_mut(nx);
+        let (xh, rest) = rest.split_at_mut(nx);
+        let (xm, rest) = rest.split_at_mut(nx);
+        let (yl, rest) = rest.split_at_mut(ny);
+        let (yh, rest) = rest.split_at_mut(ny);
+        let (w0, rest) = rest.split_at_mut(n);
+        let (w1, rest) = rest.split_at_mut(n);
+        let (w2, rest) = rest.split_at_mut(n);
+        let (lo, hi) = rest.split_at_mut(n);
+        Lists {
+            xl,
+            xh,
+            xm,
+            yl,
+            yh,
+            pieces: [w0, w1, w2, lo, hi],
+        }
+    }
+
+    /// What [`crate::IvpFunction::normalize_from_and_min_max`]`(min_max, base, range)`
+    /// then [`crate::IvpFunction::normalize_from`] of the range it returns, `base`,
+    /// `range` do to the function of these pieces (its `weights`, in the reflector's
+    /// order, and its search `grid`), bit for bit: each piece's operations are theirs,
+    /// and the ranges are folded in the reflector's order. `false` (nothing changed)
+    /// when the first range is empty or `weights` are not these pieces' weights: the
+    /// function's own methods then do it.
+    pub(crate) fn normalize_twice(
+        &mut self,
+        (mn, mx): (f64, f64),
+        (base, range): (f64, f64),
+        weights: &mut [f64],
+        grid: &mut [f64],
+    ) -> bool {
+        let r = mx - mn;
+        let n = self.nx * self.ny;
+        if r.is_nan() || r <= 0.0 || weights.len() != 3 * n || n == 0 {
+            return false;
+        }
+        let nx = self.nx;
+        let l = self.lists_mut();
+        let [w0, w1, w2, lo, hi] = l.pieces;
+        let (shift, scale) = (base - mn, range / r);
+        for cy in 0..l.yl.len() {
+            let (i, j) = (cy * nx, (cy + 1) * nx);
+            let row = NormRow {
+                x: [&*l.xl, &*l.xh],
+                y: [l.yl[cy], l.yh[cy]],
+                w: [&mut w0[i..j], &mut w1[i..j], &mut w2[i..j]],
+                min: &mut lo[i..j],
+                max: &mut hi[i..j],
+            };
+            normalize_row(row, shift, scale);
+        }
+        // min_max_wt's fold, in the reflector's order (the last tile first).
+        let (mut mn2, mut mx2) = (lo[n - 1], hi[n - 1]);
+        for k in (0..n - 1).rev() {
+            if lo[k] < mn2 {
+                mn2 = lo[k];
+            }
+            if hi[k] > mx2 {
+                mx2 = hi[k];
+            }
+        }
+        let r2 = mx2 - mn2;
+        let again = !(r2.is_nan() || r2 <= 0.0);
+        let (shift2, scale2) = (base - mn2, range / r2);
+        if again {
+            scale_all([w0, w1, w2], shift2, scale2);
+        }
+        for g in grid.iter_mut() {
+            *g = (*g + shift) * scale;
+        }
+        if again {
+            for g in grid.iter_mut() {
+                *g = (*g + shift2) * scale2;
+            }
+        }
+        for (w, k) in weights.chunks_exact_mut(3).zip((0..n).rev()) {
+            w.copy_from_slice(&[w0[k], w1[k], w2[k]]);
+        }
+        true
+    }
+}
+
+/// One row of pieces to normalize: the tiles' edges and the pieces' lists.
+struct NormRow<'a> {
+    x: [&'a [f64]; 2],
+    y: [f64; 2],
+    w: [&'a mut [f64]; 3],
+    min: &'a mut [f64],
+    max: &'a mut [f64],
+}
+
+/// Normalize a row's pieces (`w[2] += shift`, then every weight `*= scale`) and take
+/// each one's new range, as normalize_from_and_min_max does per piece.
+fn normalize_row(row: NormRow<'_>, shift: f64, scale: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { normalize_row_avx2(row, shift, scale) };
+    }
+    normalize_row_body(row, shift, scale);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn normalize_row_avx2(row: NormRow<'_>, shift: f64, scale: f64) {
+    normalize_row_body(row, shift, scale);
+}
+
+#[inline(always)]
+fn normalize_row_body(row: NormRow<'_>, shift: f64, scale: f64) {
+    let NormRow { x, y, w, min, max } = row;
+    let n = min.len();
+    let [w0, w1, w2] = w;
+    let (w0, w1, w2, max) = (&mut w0[..n], &mut w1[..n], &mut w2[..n], &mut max[..n]);
+    let (xl, xh) = (&x[0][..n], &x[1][..n]);
+    let [yl, yh] = y;
+    for k in 0..n {
+        let (a, b) = (w0[k] * scale, w1[k] * scale);
+        let c = (w2[k] + shift) * scale;
+        (w0[k], w1[k], w2[k]) = (a, b, c);
+        let (mut lo, mut hi) = (c, c);
+        hi += a * if a < 0.0 { xl[k] } else { xh[k] };
+        lo += a * if a < 0.0 { xh[k] } else { xl[k] };
+        hi += b * if b < 0.0 { yl } else { yh };
+        lo += b * if b < 0.0 { yh } else { yl };
+        min[k] = lo;
+        max[k] = hi;
+    }
+}
+
+/// `w[2] += shift`, then every weight `*= scale`, for every piece.
+fn scale_all(w: [&mut [f64]; 3], shift: f64, scale: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { scale_all_avx2(w, shift, scale) };
+    }
+    scale_all_body(w, shift, scale);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn scale_all_avx2(w: [&mut [f64]; 3], shift: f64, scale: f64) {
+    scale_all_body(w, shift, scale);
+}
+
+#[inline(always)]
+fn scale_all_body([w0, w1, w2]: [&mut [f64]; 3], shift: f64, scale: f64) {
+    for x in w0.iter_mut() {
+        *x *= scale;
+    }
+    for x in w1.iter_mut() {
+        *x *= scale;
+    }
+    for x in w2.iter_mut() {
+        *x = (*x + shift) * scale;
+    }
+}
+
+#[cfg(test)]
+#[path = "tiling_rows_tests.rs"]
+mod tests;

@@ -1,0 +1,41 @@
+//! Builds BHV_AvoidCollision's objective function over and over (for profiling the
+//! build: `valgrind --tool=callgrind` on it, or `perf`). Prints a checksum of the
+//! weights so the build is not optimized away and two versions can be compared.
+
+use behavior_api::sdk::{HelmDomain, IvpBehavior};
+use behavior_api::testing::MockHelm;
+
+fn main() {
+    let rounds: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(200);
+    let mut b = bhv_contact::AvoidCollision::new(&HelmDomain::new("course,0,359,360:speed,0,4,41"));
+    let mut helm = MockHelm::new("avd_bob");
+    for (p, v) in [("contact", "bob"), ("pwt_outer_dist", "200")] {
+        assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
+    }
+    let mut sum = 0u64;
+    for k in 0..rounds {
+        let t = k as f64;
+        helm.nav(0.0, 0.0, (t * 7.0) % 360.0, 2.0);
+        helm.contact(
+            "bob",
+            30.0 - t * 0.2,
+            100.0 - t * 0.3,
+            (t * 13.0) % 360.0,
+            1.5,
+            "kayak",
+        );
+        helm.with(|ctx| b.on_every_state(ctx));
+        if let Some(f) = helm.with(|ctx| b.on_run(ctx)) {
+            for x in f.weights.iter().chain(f.grid.iter()).chain([&f.pwt]) {
+                sum = sum.wrapping_mul(0x100_0000_01b3).wrapping_add(x.to_bits());
+            }
+            for &x in f.bounds.iter() {
+                sum = sum.wrapping_mul(31).wrapping_add(x as u64);
+            }
+        }
+    }
+    println!("{sum:x}");
+}
