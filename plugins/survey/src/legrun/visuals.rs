@@ -72,9 +72,16 @@ fn length(pts: &[Pt]) -> f64 {
 impl LegRun {
     /// The hints with prefix `p` applied to attributes (`p_<attr>` first, then `<attr>`).
     fn hinted(&self, prefix: &str, seglist: bool, attrs: &mut Attrs) {
+        // One key buffer for the lookups (this runs for every VIEW_* posting).
+        let key = std::cell::RefCell::new(String::with_capacity(prefix.len() + 24));
         let get = |a: &str| {
+            let mut k = key.borrow_mut();
+            k.clear();
+            k.push_str(prefix);
+            k.push('_');
+            k.push_str(a);
             self.hints
-                .get(&format!("{prefix}_{a}"))
+                .get(k.as_str())
                 .or_else(|| self.hints.get(a))
                 .map(|v| {
                     if v == "off" {
