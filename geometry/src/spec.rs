@@ -92,7 +92,7 @@ impl Attrs {
 
     /// The attributes as `,key=value` fields (leading comma included for each).
     pub fn spec(&self) -> String {
-        let mut s = String::new();
+        let mut s = String::with_capacity(96);
         self.push_spec(&mut s);
         s
     }
@@ -161,7 +161,8 @@ impl Vertex {
 
 /// `x=..,y=..[,z=..]` (2 decimals compact) then the attributes.
 pub fn point_spec(x: f64, y: f64, z: Option<f64>, attrs: &Attrs) -> String {
-    let mut s = String::new();
+    // Room for the usual spec at once (growing it step by step reallocates 4 times).
+    let mut s = String::with_capacity(128);
     push_point_spec(&mut s, x, y, z, attrs);
     s
 }
@@ -317,7 +318,7 @@ impl SeglistSpecCache {
 }
 
 pub fn seglist_spec(pts: &[Vertex], precision: usize, attrs: &Attrs) -> String {
-    let mut s = String::new();
+    let mut s = String::with_capacity(96 + 16 * pts.len());
     push_pts_props_spec(&mut s, pts, &[], precision);
     attrs.push_spec(&mut s);
     s
