@@ -86,6 +86,28 @@ pub(crate) fn min_val(bounds: &[i32], w: &[f64]) -> f64 {
     acc
 }
 
+/// The lowest and highest value over every piece, any dimension (the unrolled
+/// `min_max_n` gives the same for 1 to 3).
+fn min_max_any_dim(bounds: &[i32], weights: &[f64], dim: usize) -> (f64, f64) {
+    let mut pieces = bounds
+        .chunks_exact(2 * dim)
+        .zip(weights.chunks_exact(dim + 1));
+    let Some((b, w)) = pieces.next() else {
+        return (0.0, 0.0);
+    };
+    let (mut mn, mut mx) = (min_val(b, w), max_val(b, w));
+    for (b, w) in pieces {
+        let (lo, hi) = (min_val(b, w), max_val(b, w));
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
+}
+
 /// [`IvpFunction::min_max_wt`] of the pieces in `bounds`/`weights` for `N` dimensions
 /// (a constant): [`min_val`] and [`max_val`] with the same operations in the same order,
 /// folded the same way.
@@ -389,24 +411,7 @@ impl IvpFunction {
             3 => return min_max_n::<3>(&self.bounds, &self.weights),
             _ => {}
         }
-        let mut pieces = self
-            .bounds
-            .chunks_exact(2 * dim)
-            .zip(self.weights.chunks_exact(dim + 1));
-        let Some((b, w)) = pieces.next() else {
-            return (0.0, 0.0);
-        };
-        let (mut mn, mut mx) = (min_val(b, w), max_val(b, w));
-        for (b, w) in pieces {
-            let (lo, hi) = (min_val(b, w), max_val(b, w));
-            if lo < mn {
-                mn = lo;
-            }
-            if hi > mx {
-                mx = hi;
-            }
-        }
-        (mn, mx)
+        min_max_any_dim(&self.bounds, &self.weights, dim)
     }
 
     /// Shift then scale so the range becomes `[base, base+range]`; flat functions untouched.
@@ -707,25 +712,7 @@ mod tests {
 
     /// `min_max_wt` as it was before the unrolled dimensions (the reference).
     fn min_max_wt_reference(f: &IvpFunction) -> (f64, f64) {
-        let dim = f.dim();
-        let mut pieces = f
-            .bounds
-            .chunks_exact(2 * dim)
-            .zip(f.weights.chunks_exact(dim + 1));
-        let Some((b, w)) = pieces.next() else {
-            return (0.0, 0.0);
-        };
-        let (mut mn, mut mx) = (min_val(b, w), max_val(b, w));
-        for (b, w) in pieces {
-            let (lo, hi) = (min_val(b, w), max_val(b, w));
-            if lo < mn {
-                mn = lo;
-            }
-            if hi > mx {
-                mx = hi;
-            }
-        }
-        (mn, mx)
+        min_max_any_dim(&f.bounds, &f.weights, f.dim())
     }
 
     /// `check_layout`'s piece loop as it was (the reference for `bounds_in_range`).

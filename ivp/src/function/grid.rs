@@ -4,6 +4,24 @@ use super::{max_val, IvpFunction};
 use crate::domain::Domain;
 
 impl IvpFunction {
+    /// The one cell bound of a whole-domain gel box: the max over the pieces (-inf for
+    /// none), folded in piece order.
+    pub(crate) fn whole_domain_max(&self) -> f64 {
+        let dim = self.dim();
+        let mut m = f64::NEG_INFINITY;
+        for (b, w) in self
+            .bounds
+            .chunks_exact(2 * dim)
+            .zip(self.weights.chunks_exact(dim + 1))
+        {
+            let v = max_val(b, w);
+            if m == f64::NEG_INFINITY || v > m {
+                m = v;
+            }
+        }
+        m
+    }
+
     /// Build the search grid (spec §2.4): per cell of `gelbox+1` points, the max
     /// `maxVal` of the pieces overlapping it (`-inf` for an empty cell). Builders
     /// call this when they extract, as the reference does. Afterwards
@@ -37,16 +55,7 @@ impl IvpFunction {
         let mut g = vec![f64::NEG_INFINITY; total];
         if total == 1 && dim > 0 {
             // One cell (the builders' whole-domain gel box): the max over the pieces.
-            for (b, w) in self
-                .bounds
-                .chunks_exact(2 * dim)
-                .zip(self.weights.chunks_exact(dim + 1))
-            {
-                let v = max_val(b, w);
-                if g[0] == f64::NEG_INFINITY || v > g[0] {
-                    g[0] = v;
-                }
-            }
+            g[0] = self.whole_domain_max();
             self.grid = g;
             return;
         }

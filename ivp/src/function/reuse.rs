@@ -2,7 +2,7 @@
 //! them (issue 19: a helm iteration allocates nothing in steady state), kept per
 //! thread in `crate::zaic::spare` (domains in `crate::domain`).
 
-use super::{grid_total, max_val, IvpFunction};
+use super::{grid_total, IvpFunction};
 use crate::domain::Domain;
 use crate::error::IvpError;
 use crate::zaic::spare;
@@ -86,17 +86,7 @@ impl IvpFunction {
             g = spare::floats();
         }
         g.clear();
-        g.push(f64::NEG_INFINITY);
-        for (b, w) in self
-            .bounds
-            .chunks_exact(2 * dim)
-            .zip(self.weights.chunks_exact(dim + 1))
-        {
-            let v = max_val(b, w);
-            if g[0] == f64::NEG_INFINITY || v > g[0] {
-                g[0] = v;
-            }
-        }
+        g.push(self.whole_domain_max());
         self.grid = g;
     }
 }
