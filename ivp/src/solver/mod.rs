@@ -7,9 +7,11 @@
 use crate::domain::Domain;
 use crate::error::IvpError;
 use crate::function::{max_val, IvpFunction};
+use last_bits::LastBits;
 use last_index::LastIndex;
 use std::cell::Cell;
 
+mod last_bits;
 mod last_index;
 mod setup;
 #[cfg(test)]
@@ -62,7 +64,8 @@ struct Prepared {
     /// Largest `|intercept| + Σ |slope_d|·(points_d - 1)` over the pieces: no partial
     /// sum of a value or bound of this function exceeds it (sizes the rounding slack).
     term_scale: f64,
-    /// `maxVal` of every piece (scratch of the set-up, for the cell bounds).
+    /// `maxVal` of every piece: for the cell bounds, and of the first function, for the
+    /// search's first level (made only when needed, see `setup.rs`).
     piece_ub: Vec<f64>,
     /// The function's own boxes, dimension map and problem points that `bounds` were
     /// made from (see `setup.rs`).
@@ -244,6 +247,9 @@ fn walk_cells(r: &CellRange, stride: &[usize], dim: usize, mut f: impl FnMut(usi
     }
 }
 
+/// The scan of the last level (in a solve) at which its bit sets are made.
+const BITS_AFTER: u32 = 3;
+
 /// Dimensions the stack odometer of [`for_each_cell`] handles.
 const ODO_DIMS: usize = 4;
 
@@ -293,6 +299,8 @@ pub struct Solver {
     best_b: Vec<i32>,
     best_w: Vec<f64>,
     last: LastIndex,
+    /// Bit sets over the last function when it has no [`LastIndex`] (see `last_bits.rs`).
+    bits: LastBits,
     /// The previous decision point (problem indices), to seed the next search. Any
     /// point of the domain is a valid seed (see [`seed_value`]); a stale one only
     /// prunes less.
@@ -301,9 +309,9 @@ pub struct Solver {
     seed_w: Vec<f64>,
     /// The allocation of each solve's list of box slices, kept empty between solves.
     boxes_buf: Vec<&'static [i32]>,
-    /// Last solve: (seeded, searched again unseeded), for the tests.
+    /// Last solve: (seeded, searched again unseeded, last bit sets on), for the tests.
     #[cfg(test)]
-    stats: (usize, usize),
+    stats: (usize, usize, usize),
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -421,6 +429,12 @@ struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     doubt: Cell<bool>,
     last: Option<&'a LastIndex>,
+    /// The last function's bit sets when it may use them, made once `scans` reaches
+    /// [`BITS_AFTER`] (`bits_ready`).
+    bits: Option<&'a mut LastBits>,
+    bits_ready: bool,
+    scans: u32,
+    pts: &'a [i32],
 }
 
 impl Search<'_> {
@@ -488,14 +502,15 @@ impl Search<'_> {
         let (dim, m) = (self.dim, self.active.len());
         let (bl, wl) = (2 * dim, dim + 1);
         let f0 = &self.funcs[self.active[0]];
+        // Each piece's `maxVal` was made by the set-up (`piece_ub`).
         let pieces = self.boxes[self.active[0]]
             .chunks_exact(bl)
             .zip(f0.weights.chunks_exact(wl))
+            .zip(&f0.piece_ub)
             .take(f0.n);
         if m == 1 {
             // The pieces are the leaves: copied only when one becomes the incumbent.
-            for (pb, pw) in pieces {
-                let mv = max_val(pb, pw);
+            for ((pb, pw), &mv) in pieces {
                 if self.takes(mv) {
                     self.set_best(mv);
                     self.best_b.copy_from_slice(pb);
@@ -504,8 +519,7 @@ impl Search<'_> {
             }
             return;
         }
-        for (pb, pw) in pieces {
-            let mv = max_val(pb, pw);
+        for ((pb, pw), &mv) in pieces {
             let (rb, tb) = self.bounds(1, pb, mv);
             if !self.prune(rb, tb) {
                 self.node_b[..bl].copy_from_slice(pb);
@@ -549,12 +563,54 @@ impl Search<'_> {
                 }
             }
             None => {
+                let mut meet = [0u64; 4];
+                if let Some(words) = self.bits_meeting(level, f, fb, &mut meet) {
+                    // The pieces meeting the node, in array order.
+                    for (w, &word) in meet.iter().enumerate().take(words) {
+                        let mut word = word;
+                        while word != 0 {
+                            let q = w * 64 + word.trailing_zeros() as usize;
+                            word &= word - 1;
+                            let qb = &fb[q * bl..(q + 1) * bl];
+                            self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
+                        }
+                    }
+                    return;
+                }
                 let pieces = fb.chunks_exact(bl).zip(f.weights.chunks_exact(wl));
                 for (qb, qw) in pieces.take(f.n) {
                     self.last_leaf(level, qb, qw);
                 }
             }
         }
+    }
+
+    /// The pieces of the last function meeting the node at `level` into `meet`, and the
+    /// words used, from its bit sets; `None`: scan them all. The sets are made at the
+    /// [`BITS_AFTER`]th scan of a solve (fewer scans cost less than making them).
+    fn bits_meeting(
+        &mut self,
+        level: usize,
+        f: &Prepared,
+        fb: &[i32],
+        meet: &mut [u64; 4],
+    ) -> Option<usize> {
+        if !self.bits_ready {
+            let bits = self.bits.as_deref_mut()?;
+            self.scans += 1;
+            if self.scans < BITS_AFTER {
+                return None;
+            }
+            if !bits.make(fb, f.n, self.pts) {
+                self.bits = None;
+                return None;
+            }
+            self.bits_ready = true;
+        }
+        let bits = self.bits.as_deref()?;
+        let bl = 2 * self.dim;
+        let node_b = &self.node_b[(level - 1) * bl..level * bl];
+        bits.meeting(node_b, meet).then(|| bits.words())
     }
 
     /// The leaf `node ∩ q` of [`Search::last_level_single`] (`q` = box `qb`, weights
@@ -794,6 +850,8 @@ impl Solver {
             }
         }));
         index_last(&mut self.last, &self.funcs, &self.active, &self.pts, &boxes);
+        let fl = self.active[self.active.len() - 1];
+        let bits_on = self.active.len() > 1 && !self.last.on && self.funcs[fl].single;
         // Rounding tolerance: a leaf value or a bound is a sum of fewer than
         // `4(m + dim + 2)` rounded operations (builder grids: a few more, once) on
         // terms no larger than `scale`, so within `tol` of its exact value. A
@@ -805,14 +863,19 @@ impl Solver {
             .sum();
         let tol = scale * f64::EPSILON * 16.0 * (m + dim + 8) as f64;
         let sure = tol.is_finite();
-        let seed = seed_value(
-            &self.funcs,
-            &self.active,
-            &self.pts,
-            &self.prev,
-            &boxes,
-            (&mut self.seed_b, &mut self.seed_w),
-        );
+        // One function: its pieces are the leaves, a plain scan is cheaper than a seed.
+        let seed = if m > 1 {
+            seed_value(
+                &self.funcs,
+                &self.active,
+                &self.pts,
+                &self.prev,
+                &boxes,
+                (&mut self.seed_b, &mut self.seed_w),
+            )
+        } else {
+            None
+        };
         let seed = seed.filter(|s| sure && s.is_finite());
         let last = (sure && self.last.on).then_some(&self.last);
         let mut s = Search {
@@ -830,14 +893,22 @@ impl Solver {
             tol,
             doubt: Cell::new(false),
             last,
+            bits: bits_on.then_some(&mut self.bits),
+            bits_ready: false,
+            scans: 0,
+            pts: &self.pts,
         };
         s.run();
         #[cfg(test)]
-        let seeded = s.seeded;
+        let (seeded, bits_on) = (s.seeded, s.bits_ready);
         let rerun = s.seeded && (s.doubt.get() || !s.found);
         #[cfg(test)]
         {
-            self.stats = (usize::from(seeded), usize::from(rerun));
+            self.stats = (
+                usize::from(seeded),
+                usize::from(rerun),
+                usize::from(bits_on),
+            );
         }
         if rerun {
             // Too close to the floor to be sure (see `Search::prune`): the reference
