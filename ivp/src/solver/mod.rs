@@ -64,8 +64,7 @@ struct Prepared {
     /// Largest `|intercept| + Σ |slope_d|·(points_d - 1)` over the pieces: no partial
     /// sum of a value or bound of this function exceeds it (sizes the rounding slack).
     term_scale: f64,
-    /// `maxVal` of every piece: for the cell bounds, and of the first function, for the
-    /// search's first level (made only when needed, see `setup.rs`).
+    /// `maxVal` of every piece (scratch of the set-up, for the cell bounds).
     piece_ub: Vec<f64>,
     /// The function's own boxes, dimension map and problem points that `bounds` were
     /// made from (see `setup.rs`).
@@ -502,15 +501,14 @@ impl Search<'_> {
         let (dim, m) = (self.dim, self.active.len());
         let (bl, wl) = (2 * dim, dim + 1);
         let f0 = &self.funcs[self.active[0]];
-        // Each piece's `maxVal` was made by the set-up (`piece_ub`).
         let pieces = self.boxes[self.active[0]]
             .chunks_exact(bl)
             .zip(f0.weights.chunks_exact(wl))
-            .zip(&f0.piece_ub)
             .take(f0.n);
         if m == 1 {
             // The pieces are the leaves: copied only when one becomes the incumbent.
-            for ((pb, pw), &mv) in pieces {
+            for (pb, pw) in pieces {
+                let mv = max_val(pb, pw);
                 if self.takes(mv) {
                     self.set_best(mv);
                     self.best_b.copy_from_slice(pb);
@@ -519,7 +517,8 @@ impl Search<'_> {
             }
             return;
         }
-        for ((pb, pw), &mv) in pieces {
+        for (pb, pw) in pieces {
+            let mv = max_val(pb, pw);
             let (rb, tb) = self.bounds(1, pb, mv);
             if !self.prune(rb, tb) {
                 self.node_b[..bl].copy_from_slice(pb);
