@@ -40,6 +40,11 @@ pub(super) struct LastIndex {
     /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets.
     ub: Vec<f64>,
     clip: Vec<i32>,
+    /// The pieces (boxes, weight bits) the index in memory was made from, when it was
+    /// made (`made`): the same pieces on the same cells make the same index.
+    made: bool,
+    key_boxes: Vec<i32>,
+    key_weights: Vec<u64>,
 }
 
 impl LastIndex {
@@ -59,6 +64,30 @@ impl LastIndex {
         if dim == 0 || dim > ODO_DIMS || ppg.len() != dim || ppg.iter().any(|&p| p < 1) {
             return;
         }
+        let (bl, wl) = (2 * dim, dim + 1);
+        let (boxes, weights) = (&boxes[..n * bl], &weights[..n * wl]);
+        // The waypoint's function often stays the same from one iteration to the next.
+        let same = self.made
+            && self.dim == dim
+            && self.ppg == ppg
+            && self.coord_key.len() == 2 * dim
+            && self.coord_key[..dim] == *pts
+            && self.key_boxes == boxes
+            && self.key_weights.len() == weights.len()
+            && self
+                .key_weights
+                .iter()
+                .zip(weights)
+                .all(|(&k, w)| k == w.to_bits());
+        if same {
+            self.on = true;
+            return;
+        }
+        self.made = false;
+        self.key_boxes.clear();
+        self.key_boxes.extend_from_slice(boxes);
+        self.key_weights.clear();
+        self.key_weights.extend(weights.iter().map(|w| w.to_bits()));
         self.dim = dim;
         self.ppg.clear();
         self.ppg.extend_from_slice(ppg);
@@ -69,7 +98,6 @@ impl LastIndex {
             total *= ((pts[d] + ppg[d] - 1) / ppg[d]).max(1) as usize;
         }
         self.make_coord_table(pts);
-        let (bl, wl) = (2 * dim, dim + 1);
         self.start.clear();
         self.start.resize(total + 1, 0);
         self.ub.clear();
@@ -120,6 +148,7 @@ impl LastIndex {
             });
         }
         self.on = true;
+        self.made = true;
     }
 
     fn make_coord_table(&mut self, pts: &[i32]) {
@@ -169,13 +198,11 @@ impl LastIndex {
     }
 
     /// The one cell holding all of box `b`, if there is one.
-    #[inline]
+    #[inline(always)]
     pub(super) fn cell_of(&self, b: &[i32]) -> Option<usize> {
         let mut c = 0;
-        for (d, (&(at, len), &stride)) in self.span.iter().zip(&self.stride).enumerate() {
-            if d == self.dim {
-                break;
-            }
+        for d in 0..self.dim.min(ODO_DIMS) {
+            let (at, len) = self.span[d];
             // A negative index turns huge and fails the range test.
             let (lo, hi) = (b[2 * d] as usize, b[2 * d + 1] as usize);
             if lo >= len || hi >= len {
@@ -185,7 +212,7 @@ impl LastIndex {
             if self.coord[at + hi] != k {
                 return None;
             }
-            c += k as usize * stride;
+            c += k as usize * self.stride[d];
         }
         Some(c)
     }

@@ -7,10 +7,15 @@
 use crate::domain::Domain;
 use crate::error::IvpError;
 use crate::function::{max_val, IvpFunction};
+use last_bits::LastBits;
 use last_index::LastIndex;
 use std::cell::Cell;
 
+mod last_bits;
 mod last_index;
+mod setup;
+#[cfg(test)]
+use setup::min_max_wt;
 
 /// The solver's answer, one entry per *helm* domain variable.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -59,8 +64,16 @@ struct Prepared {
     /// Largest `|intercept| + Σ |slope_d|·(points_d - 1)` over the pieces: no partial
     /// sum of a value or bound of this function exceeds it (sizes the rounding slack).
     term_scale: f64,
-    /// `maxVal` of every piece (scratch of [`copy_cells`]).
+    /// `maxVal` of every piece (scratch of the set-up, for the cell bounds).
     piece_ub: Vec<f64>,
+    /// The function's own boxes, dimension map and problem points that `bounds` were
+    /// made from (see `setup.rs`).
+    src_bounds: Vec<i32>,
+    src_map: Vec<usize>,
+    src_pts: Vec<i32>,
+    /// The cell size the cell lists were made for (from the boxes of `src_*`), empty
+    /// for none.
+    lists_ppg: Vec<i32>,
 }
 
 const NO_BOUND: f64 = -99999.0;
@@ -233,6 +246,9 @@ fn walk_cells(r: &CellRange, stride: &[usize], dim: usize, mut f: impl FnMut(usi
     }
 }
 
+/// The scan of the last level (in a solve) at which its bit sets are made.
+const BITS_AFTER: u32 = 3;
+
 /// Dimensions the stack odometer of [`for_each_cell`] handles.
 const ODO_DIMS: usize = 4;
 
@@ -282,6 +298,8 @@ pub struct Solver {
     best_b: Vec<i32>,
     best_w: Vec<f64>,
     last: LastIndex,
+    /// Bit sets over the last function when it has no [`LastIndex`] (see `last_bits.rs`).
+    bits: LastBits,
     /// The previous decision point (problem indices), to seed the next search. Any
     /// point of the domain is a valid seed (see [`seed_value`]); a stale one only
     /// prunes less.
@@ -290,9 +308,9 @@ pub struct Solver {
     seed_w: Vec<f64>,
     /// The allocation of each solve's list of box slices, kept empty between solves.
     boxes_buf: Vec<&'static [i32]>,
-    /// Last solve: (seeded, searched again unseeded), for the tests.
+    /// Last solve: (seeded, searched again unseeded, last bit sets on), for the tests.
     #[cfg(test)]
-    stats: (usize, usize),
+    stats: (usize, usize, usize),
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -410,6 +428,12 @@ struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     doubt: Cell<bool>,
     last: Option<&'a LastIndex>,
+    /// The last function's bit sets when it may use them, made once `scans` reaches
+    /// [`BITS_AFTER`] (`bits_ready`).
+    bits: Option<&'a mut LastBits>,
+    bits_ready: bool,
+    scans: u32,
+    pts: &'a [i32],
 }
 
 impl Search<'_> {
@@ -477,19 +501,24 @@ impl Search<'_> {
         let (dim, m) = (self.dim, self.active.len());
         let (bl, wl) = (2 * dim, dim + 1);
         let f0 = &self.funcs[self.active[0]];
-        for k in 0..f0.n {
-            let pb = &self.boxes[self.active[0]][k * bl..(k + 1) * bl];
-            let pw = &f0.weights[k * wl..(k + 1) * wl];
-            let mv = max_val(pb, pw);
-            if m == 1 {
-                // The piece is the leaf: copied only when it becomes the incumbent.
+        let pieces = self.boxes[self.active[0]]
+            .chunks_exact(bl)
+            .zip(f0.weights.chunks_exact(wl))
+            .take(f0.n);
+        if m == 1 {
+            // The pieces are the leaves: copied only when one becomes the incumbent.
+            for (pb, pw) in pieces {
+                let mv = max_val(pb, pw);
                 if self.takes(mv) {
                     self.set_best(mv);
                     self.best_b.copy_from_slice(pb);
                     self.best_w.copy_from_slice(pw);
                 }
-                continue;
             }
+            return;
+        }
+        for (pb, pw) in pieces {
+            let mv = max_val(pb, pw);
             let (rb, tb) = self.bounds(1, pb, mv);
             if !self.prune(rb, tb) {
                 self.node_b[..bl].copy_from_slice(pb);
@@ -523,29 +552,74 @@ impl Search<'_> {
             self.last
                 .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
         };
+        let wl = self.dim + 1;
         match cell {
             Some(list) => {
                 for &q in list {
-                    self.last_leaf(level, f, fb, q as usize);
+                    let q = q as usize;
+                    let qb = &fb[q * bl..(q + 1) * bl];
+                    self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
                 }
             }
             None => {
-                for q in 0..f.n {
-                    self.last_leaf(level, f, fb, q);
+                let mut meet = [0u64; 4];
+                if let Some(words) = self.bits_meeting(level, f, fb, &mut meet) {
+                    // The pieces meeting the node, in array order.
+                    for (w, &word) in meet.iter().enumerate().take(words) {
+                        let mut word = word;
+                        while word != 0 {
+                            let q = w * 64 + word.trailing_zeros() as usize;
+                            word &= word - 1;
+                            let qb = &fb[q * bl..(q + 1) * bl];
+                            self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
+                        }
+                    }
+                    return;
+                }
+                let pieces = fb.chunks_exact(bl).zip(f.weights.chunks_exact(wl));
+                for (qb, qw) in pieces.take(f.n) {
+                    self.last_leaf(level, qb, qw);
                 }
             }
         }
     }
 
-    /// The leaf `node ∩ q` of [`Search::last_level_single`], if they meet.
+    /// The pieces of the last function meeting the node at `level` into `meet`, and the
+    /// words used, from its bit sets; `None`: scan them all. The sets are made at the
+    /// [`BITS_AFTER`]th scan of a solve (fewer scans cost less than making them).
+    fn bits_meeting(
+        &mut self,
+        level: usize,
+        f: &Prepared,
+        fb: &[i32],
+        meet: &mut [u64; 4],
+    ) -> Option<usize> {
+        if !self.bits_ready {
+            let bits = self.bits.as_deref_mut()?;
+            self.scans += 1;
+            if self.scans < BITS_AFTER {
+                return None;
+            }
+            if !bits.make(fb, f.n, self.pts) {
+                self.bits = None;
+                return None;
+            }
+            self.bits_ready = true;
+        }
+        let bits = self.bits.as_deref()?;
+        let bl = 2 * self.dim;
+        let node_b = &self.node_b[(level - 1) * bl..level * bl];
+        bits.meeting(node_b, meet).then(|| bits.words())
+    }
+
+    /// The leaf `node ∩ q` of [`Search::last_level_single`] (`q` = box `qb`, weights
+    /// `qw`), if they meet.
     #[inline(always)]
-    fn last_leaf(&mut self, level: usize, f: &Prepared, fb: &[i32], q: usize) {
+    fn last_leaf(&mut self, level: usize, qb: &[i32], qw: &[f64]) {
         let dim = self.dim;
         let (bl, wl) = (2 * dim, dim + 1);
         let node_b = &self.node_b[(level - 1) * bl..level * bl];
         let node_w = &self.node_w[(level - 1) * wl..level * wl];
-        let qb = &fb[q * bl..(q + 1) * bl];
-        let qw = &f.weights[q * wl..(q + 1) * wl];
         {
             if !intersects(node_b, qb, dim) {
                 return;
@@ -775,6 +849,8 @@ impl Solver {
             }
         }));
         index_last(&mut self.last, &self.funcs, &self.active, &self.pts, &boxes);
+        let fl = self.active[self.active.len() - 1];
+        let bits_on = self.active.len() > 1 && !self.last.on && self.funcs[fl].single;
         // Rounding tolerance: a leaf value or a bound is a sum of fewer than
         // `4(m + dim + 2)` rounded operations (builder grids: a few more, once) on
         // terms no larger than `scale`, so within `tol` of its exact value. A
@@ -786,14 +862,19 @@ impl Solver {
             .sum();
         let tol = scale * f64::EPSILON * 16.0 * (m + dim + 8) as f64;
         let sure = tol.is_finite();
-        let seed = seed_value(
-            &self.funcs,
-            &self.active,
-            &self.pts,
-            &self.prev,
-            &boxes,
-            (&mut self.seed_b, &mut self.seed_w),
-        );
+        // One function: its pieces are the leaves, a plain scan is cheaper than a seed.
+        let seed = if m > 1 {
+            seed_value(
+                &self.funcs,
+                &self.active,
+                &self.pts,
+                &self.prev,
+                &boxes,
+                (&mut self.seed_b, &mut self.seed_w),
+            )
+        } else {
+            None
+        };
         let seed = seed.filter(|s| sure && s.is_finite());
         let last = (sure && self.last.on).then_some(&self.last);
         let mut s = Search {
@@ -811,14 +892,22 @@ impl Solver {
             tol,
             doubt: Cell::new(false),
             last,
+            bits: bits_on.then_some(&mut self.bits),
+            bits_ready: false,
+            scans: 0,
+            pts: &self.pts,
         };
         s.run();
         #[cfg(test)]
-        let seeded = s.seeded;
+        let (seeded, bits_on) = (s.seeded, s.bits_ready);
         let rerun = s.seeded && (s.doubt.get() || !s.found);
         #[cfg(test)]
         {
-            self.stats = (usize::from(seeded), usize::from(rerun));
+            self.stats = (
+                usize::from(seeded),
+                usize::from(rerun),
+                usize::from(bits_on),
+            );
         }
         if rerun {
             // Too close to the floor to be sure (see `Search::prune`): the reference
@@ -846,182 +935,6 @@ impl Solver {
         }
         out.utility = best;
         Ok(true)
-    }
-
-    /// addOF (normalize if range > 100, apply pwt), alignment and grid build.
-    fn prepare(
-        &mut self,
-        fi: usize,
-        f: &IvpFunction,
-        helm: &Domain,
-        dim: usize,
-        first: bool,
-    ) -> Result<(), IvpError> {
-        let p = &mut self.funcs[fi];
-        let od = f.dim();
-        p.map.clear();
-        for v in f.domain().vars() {
-            let pos = self
-                .prob_to_helm
-                .iter()
-                .position(|&h| helm.var(h).name == v.name);
-            p.map
-                .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
-        }
-        let (mn, mx) = min_max_wt(f);
-        let norm = mx - mn > 100.0;
-        let r = mx - mn;
-        let (shift, scale) = (0.0 - mn, 100.0 / r);
-        let pwt = f.pwt();
-        let n = f.piece_count();
-        p.n = n;
-        let (bl, wl) = (2 * dim, dim + 1);
-        let (fb, fw) = (f.bounds(), f.weights());
-        let identity = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t);
-        p.bounds.clear();
-        p.weights.clear();
-        p.borrowed = identity;
-        if identity && !norm {
-            // Same dimensions in the same order: the function's own boxes are used as
-            // they are, and every weight (slope or intercept) becomes x*pwt.
-            p.weights.extend(fw[..n * wl].iter().map(|&x| x * pwt));
-        } else {
-            p.weights.resize(n * wl, 0.0);
-        }
-        if !identity {
-            p.bounds.resize(n * bl, 0);
-            let whole = od < dim;
-            for (b, src) in p.bounds.chunks_exact_mut(bl).zip(fb.chunks_exact(2 * od)) {
-                if whole {
-                    for d in 0..dim {
-                        b[2 * d] = 0;
-                        b[2 * d + 1] = self.pts[d] - 1;
-                    }
-                }
-                for (s, &t) in src.chunks_exact(2).zip(&p.map) {
-                    b[2 * t] = s[0];
-                    b[2 * t + 1] = s[1];
-                }
-            }
-        }
-        // Weights: slope x -> (x*scale)*pwt, intercept x -> ((x+shift)*scale)*pwt when
-        // normalizing, x*pwt otherwise; dimensions the function lacks get slope 0.
-        let weighed = identity && !norm;
-        for (w, src) in p
-            .weights
-            .chunks_exact_mut(wl)
-            .zip(fw.chunks_exact(od + 1))
-            .take(if weighed { 0 } else { n })
-        {
-            if norm {
-                w[dim] = ((src[od] + shift) * scale) * pwt;
-                for (&x, &t) in src.iter().zip(&p.map) {
-                    w[t] = (x * scale) * pwt;
-                }
-            } else {
-                w[dim] = src[od] * pwt;
-                for (&x, &t) in src.iter().zip(&p.map) {
-                    w[t] = x * pwt;
-                }
-            }
-        }
-        p.term_scale = term_scale(&p.weights, &self.pts);
-        // Grid.
-        p.ppg.clear();
-        p.ncells.clear();
-        p.stride.clear();
-        let gel = f.gelbox();
-        let mut total = 1usize;
-        for d in 0..dim {
-            let g = p
-                .map
-                .iter()
-                .position(|&t| t == d)
-                .map_or(self.pts[d] - 1, |od_i| gel[od_i] as i32);
-            let ppg = g.saturating_add(1).max(2).min(self.pts[d]).max(1);
-            let nc = (self.pts[d] + ppg - 1) / ppg;
-            p.ppg.push(ppg);
-            p.ncells.push(nc);
-            p.stride.push(total);
-            total *= nc as usize;
-        }
-        p.single = total == 1;
-        if first {
-            // The first function's pieces are enumerated in array order and never
-            // bounded (bounds start at level 1): its cells would go unused. Its cell
-            // size is still known (`ppg`), for the geometry sharing and the last index.
-            return Ok(());
-        }
-        // A builder-made grid is kept (its bounds transformed like the weights)
-        // when no translation is needed; otherwise the bounds come from the pieces.
-        let same =
-            identity && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
-        let g = f.grid_bounds();
-        let keep_grid = same && g.len() == total;
-        let tg = |x: f64| {
-            let mut x = x;
-            if norm {
-                x = (x + shift) * scale;
-            }
-            x * pwt
-        };
-        if keep_grid && p.single {
-            let v = tg(g[0]);
-            p.global_ub = if v == f64::NEG_INFINITY { NO_BOUND } else { v };
-        } else if p.single {
-            p.global_ub = NO_BOUND;
-            let bounds = if identity { fb } else { &p.bounds[..] };
-            for k in 0..n {
-                let v = max_val(
-                    &bounds[k * bl..(k + 1) * bl],
-                    &p.weights[k * wl..(k + 1) * wl],
-                );
-                if k == 0 || v > p.global_ub {
-                    p.global_ub = v;
-                }
-            }
-        }
-        if !p.single {
-            p.make_coord_table(&self.pts);
-            // The same boxes as an earlier function's (the contacts' uniform tilings,
-            // translated alike): the same cell lists, only the cell bounds are new.
-            let twin = if identity {
-                None
-            } else {
-                let me = &self.funcs[fi];
-                self.active.iter().skip(1).copied().find(|&j| {
-                    let q = &self.funcs[j];
-                    !q.borrowed && !q.single && q.ppg == me.ppg && q.bounds == me.bounds
-                })
-            };
-            let (p, twin) = match twin {
-                // `fi` is not active yet, so `j != fi`.
-                Some(j) if j < fi => {
-                    let (a, b) = self.funcs.split_at_mut(fi);
-                    (&mut b[0], Some(&a[j]))
-                }
-                Some(j) => {
-                    let (a, b) = self.funcs.split_at_mut(j);
-                    (&mut a[fi], Some(&b[0]))
-                }
-                None => (&mut self.funcs[fi], None),
-            };
-            if let Some(t) = twin {
-                copy_cells(p, t, dim, total, !keep_grid);
-            } else {
-                let own = std::mem::take(&mut p.bounds);
-                build_cells(p, if identity { fb } else { &own }, dim, total, !keep_grid);
-                p.bounds = own;
-            }
-            if keep_grid {
-                for (c, &x) in g.iter().enumerate() {
-                    let v = tg(x);
-                    p.cell_filled[c] = v != f64::NEG_INFINITY && !v.is_nan();
-                    p.cell_ub[c] = if p.cell_filled[c] { v } else { NO_BOUND };
-                }
-            }
-        }
-        Ok(())
     }
 }
 
@@ -1100,166 +1013,6 @@ fn seed_value(
         }
     }
     Some(max_val(seed_b, seed_w))
-}
-
-/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
-/// dimensions: each accumulates the same terms in the same order, and the pieces are
-/// compared in the same order, so the values are the same bit for bit.
-fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
-    let od = f.dim();
-    if od == 0 || f.piece_count() == 0 {
-        return f.min_max_wt();
-    }
-    let extremes = |b: &[i32], w: &[f64]| {
-        let (mut lo, mut hi) = (w[od], w[od]);
-        for (d, &x) in w[..od].iter().enumerate() {
-            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
-            if x < 0.0 {
-                hi += x * l;
-                lo += x * h;
-            } else {
-                hi += x * h;
-                lo += x * l;
-            }
-        }
-        (lo, hi)
-    };
-    let mut pieces = f
-        .bounds()
-        .chunks_exact(2 * od)
-        .zip(f.weights().chunks_exact(od + 1));
-    let Some((b, w)) = pieces.next() else {
-        return f.min_max_wt();
-    };
-    let (mut mn, mut mx) = extremes(b, w);
-    for (b, w) in pieces {
-        let (lo, hi) = extremes(b, w);
-        if lo < mn {
-            mn = lo;
-        }
-        if hi > mx {
-            mx = hi;
-        }
-    }
-    (mn, mx)
-}
-
-/// Largest `|intercept| + Σ_d |slope_d|·(pts_d - 1)` over the pieces (problem order).
-fn term_scale(weights: &[f64], pts: &[i32]) -> f64 {
-    let dim = pts.len();
-    let mut most = 0.0f64;
-    for w in weights.chunks_exact(dim + 1) {
-        let mut t = w[dim].abs();
-        for d in 0..dim {
-            t += w[d].abs() * f64::from((pts[d] - 1).max(0));
-        }
-        // NaN must not be lost by `max`.
-        if t > most || t.is_nan() {
-            most = t;
-        }
-    }
-    most
-}
-
-/// [`build_cells`] for a function whose boxes (problem order) and cell sizes equal
-/// those of `twin`: its cell lists are copied; the cell bounds, if `bounds`, are
-/// taken per cell over its list, which holds the cell's pieces in array order, so
-/// every cell sees the same comparisons in the same order as in [`build_cells`].
-fn copy_cells(p: &mut Prepared, twin: &Prepared, dim: usize, total: usize, bounds: bool) {
-    let (bl, wl) = (2 * dim, dim + 1);
-    p.cell_start.clone_from(&twin.cell_start);
-    p.cell_items.clone_from(&twin.cell_items);
-    p.cell_ub.clear();
-    p.cell_ub.resize(total, NO_BOUND);
-    p.cell_filled.clear();
-    p.cell_filled.resize(total, false);
-    if bounds {
-        p.piece_ub.clear();
-        p.piece_ub.extend(
-            p.bounds
-                .chunks_exact(bl)
-                .zip(p.weights.chunks_exact(wl))
-                .take(p.n)
-                .map(|(b, w)| max_val(b, w)),
-        );
-        for c in 0..total {
-            let list = &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize];
-            for &k in list {
-                let v = p.piece_ub[k as usize];
-                if !p.cell_filled[c] || v > p.cell_ub[c] {
-                    p.cell_ub[c] = v;
-                }
-                p.cell_filled[c] = true;
-            }
-        }
-    }
-    if p.seen.len() < p.n {
-        p.seen.resize_with(p.n, || Cell::new(0));
-    }
-    for s in &p.seen {
-        s.set(0);
-    }
-    p.stamp.set(0);
-}
-
-/// Cell lists of a multi-cell grid and, if `bounds`, the cell bounds from the pieces.
-fn build_cells(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize, bounds: bool) {
-    let bl = 2 * dim;
-    p.cell_start.clear();
-    p.cell_start.resize(total + 1, 0);
-    p.cell_ub.clear();
-    p.cell_ub.resize(total, NO_BOUND);
-    p.cell_filled.clear();
-    p.cell_filled.resize(total, false);
-    let mut cell_start = std::mem::take(&mut p.cell_start);
-    for k in 0..p.n {
-        p.for_each_cell(&boxes[k * bl..(k + 1) * bl], dim, |c| {
-            cell_start[c + 1] += 1;
-            true
-        });
-    }
-    for c in 0..total {
-        cell_start[c + 1] += cell_start[c];
-    }
-    p.cell_items.clear();
-    p.cell_items.resize(cell_start[total] as usize, 0);
-    p.cursor.clear();
-    p.cursor.extend_from_slice(&cell_start[..total]);
-    p.cell_start = cell_start;
-    let mut items = std::mem::take(&mut p.cell_items);
-    let mut cursor = std::mem::take(&mut p.cursor);
-    let (mut ub, mut filled) = (
-        std::mem::take(&mut p.cell_ub),
-        std::mem::take(&mut p.cell_filled),
-    );
-    // Pieces in array order inside every cell; cell bound = max piece maxVal.
-    for k in 0..p.n {
-        let b = &boxes[k * bl..(k + 1) * bl];
-        let v = if bounds {
-            max_val(b, &p.weights[k * (dim + 1)..(k + 1) * (dim + 1)])
-        } else {
-            0.0
-        };
-        p.for_each_cell(b, dim, |c| {
-            items[cursor[c] as usize] = k as u32;
-            cursor[c] += 1;
-            if bounds {
-                if !filled[c] || v > ub[c] {
-                    ub[c] = v;
-                }
-                filled[c] = true;
-            }
-            true
-        });
-    }
-    (p.cell_items, p.cursor, p.cell_ub, p.cell_filled) = (items, cursor, ub, filled);
-    if p.seen.len() < p.n {
-        p.seen.resize_with(p.n, || Cell::new(0));
-    }
-    for s in &p.seen {
-        s.set(0);
-    }
-    p.stamp.set(0);
 }
 
 #[cfg(test)]

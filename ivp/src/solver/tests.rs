@@ -166,3 +166,44 @@ fn solver_min_max_wt_equals_the_functions() {
         assert_eq!((a.to_bits(), b.to_bits()), (c.to_bits(), d.to_bits()));
     }
 }
+
+/// The last function's bit sets give exactly the pieces meeting a box.
+#[test]
+fn last_bits_meet_exactly_the_intersecting_pieces() {
+    let doms = [
+        Domain::parse("course:0:359:360,speed:0:4:41").unwrap(),
+        Domain::parse("x:0:9:10,y:0:6:7,z:0:2:3").unwrap(),
+        Domain::parse("x:0:20:21").unwrap(),
+    ];
+    let mut seed = 3u64;
+    let mut bits = last_bits::LastBits::default();
+    for round in 0..300 {
+        let dom = &doms[round % doms.len()];
+        let dim = dom.size();
+        let pts: Vec<i32> = (0..dim).map(|d| dom.var(d).points as i32).collect();
+        // Now and then the same boxes again (kept sets).
+        let f = random_function(dom, &mut seed);
+        let n = f.piece_count();
+        for _ in 0..2 {
+            assert!(bits.make(f.bounds(), n, &pts));
+            for _ in 0..50 {
+                let mut b = vec![];
+                for &p in &pts {
+                    let lo = (rng(&mut seed) % p as u64) as i32;
+                    b.push(lo);
+                    b.push(lo + (rng(&mut seed) % (p - lo) as u64) as i32);
+                }
+                let mut meet = [0u64; 4];
+                assert!(bits.meeting(&b, &mut meet));
+                for k in 0..n {
+                    let want = intersects(&b, &f.bounds()[k * 2 * dim..(k + 1) * 2 * dim], dim);
+                    assert_eq!(meet[k / 64] >> (k % 64) & 1 == 1, want, "round {round}");
+                }
+                assert!(meet
+                    .iter()
+                    .enumerate()
+                    .all(|(w, &x)| w < bits.words() || x == 0));
+            }
+        }
+    }
+}

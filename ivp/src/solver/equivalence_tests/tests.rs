@@ -341,7 +341,7 @@ fn fingerprint(d: &Decision) -> (Vec<Option<u32>>, Vec<Option<u64>>, u64) {
 #[test]
 fn search_equals_the_straightforward_branch_and_bound() {
     let mut seed = 2026u64;
-    let (mut solves, mut seeded, mut reruns) = (0, 0, 0);
+    let (mut solves, mut seeded, mut reruns, mut bits) = (0, 0, 0, 0);
     for round in 0..300 {
         let dom = random_domain(&mut seed);
         let mut fs = random_problem(&dom, &mut seed);
@@ -356,6 +356,7 @@ fn search_equals_the_straightforward_branch_and_bound() {
             solves += 1;
             seeded += solver.stats.0;
             reruns += solver.stats.1;
+            bits += solver.stats.2;
             // A fresh solver: no seed.
             let fresh = Solver::new().solve(&dom, &refs).unwrap();
             assert_eq!(found, fresh.is_some(), "round {round} step {step}");
@@ -384,7 +385,105 @@ fn search_equals_the_straightforward_branch_and_bound() {
         }
     }
     // The seeded search ran, and mostly without falling back.
-    eprintln!("{solves} solves, {seeded} seeded, {reruns} reruns");
+    eprintln!("{solves} solves, {seeded} seeded, {reruns} reruns, {bits} with bit sets");
+    assert!(bits * 50 > solves, "{bits} with bit sets of {solves}");
     assert!(seeded > solves / 2, "{seeded} seeded of {solves}");
     assert!(reruns * 20 < seeded, "{reruns} reruns of {seeded}");
+}
+
+/// What the set-up made of the active functions, bit for bit: boxes, weights, grids,
+/// cell lists and bounds.
+fn setup_fingerprint(s: &Solver, functions: &[&IvpFunction]) -> Vec<String> {
+    s.active
+        .iter()
+        .enumerate()
+        .map(|(k, &fi)| {
+            let p = &s.funcs[fi];
+            let boxes = if p.borrowed {
+                functions[fi].bounds()
+            } else {
+                &p.bounds[..]
+            };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let mut out = format!(
+                "{k} {boxes:?} {:?} {} {:?} {} {:?}",
+                bits(&p.weights),
+                p.term_scale.to_bits(),
+                p.ppg,
+                p.single,
+                p.stride
+            );
+            // The first function has neither bounds nor cells.
+            if k > 0 && p.single {
+                out += &format!(" {}", p.global_ub.to_bits());
+            } else if k > 0 {
+                out += &format!(
+                    " {:?} {:?} {:?} {:?}",
+                    p.cell_start,
+                    p.cell_items,
+                    bits(&p.cell_ub),
+                    p.cell_filled
+                );
+            }
+            out
+        })
+        .collect()
+}
+
+/// A solver kept over a sequence of problems (boxes kept from one solve to the
+/// next, functions reordered, replaced, dropped) sets every problem up exactly as a
+/// fresh solver does.
+#[test]
+fn kept_setup_equals_a_fresh_one() {
+    let mut seed = 77u64;
+    let mut kept_boxes = 0;
+    for round in 0..200 {
+        let dom = random_domain(&mut seed);
+        let mut fs = random_problem(&dom, &mut seed);
+        let mut solver = Solver::new();
+        for step in 0..8 {
+            if step > 0 {
+                nudge(&mut fs, &mut seed);
+                match pick(&mut seed, 4) {
+                    0 if fs.len() > 1 => {
+                        let (a, b) = (
+                            pick(&mut seed, fs.len() as u64),
+                            pick(&mut seed, fs.len() as u64),
+                        );
+                        fs.swap(a as usize, b as usize);
+                    }
+                    1 => {
+                        let mut more = random_problem(&dom, &mut seed);
+                        let at = pick(&mut seed, fs.len() as u64) as usize;
+                        fs[at] = more.swap_remove(0);
+                    }
+                    2 if fs.len() > 1 => {
+                        fs.remove(pick(&mut seed, fs.len() as u64) as usize);
+                    }
+                    _ => {}
+                }
+            }
+            let refs: Vec<&IvpFunction> = fs.iter().collect();
+            let before = solver
+                .funcs
+                .iter()
+                .filter(|p| !p.lists_ppg.is_empty())
+                .count();
+            let got = solver.solve(&dom, &refs).unwrap();
+            kept_boxes += before.min(1);
+            let mut fresh = Solver::new();
+            let want = fresh.solve(&dom, &refs).unwrap();
+            assert_eq!(
+                setup_fingerprint(&solver, &refs),
+                setup_fingerprint(&fresh, &refs),
+                "round {round} step {step}"
+            );
+            assert_eq!(
+                got.as_ref().map(fingerprint),
+                want.as_ref().map(fingerprint),
+                "round {round} step {step}"
+            );
+        }
+    }
+    assert!(kept_boxes > 100, "{kept_boxes}");
 }

@@ -1,0 +1,115 @@
+//! Bit sets over the pieces of the problem's last function, for searches where it has
+//! a one-cell grid and no [`LastIndex`](super::last_index::LastIndex) (the function
+//! above it is one cell too: two waypoints, say).
+//!
+//! Without them every node at the last level tests every piece for intersection.
+//! With them a node's candidates are the AND, over the dimensions, of "pieces whose
+//! low end is at most the node's high end" and "pieces whose high end is at least the
+//! node's low end": exactly the pieces meeting the node, visited in increasing bit
+//! order, which is array order, the one-cell grid order. The same leaves in the same
+//! order: nothing of the search changes.
+
+/// Largest piece count indexed (the candidates of a node live on the stack).
+const MAX_PIECES: usize = 64 * WORDS;
+const WORDS: usize = 4;
+
+#[derive(Debug, Default)]
+pub(super) struct LastBits {
+    /// Whether the sets in memory were made from `key_boxes` over `key_pts`.
+    made: bool,
+    key_boxes: Vec<i32>,
+    key_pts: Vec<i32>,
+    /// Words per set.
+    words: usize,
+    /// Per dimension `d` at set `off[d] + v`: the pieces with `lo_d <= v`; at
+    /// `off[d] + pts_d + v`: the pieces with `hi_d >= v` (`v` in `0..pts_d`).
+    sets: Vec<u64>,
+    off: Vec<usize>,
+}
+
+impl LastBits {
+    /// Make (or keep, for the same boxes and points) the sets of `n` pieces `boxes`
+    /// (problem order) over a domain of `pts` points. False, and no sets, when `n` is
+    /// beyond [`MAX_PIECES`] or a box is empty or leaves the domain.
+    pub(super) fn make(&mut self, boxes: &[i32], n: usize, pts: &[i32]) -> bool {
+        let dim = pts.len();
+        if n == 0 || n > MAX_PIECES || boxes.len() < n * 2 * dim {
+            self.made = false;
+            return false;
+        }
+        let boxes = &boxes[..n * 2 * dim];
+        if self.made && self.key_pts == pts && self.key_boxes == boxes {
+            return true;
+        }
+        self.made = false;
+        let inside = boxes.chunks_exact(2 * dim).all(|b| {
+            (0..dim).all(|d| 0 <= b[2 * d] && b[2 * d] <= b[2 * d + 1] && b[2 * d + 1] < pts[d])
+        });
+        if !inside {
+            return false;
+        }
+        self.key_boxes.clear();
+        self.key_boxes.extend_from_slice(boxes);
+        self.key_pts.clear();
+        self.key_pts.extend_from_slice(pts);
+        let words = n.div_ceil(64);
+        self.words = words;
+        self.off.clear();
+        let mut total = 0;
+        for &p in pts {
+            self.off.push(total);
+            total += 2 * p as usize;
+        }
+        self.sets.clear();
+        self.sets.resize(total * words, 0);
+        for (d, &p) in pts.iter().enumerate() {
+            let (p, base) = (p as usize, self.off[d]);
+            for (k, b) in boxes.chunks_exact(2 * dim).enumerate() {
+                let bit = 1u64 << (k % 64);
+                self.sets[(base + b[2 * d] as usize) * words + k / 64] |= bit;
+                self.sets[(base + p + b[2 * d + 1] as usize) * words + k / 64] |= bit;
+            }
+            // "lo <= v" accumulates upwards, "hi >= v" downwards.
+            for v in 1..p {
+                for w in 0..words {
+                    let x = self.sets[(base + v - 1) * words + w];
+                    self.sets[(base + v) * words + w] |= x;
+                }
+            }
+            for v in (0..p.saturating_sub(1)).rev() {
+                for w in 0..words {
+                    let x = self.sets[(base + p + v + 1) * words + w];
+                    self.sets[(base + p + v) * words + w] |= x;
+                }
+            }
+        }
+        self.made = true;
+        true
+    }
+
+    /// Words per set of the sets made.
+    pub(super) fn words(&self) -> usize {
+        self.words
+    }
+
+    /// The pieces meeting box `b` into `out` (bit `k` of word `k / 64` = piece `k`);
+    /// false when `b` leaves the domain (then `out` means nothing).
+    #[inline]
+    pub(super) fn meeting(&self, b: &[i32], out: &mut [u64; WORDS]) -> bool {
+        let words = self.words;
+        out[..words].fill(u64::MAX);
+        for (d, &p) in self.key_pts.iter().enumerate() {
+            let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+            if lo < 0 || hi >= p || lo > hi {
+                return false;
+            }
+            let base = self.off[d];
+            let low_ok = &self.sets[(base + hi as usize) * words..][..words];
+            let high_ok = &self.sets[(base + p as usize + lo as usize) * words..][..words];
+            for w in 0..words {
+                out[w] &= low_ok[w] & high_ok[w];
+            }
+        }
+        true
+    }
+}

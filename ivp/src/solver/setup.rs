@@ -1,0 +1,342 @@
+//! Problem set-up (spec §5 steps 4-5): each function normalized, weighted and
+//! translated into the problem domain, with its grid of cell lists and cell bounds.
+
+use super::*;
+
+impl Solver {
+    /// addOF (normalize if range > 100, apply pwt), alignment and grid build.
+    ///
+    /// One pass over the pieces for the extremes (normalization), then one that makes
+    /// every piece's weights, its term scale and its `maxVal`. The problem-order boxes
+    /// and the cell lists are kept from the last solve when they were made from the
+    /// same boxes the same way (the contacts' tilings are the same every iteration):
+    /// only the weights and the cell bounds are new.
+    pub(super) fn prepare(
+        &mut self,
+        fi: usize,
+        f: &IvpFunction,
+        helm: &Domain,
+        dim: usize,
+        first: bool,
+    ) -> Result<(), IvpError> {
+        let p = &mut self.funcs[fi];
+        let od = f.dim();
+        p.map.clear();
+        for v in f.domain().vars() {
+            let pos = self
+                .prob_to_helm
+                .iter()
+                .position(|&h| helm.var(h).name == v.name);
+            p.map
+                .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
+        }
+        let (mn, mx) = min_max_wt(f);
+        let norm = mx - mn > 100.0;
+        let r = mx - mn;
+        let (shift, scale) = (0.0 - mn, 100.0 / r);
+        let pwt = f.pwt();
+        let n = f.piece_count();
+        p.n = n;
+        let (bl, wl) = (2 * dim, dim + 1);
+        let (fb, fw) = (f.bounds(), f.weights());
+        let identity = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t);
+        p.borrowed = identity;
+        translate_boxes(p, fb, &self.pts);
+        // Grid (its shape depends on the boxes' domain only).
+        p.ppg.clear();
+        p.ncells.clear();
+        p.stride.clear();
+        let gel = f.gelbox();
+        let mut total = 1usize;
+        for d in 0..dim {
+            let g = p
+                .map
+                .iter()
+                .position(|&t| t == d)
+                .map_or(self.pts[d] - 1, |od_i| gel[od_i] as i32);
+            let ppg = g.saturating_add(1).max(2).min(self.pts[d]).max(1);
+            let nc = (self.pts[d] + ppg - 1) / ppg;
+            p.ppg.push(ppg);
+            p.ncells.push(nc);
+            p.stride.push(total);
+            total *= nc as usize;
+        }
+        p.single = total == 1;
+        // A builder-made grid is kept (its bounds transformed like the weights)
+        // when no translation is needed; otherwise the bounds come from the pieces.
+        // The first function's pieces are enumerated in array order and never
+        // bounded (bounds start at level 1): it needs neither.
+        let same =
+            identity && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
+        let g = f.grid_bounds();
+        let keep_grid = same && g.len() == total;
+        let piece_bounds = !first && !keep_grid;
+        // Weights: slope x -> (x*scale)*pwt, intercept x -> ((x+shift)*scale)*pwt when
+        // normalizing, x*pwt otherwise; dimensions the function lacks get slope 0.
+        // With them each piece's term scale and, if needed, its `maxVal`.
+        // Every weight of every piece is written below but for the slopes of dimensions
+        // the function lacks: only then are the old ones cleared.
+        if od < dim {
+            p.weights.clear();
+        }
+        p.weights.resize(n * wl, 0.0);
+        p.weights.truncate(n * wl);
+        p.piece_ub.clear();
+        let boxes: &[i32] = if identity { fb } else { &p.bounds };
+        let mut most = 0.0f64;
+        for (k, (w, src)) in p
+            .weights
+            .chunks_exact_mut(wl)
+            .zip(fw.chunks_exact(od + 1))
+            .enumerate()
+        {
+            if norm {
+                w[dim] = ((src[od] + shift) * scale) * pwt;
+                for (&x, &t) in src.iter().zip(&p.map) {
+                    w[t] = (x * scale) * pwt;
+                }
+            } else {
+                w[dim] = src[od] * pwt;
+                for (&x, &t) in src.iter().zip(&p.map) {
+                    w[t] = x * pwt;
+                }
+            }
+            let t = term(w, &self.pts);
+            // NaN must not be lost by `max`.
+            if t > most || t.is_nan() {
+                most = t;
+            }
+            if piece_bounds {
+                p.piece_ub.push(max_val(&boxes[k * bl..(k + 1) * bl], w));
+            }
+        }
+        p.term_scale = most;
+        if first {
+            // Its cell size is still known (`ppg`), for the geometry sharing and the
+            // last index.
+            return Ok(());
+        }
+        let tg = |x: f64| {
+            let mut x = x;
+            if norm {
+                x = (x + shift) * scale;
+            }
+            x * pwt
+        };
+        if keep_grid && p.single {
+            let v = tg(g[0]);
+            p.global_ub = if v == f64::NEG_INFINITY { NO_BOUND } else { v };
+        } else if p.single {
+            p.global_ub = NO_BOUND;
+            for (k, &v) in p.piece_ub.iter().enumerate() {
+                if k == 0 || v > p.global_ub {
+                    p.global_ub = v;
+                }
+            }
+        }
+        if p.single {
+            return Ok(());
+        }
+        p.make_coord_table(&self.pts);
+        if p.lists_ppg != p.ppg {
+            self.make_lists(fi, identity.then_some(fb), dim, total);
+        }
+        let p = &mut self.funcs[fi];
+        p.cell_ub.clear();
+        p.cell_ub.resize(total, NO_BOUND);
+        p.cell_filled.clear();
+        p.cell_filled.resize(total, false);
+        if keep_grid {
+            for (c, &x) in g.iter().enumerate() {
+                let v = tg(x);
+                p.cell_filled[c] = v != f64::NEG_INFINITY && !v.is_nan();
+                p.cell_ub[c] = if p.cell_filled[c] { v } else { NO_BOUND };
+            }
+        } else {
+            cell_bounds(p, total);
+        }
+        Ok(())
+    }
+
+    /// The cell lists of function `fi` (boxes `own` when borrowed, else its
+    /// translated ones): copied from an earlier function with the same boxes and
+    /// cells (the contacts' uniform tilings, translated alike), else built.
+    fn make_lists(&mut self, fi: usize, own: Option<&[i32]>, dim: usize, total: usize) {
+        let twin = if own.is_some() {
+            None
+        } else {
+            let me = &self.funcs[fi];
+            self.active.iter().skip(1).copied().find(|&j| {
+                let q = &self.funcs[j];
+                !q.borrowed && !q.single && q.ppg == me.ppg && q.bounds == me.bounds
+            })
+        };
+        let (p, twin) = match twin {
+            // `fi` is not active yet, so `j != fi`.
+            Some(j) if j < fi => {
+                let (a, b) = self.funcs.split_at_mut(fi);
+                (&mut b[0], Some(&a[j]))
+            }
+            Some(j) => {
+                let (a, b) = self.funcs.split_at_mut(j);
+                (&mut a[fi], Some(&b[0]))
+            }
+            None => (&mut self.funcs[fi], None),
+        };
+        if let Some(t) = twin {
+            p.cell_start.clone_from(&t.cell_start);
+            p.cell_items.clone_from(&t.cell_items);
+        } else {
+            let translated = std::mem::take(&mut p.bounds);
+            build_lists(p, own.unwrap_or(&translated), dim, total);
+            p.bounds = translated;
+        }
+        p.lists_ppg.clone_from(&p.ppg);
+        if p.seen.len() < p.n {
+            p.seen.resize_with(p.n, || Cell::new(0));
+        }
+        for s in &p.seen {
+            s.set(0);
+        }
+        p.stamp.set(0);
+    }
+}
+
+/// The problem-order boxes of `p` from the function's boxes `fb` (`p.map` and the
+/// problem's points `pts` set), unless made from the same boxes the same way last
+/// time: then they, and the cell lists made from them, are kept.
+fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
+    if p.src_map == p.map && p.src_pts == pts && p.src_bounds == fb {
+        return;
+    }
+    p.src_map.clone_from(&p.map);
+    p.src_pts.clear();
+    p.src_pts.extend_from_slice(pts);
+    p.src_bounds.clear();
+    p.src_bounds.extend_from_slice(fb);
+    p.lists_ppg.clear();
+    p.bounds.clear();
+    if p.borrowed {
+        return;
+    }
+    let (dim, od) = (pts.len(), p.map.len());
+    p.bounds.resize(p.n * 2 * dim, 0);
+    let whole = od < dim;
+    for (b, src) in p
+        .bounds
+        .chunks_exact_mut(2 * dim)
+        .zip(fb.chunks_exact(2 * od))
+    {
+        if whole {
+            for d in 0..dim {
+                b[2 * d] = 0;
+                b[2 * d + 1] = pts[d] - 1;
+            }
+        }
+        for (s, &t) in src.chunks_exact(2).zip(&p.map) {
+            b[2 * t] = s[0];
+            b[2 * t + 1] = s[1];
+        }
+    }
+}
+
+/// Cell bounds (cells reset) from the pieces' `maxVal`s: per cell over its list,
+/// which holds the cell's pieces in array order, so every cell sees the comparisons
+/// of the piece-by-piece build in the same order.
+fn cell_bounds(p: &mut Prepared, total: usize) {
+    for c in 0..total {
+        let list = &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize];
+        for &k in list {
+            let v = p.piece_ub[k as usize];
+            if !p.cell_filled[c] || v > p.cell_ub[c] {
+                p.cell_ub[c] = v;
+            }
+            p.cell_filled[c] = true;
+        }
+    }
+}
+
+/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
+/// dimensions: each accumulates the same terms in the same order, and the pieces are
+/// compared in the same order, so the values are the same bit for bit.
+pub(super) fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
+    let od = f.dim();
+    if od == 0 || f.piece_count() == 0 {
+        return f.min_max_wt();
+    }
+    let extremes = |b: &[i32], w: &[f64]| {
+        let (mut lo, mut hi) = (w[od], w[od]);
+        for (d, &x) in w[..od].iter().enumerate() {
+            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+            if x < 0.0 {
+                hi += x * l;
+                lo += x * h;
+            } else {
+                hi += x * h;
+                lo += x * l;
+            }
+        }
+        (lo, hi)
+    };
+    let mut pieces = f
+        .bounds()
+        .chunks_exact(2 * od)
+        .zip(f.weights().chunks_exact(od + 1));
+    let Some((b, w)) = pieces.next() else {
+        return f.min_max_wt();
+    };
+    let (mut mn, mut mx) = extremes(b, w);
+    for (b, w) in pieces {
+        let (lo, hi) = extremes(b, w);
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
+}
+
+/// `|intercept| + Σ_d |slope_d|·(pts_d - 1)` of one piece's weights (problem order).
+#[inline]
+fn term(w: &[f64], pts: &[i32]) -> f64 {
+    let dim = pts.len();
+    let mut t = w[dim].abs();
+    for d in 0..dim {
+        t += w[d].abs() * f64::from((pts[d] - 1).max(0));
+    }
+    t
+}
+
+/// Cell lists of a multi-cell grid: every cell's pieces in array order.
+fn build_lists(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize) {
+    let bl = 2 * dim;
+    p.cell_start.clear();
+    p.cell_start.resize(total + 1, 0);
+    let mut cell_start = std::mem::take(&mut p.cell_start);
+    for k in 0..p.n {
+        p.for_each_cell(&boxes[k * bl..(k + 1) * bl], dim, |c| {
+            cell_start[c + 1] += 1;
+            true
+        });
+    }
+    for c in 0..total {
+        cell_start[c + 1] += cell_start[c];
+    }
+    p.cell_items.clear();
+    p.cell_items.resize(cell_start[total] as usize, 0);
+    p.cursor.clear();
+    p.cursor.extend_from_slice(&cell_start[..total]);
+    p.cell_start = cell_start;
+    let mut items = std::mem::take(&mut p.cell_items);
+    let mut cursor = std::mem::take(&mut p.cursor);
+    for k in 0..p.n {
+        p.for_each_cell(&boxes[k * bl..(k + 1) * bl], dim, |c| {
+            items[cursor[c] as usize] = k as u32;
+            cursor[c] += 1;
+            true
+        });
+    }
+    (p.cell_items, p.cursor) = (items, cursor);
+}
