@@ -1,6 +1,6 @@
 //! The manager: mail in, an iteration, postings out (the helm engine's shape).
 
-use contacts::Decay;
+use contacts::{Decay, NodeReport};
 
 use crate::alert::{Alert, AlertSet};
 use crate::config::Config;
@@ -49,6 +49,8 @@ pub struct ContactManager {
     warnings: Warnings,
     alert_requests: u64,
     reports_received: u64,
+    /// Text `NODE_REPORT`s that name no vehicle or give no time or position.
+    malformed_reports: u64,
     iterations: u64,
 }
 
@@ -122,6 +124,7 @@ impl ContactManager {
             warnings: Warnings::default(),
             alert_requests: 0,
             reports_received: 0,
+            malformed_reports: 0,
             iterations: 0,
         }
     }
@@ -157,6 +160,11 @@ impl ContactManager {
     /// (alert requests, node reports) received.
     pub fn received(&self) -> (u64, u64) {
         (self.alert_requests, self.reports_received)
+    }
+    /// Text `NODE_REPORT`s received that name no vehicle or give no time or position
+    /// (neither X and Y nor LON).
+    pub fn malformed_reports(&self) -> u64 {
+        self.malformed_reports
     }
     pub fn iterations(&self) -> u64 {
         self.iterations
@@ -227,7 +235,10 @@ impl ContactManager {
             "NAV_Y" => num(&mut self.os.y),
             "NAV_HEADING" => num(&mut self.os.hdg),
             "NAV_SPEED" => num(&mut self.os.spd),
-            "NODE_REPORT" => self.node_report(&val.text()),
+            "NODE_REPORT" => match val {
+                MailValue::Str(s) => self.node_report(s, true),
+                MailValue::Num(_) => self.node_report(&val.text(), false),
+            },
             "BCM_ALERT_REQUEST" => {
                 self.alert_requests += 1;
                 let text = val.text();
@@ -292,11 +303,17 @@ impl ContactManager {
         }
     }
 
-    fn node_report(&mut self, report: &str) {
+    /// One `NODE_REPORT` (`text`: it came as a string, so it counts toward
+    /// [`Self::malformed_reports`]).
+    fn node_report(&mut self, report: &str, text: bool) {
         self.reports_received += 1;
+        let r = NodeReport::parse(report);
+        if text && (r.name.is_empty() || r.time.is_none() || !(r.has_xy() || r.has_latlon())) {
+            self.malformed_reports += 1;
+        }
         match self
             .table
-            .ingest(report, &self.cfg.filter, &self.ownship_name)
+            .ingest_parsed(&r, &self.cfg.filter, &self.ownship_name)
         {
             Ok((name, new)) => {
                 if new && self.cfg.alert_verbose {

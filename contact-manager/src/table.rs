@@ -117,7 +117,16 @@ impl Table {
         filter: &ContactFilter,
         ownship: &str,
     ) -> Result<(&str, bool), Refused> {
-        let r = NodeReport::parse(report);
+        self.ingest_parsed(&NodeReport::parse(report), filter, ownship)
+    }
+
+    /// [`Self::ingest`] of a report already read.
+    pub fn ingest_parsed(
+        &mut self,
+        r: &NodeReport<'_>,
+        filter: &ContactFilter,
+        ownship: &str,
+    ) -> Result<(&str, bool), Refused> {
         if r.name.is_empty() {
             return Err(Refused::NoName);
         }
@@ -138,7 +147,7 @@ impl Table {
         if needs_depth(vtype) && r.dep.is_none() {
             return Err(Refused::NoDepth);
         }
-        let (x, y, lat, lon) = self.position(&r);
+        let (x, y, lat, lon) = self.position(r);
         if !filter.check(r.name, r.group, vtype, x, y).all() {
             return Err(Refused::Filtered);
         }

@@ -2,7 +2,7 @@
 //! ledger; the helm only copies a few fields into its info buffer (contacts-appcast.md
 //! §2.1).
 
-use crate::report::NodeReport;
+use crate::report::{for_each_field, Key, NodeReport};
 
 /// A value for the info buffer.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,26 +26,75 @@ pub struct UnhandledLocal;
 /// assert_eq!(v.len(), 3);
 /// ```
 pub fn local_nav_vars(report: &str) -> Result<Vec<(String, NavValue)>, UnhandledLocal> {
-    let r = NodeReport::parse(report);
+    let r = local_fields(report);
     if r.name.is_empty() {
         return Err(UnhandledLocal);
     }
-    let up = r.name.to_uppercase();
+    let mut prefix = r.name.to_uppercase();
+    prefix.push_str("_NAV_");
+    let var = |suffix: &str| {
+        let mut v = String::with_capacity(prefix.len() + suffix.len());
+        v.push_str(&prefix);
+        v.push_str(suffix);
+        v
+    };
     let mut out = Vec::with_capacity(4);
     for (suffix, s) in [("GROUP", r.group), ("TYPE", r.vtype), ("COLOR", r.color)] {
         if !s.is_empty() {
-            out.push((format!("{up}_NAV_{suffix}"), NavValue::Text(s.to_string())));
+            out.push((var(suffix), NavValue::Text(s.to_string())));
         }
     }
     if let Some(l) = r.length.filter(|&l| l != 0.0) {
-        out.push((format!("{up}_NAV_LENGTH"), NavValue::Num(l)));
+        out.push((var("LENGTH"), NavValue::Num(l)));
     }
     Ok(out)
+}
+
+/// The fields of `report` that ownship's postings use (name, group, type, colour,
+/// length), read as [`NodeReport::parse`] reads them, without parsing the other numbers
+/// (a report has seven or more).
+fn local_fields(report: &str) -> NodeReport<'_> {
+    let mut r = NodeReport::default();
+    for_each_field(report, |key, value| match key {
+        Key::Name => r.name = value,
+        Key::Group => r.group = value,
+        Key::Type => r.vtype = value,
+        Key::Color => r.color = value,
+        Key::Length => r.length = mbutil::parse_number(value).or(r.length),
+        _ => {}
+    });
+    r
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn local_fields_are_the_full_readings_fields() {
+        let reports = [
+            "NAME=alpha,X=1,Y=2,TYPE=kayak,COLOR=yellow,LENGTH=4,TIME=5",
+            " name = Bob , group=red, len=2.5, LENGTH=nan, type= UUV ,color=",
+            r#"{"NAME":"a","GROUP":"{x,y}","LENGTH":"3","LEN":"x"}"#,
+            "NAME=a,NAME=b,TYPE=t1,TYPE=,LENGTH=1,LENGTH=1e3,GROUP={g,h}",
+            "",
+            "X=1,Y=2",
+        ];
+        for text in reports {
+            let (full, light) = (NodeReport::parse(text), local_fields(text));
+            assert_eq!(
+                (full.name, full.group, full.vtype, full.color, full.length),
+                (
+                    light.name,
+                    light.group,
+                    light.vtype,
+                    light.color,
+                    light.length
+                ),
+                "{text:?}"
+            );
+        }
+    }
 
     #[test]
     fn local_report_postings() {

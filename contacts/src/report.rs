@@ -44,69 +44,37 @@ impl<'a> NodeReport<'a> {
     /// assert_eq!((r.name, r.x, r.y, r.time), ("bob", Some(5.0), Some(-2.5), Some(1000.0)));
     /// ```
     pub fn parse(text: &'a str) -> Self {
-        let t = text.trim();
-        let json = t.len() >= 2 && t.starts_with('{') && t.ends_with('}');
-        let body = if json { &t[1..t.len() - 1] } else { t };
         let mut r = NodeReport::default();
-        for field in split_top_level(body, b',') {
-            let (key, value) = if json {
-                match field.find(':') {
-                    Some(i) => (unquote(&field[..i]), unquote(&field[i + 1..])),
-                    None => (unquote(field), ""),
-                }
-            } else {
-                match field.find('=') {
-                    Some(i) => (field[..i].trim(), field[i + 1..].trim()),
-                    None => (field.trim(), ""),
-                }
-            };
-            r.set(key, value);
-        }
+        for_each_field(text, |key, value| r.set(key, value));
         r
     }
 
-    fn set(&mut self, key: &str, value: &'a str) {
+    fn set(&mut self, key: Key, value: &'a str) {
         let num = || mbutil::parse_number(value);
-        let is = |k: &str| key.eq_ignore_ascii_case(k);
-        if is("NAME") {
-            self.name = value;
-        } else if is("TYPE") {
-            self.vtype = value;
-        } else if is("GROUP") {
-            self.group = value;
-        } else if is("COLOR") {
-            self.color = value;
-        } else if is("VSOURCE") {
-            self.vsource = value;
-        } else if is("MODE") {
-            self.mode = value;
-        } else if is("ALLSTOP") {
-            self.allstop = value;
-        } else if is("TIME") || is("UTC_TIME") {
-            // A non-numeric TIME leaves an earlier numeric one in place.
-            if let Some(v) = num() {
-                self.time = Some(v);
+        match key {
+            Key::Name => self.name = value,
+            Key::Type => self.vtype = value,
+            Key::Group => self.group = value,
+            Key::Color => self.color = value,
+            Key::Vsource => self.vsource = value,
+            Key::Mode => self.mode = value,
+            Key::Allstop => self.allstop = value,
+            Key::Time => {
+                // A non-numeric TIME leaves an earlier numeric one in place.
+                if let Some(v) = num() {
+                    self.time = Some(v);
+                }
             }
-        } else if is("X") {
-            self.x = num().or(self.x);
-        } else if is("Y") {
-            self.y = num().or(self.y);
-        } else if is("LAT") {
-            self.lat = num().or(self.lat);
-        } else if is("LON") {
-            self.lon = num().or(self.lon);
-        } else if is("SPD") || is("SPEED") {
-            self.spd = num().or(self.spd);
-        } else if is("HDG") || is("HEADING") {
-            self.hdg = num().or(self.hdg);
-        } else if is("DEP") || is("DEPTH") {
-            self.dep = num().or(self.dep);
-        } else if is("LENGTH") || is("LEN") {
-            self.length = num().or(self.length);
-        } else if is("COG") {
-            self.cog = num().or(self.cog);
-        } else {
-            self.unknown_fields += 1;
+            Key::X => self.x = num().or(self.x),
+            Key::Y => self.y = num().or(self.y),
+            Key::Lat => self.lat = num().or(self.lat),
+            Key::Lon => self.lon = num().or(self.lon),
+            Key::Spd => self.spd = num().or(self.spd),
+            Key::Hdg => self.hdg = num().or(self.hdg),
+            Key::Dep => self.dep = num().or(self.dep),
+            Key::Length => self.length = num().or(self.length),
+            Key::Cog => self.cog = num().or(self.cog),
+            Key::Unknown => self.unknown_fields += 1,
         }
     }
 
@@ -122,13 +90,124 @@ impl<'a> NodeReport<'a> {
     }
 }
 
+/// Each field of `text` (either form) in order: its key and its value, trimmed (and
+/// unquoted in the JSON-ish form). What [`NodeReport::parse`] reads; a reader that needs
+/// only a few fields uses it to skip the number parsing of the others.
+pub(crate) fn for_each_field<'a>(text: &'a str, mut f: impl FnMut(Key, &'a str)) {
+    let t = trim(text);
+    let json = t.len() >= 2 && t.starts_with('{') && t.ends_with('}');
+    let body = if json { &t[1..t.len() - 1] } else { t };
+    if body.is_empty() {
+        return;
+    }
+    // One pass: fields end at a comma outside braces (any depth; an unbalanced `}` is
+    // ignored); a field's key ends at its first `=` (`:` in the JSON-ish form), braces
+    // or not. Every byte tested is ASCII, so every cut is a char boundary.
+    let between = if json { b':' } else { b'=' };
+    let bytes = body.as_bytes();
+    let (mut depth, mut start, mut split) = (0usize, 0usize, None);
+    for i in 0..=bytes.len() {
+        let b = bytes.get(i).copied();
+        if b.is_none() || (b == Some(b',') && depth == 0) {
+            let (key, value) = match (split, json) {
+                (Some(k), true) => (unquote(&body[start..k]), unquote(&body[k + 1..i])),
+                (None, true) => (unquote(&body[start..i]), ""),
+                (Some(k), false) => (trim(&body[start..k]), trim(&body[k + 1..i])),
+                (None, false) => (trim(&body[start..i]), ""),
+            };
+            f(Key::of(key), value);
+            (start, split) = (i + 1, None);
+            continue;
+        }
+        match b {
+            Some(b'{') => depth += 1,
+            Some(b'}') => depth = depth.saturating_sub(1),
+            Some(c) if c == between && split.is_none() => split = Some(i),
+            _ => {}
+        }
+    }
+}
+
+/// The known keys of a report (matched without regard to ASCII case).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Key {
+    Name,
+    Type,
+    Group,
+    Color,
+    Vsource,
+    Mode,
+    Allstop,
+    Time,
+    X,
+    Y,
+    Lat,
+    Lon,
+    Spd,
+    Hdg,
+    Dep,
+    Length,
+    Cog,
+    Unknown,
+}
+
+impl Key {
+    /// Which key `key` is: upper-cased into a small buffer (the longest known key,
+    /// `UTC_TIME`, has 8 bytes), then one `match`. Upper-casing ASCII leaves other
+    /// bytes alone, so this is `eq_ignore_ascii_case` against each upper-case name.
+    pub(crate) fn of(key: &str) -> Key {
+        let b = key.as_bytes();
+        if b.len() > 8 {
+            return Key::Unknown;
+        }
+        let mut up = [0u8; 8];
+        for (u, c) in up.iter_mut().zip(b) {
+            *u = c.to_ascii_uppercase();
+        }
+        match &up[..b.len()] {
+            b"NAME" => Key::Name,
+            b"TYPE" => Key::Type,
+            b"GROUP" => Key::Group,
+            b"COLOR" => Key::Color,
+            b"VSOURCE" => Key::Vsource,
+            b"MODE" => Key::Mode,
+            b"ALLSTOP" => Key::Allstop,
+            b"TIME" | b"UTC_TIME" => Key::Time,
+            b"X" => Key::X,
+            b"Y" => Key::Y,
+            b"LAT" => Key::Lat,
+            b"LON" => Key::Lon,
+            b"SPD" | b"SPEED" => Key::Spd,
+            b"HDG" | b"HEADING" => Key::Hdg,
+            b"DEP" | b"DEPTH" => Key::Dep,
+            b"LENGTH" | b"LEN" => Key::Length,
+            b"COG" => Key::Cog,
+            _ => Key::Unknown,
+        }
+    }
+}
+
+/// `str::trim`, with a shortcut for the usual case: both ends an ASCII byte that is not
+/// white space (`char::is_whitespace` on ASCII is exactly tab, LF, VT, FF, CR, space).
+fn trim(s: &str) -> &str {
+    let solid = |b: Option<&u8>| b.is_some_and(|&c| c.is_ascii() && !matches!(c, 9..=13 | b' '));
+    let b = s.as_bytes();
+    if solid(b.first()) && solid(b.last()) {
+        s
+    } else {
+        s.trim()
+    }
+}
+
 /// Trim, then drop one pair of surrounding double quotes.
 fn unquote(s: &str) -> &str {
-    mbutil::strip_quotes(s.trim()).trim()
+    trim(mbutil::strip_quotes(trim(s)))
 }
 
 /// Split at `sep` where not inside `{...}` (any depth). An unbalanced `}` is ignored.
-pub(crate) fn split_top_level(s: &str, sep: u8) -> impl Iterator<Item = &str> {
+/// (The straightforward splitter, kept as the reference of [`for_each_field`]'s test.)
+#[cfg(test)]
+fn split_top_level(s: &str, sep: u8) -> impl Iterator<Item = &str> {
     let mut depth = 0usize;
     let mut start = 0usize;
     let bytes = s.as_bytes();
@@ -220,5 +299,172 @@ mod tests {
         assert_eq!(v, ["a", "", "b", ""]);
         let v: Vec<&str> = split_top_level("}a,{b,c}}d,e", b',').collect();
         assert_eq!(v, ["}a", "{b,c}}d", "e"]);
+    }
+    /// The straightforward reading: each known name tested with `eq_ignore_ascii_case`.
+    fn key_by_names(key: &str) -> Key {
+        let names: [(&[&str], Key); 17] = [
+            (&["NAME"], Key::Name),
+            (&["TYPE"], Key::Type),
+            (&["GROUP"], Key::Group),
+            (&["COLOR"], Key::Color),
+            (&["VSOURCE"], Key::Vsource),
+            (&["MODE"], Key::Mode),
+            (&["ALLSTOP"], Key::Allstop),
+            (&["TIME", "UTC_TIME"], Key::Time),
+            (&["X"], Key::X),
+            (&["Y"], Key::Y),
+            (&["LAT"], Key::Lat),
+            (&["LON"], Key::Lon),
+            (&["SPD", "SPEED"], Key::Spd),
+            (&["HDG", "HEADING"], Key::Hdg),
+            (&["DEP", "DEPTH"], Key::Dep),
+            (&["LENGTH", "LEN"], Key::Length),
+            (&["COG"], Key::Cog),
+        ];
+        names
+            .iter()
+            .find(|(ns, _)| ns.iter().any(|n| key.eq_ignore_ascii_case(n)))
+            .map_or(Key::Unknown, |(_, k)| *k)
+    }
+
+    /// The straightforward field reader: split, then find the key's end in each field.
+    fn fields_by_split(text: &str) -> Vec<(Key, &str)> {
+        let t = text.trim();
+        let json = t.len() >= 2 && t.starts_with('{') && t.ends_with('}');
+        let body = if json { &t[1..t.len() - 1] } else { t };
+        let mut out = Vec::new();
+        for field in split_top_level(body, b',') {
+            let (key, value) = if json {
+                match field.find(':') {
+                    Some(i) => (unquote(&field[..i]), unquote(&field[i + 1..])),
+                    None => (unquote(field), ""),
+                }
+            } else {
+                match field.find('=') {
+                    Some(i) => (field[..i].trim(), field[i + 1..].trim()),
+                    None => (field.trim(), ""),
+                }
+            };
+            out.push((key_by_names(key), value));
+        }
+        out
+    }
+
+    #[test]
+    fn one_pass_fields_match_split_then_find() {
+        let pieces = [
+            "NAME",
+            "x",
+            "=",
+            "==",
+            ":",
+            ",",
+            ",,",
+            "{",
+            "}",
+            "}}",
+            "{{",
+            "\"",
+            " ",
+            "\t",
+            "é",
+            "\u{a0}",
+            "12.5",
+            "TIME",
+            "GROUP",
+            "{a,b}",
+            "\"X\":\"1\"",
+            "LEN=4",
+        ];
+        let mut seed = 0x853c_49e6_748f_ea9bu64;
+        let mut next = |n: usize| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n as u64) as usize
+        };
+        for _ in 0..30_000 {
+            let mut s = String::new();
+            if next(3) == 0 {
+                s.push('{');
+            }
+            for _ in 0..next(10) {
+                s.push_str(pieces[next(pieces.len())]);
+            }
+            if next(3) == 0 {
+                s.push('}');
+            }
+            let mut got = Vec::new();
+            for_each_field(&s, |k, v| got.push((k, v)));
+            assert_eq!(got, fields_by_split(&s), "{s:?}");
+        }
+    }
+
+    #[test]
+    fn key_lookup_and_trim_match_the_straightforward_versions() {
+        // Pieces that make near-misses: known names, case changes, extra bytes,
+        // white space of every kind (ASCII and not), non-ASCII letters.
+        let pieces = [
+            "NAME",
+            "name",
+            "Utc_Time",
+            "utc_time",
+            "UTC_TIMEX",
+            "SPEED",
+            "speeD",
+            "LEN",
+            "LENGTH",
+            "lengthy",
+            "x",
+            "X",
+            "y",
+            "COG",
+            "cogs",
+            "HEADING",
+            "hdg",
+            "",
+            " ",
+            "\t",
+            "\u{b}",
+            "\u{c}",
+            "\r\n",
+            "\u{a0}",
+            "\u{3000}",
+            "\u{85}",
+            "é",
+            "İ",
+            "ſ",
+            "K",
+            "\u{212a}",
+            "_",
+            "=",
+            "{",
+            "}",
+            "\"",
+            "1.5",
+            "nan",
+        ];
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: usize| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n as u64) as usize
+        };
+        for _ in 0..20_000 {
+            let mut s = String::new();
+            for _ in 0..next(4) {
+                s.push_str(pieces[next(pieces.len())]);
+            }
+            assert_eq!(Key::of(&s), key_by_names(&s), "{s:?}");
+            assert_eq!(trim(&s), s.trim(), "{s:?}");
+        }
+        for (ns, k) in [
+            ("uTc_TiMe", Key::Time),
+            ("Vsource", Key::Vsource),
+            ("lon", Key::Lon),
+        ] {
+            assert_eq!(Key::of(ns), k);
+        }
     }
 }

@@ -16,9 +16,8 @@
 //! posted as 0: they measure the machine, not the mission, and would make two runs'
 //! logs differ.
 
-use std::collections::{HashMap, HashSet};
-
 use moos::alog::LineValue;
+use rustc_hash::FxHashMap;
 
 use super::observe::Observer;
 use helm_cycle as cycle;
@@ -32,15 +31,24 @@ pub const HOST_MEASUREMENTS: [&str; 3] = ["PHELMIVP_PID", "IVPHELM_CREATE_CPU", 
 #[derive(Debug, Default)]
 pub struct Client {
     pub name: String,
-    subs: HashSet<String>,
     inbox: Vec<Mail>,
+}
+
+/// What the bus knows of one variable.
+#[derive(Debug)]
+struct Slot {
+    /// Clients subscribed to it, in ascending index order (delivery order).
+    subs: Vec<usize>,
+    /// Its latest value (sent on registration).
+    last: Option<Mail>,
 }
 
 /// The bus. Client 0 is the helm (the [`cycle::Bus`] side).
 pub struct SimBus {
     pub clients: Vec<Client>,
-    /// Posted in the current time step, delivered by [`SimBus::deliver`].
-    staged: Vec<Mail>,
+    /// Posted in the current time step (with its variable's slot), delivered by
+    /// [`SimBus::deliver`].
+    staged: Vec<(usize, Mail)>,
     pub observer: Observer,
     pub alog: Option<moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>>,
     /// Every message, when asked for (tests, replay).
@@ -49,11 +57,62 @@ pub struct SimBus {
     pub alog_error: Option<std::io::Error>,
     /// Index of the helm among the clients.
     pub helm: usize,
-    /// The latest value of every variable (sent on registration).
-    last: HashMap<String, Mail>,
+    /// Each variable's slot in `slots` (looked up once per posting; never iterated, so
+    /// the hasher cannot order anything).
+    index: FxHashMap<String, usize>,
+    slots: Vec<Slot>,
+    /// Fetched messages handed back, whose strings the next postings reuse.
+    spare: Vec<Mail>,
+    /// Value strings of spare messages reused for a number.
+    spare_text: Vec<String>,
+    /// The list the helm last subscribed to (all of it subscribed).
+    helm_subs: Vec<String>,
 }
 
 pub const HELM: usize = 0;
+
+/// Overwrite `dst` with `var = value` (keeping `dst`'s string storage; a value string
+/// it cannot use goes to `spare_text`, and comes from there when needed).
+fn fill(
+    dst: &mut Mail,
+    spare_text: &mut Vec<String>,
+    (source, var, value, aux, now): (&str, &str, &Value, &str, f64),
+) {
+    dst.time = now;
+    dst.var.clear();
+    dst.var.push_str(var);
+    dst.source.clear();
+    dst.source.push_str(source);
+    dst.source_aux.clear();
+    dst.source_aux.push_str(aux);
+    match (&mut dst.value, value) {
+        (Value::Str(old), Value::Str(new)) => {
+            old.clear();
+            old.push_str(new);
+        }
+        (old @ Value::Num(_), Value::Str(new)) => {
+            let mut s = spare_text.pop().unwrap_or_default();
+            s.clear();
+            s.push_str(new);
+            *old = Value::Str(s);
+        }
+        (old, Value::Num(n)) => {
+            if let Value::Str(s) = std::mem::replace(old, Value::Num(*n)) {
+                spare_text.push(s);
+            }
+        }
+    }
+}
+
+fn blank_mail() -> Mail {
+    Mail {
+        var: String::new(),
+        value: Value::Num(0.0),
+        time: 0.0,
+        source: String::new(),
+        source_aux: String::new(),
+    }
+}
 
 impl SimBus {
     pub fn new(names: &[&str], observer: Observer) -> SimBus {
@@ -71,7 +130,11 @@ impl SimBus {
             record: None,
             alog_error: None,
             helm: HELM,
-            last: HashMap::new(),
+            index: FxHashMap::default(),
+            slots: Vec::new(),
+            spare: Vec::new(),
+            spare_text: Vec::new(),
+            helm_subs: Vec::new(),
         }
     }
 
@@ -84,61 +147,45 @@ impl SimBus {
         self.clients.len() - 1
     }
 
-    pub fn subscribe(&mut self, client: usize, var: &str) -> bool {
-        let subs = &mut self.clients[client].subs;
-        if subs.contains(var) {
-            return false;
+    /// `var`'s slot, made on first sight.
+    fn slot_of(&mut self, var: &str) -> usize {
+        if let Some(&i) = self.index.get(var) {
+            return i;
         }
-        subs.insert(var.to_string());
-        if !self.staged.iter().any(|m| m.var == var) {
-            if let Some(m) = self.last.get(var) {
+        self.slots.push(Slot {
+            subs: Vec::new(),
+            last: None,
+        });
+        self.index.insert(var.to_string(), self.slots.len() - 1);
+        self.slots.len() - 1
+    }
+
+    pub fn subscribe(&mut self, client: usize, var: &str) -> bool {
+        let i = self.slot_of(var);
+        let subs = &mut self.slots[i].subs;
+        let Err(at) = subs.binary_search(&client) else {
+            return false;
+        };
+        subs.insert(at, client);
+        if !self.staged.iter().any(|(s, _)| *s == i) {
+            if let Some(m) = &self.slots[i].last {
                 self.clients[client].inbox.push(m.clone());
             }
         }
         true
     }
 
-    /// Keep `var`'s latest value, reusing the previous one's storage.
-    fn remember(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
-        match self.last.get_mut(var) {
-            Some(m) => {
-                m.time = now;
-                match (&mut m.value, value) {
-                    (Value::Str(old), Value::Str(new)) => {
-                        old.clear();
-                        old.push_str(new);
-                    }
-                    (old, new) => *old = new.clone(),
-                }
-                m.source.clear();
-                m.source.push_str(source);
-                m.source_aux.clear();
-                m.source_aux.push_str(aux);
-            }
-            None => {
-                self.last.insert(
-                    var.to_string(),
-                    Mail {
-                        var: var.to_string(),
-                        value: value.clone(),
-                        time: now,
-                        source: source.to_string(),
-                        source_aux: aux.to_string(),
-                    },
-                );
-            }
-        }
-    }
-
     /// Whether anything on this bus ever reads `var`: an app subscribed to it, the
     /// `.alog`, the in-memory record, or an end condition on it. (The helm is asked
     /// after start-up, when every app has subscribed.)
     pub fn is_read(&self, var: &str) -> bool {
-        self.alog.is_some() || self.wanted(var) || self.observer.when.iter().any(|w| w.var == var)
-    }
-
-    fn wanted(&self, var: &str) -> bool {
-        self.record.is_some() || self.clients.iter().any(|c| c.subs.contains(var))
+        self.alog.is_some()
+            || self.record.is_some()
+            || self
+                .index
+                .get(var)
+                .is_some_and(|&i| !self.slots[i].subs.is_empty())
+            || self.observer.when.iter().any(|w| w.var == var)
     }
 
     /// Post `var = value` from `source` (`aux` its source-aux) at `now`.
@@ -150,18 +197,30 @@ impl SimBus {
             value
         };
         self.observer.on_posting(var, value, now);
-        self.remember(source, var, value, aux, now);
+        let i = self.slot_of(var);
+        let parts = (source, var, value, aux, now);
+        // Keep `var`'s latest value, reusing the previous one's storage.
+        let slot = &mut self.slots[i];
+        match &mut slot.last {
+            Some(m) => fill(m, &mut self.spare_text, parts),
+            None => {
+                slot.last = Some(Mail {
+                    var: var.to_string(),
+                    value: value.clone(),
+                    time: now,
+                    source: source.to_string(),
+                    source_aux: aux.to_string(),
+                })
+            }
+        }
+        let wanted = self.record.is_some() || !slot.subs.is_empty();
         if self.alog.is_some() {
             self.log(source, var, value, aux, now);
         }
-        if self.wanted(var) {
-            self.staged.push(Mail {
-                var: var.to_string(),
-                value: value.clone(),
-                time: now,
-                source: source.to_string(),
-                source_aux: aux.to_string(),
-            });
+        if wanted {
+            let mut m = self.spare.pop().unwrap_or_else(blank_mail);
+            fill(&mut m, &mut self.spare_text, parts);
+            self.staged.push((i, m));
         }
     }
 
@@ -177,17 +236,31 @@ impl SimBus {
         }
     }
 
+    /// A copy of `m` in a spare message's storage.
+    fn copy(spare: &mut Vec<Mail>, spare_text: &mut Vec<String>, m: &Mail) -> Mail {
+        let mut c = spare.pop().unwrap_or_else(blank_mail);
+        let parts = (
+            m.source.as_str(),
+            m.var.as_str(),
+            &m.value,
+            m.source_aux.as_str(),
+            m.time,
+        );
+        fill(&mut c, spare_text, parts);
+        c
+    }
+
     /// End of a time step: what was posted in it reaches the subscribers' inboxes (the
     /// message itself goes to the last one, copies to the others).
     pub fn deliver(&mut self) {
         let mut staged = std::mem::take(&mut self.staged);
-        for m in staged.drain(..) {
-            let last = self.clients.iter().rposition(|c| c.subs.contains(&m.var));
-            if let Some(last) = last {
-                for c in &mut self.clients[..last] {
-                    if c.subs.contains(&m.var) {
-                        c.inbox.push(m.clone());
-                    }
+        for (i, m) in staged.drain(..) {
+            let subs = &self.slots[i].subs;
+            let last = subs.last().copied();
+            if let Some((_, others)) = subs.split_last() {
+                for &c in others {
+                    let copy = Self::copy(&mut self.spare, &mut self.spare_text, &m);
+                    self.clients[c].inbox.push(copy);
                 }
             }
             match (&mut self.record, last) {
@@ -197,28 +270,37 @@ impl SimBus {
                 }
                 (Some(r), None) => r.push(m),
                 (None, Some(last)) => self.clients[last].inbox.push(m),
-                (None, None) => {}
+                (None, None) => self.spare.push(m),
             }
         }
         // Keep the buffer's capacity for the next step.
         self.staged = staged;
     }
 
-    /// Move `client`'s mail into `out` (cleared first); the inbox keeps its capacity.
+    /// Move `client`'s mail into `out`; what `out` held is handed back to the bus, whose
+    /// next postings reuse its storage; the inbox keeps `out`'s capacity.
     pub fn fetch(&mut self, client: usize, out: &mut Vec<Mail>) {
-        out.clear();
+        self.spare.append(out);
         std::mem::swap(&mut self.clients[client].inbox, out);
     }
 }
 
 impl cycle::Bus for SimBus {
     fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
+        // The helm hands over its whole list every iteration. Every variable of the
+        // list handled last is subscribed (and stays so): the same list again has
+        // nothing new, and comparing it costs less than looking each one up.
+        if self.helm_subs.as_slice() == subs {
+            return Vec::new();
+        }
         let mut new = Vec::new();
         for var in subs {
             if self.subscribe(self.helm, var) {
                 new.push(var.clone());
             }
         }
+        self.helm_subs.clear();
+        self.helm_subs.extend_from_slice(subs);
         new
     }
 

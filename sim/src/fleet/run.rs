@@ -277,7 +277,7 @@ impl FleetPlan {
                 helm_state: l.helm_state(),
                 drove: l.drove,
                 node_reports: l.mgr.received().1,
-                malformed_reports: l.malformed_reports,
+                malformed_reports: l.mgr.malformed_reports(),
                 ticks,
                 observer: std::mem::take(&mut l.bus.observer),
             });

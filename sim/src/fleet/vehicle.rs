@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use contact_manager::{Config, ContactManager, MailValue};
-use contacts::{Geodesy, NodeReport};
+use contacts::Geodesy;
 use helm_cycle::HelmCycle;
 use helm_engine::posting::Value;
 use helm_engine::{Helm, HelmState, Mail};
@@ -23,6 +23,7 @@ use crate::bus::{SimBus, HELM};
 use crate::observe::Observer;
 use crate::run::{SimError, StartShift, HELM_NAME};
 use crate::scenario::When;
+use mbutil::push_fixed;
 
 pub const CMGR_NAME: &str = "pContactMgrV20";
 pub const REPORTER_NAME: &str = "pNodeReporter";
@@ -159,11 +160,11 @@ pub struct Live {
     /// The helm's stop rule fired (it is no longer iterated).
     pub over: bool,
     pub start: Nav,
-    /// NODE_REPORTs in the mail that name no vehicle or give no time or position.
-    pub malformed_reports: u64,
     sim_in: Vec<Mail>,
     helm_in: Vec<Mail>,
     mgr_in: Vec<Mail>,
+    /// Always a `Value::Str`: the contact manager's text postings, one after another.
+    mgr_text: Value,
     report: String,
     report_index: u64,
     pub obm: Option<super::obstacles::ObmLive>,
@@ -237,10 +238,10 @@ impl Live {
             last_sim: 0.0,
             drove,
             over: false,
-            malformed_reports: 0,
             sim_in: Vec::new(),
             helm_in: Vec::new(),
             mgr_in: Vec::new(),
+            mgr_text: Value::Str(String::new()),
             report: String::new(),
             report_index: 0,
             obm,
@@ -335,25 +336,35 @@ impl Live {
         let nav = self.model.nav();
         let mut r = std::mem::take(&mut self.report);
         r.clear();
-        let _ = write!(
-            r,
-            "NAME={},X={:.2},Y={:.2},SPD={:.2},HDG={:.2},DEP={:.2}",
-            p.spec.name, nav.x, nav.y, nav.speed, nav.heading, nav.depth
-        );
+        // As `format!("NAME={},X={:.2},...")` writes it (see `mbutil::push_fixed`).
+        let field = |r: &mut String, key: &str, x: f64, decimals: usize| {
+            r.push_str(key);
+            push_fixed(r, x, decimals);
+        };
+        r.push_str("NAME=");
+        r.push_str(&p.spec.name);
+        field(&mut r, ",X=", nav.x, 2);
+        field(&mut r, ",Y=", nav.y, 2);
+        field(&mut r, ",SPD=", nav.speed, 2);
+        field(&mut r, ",HDG=", nav.heading, 2);
+        field(&mut r, ",DEP=", nav.depth, 2);
         if let Some(g) = &self.geo {
             let (lat, lon) = g.to_latlon(nav.x, nav.y);
-            let _ = write!(r, ",LAT={lat:.8},LON={lon:.8}");
+            field(&mut r, ",LAT=", lat, 8);
+            field(&mut r, ",LON=", lon, 8);
         }
         let yaw = (90.0 - nav.heading).to_radians();
         let _ = write!(
             r,
-            ",TYPE={},COLOR={},MODE={},INDEX={},YAW={yaw:.7},TIME={now:.2},LENGTH={}",
+            ",TYPE={},COLOR={},MODE={},INDEX={}",
             p.vtype,
             p.spec.moos_color,
             self.helm.state().as_str(),
             self.report_index,
-            p.length
         );
+        field(&mut r, ",YAW=", yaw, 7);
+        field(&mut r, ",TIME=", now, 2);
+        let _ = write!(r, ",LENGTH={}", p.length);
         self.report_index += 1;
         let v = Value::Str(r);
         self.bus
@@ -369,27 +380,27 @@ impl Live {
         for m in &self.mgr_in {
             let v = match &m.value {
                 Value::Num(n) => MailValue::Num(*n),
-                Value::Str(s) => {
-                    if m.var == "NODE_REPORT" {
-                        let r = NodeReport::parse(s);
-                        if r.name.is_empty() || r.time.is_none() || !(r.has_xy() || r.has_latlon())
-                        {
-                            self.malformed_reports += 1;
-                        }
-                    }
-                    MailValue::Str(s)
-                }
+                Value::Str(s) => MailValue::Str(s),
             };
             batch.push((m.var.as_str(), v));
         }
         self.mgr.handle_mail(now, &batch);
         drop(batch);
         for post in self.mgr.iterate(now) {
-            let v = match &post.val {
-                contact_manager::Value::Str(s) => Value::Str(s.clone()),
-                contact_manager::Value::Num(n) => Value::Num(*n),
-            };
-            self.bus.post(CMGR_NAME, &post.var, &v, "", now);
+            match &post.val {
+                contact_manager::Value::Str(s) => {
+                    // A kept string value, refilled (the bus copies what it keeps).
+                    if let Value::Str(text) = &mut self.mgr_text {
+                        text.clear();
+                        text.push_str(s);
+                    }
+                    self.bus.post(CMGR_NAME, &post.var, &self.mgr_text, "", now);
+                }
+                contact_manager::Value::Num(n) => {
+                    self.bus
+                        .post(CMGR_NAME, &post.var, &Value::Num(*n), "", now);
+                }
+            }
         }
     }
 
