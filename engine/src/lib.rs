@@ -20,7 +20,7 @@
 //! - a behavior is called in [`runtime`] (`runtime::step`, one behavior's part in one
 //!   iteration), built-in and plugin alike through `behavior-api`;
 //! - a decision is made in [`engine`]: `Helm::handle_mail` → `Helm::iterate` (modes,
-//!   behaviors, `decide` with `ivp::Solver`, postings), with spawning and reports;
+//!   behaviors, `decide` with `ivp_solver::Solver`, postings), with spawning and reports;
 //! - one helm cycle as every driver runs it, and what a run remembers for its terminal
 //!   and its end, are the `helm-cycle` crate's.
 //! - conformance cases are replayed by the `helm-conform` crate.

@@ -2,7 +2,8 @@
 //! BHV_IPF text of a contact-sized function.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use ivp::{couple, Domain, IvpFunction, Solver, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd};
+use ivp::{couple, Domain, IvpFunction, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd};
+use ivp_solver::Solver;
 use std::hint::black_box;
 
 fn dom() -> Domain {
@@ -89,7 +90,7 @@ fn solves(c: &mut Criterion) {
     let counts: Vec<usize> = fs.iter().map(IvpFunction::piece_count).collect();
     eprintln!("piece counts: {counts:?}");
     let mut solver = Solver::new();
-    let mut out = ivp::Decision::default();
+    let mut out = ivp_solver::Decision::default();
     for n in [2usize, 5] {
         let refs: Vec<&IvpFunction> = fs[..n].iter().collect();
         c.bench_function(&format!("solve_{n}_waypoints"), |b| {

@@ -56,8 +56,9 @@ impl<'a> Piece<'a> {
 }
 
 /// `maxVal` of a linear box (spec §2.1): `w_n + Σ_d w_d * (w_d < 0 ? lo_d : hi_d)`.
+/// Public for the solver crate (`ivp-solver`), which bounds cells with it.
 #[inline]
-pub(crate) fn max_val(bounds: &[i32], w: &[f64]) -> f64 {
+pub fn max_val(bounds: &[i32], w: &[f64]) -> f64 {
     let n = w.len() - 1;
     let mut acc = w[n];
     for d in 0..n {

@@ -1,13 +1,15 @@
-//! # ivp — IvP domains, functions, builders and solver
+//! # ivp — IvP domains, functions and builders
 //!
 //! An **IvP function** is a piecewise-linear utility function over a discrete
 //! decision domain (e.g. `course × speed`). Each piece is a box of grid indices
 //! with a linear interior function `w_0*x_0 + … + w_{n-1}*x_{n-1} + w_n` on the
-//! indices. The solver picks the grid point maximizing the sum of several
-//! weighted IvP functions, with the reference helm's exact tie-breaking.
+//! indices. The solver, which picks the grid point maximizing the sum of several
+//! weighted IvP functions with the reference helm's exact tie-breaking, is its own
+//! crate (`ivp-solver`, built on this one). This crate depends on no helm, MOOS or
+//! ABI crate: only the number formatter of `mbutil`.
 //!
 //! ```
-//! use ivp::{Domain, ZaicPeak, Solver, couple};
+//! use ivp::{Domain, ZaicPeak, couple};
 //!
 //! let dom = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
 //! let mut crs = ZaicPeak::new(&dom, "course").unwrap();
@@ -17,10 +19,7 @@
 //! spd.set_params(2.0, 1.0, 1.6, 20.0, 0.0, 100.0, 0);
 //! let mut f = couple(crs.extract(true).unwrap(), spd.extract(true).unwrap(), 50.0, 50.0, true).unwrap();
 //! f.set_pwt(100.0);
-//!
-//! let mut solver = Solver::new();
-//! let d = solver.solve(&dom, &[&f]).unwrap().unwrap();
-//! assert_eq!(d.values, vec![Some(63.0), Some(2.0)]);
+//! assert_eq!(f.domain().size(), 2);
 //! ```
 //!
 //! ## Storage and the plugin ABI boundary
@@ -36,16 +35,10 @@
 //! validates the layout. [`RawFunction::grid`] (the builder-made grid bounds,
 //! possibly empty) must travel with the other buffers: the solver prunes with
 //! it exactly as the reference does, which settles rare floating-point
-//! near-ties. This crate itself depends on no ABI crate.
-//!
-//! The solver ([`Solver::solve`]) runs the HelmEngine procedure of the spec
-//! (skip `pwt <= 0`, normalize when the range exceeds 100, apply `pwt`,
-//! sub-domain in first-appearance order, align, branch and bound with the exact
-//! tie rule) on scratch copies, so the caller's functions are never modified;
-//! [`Solver::solve_problem`] is the plain IvPProblem with an explicit domain.
+//! near-ties.
 //!
 //! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`],
-//! [`solver`], [`ipf`] (BHV_IPF strings).
+//! [`ipf`] (BHV_IPF strings).
 
 // Index loops over dimensions read closest to the spec's formulas.
 #![allow(clippy::needless_range_loop)]
@@ -59,7 +52,6 @@ pub mod function;
 pub mod ipf;
 pub mod reflector;
 mod regions;
-pub mod solver;
 mod tiling;
 pub mod zaic;
 
@@ -69,5 +61,4 @@ pub use error::IvpError;
 pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};
 pub use ipf::ipf_packets;
 pub use reflector::{Aof, Reflector};
-pub use solver::{Decision, Solver};
 pub use zaic::{ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};

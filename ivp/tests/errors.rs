@@ -1,8 +1,7 @@
 //! Bad parameters give typed errors that name the parameter.
 
-use ivp::{
-    couple, Domain, IvpError, IvpFunction, Solver, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector,
-};
+use ivp::{couple, Domain, IvpError, IvpFunction, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};
+use ivp_solver::Solver;
 
 fn dom() -> Domain {
     Domain::parse("course:0:359:360,speed:0:4:41").unwrap()

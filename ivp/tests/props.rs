@@ -1,6 +1,7 @@
 //! Property tests: the solver against brute force, and builders never panic.
 
-use ivp::{Domain, IvpFunction, Solver, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};
+use ivp::{Domain, IvpFunction, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};
+use ivp_solver::Solver;
 use proptest::prelude::*;
 
 const NAMES: [&str; 3] = ["a", "b", "c"];

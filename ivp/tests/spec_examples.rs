@@ -1,6 +1,7 @@
 //! Worked examples of ivp-solver.md §10.
 
-use ivp::{couple, ipf_packets, Domain, Solver, ZaicPeak, ZaicSpd};
+use ivp::{couple, ipf_packets, Domain, ZaicPeak, ZaicSpd};
+use ivp_solver::Solver;
 
 fn waypoint(dom: &Domain, bearing: f64, heading: f64, cruise: f64) -> ivp::IvpFunction {
     let mut s = ZaicPeak::new(dom, "speed").unwrap();

@@ -2,8 +2,8 @@
 
 use super::*;
 use behavior_api::ivp::function::RawFunction;
-use behavior_api::ivp::solver::Solver;
 use behavior_api::testing::MockHelm as MockHost;
+use ivp_solver::Solver;
 
 const HELM: &str = "course,0,359,360:speed,0,2,21";
 

@@ -1,12 +1,27 @@
-//! The IvP solver: HelmEngine problem set-up (spec §5) and branch and bound (spec §6).
+//! `ivp-solver`: the IvP solver, HelmEngine problem set-up (spec §5) and branch and
+//! bound (spec §6), over `ivp`'s domains and functions. It depends on `ivp` alone (and
+//! nothing of the helm: no behaviors, no MOOS); the helm engine calls it once per
+//! iteration.
+//!
+//! ```
+//! use ivp::{Domain, IvpFunction};
+//! use ivp_solver::Solver;
+//! let dom = Domain::parse("x:0:10:11").unwrap();
+//! let f = IvpFunction::from_pieces(dom.clone(), &[(vec![(0, 10)], vec![1.0, 0.0])]).unwrap();
+//! let mut solver = Solver::new();
+//! let d = solver.solve(&dom, &[&f]).unwrap().unwrap();
+//! assert_eq!(d.indices[0], Some(10));
+//! ```
 //!
 //! All working memory lives in [`Solver`] and is reused, so once a solver has
 //! seen a problem of a given size, further solves do not allocate (use
 //! [`Solver::solve_into`] to also reuse the [`Decision`]).
 
-use crate::domain::Domain;
-use crate::error::IvpError;
-use crate::function::{max_val, IvpFunction};
+// Index loops over dimensions read closest to the spec's formulas.
+#![allow(clippy::needless_range_loop)]
+
+use ivp::function::max_val;
+use ivp::{Domain, IvpError, IvpFunction};
 use last_bits::LastBits;
 use last_index::LastIndex;
 use std::cell::Cell;

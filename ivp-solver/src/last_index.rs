@@ -19,7 +19,7 @@
 //! pieces, as before.
 
 use super::ODO_DIMS;
-use crate::function::max_val;
+use ivp::function::max_val;
 
 #[derive(Debug, Default)]
 pub(super) struct LastIndex {
