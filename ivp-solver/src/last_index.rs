@@ -18,6 +18,7 @@
 //! Nodes spanning several cells use the function's own (global) bound and scan all
 //! pieces, as before.
 
+use super::coords::CoordTable;
 use super::ODO_DIMS;
 use ivp::function::max_val;
 
@@ -28,12 +29,8 @@ pub(super) struct LastIndex {
     dim: usize,
     ppg: Vec<i32>,
     stride: Vec<usize>,
-    /// Cell coordinate of every index, dimension `d` at `coord[span[d].0..]`, `span[d].1`
-    /// entries (the points of `d`).
-    coord: Vec<u32>,
-    span: [(usize, usize); ODO_DIMS],
-    /// Points then points per cell the coordinate table was made for.
-    coord_key: Vec<i32>,
+    /// Cell coordinate of every index (the points of each dimension).
+    coords: CoordTable,
     start: Vec<u32>,
     items: Vec<u32>,
     cursor: Vec<u32>,
@@ -70,8 +67,7 @@ impl LastIndex {
         let same = self.made
             && self.dim == dim
             && self.ppg == ppg
-            && self.coord_key.len() == 2 * dim
-            && self.coord_key[..dim] == *pts
+            && self.coords.is_for(pts, ppg)
             && self.key_boxes == boxes
             && self.key_weights.len() == weights.len()
             && self
@@ -152,36 +148,14 @@ impl LastIndex {
     }
 
     fn make_coord_table(&mut self, pts: &[i32]) {
-        let dim = pts.len();
-        let fresh = self.coord_key.len() == 2 * dim
-            && self.coord_key[..dim] == *pts
-            && self.coord_key[dim..] == self.ppg[..];
-        if fresh {
-            return;
-        }
-        self.coord_key.clear();
-        self.coord_key.extend_from_slice(pts);
-        self.coord_key.extend_from_slice(&self.ppg);
-        self.coord.clear();
-        for d in 0..dim {
-            let at = self.coord.len();
-            let ppg = self.ppg[d];
-            self.coord
-                .extend((0..pts[d].max(0)).map(|i| (i / ppg) as u32));
-            self.span[d] = (at, self.coord.len() - at);
-        }
+        self.coords.make(pts, &self.ppg);
     }
 
     /// Cell coordinate of index `i` in dimension `d`, `None` outside the domain.
     #[inline(always)]
     fn coord(&self, d: usize, i: i32) -> Option<usize> {
-        let (at, len) = self.span[d];
         let i = usize::try_from(i).ok()?;
-        if i < len {
-            Some(self.coord[at + i] as usize)
-        } else {
-            None
-        }
+        self.coords.line(d).get(i).map(|&c| c as usize)
     }
 
     /// Lowest and highest cell coordinates box `b` meets.
@@ -202,14 +176,13 @@ impl LastIndex {
     pub(super) fn cell_of(&self, b: &[i32]) -> Option<usize> {
         let mut c = 0;
         for d in 0..self.dim.min(ODO_DIMS) {
-            let (at, len) = self.span[d];
+            let line = self.coords.line(d);
             // A negative index turns huge and fails the range test.
             let (lo, hi) = (b[2 * d] as usize, b[2 * d + 1] as usize);
-            if lo >= len || hi >= len {
+            let (Some(&k), Some(&kh)) = (line.get(lo), line.get(hi)) else {
                 return None;
-            }
-            let k = self.coord[at + lo];
-            if self.coord[at + hi] != k {
+            };
+            if kh != k {
                 return None;
             }
             c += k as usize * self.stride[d];

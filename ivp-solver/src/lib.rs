@@ -20,12 +20,14 @@
 // Index loops over dimensions read closest to the spec's formulas.
 #![allow(clippy::needless_range_loop)]
 
+use coords::CoordTable;
 use ivp::function::max_val;
 use ivp::{Domain, IvpError, IvpFunction};
 use last_bits::LastBits;
 use last_index::LastIndex;
 use std::cell::Cell;
 
+mod coords;
 mod last_bits;
 mod last_index;
 mod setup;
@@ -59,12 +61,8 @@ struct Prepared {
     ppg: Vec<i32>,
     ncells: Vec<i32>,
     stride: Vec<usize>,
-    /// Cell coordinate of every index, dimension `d` at `coord[coord_off[d]..]` (no
-    /// division per box; kept while the geometry stays the same).
-    coord: Vec<u32>,
-    coord_off: Vec<usize>,
-    /// Points then points per cell the table was made for.
-    coord_key: Vec<i32>,
+    /// Cell coordinate of every index (no division per piece bound).
+    coords: CoordTable,
     /// Position in `active` of the first function with the same grid geometry: boxes
     /// cover the same cells of both.
     geom: usize,
@@ -108,12 +106,11 @@ impl Prepared {
     /// Cell coordinate of index `i` in dimension `d` (`i / ppg`).
     #[inline(always)]
     fn coord(&self, d: usize, i: i32) -> usize {
-        let (at, len) = (self.coord_off[d], self.coord_off[d + 1] - self.coord_off[d]);
+        let line = self.coords.line(d);
         // Indices are inside the problem domain; anything else divides as before.
-        if (i as usize) < len {
-            self.coord[at + i as usize] as usize
-        } else {
-            (i / self.ppg[d]) as usize
+        match line.get(i as usize) {
+            Some(&c) => c as usize,
+            None => (i / self.ppg[d]) as usize,
         }
     }
 
@@ -137,25 +134,7 @@ impl Prepared {
 
     /// (Re)make the coordinate table when points or cell sizes changed.
     fn make_coord_table(&mut self, pts: &[i32]) {
-        let dim = pts.len();
-        let fresh = self.coord_key.len() == 2 * dim
-            && self.coord_key[..dim] == *pts
-            && self.coord_key[dim..] == self.ppg[..];
-        if fresh {
-            return;
-        }
-        self.coord_key.clear();
-        self.coord_key.extend_from_slice(pts);
-        self.coord_key.extend_from_slice(&self.ppg);
-        self.coord.clear();
-        self.coord_off.clear();
-        for d in 0..dim {
-            self.coord_off.push(self.coord.len());
-            let ppg = self.ppg[d];
-            self.coord
-                .extend((0..pts[d].max(0)).map(|i| (i / ppg) as u32));
-        }
-        self.coord_off.push(self.coord.len());
+        self.coords.make(pts, &self.ppg);
     }
 
     #[inline]
