@@ -230,15 +230,27 @@ impl IvpFunction {
         gelbox: Vec<u32>,
     ) -> Result<IvpFunction, IvpError> {
         check_layout(&domain, &bounds, &weights, &gelbox)?;
-        Ok(IvpFunction {
+        Ok(Self::of_parts(domain, bounds, weights, gelbox, Vec::new()))
+    }
+
+    /// The one place a function is put together: the given buffers, the default
+    /// priority weight (10) and no context.
+    pub(crate) fn of_parts(
+        domain: Domain,
+        bounds: Vec<i32>,
+        weights: Vec<f64>,
+        gelbox: Vec<u32>,
+        grid: Vec<f64>,
+    ) -> IvpFunction {
+        IvpFunction {
             domain,
             bounds,
             weights,
             pwt: 10.0,
             context: String::new(),
             gelbox,
-            grid: Vec::new(),
-        })
+            grid,
+        }
     }
 
     /// A builder's function whose search grid it computed along with the pieces (what
@@ -253,15 +265,7 @@ impl IvpFunction {
     ) -> IvpFunction {
         debug_assert!(check_layout(&domain, &bounds, &weights, &gelbox).is_ok());
         debug_assert_eq!(grid.len(), grid_total(&domain, &gelbox));
-        IvpFunction {
-            domain,
-            bounds,
-            weights,
-            pwt: 10.0,
-            context: String::new(),
-            gelbox,
-            grid,
-        }
+        Self::of_parts(domain, bounds, weights, gelbox, grid)
     }
 
     /// Give the buffers away (no copy).

@@ -61,15 +61,7 @@ impl IvpFunction {
     pub(crate) fn assemble(domain: Domain, bounds: Vec<i32>, weights: Vec<f64>) -> IvpFunction {
         let mut gelbox = spare::uints();
         gelbox.extend(domain.vars().iter().map(|v| v.points.saturating_sub(1)));
-        IvpFunction {
-            domain,
-            bounds,
-            weights,
-            pwt: 10.0,
-            context: String::new(),
-            gelbox,
-            grid: Vec::new(),
-        }
+        IvpFunction::of_parts(domain, bounds, weights, gelbox, Vec::new())
     }
 
     /// [`IvpFunction::build_grid`] for a builder's function, in a spare buffer: with the
