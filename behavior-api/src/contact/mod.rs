@@ -104,9 +104,20 @@ pub struct ContactBase {
     self_completed: bool,
     /// `<ownship>_<name>`, the bearing lines' label: neither changes once the behavior
     /// exists (an update may not rename it), so it is asked of the helm once.
-    line_label: std::cell::OnceCell<String>,
+    line_label: LabelCache,
     /// The bearing line's text, written again each iteration into this kept string.
     line_text: std::cell::RefCell<String>,
+}
+
+/// The bearing-line label, once asked. A copy of a base starts without it: the copy
+/// may belong to another behavior (another name).
+#[derive(Debug, Default)]
+struct LabelCache(std::cell::OnceCell<String>);
+
+impl Clone for LabelCache {
+    fn clone(&self) -> Self {
+        LabelCache::default()
+    }
 }
 
 impl ContactBase {
@@ -148,7 +159,7 @@ impl ContactBase {
             warned: false,
             before: None,
             self_completed: false,
-            line_label: std::cell::OnceCell::new(),
+            line_label: LabelCache::default(),
             line_text: std::cell::RefCell::new(String::new()),
         }
     }
@@ -518,6 +529,7 @@ impl ContactBase {
     /// `<ownship>_<name>`, asked of the helm the first time only.
     fn line_label(&self, ctx: &Ctx<'_>) -> &str {
         self.line_label
+            .0
             .get_or_init(|| format!("{}_{}", ctx.ownship(), ctx.name()))
     }
 
