@@ -19,7 +19,7 @@
 //! pieces, as before.
 
 use super::coords::CoordTable;
-use super::ODO_DIMS;
+use crate::prepared::ODO_DIMS;
 use ivp::function::max_val;
 
 #[derive(Debug, Default)]

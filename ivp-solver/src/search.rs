@@ -1,0 +1,419 @@
+//! The branch and bound (spec §6): the cheap bounds of a box over the functions not
+//! yet fixed, and the depth-first search over the functions' pieces.
+
+use crate::last_bits::LastBits;
+use crate::last_index::LastIndex;
+use crate::prepared::{intersects, CellRange, Prepared, BITS_AFTER, ODO_DIMS};
+use ivp::function::max_val;
+use std::cell::Cell;
+
+/// `acc + Σ_{k >= level} cheapBound(F[k], b)`, accumulated left to right.
+///
+/// Functions with the same grid geometry share the box's cell range (computed once),
+/// and a box inside one cell reads that cell's bound directly.
+#[inline]
+pub(crate) fn bound_rest(
+    funcs: &[Prepared],
+    active: &[usize],
+    dim: usize,
+    level: usize,
+    b: &[i32],
+    acc: f64,
+) -> f64 {
+    bound_upto(funcs, active, dim, level, active.len(), b, acc)
+}
+
+/// The reference bound [`bound_rest`] and a tighter one: with a [`LastIndex`] cell
+/// holding the box, the last function's term (its global bound, a one-cell function)
+/// is replaced by the cell's bound. The first is bit for bit [`bound_rest`]: the same
+/// sum, the last term added last.
+#[inline]
+pub(crate) fn bound_pair(
+    funcs: &[Prepared],
+    active: &[usize],
+    dim: usize,
+    level: usize,
+    b: &[i32],
+    acc: f64,
+    last: Option<&LastIndex>,
+) -> (f64, f64) {
+    let m = active.len();
+    if let Some(ix) = last {
+        if let Some(c) = ix.cell_of(b) {
+            let prefix = if level + 1 == m {
+                acc
+            } else {
+                bound_upto(funcs, active, dim, level, m - 1, b, acc)
+            };
+            return (
+                prefix + funcs[active[m - 1]].global_ub,
+                prefix + ix.bound(c),
+            );
+        }
+    }
+    let r = bound_rest(funcs, active, dim, level, b, acc);
+    (r, r)
+}
+
+/// `acc + Σ_{level <= k < upto} cheapBound(F[k], b)`, accumulated left to right.
+#[inline]
+pub(crate) fn bound_upto(
+    funcs: &[Prepared],
+    active: &[usize],
+    dim: usize,
+    level: usize,
+    upto: usize,
+    b: &[i32],
+    mut acc: f64,
+) -> f64 {
+    if dim > ODO_DIMS {
+        for &fi in &active[level..upto] {
+            acc += funcs[fi].cheap_bound(b, dim);
+        }
+        return acc;
+    }
+    let mut range_of = usize::MAX;
+    let mut range = CellRange {
+        lo: [0; ODO_DIMS],
+        hi: [0; ODO_DIMS],
+        top: 0,
+        one: true,
+    };
+    for &fi in &active[level..upto] {
+        let f = &funcs[fi];
+        if f.single {
+            acc += f.global_ub;
+            continue;
+        }
+        if f.geom != range_of {
+            range = f.range(b, dim);
+            range_of = f.geom;
+        }
+        acc += f.bound_over(&range, dim);
+    }
+    acc
+}
+
+pub(crate) struct Search<'a> {
+    pub(crate) funcs: &'a [Prepared],
+    /// The boxes of function `fi` (see [`Prepared::bounds`]).
+    pub(crate) boxes: &'a [&'a [i32]],
+    pub(crate) active: &'a [usize],
+    pub(crate) dim: usize,
+    pub(crate) node_b: &'a mut [i32],
+    pub(crate) node_w: &'a mut [f64],
+    pub(crate) best_b: &'a mut [i32],
+    pub(crate) best_w: &'a mut [f64],
+    /// The incumbent's value once `found`; before that, when `seeded`, the floor
+    /// `B` (see [`Search::prune`]).
+    pub(crate) best: f64,
+    pub(crate) found: bool,
+    pub(crate) seeded: bool,
+    /// Rounding tolerance: a bound or leaf value is within `tol` of its exact value.
+    pub(crate) tol: f64,
+    /// Set when a seeded search came too close to its floor to be sure it follows the
+    /// reference (see [`Search::prune`]); the caller then searches again unseeded.
+    pub(crate) doubt: Cell<bool>,
+    pub(crate) last: Option<&'a LastIndex>,
+    /// The last function's bit sets when it may use them, made once `scans` reaches
+    /// [`BITS_AFTER`] (`bits_ready`).
+    pub(crate) bits: Option<&'a mut LastBits>,
+    pub(crate) bits_ready: bool,
+    pub(crate) scans: u32,
+    pub(crate) pts: &'a [i32],
+}
+
+impl Search<'_> {
+    #[inline]
+    pub(crate) fn bounds(&self, level: usize, b: &[i32], acc: f64) -> (f64, f64) {
+        bound_pair(self.funcs, self.active, self.dim, level, b, acc, self.last)
+    }
+
+    /// Whether to skip a subtree with reference bound `rb` (spec §6.1, computed
+    /// exactly as the reference does) and tighter bound `tb` (see `last_index.rs`).
+    ///
+    /// The answer must be the reference branch and bound's, bit for bit, including
+    /// its rare rounding prunes (a bound a few ulps below a leaf under it: the golden
+    /// `plugin_constant_depth` depends on one). So:
+    ///
+    /// * `rb <= best` prunes exactly as the reference does;
+    /// * `tb <= best - 2 tol` prunes a subtree whose every leaf is below `best`: the
+    ///   reference, exploring it, would take none of them, so skipping it changes no
+    ///   incumbent and no later decision;
+    /// * seeded (no leaf taken yet): `best` holds the floor `B = S - 16 tol`, `S` the
+    ///   value of a leaf holding the previous decision point. The reference's final
+    ///   value is at least `S - tol > B`; let `L` be the first leaf it takes above `B`.
+    ///   Before `L` the reference takes only leaves at most `B`, and the seeded search
+    ///   prunes at least what the reference prunes, taking nothing (a leaf above `B`
+    ///   visited by it but not by the reference would sit under a reference prune with
+    ///   `rb <= B`, which the seeded search makes too). `L` itself is reached and taken
+    ///   unless its value or a bound above it is within `2 tol` of `B` -- flagged as
+    ///   `doubt`, for an unseeded rerun. From `L` on both searches hold the same
+    ///   incumbent and decide alike.
+    #[inline]
+    pub(crate) fn prune(&self, rb: f64, tb: f64) -> bool {
+        if !(self.found || self.seeded) {
+            return false;
+        }
+        if rb <= self.best {
+            if !self.found && rb > self.best - 2.0 * self.tol {
+                self.doubt.set(true);
+            }
+            return true;
+        }
+        tb <= self.best - 2.0 * self.tol
+    }
+
+    /// Whether a leaf of value `v` becomes the incumbent (`v > best`, or the very
+    /// first leaf of an unseeded search).
+    #[inline]
+    pub(crate) fn takes(&self, v: f64) -> bool {
+        if self.found || self.seeded {
+            if !self.found && v > self.best && v <= self.best + 2.0 * self.tol {
+                self.doubt.set(true);
+            }
+            v > self.best
+        } else {
+            true
+        }
+    }
+
+    #[inline]
+    pub(crate) fn set_best(&mut self, v: f64) {
+        self.best = v;
+        self.found = true;
+    }
+
+    pub(crate) fn run(&mut self) {
+        let (dim, m) = (self.dim, self.active.len());
+        let (bl, wl) = (2 * dim, dim + 1);
+        let f0 = &self.funcs[self.active[0]];
+        let pieces = self.boxes[self.active[0]]
+            .chunks_exact(bl)
+            .zip(f0.weights.chunks_exact(wl))
+            .take(f0.n);
+        if m == 1 {
+            // The pieces are the leaves: copied only when one becomes the incumbent.
+            for (pb, pw) in pieces {
+                let mv = max_val(pb, pw);
+                if self.takes(mv) {
+                    self.set_best(mv);
+                    self.best_b.copy_from_slice(pb);
+                    self.best_w.copy_from_slice(pw);
+                }
+            }
+            return;
+        }
+        for (pb, pw) in pieces {
+            let mv = max_val(pb, pw);
+            let (rb, tb) = self.bounds(1, pb, mv);
+            if !self.prune(rb, tb) {
+                self.node_b[..bl].copy_from_slice(pb);
+                self.node_w[..wl].copy_from_slice(pw);
+                self.recurse(1);
+            }
+        }
+    }
+
+    #[inline]
+    pub(crate) fn leaf(&mut self, slot: usize, v: f64) {
+        if self.takes(v) {
+            let (bl, wl) = (2 * self.dim, self.dim + 1);
+            self.set_best(v);
+            self.best_b
+                .copy_from_slice(&self.node_b[slot * bl..(slot + 1) * bl]);
+            self.best_w
+                .copy_from_slice(&self.node_w[slot * wl..(slot + 1) * wl]);
+        }
+    }
+
+    /// Fast path for the deepest level with a single-cell grid: leaf values are
+    /// computed on the fly with exactly the operations of `maxVal(node ∩ q)`
+    /// (summed weights, intercept first, then dimensions in order); the leaf is
+    /// only materialized when it becomes the incumbent. A node inside one cell of the
+    /// [`LastIndex`] meets only that cell's pieces (array order, as here).
+    pub(crate) fn last_level_single(&mut self, level: usize, f: &Prepared, fb: &[i32]) {
+        let bl = 2 * self.dim;
+        let cell = {
+            let node_b = &self.node_b[(level - 1) * bl..level * bl];
+            self.last
+                .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
+        };
+        let wl = self.dim + 1;
+        match cell {
+            Some(list) => {
+                for &q in list {
+                    let q = q as usize;
+                    let qb = &fb[q * bl..(q + 1) * bl];
+                    self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
+                }
+            }
+            None => {
+                let mut meet = [0u64; 4];
+                if let Some(words) = self.bits_meeting(level, f, fb, &mut meet) {
+                    // The pieces meeting the node, in array order.
+                    for (w, &word) in meet.iter().enumerate().take(words) {
+                        let mut word = word;
+                        while word != 0 {
+                            let q = w * 64 + word.trailing_zeros() as usize;
+                            word &= word - 1;
+                            let qb = &fb[q * bl..(q + 1) * bl];
+                            self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
+                        }
+                    }
+                    return;
+                }
+                let pieces = fb.chunks_exact(bl).zip(f.weights.chunks_exact(wl));
+                for (qb, qw) in pieces.take(f.n) {
+                    self.last_leaf(level, qb, qw);
+                }
+            }
+        }
+    }
+
+    /// The pieces of the last function meeting the node at `level` into `meet`, and the
+    /// words used, from its bit sets; `None`: scan them all. The sets are made at the
+    /// [`BITS_AFTER`]th scan of a solve (fewer scans cost less than making them).
+    pub(crate) fn bits_meeting(
+        &mut self,
+        level: usize,
+        f: &Prepared,
+        fb: &[i32],
+        meet: &mut [u64; 4],
+    ) -> Option<usize> {
+        if !self.bits_ready {
+            let bits = self.bits.as_deref_mut()?;
+            self.scans += 1;
+            if self.scans < BITS_AFTER {
+                return None;
+            }
+            if !bits.make(fb, f.n, self.pts) {
+                self.bits = None;
+                return None;
+            }
+            self.bits_ready = true;
+        }
+        let bits = self.bits.as_deref()?;
+        let bl = 2 * self.dim;
+        let node_b = &self.node_b[(level - 1) * bl..level * bl];
+        bits.meeting(node_b, meet).then(|| bits.words())
+    }
+
+    /// The leaf `node ∩ q` of [`Search::last_level_single`] (`q` = box `qb`, weights
+    /// `qw`), if they meet.
+    #[inline(always)]
+    pub(crate) fn last_leaf(&mut self, level: usize, qb: &[i32], qw: &[f64]) {
+        let dim = self.dim;
+        let (bl, wl) = (2 * dim, dim + 1);
+        let node_b = &self.node_b[(level - 1) * bl..level * bl];
+        let node_w = &self.node_w[(level - 1) * wl..level * wl];
+        {
+            if !intersects(node_b, qb, dim) {
+                return;
+            }
+            let mut acc = node_w[dim] + qw[dim];
+            for d in 0..dim {
+                let w = node_w[d] + qw[d];
+                let c = if w < 0.0 {
+                    node_b[2 * d].max(qb[2 * d])
+                } else {
+                    node_b[2 * d + 1].min(qb[2 * d + 1])
+                };
+                acc += w * f64::from(c);
+            }
+            if self.takes(acc) {
+                // `set_best`, field by field (the node is borrowed).
+                self.best = acc;
+                self.found = true;
+                for d in 0..dim {
+                    self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
+                    self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
+                }
+                for i in 0..wl {
+                    self.best_w[i] = node_w[i] + qw[i];
+                }
+            }
+        }
+    }
+
+    /// `level` = index of the function to intersect with; node is in slot `level-1`.
+    pub(crate) fn recurse(&mut self, level: usize) {
+        let dim = self.dim;
+        let (bl, wl) = (2 * dim, dim + 1);
+        let funcs = self.funcs;
+        let f = &funcs[self.active[level]];
+        let fb = self.boxes[self.active[level]];
+        let last = level + 1 == self.active.len();
+        if last && f.single {
+            self.last_level_single(level, f, fb);
+            return;
+        }
+        let visit = |s: &mut Self, q: usize| {
+            let (nb, cb) = s.node_b.split_at_mut(level * bl);
+            let (nw, cw) = s.node_w.split_at_mut(level * wl);
+            let node_b = &nb[(level - 1) * bl..];
+            let node_w = &nw[(level - 1) * wl..];
+            let qb = &fb[q * bl..(q + 1) * bl];
+            let qw = &f.weights[q * wl..(q + 1) * wl];
+            let child_b = &mut cb[..bl];
+            let child_w = &mut cw[..wl];
+            for d in 0..dim {
+                child_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
+                child_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
+            }
+            for i in 0..wl {
+                child_w[i] = node_w[i] + qw[i];
+            }
+            let mv = max_val(child_b, child_w);
+            if last {
+                s.leaf(level, mv);
+            } else {
+                let (rb, tb) = bound_pair(s.funcs, s.active, dim, level + 1, &cb[..bl], mv, s.last);
+                if !s.prune(rb, tb) {
+                    s.recurse(level + 1);
+                }
+            }
+        };
+        if f.single {
+            for q in 0..f.n {
+                let hit = {
+                    let node_b = &self.node_b[(level - 1) * bl..level * bl];
+                    intersects(node_b, &fb[q * bl..(q + 1) * bl], dim)
+                };
+                if hit {
+                    visit(self, q);
+                }
+            }
+        } else {
+            let stamp = f.stamp.get().wrapping_add(1);
+            f.stamp.set(stamp);
+            if stamp == 0 {
+                for s in &f.seen {
+                    s.set(u32::MAX);
+                }
+            }
+            let mut qbox = [0i32; 16];
+            let big;
+            let node_copy: &[i32] = if bl <= 16 {
+                qbox[..bl].copy_from_slice(&self.node_b[(level - 1) * bl..level * bl]);
+                &qbox[..bl]
+            } else {
+                big = self.node_b[(level - 1) * bl..level * bl].to_vec();
+                &big
+            };
+            f.for_each_cell(node_copy, dim, |c| {
+                for &q in &f.cell_items[f.cell_start[c] as usize..f.cell_start[c + 1] as usize] {
+                    let q = q as usize;
+                    if f.seen[q].get() == stamp
+                        || !intersects(node_copy, &fb[q * bl..(q + 1) * bl], dim)
+                    {
+                        continue;
+                    }
+                    f.seen[q].set(stamp);
+                    visit(self, q);
+                }
+                true
+            });
+        }
+    }
+}
