@@ -110,15 +110,7 @@ impl std::fmt::Display for ConfigWarning {
     }
 }
 
-/// MOOS-IvP booleans: `true/false/yes/no/on/off`, any case (config lines and behavior
-/// parameters alike).
-pub fn parse_bool(v: &str) -> Option<bool> {
-    match v.to_ascii_lowercase().as_str() {
-        "true" | "yes" | "on" => Some(true),
-        "false" | "no" | "off" => Some(false),
-        _ => None,
-    }
-}
+pub use mbutil::parse_bool;
 
 /// `domain = name:low:high:points[:optional]` (helm.md §2.3).
 fn add_domain_var(cfg: &mut HelmConfig, value: &str) -> bool {

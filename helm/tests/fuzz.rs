@@ -287,7 +287,7 @@ fn fuzz_helm_behaviors() {
 /// Found by this harness: ivp-solver.md §9.2's `body = 2000 - (len(id) + 50)` reaches 0
 /// for an id (behavior name ^ iteration) of 1950+ characters, and the function string
 /// went out one character per 2 kB packet (~3000 BHV_IPF packets, 6 MB, per iteration).
-/// The body now has a floor (`ivp::ipf`, QUIRKS.md).
+/// The body now has a floor (`ivp-ipf`, QUIRKS.md).
 #[test]
 fn long_behavior_names_do_not_multiply_bhv_ipf_packets() {
     let base = common::ALPHA_BHV;

@@ -383,11 +383,38 @@ fn the_circle_check_sees_a_circle() {
 /// Lines of a file before its test module.
 fn non_test_lines(file: &Path) -> usize {
     let text = std::fs::read_to_string(file).expect("read source");
-    text.split("#[cfg(test)]")
-        .next()
-        .unwrap_or("")
-        .lines()
-        .count()
+    count_non_test_lines(&text)
+}
+
+/// Lines outside `#[cfg(test)]` items: the attribute, any attributes after it, and
+/// the item it guards (one line ending in `;`, or a braced block) are not counted,
+/// wherever in the file they stand.
+fn count_non_test_lines(text: &str) -> usize {
+    let mut lines = text.lines().peekable();
+    let mut n = 0;
+    while let Some(line) = lines.next() {
+        if line.trim() != "#[cfg(test)]" {
+            n += 1;
+            continue;
+        }
+        while lines.next_if(|l| l.trim().starts_with("#[")).is_some() {}
+        let mut depth = 0i64;
+        let mut opened = false;
+        for item in lines.by_ref() {
+            depth += item.matches('{').count() as i64 - item.matches('}').count() as i64;
+            opened |= item.contains('{');
+            if (opened && depth <= 0) || (!opened && item.trim_end().ends_with(';')) {
+                break;
+            }
+        }
+    }
+    n
+}
+
+#[test]
+fn test_items_are_not_counted_wherever_they_stand() {
+    let text = "fn a() {}\n#[cfg(test)]\nuse x::y;\nfn b() {\n}\n#[cfg(test)]\n#[allow(dead_code)]\nmod t {\n    fn c() {}\n}\nfn d() {}\n#[cfg(test)]\nmod tests;\n";
+    assert_eq!(count_non_test_lines(text), 4);
 }
 
 #[test]
@@ -398,8 +425,11 @@ fn no_crate_or_file_too_large_to_read() {
         rust_files(&src, &mut files);
         let mut total = 0;
         for f in files {
-            // `tests.rs` modules hold unit tests only.
-            if f.file_name().is_some_and(|n| n == "tests.rs") {
+            // `tests.rs` and `*_tests.rs` modules hold unit tests only.
+            if f.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.ends_with("tests.rs"))
+            {
                 continue;
             }
             let n = non_test_lines(&f);

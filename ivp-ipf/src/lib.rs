@@ -1,13 +1,19 @@
-//! BHV_IPF serialization (spec §9).
+//! `ivp-ipf`: BHV_IPF, an IvP function as the text the helm posts for it and the
+//! packets that text is split into (ivp-solver.md §9). It depends on `ivp` and
+//! `mbutil` alone: nothing of the helm, the solver or MOOS.
 //!
 //! Written for the decision step, where every kept function is serialised every
 //! iteration: everything is appended to caller-owned strings (reused across iterations),
 //! digits are written a character at a time (ASCII, no UTF-8 re-validation, no `format!`
 //! per piece).
 
-use crate::domain::push_compact;
-use crate::function::IvpFunction;
+use ivp::IvpFunction;
 use std::fmt::Write;
+
+/// Numbers of the BHV_IPF text: compact, at most five decimals (as the domain's).
+fn push_compact(out: &mut String, v: f64) {
+    mbutil::push_compact(out, v, 5);
+}
 
 /// Appends to a string's bytes directly, one whole UTF-8 sequence at a time (an ASCII
 /// byte or a whole `&str`), so digits go in without `char` encoding or re-validation.
@@ -437,6 +443,27 @@ impl<'a> Packets<'a> {
     }
 }
 
+/// One behavior's BHV_IPF posting as the helm writes it every iteration: the strings
+/// are kept, so once they have grown to the function's size nothing is allocated.
+#[derive(Debug, Default)]
+pub struct IpfWriter {
+    whole: String,
+    id: String,
+}
+
+impl IpfWriter {
+    /// `f` as behavior `name`'s function of iteration `iter` (packet id `name^iter`),
+    /// ready to be written packet by packet.
+    pub fn packets(&mut self, f: &IvpFunction, name: &str, iter: u64) -> Packets<'_> {
+        encode_into(f, &mut self.whole);
+        self.id.clear();
+        self.id.push_str(name);
+        self.id.push('^');
+        self.id.push_str(itoa::Buffer::new().format(iter));
+        Packets::new(&self.id, &self.whole)
+    }
+}
+
 /// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
 pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
     let packets = Packets::new(id, whole);
@@ -452,13 +479,13 @@ pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::domain::Domain;
+    use ivp::Domain;
 
     /// The encoder and packet splitter as they were before the reusable-buffer rewrite,
     /// kept as the reference the fast ones are checked against.
     mod reference {
-        use crate::domain::push_compact;
-        use crate::function::IvpFunction;
+        use super::super::push_compact;
+        use ivp::IvpFunction;
         use std::fmt::Write;
         /// The custom 4-decimal weight encoding of spec §9.1.
         pub(super) fn encode_weight(w: f64, out: &mut String) {

@@ -1,5 +1,5 @@
-//! `cargo bench -p ivp`: ZAIC builds, a coupled waypoint-like function, solves, and the
-//! BHV_IPF text of a contact-sized function.
+//! `cargo bench -p ivp`: ZAIC builds, a coupled waypoint-like function, and solves
+//! (the BHV_IPF text: `cargo bench -p ivp-ipf`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ivp::{couple, Domain, IvpFunction, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd};
@@ -102,35 +102,5 @@ fn solves(c: &mut Criterion) {
     }
 }
 
-/// BHV_IPF of a 72 x 21 uniform tiling (the size of a collision-avoidance function):
-/// every piece's bounds and three weights of the usual magnitudes.
-fn encodes(c: &mut Criterion) {
-    let d = dom();
-    let mut pieces = Vec::new();
-    let mut seed = 5u64;
-    for i in 0..72 {
-        for j in 0..21 {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-            let r = (seed >> 11) as f64 / (1u64 << 53) as f64;
-            let lo_s = j * 41 / 21;
-            let hi_s = ((j + 1) * 41 / 21 - 1).max(lo_s);
-            pieces.push((
-                vec![(i * 5, i * 5 + 4), (lo_s, hi_s)],
-                vec![r * 3.0 - 1.5, 0.25 - r, r * 100.0],
-            ));
-        }
-    }
-    let mut f = IvpFunction::from_pieces(d, &pieces).unwrap();
-    f.set_pwt(300.0);
-    f.set_context("1234:avd_abe");
-    let mut text = String::new();
-    c.bench_function("ipf_encode_1512_pieces", |b| {
-        b.iter(|| {
-            ivp::ipf::encode_into(black_box(&f), &mut text);
-            text.len()
-        })
-    });
-}
-
-criterion_group!(benches, builds, solves, encodes);
+criterion_group!(benches, builds, solves);
 criterion_main!(benches);

@@ -77,8 +77,8 @@ pub fn try_couple(
     let td = dom.size();
     debug_assert_eq!(td, d1 + d2);
     let (bl, wl) = (2 * td, td + 1);
-    let mut bounds = crate::zaic::spare::ints();
-    let mut weights = crate::zaic::spare::floats();
+    let mut bounds = mbutil::spare::ints();
+    let mut weights = mbutil::spare::floats();
     bounds.reserve(n1 * n2 * bl);
     weights.reserve(n1 * n2 * wl);
     SCRATCH.with_borrow_mut(|scratch| {

@@ -96,7 +96,7 @@ pub(crate) fn push_compact(out: &mut String, v: f64) {
 
 thread_local! {
     /// Domains of functions done with, for the next ones built on this thread (see
-    /// `crate::zaic::spare`).
+    /// `mbutil::spare`).
     static SPARE_DOMAINS: std::cell::RefCell<Vec<Domain>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
@@ -113,7 +113,7 @@ pub(crate) fn domain_of(vars: &[DomainVar]) -> Domain {
 /// Keep a domain's storage for later builds.
 pub(crate) fn give_domain(domain: Domain) {
     if domain.vars.capacity() > 0 {
-        let _ = SPARE_DOMAINS.try_with(|s| crate::zaic::spare::keep(&mut s.borrow_mut(), domain));
+        let _ = SPARE_DOMAINS.try_with(|s| mbutil::spare::keep(&mut s.borrow_mut(), domain));
     }
 }
 
@@ -306,12 +306,12 @@ impl Domain {
 
     /// Become a copy of `vars`, reusing this domain's variables and names (room for a
     /// few variables is kept). Names of variables dropped or added go through the spare
-    /// strings of [`crate::zaic::spare`].
+    /// strings of [`mbutil::spare`].
     pub(crate) fn assign_from(&mut self, vars: &[DomainVar]) {
         self.vars.reserve(vars.len().max(4));
         while self.vars.len() > vars.len() {
             if let Some(v) = self.vars.pop() {
-                crate::zaic::spare::give_string(v.name);
+                mbutil::spare::give_string(v.name);
             }
         }
         for (k, v) in vars.iter().enumerate() {
@@ -320,7 +320,7 @@ impl Domain {
                 slot.name.push_str(&v.name);
                 (slot.low, slot.high, slot.points) = (v.low, v.high, v.points);
             } else {
-                let mut name = crate::zaic::spare::string();
+                let mut name = mbutil::spare::string();
                 name.push_str(&v.name);
                 self.vars.push(DomainVar { name, ..*v });
             }
@@ -335,7 +335,7 @@ impl Domain {
     ) -> Result<Domain, IvpError> {
         let mut d = domain_of(&[]);
         for v in vars {
-            let mut name = crate::zaic::spare::string();
+            let mut name = mbutil::spare::string();
             name.push_str(&v.name);
             d.vars.push(DomainVar { name, ..*v });
         }

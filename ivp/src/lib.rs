@@ -37,8 +37,8 @@
 //! it exactly as the reference does, which settles rare floating-point
 //! near-ties.
 //!
-//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`],
-//! [`ipf`] (BHV_IPF strings).
+//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`]. The
+//! BHV_IPF text of a function is the crate `ivp-ipf`.
 
 // Index loops over dimensions read closest to the spec's formulas.
 #![allow(clippy::needless_range_loop)]
@@ -49,7 +49,6 @@ pub mod domain;
 pub mod error;
 mod fit;
 pub mod function;
-pub mod ipf;
 pub mod reflector;
 mod regions;
 mod tiling;
@@ -59,6 +58,5 @@ pub use coupler::{couple, try_couple};
 pub use domain::{Domain, DomainVar, Snap};
 pub use error::IvpError;
 pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};
-pub use ipf::ipf_packets;
 pub use reflector::{Aof, Reflector};
 pub use zaic::{ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};

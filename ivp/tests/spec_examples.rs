@@ -1,6 +1,7 @@
 //! Worked examples of ivp-solver.md §10.
 
-use ivp::{couple, ipf_packets, Domain, ZaicPeak, ZaicSpd};
+use ivp::{couple, Domain, ZaicPeak, ZaicSpd};
+use ivp_ipf::ipf_packets;
 use ivp_solver::Solver;
 
 fn waypoint(dom: &Domain, bearing: f64, heading: f64, cruise: f64) -> ivp::IvpFunction {
@@ -30,11 +31,11 @@ fn example_a_waypoint() {
     assert_eq!(f.piece_count(), 14);
     f.set_pwt(100.0);
     f.set_context("1:waypt");
-    assert!(ivp::ipf::encode(&f).starts_with("H,7,1:waypt,2,14,1,100,D,course;0;359;360:speed;0;2;21,G,359,20,F,0,60,0,10,0.2894,3.5714,31.6102,0,60,11,20,"));
+    assert!(ivp_ipf::encode(&f).starts_with("H,7,1:waypt,2,14,1,100,D,course;0;359;360:speed;0;2;21,G,359,20,F,0,60,0,10,0.2894,3.5714,31.6102,0,60,11,20,"));
     let d = Solver::new().solve(&dom, &[&f]).unwrap().unwrap();
     assert_eq!(d.values, vec![Some(64.0), Some(2.0)]);
     assert!((d.utility - 10000.0).abs() < 1e-6);
-    let pk = ipf_packets("waypt^1", &ivp::ipf::encode(&f));
+    let pk = ipf_packets("waypt^1", &ivp_ipf::encode(&f));
     assert_eq!(pk.len(), 1);
     assert!(pk[0].starts_with("P,waypt^1,1,1,H,7,"));
 }

@@ -204,6 +204,22 @@ pub fn parse_number(s: &str) -> Option<f64> {
     is_number(s).then(|| atof(s))
 }
 
+/// MOOS-IvP booleans: `true/false/yes/no/on/off`, any case, blanks around ignored
+/// (helm config lines and behavior parameters alike).
+///
+/// ```
+/// assert_eq!(mbutil::parse_bool(" Yes"), Some(true));
+/// assert_eq!(mbutil::parse_bool("OFF"), Some(false));
+/// assert_eq!(mbutil::parse_bool("1"), None);
+/// ```
+pub fn parse_bool(s: &str) -> Option<bool> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "true" | "yes" | "on" => Some(true),
+        "false" | "no" | "off" => Some(false),
+        _ => None,
+    }
+}
+
 /// The compact number formatter (`fmtX` of behaviors-std.md §1.5, the helm's
 /// `doubleToStringX`): printf `%.<decimals>f`, then trailing zeros and a trailing `.`
 /// removed; `-0` becomes `0` (`3.000` → `3`, `2.50` → `2.5`).

@@ -1,10 +1,11 @@
-//! Spare buffers of functions that are done with, for the next ones built on this thread
-//! (issue 19: a helm iteration allocates nothing in steady state).
+//! Spare buffers of IvP functions that are done with, for the next ones built on this
+//! thread (issue 19: a helm iteration allocates nothing in steady state). It lives here,
+//! below `ivp`, because it is plain storage; `ivp` re-exports it as `ivp::zaic::spare`.
 //!
 //! A behavior builds its objective functions again every iteration (ZAICs, then the
 //! coupler), and the helm drops them after the solve. The helm hands each dropped
-//! function to [`crate::IvpFunction::recycle`]; builders take their buffers from here
-//! (domains are kept the same way in `crate::domain`). The storage only changes hands
+//! function to `IvpFunction::recycle`; builders take their buffers from here
+//! (domains are kept the same way in `ivp::domain`). The storage only changes hands
 //! within one thread (the helm runs its behaviors on its own thread), so no lock is
 //! needed. A plugin has its own copy of this crate and so its own, usually empty,
 //! spares: it allocates as before, with the same results.
@@ -12,7 +13,7 @@
 use std::cell::RefCell;
 
 /// More spares of one kind than any iteration uses are let go.
-pub(crate) const MAX_SPARE: usize = 64;
+pub const MAX_SPARE: usize = 64;
 
 #[derive(Default)]
 struct Spare {
@@ -43,20 +44,20 @@ fn give(put: impl FnOnce(&mut Spare)) {
 }
 
 /// Keep `item` in `list` unless it is full (the caller cleared it).
-pub(crate) fn keep<T>(list: &mut Vec<T>, item: T) {
+pub fn keep<T>(list: &mut Vec<T>, item: T) {
     if list.len() < MAX_SPARE {
         list.push(item);
     }
 }
 
 /// An empty vector, in a spare allocation when one is kept.
-pub(crate) fn ints() -> Vec<i32> {
+pub fn ints() -> Vec<i32> {
     take(|s| s.ints.pop())
 }
-pub(crate) fn floats() -> Vec<f64> {
+pub fn floats() -> Vec<f64> {
     take(|s| s.floats.pop())
 }
-pub(crate) fn uints() -> Vec<u32> {
+pub fn uints() -> Vec<u32> {
     take(|s| s.uints.pop())
 }
 /// The most recently kept spare with room for `n` items (the spares are of every size:
@@ -93,19 +94,19 @@ pub fn string() -> String {
 }
 
 /// Keep a vector's allocation for later builds (an empty one is not worth keeping).
-pub(crate) fn give_ints(mut v: Vec<i32>) {
+pub fn give_ints(mut v: Vec<i32>) {
     if v.capacity() > 0 {
         v.clear();
         give(|s| keep(&mut s.ints, v));
     }
 }
-pub(crate) fn give_floats(mut v: Vec<f64>) {
+pub fn give_floats(mut v: Vec<f64>) {
     if v.capacity() > 0 {
         v.clear();
         give(|s| keep(&mut s.floats, v));
     }
 }
-pub(crate) fn give_uints(mut v: Vec<u32>) {
+pub fn give_uints(mut v: Vec<u32>) {
     if v.capacity() > 0 {
         v.clear();
         give(|s| keep(&mut s.uints, v));

@@ -341,12 +341,7 @@ impl Helm {
         if self.ipf_off {
             return;
         }
-        ivp::ipf::encode_into(f, &mut self.ipf_whole);
-        self.ipf_id.clear();
-        self.ipf_id.push_str(name);
-        self.ipf_id.push('^');
-        self.ipf_id.push_str(itoa::Buffer::new().format(iter));
-        let packets = ivp::ipf::Packets::new(&self.ipf_id, &self.ipf_whole);
+        let packets = self.ipf.packets(f, name, iter);
         for k in 1..=packets.count() {
             let mut p = self.pool.take_long();
             packets.write(k, &mut p);

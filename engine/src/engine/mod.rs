@@ -129,9 +129,8 @@ pub struct Helm {
     pub(crate) report: report::ReportFeed,
     /// Strings of handed-out postings, reused by the next ones.
     pub(crate) pool: mbutil::StringPool,
-    /// BHV_IPF whole-function string and packet id, reused for every function.
-    pub(crate) ipf_whole: String,
-    pub(crate) ipf_id: String,
+    /// BHV_IPF text and packet id, reused for every function.
+    pub(crate) ipf: ivp_ipf::IpfWriter,
     /// BHV_IPF is not made at all (see [`Helm::set_ipf_posting`]).
     pub(crate) ipf_off: bool,
     /// Scratch for a contact report's info-buffer variable names.

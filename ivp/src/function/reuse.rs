@@ -1,11 +1,11 @@
 //! Functions rebuilt every iteration live in the buffers of the ones dropped before
 //! them (issue 19: a helm iteration allocates nothing in steady state), kept per
-//! thread in `crate::zaic::spare` (domains in `crate::domain`).
+//! thread in `mbutil::spare` (domains in `crate::domain`).
 
 use super::{grid_total, IvpFunction};
 use crate::domain::Domain;
 use crate::error::IvpError;
-use crate::zaic::spare;
+use mbutil::spare;
 
 impl IvpFunction {
     /// Give this function's buffers to the builders of later functions on this thread

@@ -7,7 +7,7 @@
 mod heq;
 mod peak;
 mod peak_scan;
-pub mod spare;
+pub use mbutil::spare;
 mod spd;
 mod vector;
 
