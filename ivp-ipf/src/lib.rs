@@ -218,6 +218,27 @@ pub fn encode_into(f: &IvpFunction, s: &mut String) {
     out.ascii(&mut text);
 }
 
+/// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
+#[cold]
+fn long_digits(mut n: u64) -> ([u8; 20], usize) {
+    let mut tmp = [0u8; 20];
+    let mut i = tmp.len();
+    while n >= 100 {
+        let p = 2 * (n % 100) as usize;
+        n /= 100;
+        i -= 2;
+        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
+    }
+    if n >= 10 {
+        i -= 2;
+        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
+    } else {
+        i -= 1;
+        tmp[i] = b'0' + n as u8;
+    }
+    (tmp, i)
+}
+
 /// `"00".."99"`: two digits per table read.
 const DIGIT_PAIRS: [u8; 200] = {
     let mut t = [0u8; 200];
@@ -384,22 +405,11 @@ impl PieceText {
         }
     }
 
-    fn long_u64(&mut self, mut n: u64) {
-        let mut tmp = [0u8; 20];
-        let mut i = tmp.len();
-        while n >= 100 {
-            let p = 2 * (n % 100) as usize;
-            n /= 100;
-            i -= 2;
-            tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
-        }
-        if n >= 10 {
-            i -= 2;
-            tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
-        } else {
-            i -= 1;
-            tmp[i] = b'0' + n as u8;
-        }
+    #[inline(always)]
+    fn long_u64(&mut self, n: u64) {
+        // The digits come back by value, so the batch never has its address taken
+        // and its length stays in a register through the piece loop.
+        let (tmp, i) = long_digits(n);
         let k = tmp.len() - i;
         self.buf[self.len..self.len + k].copy_from_slice(&tmp[i..]);
         self.len += k;
