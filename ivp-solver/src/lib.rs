@@ -34,11 +34,12 @@ mod last_index;
 mod prepared;
 mod search;
 mod setup;
+mod weigh;
 #[cfg(test)]
 use {
     prepared::{for_each_cell, for_each_cell_any, intersects},
-    search::bound_rest,
-    setup::min_max_wt,
+    search::{bound_pair, bound_rest},
+    weigh::min_max_wt,
 };
 
 /// The solver's answer, one entry per *helm* domain variable.
@@ -248,6 +249,7 @@ impl Solver {
             tol,
             doubt: Cell::new(false),
             last,
+            last_ub: self.funcs[fl].global_ub,
             bits: bits_on.then_some(&mut self.bits),
             bits_ready: false,
             scans: 0,

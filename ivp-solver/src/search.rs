@@ -26,8 +26,9 @@ pub(crate) fn bound_rest(
 /// The reference bound [`bound_rest`] and a tighter one: with a [`LastIndex`] cell
 /// holding the box, the last function's term (its global bound, a one-cell function)
 /// is replaced by the cell's bound. The first is bit for bit [`bound_rest`]: the same
-/// sum, the last term added last.
-#[inline]
+/// sum, the last term added last. ([`Search::skip`] computes them lazily; this is its
+/// reference.)
+#[cfg(test)]
 pub(crate) fn bound_pair(
     funcs: &[Prepared],
     active: &[usize],
@@ -115,6 +116,8 @@ pub(crate) struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     pub(crate) doubt: Cell<bool>,
     pub(crate) last: Option<&'a LastIndex>,
+    /// The last function's global bound (its term when `last` is on).
+    pub(crate) last_ub: f64,
     /// The last function's bit sets when it may use them, made once `scans` reaches
     /// [`BITS_AFTER`] (`bits_ready`).
     pub(crate) bits: Option<&'a mut LastBits>,
@@ -124,9 +127,39 @@ pub(crate) struct Search<'a> {
 }
 
 impl Search<'_> {
+    /// [`Search::prune`] of the node `b` at `level` (functions `level..` not yet
+    /// fixed) worth `acc`, with its bounds [`bound_pair`] computed only as far as
+    /// the answer needs them: none before the first leaf of an unseeded search
+    /// (nothing is pruned then), and the tighter bound only when the reference bound
+    /// does not prune. The bounds computed are [`bound_pair`]'s, with the same
+    /// operations in the same order.
     #[inline]
-    pub(crate) fn bounds(&self, level: usize, b: &[i32], acc: f64) -> (f64, f64) {
-        bound_pair(self.funcs, self.active, self.dim, level, b, acc, self.last)
+    pub(crate) fn skip(&self, level: usize, b: &[i32], acc: f64) -> bool {
+        if !(self.found || self.seeded) {
+            return false;
+        }
+        let Some(ix) = self.last else {
+            let r = bound_rest(self.funcs, self.active, self.dim, level, b, acc);
+            return self.prune(r, r);
+        };
+        // The last function is one cell (the index is on): its term is its global
+        // bound, added last; the same sum whether or not a cell holds `b`.
+        let m = self.active.len();
+        let prefix = if level + 1 == m {
+            acc
+        } else {
+            bound_upto(self.funcs, self.active, self.dim, level, m - 1, b, acc)
+        };
+        let rb = prefix + self.last_ub;
+        if rb <= self.best {
+            // Pruned whatever the tighter bound.
+            return self.prune(rb, rb);
+        }
+        let tb = match ix.cell_of(b) {
+            Some(c) => prefix + ix.bound(c),
+            None => rb,
+        };
+        self.prune(rb, tb)
     }
 
     /// Whether to skip a subtree with reference bound `rb` (spec §6.1, computed
@@ -206,8 +239,7 @@ impl Search<'_> {
         }
         for (pb, pw) in pieces {
             let mv = max_val(pb, pw);
-            let (rb, tb) = self.bounds(1, pb, mv);
-            if !self.prune(rb, tb) {
+            if !self.skip(1, pb, mv) {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);
@@ -367,11 +399,8 @@ impl Search<'_> {
             let mv = max_val(child_b, child_w);
             if last {
                 s.leaf(level, mv);
-            } else {
-                let (rb, tb) = bound_pair(s.funcs, s.active, dim, level + 1, &cb[..bl], mv, s.last);
-                if !s.prune(rb, tb) {
-                    s.recurse(level + 1);
-                }
+            } else if !s.skip(level + 1, &s.node_b[level * bl..(level + 1) * bl], mv) {
+                s.recurse(level + 1);
             }
         };
         if f.single {
