@@ -95,11 +95,48 @@ pub(crate) fn bound_upto(
     acc
 }
 
+/// One active function as the search's bounds read it: its global bound when it is
+/// one cell, else its cells (and the position of its grid geometry, see
+/// [`Prepared::geom`]). Kept in active order, side by side.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Term<'a> {
+    pub(crate) grid: Option<&'a Prepared>,
+    pub(crate) ub: f64,
+    pub(crate) geom: usize,
+}
+
+/// [`bound_upto`] over the terms of the functions `level..upto` (`dim <= ODO_DIMS`):
+/// the same terms added in the same order.
+#[inline]
+pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -> f64 {
+    let mut range_of = usize::MAX;
+    let mut range = CellRange {
+        lo: [0; ODO_DIMS],
+        hi: [0; ODO_DIMS],
+        top: 0,
+        one: true,
+    };
+    for t in terms {
+        let Some(f) = t.grid else {
+            acc += t.ub;
+            continue;
+        };
+        if t.geom != range_of {
+            range = f.range(b, dim);
+            range_of = t.geom;
+        }
+        acc += f.bound_over(&range, dim);
+    }
+    acc
+}
+
 pub(crate) struct Search<'a> {
     pub(crate) funcs: &'a [Prepared],
     /// The boxes of function `fi` (see [`Prepared::bounds`]).
     pub(crate) boxes: &'a [&'a [i32]],
     pub(crate) active: &'a [usize],
+    /// The active functions' bound terms (see [`Term`]).
+    pub(crate) terms: &'a [Term<'a>],
     pub(crate) dim: usize,
     pub(crate) node_b: &'a mut [i32],
     pub(crate) node_w: &'a mut [f64],
@@ -138,17 +175,22 @@ impl Search<'_> {
         if !(self.found || self.seeded) {
             return false;
         }
+        let (m, dim) = (self.active.len(), self.dim);
         let Some(ix) = self.last else {
-            let r = bound_rest(self.funcs, self.active, self.dim, level, b, acc);
+            let r = if dim <= ODO_DIMS {
+                bound_terms(&self.terms[level..m], dim, b, acc)
+            } else {
+                bound_rest(self.funcs, self.active, dim, level, b, acc)
+            };
             return self.prune(r, r);
         };
-        // The last function is one cell (the index is on): its term is its global
-        // bound, added last; the same sum whether or not a cell holds `b`.
-        let m = self.active.len();
+        // The last function is one cell (the index is on, so `dim <= ODO_DIMS`): its
+        // term is its global bound, added last; the same sum whether or not a cell
+        // holds `b`.
         let prefix = if level + 1 == m {
             acc
         } else {
-            bound_upto(self.funcs, self.active, self.dim, level, m - 1, b, acc)
+            bound_terms(&self.terms[level..m - 1], dim, b, acc)
         };
         let rb = prefix + self.last_ub;
         if rb <= self.best {

@@ -234,15 +234,19 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
 /// which holds the cell's pieces in array order, so every cell sees the comparisons
 /// of the piece-by-piece build in the same order.
 fn cell_bounds(p: &mut Prepared, total: usize) {
+    let (start, items, piece_ub) = (&p.cell_start, &p.cell_items, &p.piece_ub);
     for c in 0..total {
-        let list = &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize];
+        let list = &items[start[c] as usize..start[c + 1] as usize];
+        // The cell's bound and flag held in registers over its list.
+        let (mut ub, mut filled) = (p.cell_ub[c], p.cell_filled[c]);
         for &k in list {
-            let v = p.piece_ub[k as usize];
-            if !p.cell_filled[c] || v > p.cell_ub[c] {
-                p.cell_ub[c] = v;
+            let v = piece_ub[k as usize];
+            if !filled || v > ub {
+                ub = v;
             }
-            p.cell_filled[c] = true;
+            filled = true;
         }
+        (p.cell_ub[c], p.cell_filled[c]) = (ub, filled);
     }
 }
 

@@ -37,11 +37,15 @@ pub(crate) fn weigh(
     piece_ub: &mut Vec<f64>,
 ) -> f64 {
     piece_ub.clear();
-    match (wg.identity, wg.pts.len()) {
-        (true, 1) => weigh_dims(wg, src, 1, 1, true, weights, boxes, piece_ub),
-        (true, 2) => weigh_dims(wg, src, 2, 2, true, weights, boxes, piece_ub),
-        (true, 3) => weigh_dims(wg, src, 3, 3, true, weights, boxes, piece_ub),
-        (_, dim) => weigh_dims(wg, src, od, dim, false, weights, boxes, piece_ub),
+    let id = wg.identity;
+    match (od, wg.pts.len()) {
+        (1, 1) => weigh_dims(wg, src, 1, 1, id, weights, boxes, piece_ub),
+        (2, 2) => weigh_dims(wg, src, 2, 2, id, weights, boxes, piece_ub),
+        (3, 3) => weigh_dims(wg, src, 3, 3, id, weights, boxes, piece_ub),
+        (1, 2) => weigh_dims(wg, src, 1, 2, id, weights, boxes, piece_ub),
+        (1, 3) => weigh_dims(wg, src, 1, 3, id, weights, boxes, piece_ub),
+        (2, 3) => weigh_dims(wg, src, 2, 3, id, weights, boxes, piece_ub),
+        (od, dim) => weigh_dims(wg, src, od, dim, id, weights, boxes, piece_ub),
     }
 }
 
@@ -60,47 +64,72 @@ fn weigh_dims(
     piece_ub: &mut Vec<f64>,
 ) -> f64 {
     let (bl, wl) = (2 * dim, dim + 1);
-    let (shift, scale, pwt) = (wg.shift, wg.scale, wg.pwt);
     let mut most = 0.0f64;
-    for (k, (w, s)) in weights
-        .chunks_exact_mut(wl)
-        .zip(src.chunks_exact(od + 1))
-        .enumerate()
-    {
-        let (w, s) = (&mut w[..wl], &s[..od + 1]);
-        if wg.norm {
-            w[dim] = ((s[od] + shift) * scale) * pwt;
-            if identity {
-                for d in 0..dim {
-                    w[d] = (s[d] * scale) * pwt;
-                }
-            } else {
-                for (&x, &t) in s.iter().zip(wg.map) {
-                    w[t] = (x * scale) * pwt;
-                }
-            }
-        } else {
-            w[dim] = s[od] * pwt;
-            if identity {
-                for d in 0..dim {
-                    w[d] = s[d] * pwt;
-                }
-            } else {
-                for (&x, &t) in s.iter().zip(wg.map) {
-                    w[t] = x * pwt;
-                }
+    match boxes {
+        Some(b) => {
+            piece_ub.resize((weights.len() / wl).min(src.len() / (od + 1)), 0.0);
+            let pieces = weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1));
+            for (((w, s), b), ub) in pieces.zip(b.chunks_exact(bl)).zip(piece_ub.iter_mut()) {
+                most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
+                *ub = max_val(&b[..bl], &w[..wl]);
             }
         }
-        let t = term(w, &wg.pts[..dim]);
-        // NaN must not be lost by `max`.
-        if t > most || t.is_nan() {
-            most = t;
-        }
-        if let Some(b) = boxes {
-            piece_ub.push(max_val(&b[k * bl..(k + 1) * bl], w));
+        None => {
+            for (w, s) in weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1)) {
+                most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
+            }
         }
     }
     most
+}
+
+/// The running largest term scale after term `t` (NaN must not be lost by `max`).
+#[inline(always)]
+fn most_of(most: f64, t: f64) -> f64 {
+    if t > most || t.is_nan() {
+        t
+    } else {
+        most
+    }
+}
+
+/// One piece's weights `w` (problem order) from the function's `s`; its term scale.
+#[inline(always)]
+fn piece_weights(
+    wg: &Weighing,
+    w: &mut [f64],
+    s: &[f64],
+    od: usize,
+    dim: usize,
+    identity: bool,
+) -> f64 {
+    let (shift, scale, pwt) = (wg.shift, wg.scale, wg.pwt);
+    let (w, s) = (&mut w[..dim + 1], &s[..od + 1]);
+    let map = &wg.map[..od];
+    if wg.norm {
+        w[dim] = ((s[od] + shift) * scale) * pwt;
+        if identity {
+            for d in 0..dim {
+                w[d] = (s[d] * scale) * pwt;
+            }
+        } else {
+            for i in 0..od {
+                w[map[i]] = (s[i] * scale) * pwt;
+            }
+        }
+    } else {
+        w[dim] = s[od] * pwt;
+        if identity {
+            for d in 0..dim {
+                w[d] = s[d] * pwt;
+            }
+        } else {
+            for i in 0..od {
+                w[map[i]] = s[i] * pwt;
+            }
+        }
+    }
+    term(w, &wg.pts[..dim])
 }
 
 /// `|intercept| + Σ_d |slope_d|·(pts_d - 1)` of one piece's weights (problem order).

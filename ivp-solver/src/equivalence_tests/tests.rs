@@ -534,6 +534,18 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
         let fl = solver.active[m - 1];
         let (mut nb, mut nw) = (vec![0; 2 * dim * m], vec![0.0; (dim + 1) * m]);
         let (mut bb, mut bw) = (vec![0; 2 * dim], vec![0.0; dim + 1]);
+        let terms: Vec<Term> = solver
+            .active
+            .iter()
+            .map(|&fi| {
+                let f = &solver.funcs[fi];
+                Term {
+                    grid: (!f.single).then_some(f),
+                    ub: f.global_ub,
+                    geom: f.geom,
+                }
+            })
+            .collect();
         for with_index in [false, true] {
             let last = (with_index && solver.last.on).then_some(&solver.last);
             if with_index && last.is_none() {
@@ -543,6 +555,7 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 funcs: &solver.funcs,
                 boxes: &boxes,
                 active: &solver.active,
+                terms: &terms,
                 dim,
                 node_b: &mut nb,
                 node_w: &mut nw,
@@ -565,6 +578,12 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 let level = 1 + pick(&mut seed, m as u64 - 1) as usize;
                 let acc = pick(&mut seed, 4000) as f64 / 7.0 - 200.0;
                 let (rb, tb) = bound_pair(s.funcs, s.active, dim, level, &b, acc, s.last);
+                // The terms' sums are the functions' own.
+                for upto in level..=m {
+                    let want = bound_upto(s.funcs, s.active, dim, level, upto, &b, acc);
+                    let got = bound_terms(&terms[level..upto], dim, &b, acc);
+                    assert_eq!(got.to_bits(), want.to_bits(), "round {round} {b:?}");
+                }
                 s.found = pick(&mut seed, 3) != 0;
                 s.seeded = pick(&mut seed, 2) == 0;
                 s.tol = [0.0, 1e-9, 0.5, 3.0][pick(&mut seed, 4) as usize];
@@ -688,4 +707,42 @@ fn weigh_equals_the_plain_loop() {
         }
     }
     assert!(seen.iter().all(|&k| k > 50), "{seen:?}");
+}
+
+/// The cell bounds of the set-up are those of the plain per-piece fold over each
+/// cell's list (flag and bound read and written in memory per piece).
+#[test]
+fn cell_bounds_equal_the_plain_fold() {
+    let mut seed = 515u64;
+    let mut cells = 0;
+    for _ in 0..200 {
+        let dom = random_domain(&mut seed);
+        let fs = random_problem(&dom, &mut seed);
+        let refs: Vec<&IvpFunction> = fs.iter().collect();
+        let mut solver = Solver::new();
+        solver.solve(&dom, &refs).unwrap();
+        for &fi in solver.active.iter().skip(1) {
+            let p = &solver.funcs[fi];
+            // Builder grids are kept, not folded.
+            if p.single || !refs[fi].grid_bounds().is_empty() {
+                continue;
+            }
+            let total = p.cell_ub.len();
+            let (mut ub, mut filled) = (vec![NO_BOUND; total], vec![false; total]);
+            for c in 0..total {
+                for &k in &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize] {
+                    let v = p.piece_ub[k as usize];
+                    if !filled[c] || v > ub[c] {
+                        ub[c] = v;
+                    }
+                    filled[c] = true;
+                }
+            }
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&p.cell_ub), bits(&ub));
+            assert_eq!(p.cell_filled, filled);
+            cells += total;
+        }
+    }
+    assert!(cells > 1000, "{cells}");
 }
