@@ -578,6 +578,17 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 let level = 1 + pick(&mut seed, m as u64 - 1) as usize;
                 let acc = pick(&mut seed, 4000) as f64 / 7.0 - 200.0;
                 let (rb, tb) = bound_pair(s.funcs, s.active, dim, level, &b, acc, s.last);
+                if let Some(ix) = s.last {
+                    // The index's cells are those of the function above the last.
+                    let ppg = &s.funcs[s.active[m - 2]].ppg;
+                    let (mut want, mut stride) = (Some(0), 1);
+                    for d in 0..dim {
+                        let (lo, hi) = (b[2 * d] / ppg[d], b[2 * d + 1] / ppg[d]);
+                        want = want.filter(|_| lo == hi).map(|c| c + lo as usize * stride);
+                        stride *= ((solver.pts[d] + ppg[d] - 1) / ppg[d]) as usize;
+                    }
+                    assert_eq!(ix.cell_of(&b), want, "round {round} {b:?}");
+                }
                 // The terms' sums are the functions' own.
                 for upto in level..=m {
                     let want = bound_upto(s.funcs, s.active, dim, level, upto, &b, acc);
