@@ -1,5 +1,7 @@
 //! The host side of a behavior call: [`HostCtx`] implements the ABI's `HelmContext`.
 
+use std::fmt::Write as _;
+
 use abi_stable::sabi_trait::TD_Opaque;
 use abi_stable::sabi_types::RMut;
 use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
@@ -31,6 +33,19 @@ pub fn with_ctx<R>(
 }
 
 impl HostCtx<'_> {
+    /// A contact's `type`, `group` or `vsource`; "" for an unknown contact or field.
+    fn contact_field(&self, name: &str, field: &str) -> &str {
+        let Some(c) = self.env.ledger.snapshot().get(name) else {
+            return "";
+        };
+        match field {
+            "type" => &c.vtype,
+            "group" => &c.group,
+            "vsource" => &c.vsource,
+            _ => "",
+        }
+    }
+
     fn quiet(&self, var: &str) -> bool {
         self.core
             .info_vars
@@ -211,16 +226,7 @@ impl HelmContext for HostCtx<'_> {
     }
 
     fn contact_text(&self, name: RStr<'_>, field: RStr<'_>) -> RString {
-        let Some(c) = self.env.ledger.snapshot().get(name.as_str()) else {
-            return RString::new();
-        };
-        let text = match field.as_str() {
-            "type" => &c.vtype,
-            "group" => &c.group,
-            "vsource" => &c.vsource,
-            _ => return RString::new(),
-        };
-        RString::from(text.as_str())
+        RString::from(self.contact_field(name.as_str(), field.as_str()))
     }
 
     fn set_contact(&mut self, name: RStr<'_>) {
@@ -229,4 +235,60 @@ impl HelmContext for HostCtx<'_> {
             self.core.contact.push_str(name.as_str());
         }
     }
+
+    // The `_into` forms (0.1.2): `out` belongs to the behavior; refilled in place, it
+    // grows (through its own allocator) only for a text longer than any before.
+    fn contact_text_into(&self, name: RStr<'_>, field: RStr<'_>, out: &mut RString) {
+        refill(out, self.contact_field(name.as_str(), field.as_str()));
+    }
+    fn name_into(&self, out: &mut RString) {
+        refill(out, &self.core.name);
+    }
+    fn ownship_into(&self, out: &mut RString) {
+        refill(out, &self.core.ownship);
+    }
+    fn string_val_into(&mut self, var: RStr<'_>, warn: bool, out: &mut RString) -> bool {
+        // `InfoBuffer::string_val`'s rule (the string, else the number `%.6f`), written
+        // in place.
+        let var_str = var.as_str();
+        if let Some(v) = self.ib.sval(var_str) {
+            refill(out, v);
+            return true;
+        }
+        match self.ib.dval(var_str) {
+            Some(d) => {
+                out.clear();
+                // Writing into a string cannot fail.
+                let _ = write!(out, "{d:.6}");
+                true
+            }
+            None => {
+                out.clear();
+                if warn && !self.quiet(var.as_str()) {
+                    let msg = format!("{} str info not found in helm info_buffer", var.as_str());
+                    self.core.post_warning(&msg);
+                }
+                false
+            }
+        }
+    }
+    fn contact_name_into(&self, index: u32, out: &mut RString) -> bool {
+        let all = self.env.ledger.snapshot().contacts();
+        match all.get(index as usize) {
+            Some(c) => {
+                refill(out, &c.name);
+                true
+            }
+            None => {
+                out.clear();
+                false
+            }
+        }
+    }
+}
+
+/// `out` holding exactly `text`, its storage kept.
+fn refill(out: &mut RString, text: &str) {
+    out.clear();
+    out.push_str(text);
 }
