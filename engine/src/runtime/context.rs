@@ -292,3 +292,87 @@ fn refill(out: &mut RString, text: &str) {
     out.clear();
     out.push_str(text);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `_into` forms against the returning forms, over random buffer contents:
+    /// strings, numbers of every size (printed `%.6f`), missing variables with and
+    /// without the warning, and a stale `out`; the same answers and the same postings.
+    #[test]
+    fn into_forms_give_what_the_returning_forms_give() {
+        let env = HostEnv::default();
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let (mut warnings, mut numbers) = (0, 0);
+        for round in 0..200 {
+            let mut ib = InfoBuffer::new(0.0);
+            let mut core = BehaviorCore::new("BHV_X", "bhv_x", "abe");
+            core.name = format!("x{round}");
+            let mut vars = Vec::new();
+            for i in 0..8 {
+                let var = format!("V{i}");
+                match next() % 3 {
+                    0 => {
+                        let text = "y".repeat((next() % 40) as usize);
+                        ib.set_string(&var, &text, 0.0);
+                    }
+                    1 => {
+                        let mag = 10f64.powi((next() % 16) as i32 - 6);
+                        let v = (next() % 2_000_001) as f64 / 1000.0 - 1000.0;
+                        ib.set_double(&var, v * mag, 0.0);
+                    }
+                    _ => {} // missing
+                }
+                vars.push(var);
+            }
+            let mut out = RString::from("stale text");
+            for var in &vars {
+                let warn = next() % 2 == 0;
+                let mut host = HostCtx {
+                    core: &mut core,
+                    env: &env,
+                    ib: &ib,
+                };
+                let before = host.core.messages.len();
+                let want = host.string_val(var.as_str().into(), warn).into_option();
+                let warned = host.core.messages.len() - before;
+                warnings += warned;
+                numbers += usize::from(ib.sval(var).is_none() && want.is_some());
+                let found = host.string_val_into(var.as_str().into(), warn, &mut out);
+                assert_eq!(found, want.is_some(), "{var}");
+                assert_eq!(out.as_str(), want.as_ref().map_or("", RString::as_str));
+                // The same warning, once more, and nothing else.
+                let m = &host.core.messages;
+                assert_eq!(m.len() - before, 2 * warned, "{var} warn={warn}");
+                if warned == 1 {
+                    assert_eq!(m[m.len() - 1].var, m[m.len() - 2].var);
+                    assert_eq!(m[m.len() - 1].value, m[m.len() - 2].value);
+                }
+            }
+            let host = HostCtx {
+                core: &mut core,
+                env: &env,
+                ib: &ib,
+            };
+            host.name_into(&mut out);
+            assert_eq!(out, host.name());
+            host.ownship_into(&mut out);
+            assert_eq!(out, host.ownship());
+            host.contact_text_into("nobody".into(), "type".into(), &mut out);
+            assert_eq!(out, host.contact_text("nobody".into(), "type".into()));
+            assert!(!host.contact_name_into(0, &mut out));
+            assert_eq!(out.as_str(), "");
+        }
+        assert!(
+            warnings > 0 && numbers > 0,
+            "{warnings} warnings, {numbers} numbers"
+        );
+    }
+}
