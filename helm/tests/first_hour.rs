@@ -22,7 +22,7 @@ fn summary(dir: &Path) -> serde_json::Value {
 
 /// missions/alpha copied to a fresh folder, its `.moos` passed through `edit`.
 fn alpha_copy(tag: &str, edit: impl Fn(&str) -> String) -> PathBuf {
-    let dir = common::temp_dir(&format!("helm-first-hour-{tag}"));
+    let dir = common::outside_dir(&format!("helm-first-hour-{tag}"));
     let src = common::workspace().join("missions/alpha");
     for f in ["alpha.bhv", "scenario.toml"] {
         std::fs::copy(src.join(f), dir.join(f)).expect("copy");
@@ -256,7 +256,7 @@ fn every_shipped_mission_ends_clean_under_strict() {
         .collect();
     dirs.sort();
     for m in dirs {
-        let out = common::temp_dir("helm-first-hour-clean");
+        let out = common::outside_dir("helm-first-hour-clean");
         let o = Command::new(env!("CARGO_BIN_EXE_helm"))
             .args([
                 "sim",
@@ -389,7 +389,7 @@ fn a_bhv_given_as_mission_and_a_missing_bhv_say_so() {
 
 #[test]
 fn a_library_that_cannot_be_opened_gives_the_whole_reason() {
-    let libs = common::temp_dir("helm-first-hour-fake-lib");
+    let libs = common::outside_dir("helm-first-hour-fake-lib");
     std::fs::write(libs.join("libfake.so"), "not a library").expect("write");
     let moos = common::workspace().join("missions/alpha/alpha.moos");
     let o = Command::new(env!("CARGO_BIN_EXE_helm"))
@@ -455,7 +455,7 @@ fn check_takes_a_folder_and_conform_recurses_and_refuses_nothing() {
             .expect("utf-8"),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o));
-    let empty = common::temp_dir("helm-first-hour-no-cases");
+    let empty = common::outside_dir("helm-first-hour-no-cases");
     let o = helm(&["conform", empty.to_str().expect("utf-8")]);
     assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
     assert!(common::text(&o).contains("no conformance cases"));
@@ -489,7 +489,7 @@ fn help_is_one_text_and_a_phelmivp_link_refuses_subcommands() {
             && h.contains("helm sim missions/alpha"),
         "{h}"
     );
-    let dir = common::temp_dir("helm-first-hour-link");
+    let dir = common::outside_dir("helm-first-hour-link");
     let link = dir.join("pHelmIvP");
     std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_helm"), &link).expect("link");
     let o = Command::new(&link)
@@ -658,7 +658,7 @@ fn nothing_to_do_at_the_normal_end_is_not_a_failure() {
 
 #[test]
 fn a_helm_copied_alone_says_its_bundled_libraries_are_missing() {
-    let dir = common::temp_dir("helm-first-hour-alone");
+    let dir = common::outside_dir("helm-first-hour-alone");
     let bin = dir.join("bin");
     std::fs::create_dir_all(&bin).expect("mkdir");
     let helm = bin.join("helm");

@@ -104,7 +104,7 @@ fn sim(mission: &Path, libs: &Path, max_time: &str) -> serde_json::Value {
 
 #[test]
 fn the_template_copied_out_of_the_repo_builds_and_drives() {
-    let root = common::temp_dir("helm-template-copy");
+    let root = common::outside_dir("helm-template-copy");
     let copy = root.join("bhv-mine");
     copy_crate(&workspace().join("plugins/template"), &copy);
     // As plugins/template/README.md says: rename, point behavior-api at the checkout.
@@ -187,7 +187,7 @@ fn the_tutorial_pasted_as_shown_builds_and_its_mission_drives() {
         manifest[0].replace("/path/to/ivp-helm/behavior-api", &api.display().to_string());
     let rust = find("rust", "");
     assert_eq!(rust.len(), 2, "the behavior and the contact behavior");
-    let root = common::temp_dir("helm-tutorial");
+    let root = common::outside_dir("helm-tutorial");
     for (k, code) in rust.iter().enumerate() {
         // What rustdoc would hide is not there: the block is the whole file.
         for l in code.lines() {

@@ -88,6 +88,23 @@ pub fn temp_dir(prefix: &str) -> PathBuf {
     )
 }
 
+/// A new empty folder `<prefix>-<n>` OUTSIDE the repository, for what must not see
+/// its workspace (a crate built as a user would build it, a helm run the way a new
+/// user runs it): in the system temp dir, under a folder named after this checkout's
+/// path, so two checkouts testing at once never share one, and the names repeat from
+/// run to run (bounded disk, as [`temp_dir`]).
+pub fn outside_dir(prefix: &str) -> PathBuf {
+    use std::hash::{Hash, Hasher};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    workspace().hash(&mut h);
+    fresh_dir(
+        std::env::temp_dir()
+            .join(format!("ivp-helm-tests-{:016x}", h.finish()))
+            .join(format!("{prefix}-{}", N.fetch_add(1, Ordering::SeqCst))),
+    )
+}
+
 /// A port of 127.0.0.1 nobody listens on right now.
 pub fn free_port() -> u16 {
     let l = TcpListener::bind("127.0.0.1:0").expect("bind an ephemeral port");
