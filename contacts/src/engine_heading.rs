@@ -19,6 +19,14 @@ pub struct Heading {
     tan: f64,
 }
 
+impl Heading {
+    /// The per-degree cosines [`CpaEngine::bow_stern_of`] takes: `gamcos` and `tancos`.
+    #[inline]
+    pub fn gam_tan(&self) -> (f64, f64) {
+        (self.gam, self.tan)
+    }
+}
+
 /// The unit vector [`CpaEngine::cpa_time`] takes for heading `h`.
 #[inline]
 fn unit_of(h: f64) -> (f64, f64) {
@@ -265,6 +273,76 @@ impl CpaEngine {
             crosses_bow,
             passes_star,
             bearing_rate: br,
+        }
+    }
+}
+
+/// What [`CpaEngine::bow_stern_at`] gives for one candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BowStern {
+    /// [`CpaEngine::crosses_bow_at`].
+    pub crosses_bow: bool,
+    /// [`CpaEngine::crosses_stern_at`].
+    pub crosses_stern: bool,
+}
+
+impl CpaEngine {
+    /// [`CpaEngine::crosses_bow_at`] and [`CpaEngine::crosses_stern_at`] of one
+    /// candidate, with `s` this engine's [`CpaEngine::sides`]: the same comparisons on
+    /// the same values, every one made and the answers combined without jumps.
+    #[inline(always)]
+    pub fn bow_stern_at(&self, s: &Sides, hd: &Heading, v: f64) -> BowStern {
+        self.bow_stern_of(s, (hd.gam, hd.tan), v)
+    }
+
+    /// [`CpaEngine::bow_stern_at`] of the heading whose [`Heading::gam_tan`] is
+    /// `(gam, tan)` (for rows of candidates held as lists of numbers).
+    #[inline(always)]
+    pub fn bow_stern_of(&self, s: &Sides, gam_tan: (f64, f64), v: f64) -> BowStern {
+        BowStern::of(s, &self.bearing_rates(), gam_tan, v)
+    }
+
+    /// This engine's bearing-rate formula as plain numbers, to carry into a row loop.
+    #[inline]
+    pub fn bearing_rates(&self) -> BearingRates {
+        BearingRates {
+            cn_tan: self.cn_tan,
+            tn_const: self.tn_const,
+        }
+    }
+}
+
+/// [`CpaEngine::bearing_rate_at`] of one engine, apart from it: what a loop over rows of
+/// candidates keeps in registers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BearingRates {
+    cn_tan: f64,
+    tn_const: f64,
+}
+
+impl BearingRates {
+    /// The bearing rate at speed `v` of the heading whose `tancos` is `tan`: the
+    /// engine's formula.
+    #[inline(always)]
+    pub fn at(&self, tan: f64, v: f64) -> f64 {
+        (-v * tan + self.cn_tan) * self.tn_const
+    }
+}
+
+impl BowStern {
+    /// [`CpaEngine::bow_stern_of`] with the engine's [`Sides`] and [`BearingRates`].
+    #[inline(always)]
+    pub fn of(s: &Sides, rates: &BearingRates, (gam, tan): (f64, f64), v: f64) -> Self {
+        let br = rates.at(tan, v);
+        // Negated, not `v > 0.0`: a NaN speed or cosine counts as moving, as it falls
+        // through the `v <= 0.0 || gam <= 0.0` test.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let moving = !(v <= 0.0) & !(gam <= 0.0);
+        let (ge, le) = (br >= 0.0, br <= 0.0);
+        let (bow_sign, stern_sign) = if s.port_of_cn { (ge, le) } else { (le, ge) };
+        BowStern {
+            crosses_bow: s.on_sternline | (moving & bow_sign),
+            crosses_stern: s.on_sternline | (moving & stern_sign),
         }
     }
 }

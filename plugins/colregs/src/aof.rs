@@ -2,7 +2,7 @@
 //! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
 //! each evaluated by the reflector on the decision grid.
 
-use behavior_api::contacts::engine::{Heading, Sides};
+use behavior_api::contacts::engine::{BearingRates, BowStern, Heading, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
@@ -21,8 +21,15 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The engine with its per-degree tables, for functions that ask per-heading
+    /// queries ([`CpaEngine::heading`]).
     pub fn engine(&self) -> CpaEngine {
-        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy).with_tables()
+        self.plain_engine().with_tables()
+    }
+
+    /// The engine without tables, for functions that ask CPAs only.
+    pub fn plain_engine(&self) -> CpaEngine {
+        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy)
     }
 }
 
@@ -106,9 +113,46 @@ fn eval_rows<A: Aof + ?Sized, P>(
     for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
         let v = domain.value(1, j);
         engine.cpa_dists((&sins, &coss), v, tol, row);
-        for (o, p) in row.iter_mut().zip(&prepared) {
-            *o = point(p, v, *o);
-        }
+        point_row(row, &prepared, v, &point);
+    }
+}
+
+/// `row[k] = point(&prepared[k], v, row[k])` for every k (the row's CPA distances into
+/// utilities). On a CPU with AVX2 the same loop runs compiled for it: a `point` without
+/// jumps then does four candidates per instruction (IEEE operations give the same bits
+/// at any width).
+fn point_row<P>(row: &mut [f64], prepared: &[P], v: f64, point: &impl Fn(&P, f64, f64) -> f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { point_row_avx2(row, prepared, v, point) };
+    }
+    point_row_plain(row, prepared, v, point);
+}
+
+/// [`point_row`]'s loop compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn point_row_avx2<P>(
+    row: &mut [f64],
+    prepared: &[P],
+    v: f64,
+    point: &impl Fn(&P, f64, f64) -> f64,
+) {
+    point_row_plain(row, prepared, v, point);
+}
+
+/// [`point_row`]'s loop, for the target's baseline instructions (and inlined into
+/// [`point_row_avx2`]).
+#[inline(always)]
+fn point_row_plain<P>(
+    row: &mut [f64],
+    prepared: &[P],
+    v: f64,
+    point: &impl Fn(&P, f64, f64) -> f64,
+) {
+    for (o, p) in row.iter_mut().zip(prepared) {
+        *o = point(p, v, *o);
     }
 }
 
@@ -126,7 +170,8 @@ pub struct CpaAof {
 impl CpaAof {
     pub fn new(s: &Scene, tol: f64, mu: f64, big: f64) -> Option<Self> {
         (mu <= big).then(|| CpaAof {
-            engine: s.engine(),
+            // Its utility asks CPAs only: no per-degree tables.
+            engine: s.plain_engine(),
             tol,
             metric: Metric {
                 mu,
@@ -461,20 +506,146 @@ impl R16Aof {
     }
 }
 
+/// The courses of a grid as [`R16Aof`]'s rows read them, one list per quantity: the
+/// unit vectors (for the CPA rows), the engine's `gamcos` and `tancos`
+/// ([`Heading::gam_tan`]) and the turn from ownship's heading.
+#[derive(Default)]
+struct R16Courses {
+    sins: Vec<f64>,
+    coss: Vec<f64>,
+    gams: Vec<f64>,
+    tans: Vec<f64>,
+    /// 1 for a starboard (port) turn, else 0: numbers, not `bool`s, so that the row
+    /// loop compares them in lanes as wide as its other numbers.
+    star_turns: Vec<f64>,
+    port_turns: Vec<f64>,
+}
+
+impl R16Aof {
+    /// [`Aof::eval_grid`] with the pass's rule `refused` of (crosses bow, crosses stern,
+    /// starboard turn, port turn), a constant of the row loops: the courses once, then
+    /// per speed a row of CPA distances and of utilities ([`r16_row`]).
+    fn eval_grid_with(
+        &self,
+        (domain, axes, out): (&Domain, &[&[u32]], &mut [f64]),
+        refused: impl Fn(bool, bool, bool, bool) -> bool + Copy,
+    ) {
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let mut c = R16Courses::default();
+        for &i in xs.iter() {
+            let (hd, star_turn, port_turn) = self.course(domain.value(0, i));
+            let (s, k) = self.engine.unit(domain.value(0, i));
+            c.sins.push(s);
+            c.coss.push(k);
+            let (gam, tan) = hd.gam_tan();
+            c.gams.push(gam);
+            c.tans.push(tan);
+            c.star_turns.push(f64::from(u8::from(star_turn)));
+            c.port_turns.push(f64::from(u8::from(port_turn)));
+        }
+        let k = R16Row {
+            sides: self.engine.sides(),
+            rates: self.engine.bearing_rates(),
+            metric: self.metric,
+            v: 0.0,
+        };
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let v = domain.value(1, j);
+            self.engine.cpa_dists((&c.sins, &c.coss), v, R16_TOL, row);
+            r16_row(&R16Row { v, ..k }, &c, row, refused);
+        }
+    }
+}
+
+/// What a row of [`R16Aof`] utilities needs besides the courses: the engine's facts
+/// and formula, the metric and the row's speed.
+#[derive(Clone, Copy)]
+struct R16Row {
+    sides: Sides,
+    rates: BearingRates,
+    metric: Metric,
+    v: f64,
+}
+
+/// `row[k]` (the CPA distance of course k at speed `r.v`) into [`R16Aof::utility_with`]
+/// of that course, every rule computed and the answer picked (no jumps; the same
+/// comparisons and formulas on the same values), `refused` being the pass's rule. On a
+/// CPU with AVX2 the same loop runs compiled for it (four candidates per instruction;
+/// IEEE operations give the same bits at any width).
+fn r16_row(
+    r: &R16Row,
+    c: &R16Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { r16_row_avx2(r, c, row, refused) };
+    }
+    r16_row_plain(r, c, row, refused);
+}
+
+/// [`r16_row`]'s loop compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn r16_row_avx2(
+    r: &R16Row,
+    c: &R16Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
+    r16_row_plain(r, c, row, refused);
+}
+
+/// [`r16_row`]'s loop, for the target's baseline instructions (and inlined into
+/// [`r16_row_avx2`]).
+#[inline(always)]
+fn r16_row_plain(
+    r: &R16Row,
+    c: &R16Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
+    let R16Row {
+        sides,
+        rates,
+        metric,
+        v,
+    } = *r;
+    let n = row.len().min(c.gams.len()).min(c.tans.len());
+    let n = n.min(c.star_turns.len()).min(c.port_turns.len());
+    let (gams, tans, row) = (&c.gams[..n], &c.tans[..n], &mut row[..n]);
+    let (stars, ports) = (&c.star_turns[..n], &c.port_turns[..n]);
+    for k in 0..n {
+        let bs = BowStern::of(&sides, &rates, (gams[k], tans[k]), v);
+        let turns = (stars[k] != 0.0, ports[k] != 0.0);
+        let no = refused(bs.crosses_bow, bs.crosses_stern, turns.0, turns.1);
+        let m = metric.eval_jumpless(row[k]);
+        row[k] = if no { 0.0 } else { m };
+    }
+}
+
 impl Aof for R16Aof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
     }
+    /// [`Self::utility_with`]'s rules without jumps: `||` as `|`, `&&` as `&`.
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_rows(
-            self,
-            &self.engine,
-            R16_TOL,
-            (domain, axes, out),
-            |c| self.course(c),
-            |p, v, cpa| self.utility_with(p, v, || cpa),
-        );
+        let grid = (domain, axes, out);
+        match self.pass {
+            Pass::Stern if self.port_turns_ok => {
+                self.eval_grid_with(grid, |bow, stern, star_turn, _| bow | (!star_turn & !stern))
+            }
+            Pass::Stern => self.eval_grid_with(grid, |_, stern, _, port_turn| !stern | port_turn),
+            Pass::Bow => self.eval_grid_with(grid, |bow, _, star_turn, _| star_turn & !bow),
+        }
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {

@@ -136,8 +136,8 @@ impl CutRangeAof {
         if tol < 1.0 || dist == 0.0 {
             return None;
         }
-        let (rmin, rmax) = engine.min_max_roc(vmax);
         let cos = Box::new(engine.roc_cosines());
+        let (rmin, rmax) = engine.min_max_roc_with(&cos, vmax);
         Some(CutRangeAof {
             engine,
             tol,
