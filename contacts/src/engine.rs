@@ -253,28 +253,35 @@ fn degree_table(theta: f64, out: &mut [f64; 360]) {
 /// How many per-degree tables a thread keeps.
 const KEPT_TABLES: usize = 4;
 
-/// The per-degree tables last built on this thread, by the bits of their angle, the
-/// oldest replaced first. A table is a function of its angle alone, so a kept one is the
-/// table [`degree_table`] would build, bit for bit.
+/// The per-degree tables last used on this thread, by the bits of their angle, the
+/// least recently used replaced first (an engine asks three: the two of a contact
+/// holding its course stay while the third changes every iteration). A table is a
+/// function of its angle alone, so a kept one is the table [`degree_table`] would
+/// build, bit for bit.
 struct KeptTables {
     angles: [Option<u64>; KEPT_TABLES],
     tables: [[f64; 360]; KEPT_TABLES],
-    /// The slot the next new table goes to.
-    next: usize,
+    /// When each slot was last used (a count of uses).
+    used: [u64; KEPT_TABLES],
+    uses: u64,
 }
 
 impl KeptTables {
     /// The table of `theta` into `out`, from the kept ones or built (and kept).
     fn table(&mut self, theta: f64, out: &mut [f64; 360]) {
         let key = Some(theta.to_bits());
-        if let Some(k) = self.angles.iter().position(|&a| a == key) {
-            *out = self.tables[k];
-            return;
-        }
-        let k = self.next;
-        self.next = (k + 1) % KEPT_TABLES;
-        degree_table(theta, &mut self.tables[k]);
-        self.angles[k] = key;
+        self.uses += 1;
+        let k = match self.angles.iter().position(|&a| a == key) {
+            Some(k) => k,
+            None => {
+                // The least recently used slot (an empty one has never been used).
+                let k = (0..KEPT_TABLES).min_by_key(|&k| self.used[k]).unwrap_or(0);
+                degree_table(theta, &mut self.tables[k]);
+                self.angles[k] = key;
+                k
+            }
+        };
+        self.used[k] = self.uses;
         *out = self.tables[k];
     }
 }
@@ -284,7 +291,8 @@ thread_local! {
         std::cell::RefCell::new(KeptTables {
             angles: [None; KEPT_TABLES],
             tables: [[0.0; 360]; KEPT_TABLES],
-            next: 0,
+            used: [0; KEPT_TABLES],
+            uses: 0,
         })
     };
 }

@@ -508,3 +508,20 @@ fn min_max_roc_with_the_cosine_table_is_min_max_roc() {
         );
     }
 }
+
+/// The two tables of a contact holding its course stay kept while the third angle
+/// changes every iteration.
+#[test]
+fn kept_tables_keep_the_steady_angles() {
+    let mut t = [0.0; 360];
+    for k in 0..50 {
+        KEPT.with_borrow_mut(|kept| {
+            kept.table(180.0, &mut t);
+            kept.table(90.0, &mut t);
+            kept.table(10.0 + f64::from(k) * 0.1, &mut t);
+            for a in [180.0f64, 90.0] {
+                assert!(kept.angles.contains(&Some(a.to_bits())), "{k}: {a}");
+            }
+        });
+    }
+}

@@ -6,6 +6,7 @@ use behavior_api::contacts::engine::{BearingRates, BowStern, Heading, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
+use behavior_api::ivp::zaic::spare;
 use behavior_api::ivp::{Aof, Domain};
 
 /// The contact and ownship as the functions see them.
@@ -100,8 +101,10 @@ fn eval_rows<A: Aof + ?Sized, P>(
     if xs.is_empty() {
         return;
     }
-    let mut sins = Vec::with_capacity(xs.len());
-    let mut coss = Vec::with_capacity(xs.len());
+    // The unit vectors in the thread's spare buffers (given back below).
+    let (mut sins, mut coss) = (spare::floats(), spare::floats());
+    sins.reserve(xs.len());
+    coss.reserve(xs.len());
     let mut prepared = Vec::with_capacity(xs.len());
     for &i in xs.iter() {
         let c = domain.value(0, i);
@@ -115,6 +118,8 @@ fn eval_rows<A: Aof + ?Sized, P>(
         engine.cpa_dists((&sins, &coss), v, tol, row);
         point_row(row, &prepared, v, &point);
     }
+    spare::give_floats(sins);
+    spare::give_floats(coss);
 }
 
 /// `row[k] = point(&prepared[k], v, row[k])` for every k (the row's CPA distances into
@@ -509,7 +514,6 @@ impl R16Aof {
 /// The courses of a grid as [`R16Aof`]'s rows read them, one list per quantity: the
 /// unit vectors (for the CPA rows), the engine's `gamcos` and `tancos`
 /// ([`Heading::gam_tan`]) and the turn from ownship's heading.
-#[derive(Default)]
 struct R16Courses {
     sins: Vec<f64>,
     coss: Vec<f64>,
@@ -536,7 +540,22 @@ impl R16Aof {
         if xs.is_empty() {
             return;
         }
-        let mut c = R16Courses::default();
+        let n = xs.len();
+        // The lists in the thread's spare buffers (given back below): a build asks for
+        // two grids every iteration.
+        let list = || {
+            let mut v = spare::floats();
+            v.reserve(n);
+            v
+        };
+        let mut c = R16Courses {
+            sins: list(),
+            coss: list(),
+            gams: list(),
+            tans: list(),
+            star_turns: list(),
+            port_turns: list(),
+        };
         for &i in xs.iter() {
             let (hd, star_turn, port_turn) = self.course(domain.value(0, i));
             let (s, k) = self.engine.unit(domain.value(0, i));
@@ -558,6 +577,9 @@ impl R16Aof {
             let v = domain.value(1, j);
             self.engine.cpa_dists((&c.sins, &c.coss), v, R16_TOL, row);
             r16_row(&R16Row { v, ..k }, &c, row, refused);
+        }
+        for v in [c.sins, c.coss, c.gams, c.tans, c.star_turns, c.port_turns] {
+            spare::give_floats(v);
         }
     }
 }
