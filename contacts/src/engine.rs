@@ -633,7 +633,7 @@ impl CpaEngine {
 
 #[path = "engine_heading.rs"]
 mod heading;
-pub use heading::{BearingRates, BowStarRate, BowStern, Heading, Sides};
+pub use heading::{BowStarRate, BowStern, Heading, RowConsts, Sides};
 
 #[cfg(test)]
 #[path = "engine_tests.rs"]

@@ -2,7 +2,7 @@
 //! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
 //! each evaluated by the reflector on the decision grid.
 
-use behavior_api::contacts::engine::{BearingRates, BowStern, Heading, Sides};
+use behavior_api::contacts::engine::Heading;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
@@ -120,45 +120,6 @@ fn eval_rows<A: Aof + ?Sized, P>(
     }
     spare::give_floats(sins);
     spare::give_floats(coss);
-}
-
-/// `row[k] = point(&prepared[k], v, row[k])` for every k (the row's CPA distances into
-/// utilities). On a CPU with AVX2 the same loop runs compiled for it: a `point` without
-/// jumps then does four candidates per instruction (IEEE operations give the same bits
-/// at any width).
-fn point_row<P>(row: &mut [f64], prepared: &[P], v: f64, point: &impl Fn(&P, f64, f64) -> f64) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { point_row_avx2(row, prepared, v, point) };
-    }
-    point_row_plain(row, prepared, v, point);
-}
-
-/// [`point_row`]'s loop compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn point_row_avx2<P>(
-    row: &mut [f64],
-    prepared: &[P],
-    v: f64,
-    point: &impl Fn(&P, f64, f64) -> f64,
-) {
-    point_row_plain(row, prepared, v, point);
-}
-
-/// [`point_row`]'s loop, for the target's baseline instructions (and inlined into
-/// [`point_row_avx2`]).
-#[inline(always)]
-fn point_row_plain<P>(
-    row: &mut [f64],
-    prepared: &[P],
-    v: f64,
-    point: &impl Fn(&P, f64, f64) -> f64,
-) {
-    for (o, p) in row.iter_mut().zip(prepared) {
-        *o = point(p, v, *o);
-    }
 }
 
 fn grid(domain: &Domain, index: &[u32]) -> (f64, f64) {
@@ -370,27 +331,6 @@ impl R14Aof {
         };
         m1 + m3
     }
-
-    /// [`Self::utility_with`] given the CPA distance, every rule computed and the
-    /// answer picked (no jumps; the same comparisons and formulas on the same values),
-    /// `s` being the engine's [`CpaEngine::sides`].
-    #[inline(always)]
-    fn utility_jumpless(&self, s: &Sides, hd: &Heading, v: f64, cpa: f64) -> f64 {
-        let r = self.engine.bow_star_rate_at(s, hd, v);
-        let refused = s.on_contact | (s.port_of_cn & r.crosses_bow) | r.passes_star;
-        let m1 = self.metric.eval_jumpless(cpa);
-        let br = r.bearing_rate;
-        let scaled = 100.0 * br / self.b0;
-        let beyond = if br <= self.b0 { 100.0 } else { scaled };
-        let opening = if br >= 0.0 { 0.0 } else { beyond };
-        let m3 = if self.b0 >= 0.0 { 0.0 } else { opening };
-        let u = m1 + m3;
-        if refused {
-            0.0
-        } else {
-            u
-        }
-    }
 }
 
 impl Aof for R14Aof {
@@ -398,17 +338,29 @@ impl Aof for R14Aof {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
     }
+    /// The courses once, then per speed a row of CPA distances and of utilities
+    /// ([`rows::r14_row`]: [`Self::utility_with`] without jumps).
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        let e = &self.engine;
-        let sides = e.sides();
-        eval_rows(
-            self,
-            e,
-            self.tol,
-            (domain, axes, out),
-            |c| e.heading(c),
-            |hd, v, cpa| self.utility_jumpless(&sides, hd, v, cpa),
-        );
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let c = Courses::of(&self.engine, domain, xs, None);
+        let k = R14Row {
+            sides: self.engine.sides(),
+            consts: self.engine.row_consts(),
+            metric: self.metric,
+            b0: self.b0,
+            v: 0.0,
+        };
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let v = domain.value(1, j);
+            self.engine.cpa_dists((&c.sins, &c.coss), v, self.tol, row);
+            r14_row(&R14Row { v, ..k }, &c, row);
+        }
+        c.give_back();
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {
@@ -511,20 +463,6 @@ impl R16Aof {
     }
 }
 
-/// The courses of a grid as [`R16Aof`]'s rows read them, one list per quantity: the
-/// unit vectors (for the CPA rows), the engine's `gamcos` and `tancos`
-/// ([`Heading::gam_tan`]) and the turn from ownship's heading.
-struct R16Courses {
-    sins: Vec<f64>,
-    coss: Vec<f64>,
-    gams: Vec<f64>,
-    tans: Vec<f64>,
-    /// 1 for a starboard (port) turn, else 0: numbers, not `bool`s, so that the row
-    /// loop compares them in lanes as wide as its other numbers.
-    star_turns: Vec<f64>,
-    port_turns: Vec<f64>,
-}
-
 impl R16Aof {
     /// [`Aof::eval_grid`] with the pass's rule `refused` of (crosses bow, crosses stern,
     /// starboard turn, port turn), a constant of the row loops: the courses once, then
@@ -540,36 +478,10 @@ impl R16Aof {
         if xs.is_empty() {
             return;
         }
-        let n = xs.len();
-        // The lists in the thread's spare buffers (given back below): a build asks for
-        // two grids every iteration.
-        let list = || {
-            let mut v = spare::floats();
-            v.reserve(n);
-            v
-        };
-        let mut c = R16Courses {
-            sins: list(),
-            coss: list(),
-            gams: list(),
-            tans: list(),
-            star_turns: list(),
-            port_turns: list(),
-        };
-        for &i in xs.iter() {
-            let (hd, star_turn, port_turn) = self.course(domain.value(0, i));
-            let (s, k) = self.engine.unit(domain.value(0, i));
-            c.sins.push(s);
-            c.coss.push(k);
-            let (gam, tan) = hd.gam_tan();
-            c.gams.push(gam);
-            c.tans.push(tan);
-            c.star_turns.push(f64::from(u8::from(star_turn)));
-            c.port_turns.push(f64::from(u8::from(port_turn)));
-        }
+        let c = Courses::of(&self.engine, domain, xs, Some(self.osh));
         let k = R16Row {
             sides: self.engine.sides(),
-            rates: self.engine.bearing_rates(),
+            consts: self.engine.row_consts(),
             metric: self.metric,
             v: 0.0,
         };
@@ -578,78 +490,7 @@ impl R16Aof {
             self.engine.cpa_dists((&c.sins, &c.coss), v, R16_TOL, row);
             r16_row(&R16Row { v, ..k }, &c, row, refused);
         }
-        for v in [c.sins, c.coss, c.gams, c.tans, c.star_turns, c.port_turns] {
-            spare::give_floats(v);
-        }
-    }
-}
-
-/// What a row of [`R16Aof`] utilities needs besides the courses: the engine's facts
-/// and formula, the metric and the row's speed.
-#[derive(Clone, Copy)]
-struct R16Row {
-    sides: Sides,
-    rates: BearingRates,
-    metric: Metric,
-    v: f64,
-}
-
-/// `row[k]` (the CPA distance of course k at speed `r.v`) into [`R16Aof::utility_with`]
-/// of that course, every rule computed and the answer picked (no jumps; the same
-/// comparisons and formulas on the same values), `refused` being the pass's rule. On a
-/// CPU with AVX2 the same loop runs compiled for it (four candidates per instruction;
-/// IEEE operations give the same bits at any width).
-fn r16_row(
-    r: &R16Row,
-    c: &R16Courses,
-    row: &mut [f64],
-    refused: impl Fn(bool, bool, bool, bool) -> bool,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { r16_row_avx2(r, c, row, refused) };
-    }
-    r16_row_plain(r, c, row, refused);
-}
-
-/// [`r16_row`]'s loop compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn r16_row_avx2(
-    r: &R16Row,
-    c: &R16Courses,
-    row: &mut [f64],
-    refused: impl Fn(bool, bool, bool, bool) -> bool,
-) {
-    r16_row_plain(r, c, row, refused);
-}
-
-/// [`r16_row`]'s loop, for the target's baseline instructions (and inlined into
-/// [`r16_row_avx2`]).
-#[inline(always)]
-fn r16_row_plain(
-    r: &R16Row,
-    c: &R16Courses,
-    row: &mut [f64],
-    refused: impl Fn(bool, bool, bool, bool) -> bool,
-) {
-    let R16Row {
-        sides,
-        rates,
-        metric,
-        v,
-    } = *r;
-    let n = row.len().min(c.gams.len()).min(c.tans.len());
-    let n = n.min(c.star_turns.len()).min(c.port_turns.len());
-    let (gams, tans, row) = (&c.gams[..n], &c.tans[..n], &mut row[..n]);
-    let (stars, ports) = (&c.star_turns[..n], &c.port_turns[..n]);
-    for k in 0..n {
-        let bs = BowStern::of(&sides, &rates, (gams[k], tans[k]), v);
-        let turns = (stars[k] != 0.0, ports[k] != 0.0);
-        let no = refused(bs.crosses_bow, bs.crosses_stern, turns.0, turns.1);
-        let m = metric.eval_jumpless(row[k]);
-        row[k] = if no { 0.0 } else { m };
+        c.give_back();
     }
 }
 
@@ -674,6 +515,10 @@ impl Aof for R16Aof {
         true
     }
 }
+
+#[path = "aof_rows.rs"]
+mod rows;
+use rows::{point_row, r14_row, r16_row, Courses, R14Row, R16Row};
 
 #[cfg(test)]
 #[path = "aof_tests.rs"]
