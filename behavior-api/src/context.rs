@@ -82,6 +82,24 @@ pub trait HelmContext {
     /// The contact this behavior is about (its `contact` parameter), so the helm keeps
     /// it in `IVPHELM_CONTACT_SUMMARY`; "" for none.
     fn set_contact(&mut self, name: RStr<'_>);
+
+    // Since 0.1.2 (issue 19: nothing allocated on the decision path), appended the same
+    // way: the texts above, written into a string the behavior keeps instead of a new
+    // one per call. `out` is cleared first; growing it is the only allocation, and that
+    // is the behavior's own (an `RString` frees and grows through the allocator that
+    // made it). A 0.1.1 plugin is loaded through `abi_v2`, a 0.1.0 one through `abi_v1`.
+
+    /// [`HelmContext::contact_text`] into `out`.
+    fn contact_text_into(&self, name: RStr<'_>, field: RStr<'_>, out: &mut RString);
+    /// [`HelmContext::name`] into `out`.
+    fn name_into(&self, out: &mut RString);
+    /// [`HelmContext::ownship`] into `out`.
+    fn ownship_into(&self, out: &mut RString);
+    /// [`HelmContext::string_val`] into `out`: false (and `out` empty) when missing,
+    /// with the same warning.
+    fn string_val_into(&mut self, var: RStr<'_>, warn: bool, out: &mut RString) -> bool;
+    /// [`HelmContext::contact_name`] into `out`: false (and `out` empty) past the end.
+    fn contact_name_into(&self, index: u32, out: &mut RString) -> bool;
 }
 
 /// The context handed to every behavior call.

@@ -58,6 +58,7 @@
 #![allow(non_local_definitions)]
 
 pub mod abi_v1;
+pub mod abi_v2;
 pub mod behavior;
 pub mod contact;
 pub mod context;

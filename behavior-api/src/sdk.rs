@@ -4,6 +4,7 @@
 //! The adapter here turns an [`IvpBehavior`] into the ABI trait object and catches any
 //! panic at the boundary, returning its message to the host instead of unwinding.
 
+use std::cell::Cell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use abi_stable::sabi_trait::TD_Opaque;
@@ -116,6 +117,17 @@ impl<'a> Ctx<'a> {
             .into_option()
             .map(String::from)
     }
+    /// [`Ctx::get_buffer_string_val`] written into `out` (false, `out` empty, when
+    /// missing): no new string once `out` has grown, for a value read every iteration.
+    pub fn get_buffer_string_val_into(&mut self, var: &str, out: &mut String) -> bool {
+        let inner = &mut self.inner;
+        with_spare(out, |buf| inner.string_val_into(var.into(), true, buf))
+    }
+    /// [`Ctx::get_buffer_string_val_into`], silent when missing.
+    pub fn get_buffer_string_val_quiet_into(&mut self, var: &str, out: &mut String) -> bool {
+        let inner = &mut self.inner;
+        with_spare(out, |buf| inner.string_val_into(var.into(), false, buf))
+    }
     pub fn get_buffer_time_val(&self, var: &str) -> f64 {
         self.inner.time_val(var.into())
     }
@@ -152,6 +164,14 @@ impl<'a> Ctx<'a> {
     }
     pub fn name(&self) -> String {
         self.inner.name().into()
+    }
+    /// [`Ctx::ownship`] written into `out`: no new string once `out` has grown.
+    pub fn ownship_into(&self, out: &mut String) {
+        with_spare(out, |buf| self.inner.ownship_into(buf));
+    }
+    /// [`Ctx::name`] written into `out`: no new string once `out` has grown.
+    pub fn name_into(&self, out: &mut String) {
+        with_spare(out, |buf| self.inner.name_into(buf));
     }
     pub fn priority(&self) -> f64 {
         self.inner.priority()
@@ -266,19 +286,54 @@ impl<'a> Ctx<'a> {
     pub fn contact_text(&self, name: &str, field: &str) -> String {
         self.inner.contact_text(name.into(), field.into()).into()
     }
+    /// [`Ctx::contact_text`] written into `out`: no new string once `out` has grown
+    /// (what a contact behavior reads every iteration).
+    pub fn contact_text_into(&self, name: &str, field: &str, out: &mut String) {
+        with_spare(out, |buf| {
+            self.inner.contact_text_into(name.into(), field.into(), buf)
+        });
+    }
+    /// The `index`-th contact's name (byte order) written into `out`; false past the end.
+    pub fn contact_name_into(&self, index: usize, out: &mut String) -> bool {
+        let Ok(index) = u32::try_from(index) else {
+            out.clear();
+            return false;
+        };
+        with_spare(out, |buf| self.inner.contact_name_into(index, buf))
+    }
     /// Tell the helm which contact this behavior is about (`IVPHELM_CONTACT_SUMMARY`).
     pub fn set_contact(&mut self, name: &str) {
         self.inner.set_contact(name.into())
     }
 
     fn prefixed(&self, msg: &str) -> String {
-        let name = self.inner.name();
-        if name.is_empty() {
-            msg.to_string()
-        } else {
-            format!("{name}: {msg}")
+        let mut text = String::new();
+        self.name_into(&mut text);
+        if !text.is_empty() {
+            text.push_str(": ");
         }
+        text.push_str(msg);
+        text
     }
+}
+
+thread_local! {
+    /// The string the helm writes an `_into` answer into before it is copied to the
+    /// caller's `String`: this library's own `RString`, kept, so the helm refills it in
+    /// place and grows it (through this library's allocator) only for a longer text.
+    static SPARE: Cell<RString> = const { Cell::new(RString::new()) };
+}
+
+/// `fill` writes into the spare `RString`; `out` becomes a copy of it, in its own storage.
+fn with_spare<R>(out: &mut String, fill: impl FnOnce(&mut RString) -> R) -> R {
+    // Taken out of the cell while the helm writes: a nested call (none is expected)
+    // would find an empty spare, not a borrowed one.
+    let mut buf = SPARE.with(Cell::take);
+    let r = fill(&mut buf);
+    out.clear();
+    out.push_str(buf.as_str());
+    SPARE.with(|s| s.set(buf));
+    r
 }
 
 /// A behavior, written as plain Rust. Only the hooks a type needs have to be written.

@@ -245,4 +245,30 @@ impl HelmContext for MockHelm {
     fn set_contact(&mut self, name: RStr<'_>) {
         self.contact_set = name.as_str().to_string();
     }
+
+    // The `_into` forms: the answers above, written into `out`.
+    fn contact_text_into(&self, name: RStr<'_>, field: RStr<'_>, out: &mut RString) {
+        refill(out, self.contact_text(name, field).as_str());
+    }
+    fn name_into(&self, out: &mut RString) {
+        refill(out, &self.name);
+    }
+    fn ownship_into(&self, out: &mut RString) {
+        refill(out, self.ownship().as_str());
+    }
+    fn string_val_into(&mut self, var: RStr<'_>, warn: bool, out: &mut RString) -> bool {
+        let v = self.string_val(var, warn).into_option();
+        refill(out, v.as_ref().map_or("", RString::as_str));
+        v.is_some()
+    }
+    fn contact_name_into(&self, index: u32, out: &mut RString) -> bool {
+        let v = self.contact_name(index).into_option();
+        refill(out, v.as_ref().map_or("", RString::as_str));
+        v.is_some()
+    }
+}
+
+fn refill(out: &mut RString, text: &str) {
+    out.clear();
+    out.push_str(text);
 }

@@ -57,7 +57,7 @@
 //! assert_eq!(speed.value, Value::Num(2.0));
 //! ```
 
-pub mod config;
+pub use helm_config as config;
 pub mod engine;
 pub mod factory;
 pub mod info_buffer;

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use behavior_api::{abi_v1, BehaviorBox, BehaviorLibRef};
+use behavior_api::{abi_v1, abi_v2, BehaviorBox, BehaviorLibRef};
 
 /// A loaded behavior library and the types it offers (never unloaded: behaviors from it
 /// may live as long as the process).
@@ -19,6 +19,8 @@ enum Module {
     Current(BehaviorLibRef),
     /// Built against behavior-api 0.1.0 (before contacts): its behaviors are adapted.
     V1(abi_v1::module::BehaviorLibRef),
+    /// Built against behavior-api 0.1.1 (contacts, before the `_into` context methods).
+    V2(abi_v2::module::BehaviorLibRef),
 }
 
 impl Module {
@@ -26,6 +28,7 @@ impl Module {
         match self {
             Module::Current(m) => (m.behavior_types())(),
             Module::V1(m) => (m.behavior_types())(),
+            Module::V2(m) => (m.behavior_types())(),
         }
     }
 }
@@ -48,6 +51,9 @@ impl LoadedLibrary {
             Module::V1(m) => (m.create())(type_name.into(), helm_domain.into())
                 .into_option()
                 .map(|r| r.into_result().map(abi_v1::adapt).map_err(String::from)),
+            Module::V2(m) => (m.create())(type_name.into(), helm_domain.into())
+                .into_option()
+                .map(|r| r.into_result().map(abi_v2::adapt).map_err(String::from)),
         }
     }
 }
@@ -103,15 +109,16 @@ fn load_one(path: &Path) -> Result<Module, String> {
             .map(Module::V1)
             .map_err(refused);
     }
+    if abi_v2::speaks_v2(&theirs) {
+        return header
+            .init_root_module::<abi_v2::module::BehaviorLibRef>()
+            .map(Module::V2)
+            .map_err(refused);
+    }
     header
         .init_root_module::<BehaviorLibRef>()
         .map(Module::Current)
-        .map_err(|e| {
-            format!(
-                "incompatible with this helm's behavior-api {ours}: {}",
-                first_line(&e)
-            )
-        })
+        .map_err(refused)
 }
 
 /// The whole reason on one line (abi_stable splits "could not open library at: PATH"

@@ -275,7 +275,7 @@ fn helm_post_times(alog: &Path) -> Vec<f64> {
 }
 
 fn scratch(tag: &str) -> PathBuf {
-    common::fresh_dir(std::env::temp_dir().join(format!("helm-{tag}-{}", std::process::id())))
+    common::temp_dir(&format!("helm-{tag}"))
 }
 
 /// The alpha mission written into `dir` for a DB on a free port, the vehicle at its

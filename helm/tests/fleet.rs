@@ -334,8 +334,7 @@ fn fleet_of_eight_avoids_each_other() {
 /// "interrupted after N of M runs", runs.csv with N rows, no shard file, exit 130.
 #[test]
 fn ctrl_c_during_a_fleet_monte_carlo_keeps_the_finished_runs() {
-    let out = std::env::temp_dir().join(format!("fleet-interrupt-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+    let out = common::temp_dir("fleet-interrupt").join("out");
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_helm"));
     cmd.args([
         "sim",

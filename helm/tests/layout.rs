@@ -12,6 +12,7 @@ mod common;
 const HELM_CRATES: &[&str] = &[
     "helm",
     "helm-engine",
+    "helm-config",
     "helm-cycle",
     "helm-mission",
     "helm-conform",

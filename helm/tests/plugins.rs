@@ -819,22 +819,25 @@ fn library_built_against_another_api_version_is_refused_in_one_line() {
 /// The last release of `behavior-api` before contacts were added to the ABI (0.1.0).
 const PREVIOUS_API_RELEASE: &str = "7b7850b";
 
-/// A plugin built from the previous release's source (its `behavior-api` 0.1.0 and its
-/// template, unchanged) loads into this helm and drives: the ABI grew additively.
-#[test]
-fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
-    let root = scratch("previous-release");
+/// The last release before the context's `_into` methods were added (0.1.1, contacts).
+const CONTACTS_API_RELEASE: &str = "84fa08f";
+
+/// Builds `package` from the source of `commit` (read from the repo's history, whose
+/// `behavior-api` must be `api_version`), unchanged; returns a folder holding only its
+/// library. Both releases share one target folder: their registry crates build once.
+fn build_released_plugin(commit: &str, api_version: &str, package: &str) -> PathBuf {
+    let root = scratch(format!("release-{commit}"));
     let ws = workspace();
     let tree = root.join("tree");
     std::fs::create_dir_all(&tree).unwrap();
     let archive = Command::new("git")
         .current_dir(&ws)
-        .args(["archive", "--format=tar", PREVIOUS_API_RELEASE])
+        .args(["archive", "--format=tar", commit])
         .output()
         .expect("run git (the test reads the previous release from the repo's history)");
     assert!(
         archive.status.success(),
-        "git archive {PREVIOUS_API_RELEASE} failed (a shallow clone?): {}",
+        "git archive {commit} failed (a shallow clone?): {}",
         String::from_utf8_lossy(&archive.stderr)
     );
     let mut tar = Command::new("tar")
@@ -846,12 +849,15 @@ fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
     std::io::Write::write_all(tar.stdin.as_mut().unwrap(), &archive.stdout).unwrap();
     assert!(tar.wait().unwrap().success());
     let old_api = std::fs::read_to_string(tree.join("behavior-api/Cargo.toml")).unwrap();
-    assert!(old_api.contains("version = \"0.1.0\""), "{old_api}");
+    assert!(
+        old_api.contains(&format!("version = \"{api_version}\"")),
+        "{old_api}"
+    );
     let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("previous-release-target");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
         .current_dir(&tree)
-        .args(["build", "--quiet", "--offline", "-p", "bhv-template"])
+        .args(["build", "--quiet", "--offline", "-p", package])
         .env("CARGO_TARGET_DIR", &target)
         .output()
         .expect("run cargo");
@@ -860,13 +866,17 @@ fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let lib_dir = scratch("previous-release-lib");
-    std::fs::copy(
-        target.join("debug/libbhv_template.so"),
-        lib_dir.join("libbhv_template.so"),
-    )
-    .unwrap();
+    let lib = common::lib_name(package);
+    let lib_dir = scratch(format!("release-{commit}-lib"));
+    std::fs::copy(target.join("debug").join(&lib), lib_dir.join(&lib)).unwrap();
+    lib_dir
+}
 
+/// A plugin built from the previous release's source (its `behavior-api` 0.1.0 and its
+/// template, unchanged) loads into this helm and drives: the ABI grew additively.
+#[test]
+fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
+    let lib_dir = build_released_plugin(PREVIOUS_API_RELEASE, "0.1.0", "bhv-template");
     // A mission driven only by the old library's BHV_Template (speed 1.5).
     let mission = scratch("previous-release-mission");
     std::fs::write(
@@ -906,6 +916,34 @@ fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
         speeds.iter().all(|v| v.parse::<f64>() == Ok(1.5)),
         "{speeds:?}"
     );
+}
+
+/// The contact behaviors built from the 0.1.1 release's source (`plugins/contact`
+/// against its `behavior-api` 0.1.1, unchanged) load through the frozen 0.1.1 shape
+/// (`abi_v2`) and give the golden answers of the contact cases, every step: the 0.1.1
+/// contact methods (`contact`, `contact_text`, `set_contact` ...) are called through it.
+#[test]
+fn a_contact_plugin_built_against_the_0_1_1_release_still_loads_and_runs() {
+    let lib_dir = build_released_plugin(CONTACTS_API_RELEASE, "0.1.1", "bhv-contact");
+    let (_, report) = helm_mission::factory_for(std::slice::from_ref(&lib_dir));
+    let report = report.join("\n");
+    assert!(
+        report.contains("BHV_AvoidCollision") && !report.contains("skipped"),
+        "{report}"
+    );
+    for case in [
+        "avd_ten_contacts",
+        "cutrange_spawn_pursuit",
+        "trail_contact",
+    ] {
+        let file = workspace().join(format!("conformance/helm/{case}.toml"));
+        let out = helm_conform(&file, Some(lib_dir.to_str().unwrap()));
+        let t = text(&out);
+        assert!(
+            out.status.success() && t.contains("1 passed, 0 failed"),
+            "{case}:\n{t}"
+        );
+    }
 }
 
 /// The helm binary copied into `<root>/bin` with `libs` in `<root>/<lib_sub>`.

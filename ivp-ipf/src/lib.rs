@@ -24,9 +24,10 @@ struct Utf8Out<'a> {
 impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
-        // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes, masked to 7 bits as
-        // they were written), so they are valid UTF-8 after every call, as a `String`
-        // requires, whenever `s` can be seen again.
+        // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
+        // as they were written, or copied from the ASCII tables `SMALL`, `PAIRS`,
+        // `DIGIT_PAIRS` and literals), so they are valid UTF-8 after every call, as a
+        // `String` requires, whenever `s` can be seen again.
         let bytes = unsafe { s.as_mut_vec() };
         Utf8Out { bytes }
     }
@@ -45,7 +46,9 @@ impl<'a> Utf8Out<'a> {
         self.bytes.extend_from_slice(s.as_bytes());
     }
 
-    /// A batch of formatted pieces.
+    /// A batch of formatted pieces (inlined: the batch's length then stays in a
+    /// register through the piece loop).
+    #[inline(always)]
     fn ascii(&mut self, text: &mut PieceText) {
         let b = text.take();
         debug_assert!(b.is_ascii());
@@ -195,30 +198,45 @@ pub fn encode_into(f: &IvpFunction, s: &mut String) {
     let mut out = Utf8Out::new(s);
     // Generous: growing a string of thousands of pieces copies it each time.
     out.reserve(f.piece_count() * (dim * 12 + (dim + 1) * 10));
+    // Pieces are formatted on the stack and appended a batch at a time: no capacity
+    // check per character, one per number.
+    let mut text = PieceText::new();
     let pieces = f
         .bounds()
         .chunks_exact(2 * dim)
         .zip(f.weights().chunks_exact(dim + 1));
-    // Pieces are formatted on the stack and appended a batch at a time: no capacity
-    // check per character, one per number.
-    let mut text = PieceText::new();
     for (bounds, weights) in pieces {
         for &b in bounds {
             text.make_room(&mut out);
-            text.byte(b',');
-            text.i32(b);
+            text.bound(b);
         }
         for &w in weights {
             text.make_room(&mut out);
-            text.byte(b',');
-            if !text.weight(w) {
-                // Huge, infinite or NaN: the rare slow way, straight into the string.
-                out.ascii(&mut text);
-                out.weight(w);
-            }
+            text.weight_or_slow(w, &mut out);
         }
     }
     out.ascii(&mut text);
+}
+
+/// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
+#[cold]
+fn long_digits(mut n: u64) -> ([u8; 20], usize) {
+    let mut tmp = [0u8; 20];
+    let mut i = tmp.len();
+    while n >= 100 {
+        let p = 2 * (n % 100) as usize;
+        n /= 100;
+        i -= 2;
+        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
+    }
+    if n >= 10 {
+        i -= 2;
+        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
+    } else {
+        i -= 1;
+        tmp[i] = b'0' + n as u8;
+    }
+    (tmp, i)
 }
 
 /// `"00".."99"`: two digits per table read.
@@ -233,9 +251,59 @@ const DIGIT_PAIRS: [u8; 200] = {
     t
 };
 
+/// `0..=999` as text: the digits in the low three bytes (first digit lowest), their
+/// number in the top byte; one table read and one store write a small number.
+const SMALL: [u32; 1000] = {
+    let mut t = [0u32; 1000];
+    let mut n = 0;
+    while n < 1000 {
+        let (h, d, u) = ((n / 100) as u32, (n / 10 % 10) as u32, (n % 10) as u32);
+        let z = b'0' as u32;
+        t[n] = if n < 10 {
+            (1 << 24) | (z + u)
+        } else if n < 100 {
+            (2 << 24) | (z + d) | ((z + u) << 8)
+        } else {
+            (3 << 24) | (z + h) | ((z + d) << 8) | ((z + u) << 16)
+        };
+        n += 1;
+    }
+    t
+};
+
+/// `0..=99` as two digits, first digit in the low byte.
+const PAIRS: [u16; 100] = {
+    let mut t = [0u16; 100];
+    let mut n = 0;
+    while n < 100 {
+        t[n] = (b'0' as u16 + (n / 10) as u16) | ((b'0' as u16 + (n % 10) as u16) << 8);
+        n += 1;
+    }
+    t
+};
+
+/// Trailing zeros of a two-digit group (`00` has two).
+const ZEROS: [u8; 100] = {
+    let mut t = [0u8; 100];
+    let mut n = 0;
+    while n < 100 {
+        t[n] = if n == 0 {
+            2
+        } else if n % 10 == 0 {
+            1
+        } else {
+            0
+        };
+        n += 1;
+    }
+    t
+};
+
 /// A batch of pieces' text (ASCII digits and punctuation only) on the stack.
 struct PieceText {
-    buf: [u8; PieceText::SIZE],
+    /// `SIZE` bytes of text and room for the 8-byte stores that write a number's
+    /// bytes at once (the bytes past a number are overwritten by the next one).
+    buf: [u8; PieceText::SIZE + 8],
     len: usize,
 }
 
@@ -244,12 +312,33 @@ impl PieceText {
     /// Flushed before a number once this much is buffered: a bound takes at most 12
     /// bytes (`,` sign and 10 digits), a fast-path weight 18 (`,` sign, 11 integer
     /// digits, `.` and 4 decimals).
-    const FLUSH_AT: usize = Self::SIZE - 18;
+    const FLUSH_AT: usize = Self::SIZE - Self::WEIGHT_MAX;
+    /// Most bytes of one fast-path weight (`,`, sign, 11 integer digits, `.`, 4 decimals).
+    const WEIGHT_MAX: usize = 18;
 
     fn new() -> Self {
         PieceText {
-            buf: [0; Self::SIZE],
+            buf: [0; Self::SIZE + 8],
             len: 0,
+        }
+    }
+
+    /// Eight bytes at the end of the text, of which the caller keeps a prefix.
+    #[inline(always)]
+    fn put8(&mut self, bytes: u64) {
+        self.buf[self.len..self.len + 8].copy_from_slice(&bytes.to_le_bytes());
+    }
+
+    /// `,` and a box bound: one store for the usual `0..=999`.
+    #[inline(always)]
+    fn bound(&mut self, b: i32) {
+        if (0..1000).contains(&b) {
+            let e = SMALL[b as usize];
+            self.put8(u64::from(b',') | (u64::from(e & 0xff_ffff) << 8));
+            self.len += 1 + (e >> 24) as usize;
+        } else {
+            self.byte(b',');
+            self.i32(b);
         }
     }
 
@@ -261,7 +350,19 @@ impl PieceText {
         }
     }
 
+    /// `,` and a weight; the huge, infinite and NaN ones the rare slow way, straight
+    /// into `out` after the batch so far.
+    #[inline(always)]
+    fn weight_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
+        self.byte(b',');
+        if !self.weight(w) {
+            out.ascii(self);
+            out.weight(w);
+        }
+    }
+
     /// The buffered text, emptied.
+    #[inline(always)]
     fn take(&mut self) -> &[u8] {
         let n = std::mem::take(&mut self.len);
         &self.buf[..n]
@@ -304,22 +405,11 @@ impl PieceText {
         }
     }
 
-    fn long_u64(&mut self, mut n: u64) {
-        let mut tmp = [0u8; 20];
-        let mut i = tmp.len();
-        while n >= 100 {
-            let p = 2 * (n % 100) as usize;
-            n /= 100;
-            i -= 2;
-            tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
-        }
-        if n >= 10 {
-            i -= 2;
-            tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
-        } else {
-            i -= 1;
-            tmp[i] = b'0' + n as u8;
-        }
+    #[inline(always)]
+    fn long_u64(&mut self, n: u64) {
+        // The digits come back by value, so the batch never has its address taken
+        // and its length stays in a register through the piece loop.
+        let (tmp, i) = long_digits(n);
         let k = tmp.len() - i;
         self.buf[self.len..self.len + k].copy_from_slice(&tmp[i..]);
         self.len += k;
@@ -343,39 +433,34 @@ impl PieceText {
         if x.is_nan() || x >= 1e15 {
             return false;
         }
-        if w < 0.0 {
-            self.byte(b'-');
-        }
+        // The sign is written always and kept only for a negative weight.
+        self.buf[self.len] = b'-';
+        self.len += usize::from(w < 0.0);
         if a == 0.0 {
             self.byte(b'0');
             return true;
         }
-        // Below 1e15 (< 2^53) `x as u64` is exactly `x.trunc()`.
-        let n = x as u64;
+        // Below 1e15 (< 2^53) `x as i64` is exactly `x.trunc()` (and one instruction).
+        let n = x as i64 as u64;
         if n == 0 {
             self.buf[self.len..self.len + 6].copy_from_slice(b"0.0000");
             self.len += 6;
             return true;
         }
-        self.u64(n / 10000);
-        self.byte(b'.');
-        // Four decimals, trailing zeros removed.
-        let frac = (n % 10000) as u32;
-        let (hi, lo) = (frac / 100, frac % 100);
-        if lo != 0 {
-            self.pair(hi);
-            if lo % 10 == 0 {
-                self.byte(b'0' + (lo / 10) as u8);
-            } else {
-                self.pair(lo);
-            }
-        } else if hi != 0 {
-            if hi % 10 == 0 {
-                self.byte(b'0' + (hi / 10) as u8);
-            } else {
-                self.pair(hi);
-            }
+        let whole = n / 10000;
+        if whole < 1000 {
+            let e = SMALL[whole as usize];
+            self.put8(u64::from(e & 0xff_ffff));
+            self.len += (e >> 24) as usize;
+        } else {
+            self.u64(whole);
         }
+        // `.` and four decimals, trailing zeros removed (the `.` stays).
+        let frac = (n - whole * 10000) as usize;
+        let (hi, lo) = (frac / 100, frac % 100);
+        self.put8(u64::from(b'.') | (u64::from(PAIRS[hi]) << 8) | (u64::from(PAIRS[lo]) << 24));
+        let zeros = usize::from(ZEROS[lo]) + usize::from(lo == 0) * usize::from(ZEROS[hi]);
+        self.len += 5 - zeros;
         true
     }
 }
@@ -745,6 +830,17 @@ mod tests {
             text.i32(v);
             assert_eq!(text.take(), v.to_string().as_bytes());
         }
+        let mut text = PieceText::new();
+        let mut want = String::new();
+        for v in (-1100..1100).chain([9999, 10_000, 123_456, i32::MIN, i32::MAX]) {
+            text.bound(v);
+            want.push_str(&format!(",{v}"));
+            if text.len > PieceText::FLUSH_AT {
+                assert_eq!(text.take(), want.as_bytes());
+                want.clear();
+            }
+        }
+        assert_eq!(text.take(), want.as_bytes());
     }
 
     /// Random functions (1-3 dimensions, random boxes and weights, pwt, contexts with

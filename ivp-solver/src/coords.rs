@@ -37,6 +37,17 @@ impl CoordTable {
         self.off.push(self.coord.len());
     }
 
+    /// Where dimension `d`'s coordinates start in [`CoordTable::all`], and how many.
+    pub(crate) fn span(&self, d: usize) -> (usize, usize) {
+        (self.off[d], self.off[d + 1] - self.off[d])
+    }
+
+    /// Every dimension's coordinates, one after the other.
+    #[inline(always)]
+    pub(crate) fn all(&self) -> &[u32] {
+        &self.coord
+    }
+
     /// The coordinates of dimension `d`'s indices (one per point).
     #[inline(always)]
     pub(crate) fn line(&self, d: usize) -> &[u32] {

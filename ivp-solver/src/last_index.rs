@@ -31,6 +31,8 @@ pub(super) struct LastIndex {
     stride: Vec<usize>,
     /// Cell coordinate of every index (the points of each dimension).
     coords: CoordTable,
+    /// Per dimension: its coordinates' start in `coords.all()`, their count, its stride.
+    lines: [(usize, usize, usize); ODO_DIMS],
     start: Vec<u32>,
     items: Vec<u32>,
     cursor: Vec<u32>,
@@ -94,6 +96,10 @@ impl LastIndex {
             total *= ((pts[d] + ppg[d] - 1) / ppg[d]).max(1) as usize;
         }
         self.make_coord_table(pts);
+        for d in 0..dim {
+            let (at, len) = self.coords.span(d);
+            self.lines[d] = (at, len, self.stride[d]);
+        }
         self.start.clear();
         self.start.resize(total + 1, 0);
         self.ub.clear();
@@ -174,18 +180,19 @@ impl LastIndex {
     /// The one cell holding all of box `b`, if there is one.
     #[inline(always)]
     pub(super) fn cell_of(&self, b: &[i32]) -> Option<usize> {
+        let coord = self.coords.all();
         let mut c = 0;
-        for d in 0..self.dim.min(ODO_DIMS) {
-            let line = self.coords.line(d);
+        for (d, &(at, len, stride)) in self.lines.iter().enumerate().take(self.dim) {
             // A negative index turns huge and fails the range test.
             let (lo, hi) = (b[2 * d] as usize, b[2 * d + 1] as usize);
-            let (Some(&k), Some(&kh)) = (line.get(lo), line.get(hi)) else {
-                return None;
-            };
-            if kh != k {
+            if lo >= len || hi >= len {
                 return None;
             }
-            c += k as usize * self.stride[d];
+            let k = coord[at + lo];
+            if coord[at + hi] != k {
+                return None;
+            }
+            c += k as usize * stride;
         }
         Some(c)
     }

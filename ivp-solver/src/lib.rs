@@ -25,7 +25,7 @@ use ivp::{Domain, IvpError, IvpFunction};
 use last_bits::LastBits;
 use last_index::LastIndex;
 use prepared::{Prepared, NO_BOUND};
-use search::Search;
+use search::{Search, Term};
 use std::cell::Cell;
 
 mod coords;
@@ -34,11 +34,12 @@ mod last_index;
 mod prepared;
 mod search;
 mod setup;
+mod weigh;
 #[cfg(test)]
 use {
     prepared::{for_each_cell, for_each_cell_any, intersects},
-    search::bound_rest,
-    setup::min_max_wt,
+    search::{bound_pair, bound_rest, bound_terms, bound_upto},
+    weigh::min_max_wt,
 };
 
 /// The solver's answer, one entry per *helm* domain variable.
@@ -75,6 +76,8 @@ pub struct Solver {
     seed_w: Vec<f64>,
     /// The allocation of each solve's list of box slices, kept empty between solves.
     boxes_buf: Vec<&'static [i32]>,
+    /// The allocation of each solve's list of bound terms, kept empty between solves.
+    terms_buf: Vec<Term<'static>>,
     /// Last solve: (seeded, searched again unseeded, last bit sets on), for the tests.
     #[cfg(test)]
     stats: (usize, usize, usize),
@@ -83,6 +86,12 @@ pub struct Solver {
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
 /// in place, so the buffer is kept and nothing of the old borrows remains.
 fn recycle_slices<'b>(mut v: Vec<&[i32]>) -> Vec<&'b [i32]> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("cleared")).collect()
+}
+
+/// [`recycle_slices`] for the list of bound terms.
+fn recycle_terms<'b>(mut v: Vec<Term<'_>>) -> Vec<Term<'b>> {
     v.clear();
     v.into_iter().map(|_| unreachable!("cleared")).collect()
 }
@@ -204,6 +213,15 @@ impl Solver {
                 &p.bounds[..]
             }
         }));
+        let mut terms = recycle_terms(std::mem::take(&mut self.terms_buf));
+        terms.extend(self.active.iter().map(|&fi| {
+            let f = &self.funcs[fi];
+            Term {
+                grid: (!f.single).then_some(f),
+                ub: f.global_ub,
+                geom: f.geom,
+            }
+        }));
         index_last(&mut self.last, &self.funcs, &self.active, &self.pts, &boxes);
         let fl = self.active[self.active.len() - 1];
         let bits_on = self.active.len() > 1 && !self.last.on && self.funcs[fl].single;
@@ -237,6 +255,7 @@ impl Solver {
             funcs: &self.funcs,
             boxes: &boxes,
             active: &self.active,
+            terms: &terms,
             dim,
             node_b: &mut self.node_b,
             node_w: &mut self.node_w,
@@ -248,6 +267,7 @@ impl Solver {
             tol,
             doubt: Cell::new(false),
             last,
+            last_ub: self.funcs[fl].global_ub,
             bits: bits_on.then_some(&mut self.bits),
             bits_ready: false,
             scans: 0,
@@ -274,6 +294,7 @@ impl Solver {
         }
         let (found, best) = (s.found, s.best);
         self.boxes_buf = recycle_slices(boxes);
+        self.terms_buf = recycle_terms(terms);
         if !found {
             return Ok(false);
         }

@@ -26,8 +26,9 @@ pub(crate) fn bound_rest(
 /// The reference bound [`bound_rest`] and a tighter one: with a [`LastIndex`] cell
 /// holding the box, the last function's term (its global bound, a one-cell function)
 /// is replaced by the cell's bound. The first is bit for bit [`bound_rest`]: the same
-/// sum, the last term added last.
-#[inline]
+/// sum, the last term added last. ([`Search::skip`] computes them lazily; this is its
+/// reference.)
+#[cfg(test)]
 pub(crate) fn bound_pair(
     funcs: &[Prepared],
     active: &[usize],
@@ -94,11 +95,48 @@ pub(crate) fn bound_upto(
     acc
 }
 
+/// One active function as the search's bounds read it: its global bound when it is
+/// one cell, else its cells (and the position of its grid geometry, see
+/// [`Prepared::geom`]). Kept in active order, side by side.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Term<'a> {
+    pub(crate) grid: Option<&'a Prepared>,
+    pub(crate) ub: f64,
+    pub(crate) geom: usize,
+}
+
+/// [`bound_upto`] over the terms of the functions `level..upto` (`dim <= ODO_DIMS`):
+/// the same terms added in the same order.
+#[inline]
+pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -> f64 {
+    let mut range_of = usize::MAX;
+    let mut range = CellRange {
+        lo: [0; ODO_DIMS],
+        hi: [0; ODO_DIMS],
+        top: 0,
+        one: true,
+    };
+    for t in terms {
+        let Some(f) = t.grid else {
+            acc += t.ub;
+            continue;
+        };
+        if t.geom != range_of {
+            range = f.range(b, dim);
+            range_of = t.geom;
+        }
+        acc += f.bound_over(&range, dim);
+    }
+    acc
+}
+
 pub(crate) struct Search<'a> {
     pub(crate) funcs: &'a [Prepared],
     /// The boxes of function `fi` (see [`Prepared::bounds`]).
     pub(crate) boxes: &'a [&'a [i32]],
     pub(crate) active: &'a [usize],
+    /// The active functions' bound terms (see [`Term`]).
+    pub(crate) terms: &'a [Term<'a>],
     pub(crate) dim: usize,
     pub(crate) node_b: &'a mut [i32],
     pub(crate) node_w: &'a mut [f64],
@@ -115,6 +153,8 @@ pub(crate) struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     pub(crate) doubt: Cell<bool>,
     pub(crate) last: Option<&'a LastIndex>,
+    /// The last function's global bound (its term when `last` is on).
+    pub(crate) last_ub: f64,
     /// The last function's bit sets when it may use them, made once `scans` reaches
     /// [`BITS_AFTER`] (`bits_ready`).
     pub(crate) bits: Option<&'a mut LastBits>,
@@ -124,9 +164,44 @@ pub(crate) struct Search<'a> {
 }
 
 impl Search<'_> {
+    /// [`Search::prune`] of the node `b` at `level` (functions `level..` not yet
+    /// fixed) worth `acc`, with its bounds [`bound_pair`] computed only as far as
+    /// the answer needs them: none before the first leaf of an unseeded search
+    /// (nothing is pruned then), and the tighter bound only when the reference bound
+    /// does not prune. The bounds computed are [`bound_pair`]'s, with the same
+    /// operations in the same order.
     #[inline]
-    pub(crate) fn bounds(&self, level: usize, b: &[i32], acc: f64) -> (f64, f64) {
-        bound_pair(self.funcs, self.active, self.dim, level, b, acc, self.last)
+    pub(crate) fn skip(&self, level: usize, b: &[i32], acc: f64) -> bool {
+        if !(self.found || self.seeded) {
+            return false;
+        }
+        let (m, dim) = (self.active.len(), self.dim);
+        let Some(ix) = self.last else {
+            let r = if dim <= ODO_DIMS {
+                bound_terms(&self.terms[level..m], dim, b, acc)
+            } else {
+                bound_rest(self.funcs, self.active, dim, level, b, acc)
+            };
+            return self.prune(r, r);
+        };
+        // The last function is one cell (the index is on, so `dim <= ODO_DIMS`): its
+        // term is its global bound, added last; the same sum whether or not a cell
+        // holds `b`.
+        let prefix = if level + 1 == m {
+            acc
+        } else {
+            bound_terms(&self.terms[level..m - 1], dim, b, acc)
+        };
+        let rb = prefix + self.last_ub;
+        if rb <= self.best {
+            // Pruned whatever the tighter bound.
+            return self.prune(rb, rb);
+        }
+        let tb = match ix.cell_of(b) {
+            Some(c) => prefix + ix.bound(c),
+            None => rb,
+        };
+        self.prune(rb, tb)
     }
 
     /// Whether to skip a subtree with reference bound `rb` (spec §6.1, computed
@@ -206,8 +281,7 @@ impl Search<'_> {
         }
         for (pb, pw) in pieces {
             let mv = max_val(pb, pw);
-            let (rb, tb) = self.bounds(1, pb, mv);
-            if !self.prune(rb, tb) {
+            if !self.skip(1, pb, mv) {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);
@@ -367,11 +441,8 @@ impl Search<'_> {
             let mv = max_val(child_b, child_w);
             if last {
                 s.leaf(level, mv);
-            } else {
-                let (rb, tb) = bound_pair(s.funcs, s.active, dim, level + 1, &cb[..bl], mv, s.last);
-                if !s.prune(rb, tb) {
-                    s.recurse(level + 1);
-                }
+            } else if !s.skip(level + 1, &s.node_b[level * bl..(level + 1) * bl], mv) {
+                s.recurse(level + 1);
             }
         };
         if f.single {

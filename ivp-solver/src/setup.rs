@@ -2,6 +2,7 @@
 //! translated into the problem domain, with its grid of cell lists and cell bounds.
 
 use super::*;
+use crate::weigh::{min_max_wt, weigh, Weighing};
 
 impl Solver {
     /// addOF (normalize if range > 100, apply pwt), alignment and grid build.
@@ -37,7 +38,7 @@ impl Solver {
         let pwt = f.pwt();
         let n = f.piece_count();
         p.n = n;
-        let (bl, wl) = (2 * dim, dim + 1);
+        let wl = dim + 1;
         let (fb, fw) = (f.bounds(), f.weights());
         let identity = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t);
         p.borrowed = identity;
@@ -81,35 +82,24 @@ impl Solver {
         }
         p.weights.resize(n * wl, 0.0);
         p.weights.truncate(n * wl);
-        p.piece_ub.clear();
         let boxes: &[i32] = if identity { fb } else { &p.bounds };
-        let mut most = 0.0f64;
-        for (k, (w, src)) in p
-            .weights
-            .chunks_exact_mut(wl)
-            .zip(fw.chunks_exact(od + 1))
-            .enumerate()
-        {
-            if norm {
-                w[dim] = ((src[od] + shift) * scale) * pwt;
-                for (&x, &t) in src.iter().zip(&p.map) {
-                    w[t] = (x * scale) * pwt;
-                }
-            } else {
-                w[dim] = src[od] * pwt;
-                for (&x, &t) in src.iter().zip(&p.map) {
-                    w[t] = x * pwt;
-                }
-            }
-            let t = term(w, &self.pts);
-            // NaN must not be lost by `max`.
-            if t > most || t.is_nan() {
-                most = t;
-            }
-            if piece_bounds {
-                p.piece_ub.push(max_val(&boxes[k * bl..(k + 1) * bl], w));
-            }
-        }
+        let wg = Weighing {
+            map: &p.map,
+            identity,
+            norm,
+            shift,
+            scale,
+            pwt,
+            pts: &self.pts,
+        };
+        let most = weigh(
+            &wg,
+            fw,
+            od,
+            &mut p.weights,
+            piece_bounds.then_some(boxes),
+            &mut p.piece_ub,
+        );
         p.term_scale = most;
         if first {
             // Its cell size is still known (`ppg`), for the geometry sharing and the
@@ -244,69 +234,20 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
 /// which holds the cell's pieces in array order, so every cell sees the comparisons
 /// of the piece-by-piece build in the same order.
 fn cell_bounds(p: &mut Prepared, total: usize) {
+    let (start, items, piece_ub) = (&p.cell_start, &p.cell_items, &p.piece_ub);
     for c in 0..total {
-        let list = &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize];
+        let list = &items[start[c] as usize..start[c + 1] as usize];
+        // The cell's bound and flag held in registers over its list.
+        let (mut ub, mut filled) = (p.cell_ub[c], p.cell_filled[c]);
         for &k in list {
-            let v = p.piece_ub[k as usize];
-            if !p.cell_filled[c] || v > p.cell_ub[c] {
-                p.cell_ub[c] = v;
+            let v = piece_ub[k as usize];
+            if !filled || v > ub {
+                ub = v;
             }
-            p.cell_filled[c] = true;
+            filled = true;
         }
+        (p.cell_ub[c], p.cell_filled[c]) = (ub, filled);
     }
-}
-
-/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
-/// dimensions: each accumulates the same terms in the same order, and the pieces are
-/// compared in the same order, so the values are the same bit for bit.
-pub(super) fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
-    let od = f.dim();
-    if od == 0 || f.piece_count() == 0 {
-        return f.min_max_wt();
-    }
-    let extremes = |b: &[i32], w: &[f64]| {
-        let (mut lo, mut hi) = (w[od], w[od]);
-        for (d, &x) in w[..od].iter().enumerate() {
-            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
-            if x < 0.0 {
-                hi += x * l;
-                lo += x * h;
-            } else {
-                hi += x * h;
-                lo += x * l;
-            }
-        }
-        (lo, hi)
-    };
-    let mut pieces = f
-        .bounds()
-        .chunks_exact(2 * od)
-        .zip(f.weights().chunks_exact(od + 1));
-    let Some((b, w)) = pieces.next() else {
-        return f.min_max_wt();
-    };
-    let (mut mn, mut mx) = extremes(b, w);
-    for (b, w) in pieces {
-        let (lo, hi) = extremes(b, w);
-        if lo < mn {
-            mn = lo;
-        }
-        if hi > mx {
-            mx = hi;
-        }
-    }
-    (mn, mx)
-}
-
-/// `|intercept| + Σ_d |slope_d|·(pts_d - 1)` of one piece's weights (problem order).
-#[inline]
-fn term(w: &[f64], pts: &[i32]) -> f64 {
-    let dim = pts.len();
-    let mut t = w[dim].abs();
-    for d in 0..dim {
-        t += w[d].abs() * f64::from((pts[d] - 1).max(0));
-    }
-    t
 }
 
 /// Cell lists of a multi-cell grid: every cell's pieces in array order.

@@ -157,6 +157,7 @@ fn solver_min_max_wt_equals_the_functions() {
         Domain::parse("x:0:9:10,y:0:6:7").unwrap(),
         Domain::parse("x:0:359:360").unwrap(),
         Domain::parse("x:0:9:10,y:0:6:7,z:0:3:4").unwrap(),
+        Domain::parse("x:0:4:5,y:0:6:7,z:0:3:4,t:0:2:3").unwrap(),
     ];
     let mut seed = 7u64;
     for round in 0..600 {

@@ -375,11 +375,12 @@ impl ContactBase {
             spd: c.spd.max(0.0),
         };
         self.cn_utc = c.utc;
-        self.cn_type = ctx.contact_text(&self.contact, "type");
+        // Written into the kept strings: nothing allocated in steady state.
+        ctx.contact_text_into(&self.contact, "type", &mut self.cn_type);
         // The reference asks for the group under a field name the snapshot does not
         // know, so a contact behavior's contact group is always empty (§2.5).
         self.cn_group.clear();
-        self.cn_vsource = ctx.contact_text(&self.contact, "vsource");
+        ctx.contact_text_into(&self.contact, "vsource", &mut self.cn_vsource);
         let os_pose = Pose {
             x: os.x,
             y: os.y,

@@ -1,5 +1,7 @@
 //! The host side of a behavior call: [`HostCtx`] implements the ABI's `HelmContext`.
 
+use std::fmt::Write as _;
+
 use abi_stable::sabi_trait::TD_Opaque;
 use abi_stable::sabi_types::RMut;
 use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
@@ -31,6 +33,19 @@ pub fn with_ctx<R>(
 }
 
 impl HostCtx<'_> {
+    /// A contact's `type`, `group` or `vsource`; "" for an unknown contact or field.
+    fn contact_field(&self, name: &str, field: &str) -> &str {
+        let Some(c) = self.env.ledger.snapshot().get(name) else {
+            return "";
+        };
+        match field {
+            "type" => &c.vtype,
+            "group" => &c.group,
+            "vsource" => &c.vsource,
+            _ => "",
+        }
+    }
+
     fn quiet(&self, var: &str) -> bool {
         self.core
             .info_vars
@@ -211,16 +226,7 @@ impl HelmContext for HostCtx<'_> {
     }
 
     fn contact_text(&self, name: RStr<'_>, field: RStr<'_>) -> RString {
-        let Some(c) = self.env.ledger.snapshot().get(name.as_str()) else {
-            return RString::new();
-        };
-        let text = match field.as_str() {
-            "type" => &c.vtype,
-            "group" => &c.group,
-            "vsource" => &c.vsource,
-            _ => return RString::new(),
-        };
-        RString::from(text.as_str())
+        RString::from(self.contact_field(name.as_str(), field.as_str()))
     }
 
     fn set_contact(&mut self, name: RStr<'_>) {
@@ -228,5 +234,145 @@ impl HelmContext for HostCtx<'_> {
             self.core.contact.clear();
             self.core.contact.push_str(name.as_str());
         }
+    }
+
+    // The `_into` forms (0.1.2): `out` belongs to the behavior; refilled in place, it
+    // grows (through its own allocator) only for a text longer than any before.
+    fn contact_text_into(&self, name: RStr<'_>, field: RStr<'_>, out: &mut RString) {
+        refill(out, self.contact_field(name.as_str(), field.as_str()));
+    }
+    fn name_into(&self, out: &mut RString) {
+        refill(out, &self.core.name);
+    }
+    fn ownship_into(&self, out: &mut RString) {
+        refill(out, &self.core.ownship);
+    }
+    fn string_val_into(&mut self, var: RStr<'_>, warn: bool, out: &mut RString) -> bool {
+        // `InfoBuffer::string_val`'s rule (the string, else the number `%.6f`), written
+        // in place.
+        let var_str = var.as_str();
+        if let Some(v) = self.ib.sval(var_str) {
+            refill(out, v);
+            return true;
+        }
+        match self.ib.dval(var_str) {
+            Some(d) => {
+                out.clear();
+                // Writing into a string cannot fail.
+                let _ = write!(out, "{d:.6}");
+                true
+            }
+            None => {
+                out.clear();
+                if warn && !self.quiet(var.as_str()) {
+                    let msg = format!("{} str info not found in helm info_buffer", var.as_str());
+                    self.core.post_warning(&msg);
+                }
+                false
+            }
+        }
+    }
+    fn contact_name_into(&self, index: u32, out: &mut RString) -> bool {
+        let all = self.env.ledger.snapshot().contacts();
+        match all.get(index as usize) {
+            Some(c) => {
+                refill(out, &c.name);
+                true
+            }
+            None => {
+                out.clear();
+                false
+            }
+        }
+    }
+}
+
+/// `out` holding exactly `text`, its storage kept.
+fn refill(out: &mut RString, text: &str) {
+    out.clear();
+    out.push_str(text);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `_into` forms against the returning forms, over random buffer contents:
+    /// strings, numbers of every size (printed `%.6f`), missing variables with and
+    /// without the warning, and a stale `out`; the same answers and the same postings.
+    #[test]
+    fn into_forms_give_what_the_returning_forms_give() {
+        let env = HostEnv::default();
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let (mut warnings, mut numbers) = (0, 0);
+        for round in 0..200 {
+            let mut ib = InfoBuffer::new(0.0);
+            let mut core = BehaviorCore::new("BHV_X", "bhv_x", "abe");
+            core.name = format!("x{round}");
+            let mut vars = Vec::new();
+            for i in 0..8 {
+                let var = format!("V{i}");
+                match next() % 3 {
+                    0 => {
+                        let text = "y".repeat((next() % 40) as usize);
+                        ib.set_string(&var, &text, 0.0);
+                    }
+                    1 => {
+                        let mag = 10f64.powi((next() % 16) as i32 - 6);
+                        let v = (next() % 2_000_001) as f64 / 1000.0 - 1000.0;
+                        ib.set_double(&var, v * mag, 0.0);
+                    }
+                    _ => {} // missing
+                }
+                vars.push(var);
+            }
+            let mut out = RString::from("stale text");
+            for var in &vars {
+                let warn = next() % 2 == 0;
+                let mut host = HostCtx {
+                    core: &mut core,
+                    env: &env,
+                    ib: &ib,
+                };
+                let before = host.core.messages.len();
+                let want = host.string_val(var.as_str().into(), warn).into_option();
+                let warned = host.core.messages.len() - before;
+                warnings += warned;
+                numbers += usize::from(ib.sval(var).is_none() && want.is_some());
+                let found = host.string_val_into(var.as_str().into(), warn, &mut out);
+                assert_eq!(found, want.is_some(), "{var}");
+                assert_eq!(out.as_str(), want.as_ref().map_or("", RString::as_str));
+                // The same warning, once more, and nothing else.
+                let m = &host.core.messages;
+                assert_eq!(m.len() - before, 2 * warned, "{var} warn={warn}");
+                if warned == 1 {
+                    assert_eq!(m[m.len() - 1].var, m[m.len() - 2].var);
+                    assert_eq!(m[m.len() - 1].value, m[m.len() - 2].value);
+                }
+            }
+            let host = HostCtx {
+                core: &mut core,
+                env: &env,
+                ib: &ib,
+            };
+            host.name_into(&mut out);
+            assert_eq!(out, host.name());
+            host.ownship_into(&mut out);
+            assert_eq!(out, host.ownship());
+            host.contact_text_into("nobody".into(), "type".into(), &mut out);
+            assert_eq!(out, host.contact_text("nobody".into(), "type".into()));
+            assert!(!host.contact_name_into(0, &mut out));
+            assert_eq!(out.as_str(), "");
+        }
+        assert!(
+            warnings > 0 && numbers > 0,
+            "{warnings} warnings, {numbers} numbers"
+        );
     }
 }

@@ -76,15 +76,16 @@ pub fn scratch(rel: impl AsRef<Path>) -> PathBuf {
     fresh_dir(Path::new(env!("CARGO_TARGET_TMPDIR")).join(rel))
 }
 
-/// A new empty folder `<prefix>-<pid>-<n>` in the system temp dir (`n` counts the calls
-/// of this test binary, so every call gets its own).
+/// A new empty folder `<prefix>-<n>` under `CARGO_TARGET_TMPDIR` (`n` counts the calls
+/// of this test binary, so every call gets its own). The names repeat from run to run,
+/// so a run empties and reuses the last run's folders instead of adding more: simulator
+/// outputs are hundreds of MB, and a folder per process id filled the disk.
 pub fn temp_dir(prefix: &str) -> PathBuf {
     static N: AtomicUsize = AtomicUsize::new(0);
-    fresh_dir(std::env::temp_dir().join(format!(
-        "{prefix}-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    )))
+    fresh_dir(
+        Path::new(env!("CARGO_TARGET_TMPDIR"))
+            .join(format!("{prefix}-{}", N.fetch_add(1, Ordering::SeqCst))),
+    )
 }
 
 /// A port of 127.0.0.1 nobody listens on right now.

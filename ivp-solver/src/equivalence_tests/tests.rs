@@ -487,3 +487,273 @@ fn kept_setup_equals_a_fresh_one() {
     }
     assert!(kept_boxes > 100, "{kept_boxes}");
 }
+
+/// A random box inside `pts` (the search's nodes are), small ones often.
+fn random_box(pts: &[i32], seed: &mut u64) -> Vec<i32> {
+    let mut b = vec![];
+    for &p in pts {
+        let lo = pick(seed, p as u64) as i32;
+        let span = if pick(seed, 2) == 0 { 3 } else { p - lo };
+        let hi = lo + pick(seed, span.min(p - lo) as u64) as i32;
+        b.push(lo);
+        b.push(hi);
+    }
+    b
+}
+
+/// `Search::skip` (bounds computed lazily) answers, and flags doubt, exactly as
+/// `Search::prune` of the full `bound_pair`, for random nodes and search states
+/// (incumbent found or not, seeded or not, bounds near the incumbent), with and
+/// without the last function's index.
+#[test]
+fn lazy_skip_equals_prune_of_the_bound_pair() {
+    let mut seed = 4242u64;
+    let mut compared = [0usize; 2];
+    for round in 0..300 {
+        let dom = random_domain(&mut seed);
+        let fs = random_problem(&dom, &mut seed);
+        let refs: Vec<&IvpFunction> = fs.iter().collect();
+        let mut solver = Solver::new();
+        solver.solve(&dom, &refs).unwrap();
+        let m = solver.active.len();
+        if m < 2 {
+            continue;
+        }
+        let boxes: Vec<&[i32]> = refs
+            .iter()
+            .zip(&solver.funcs)
+            .map(|(f, p)| {
+                if p.borrowed {
+                    f.bounds()
+                } else {
+                    &p.bounds[..]
+                }
+            })
+            .collect();
+        let dim = solver.pts.len();
+        let fl = solver.active[m - 1];
+        let (mut nb, mut nw) = (vec![0; 2 * dim * m], vec![0.0; (dim + 1) * m]);
+        let (mut bb, mut bw) = (vec![0; 2 * dim], vec![0.0; dim + 1]);
+        let terms: Vec<Term> = solver
+            .active
+            .iter()
+            .map(|&fi| {
+                let f = &solver.funcs[fi];
+                Term {
+                    grid: (!f.single).then_some(f),
+                    ub: f.global_ub,
+                    geom: f.geom,
+                }
+            })
+            .collect();
+        for with_index in [false, true] {
+            let last = (with_index && solver.last.on).then_some(&solver.last);
+            if with_index && last.is_none() {
+                continue;
+            }
+            let mut s = Search {
+                funcs: &solver.funcs,
+                boxes: &boxes,
+                active: &solver.active,
+                terms: &terms,
+                dim,
+                node_b: &mut nb,
+                node_w: &mut nw,
+                best_b: &mut bb,
+                best_w: &mut bw,
+                best: 0.0,
+                found: false,
+                seeded: false,
+                tol: 0.0,
+                doubt: Cell::new(false),
+                last,
+                last_ub: solver.funcs[fl].global_ub,
+                bits: None,
+                bits_ready: false,
+                scans: 0,
+                pts: &solver.pts,
+            };
+            for _ in 0..40 {
+                let b = random_box(&solver.pts, &mut seed);
+                let level = 1 + pick(&mut seed, m as u64 - 1) as usize;
+                let acc = pick(&mut seed, 4000) as f64 / 7.0 - 200.0;
+                let (rb, tb) = bound_pair(s.funcs, s.active, dim, level, &b, acc, s.last);
+                if let Some(ix) = s.last {
+                    // The index's cells are those of the function above the last.
+                    let ppg = &s.funcs[s.active[m - 2]].ppg;
+                    let (mut want, mut stride) = (Some(0), 1);
+                    for d in 0..dim {
+                        let (lo, hi) = (b[2 * d] / ppg[d], b[2 * d + 1] / ppg[d]);
+                        want = want.filter(|_| lo == hi).map(|c| c + lo as usize * stride);
+                        stride *= ((solver.pts[d] + ppg[d] - 1) / ppg[d]) as usize;
+                    }
+                    assert_eq!(ix.cell_of(&b), want, "round {round} {b:?}");
+                }
+                // The terms' sums are the functions' own.
+                for upto in level..=m {
+                    let want = bound_upto(s.funcs, s.active, dim, level, upto, &b, acc);
+                    let got = bound_terms(&terms[level..upto], dim, &b, acc);
+                    assert_eq!(got.to_bits(), want.to_bits(), "round {round} {b:?}");
+                }
+                s.found = pick(&mut seed, 3) != 0;
+                s.seeded = pick(&mut seed, 2) == 0;
+                s.tol = [0.0, 1e-9, 0.5, 3.0][pick(&mut seed, 4) as usize];
+                // Incumbents near either bound (ties, within the slack) or anywhere.
+                let near = [rb, tb][pick(&mut seed, 2) as usize];
+                s.best = match pick(&mut seed, 4) {
+                    0 => near,
+                    1 => near + s.tol * (pick(&mut seed, 7) as f64 - 3.0),
+                    2 => f64::NAN,
+                    _ => pick(&mut seed, 4000) as f64 / 7.0 - 200.0,
+                };
+                s.doubt.set(false);
+                let want = s.prune(rb, tb);
+                let want_doubt = s.doubt.replace(false);
+                let got = s.skip(level, &b, acc);
+                assert_eq!(got, want, "round {round} {b:?} level {level}");
+                assert_eq!(
+                    s.doubt.get(),
+                    want_doubt,
+                    "round {round} {b:?} level {level}"
+                );
+                compared[usize::from(with_index)] += 1;
+            }
+        }
+    }
+    assert!(compared[0] > 1000 && compared[1] > 1000, "{compared:?}");
+}
+
+/// `weigh` (made per dimension) writes the weights, piece bounds and term scale of
+/// the plain loop over any dimension, bit for bit: random functions over random
+/// subsets of random domains (so identity and translated maps), with and without
+/// normalization, with non-integer priorities.
+#[test]
+fn weigh_equals_the_plain_loop() {
+    use crate::weigh::{term, weigh, Weighing};
+    let mut seed = 99u64;
+    let mut seen = [0usize; 4];
+    for round in 0..400 {
+        let dom = random_domain(&mut seed);
+        let pts: Vec<i32> = (0..dom.size()).map(|d| dom.var(d).points as i32).collect();
+        let dim = pts.len();
+        let (bl, wl) = (2 * dim, dim + 1);
+        for f in random_problem(&dom, &mut seed) {
+            let od = f.dim();
+            let map: Vec<usize> = f
+                .domain()
+                .vars()
+                .iter()
+                .map(|v| dom.index_of(&v.name).unwrap())
+                .collect();
+            let identity = od == dim && map.iter().enumerate().all(|(d, &t)| d == t);
+            let n = f.piece_count();
+            // Problem-order boxes (whole in the dimensions the function lacks).
+            let mut boxes = vec![0; n * bl];
+            for (b, src) in boxes
+                .chunks_exact_mut(bl)
+                .zip(f.bounds().chunks_exact(2 * od))
+            {
+                for d in 0..dim {
+                    b[2 * d + 1] = pts[d] - 1;
+                }
+                for (s, &t) in src.chunks_exact(2).zip(&map) {
+                    b[2 * t] = s[0];
+                    b[2 * t + 1] = s[1];
+                }
+            }
+            let (mn, mx) = f.min_max_wt();
+            let norm = pick(&mut seed, 2) == 0 || mx - mn > 100.0;
+            let (shift, scale, pwt) = (0.0 - mn, 100.0 / (mx - mn), f.pwt());
+            // Slots of the lacking dimensions hold leftovers; both must keep them.
+            let junk: Vec<f64> = (0..n * wl).map(|i| i as f64 * 0.25).collect();
+            let (mut want_w, mut want_ub, mut want_most) = (junk.clone(), vec![], 0.0f64);
+            for (k, (w, src)) in want_w
+                .chunks_exact_mut(wl)
+                .zip(f.weights().chunks_exact(od + 1))
+                .enumerate()
+            {
+                if norm {
+                    w[dim] = ((src[od] + shift) * scale) * pwt;
+                    for (&x, &t) in src.iter().zip(&map) {
+                        w[t] = (x * scale) * pwt;
+                    }
+                } else {
+                    w[dim] = src[od] * pwt;
+                    for (&x, &t) in src.iter().zip(&map) {
+                        w[t] = x * pwt;
+                    }
+                }
+                let t = term(w, &pts);
+                if t > want_most || t.is_nan() {
+                    want_most = t;
+                }
+                want_ub.push(max_val(&boxes[k * bl..(k + 1) * bl], w));
+            }
+            let wg = Weighing {
+                map: &map,
+                identity,
+                norm,
+                shift,
+                scale,
+                pwt,
+                pts: &pts,
+            };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            for with_ub in [false, true] {
+                let (mut got_w, mut got_ub) = (junk.clone(), vec![1.0; 3]);
+                let most = weigh(
+                    &wg,
+                    f.weights(),
+                    od,
+                    &mut got_w,
+                    with_ub.then_some(&boxes[..]),
+                    &mut got_ub,
+                );
+                assert_eq!(bits(&got_w), bits(&want_w), "round {round}");
+                assert_eq!(most.to_bits(), want_most.to_bits(), "round {round}");
+                let want: &[f64] = if with_ub { &want_ub } else { &[] };
+                assert_eq!(bits(&got_ub), bits(want), "round {round}");
+            }
+            seen[usize::from(identity) * 2 + usize::from(norm)] += 1;
+        }
+    }
+    assert!(seen.iter().all(|&k| k > 50), "{seen:?}");
+}
+
+/// The cell bounds of the set-up are those of the plain per-piece fold over each
+/// cell's list (flag and bound read and written in memory per piece).
+#[test]
+fn cell_bounds_equal_the_plain_fold() {
+    let mut seed = 515u64;
+    let mut cells = 0;
+    for _ in 0..200 {
+        let dom = random_domain(&mut seed);
+        let fs = random_problem(&dom, &mut seed);
+        let refs: Vec<&IvpFunction> = fs.iter().collect();
+        let mut solver = Solver::new();
+        solver.solve(&dom, &refs).unwrap();
+        for &fi in solver.active.iter().skip(1) {
+            let p = &solver.funcs[fi];
+            // Builder grids are kept, not folded.
+            if p.single || !refs[fi].grid_bounds().is_empty() {
+                continue;
+            }
+            let total = p.cell_ub.len();
+            let (mut ub, mut filled) = (vec![NO_BOUND; total], vec![false; total]);
+            for c in 0..total {
+                for &k in &p.cell_items[p.cell_start[c] as usize..p.cell_start[c + 1] as usize] {
+                    let v = p.piece_ub[k as usize];
+                    if !filled[c] || v > ub[c] {
+                        ub[c] = v;
+                    }
+                    filled[c] = true;
+                }
+            }
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&p.cell_ub), bits(&ub));
+            assert_eq!(p.cell_filled, filled);
+            cells += total;
+        }
+    }
+    assert!(cells > 1000, "{cells}");
+}

@@ -60,6 +60,10 @@ impl IvpBehavior for Template {
         }
     }
 
+    // Runs every iteration: keep it free of new allocations where that is easy. A text
+    // read here would go into a `String` field with the `_into` forms
+    // (`ctx.get_buffer_string_val_into(var, &mut self.text)`, `name_into`,
+    // `ownship_into`, `contact_text_into`), which refill it in place.
     fn on_run(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         if let Some(v) = ctx.get_buffer_double_val("NAV_SPEED") {
             if !self.report_var.is_empty() {

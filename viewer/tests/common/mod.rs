@@ -66,14 +66,13 @@ pub fn artifacts() -> PathBuf {
     d
 }
 
-/// A new empty folder of this test process.
+/// A new empty folder `<prefix>-<n>` under `CARGO_TARGET_TMPDIR` (`n` counts this
+/// process's calls). The names repeat from run to run, so runs reuse their folders
+/// instead of leaving one per process id in the system temp dir.
 pub fn temp_dir(prefix: &str) -> PathBuf {
     static N: AtomicUsize = AtomicUsize::new(0);
-    let d = std::env::temp_dir().join(format!(
-        "{prefix}-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("{prefix}-{}", N.fetch_add(1, Ordering::SeqCst)));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("create temp dir");
     d

@@ -1,4 +1,6 @@
-//! The pHelmIvP block of the mission file, read into a typed config (helm.md §2).
+//! `helm-config`: the pHelmIvP block of the mission file, read into a typed config
+//! (helm.md §2). It depends on `ivp` (the domain) and `mbutil` alone: nothing of the
+//! engine, the behaviors or MOOS. `helm_engine::config` is this crate.
 //!
 //! The real helm gets the block's lines last-first with every blank removed (the MOOS
 //! config reader's `GetConfiguration`), so "the first setting wins" means the last line
@@ -119,15 +121,15 @@ fn add_domain_var(cfg: &mut HelmConfig, value: &str) -> bool {
     if f.len() != 4 && f.len() != 5 {
         return false;
     }
-    let low = bhv::number::atof(f[1]);
-    let high = bhv::number::atof(f[2]);
+    let low = mbutil::atof(f[1]);
+    let high = mbutil::atof(f[2]);
     if high < low {
         return false;
     }
     let mut points = atoi(f[3]);
     if let Some(d) = f[3].strip_prefix("delta=") {
-        if high > low && bhv::number::is_number(d) {
-            let d = bhv::number::atof(d);
+        if high > low && mbutil::is_number(d) {
+            let d = mbutil::atof(d);
             if d > 0.0 && d <= high - low {
                 points = ((high - low) / d + 1.0).trunc() as i64;
             }
@@ -187,8 +189,8 @@ impl HelmConfig {
                     if value.eq_ignore_ascii_case("any") {
                         cfg.ok_skew = None;
                         true
-                    } else if bhv::number::is_number(&value) && bhv::number::atof(&value) >= 0.0 {
-                        cfg.ok_skew = Some(bhv::number::atof(&value));
+                    } else if mbutil::is_number(&value) && mbutil::atof(&value) >= 0.0 {
+                        cfg.ok_skew = Some(mbutil::atof(&value));
                         true
                     } else {
                         false
@@ -246,8 +248,8 @@ impl HelmConfig {
                     None => false,
                 },
                 "contact_max_age" => {
-                    let v = bhv::number::atof(&value);
-                    let ok = bhv::number::is_number(&value) && (10.0..=1800.0).contains(&v);
+                    let v = mbutil::atof(&value);
+                    let ok = mbutil::is_number(&value) && (10.0..=1800.0).contains(&v);
                     if ok {
                         cfg.contact_max_age = v;
                     }
@@ -266,8 +268,8 @@ impl HelmConfig {
                     true
                 }
                 "apptick" => {
-                    if bhv::number::is_number(&value) {
-                        cfg.app_tick = bhv::number::atof(&value);
+                    if mbutil::is_number(&value) {
+                        cfg.app_tick = mbutil::atof(&value);
                     }
                     true
                 }
@@ -300,7 +302,7 @@ impl HelmConfig {
 }
 
 fn number(v: &str) -> Option<f64> {
-    bhv::number::is_number(v).then(|| bhv::number::atof(v))
+    mbutil::is_number(v).then(|| mbutil::atof(v))
 }
 
 fn positive_number(v: &str) -> Option<f64> {

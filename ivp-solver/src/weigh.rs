@@ -1,0 +1,197 @@
+//! The set-up's passes over every piece (spec §5 step 4): the weight extremes that
+//! decide normalization, then each piece's weights in the problem domain, its term
+//! scale and its `maxVal`. They run over every piece of every function each iteration
+//! (thousands per contact), so each is made for 1 to 3 dimensions by inlining one
+//! loop with a constant dimension (unrolled, indices checked once per piece): the
+//! same operations in the same order as the loop for any dimension.
+
+use ivp::function::max_val;
+use ivp::IvpFunction;
+
+/// How a function's weights become the problem's (see [`weigh`]).
+pub(crate) struct Weighing<'a> {
+    /// Problem dimension of each of the function's dimensions.
+    pub(crate) map: &'a [usize],
+    /// `map` is `0..` and the function has every problem dimension.
+    pub(crate) identity: bool,
+    /// Normalize: slope `x -> (x*scale)*pwt`, intercept `x -> ((x+shift)*scale)*pwt`;
+    /// otherwise `x -> x*pwt`.
+    pub(crate) norm: bool,
+    pub(crate) shift: f64,
+    pub(crate) scale: f64,
+    pub(crate) pwt: f64,
+    /// The problem's points per dimension.
+    pub(crate) pts: &'a [i32],
+}
+
+/// Every piece's weights from the function's `src` (`od` dimensions) into `weights`
+/// (problem order; the slopes of dimensions the function lacks are left as they are),
+/// and, with the pieces' problem-order `boxes`, each piece's `maxVal` into `piece_ub`
+/// (cleared first). Returns the largest term scale (`term`), NaN kept.
+pub(crate) fn weigh(
+    wg: &Weighing,
+    src: &[f64],
+    od: usize,
+    weights: &mut [f64],
+    boxes: Option<&[i32]>,
+    piece_ub: &mut Vec<f64>,
+) -> f64 {
+    piece_ub.clear();
+    let id = wg.identity;
+    match (od, wg.pts.len()) {
+        (1, 1) => weigh_dims(wg, src, 1, 1, id, weights, boxes, piece_ub),
+        (2, 2) => weigh_dims(wg, src, 2, 2, id, weights, boxes, piece_ub),
+        (3, 3) => weigh_dims(wg, src, 3, 3, id, weights, boxes, piece_ub),
+        (1, 2) => weigh_dims(wg, src, 1, 2, id, weights, boxes, piece_ub),
+        (1, 3) => weigh_dims(wg, src, 1, 3, id, weights, boxes, piece_ub),
+        (2, 3) => weigh_dims(wg, src, 2, 3, id, weights, boxes, piece_ub),
+        (od, dim) => weigh_dims(wg, src, od, dim, id, weights, boxes, piece_ub),
+    }
+}
+
+/// [`weigh`] for `od` function and `dim` problem dimensions (`identity`: `map` is
+/// `0..dim`, written directly).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn weigh_dims(
+    wg: &Weighing,
+    src: &[f64],
+    od: usize,
+    dim: usize,
+    identity: bool,
+    weights: &mut [f64],
+    boxes: Option<&[i32]>,
+    piece_ub: &mut Vec<f64>,
+) -> f64 {
+    let (bl, wl) = (2 * dim, dim + 1);
+    let mut most = 0.0f64;
+    match boxes {
+        Some(b) => {
+            piece_ub.resize((weights.len() / wl).min(src.len() / (od + 1)), 0.0);
+            let pieces = weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1));
+            for (((w, s), b), ub) in pieces.zip(b.chunks_exact(bl)).zip(piece_ub.iter_mut()) {
+                most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
+                *ub = max_val(&b[..bl], &w[..wl]);
+            }
+        }
+        None => {
+            for (w, s) in weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1)) {
+                most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
+            }
+        }
+    }
+    most
+}
+
+/// The running largest term scale after term `t` (NaN must not be lost by `max`).
+#[inline(always)]
+fn most_of(most: f64, t: f64) -> f64 {
+    if t > most || t.is_nan() {
+        t
+    } else {
+        most
+    }
+}
+
+/// One piece's weights `w` (problem order) from the function's `s`; its term scale.
+#[inline(always)]
+fn piece_weights(
+    wg: &Weighing,
+    w: &mut [f64],
+    s: &[f64],
+    od: usize,
+    dim: usize,
+    identity: bool,
+) -> f64 {
+    let (shift, scale, pwt) = (wg.shift, wg.scale, wg.pwt);
+    let (w, s) = (&mut w[..dim + 1], &s[..od + 1]);
+    let map = &wg.map[..od];
+    if wg.norm {
+        w[dim] = ((s[od] + shift) * scale) * pwt;
+        if identity {
+            for d in 0..dim {
+                w[d] = (s[d] * scale) * pwt;
+            }
+        } else {
+            for i in 0..od {
+                w[map[i]] = (s[i] * scale) * pwt;
+            }
+        }
+    } else {
+        w[dim] = s[od] * pwt;
+        if identity {
+            for d in 0..dim {
+                w[d] = s[d] * pwt;
+            }
+        } else {
+            for i in 0..od {
+                w[map[i]] = s[i] * pwt;
+            }
+        }
+    }
+    term(w, &wg.pts[..dim])
+}
+
+/// `|intercept| + Σ_d |slope_d|·(pts_d - 1)` of one piece's weights (problem order).
+#[inline(always)]
+pub(crate) fn term(w: &[f64], pts: &[i32]) -> f64 {
+    let dim = pts.len();
+    let mut t = w[dim].abs();
+    for d in 0..dim {
+        t += w[d].abs() * f64::from((pts[d] - 1).max(0));
+    }
+    t
+}
+
+/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
+/// dimensions: each accumulates the same terms in the same order, and the pieces are
+/// compared in the same order, so the values are the same bit for bit.
+pub(crate) fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
+    let (od, b, w) = (f.dim(), f.bounds(), f.weights());
+    if od == 0 || f.piece_count() == 0 || b.len() < 2 * od || w.len() < od + 1 {
+        return f.min_max_wt();
+    }
+    match od {
+        1 => extremes(b, w, 1),
+        2 => extremes(b, w, 2),
+        3 => extremes(b, w, 3),
+        _ => extremes(b, w, od),
+    }
+}
+
+/// The least and greatest piece extremes over boxes `bounds` and weights `weights` of
+/// `od` dimensions (at least one piece).
+#[inline(always)]
+fn extremes(bounds: &[i32], weights: &[f64], od: usize) -> (f64, f64) {
+    let piece = |b: &[i32], w: &[f64]| {
+        let (b, w) = (&b[..2 * od], &w[..od + 1]);
+        let (mut lo, mut hi) = (w[od], w[od]);
+        for d in 0..od {
+            let x = w[d];
+            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+            if x < 0.0 {
+                hi += x * l;
+                lo += x * h;
+            } else {
+                hi += x * h;
+                lo += x * l;
+            }
+        }
+        (lo, hi)
+    };
+    let (mut mn, mut mx) = piece(bounds, weights);
+    for (b, w) in bounds
+        .chunks_exact(2 * od)
+        .zip(weights.chunks_exact(od + 1))
+        .skip(1)
+    {
+        let (lo, hi) = piece(b, w);
+        if lo < mn {
+            mn = lo;
+        }
+        if hi > mx {
+            mx = hi;
+        }
+    }
+    (mn, mx)
+}
