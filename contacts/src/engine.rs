@@ -242,6 +242,61 @@ struct DegreeTables {
     tan: [f64; 360],
 }
 
+/// `cos_star(fold(d, theta))` for every integer degree d = 0..=359: a per-degree
+/// table of [`CpaEngine::with_tables`].
+fn degree_table(theta: f64, out: &mut [f64; 360]) {
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = cos_star(fold(f64::from(i as u16), theta));
+    }
+}
+
+/// How many per-degree tables a thread keeps.
+const KEPT_TABLES: usize = 4;
+
+/// The per-degree tables last used on this thread, by the bits of their angle, the
+/// least recently used replaced first (an engine asks three: the two of a contact
+/// holding its course stay while the third changes every iteration). A table is a
+/// function of its angle alone, so a kept one is the table [`degree_table`] would
+/// build, bit for bit.
+struct KeptTables {
+    angles: [Option<u64>; KEPT_TABLES],
+    tables: [[f64; 360]; KEPT_TABLES],
+    /// When each slot was last used (a count of uses).
+    used: [u64; KEPT_TABLES],
+    uses: u64,
+}
+
+impl KeptTables {
+    /// The table of `theta` into `out`, from the kept ones or built (and kept).
+    fn table(&mut self, theta: f64, out: &mut [f64; 360]) {
+        let key = Some(theta.to_bits());
+        self.uses += 1;
+        let k = match self.angles.iter().position(|&a| a == key) {
+            Some(k) => k,
+            None => {
+                // The least recently used slot (an empty one has never been used).
+                let k = (0..KEPT_TABLES).min_by_key(|&k| self.used[k]).unwrap_or(0);
+                degree_table(theta, &mut self.tables[k]);
+                self.angles[k] = key;
+                k
+            }
+        };
+        self.used[k] = self.uses;
+        *out = self.tables[k];
+    }
+}
+
+thread_local! {
+    static KEPT: std::cell::RefCell<KeptTables> = const {
+        std::cell::RefCell::new(KeptTables {
+            angles: [None; KEPT_TABLES],
+            tables: [[0.0; 360]; KEPT_TABLES],
+            used: [0; KEPT_TABLES],
+            uses: 0,
+        })
+    };
+}
+
 impl CpaEngine {
     /// Reset with the contact's pose (`cnh` put through angle360, negative `cnv` → 0)
     /// and ownship's position.
@@ -332,19 +387,23 @@ impl CpaEngine {
     /// The engine with its per-degree tables built (1080 cosines once): for an objective
     /// function, which asks thousands of candidate headings per reset. Results are
     /// bit-identical to the engine without tables.
+    ///
+    /// Each table depends on one angle only (the contact's heading, or a bearing), and
+    /// the last few tables built on this thread are kept by that angle's bits
+    /// ([`KeptTables`]): a contact holding its course keeps two of the three from one
+    /// iteration to the next.
     pub fn with_tables(mut self) -> Self {
-        let mut t = DegreeTables {
+        let mut t = Box::new(DegreeTables {
             gam: [0.0; 360],
             cnh: [0.0; 360],
             tan: [0.0; 360],
-        };
-        for i in 0..360 {
-            let d = f64::from(i as u16);
-            t.gam[i] = cos_star(fold(d, self.theta_gam));
-            t.cnh[i] = cos_star(fold(d, self.cnh));
-            t.tan[i] = cos_star(fold(d, self.theta_tn));
-        }
-        self.tables = Some(Box::new(t));
+        });
+        KEPT.with_borrow_mut(|kept| {
+            kept.table(self.theta_gam, &mut t.gam);
+            kept.table(self.cnh, &mut t.cnh);
+            kept.table(self.theta_tn, &mut t.tan);
+        });
+        self.tables = Some(t);
         self
     }
 
@@ -431,6 +490,20 @@ impl CpaEngine {
     #[inline]
     pub fn roc_of_cosine(&self, cosine: f64, v: f64) -> f64 {
         v * cosine + self.cn_to_os
+    }
+
+    /// [`CpaEngine::min_max_roc`] with the cosines looked up in `cos` (from
+    /// [`CpaEngine::roc_cosines`] of this engine): the same pair, without a `cos` per
+    /// heading.
+    pub fn min_max_roc_with(&self, cos: &[f64; 360], vmax: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &c in cos {
+            // Heading i's cosine is relcos(deg_index(i)) = relcos(i): roc(i, vmax).
+            let r = self.roc_of_cosine(c, vmax);
+            lo = lo.min(r);
+            hi = hi.max(r);
+        }
+        (lo, hi)
     }
 
     pub fn min_max_roc(&self, vmax: f64) -> (f64, f64) {
@@ -560,7 +633,7 @@ impl CpaEngine {
 
 #[path = "engine_heading.rs"]
 mod heading;
-pub use heading::{BowStarRate, Heading, Sides};
+pub use heading::{BowStarRate, BowStern, Heading, RowConsts, Sides};
 
 #[cfg(test)]
 #[path = "engine_tests.rs"]

@@ -19,6 +19,20 @@ pub struct Heading {
     tan: f64,
 }
 
+impl Heading {
+    /// The per-degree cosines [`CpaEngine::bow_stern_of`] takes: `gamcos` and `tancos`.
+    #[inline]
+    pub fn gam_tan(&self) -> (f64, f64) {
+        (self.gam, self.tan)
+    }
+
+    /// The per-degree cosines [`BowStarRate::of`] takes: `gamcos`, `cnhcos`, `tancos`.
+    #[inline]
+    pub fn cosines(&self) -> (f64, f64, f64) {
+        (self.gam, self.cnh, self.tan)
+    }
+}
+
 /// The unit vector [`CpaEngine::cpa_time`] takes for heading `h`.
 #[inline]
 fn unit_of(h: f64) -> (f64, f64) {
@@ -236,21 +250,31 @@ impl CpaEngine {
     /// mispredicted branches).
     #[inline(always)]
     pub fn bow_star_rate_at(&self, s: &Sides, hd: &Heading, v: f64) -> BowStarRate {
-        let br = self.bearing_rate_at(hd, v);
+        BowStarRate::of(s, &self.row_consts(), (hd.gam, hd.cnh, hd.tan), v)
+    }
+}
+
+impl BowStarRate {
+    /// [`CpaEngine::bow_star_rate_at`] of the heading whose [`Heading::cosines`] are
+    /// `(gam, cnh, tan)`, with the engine's [`Sides`] and [`RowConsts`] (for rows of
+    /// candidates held as lists of numbers).
+    #[inline(always)]
+    pub fn of(s: &Sides, c: &RowConsts, (gam, cnh, tan): (f64, f64, f64), v: f64) -> Self {
+        let br = c.bearing_rate(tan, v);
         // crosses_bow_at: on the stern line, or moving on a heading with gam > 0 and the
         // bearing rate of the right sign for ownship's side.
         // Negated, not `v > 0.0`: a NaN speed or cosine counts as moving, as it falls
         // through crosses_bow_at's `v <= 0.0 || gam <= 0.0` test.
         #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let moving = !(v <= 0.0) & !(hd.gam <= 0.0);
+        let moving = !(v <= 0.0) & !(gam <= 0.0);
         let (ge, le) = (br >= 0.0, br <= 0.0);
         let bow_sign = if s.port_of_cn { ge } else { le };
         let crosses_bow = s.on_sternline | (moving & bow_sign);
         // passes_star_at: passes port or starboard (on the beam, or the beam closing),
         // and not to port (on the beam: ownship on the port side; else the bearing rate
         // of the sign for fore or aft).
-        let w = hd.cnh * v;
-        let (aft_e, fore_e) = (w - self.cnv, self.cnv - w);
+        let w = cnh * v;
+        let (aft_e, fore_e) = (w - c.cnv, c.cnv - w);
         let e = if s.aft_of_cn { aft_e } else { fore_e };
         let either = s.on_beam | (e > 0.0);
         let (gt, lt) = (br > 0.0, br < 0.0);
@@ -265,6 +289,79 @@ impl CpaEngine {
             crosses_bow,
             passes_star,
             bearing_rate: br,
+        }
+    }
+}
+
+/// What [`CpaEngine::bow_stern_at`] gives for one candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BowStern {
+    /// [`CpaEngine::crosses_bow_at`].
+    pub crosses_bow: bool,
+    /// [`CpaEngine::crosses_stern_at`].
+    pub crosses_stern: bool,
+}
+
+impl CpaEngine {
+    /// [`CpaEngine::crosses_bow_at`] and [`CpaEngine::crosses_stern_at`] of one
+    /// candidate, with `s` this engine's [`CpaEngine::sides`]: the same comparisons on
+    /// the same values, every one made and the answers combined without jumps.
+    #[inline(always)]
+    pub fn bow_stern_at(&self, s: &Sides, hd: &Heading, v: f64) -> BowStern {
+        self.bow_stern_of(s, (hd.gam, hd.tan), v)
+    }
+
+    /// [`CpaEngine::bow_stern_at`] of the heading whose [`Heading::gam_tan`] is
+    /// `(gam, tan)` (for rows of candidates held as lists of numbers).
+    #[inline(always)]
+    pub fn bow_stern_of(&self, s: &Sides, gam_tan: (f64, f64), v: f64) -> BowStern {
+        BowStern::of(s, &self.row_consts(), gam_tan, v)
+    }
+
+    /// This engine's numbers the per-candidate rules use, to carry into a row loop.
+    #[inline]
+    pub fn row_consts(&self) -> RowConsts {
+        RowConsts {
+            cn_tan: self.cn_tan,
+            tn_const: self.tn_const,
+            cnv: self.cnv,
+        }
+    }
+}
+
+/// The numbers of one engine the per-candidate rules use besides the [`Sides`] (the
+/// bearing-rate formula's and the contact's speed), apart from it: what a loop over
+/// rows of candidates keeps in registers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowConsts {
+    cn_tan: f64,
+    tn_const: f64,
+    cnv: f64,
+}
+
+impl RowConsts {
+    /// The bearing rate at speed `v` of the heading whose `tancos` is `tan`: the
+    /// engine's formula ([`CpaEngine::bearing_rate_at`]).
+    #[inline(always)]
+    pub fn bearing_rate(&self, tan: f64, v: f64) -> f64 {
+        (-v * tan + self.cn_tan) * self.tn_const
+    }
+}
+
+impl BowStern {
+    /// [`CpaEngine::bow_stern_of`] with the engine's [`Sides`] and [`BearingRates`].
+    #[inline(always)]
+    pub fn of(s: &Sides, c: &RowConsts, (gam, tan): (f64, f64), v: f64) -> Self {
+        let br = c.bearing_rate(tan, v);
+        // Negated, not `v > 0.0`: a NaN speed or cosine counts as moving, as it falls
+        // through the `v <= 0.0 || gam <= 0.0` test.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let moving = !(v <= 0.0) & !(gam <= 0.0);
+        let (ge, le) = (br >= 0.0, br <= 0.0);
+        let (bow_sign, stern_sign) = if s.port_of_cn { (ge, le) } else { (le, ge) };
+        BowStern {
+            crosses_bow: s.on_sternline | (moving & bow_sign),
+            crosses_stern: s.on_sternline | (moving & stern_sign),
         }
     }
 }

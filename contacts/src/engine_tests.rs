@@ -238,6 +238,8 @@ fn queries_at_a_heading_give_the_same_bits() {
         (0.0, -50.0, 0.0, 1.0),
         (50.0, 0.0, 0.0, 1.0),
         (0.0, 80.0, 90.0, 0.0),
+        // Ownship on the contact's stern line.
+        (0.0, 60.0, 0.0, 1.5),
     ];
     for _ in 0..300 {
         scenes.push((
@@ -291,6 +293,21 @@ fn queries_at_a_heading_give_the_same_bits() {
                 assert_eq!(
                     jumpless.bearing_rate.to_bits(),
                     e.bearing_rate_at(&hd, v).to_bits()
+                );
+                let bs = e.bow_stern_at(&e.sides(), &hd, v);
+                assert_eq!(
+                    (bs.crosses_bow, bs.crosses_stern),
+                    (at.3, at.4),
+                    "{cx},{cy},{ch},{cv} h={h} v={v}"
+                );
+                // A NaN speed too (it counts as moving).
+                let bs = e.bow_stern_at(&e.sides(), &hd, f64::NAN);
+                assert_eq!(
+                    (bs.crosses_bow, bs.crosses_stern),
+                    (
+                        e.crosses_bow_at(&hd, f64::NAN),
+                        e.crosses_stern_at(&hd, f64::NAN)
+                    ),
                 );
                 let (a, p) = (e.cpa_at(&hd, v, tol), e.cpa_time(h, v, tol));
                 let u = e.cpa_unit(e.unit(h), v, tol);
@@ -416,5 +433,95 @@ fn cpa_row_avx2_is_the_plain_row() {
                 "case {case}: {a} {b}"
             );
         }
+    }
+}
+
+/// A table from the thread's kept ones is the table built afresh, bit for bit, over a
+/// random run of angles that repeat (as a contact's heading does) and do not, awkward
+/// ones included; and an engine's tables are its own angles' tables.
+#[test]
+fn kept_tables_are_the_built_ones() {
+    let mut seed = 17u64;
+    let odd = [0.0, -0.0, 90.0, 359.5, 1e300, f64::NAN, f64::INFINITY];
+    let mut angles: Vec<f64> = vec![];
+    for k in 0..3000 {
+        let r = rng(&mut seed);
+        let a = if r < 0.5 && !angles.is_empty() {
+            angles[(rng(&mut seed) * angles.len() as f64) as usize]
+        } else if r < 0.6 {
+            odd[k % odd.len()]
+        } else {
+            rng(&mut seed) * 360.0
+        };
+        angles.push(a);
+        let (mut got, mut want) = ([1.0; 360], [2.0; 360]);
+        KEPT.with_borrow_mut(|kept| kept.table(a, &mut got));
+        degree_table(a, &mut want);
+        let bits = |t: &[f64; 360]| t.map(|x| x.to_bits());
+        assert_eq!(bits(&got), bits(&want), "{a}");
+    }
+    for _ in 0..200 {
+        let e = CpaEngine::new(
+            (rng(&mut seed) - 0.5) * 200.0,
+            (rng(&mut seed) - 0.5) * 200.0,
+            (rng(&mut seed) * 8.0).round() * 45.0,
+            rng(&mut seed) * 3.0,
+            0.0,
+            0.0,
+        )
+        .with_tables();
+        let t = e.tables.as_deref().expect("built");
+        for (table, theta) in [(&t.gam, e.theta_gam), (&t.cnh, e.cnh), (&t.tan, e.theta_tn)] {
+            let mut want = [0.0; 360];
+            degree_table(theta, &mut want);
+            assert_eq!(table.map(f64::to_bits), want.map(f64::to_bits));
+        }
+    }
+}
+
+/// `min_max_roc_with` over the engine's own cosine table is `min_max_roc`, bit for bit,
+/// over random geometries and speeds (negative, zero, NaN, infinite ones included).
+#[test]
+fn min_max_roc_with_the_cosine_table_is_min_max_roc() {
+    let mut seed = 23u64;
+    for k in 0..400 {
+        let e = CpaEngine::new(
+            (rng(&mut seed) - 0.5) * 300.0,
+            (rng(&mut seed) - 0.5) * 300.0,
+            rng(&mut seed) * 400.0 - 20.0,
+            rng(&mut seed) * 4.0,
+            (rng(&mut seed) - 0.5) * 10.0,
+            (rng(&mut seed) - 0.5) * 10.0,
+        );
+        let cos = e.roc_cosines();
+        let odd = [0.0, -0.0, -1.0, f64::NAN, f64::INFINITY, 1e-310];
+        let vmax = if k % 4 == 0 {
+            odd[(k / 4) % odd.len()]
+        } else {
+            rng(&mut seed) * 5.0
+        };
+        let (a, b) = (e.min_max_roc_with(&cos, vmax), e.min_max_roc(vmax));
+        assert_eq!(
+            (a.0.to_bits(), a.1.to_bits()),
+            (b.0.to_bits(), b.1.to_bits()),
+            "{k}"
+        );
+    }
+}
+
+/// The two tables of a contact holding its course stay kept while the third angle
+/// changes every iteration.
+#[test]
+fn kept_tables_keep_the_steady_angles() {
+    let mut t = [0.0; 360];
+    for k in 0..50 {
+        KEPT.with_borrow_mut(|kept| {
+            kept.table(180.0, &mut t);
+            kept.table(90.0, &mut t);
+            kept.table(10.0 + f64::from(k) * 0.1, &mut t);
+            for a in [180.0f64, 90.0] {
+                assert!(kept.angles.contains(&Some(a.to_bits())), "{k}: {a}");
+            }
+        });
     }
 }

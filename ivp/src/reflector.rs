@@ -102,7 +102,18 @@ impl<'a> Reflector<'a> {
     /// Parameters: `uniform_piece`, `uniform_grid` (box strings), `uniform_amount`
     /// (integer ≥ 1), `strict_range` (`true`/`false`). Unknown names return false.
     pub fn set_param(&mut self, name: &str, value: &str) -> bool {
-        match name.trim().to_ascii_lowercase().as_str() {
+        // Names in any case, compared without a lowered copy (set every build).
+        let known = [
+            "uniform_piece",
+            "uniform_grid",
+            "uniform_amount",
+            "strict_range",
+        ];
+        let key = known
+            .into_iter()
+            .find(|k| name.trim().eq_ignore_ascii_case(k))
+            .unwrap_or("");
+        match key {
             "uniform_piece" => self
                 .parse_box(value)
                 .map(|b| self.uniform_piece = Some(b))
@@ -209,21 +220,10 @@ impl<'a> Reflector<'a> {
         self.weights.clear();
         self.bounds.reserve(total * 2 * n);
         self.weights.reserve(total * (n + 1));
-        let mut tile = vec![(0u32, 0u32); n];
-        let mut w = vec![0.0; n + 1];
         // Fits shared by tiles equal in every dimension the AOF uses (and in whether the
         // fit takes the centre point), when it ignores some dimension: slot = the tile's
         // coordinates in the used dimensions (mixed radix) × 2 + centre.
-        let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();
-        let sharing = used.iter().any(|u| !u);
-        let slots: usize = if sharing {
-            2 * (0..n)
-                .filter(|&d| used[d])
-                .map(|d| counts[d] as usize)
-                .product::<usize>()
-        } else {
-            0
-        };
+        let sharing = (0..n).any(|d| self.aof.ignores(d));
         if self.grid_eval && !sharing && n <= FIT_DIMS {
             let mut summary = crate::tiling::Summary::default();
             crate::tiling::fit_uniform(
@@ -240,6 +240,18 @@ impl<'a> Reflector<'a> {
             self.summary = Some(summary);
             return total;
         }
+        // Tile by tile (allocated only here: the grid fit above needs none of these).
+        let mut tile = vec![(0u32, 0u32); n];
+        let mut w = vec![0.0; n + 1];
+        let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();
+        let slots: usize = if sharing {
+            2 * (0..n)
+                .filter(|&d| used[d])
+                .map(|d| counts[d] as usize)
+                .product::<usize>()
+        } else {
+            0
+        };
         let mut shared: Vec<Option<usize>> = vec![None; slots];
         for i in (0..total).rev() {
             let mut rest = i;

@@ -73,32 +73,31 @@ fn fit_uniform_n<const N: usize>(
     strict: bool,
     (bounds, weights, summary): (&mut Vec<i32>, &mut Vec<f64>, &mut Summary),
 ) {
-    let pts: Vec<u32> = domain.vars().iter().map(|v| v.points).collect();
+    // Arrays, not vectors, where the length is N (a build runs every iteration).
+    let pts: [u32; N] = std::array::from_fn(|d| domain.var(d).points);
     // The search grid's geometry, as build_grid finds it: cells of `ppg` points, cell
     // of index i = i / ppg.
     let mut grid_stride = 1usize;
-    let axes: Vec<Axis> = (0..N)
-        .map(|d| {
-            let (ppg, ncells) = grid_dim(domain.var(d), gelbox.get(d));
-            let edges: Vec<(u32, u32)> = (0..counts[d])
-                .map(|c| (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1))
-                .collect();
-            let cells = edges
-                .iter()
-                .map(|&(lo, hi)| {
-                    let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
-                    (a * grid_stride, b - a + 1)
-                })
-                .collect();
-            let stride = grid_stride;
-            grid_stride *= ncells as usize;
-            Axis {
-                edges,
-                cells,
-                stride,
-            }
-        })
-        .collect();
+    let axes: [Axis; N] = std::array::from_fn(|d| {
+        let (ppg, ncells) = grid_dim(domain.var(d), gelbox.get(d));
+        let edges: Vec<(u32, u32)> = (0..counts[d])
+            .map(|c| (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1))
+            .collect();
+        let cells = edges
+            .iter()
+            .map(|&(lo, hi)| {
+                let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
+                (a * grid_stride, b - a + 1)
+            })
+            .collect();
+        let stride = grid_stride;
+        grid_stride *= ncells as usize;
+        Axis {
+            edges,
+            cells,
+            stride,
+        }
+    });
     let grid_strides: [usize; N] = std::array::from_fn(|d| axes[d].stride);
     let grid = &mut summary.grid;
     grid.clear();
@@ -106,22 +105,19 @@ fn fit_uniform_n<const N: usize>(
     // Corner grid axes: each tile's low and high edge side by side, except dimension 0
     // of a 2-dimensional tiling, where all the low edges come first, then all the high
     // ones (the row fit reads each corner's values as one list; see fit_rows_2).
-    let corner_axes: Vec<Vec<u32>> = axes
-        .iter()
-        .enumerate()
-        .map(|(d, a)| {
-            if N == 2 && d == 0 {
-                let lows = a.edges.iter().map(|&(lo, _)| lo);
-                lows.chain(a.edges.iter().map(|&(_, hi)| hi)).collect()
-            } else {
-                a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect()
-            }
-        })
-        .collect();
-    let mid_axes: Vec<Vec<u32>> = axes
-        .iter()
-        .map(|a| a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2).collect())
-        .collect();
+    let corner_axes: [Vec<u32>; N] = std::array::from_fn(|d| {
+        let a = &axes[d];
+        if N == 2 && d == 0 {
+            let lows = a.edges.iter().map(|&(lo, _)| lo);
+            lows.chain(a.edges.iter().map(|&(_, hi)| hi)).collect()
+        } else {
+            a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect()
+        }
+    });
+    let mid_axes: [Vec<u32>; N] = std::array::from_fn(|d| {
+        let a = &axes[d];
+        a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2).collect()
+    });
     let mut corners = Scratch::take();
     evaluate(aof, domain, &corner_axes, &mut corners.0);
     // Some tile takes its centre exactly when some dimension has a tile wider than 2.

@@ -2,10 +2,11 @@
 //! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
 //! each evaluated by the reflector on the decision grid.
 
-use behavior_api::contacts::engine::{Heading, Sides};
+use behavior_api::contacts::engine::Heading;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
+use behavior_api::ivp::zaic::spare;
 use behavior_api::ivp::{Aof, Domain};
 
 /// The contact and ownship as the functions see them.
@@ -21,8 +22,15 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The engine with its per-degree tables, for functions that ask per-heading
+    /// queries ([`CpaEngine::heading`]).
     pub fn engine(&self) -> CpaEngine {
-        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy).with_tables()
+        self.plain_engine().with_tables()
+    }
+
+    /// The engine without tables, for functions that ask CPAs only.
+    pub fn plain_engine(&self) -> CpaEngine {
+        CpaEngine::new(self.cnx, self.cny, self.cnh, self.cnv, self.osx, self.osy)
     }
 }
 
@@ -93,8 +101,10 @@ fn eval_rows<A: Aof + ?Sized, P>(
     if xs.is_empty() {
         return;
     }
-    let mut sins = Vec::with_capacity(xs.len());
-    let mut coss = Vec::with_capacity(xs.len());
+    // The unit vectors in the thread's spare buffers (given back below).
+    let (mut sins, mut coss) = (spare::floats(), spare::floats());
+    sins.reserve(xs.len());
+    coss.reserve(xs.len());
     let mut prepared = Vec::with_capacity(xs.len());
     for &i in xs.iter() {
         let c = domain.value(0, i);
@@ -106,10 +116,10 @@ fn eval_rows<A: Aof + ?Sized, P>(
     for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
         let v = domain.value(1, j);
         engine.cpa_dists((&sins, &coss), v, tol, row);
-        for (o, p) in row.iter_mut().zip(&prepared) {
-            *o = point(p, v, *o);
-        }
+        point_row(row, &prepared, v, &point);
     }
+    spare::give_floats(sins);
+    spare::give_floats(coss);
 }
 
 fn grid(domain: &Domain, index: &[u32]) -> (f64, f64) {
@@ -126,7 +136,8 @@ pub struct CpaAof {
 impl CpaAof {
     pub fn new(s: &Scene, tol: f64, mu: f64, big: f64) -> Option<Self> {
         (mu <= big).then(|| CpaAof {
-            engine: s.engine(),
+            // Its utility asks CPAs only: no per-degree tables.
+            engine: s.plain_engine(),
             tol,
             metric: Metric {
                 mu,
@@ -320,27 +331,6 @@ impl R14Aof {
         };
         m1 + m3
     }
-
-    /// [`Self::utility_with`] given the CPA distance, every rule computed and the
-    /// answer picked (no jumps; the same comparisons and formulas on the same values),
-    /// `s` being the engine's [`CpaEngine::sides`].
-    #[inline(always)]
-    fn utility_jumpless(&self, s: &Sides, hd: &Heading, v: f64, cpa: f64) -> f64 {
-        let r = self.engine.bow_star_rate_at(s, hd, v);
-        let refused = s.on_contact | (s.port_of_cn & r.crosses_bow) | r.passes_star;
-        let m1 = self.metric.eval_jumpless(cpa);
-        let br = r.bearing_rate;
-        let scaled = 100.0 * br / self.b0;
-        let beyond = if br <= self.b0 { 100.0 } else { scaled };
-        let opening = if br >= 0.0 { 0.0 } else { beyond };
-        let m3 = if self.b0 >= 0.0 { 0.0 } else { opening };
-        let u = m1 + m3;
-        if refused {
-            0.0
-        } else {
-            u
-        }
-    }
 }
 
 impl Aof for R14Aof {
@@ -348,17 +338,29 @@ impl Aof for R14Aof {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
     }
+    /// The courses once, then per speed a row of CPA distances and of utilities
+    /// ([`rows::r14_row`]: [`Self::utility_with`] without jumps).
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        let e = &self.engine;
-        let sides = e.sides();
-        eval_rows(
-            self,
-            e,
-            self.tol,
-            (domain, axes, out),
-            |c| e.heading(c),
-            |hd, v, cpa| self.utility_jumpless(&sides, hd, v, cpa),
-        );
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let c = Courses::of(&self.engine, domain, xs, None);
+        let k = R14Row {
+            sides: self.engine.sides(),
+            consts: self.engine.row_consts(),
+            metric: self.metric,
+            b0: self.b0,
+            v: 0.0,
+        };
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let v = domain.value(1, j);
+            self.engine.cpa_dists((&c.sins, &c.coss), v, self.tol, row);
+            r14_row(&R14Row { v, ..k }, &c, row);
+        }
+        c.give_back();
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {
@@ -461,26 +463,62 @@ impl R16Aof {
     }
 }
 
+impl R16Aof {
+    /// [`Aof::eval_grid`] with the pass's rule `refused` of (crosses bow, crosses stern,
+    /// starboard turn, port turn), a constant of the row loops: the courses once, then
+    /// per speed a row of CPA distances and of utilities ([`r16_row`]).
+    fn eval_grid_with(
+        &self,
+        (domain, axes, out): (&Domain, &[&[u32]], &mut [f64]),
+        refused: impl Fn(bool, bool, bool, bool) -> bool + Copy,
+    ) {
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let c = Courses::of(&self.engine, domain, xs, Some(self.osh));
+        let k = R16Row {
+            sides: self.engine.sides(),
+            consts: self.engine.row_consts(),
+            metric: self.metric,
+            v: 0.0,
+        };
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let v = domain.value(1, j);
+            self.engine.cpa_dists((&c.sins, &c.coss), v, R16_TOL, row);
+            r16_row(&R16Row { v, ..k }, &c, row, refused);
+        }
+        c.give_back();
+    }
+}
+
 impl Aof for R16Aof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
     }
+    /// [`Self::utility_with`]'s rules without jumps: `||` as `|`, `&&` as `&`.
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_rows(
-            self,
-            &self.engine,
-            R16_TOL,
-            (domain, axes, out),
-            |c| self.course(c),
-            |p, v, cpa| self.utility_with(p, v, || cpa),
-        );
+        let grid = (domain, axes, out);
+        match self.pass {
+            Pass::Stern if self.port_turns_ok => {
+                self.eval_grid_with(grid, |bow, stern, star_turn, _| bow | (!star_turn & !stern))
+            }
+            Pass::Stern => self.eval_grid_with(grid, |_, stern, _, port_turn| !stern | port_turn),
+            Pass::Bow => self.eval_grid_with(grid, |bow, _, star_turn, _| star_turn & !bow),
+        }
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {
         true
     }
 }
+
+#[path = "aof_rows.rs"]
+mod rows;
+use rows::{point_row, r14_row, r16_row, Courses, R14Row, R16Row};
 
 #[cfg(test)]
 #[path = "aof_tests.rs"]

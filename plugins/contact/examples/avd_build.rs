@@ -1,9 +1,40 @@
 //! Builds BHV_AvoidCollision's objective function over and over (for profiling the
 //! build: `valgrind --tool=callgrind` on it, or `perf`). Prints a checksum of the
-//! weights so the build is not optimized away and two versions can be compared.
+//! weights so the build is not optimized away and two versions can be compared, and the
+//! heap allocations per round of the last half of the rounds (the steady state), counted
+//! by a global allocator.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use behavior_api::sdk::{HelmDomain, IvpBehavior};
 use behavior_api::testing::MockHelm;
+
+/// The system allocator, counting allocations and reallocations.
+struct Counting;
+
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: every call is passed on to the system allocator unchanged.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        // SAFETY: the caller's contract, passed on.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: the caller's contract, passed on.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        // SAFETY: the caller's contract, passed on.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
 
 fn main() {
     let rounds: usize = std::env::args()
@@ -16,6 +47,7 @@ fn main() {
         assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
     }
     let mut sum = 0u64;
+    let (mut counted, mut allocs) = (0usize, 0usize);
     for k in 0..rounds {
         let t = k as f64;
         helm.nav(0.0, 0.0, (t * 7.0) % 360.0, 2.0);
@@ -27,8 +59,14 @@ fn main() {
             1.5,
             "kayak",
         );
+        let before = ALLOCS.load(Ordering::Relaxed);
         helm.with(|ctx| b.on_every_state(ctx));
-        if let Some(f) = helm.with(|ctx| b.on_run(ctx)) {
+        let f = helm.with(|ctx| b.on_run(ctx));
+        if k >= rounds / 2 {
+            counted += 1;
+            allocs += ALLOCS.load(Ordering::Relaxed) - before;
+        }
+        if let Some(f) = f {
             for x in f.weights.iter().chain(f.grid.iter()).chain([&f.pwt]) {
                 sum = sum.wrapping_mul(0x100_0000_01b3).wrapping_add(x.to_bits());
             }
@@ -38,4 +76,8 @@ fn main() {
         }
     }
     println!("{sum:x}");
+    println!(
+        "{:.1} allocations per round",
+        allocs as f64 / counted.max(1) as f64
+    );
 }

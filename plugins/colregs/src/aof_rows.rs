@@ -1,0 +1,252 @@
+//! The row loops of the COLREGS AOFs' grid evaluation ([`super`]): per speed, a row of
+//! CPA distances turned into utilities, each candidate's every rule computed and the
+//! answer picked (no jumps), so that a row runs several candidates per instruction. On
+//! a CPU with AVX2 each loop runs compiled for it (four candidates per instruction
+//! instead of two; IEEE operations give the same bits at any width).
+
+use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
+use behavior_api::contacts::CpaEngine;
+use behavior_api::geometry::angle360;
+use behavior_api::ivp::zaic::spare;
+use behavior_api::ivp::Domain;
+
+use super::Metric;
+
+/// The courses of a grid as the rows read them, one list per quantity: the unit
+/// vectors (for the CPA rows), the engine's per-degree cosines (`gamcos`, `cnhcos`,
+/// `tancos`, [`behavior_api::contacts::engine::Heading::cosines`]) and, for R16, the
+/// turn from ownship's heading. The lists are the thread's spare buffers
+/// ([`Courses::give_back`]): a build asks for two grids every iteration.
+pub(super) struct Courses {
+    pub sins: Vec<f64>,
+    pub coss: Vec<f64>,
+    pub gams: Vec<f64>,
+    pub cnhs: Vec<f64>,
+    pub tans: Vec<f64>,
+    /// 1 for a starboard (port) turn, else 0: numbers, not `bool`s, so that the row
+    /// loop compares them in lanes as wide as its other numbers. Empty unless asked.
+    pub star_turns: Vec<f64>,
+    pub port_turns: Vec<f64>,
+}
+
+impl Courses {
+    /// The courses `xs` (indices of the domain's first variable) for `engine` (with its
+    /// tables), and their turns from ownship's heading `osh` when given: starboard for
+    /// `angle360(c − osh)` in (0, 180), port above 180.
+    pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32], osh: Option<f64>) -> Self {
+        let list = || {
+            let mut v = spare::floats();
+            v.reserve(xs.len());
+            v
+        };
+        let mut c = Courses {
+            sins: list(),
+            coss: list(),
+            gams: list(),
+            cnhs: list(),
+            tans: list(),
+            star_turns: spare::floats(),
+            port_turns: spare::floats(),
+        };
+        for &i in xs {
+            let course = domain.value(0, i);
+            let (s, k) = engine.unit(course);
+            c.sins.push(s);
+            c.coss.push(k);
+            let (gam, cnh, tan) = engine.heading(course).cosines();
+            c.gams.push(gam);
+            c.cnhs.push(cnh);
+            c.tans.push(tan);
+            if let Some(osh) = osh {
+                let delta = angle360(course - osh);
+                let (star, port) = (delta > 0.0 && delta < 180.0, delta > 180.0);
+                c.star_turns.push(f64::from(u8::from(star)));
+                c.port_turns.push(f64::from(u8::from(port)));
+            }
+        }
+        c
+    }
+
+    /// The lists back to the thread's spare buffers.
+    pub fn give_back(self) {
+        let lists = [self.sins, self.coss, self.gams, self.cnhs, self.tans];
+        for v in lists.into_iter().chain([self.star_turns, self.port_turns]) {
+            spare::give_floats(v);
+        }
+    }
+}
+
+/// What a row of [`R16Aof`] utilities needs besides the courses: the engine's facts
+/// and numbers, the metric and the row's speed.
+#[derive(Clone, Copy)]
+pub(super) struct R16Row {
+    pub sides: Sides,
+    pub consts: RowConsts,
+    pub metric: Metric,
+    pub v: f64,
+}
+
+/// `row[k]` (the CPA distance of course k at speed `r.v`) into `R16Aof::utility_with`
+/// of that course, every rule computed and the answer picked (no jumps; the same
+/// comparisons and formulas on the same values), `refused` being the pass's rule. On a
+/// CPU with AVX2 the same loop runs compiled for it (four candidates per instruction;
+/// IEEE operations give the same bits at any width).
+pub(super) fn r16_row(
+    r: &R16Row,
+    c: &Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { r16_row_avx2(r, c, row, refused) };
+    }
+    r16_row_plain(r, c, row, refused);
+}
+
+/// [`r16_row`]'s loop compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn r16_row_avx2(
+    r: &R16Row,
+    c: &Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
+    r16_row_plain(r, c, row, refused);
+}
+
+/// [`r16_row`]'s loop, for the target's baseline instructions (and inlined into
+/// [`r16_row_avx2`]).
+#[inline(always)]
+fn r16_row_plain(
+    r: &R16Row,
+    c: &Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
+    let R16Row {
+        sides,
+        consts,
+        metric,
+        v,
+    } = *r;
+    let n = row.len().min(c.gams.len()).min(c.tans.len());
+    let n = n.min(c.star_turns.len()).min(c.port_turns.len());
+    let (gams, tans, row) = (&c.gams[..n], &c.tans[..n], &mut row[..n]);
+    let (stars, ports) = (&c.star_turns[..n], &c.port_turns[..n]);
+    for k in 0..n {
+        let bs = BowStern::of(&sides, &consts, (gams[k], tans[k]), v);
+        let turns = (stars[k] != 0.0, ports[k] != 0.0);
+        let no = refused(bs.crosses_bow, bs.crosses_stern, turns.0, turns.1);
+        let m = metric.eval_jumpless(row[k]);
+        row[k] = if no { 0.0 } else { m };
+    }
+}
+
+/// What a row of [`super::R14Aof`] utilities needs besides the courses: the engine's
+/// facts and numbers, the metric, the reference bearing rate `b0` and the row's speed.
+#[derive(Clone, Copy)]
+pub(super) struct R14Row {
+    pub sides: Sides,
+    pub consts: RowConsts,
+    pub metric: Metric,
+    pub b0: f64,
+    pub v: f64,
+}
+
+/// `row[k]` (the CPA distance of course k at speed `r.v`) into `R14Aof::utility_with`
+/// of that course, every rule computed and the answer picked (no jumps; the same
+/// comparisons and formulas on the same values).
+pub(super) fn r14_row(r: &R14Row, c: &Courses, row: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { r14_row_avx2(r, c, row) };
+    }
+    r14_row_plain(r, c, row);
+}
+
+/// [`r14_row`]'s loop compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn r14_row_avx2(r: &R14Row, c: &Courses, row: &mut [f64]) {
+    r14_row_plain(r, c, row);
+}
+
+/// [`r14_row`]'s loop, for the target's baseline instructions (and inlined into
+/// [`r14_row_avx2`]).
+#[inline(always)]
+fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
+    let R14Row {
+        sides: s,
+        consts,
+        metric,
+        b0,
+        v,
+    } = *r;
+    let n = row
+        .len()
+        .min(c.gams.len())
+        .min(c.cnhs.len())
+        .min(c.tans.len());
+    let (gams, cnhs, tans) = (&c.gams[..n], &c.cnhs[..n], &c.tans[..n]);
+    let row = &mut row[..n];
+    for k in 0..n {
+        let r = BowStarRate::of(&s, &consts, (gams[k], cnhs[k], tans[k]), v);
+        let refused = s.on_contact | (s.port_of_cn & r.crosses_bow) | r.passes_star;
+        let m1 = metric.eval_jumpless(row[k]);
+        let br = r.bearing_rate;
+        let scaled = 100.0 * br / b0;
+        let beyond = if br <= b0 { 100.0 } else { scaled };
+        let opening = if br >= 0.0 { 0.0 } else { beyond };
+        let m3 = if b0 >= 0.0 { 0.0 } else { opening };
+        let u = m1 + m3;
+        row[k] = if refused { 0.0 } else { u };
+    }
+}
+
+/// `row[k] = point(&prepared[k], v, row[k])` for every k (the row's CPA distances into
+/// utilities). On a CPU with AVX2 the same loop runs compiled for it: a `point` without
+/// jumps then does four candidates per instruction (IEEE operations give the same bits
+/// at any width).
+pub(super) fn point_row<P>(
+    row: &mut [f64],
+    prepared: &[P],
+    v: f64,
+    point: &impl Fn(&P, f64, f64) -> f64,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { point_row_avx2(row, prepared, v, point) };
+    }
+    point_row_plain(row, prepared, v, point);
+}
+
+/// [`point_row`]'s loop compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn point_row_avx2<P>(
+    row: &mut [f64],
+    prepared: &[P],
+    v: f64,
+    point: &impl Fn(&P, f64, f64) -> f64,
+) {
+    point_row_plain(row, prepared, v, point);
+}
+
+/// [`point_row`]'s loop, for the target's baseline instructions (and inlined into
+/// [`point_row_avx2`]).
+#[inline(always)]
+fn point_row_plain<P>(
+    row: &mut [f64],
+    prepared: &[P],
+    v: f64,
+    point: &impl Fn(&P, f64, f64) -> f64,
+) {
+    for (o, p) in row.iter_mut().zip(prepared) {
+        *o = point(p, v, *o);
+    }
+}
