@@ -81,28 +81,105 @@ pub fn try_couple(
     let mut weights = mbutil::spare::floats();
     bounds.reserve(n1 * n2 * bl);
     weights.reserve(n1 * n2 * wl);
-    SCRATCH.with_borrow_mut(|scratch| {
-        let (b1, b2) = (f1.bounds(), f2.bounds());
-        let (w1s, w2s) = (f1.weights(), f2.weights());
-        let full = |d: usize| (0, dom.var(d).points as i32 - 1);
-        pair_pieces(
-            scratch,
+    let (b1, b2) = (f1.bounds(), f2.bounds());
+    let (w1s, w2s) = (f1.weights(), f2.weights());
+    let full = |d: usize| (0, dom.var(d).points as i32 - 1);
+    // Two one-variable functions (the Waypoint's course and speed) are paired in one
+    // pass that also folds the result's least and greatest values.
+    let min_max = if d1 == 1 && d2 == 1 {
+        let tops = [full(0).1, full(1).1];
+        Some(pair_lines(
             [b1, b2],
             [w1s, w2s],
-            [d1, d2],
-            full,
+            tops,
             &mut bounds,
             &mut weights,
-        );
-    });
+        ))
+    } else {
+        SCRATCH.with_borrow_mut(|scratch| {
+            pair_pieces(
+                scratch,
+                [b1, b2],
+                [w1s, w2s],
+                [d1, d2],
+                full,
+                &mut bounds,
+                &mut weights,
+            );
+        });
+        None
+    };
     // The two inputs' storage goes to the next builds.
     f1.recycle();
     f2.recycle();
     let mut out = IvpFunction::assemble(dom, bounds, weights);
     if normalize {
-        out.normalize(0.0, 100.0);
+        match min_max {
+            Some(mm) => out.normalize_from(mm, 0.0, 100.0),
+            None => out.normalize(0.0, 100.0),
+        }
     }
     Ok(out)
+}
+
+/// [`pair_pieces`] for two one-variable functions, returning what
+/// [`IvpFunction::min_max_wt`] gives for the result: each coupled piece's least and
+/// greatest value with the same operations in the same order (intercept, then the
+/// course term, then the speed term), folded over the pieces in order the same way.
+/// `tops[d]` is the highest index of dimension `d`.
+fn pair_lines(
+    [b1, b2]: [&[i32]; 2],
+    [w1s, w2s]: [&[f64]; 2],
+    tops: [i32; 2],
+    bounds: &mut Vec<i32>,
+    weights: &mut Vec<f64>,
+) -> (f64, f64) {
+    // A piece's box within `[0, top]`, `None` if that leaves it empty.
+    let clip = |b: &[i32], top: i32| {
+        let (lo, hi) = (b[0].max(0), b[1].min(top));
+        (lo <= hi).then_some((lo, hi))
+    };
+    // (lo, hi, value at lo, value at hi) of `slope * x` for x in [lo, hi]: the term
+    // each end of the box adds to the least and the greatest value.
+    let ends = |lo: i32, hi: i32, s: f64| {
+        let (l, h) = (f64::from(lo), f64::from(hi));
+        (
+            s * if s < 0.0 { h } else { l },
+            s * if s < 0.0 { l } else { h },
+        )
+    };
+    let (mut mn, mut mx) = (0.0, 0.0);
+    let mut first = true;
+    for (pb, pw) in b1.chunks_exact(2).zip(w1s.chunks_exact(2)) {
+        let Some((plo, phi)) = clip(pb, tops[0]) else {
+            continue;
+        };
+        let ps = pw[0] + 0.0;
+        let (p_min, p_max) = ends(plo, phi, ps);
+        for (qb, qw) in b2.chunks_exact(2).zip(w2s.chunks_exact(2)) {
+            let Some((qlo, qhi)) = clip(qb, tops[1]) else {
+                continue;
+            };
+            let qs = 0.0 + qw[0];
+            let c = pw[1] + qw[1];
+            bounds.extend_from_slice(&[plo, phi, qlo, qhi]);
+            weights.extend_from_slice(&[ps, qs, c]);
+            let (q_min, q_max) = ends(qlo, qhi, qs);
+            let (lo, hi) = ((c + p_min) + q_min, (c + p_max) + q_max);
+            if first {
+                (mn, mx) = (lo, hi);
+                first = false;
+                continue;
+            }
+            if lo < mn {
+                mn = lo;
+            }
+            if hi > mx {
+                mx = hi;
+            }
+        }
+    }
+    (mn, mx)
 }
 
 /// Every coupled piece: f1's piece `p` (outer) beside f2's `q` (inner), each box within
@@ -261,6 +338,61 @@ mod tests {
             assert_eq!(got.grid_bounds(), want.grid_bounds());
             got.recycle();
             build(&d, k + 1000).recycle();
+        }
+    }
+
+    /// A random one-variable function on `points` points: consecutive pieces with
+    /// awkward weights (negative, zero and signed-zero slopes, ties).
+    fn random_line(var: &str, points: u32, next: &mut impl FnMut() -> u64) -> IvpFunction {
+        let d = Domain::parse(&format!("{var}:0:{}:{points}", points - 1)).unwrap();
+        let mut pieces = vec![];
+        let mut lo = 0i32;
+        let top = points as i32 - 1;
+        while lo <= top {
+            let hi = (lo + (next() % 40) as i32).min(top);
+            let pick = |r: u64| match r % 6 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => 1.5,
+                _ => (r % 2001) as f64 / 7.0 - 140.0,
+            };
+            let (s, c) = (pick(next()), pick(next()));
+            pieces.push((vec![(lo, hi)], vec![s, c]));
+            lo = hi + 1;
+        }
+        IvpFunction::from_pieces(d, &pieces).unwrap()
+    }
+
+    /// The one-pass pairing of two one-variable functions (with its folded least and
+    /// greatest values) gives what pairing then `normalize` gives, bit for bit.
+    #[test]
+    fn paired_lines_fold_what_min_max_wt_gives() {
+        let mut seed = 3u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed >> 33
+        };
+        for round in 0..500 {
+            let a = random_line("course", 1 + (next() % 360) as u32, &mut next);
+            let b = random_line("speed", 1 + (next() % 41) as u32, &mut next);
+            let (w1, w2) = (1.0 + (next() % 99) as f64, 1.0 + (round % 50) as f64);
+            let plain = try_couple(a.clone(), b.clone(), w1, w2, false).unwrap();
+            let (bounds, weights) = {
+                let (mut na, mut nb) = (a.clone(), b.clone());
+                na.normalize(0.0, w1);
+                nb.normalize(0.0, w2);
+                by_translation(&na, &nb)
+            };
+            assert_eq!(plain.bounds(), &bounds[..], "round {round}");
+            let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(plain.weights()), bits(&weights), "round {round}");
+            let mut want = plain.clone();
+            want.normalize(0.0, 100.0);
+            let got = try_couple(a, b, w1, w2, true).unwrap();
+            assert_eq!(got.bounds(), want.bounds(), "round {round}");
+            assert_eq!(bits(got.weights()), bits(want.weights()), "round {round}");
         }
     }
 

@@ -77,18 +77,28 @@ const SAMPLE_PIECES: usize = 16;
 
 /// Piece construction from sampled values (spec §3.1, tolerance 0.001).
 pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
-    pieces_by_scan(v.len(), |i| v[i], |_, i| i)
+    pieces_by_scan(v.len(), |i| v[i], |_, _| None)
+}
+
+/// The line of the piece being scanned: fitted on samples `first` and `first + 1`
+/// (value `v1`), slope `m` and intercept `b` as the scan computes them.
+#[derive(Clone, Copy)]
+pub(crate) struct Line {
+    pub first: usize,
+    pub v1: f64,
+    pub m: f64,
+    pub b: f64,
 }
 
 /// The piece construction of [`pieces_from_samples`] over `n` samples given by `value`
-/// (called in increasing index order, mostly once per index). `skip(first, i)`, asked
-/// while a piece's line is set, returns the next index the scan must look at (≥ `i`,
-/// < `n`): a caller that can prove the samples in between lie on the current piece's
-/// line (so the scan would do nothing there) lets the scan jump over them.
+/// (called in increasing index order, mostly once per index). `skip(line, i)`, asked
+/// while a piece's line is set, may return `(j, value(j))` with `i < j < n - 1`: a
+/// caller that can prove the samples `i..=j` lie on the current piece's line (so the
+/// scan would do nothing there) lets the scan jump over them.
 pub(crate) fn pieces_by_scan(
     n: usize,
     mut value: impl FnMut(usize) -> f64,
-    mut skip: impl FnMut(usize, usize) -> usize,
+    mut skip: impl FnMut(&Line, usize) -> Option<(usize, f64)>,
 ) -> Pieces1 {
     let mut out = Pieces1::spare();
     if n < 2 {
@@ -96,7 +106,7 @@ pub(crate) fn pieces_by_scan(
     }
     let tol = 0.001;
     let (mut first, mut fv) = (0usize, value(0));
-    let (mut trend, mut m, mut b) = (false, 0.0f64, 0.0f64);
+    let (mut trend, mut m, mut b, mut v1) = (false, 0.0f64, 0.0f64, 0.0f64);
     let chord = |first: usize, fv: f64, end: usize, ve: f64| {
         if end == first {
             0.0
@@ -109,9 +119,11 @@ pub(crate) fn pieces_by_scan(
     let mut i = 1;
     while i < n {
         if trend {
-            let j = skip(first, i);
-            if j > i {
-                i = j;
+            let line = Line { first, v1, m, b };
+            if let Some((j, vj)) = skip(&line, i) {
+                // The jump's last sample is the next one's predecessor.
+                prev = (j, vj);
+                i = j + 1;
                 continue;
             }
         }
@@ -126,6 +138,7 @@ pub(crate) fn pieces_by_scan(
         if !trend {
             m = (vi - fv) / (i - first) as f64;
             b = vi - m * fi;
+            v1 = vi;
             trend = true;
         }
         let mut brk = ((m * fi + b) - vi).abs() > tol;

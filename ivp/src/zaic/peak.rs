@@ -206,7 +206,20 @@ impl ZaicPeak {
     }
 
     /// Fails (records the typed error, returns false) on a bad index or non-finite value.
+    /// The passing test is inlined into the setters (every ZAIC of every behavior is set
+    /// up every iteration); the failures are recorded out of line.
+    #[inline]
     fn check(&mut self, idx: usize, param: &str, v: f64) -> bool {
+        if idx < self.comps.len() && v.is_finite() {
+            return true;
+        }
+        self.check_failed(idx, param, v)
+    }
+
+    /// [`ZaicPeak::check`]'s failures: the warning and the typed error.
+    #[cold]
+    #[inline(never)]
+    fn check_failed(&mut self, idx: usize, param: &str, v: f64) -> bool {
         if idx >= self.comps.len() {
             self.warn(&format!("{param}:index out of range"));
             self.error.get_or_insert(IvpError::BadComponent {
