@@ -4,37 +4,12 @@
 //! heap allocations per round of the last half of the rounds (the steady state), counted
 //! by a global allocator.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use behavior_api::sdk::{HelmDomain, IvpBehavior};
-use behavior_api::testing::MockHelm;
+use behavior_api::testing::{allocations, CountingAlloc, MockHelm};
 
-/// The system allocator, counting allocations and reallocations.
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: every call is passed on to the system allocator unchanged.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: the caller's contract, passed on.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: the caller's contract, passed on.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: the caller's contract, passed on.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
+/// Counts allocations and reallocations (see [`allocations`]).
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAlloc = CountingAlloc;
 
 fn main() {
     let rounds: usize = std::env::args()
@@ -59,12 +34,12 @@ fn main() {
             1.5,
             "kayak",
         );
-        let before = ALLOCS.load(Ordering::Relaxed);
+        let before = allocations();
         helm.with(|ctx| b.on_every_state(ctx));
         let f = helm.with(|ctx| b.on_run(ctx));
         if k >= rounds / 2 {
             counted += 1;
-            allocs += ALLOCS.load(Ordering::Relaxed) - before;
+            allocs += allocations() - before;
         }
         if let Some(f) = f {
             for x in f.weights.iter().chain(f.grid.iter()).chain([&f.pwt]) {
