@@ -62,6 +62,16 @@ pub(crate) struct CellRange {
     pub(crate) one: bool,
 }
 
+impl CellRange {
+    /// No cells yet: the start of a range being filled in.
+    pub(crate) const NONE: CellRange = CellRange {
+        lo: [0; ODO_DIMS],
+        hi: [0; ODO_DIMS],
+        top: 0,
+        one: true,
+    };
+}
+
 impl Prepared {
     /// Cell coordinate of index `i` in dimension `d` (`i / ppg`).
     #[inline(always)]
@@ -77,12 +87,7 @@ impl Prepared {
     /// The cells box `b` overlaps (`dim <= ODO_DIMS`).
     #[inline(always)]
     pub(crate) fn range(&self, b: &[i32], dim: usize) -> CellRange {
-        let mut r = CellRange {
-            lo: [0; ODO_DIMS],
-            hi: [0; ODO_DIMS],
-            top: 0,
-            one: true,
-        };
+        let mut r = CellRange::NONE;
         for d in 0..dim {
             r.lo[d] = self.coord(d, b[2 * d]);
             r.hi[d] = self.coord(d, b[2 * d + 1]);
@@ -158,12 +163,7 @@ pub(crate) fn for_each_cell(
     if dim > ODO_DIMS {
         return for_each_cell_any(ppg, stride, b, dim, f);
     }
-    let mut r = CellRange {
-        lo: [0; ODO_DIMS],
-        hi: [0; ODO_DIMS],
-        top: 0,
-        one: true,
-    };
+    let mut r = CellRange::NONE;
     for d in 0..dim {
         r.lo[d] = (b[2 * d] / ppg[d]) as usize;
         r.hi[d] = (b[2 * d + 1] / ppg[d]) as usize;

@@ -74,12 +74,7 @@ pub(crate) fn bound_upto(
         return acc;
     }
     let mut range_of = usize::MAX;
-    let mut range = CellRange {
-        lo: [0; ODO_DIMS],
-        hi: [0; ODO_DIMS],
-        top: 0,
-        one: true,
-    };
+    let mut range = CellRange::NONE;
     for &fi in &active[level..upto] {
         let f = &funcs[fi];
         if f.single {
@@ -110,12 +105,7 @@ pub(crate) struct Term<'a> {
 #[inline]
 pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -> f64 {
     let mut range_of = usize::MAX;
-    let mut range = CellRange {
-        lo: [0; ODO_DIMS],
-        hi: [0; ODO_DIMS],
-        top: 0,
-        one: true,
-    };
+    let mut range = CellRange::NONE;
     for t in terms {
         let Some(f) = t.grid else {
             acc += t.ub;
