@@ -371,6 +371,9 @@ struct Run<'a> {
     community: String,
     reg: Registrar,
     alog: Option<AlogSink>,
+    /// Postings refused because the DB went away in the middle of an iteration: the
+    /// loss is told once, with this count, instead of a warning per variable.
+    unposted: usize,
 }
 
 impl Bus for Run<'_> {
@@ -383,8 +386,10 @@ impl Bus for Run<'_> {
     }
 
     fn publish(&mut self, p: &Posting, now: f64) {
-        if let Err(e) = moos_io::publish(self.client, p, now) {
-            tracing::warn!(var = %p.var, "not posted: {e}");
+        match moos_io::publish(self.client, p, now) {
+            Ok(()) => {}
+            Err(ClientError::NotConnected) => self.unposted += 1,
+            Err(e) => tracing::warn!(var = %p.var, "not posted: {e}"),
         }
         if let Some(a) = &mut self.alog {
             if let Err(e) = a.posting(p, now) {
@@ -484,6 +489,7 @@ fn drive(
         community: setup.community.clone(),
         reg: Registrar::default(),
         alog,
+        unposted: 0,
     };
     let mut term = Terminal::new(setup.mode, setup.closing);
     let mut caster = Caster::new(settings.time_warp, setup.term_reporting);
@@ -554,11 +560,24 @@ fn drive(
         if !client.is_connected() {
             if !disconnected_told {
                 disconnected_told = true;
-                tracing::warn!("lost the MOOSDB; waiting to reconnect");
+                let lost = std::mem::take(&mut run.unposted);
+                if lost > 0 {
+                    tracing::warn!(
+                        "lost the MOOSDB; waiting to reconnect ({lost} postings of the \
+                         last iteration not delivered)"
+                    );
+                } else {
+                    tracing::warn!("lost the MOOSDB; waiting to reconnect");
+                }
             }
             continue;
         }
         disconnected_told = false;
+        let lost = std::mem::take(&mut run.unposted);
+        if lost > 0 {
+            // The connection dropped and came back between two looks at it.
+            tracing::warn!("{lost} postings not delivered: the MOOSDB connection dropped");
+        }
         cycle.iterate(helm, &mut run, now);
         run.appcast(helm, &mut caster, &mut term, now);
         term.heartbeat(helm.state());
@@ -582,4 +601,34 @@ fn drive(
         })?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_posting_refused_for_want_of_a_db_is_counted_not_warned_per_variable() {
+        // Port 1 on localhost: nothing listens, the client stays unconnected.
+        let client = Client::start(moos::client::ClientConfig::new("127.0.0.1", 1, "t"))
+            .expect("client starts without a DB");
+        assert!(!client.is_connected());
+        let mut run = Run {
+            client: &client,
+            app: "pHelmIvP".into(),
+            community: "alpha".into(),
+            reg: Registrar::default(),
+            alog: None,
+            unposted: 0,
+        };
+        for var in ["DESIRED_SPEED", "DESIRED_HEADING"] {
+            let p = Posting {
+                var: var.into(),
+                value: Value::Num(1.0),
+                source_aux: String::new(),
+            };
+            run.publish(&p, 0.0);
+        }
+        assert_eq!(run.unposted, 2);
+    }
 }
