@@ -60,13 +60,32 @@ pub fn platform_update(ctx: &mut Ctx<'_>) -> Option<Platform> {
     })
 }
 
-/// Replace `$[KEY]` and `$(KEY)` by `value` everywhere in `text`.
+/// Replace `$[KEY]` and `$(KEY)` by `value` everywhere in `text` (all `$[KEY]` first,
+/// then all `$(KEY)`, left to right, not rescanning what was put in), in place.
 pub fn subst(text: &mut String, key: &str, value: &str) {
-    for pat in [format!("$[{key}]"), format!("$({key})")] {
-        if text.contains(&pat) {
-            *text = text.replace(&pat, value);
+    for (open, close) in [("$[", ']'), ("$(", ')')] {
+        let mut from = 0;
+        while let Some(at) = text[from..].find(open).map(|i| from + i) {
+            let name = at + open.len();
+            let end = name + key.len();
+            if text[name..].starts_with(key) && text[end..].starts_with(close) {
+                text.replace_range(at..end + 1, value);
+                from = at + value.len();
+            } else {
+                from = at + 1;
+            }
         }
     }
+}
+
+/// Whether `text` holds `$[KEY]` or `$(KEY)`.
+pub fn has_macro(text: &str, key: &str) -> bool {
+    [("$[", ']'), ("$(", ')')].iter().any(|(open, close)| {
+        text.match_indices(open).any(|(at, _)| {
+            let rest = &text[at + open.len()..];
+            rest.starts_with(key) && rest[key.len()..].starts_with(*close)
+        })
+    })
 }
 
 /// Variables appearing as the left operand of a comparison in a logic condition.
@@ -177,6 +196,42 @@ mod tests {
             let mut s = String::from("d=");
             push_f0(&mut s, v);
             assert_eq!(s, format!("d={}", fmt_f0(v)));
+        }
+    }
+
+    /// The plain form `subst` replaced: a copy of the text per pattern.
+    fn subst_plain(text: &mut String, key: &str, value: &str) {
+        for pat in [format!("$[{key}]"), format!("$({key})")] {
+            if text.contains(&pat) {
+                *text = text.replace(&pat, value);
+            }
+        }
+    }
+
+    #[test]
+    fn subst_in_place_matches_the_plain_replace_on_random_texts() {
+        let atoms = [
+            "$", "[", "]", "(", ")", "N", "I", "X", "é", "$[NI]", "$(NI)", "$[N",
+        ];
+        let values = ["", "3", "$(NI)", "12.5,-3", "ñé"];
+        let mut seed = 7u64;
+        let mut next = |n: usize| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as usize % n
+        };
+        for _ in 0..20000 {
+            let len = next(12);
+            let text: String = (0..len).map(|_| atoms[next(atoms.len())]).collect();
+            let key = ["NI", "N", "X"][next(3)];
+            let value = values[next(values.len())];
+            let (mut a, mut b) = (text.clone(), text.clone());
+            subst(&mut a, key, value);
+            subst_plain(&mut b, key, value);
+            assert_eq!(a, b, "text {text:?} key {key} value {value:?}");
+            let plain = text.contains(&format!("$[{key}]")) || text.contains(&format!("$({key})"));
+            assert_eq!(has_macro(&text, key), plain, "{text:?} {key}");
         }
     }
 }

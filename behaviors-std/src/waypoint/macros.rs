@@ -3,7 +3,7 @@
 use geometry::{fmt_x, pts_spec};
 
 use super::BhvWaypoint;
-use crate::common::subst;
+use crate::common::{has_macro, subst};
 
 impl BhvWaypoint {
     /// Expand this type's macros (§2.6) in `text`.
@@ -12,63 +12,86 @@ impl BhvWaypoint {
         if !s.contains("$[") && !s.contains("$(") {
             return s;
         }
-        let n = self.engine.size();
-        let ix = self.engine.index();
-        let f3 = |v: f64| fmt_x(v, 3);
-        let b = |v: bool| if v { "1" } else { "0" };
-        let (nx, ny) = self
-            .nextpt
-            .or_else(|| self.engine.current().map(|p| (p.x, p.y)))
-            .unwrap_or((0.0, 0.0));
-        let (px, py) = self.prev_pt.unwrap_or((0.0, 0.0));
-        let cycrem = if self.engine.repeats_endless() {
-            "forever".to_string()
-        } else {
-            self.engine
-                .repeats()
-                .saturating_sub(self.engine.repeats_sofar())
-                .to_string()
-        };
-        let hits = self.engine.capture_hits() + self.engine.slip_hits();
-        let (ox, oy) = (self.plat.x, self.plat.y);
-        let subs: Vec<(&str, String)> = vec![
-            ("POINTS", pts_spec(self.engine.points(), 1)),
-            ("SPEED", f3(self.cruise_speed)),
-            ("SPEED_ALT", f3(self.speed_alt)),
-            ("USE_SPEED_ALT", b(self.use_alt_speed).into()),
-            ("IPF_TYPE", self.ipf_type.clone()),
-            ("WPT_FLAG_ON_START", b(self.wptflag_on_start).into()),
-            ("LEAD_TO_START", b(self.lead_to_start).into()),
-            ("LEAD_DAMPER", f3(self.lead_damper)),
-            (
-                "ORDER",
-                if self.engine.reverse() {
-                    "reverse"
-                } else {
-                    "normal"
-                }
-                .into(),
-            ),
-            ("NI", ix.to_string()),
-            ("IX", ix.to_string()),
-            ("NX", f3(nx)),
-            ("NY", f3(ny)),
-            ("PI", self.prev_waypt_index.to_string()),
-            ("PX", f3(px)),
-            ("PY", f3(py)),
-            ("X", f3(px)),
-            ("Y", f3(py)),
-            ("CYCLES", self.engine.cycles().to_string()),
-            ("CYCREM", cycrem),
-            ("WPTS_HIT", hits.to_string()),
-            ("WPTS_REM", n.saturating_sub(ix).to_string()),
-            ("WPTS", n.to_string()),
-            ("CYC_DIST_TOGO", f3(self.engine.dist_to_go_cycle(ox, oy))),
-            ("ALL_DIST_TOGO", f3(self.engine.dist_to_go_all(ox, oy))),
-        ];
-        for (k, v) in subs {
-            subst(&mut s, k, &v);
+        // Only the macros the text names are worked out (this runs for every flag
+        // posted at a waypoint).
+        for key in KEYS {
+            if has_macro(&s, key) {
+                subst(&mut s, key, &self.macro_value(key));
+            }
         }
         s
     }
+
+    /// The value of one of this type's macros.
+    fn macro_value(&self, key: &str) -> String {
+        let n = self.engine.size();
+        let ix = self.engine.index();
+        let f3 = |v: f64| fmt_x(v, 3);
+        let b = |v: bool| if v { "1" } else { "0" }.to_string();
+        let (px, py) = self.prev_pt.unwrap_or((0.0, 0.0));
+        let (ox, oy) = (self.plat.x, self.plat.y);
+        match key {
+            "POINTS" => pts_spec(self.engine.points(), 1),
+            "SPEED" => f3(self.cruise_speed),
+            "SPEED_ALT" => f3(self.speed_alt),
+            "USE_SPEED_ALT" => b(self.use_alt_speed),
+            "IPF_TYPE" => self.ipf_type.clone(),
+            "WPT_FLAG_ON_START" => b(self.wptflag_on_start),
+            "LEAD_TO_START" => b(self.lead_to_start),
+            "LEAD_DAMPER" => f3(self.lead_damper),
+            "ORDER" if self.engine.reverse() => "reverse".into(),
+            "ORDER" => "normal".into(),
+            "NI" | "IX" => ix.to_string(),
+            "NX" | "NY" => {
+                let (nx, ny) = self
+                    .nextpt
+                    .or_else(|| self.engine.current().map(|p| (p.x, p.y)))
+                    .unwrap_or((0.0, 0.0));
+                f3(if key == "NX" { nx } else { ny })
+            }
+            "PI" => self.prev_waypt_index.to_string(),
+            "PX" | "X" => f3(px),
+            "PY" | "Y" => f3(py),
+            "CYCLES" => self.engine.cycles().to_string(),
+            "CYCREM" if self.engine.repeats_endless() => "forever".into(),
+            "CYCREM" => (self.engine.repeats())
+                .saturating_sub(self.engine.repeats_sofar())
+                .to_string(),
+            "WPTS_HIT" => (self.engine.capture_hits() + self.engine.slip_hits()).to_string(),
+            "WPTS_REM" => n.saturating_sub(ix).to_string(),
+            "WPTS" => n.to_string(),
+            "CYC_DIST_TOGO" => f3(self.engine.dist_to_go_cycle(ox, oy)),
+            "ALL_DIST_TOGO" => f3(self.engine.dist_to_go_all(ox, oy)),
+            _ => String::new(),
+        }
+    }
 }
+
+/// The macros of §2.6, in the order they are expanded.
+const KEYS: [&str; 25] = [
+    "POINTS",
+    "SPEED",
+    "SPEED_ALT",
+    "USE_SPEED_ALT",
+    "IPF_TYPE",
+    "WPT_FLAG_ON_START",
+    "LEAD_TO_START",
+    "LEAD_DAMPER",
+    "ORDER",
+    "NI",
+    "IX",
+    "NX",
+    "NY",
+    "PI",
+    "PX",
+    "PY",
+    "X",
+    "Y",
+    "CYCLES",
+    "CYCREM",
+    "WPTS_HIT",
+    "WPTS_REM",
+    "WPTS",
+    "CYC_DIST_TOGO",
+    "ALL_DIST_TOGO",
+];
