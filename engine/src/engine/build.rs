@@ -160,6 +160,7 @@ impl Helm {
             functions: Vec::new(),
             mode_pairs: Vec::new(),
             pool: Default::default(),
+            refill: Vec::new(),
             ipf: ivp_ipf::IpfWriter::default(),
             ipf_off: false,
             apps_seen: Vec::new(),

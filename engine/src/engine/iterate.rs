@@ -381,7 +381,7 @@ impl Helm {
         for i in 0..self.config.domain.size() {
             if let Some(v) = self.decision.values.get(i).copied().flatten() {
                 let var = self.pool.copy_of(&self.desired_names[i].0);
-                let source_aux = self.pool.take();
+                let source_aux = String::new();
                 self.outbox.push(Posting {
                     var,
                     value: Value::Num(v),

@@ -129,6 +129,9 @@ pub struct Helm {
     pub(crate) report: report::ReportFeed,
     /// Strings of handed-out postings, reused by the next ones.
     pub(crate) pool: mbutil::StringPool,
+    /// The lengths of the texts a behavior posted this iteration: it gets back spare
+    /// strings of these sizes for its next messages (reused, kept between iterations).
+    pub(crate) refill: Vec<usize>,
     /// BHV_IPF text and packet id, reused for every function.
     pub(crate) ipf: ivp_ipf::IpfWriter,
     /// BHV_IPF is not made at all (see [`Helm::set_ipf_posting`]).
@@ -221,7 +224,10 @@ impl Helm {
     /// value is kept (a new string the first time a variable is posted).
     pub(crate) fn post_on_change(&mut self, var: &'static str, value: crate::posting::Value) {
         use std::fmt::Write as _;
-        let mut text = self.pool.take();
+        let mut text = self.pool.take_for(match &value {
+            crate::posting::Value::Str(s) => s.len(),
+            crate::posting::Value::Num(_) => 24,
+        });
         match &value {
             crate::posting::Value::Str(s) => text.push_str(s),
             crate::posting::Value::Num(v) => {

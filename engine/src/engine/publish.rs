@@ -23,13 +23,11 @@ impl Helm {
         self.post_on_change("IVPHELM_BHV_CNT_EVER", Value::Num(ever));
         self.post_num("IVPHELM_ITER", iter as f64);
 
-        let mut name = self.pool.take();
-        let mut aux = self.pool.take();
+        let mut name = self.pool.take_for(64);
+        let mut aux = self.pool.take_for(96);
         for i in 0..self.behaviors.len() {
             let mut messages = std::mem::take(&mut self.behaviors[i].core.messages);
-            // About as many strings as these messages took, for the next ones (a
-            // message has up to three).
-            let wanted = 3 * messages.len();
+            self.refill.clear();
             name.clear();
             name.push_str(&self.behaviors[i].core.name);
             aux.clear();
@@ -56,6 +54,13 @@ impl Helm {
                     }
                     _ => {}
                 }
+                // The behavior's own strings (BHV_IPF's are the helm's): it gets
+                // strings of these sizes back for its next messages.
+                self.refill.push(m.var.len());
+                self.refill.push(m.key.len());
+                if let Value::Str(s) = &m.value {
+                    self.refill.push(s.len());
+                }
                 self.ib.set_value(&m.var, &m.value, now);
                 if self.filter.allow(&m.key, &m.value) {
                     self.report
@@ -68,8 +73,12 @@ impl Helm {
             // Give the buffer back so its allocation is reused next iteration.
             let core = &mut self.behaviors[i].core;
             core.messages = messages;
-            while core.pool.len() < wanted && !self.pool.is_empty() {
-                core.pool.give(self.pool.take());
+            let wanted = self.refill.len();
+            for &len in &self.refill {
+                if core.pool.len() >= wanted || self.pool.is_empty() {
+                    break;
+                }
+                core.pool.give(self.pool.take_for(len));
             }
         }
         self.pool.give(name);
@@ -196,7 +205,11 @@ impl Helm {
             ),
         ];
         for (var, cnt_var, state) in groups {
-            let mut names = self.pool.take();
+            let len: usize = (self.behaviors.iter())
+                .filter(|b| b.core.state == state)
+                .map(|b| b.core.name.len() + 1)
+                .sum();
+            let mut names = self.pool.take_for(len);
             let mut n = 0;
             for b in self.behaviors.iter().filter(|b| b.core.state == state) {
                 if n > 0 {

@@ -133,7 +133,13 @@ impl Helm {
             self.write_field(k, field, s);
         }
         let full = self.summary_last.is_empty();
-        let mut out = self.pool.take();
+        // At most every field with its name, after `iter=...,utc_time=...`.
+        let most: usize = fields
+            .iter()
+            .zip(FIELDS)
+            .map(|(v, f)| v.len() + f.len() + 2)
+            .sum();
+        let mut out = self.pool.take_for(most + 48);
         let _ = write!(out, "iter={},utc_time={:.2}", self.env.helm_iteration, now);
         for (k, v) in fields.iter().enumerate() {
             let changed = self.summary_last.get(k) != Some(v);

@@ -241,8 +241,13 @@ impl BehaviorCore {
             Some(to) => self.pool.copy_of(to),
             None => self.pool.copy_of(var),
         };
-        let mut key = self.pool.take();
-        if given_key.eq_ignore_ascii_case("repeatable") {
+        let repeatable = given_key.eq_ignore_ascii_case("repeatable");
+        let mut key = self.pool.take_for(if repeatable {
+            10
+        } else {
+            self.name.len() + var.len() + given_key.len()
+        });
+        if repeatable {
             key.push_str("repeatable");
         } else {
             key.push_str(&self.name);

@@ -289,7 +289,8 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     let core = &mut inst.core;
     // `<status info>,state=<state>,updates=<good>/<total> or n/a`, written into a
     // spare string (this runs for every behavior every iteration).
-    let mut status = core.pool.take();
+    // Room for the status info and `,state=...,updates=.../...`.
+    let mut status = core.pool.take_for(core.status_info.len() + 40);
     status.push_str(&core.status_info);
     status.push_str(",state=");
     status.push_str(new.as_str());
