@@ -131,6 +131,34 @@ fn legrun_texts_allocate_nothing_in_steady_state() {
     assert_eq!(steady, 0, "allocations in steady state");
     // The postings of the texts before they were kept (recorded from the old code).
     assert_eq!(hash, EXPECTED_HASH);
+
+    // The kept texts follow a moved leg and new hints.
+    let p1 = |helm: &MockHelm| {
+        let p = helm
+            .posts
+            .iter()
+            .rev()
+            .find(|p| p.0 == "VIEW_POINT" && p.2 == "p1");
+        p.map(|p| p.1.clone()).unwrap_or_default()
+    };
+    for (param, value, expect) in [
+        (
+            "vx1",
+            "70,-30",
+            "x=70,y=-30,label=abe_p1,label_color=invisible,vertex_color=orange,vertex_size=10.5",
+        ),
+        (
+            "visual_hints",
+            "legpt_vertex_color=red",
+            "x=70,y=-30,label=abe_p1,label_color=invisible,vertex_color=red,vertex_size=10.5",
+        ),
+    ] {
+        assert!(helm.with(|ctx| b.set_param(ctx, param, value)));
+        helm.with(|ctx| b.on_params_complete(ctx));
+        helm.clear();
+        helm.with(|ctx| b.on_run(ctx));
+        assert_eq!(p1(&helm), expect, "{param}");
+    }
 }
 
 const EXPECTED_HASH: u64 = 0x2dad_031d_ae1c_c0af;

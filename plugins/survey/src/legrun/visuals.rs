@@ -90,6 +90,11 @@ pub(super) struct Texts {
     turn_erase: Attrs,
     /// The spec being posted.
     spec: String,
+    /// P1's and P2's specs, and what they were written for (the points and whether
+    /// active): the leg does not move between iterations, so they are written again
+    /// only when it does.
+    leg_specs: [String; 2],
+    leg_key: Option<([Option<Pt>; 2], bool)>,
     verts: Vec<Vertex>,
 }
 
@@ -207,6 +212,7 @@ impl LegRun {
         t.turn_erase = erase(&t.turn.label);
         // Room for the usual specs at once (a turn path of ~40 vertices).
         t.spec.reserve(1024);
+        t.leg_key = None;
         t.ready = true;
         self.texts = t;
     }
@@ -255,13 +261,20 @@ impl LegRun {
     pub(super) fn post_leg_points(&mut self, ctx: &mut Ctx<'_>, active: bool) {
         self.ready_texts(ctx);
         let t = &mut self.texts;
+        let pts = [self.leg.p1, self.leg.p2];
+        let key = Some((pts, active));
+        let written = t.leg_key == key;
         let attrs = if active { &t.leg } else { &t.leg_plain };
-        for (i, p) in [self.leg.p1, self.leg.p2].into_iter().enumerate() {
+        for (i, p) in pts.into_iter().enumerate() {
             let Some(p) = p else { continue };
-            t.spec.clear();
-            push_point_spec(&mut t.spec, p.0, p.1, None, &attrs[i]);
-            ctx.post_message_key("VIEW_POINT", t.spec.as_str().into(), LEG_KEYS[i]);
+            let spec = &mut t.leg_specs[i];
+            if !written {
+                spec.clear();
+                push_point_spec(spec, p.0, p.1, None, &attrs[i]);
+            }
+            ctx.post_message_key("VIEW_POINT", spec.as_str().into(), LEG_KEYS[i]);
         }
+        t.leg_key = key;
     }
 
     pub(super) fn post_turn_path(&mut self, ctx: &mut Ctx<'_>) {
