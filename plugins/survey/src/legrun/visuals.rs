@@ -95,6 +95,10 @@ pub(super) struct Texts {
     /// only when it does.
     leg_specs: [String; 2],
     leg_key: Option<([Option<Pt>; 2], bool)>,
+    /// The next waypoint's spec and the point it was written for (it moves only when
+    /// the engine advances).
+    wpt_spec: String,
+    wpt_key: Option<Pt>,
     verts: Vec<Vertex>,
 }
 
@@ -213,6 +217,7 @@ impl LegRun {
         // Room for the usual specs at once (a turn path of ~40 vertices).
         t.spec.reserve(1024);
         t.leg_key = None;
+        t.wpt_key = None;
         t.ready = true;
         self.texts = t;
     }
@@ -241,9 +246,12 @@ impl LegRun {
             push_point_erase(&mut t.spec, &t.trk_erase);
         }
         ctx.post_message_key("VIEW_POINT", t.spec.as_str().into(), "trk");
-        t.spec.clear();
-        push_point_spec(&mut t.spec, next.0, next.1, None, &t.wpt);
-        ctx.post_message_key("VIEW_POINT", t.spec.as_str().into(), "wpt");
+        if t.wpt_key != Some(next) {
+            t.wpt_spec.clear();
+            push_point_spec(&mut t.wpt_spec, next.0, next.1, None, &t.wpt);
+            t.wpt_key = Some(next);
+        }
+        ctx.post_message_key("VIEW_POINT", t.wpt_spec.as_str().into(), "wpt");
     }
 
     pub(super) fn erase_steer_points(&mut self, ctx: &mut Ctx<'_>) {
