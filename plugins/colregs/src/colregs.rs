@@ -8,7 +8,7 @@ use behavior_api::contact::{ContactBase, POST_MORTEM_MACRO};
 use behavior_api::flag::{expand_macros, has_macro};
 use behavior_api::ivp::Domain;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::{compact, FunctionData, PostValue};
+use behavior_api::{compact, push_compact, FunctionData, PostValue};
 
 use crate::build::{build_function, grid_box, Built};
 use crate::modes::{mode_index, Debug, Inputs, Machine, Mode, Submode};
@@ -38,6 +38,35 @@ pub struct Colregs {
     /// Why the behavior completed (the post-mortem's prefix, V22 only).
     reason: &'static str,
     dbg: Vec<Debug>,
+    /// The names and texts posted every iteration.
+    texts: Texts,
+}
+
+/// The variable names and texts this behavior posts every iteration, kept so that an
+/// iteration builds no string: the per-contact names are made again only when the
+/// contact changes, the ownship's once; each text is written into `text`.
+#[derive(Default)]
+struct Texts {
+    /// The contact the names below were made for (`None` before the first).
+    contact: Option<String>,
+    fore: String,
+    port: String,
+    crossed: String,
+    range: String,
+    hdg: String,
+    avoid_mode: String,
+    summary: String,
+    avoid_ix: String,
+    avoid_pwt: String,
+    relevance: String,
+    col22_mode: String,
+    bow_dist: String,
+    bow_turn_gap: String,
+    /// `HEADON_DEBUG_<OWNSHIP>` and the status seglist's label `<ownship><name>`,
+    /// read once (`None` before).
+    own: Option<(String, String)>,
+    /// The text being posted.
+    text: String,
 }
 
 impl Colregs {
@@ -61,6 +90,7 @@ impl Colregs {
             mode_ix: 0,
             reason: "",
             dbg: Vec::with_capacity(4),
+            texts: Texts::default(),
         }
     }
 
@@ -108,76 +138,111 @@ impl Colregs {
         done
     }
 
-    fn mode_text(&self) -> String {
-        let m = self.machine;
-        if m.submode == Submode::None {
-            m.mode.as_str().to_string()
-        } else {
-            format!("{}:{}", m.mode.as_str(), m.submode.as_str())
+    /// The mode as `mode` or `mode:submode` appended to `out`.
+    fn push_mode_text(m: Machine, out: &mut String) {
+        out.push_str(m.mode.as_str());
+        if m.submode != Submode::None {
+            out.push(':');
+            out.push_str(m.submode.as_str());
         }
     }
 
-    /// The status info (§5.7), and for V19/V17 the status seglist.
-    fn post_status(&self, ctx: &mut Ctx<'_>) {
-        if self.p.version != Version::V22 {
-            self.post_status_seglist(ctx);
-        }
-        if !self.base.post_per_contact_info {
+    /// Makes the per-contact names when the contact is not the one they were made for.
+    fn ready_names(&mut self) {
+        if self.texts.contact.as_deref() == Some(self.base.contact.as_str()) {
             return;
         }
-        let Some(r) = self.base.relation() else {
-            return;
-        };
+        let relevance = self.relevance_var();
         let up = self.base.contact.to_ascii_uppercase();
         let sep = if self.p.version == Version::V17 {
             "__"
         } else {
             "_"
         };
+        let t = &mut self.texts;
+        t.fore = format!("CN_FORE_OF_OS{sep}{up}");
+        t.port = format!("CN_PORT_OF_OS__{up}");
+        t.crossed = format!("CN_CROSSED_OS_PORT_STAR{sep}{up}");
+        t.range = format!("AVDCOL_RANGE_{up}");
+        t.hdg = format!("COLREGS_CONTACT_HDG_{up}");
+        t.avoid_mode = format!("COLREGS_AVOID_MODE_{up}");
+        t.summary = format!("COLREGS_SUMMARY_{up}");
+        t.avoid_ix = format!("COLREGS_AVOID_IX_{up}");
+        t.avoid_pwt = format!("COLREGS_AVOID_PWT_{up}");
+        t.relevance = relevance;
+        t.col22_mode = format!("COL22_AVOID_MODE_{up}");
+        t.bow_dist = format!("XCN_BOW_DIST_{up}");
+        t.bow_turn_gap = format!("XCN_BOW_TURN_GAP_{up}");
+        t.contact = Some(self.base.contact.clone());
+        // Room for the longest text (the status seglist) at once.
+        t.text.reserve(160);
+    }
+
+    /// Reads the ownship's name and the behavior's (neither changes) the first time.
+    fn ready_own(&mut self, ctx: &Ctx<'_>) {
+        self.texts.own.get_or_insert_with(|| {
+            let own = ctx.ownship();
+            let headon = format!("HEADON_DEBUG_{}", own.to_ascii_uppercase());
+            (headon, own + &ctx.name())
+        });
+    }
+
+    /// The status info (§5.7), and for V19/V17 the status seglist.
+    fn post_status(&mut self, ctx: &mut Ctx<'_>) {
+        if self.p.version != Version::V22 {
+            self.post_status_seglist(ctx);
+        }
+        if !self.base.post_per_contact_info {
+            return;
+        }
+        self.ready_names();
+        let Some(r) = self.base.relation() else {
+            return;
+        };
+        let t = &mut self.texts;
         let b = |v: bool| if v { 1.0 } else { 0.0 };
-        ctx.post_message_num(&format!("CN_FORE_OF_OS{sep}{up}"), b(r.cn_fore_of_os));
-        ctx.post_message_num(&format!("CN_PORT_OF_OS__{up}"), b(r.cn_port_of_os));
-        ctx.post_message_num(
-            &format!("CN_CROSSED_OS_PORT_STAR{sep}{up}"),
-            b(self.crossed),
-        );
-        ctx.post_message_num(&format!("AVDCOL_RANGE_{up}"), r.range);
-        ctx.post_message_num(&format!("COLREGS_CONTACT_HDG_{up}"), self.base.cn.hdg);
-        ctx.post_message(&format!("COLREGS_AVOID_MODE_{up}"), &self.mode_text());
-        let summary = format!(
-            "mode={}:{}",
-            self.machine.mode.as_str(),
-            self.machine.submode.as_str()
-        );
-        ctx.post_message(&format!("COLREGS_SUMMARY_{up}"), &summary);
-        ctx.post_repeatable_message(
-            &format!("COLREGS_AVOID_IX_{up}"),
-            PostValue::Num(f64::from(self.mode_ix)),
-        );
-        ctx.post_repeatable_message(
-            &format!("COLREGS_AVOID_PWT_{up}"),
-            PostValue::Num(self.actual_pwt),
-        );
+        ctx.post_message_num(&t.fore, b(r.cn_fore_of_os));
+        ctx.post_message_num(&t.port, b(r.cn_port_of_os));
+        ctx.post_message_num(&t.crossed, b(self.crossed));
+        ctx.post_message_num(&t.range, r.range);
+        ctx.post_message_num(&t.hdg, self.base.cn.hdg);
+        t.text.clear();
+        Self::push_mode_text(self.machine, &mut t.text);
+        ctx.post_message(&t.avoid_mode, &t.text);
+        t.text.clear();
+        t.text.push_str("mode=");
+        t.text.push_str(self.machine.mode.as_str());
+        t.text.push(':');
+        t.text.push_str(self.machine.submode.as_str());
+        ctx.post_message(&t.summary, &t.text);
+        ctx.post_repeatable_message(&t.avoid_ix, PostValue::Num(f64::from(self.mode_ix)));
+        ctx.post_repeatable_message(&t.avoid_pwt, PostValue::Num(self.actual_pwt));
     }
 
     /// V19/V17: a seglist ownship → contact with the mode as its message.
-    fn post_status_seglist(&self, ctx: &mut Ctx<'_>) {
+    fn post_status_seglist(&mut self, ctx: &mut Ctx<'_>) {
         let (os, cn) = (self.base.os, self.base.cn);
         let active = !matches!(self.machine.mode, Mode::None | Mode::Complete);
-        let mut s = format!(
-            "pts={{{},{}:{},{}}},label={}{},msg={}",
-            compact(os.x, 2),
-            compact(os.y, 2),
-            compact(cn.x, 2),
-            compact(cn.y, 2),
-            ctx.ownship(),
-            ctx.name(),
-            self.mode_text()
-        );
+        self.ready_own(ctx);
+        let t = &mut self.texts;
+        let label = t.own.as_ref().map_or("", |o| o.1.as_str());
+        let s = &mut t.text;
+        s.clear();
+        s.push_str("pts={");
+        for (i, v) in [os.x, os.y, cn.x, cn.y].into_iter().enumerate() {
+            if i > 0 {
+                s.push(if i == 2 { ':' } else { ',' });
+            }
+            push_compact(s, v, 2);
+        }
+        s.push_str("},label=");
+        s.push_str(label);
+        s.push_str(",msg=");
+        Self::push_mode_text(self.machine, s);
         if !active {
             s.push_str(",active=false");
         }
-        ctx.post_message("VIEW_SEGLIST", &s);
+        ctx.post_message("VIEW_SEGLIST", s);
     }
 
     fn post_debug(&mut self, ctx: &mut Ctx<'_>) {
@@ -186,16 +251,25 @@ impl Colregs {
             self.dbg.clear();
             return;
         }
-        let up = self.base.contact.to_ascii_uppercase();
+        if self.dbg.is_empty() {
+            return;
+        }
+        self.ready_names();
+        self.ready_own(ctx);
+        let t = &mut self.texts;
         for d in self.dbg.drain(..) {
             match d {
                 Debug::HeadOn(why) => {
-                    let var = format!("HEADON_DEBUG_{}", ctx.ownship().to_ascii_uppercase());
-                    let v = format!("contact={},{why}", self.base.contact);
-                    ctx.post_message(&var, &v);
+                    let var = t.own.as_ref().map_or("", |o| o.0.as_str());
+                    t.text.clear();
+                    t.text.push_str("contact=");
+                    t.text.push_str(&self.base.contact);
+                    t.text.push(',');
+                    t.text.push_str(why);
+                    ctx.post_message(var, &t.text);
                 }
-                Debug::BowDist(x) => ctx.post_message_num(&format!("XCN_BOW_DIST_{up}"), x),
-                Debug::BowTurnGap(g) => ctx.post_message_num(&format!("XCN_BOW_TURN_GAP_{up}"), g),
+                Debug::BowDist(x) => ctx.post_message_num(&t.bow_dist, x),
+                Debug::BowTurnGap(g) => ctx.post_message_num(&t.bow_turn_gap, g),
             }
         }
     }
@@ -279,13 +353,16 @@ impl Colregs {
             } else {
                 "V17"
             };
-            let info = format!(
-                "{v} CN:{}  Mode:{}:{}",
-                self.base.contact,
-                self.machine.mode.as_str(),
-                self.machine.submode.as_str()
-            );
-            ctx.post_message("AVD_INFO", &info);
+            let info = &mut self.texts.text;
+            info.clear();
+            info.push_str(v);
+            info.push_str(" CN:");
+            info.push_str(&self.base.contact);
+            info.push_str("  Mode:");
+            info.push_str(self.machine.mode.as_str());
+            info.push(':');
+            info.push_str(self.machine.submode.as_str());
+            ctx.post_message("AVD_INFO", info);
         }
     }
 
@@ -428,12 +505,9 @@ impl IvpBehavior for Colregs {
 
         let range = self.base.range();
         let relevance = self.p.relevance(range);
-        if self.v22_only() {
-            if self.base.post_per_contact_info {
-                ctx.post_message_num(&self.relevance_var(), relevance);
-            }
-        } else {
-            ctx.post_message_num(&self.relevance_var(), relevance);
+        if !self.v22_only() || self.base.post_per_contact_info {
+            self.ready_names();
+            ctx.post_message_num(&self.texts.relevance, relevance);
         }
 
         let mut f = None;
@@ -461,11 +535,8 @@ impl IvpBehavior for Colregs {
             }
         }
         if self.v22_only() && self.base.post_per_contact_info {
-            let var = format!(
-                "COL22_AVOID_MODE_{}",
-                self.base.contact.to_ascii_uppercase()
-            );
-            ctx.post_message(&var, self.machine.mode.as_str());
+            self.ready_names();
+            ctx.post_message(&self.texts.col22_mode, self.machine.mode.as_str());
         }
         if let Some(g) = f.as_mut() {
             self.actual_pwt = relevance * ctx.priority();

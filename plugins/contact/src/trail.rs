@@ -9,7 +9,7 @@ use behavior_api::geometry::{angle180, angle360, project_point};
 use behavior_api::ivp::{couple, Domain, IvpFunction, Reflector, ZaicPeak};
 use behavior_api::params::parse_bool;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::{atof, compact, parse_number, FunctionData, PostValue};
+use behavior_api::{atof, parse_number, push_compact, FunctionData, PostValue};
 
 use crate::aof::CutRangeAof;
 
@@ -24,6 +24,11 @@ pub struct Trail {
     nm_radius: f64,
     pwt_outer_dist: f64,
     post_trail_dist_on_idle: bool,
+    /// The ownship's name, read on the first run (`own_read`).
+    own: String,
+    own_read: bool,
+    /// The trail point's VIEW_POINT text, kept between iterations.
+    view: String,
 }
 
 /// Degrees clockwise from north to radians counter-clockwise from east, in [−π, π].
@@ -53,6 +58,9 @@ impl Trail {
             nm_radius: 20.0,
             pwt_outer_dist: 0.0,
             post_trail_dist_on_idle: true,
+            own: String::new(),
+            own_read: false,
+            view: String::with_capacity(128),
         }
     }
 
@@ -108,6 +116,28 @@ impl Trail {
         refl.set_param("uniform_grid", "discrete@course:9,speed:6");
         refl.create(None, None);
         refl.into_function_normalized_twice()
+    }
+
+    /// `VIEW_POINT = x=<x>,y=<y>,label=<own>_trailpoint,vertex_color=gray50,time=<t>,
+    /// vertex_size=8`, written into the kept `view` (every iteration, no new string).
+    fn post_trail_point(&mut self, ctx: &mut Ctx<'_>, tp: (f64, f64)) {
+        if !self.own_read {
+            // The ownship's name never changes: read once.
+            ctx.ownship_into(&mut self.own);
+            self.own_read = true;
+        }
+        let v = &mut self.view;
+        v.clear();
+        v.push_str("x=");
+        push_compact(v, tp.0, 2);
+        v.push_str(",y=");
+        push_compact(v, tp.1, 2);
+        v.push_str(",label=");
+        v.push_str(&self.own);
+        v.push_str("_trailpoint,vertex_color=gray50,time=");
+        push_compact(v, ctx.get_buffer_curr_time(), 2);
+        v.push_str(",vertex_size=8");
+        ctx.post_message("VIEW_POINT", v);
     }
 
     fn set_num(&mut self, param: &str, v: f64) -> bool {
@@ -229,14 +259,7 @@ impl IvpBehavior for Trail {
         }
         self.base.handle_cnflags(ctx);
         let tp = self.trail_point();
-        let view = format!(
-            "x={},y={},label={}_trailpoint,vertex_color=gray50,time={},vertex_size=8",
-            compact(tp.0, 2),
-            compact(tp.1, 2),
-            ctx.ownship(),
-            compact(ctx.get_buffer_curr_time(), 2)
-        );
-        ctx.post_message("VIEW_POINT", &view);
+        self.post_trail_point(ctx, tp);
         let r = self.base.range();
         let relevance = if self.pwt_outer_dist == 0.0 {
             1.0

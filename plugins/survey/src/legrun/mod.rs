@@ -87,6 +87,8 @@ pub struct LegRun {
     mid_turn_pct: f64,
     flags: Flags,
     hints: HashMap<String, String>,
+    /// The VIEW_* texts kept between iterations.
+    texts: visuals::Texts,
     mode: Mode,
     pending: Option<Mode>,
     leg_count: u64,
@@ -125,6 +127,7 @@ impl LegRun {
             mid_turn_pct: 25.0,
             flags: Flags::default(),
             hints: visuals::default_hints(),
+            texts: visuals::Texts::default(),
             mode: Mode::Init,
             pending: None,
             leg_count: 0,
@@ -149,9 +152,7 @@ impl LegRun {
     fn set_mode(&mut self, ctx: &mut Ctx<'_>, m: Mode) {
         self.mode = m;
         ctx.post_message("LR_MODE", m.name());
-        let now = behavior_api::compact(ctx.get_buffer_curr_time(), 5);
-        let report = format!("vname={},mode={},utc={now}", ctx.ownship(), m.name());
-        ctx.post_message("LR_MODE_REPORT", &report);
+        self.post_mode_report(ctx);
     }
 
     fn post_flags(&self, ctx: &mut Ctx<'_>, flags: &FlagList, repeatable: bool) {

@@ -129,6 +129,8 @@ impl LegRun {
     }
 
     fn set_visual_hints(&mut self, value: &str) -> bool {
+        // The kept VIEW_* attributes are built again from the new hints.
+        self.texts.ready = false;
         for item in value.split(',') {
             let Some((k, val)) = item.split_once('=') else {
                 return false;

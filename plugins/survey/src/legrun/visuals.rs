@@ -4,9 +4,10 @@ use std::collections::HashMap;
 
 use behavior_api::flag::{expand_macros, has_macro};
 use behavior_api::geometry::{
-    dist, fmt_x, point_erase_spec, point_spec, project_point, rel_ang, seglist_erase_spec,
-    seglist_spec, Attrs, Vertex,
+    dist, fmt_x, point_erase_spec, point_spec, project_point, push_point_spec, push_pts_props_spec,
+    rel_ang, seglist_erase_spec, seglist_spec, Attrs, Vertex,
 };
+use behavior_api::push_compact;
 use behavior_api::sdk::Ctx;
 
 use super::engine::Pt;
@@ -69,6 +70,72 @@ fn length(pts: &[Pt]) -> f64 {
         .sum()
 }
 
+/// The texts LegRun posts every iteration, kept so that an iteration builds no string:
+/// the labels and hinted attributes are made once (the ownship's name does not change)
+/// and again only after `visual_hints` changes; each spec is written into `spec`.
+#[derive(Default)]
+pub(super) struct Texts {
+    /// False until built, and again after the hints change.
+    pub(super) ready: bool,
+    own: String,
+    trk: Attrs,
+    wpt: Attrs,
+    /// P1 and P2 with the `legpt` hints (P1's vertex 1.5 times as big).
+    leg: [Attrs; 2],
+    /// P1 and P2 with their labels only.
+    leg_plain: [Attrs; 2],
+    turn: Attrs,
+    trk_erase: Attrs,
+    wpt_erase: Attrs,
+    turn_erase: Attrs,
+    /// The spec being posted.
+    spec: String,
+    /// P1's and P2's specs, and what they were written for (the points and whether
+    /// active): the leg does not move between iterations, so they are written again
+    /// only when it does.
+    leg_specs: [String; 2],
+    leg_key: Option<([Option<Pt>; 2], bool)>,
+    /// The next waypoint's spec and the point it was written for (it moves only when
+    /// the engine advances).
+    wpt_spec: String,
+    wpt_key: Option<Pt>,
+    verts: Vec<Vertex>,
+}
+
+/// The posting keys of P1 and P2.
+const LEG_KEYS: [&str; 2] = ["p1", "p2"];
+
+/// The vertices of an erased seglist (`seglist_erase_spec`).
+const ERASE_SEGLIST: [Vertex; 3] = [
+    Vertex {
+        x: 0.0,
+        y: 0.0,
+        z: None,
+    },
+    Vertex {
+        x: 9.0,
+        y: 0.0,
+        z: None,
+    },
+    Vertex {
+        x: 0.0,
+        y: 9.0,
+        z: None,
+    },
+];
+
+/// `point_erase_spec(label)` appended to `out`, `erase` being the inactive attributes
+/// with the label: `x=0,y=0,active=false,label=L`.
+fn push_point_erase(out: &mut String, erase: &Attrs) {
+    push_point_spec(out, 0.0, 0.0, None, erase);
+}
+
+/// `seglist_spec(pts, 1, attrs)` appended to `out`.
+fn push_seglist_spec(out: &mut String, pts: &[Vertex], attrs: &Attrs) {
+    push_pts_props_spec(out, pts, &[], 1);
+    attrs.push_spec(out);
+}
+
 impl LegRun {
     /// The hints with prefix `p` applied to attributes (`p_<attr>` first, then `<attr>`).
     fn hinted(&self, prefix: &str, seglist: bool, attrs: &mut Attrs) {
@@ -110,72 +177,131 @@ impl LegRun {
         }
     }
 
-    pub(super) fn post_steer_points(&self, ctx: &mut Ctx<'_>, track: Pt, next: Pt) {
-        let own = ctx.ownship();
-        let tlabel = format!("{own}'s track-point");
-        let trk = if dist(track.0, track.1, next.0, next.1) > 5.0 {
-            let mut a = Attrs {
-                label: tlabel,
-                ..Attrs::default()
-            };
-            self.hinted("nextpt", false, &mut a);
-            point_spec(track.0, track.1, None, &a)
-        } else {
-            point_erase_spec(&tlabel)
-        };
-        ctx.post_message_key("VIEW_POINT", trk.as_str().into(), "trk");
-        let mut a = Attrs {
-            label: format!("{own}'s next waypoint"),
+    /// Fills the kept texts when they are not ready (first use, or the hints changed).
+    fn ready_texts(&mut self, ctx: &Ctx<'_>) {
+        if self.texts.ready {
+            return;
+        }
+        let mut t = std::mem::take(&mut self.texts);
+        // The ownship's name never changes: read once.
+        ctx.ownship_into(&mut t.own);
+        let own = t.own.as_str();
+        let labelled = |label: String| Attrs {
+            label,
             ..Attrs::default()
         };
-        self.hinted("nextpt", false, &mut a);
-        let wpt = point_spec(next.0, next.1, None, &a);
-        ctx.post_message_key("VIEW_POINT", wpt.as_str().into(), "wpt");
+        t.trk = labelled(format!("{own}'s track-point"));
+        self.hinted("nextpt", false, &mut t.trk);
+        t.wpt = labelled(format!("{own}'s next waypoint"));
+        self.hinted("nextpt", false, &mut t.wpt);
+        for (i, n) in [1, 2].into_iter().enumerate() {
+            t.leg_plain[i] = labelled(format!("{own}_p{n}"));
+            let mut a = t.leg_plain[i].clone();
+            self.hinted("legpt", false, &mut a);
+            if i == 0 {
+                a.vertex_size = a.vertex_size.map(|s: f64| s.trunc() * 1.5);
+            }
+            t.leg[i] = a;
+        }
+        t.turn = labelled(format!("{own}_turn"));
+        self.hinted("turn", true, &mut t.turn);
+        // The erase forms: inactive, with the label only.
+        let erase = |label: &str| Attrs {
+            active: Some(false),
+            label: label.to_string(),
+            ..Attrs::default()
+        };
+        t.trk_erase = erase(&t.trk.label);
+        t.wpt_erase = erase(&t.wpt.label);
+        t.turn_erase = erase(&t.turn.label);
+        // Room for the usual specs at once (a turn path of ~40 vertices).
+        t.spec.reserve(1024);
+        t.leg_key = None;
+        t.wpt_key = None;
+        t.ready = true;
+        self.texts = t;
     }
 
-    pub(super) fn erase_steer_points(&self, ctx: &mut Ctx<'_>) {
-        let own = ctx.ownship();
-        let trk = point_erase_spec(&format!("{own}'s track-point"));
-        ctx.post_message_key("VIEW_POINT", trk.as_str().into(), "trk");
-        let wpt = point_erase_spec(&format!("{own}'s next waypoint"));
-        ctx.post_message_key("VIEW_POINT", wpt.as_str().into(), "wpt");
+    /// `LR_MODE_REPORT = vname=<own>,mode=<mode>,utc=<time>`.
+    pub(super) fn post_mode_report(&mut self, ctx: &mut Ctx<'_>) {
+        self.ready_texts(ctx);
+        let t = &mut self.texts;
+        t.spec.clear();
+        t.spec.push_str("vname=");
+        t.spec.push_str(&t.own);
+        t.spec.push_str(",mode=");
+        t.spec.push_str(self.mode.name());
+        t.spec.push_str(",utc=");
+        push_compact(&mut t.spec, ctx.get_buffer_curr_time(), 5);
+        ctx.post_message("LR_MODE_REPORT", &t.spec);
+    }
+
+    pub(super) fn post_steer_points(&mut self, ctx: &mut Ctx<'_>, track: Pt, next: Pt) {
+        self.ready_texts(ctx);
+        let t = &mut self.texts;
+        t.spec.clear();
+        if dist(track.0, track.1, next.0, next.1) > 5.0 {
+            push_point_spec(&mut t.spec, track.0, track.1, None, &t.trk);
+        } else {
+            push_point_erase(&mut t.spec, &t.trk_erase);
+        }
+        ctx.post_message_key("VIEW_POINT", t.spec.as_str().into(), "trk");
+        if t.wpt_key != Some(next) {
+            t.wpt_spec.clear();
+            push_point_spec(&mut t.wpt_spec, next.0, next.1, None, &t.wpt);
+            t.wpt_key = Some(next);
+        }
+        ctx.post_message_key("VIEW_POINT", t.wpt_spec.as_str().into(), "wpt");
+    }
+
+    pub(super) fn erase_steer_points(&mut self, ctx: &mut Ctx<'_>) {
+        self.ready_texts(ctx);
+        let t = &mut self.texts;
+        for (attrs, key) in [(&t.trk_erase, "trk"), (&t.wpt_erase, "wpt")] {
+            t.spec.clear();
+            push_point_erase(&mut t.spec, attrs);
+            ctx.post_message_key("VIEW_POINT", t.spec.as_str().into(), key);
+        }
     }
 
     /// P1 and P2; `active` false is the reference's "erase", which posts the active
     /// spec without hints.
-    pub(super) fn post_leg_points(&self, ctx: &mut Ctx<'_>, active: bool) {
-        let own = ctx.ownship();
-        for (i, p) in [self.leg.p1, self.leg.p2].into_iter().enumerate() {
+    pub(super) fn post_leg_points(&mut self, ctx: &mut Ctx<'_>, active: bool) {
+        self.ready_texts(ctx);
+        let t = &mut self.texts;
+        let pts = [self.leg.p1, self.leg.p2];
+        let key = Some((pts, active));
+        let written = t.leg_key == key;
+        let attrs = if active { &t.leg } else { &t.leg_plain };
+        for (i, p) in pts.into_iter().enumerate() {
             let Some(p) = p else { continue };
-            let mut a = Attrs {
-                label: format!("{own}_p{}", i + 1),
-                ..Attrs::default()
-            };
-            if active {
-                self.hinted("legpt", false, &mut a);
-                if i == 0 {
-                    a.vertex_size = a.vertex_size.map(|s: f64| s.trunc() * 1.5);
-                }
+            let spec = &mut t.leg_specs[i];
+            if !written {
+                spec.clear();
+                push_point_spec(spec, p.0, p.1, None, &attrs[i]);
             }
-            let spec = point_spec(p.0, p.1, None, &a);
-            let key = format!("p{}", i + 1);
-            ctx.post_message_key("VIEW_POINT", spec.as_str().into(), &key);
+            ctx.post_message_key("VIEW_POINT", spec.as_str().into(), LEG_KEYS[i]);
         }
+        t.leg_key = key;
     }
 
-    pub(super) fn post_turn_path(&self, ctx: &mut Ctx<'_>) {
-        let mut a = Attrs {
-            label: format!("{}_turn", ctx.ownship()),
-            ..Attrs::default()
-        };
-        self.hinted("turn", true, &mut a);
-        let spec = seglist_spec(&verts(&self.turn_engine.pts), 1, &a);
-        ctx.post_message("VIEW_SEGLIST", &spec);
+    pub(super) fn post_turn_path(&mut self, ctx: &mut Ctx<'_>) {
+        self.ready_texts(ctx);
+        let t = &mut self.texts;
+        t.verts.clear();
+        t.verts
+            .extend(self.turn_engine.pts.iter().map(|p| Vertex::new(p.0, p.1)));
+        t.spec.clear();
+        push_seglist_spec(&mut t.spec, &t.verts, &t.turn);
+        ctx.post_message("VIEW_SEGLIST", &t.spec);
     }
 
-    pub(super) fn erase_turn_path(&self, ctx: &mut Ctx<'_>) {
-        let spec = seglist_erase_spec(&format!("{}_turn", ctx.ownship()));
-        ctx.post_message("VIEW_SEGLIST", &spec);
+    pub(super) fn erase_turn_path(&mut self, ctx: &mut Ctx<'_>) {
+        self.ready_texts(ctx);
+        let t = &mut self.texts;
+        t.spec.clear();
+        push_seglist_spec(&mut t.spec, &ERASE_SEGLIST, &t.turn_erase);
+        ctx.post_message("VIEW_SEGLIST", &t.spec);
     }
 
     pub(super) fn post_preview(&mut self, ctx: &mut Ctx<'_>) {
@@ -234,7 +360,7 @@ impl LegRun {
         }
     }
 
-    pub(super) fn erase_all(&self, ctx: &mut Ctx<'_>) {
+    pub(super) fn erase_all(&mut self, ctx: &mut Ctx<'_>) {
         self.erase_turn_path(ctx);
         self.erase_steer_points(ctx);
         self.post_leg_points(ctx, false);

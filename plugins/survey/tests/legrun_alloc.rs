@@ -1,0 +1,164 @@
+//! BHV_LegRun's texts (VIEW_POINT / VIEW_SEGLIST specs, labels) allocate nothing in
+//! steady state, and stay the texts they were.
+//!
+//! The behavior runs on a domain without `course`, so `on_run` stops before building
+//! its IvP function (the function build is not measured here); the copies the mock
+//! helm makes of each posting are counted and taken off.
+
+use behavior_api::sdk::{HelmDomain, IvpBehavior};
+use behavior_api::testing::{allocations, CountingAlloc, MockHelm};
+use bhv_survey::LegRun;
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+/// Allocations the mock made recording this call's postings: one per non-empty string
+/// it copies, and for a number what formatting it again costs (`helm.posts` keeps its
+/// capacity). Run outside the measured span.
+fn mock_copies(helm: &MockHelm) -> usize {
+    let mut n = helm.flags.len();
+    for (var, val, key) in &helm.posts {
+        n += usize::from(!var.is_empty()) + usize::from(!key.is_empty());
+        // A number is posted as `format!("{n}")` (more than one allocation when long).
+        match val.parse::<f64>() {
+            Ok(v) if format!("{v}") == *val => {
+                let before = allocations();
+                std::hint::black_box(format!("{}", std::hint::black_box(v)));
+                n += allocations() - before;
+            }
+            _ => n += usize::from(!val.is_empty()),
+        }
+    }
+    n
+}
+
+/// FNV-1a over every posting, in order.
+fn fnv(hash: &mut u64, text: &str) {
+    for b in text.bytes().chain([0xff]) {
+        *hash ^= u64::from(b);
+        *hash = hash.wrapping_mul(0x100_0000_01b3);
+    }
+}
+
+/// `x=` and `y=` of a point spec.
+fn spec_xy(spec: &str) -> Option<(f64, f64)> {
+    let field = |k: &str| {
+        spec.split(',')
+            .find_map(|f| f.strip_prefix(k))
+            .and_then(|v| v.parse().ok())
+    };
+    Some((field("x=")?, field("y=")?))
+}
+
+/// The first full cycle (leg, turn, leg, turn): the buffers reach their sizes (the
+/// wrap detector's track history grows by doubling until a turn ends).
+const WARM_UP: usize = 250;
+
+#[test]
+fn legrun_texts_allocate_nothing_in_steady_state() {
+    let mut b = LegRun::new(&HelmDomain::new("speed,0,4,41"));
+    let mut helm = MockHelm::new("legs");
+    let params = [
+        ("speed", "2.5"),
+        ("capture_radius", "3"),
+        ("slip_radius", "15"),
+        ("vx1", "60,-30"),
+        ("vx2", "-40,-70"),
+        ("turn1_dir", "port"),
+        ("turn2_dir", "star"),
+        ("turn1_rad", "18"),
+        ("turn2_rad", "18"),
+        ("visual_hints", "nextpt_vertex_color=red, turn_edge_size=2"),
+    ];
+    for (p, v) in params {
+        assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
+    }
+    helm.with(|ctx| b.on_params_complete(ctx));
+    helm.posts.reserve(64);
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut hash = 0xcbf2_9ce4_8422_2325u64;
+    let (mut steady, mut steady_iters, mut switch_iters) = (0usize, 0usize, 0usize);
+    let mut modes = std::collections::BTreeSet::new();
+    for i in 0..600 {
+        helm.nav(x, y, 0.0, 2.5);
+        helm.time += 1.0;
+        helm.clear();
+        let before = allocations();
+        helm.with(|ctx| b.on_run(ctx));
+        let after = allocations();
+        let made = (after - before).saturating_sub(mock_copies(&helm));
+        modes.insert(b.mode().name());
+        let switched = helm.posts.iter().any(|p| p.0 == "LR_MODE");
+        if made > 0 && std::env::var_os("SHOW").is_some() {
+            eprintln!(
+                "{i}: {made} {:?}",
+                helm.posts.iter().map(|p| &p.0).collect::<Vec<_>>()
+            );
+        }
+        if i >= WARM_UP && !switched {
+            steady += made;
+            steady_iters += 1;
+        } else if switched {
+            switch_iters += 1;
+        }
+        // The vehicle heads 2.5 m toward the posted track point (the next waypoint
+        // when the track point is erased).
+        let mut aim = None;
+        for (var, val, key) in &helm.posts {
+            fnv(&mut hash, var);
+            fnv(&mut hash, val);
+            fnv(&mut hash, key);
+            if var == "VIEW_POINT" && (key == "trk" || key == "wpt") && aim.is_none() {
+                aim = spec_xy(val).filter(|_| !val.contains("active=false"));
+            }
+        }
+        if let Some((ax, ay)) = aim {
+            let d = (ax - x).hypot(ay - y);
+            if d > 0.0 {
+                let step = d.min(2.5);
+                x += step * (ax - x) / d;
+                y += step * (ay - y) / d;
+            }
+        }
+    }
+    eprintln!(
+        "legrun: steady allocations {steady} over {steady_iters} iterations; \
+         {switch_iters} mode switches; modes {modes:?}; hash {hash:#x}"
+    );
+    // Legs and turns both ran, so every VIEW_* text was posted.
+    assert_eq!(modes.len(), 4, "{modes:?}");
+    assert!(steady_iters > 300);
+    assert_eq!(steady, 0, "allocations in steady state");
+    // The postings of the texts before they were kept (recorded from the old code).
+    assert_eq!(hash, EXPECTED_HASH);
+
+    // The kept texts follow a moved leg and new hints.
+    let p1 = |helm: &MockHelm| {
+        let p = helm
+            .posts
+            .iter()
+            .rev()
+            .find(|p| p.0 == "VIEW_POINT" && p.2 == "p1");
+        p.map(|p| p.1.clone()).unwrap_or_default()
+    };
+    for (param, value, expect) in [
+        (
+            "vx1",
+            "70,-30",
+            "x=70,y=-30,label=abe_p1,label_color=invisible,vertex_color=orange,vertex_size=10.5",
+        ),
+        (
+            "visual_hints",
+            "legpt_vertex_color=red",
+            "x=70,y=-30,label=abe_p1,label_color=invisible,vertex_color=red,vertex_size=10.5",
+        ),
+    ] {
+        assert!(helm.with(|ctx| b.set_param(ctx, param, value)));
+        helm.with(|ctx| b.on_params_complete(ctx));
+        helm.clear();
+        helm.with(|ctx| b.on_run(ctx));
+        assert_eq!(p1(&helm), expect, "{param}");
+    }
+}
+
+const EXPECTED_HASH: u64 = 0x2dad_031d_ae1c_c0af;
