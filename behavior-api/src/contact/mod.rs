@@ -107,6 +107,9 @@ pub struct ContactBase {
     line_label: LabelCache,
     /// The bearing line's text, written again each iteration into this kept string.
     line_text: std::cell::RefCell<String>,
+    /// `CLSG_SPD_AVD_<CN>` and `RANGE_AVD_<CN>`, made when the contact changes, and the
+    /// contact name they were made for.
+    per_contact_vars: (String, [String; 2]),
 }
 
 /// The bearing-line label, once asked. A copy of a base starts without it: the copy
@@ -161,6 +164,7 @@ impl ContactBase {
             self_completed: false,
             line_label: LabelCache::default(),
             line_text: std::cell::RefCell::new(String::new()),
+            per_contact_vars: Default::default(),
         }
     }
 
@@ -395,17 +399,23 @@ impl ContactBase {
         true
     }
 
-    fn post_per_contact(&self, ctx: &mut Ctx<'_>) {
+    fn post_per_contact(&mut self, ctx: &mut Ctx<'_>) {
         let Some(r) = &self.rel else { return };
-        let up = self.contact.to_ascii_uppercase();
+        let (made_for, [clsg_var, range_var]) = &mut self.per_contact_vars;
+        if *made_for != self.contact || clsg_var.is_empty() {
+            made_for.clone_from(&self.contact);
+            let up = self.contact.to_ascii_uppercase();
+            *clsg_var = format!("CLSG_SPD_AVD_{up}");
+            *range_var = format!("RANGE_AVD_{up}");
+        }
         let clsg = (r.rate_of_closure * 10.0).round() / 10.0;
-        ctx.post_message_num(&format!("CLSG_SPD_AVD_{up}"), clsg);
+        ctx.post_message_num(clsg_var, clsg);
         let rng = if r.range > 10.0 {
             r.range.round()
         } else {
             r.range
         };
-        ctx.post_message_num(&format!("RANGE_AVD_{up}"), rng);
+        ctx.post_message_num(range_var, rng);
     }
 
     /// Contact flags (`cnflag`) of the running state, decided from the previous and
