@@ -13,6 +13,8 @@ use crate::domain::Domain;
 use crate::fit::{fit_values, takes_centre, FIT_DIMS};
 use crate::function::IvpFunction;
 pub use crate::regions::{box_subtract, intersects, IndexBox};
+use mbutil::spare;
+use std::mem::take;
 
 /// The OF_Reflector builder.
 pub struct Reflector<'a> {
@@ -36,17 +38,19 @@ pub struct Reflector<'a> {
 }
 
 impl<'a> Reflector<'a> {
+    /// A reflector over a copy of `domain`, built in this thread's spare storage (see
+    /// `mbutil::spare`; a behavior builds one every iteration).
     pub fn new(domain: &Domain, aof: &'a dyn Aof) -> Self {
         Reflector {
-            domain: domain.clone(),
+            domain: crate::domain::domain_of(domain.vars()),
             aof,
             uniform_piece: None,
             uniform_grid: None,
             uniform_amount: 1,
             strict_range: true,
-            bounds: vec![],
-            weights: vec![],
-            gelbox: vec![],
+            bounds: spare::ints(),
+            weights: spare::floats(),
+            gelbox: spare::uints(),
             warnings: String::new(),
             regions: vec![],
             summary: None,
@@ -86,7 +90,8 @@ impl<'a> Reflector<'a> {
             .map(str::trim_start)
             .and_then(|b| b.strip_prefix('@'))
             .unwrap_or(body);
-        let mut sizes = vec![1u32; self.domain.size()];
+        let mut sizes = spare::uints();
+        sizes.resize(self.domain.size(), 1);
         for part in body.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let (name, val) = part.split_once(':')?;
             let d = self.domain.index_of(name.trim())?;
@@ -129,19 +134,16 @@ impl<'a> Reflector<'a> {
                 }
                 _ => false,
             },
-            "strict_range" => match value.trim().to_ascii_lowercase().as_str() {
-                "true" => {
-                    self.strict_range = true;
-                    true
-                }
-                "false" => {
-                    self.strict_range = false;
-                    true
-                }
-                _ => false,
-            },
+            "strict_range" => {
+                let v = value.trim();
+                let yes = v.eq_ignore_ascii_case("true");
+                let known = yes || v.eq_ignore_ascii_case("false");
+                self.strict_range = if known { yes } else { self.strict_range };
+                known
+            }
             _ => {
-                self.warnings.push_str(&format!("unhandled param: {name}"));
+                self.warnings.push_str("unhandled param: ");
+                self.warnings.push_str(name);
                 false
             }
         }
@@ -190,27 +192,33 @@ impl<'a> Reflector<'a> {
     /// `uniform_piece` was set; `_smart_amount` is ignored (see module docs).
     /// Returns the number of pieces.
     pub fn create(&mut self, unif_amount: Option<usize>, _smart_amount: Option<usize>) -> usize {
-        let n = self.domain.size();
-        if n == 0 {
+        if self.domain.size() == 0 {
             return 0;
         }
-        let size = match &self.uniform_piece {
-            Some(s) => s.clone(),
-            None => self.unif_box(unif_amount.unwrap_or(self.uniform_amount).max(1)),
-        };
-        self.gelbox = self
-            .uniform_grid
-            .clone()
-            .unwrap_or_else(|| size.clone())
-            .iter()
-            .map(|s| s.saturating_sub(1))
-            .collect();
-        let pts: Vec<u32> = self.domain.vars().iter().map(|v| v.points).collect();
-        let counts: Vec<u32> = (0..n).map(|d| pts[d].div_ceil(size[d])).collect();
+        // Tile sizes and counts in spare buffers (this runs every iteration).
+        let (mut size, mut counts) = (spare::uints(), spare::uints());
+        match &self.uniform_piece {
+            Some(s) => size.extend_from_slice(s),
+            None => size.extend(self.unif_box(unif_amount.unwrap_or(self.uniform_amount).max(1))),
+        }
+        self.gelbox.clear();
+        let gel = self.uniform_grid.as_deref().unwrap_or(&size);
+        self.gelbox.extend(gel.iter().map(|s| s.saturating_sub(1)));
+        let vars = self.domain.vars().iter().zip(&size);
+        counts.extend(vars.map(|(v, &s)| v.points.div_ceil(s)));
+        let pieces = self.create_tiles(&size, &counts);
+        spare::give_uints(size);
+        spare::give_uints(counts);
+        pieces
+    }
+
+    /// [`Reflector::create`] with tiles of edge `size`, `counts` of them per dimension.
+    fn create_tiles(&mut self, size: &[u32], counts: &[u32]) -> usize {
+        let n = size.len();
         let total: usize = counts.iter().map(|&c| c as usize).product();
         self.summary = None;
         if !self.regions.is_empty() {
-            return self.create_with_regions(&size, &counts, total);
+            return self.create_with_regions(size, counts, total);
         }
         // Tiles with dimension 0 varying fastest; the reference stores them reversed, so
         // tile i (dimension 0 fastest) is visited from the last to the first. Each tile is
@@ -225,12 +233,16 @@ impl<'a> Reflector<'a> {
         // coordinates in the used dimensions (mixed radix) × 2 + centre.
         let sharing = (0..n).any(|d| self.aof.ignores(d));
         if self.grid_eval && !sharing && n <= FIT_DIMS {
-            let mut summary = crate::tiling::Summary::default();
+            let grid = spare::floats();
+            let mut summary = crate::tiling::Summary {
+                grid,
+                ..Default::default()
+            };
             crate::tiling::fit_uniform(
                 self.aof,
                 &self.domain,
-                &size,
-                &counts,
+                size,
+                counts,
                 self.strict_range,
                 &self.gelbox,
                 &mut self.bounds,
@@ -259,7 +271,8 @@ impl<'a> Reflector<'a> {
             for d in 0..n {
                 let c = (rest % counts[d] as usize) as u32;
                 rest /= counts[d] as usize;
-                tile[d] = (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1);
+                let points = self.domain.var(d).points;
+                tile[d] = (c * size[d], ((c + 1) * size[d]).min(points) - 1);
                 if used[d] {
                     slot = slot * counts[d] as usize + c as usize;
                 }
@@ -425,51 +438,34 @@ impl<'a> Reflector<'a> {
             min_max: s.min_max,
             pieces: None,
         });
-        Self::function(
-            self.domain.clone(),
-            self.bounds.clone(),
-            self.weights.clone(),
-            self.gelbox.clone(),
-            summary,
-            normalize,
-            false,
-        )
+        let (domain, bounds) = (self.domain.clone(), self.bounds.clone());
+        let (weights, gelbox) = (self.weights.clone(), self.gelbox.clone());
+        Self::function(domain, bounds, weights, gelbox, summary, normalize, false)
     }
 
     /// [`Reflector::extract`] for a reflector used once: the pieces move into the
     /// function instead of being copied.
-    pub fn into_function(self, normalize: bool) -> Option<IvpFunction> {
-        if self.weights.is_empty() {
-            return None;
-        }
-        Self::function(
-            self.domain,
-            self.bounds,
-            self.weights,
-            self.gelbox,
-            self.summary,
-            normalize,
-            false,
-        )
+    pub fn into_function(mut self, normalize: bool) -> Option<IvpFunction> {
+        self.take_function(normalize, false)
     }
 
     /// [`Reflector::into_function`]`(true)` then [`IvpFunction::normalize`]`(0, 100)` on
     /// the result, bit for bit (the contact behaviors normalize the reflector's
     /// normalized function once more): the second normalization's value range is taken
     /// while the first one writes the weights, instead of in a pass of its own.
-    pub fn into_function_normalized_twice(self) -> Option<IvpFunction> {
+    pub fn into_function_normalized_twice(mut self) -> Option<IvpFunction> {
+        self.take_function(true, true)
+    }
+
+    /// The function of these pieces, moved out of the reflector (see [`Self::function`]).
+    fn take_function(&mut self, normalize: bool, again: bool) -> Option<IvpFunction> {
         if self.weights.is_empty() {
             return None;
         }
-        Self::function(
-            self.domain,
-            self.bounds,
-            self.weights,
-            self.gelbox,
-            self.summary,
-            true,
-            true,
-        )
+        let (domain, bounds) = (take(&mut self.domain), take(&mut self.bounds));
+        let (weights, gelbox) = (take(&mut self.weights), take(&mut self.gelbox));
+        let summary = self.summary.take();
+        Self::function(domain, bounds, weights, gelbox, summary, normalize, again)
     }
 
     /// The function of these pieces with its search grid, normalized if asked. The
@@ -513,5 +509,20 @@ impl<'a> Reflector<'a> {
             f.normalize_from(min_max, 0.0, 100.0);
         }
         Some(f)
+    }
+}
+
+/// The storage a reflector still holds goes back to this thread's spares for the next
+/// build (the pieces' buffers when no function took them).
+impl Drop for Reflector<'_> {
+    fn drop(&mut self) {
+        crate::domain::give_domain(take(&mut self.domain));
+        spare::give_ints(take(&mut self.bounds));
+        let grid = self.summary.take().map(|s| s.grid);
+        let floats = [Some(take(&mut self.weights)), grid];
+        floats.into_iter().flatten().for_each(spare::give_floats);
+        let (piece, gel) = (self.uniform_piece.take(), self.uniform_grid.take());
+        let uints = [piece, gel, Some(take(&mut self.gelbox))];
+        uints.into_iter().flatten().for_each(spare::give_uints);
     }
 }

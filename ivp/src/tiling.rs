@@ -46,15 +46,21 @@ pub(crate) fn fit_uniform(
 ) {
     let out = (bounds, weights, summary);
     let shape = (size, counts, gelbox);
+    // The axes in the buffers of an earlier fit on this thread.
+    let mut axes: [Axis; FIT_DIMS] = pop(&SPARE_AXES).unwrap_or_default();
+    let a = &mut axes;
     match size.len() {
-        1 => fit_uniform_n::<1>(aof, domain, shape, strict, out),
-        2 => fit_uniform_n::<2>(aof, domain, shape, strict, out),
-        3 => fit_uniform_n::<3>(aof, domain, shape, strict, out),
-        _ => fit_uniform_n::<FIT_DIMS>(aof, domain, shape, strict, out),
+        1 => fit_uniform_n::<1>(aof, domain, shape, strict, a, out),
+        2 => fit_uniform_n::<2>(aof, domain, shape, strict, a, out),
+        3 => fit_uniform_n::<3>(aof, domain, shape, strict, a, out),
+        _ => fit_uniform_n::<FIT_DIMS>(aof, domain, shape, strict, a, out),
     }
+    push(&SPARE_AXES, axes);
 }
 
-/// Tiles of the tiling per dimension: their edges, and where they lie in the search grid.
+/// Tiles of the tiling per dimension: their edges, where they lie in the search grid,
+/// and the coordinates of the two grids the AOF is evaluated on.
+#[derive(Default)]
 struct Axis {
     /// (low, high) edge of each tile.
     edges: Vec<(u32, u32)>,
@@ -63,6 +69,13 @@ struct Axis {
     cells: Vec<(usize, usize)>,
     /// The search grid's stride of this dimension (cells, dimension 0 fastest).
     stride: usize,
+    /// The corner grid's coordinates: each tile's low and high edge side by side,
+    /// except dimension 0 of a 2-dimensional tiling, where all the low edges come
+    /// first, then all the high ones (the row fit reads each corner's values as one
+    /// list; see fit_rows_2).
+    corners: Vec<u32>,
+    /// The midpoint grid's coordinates: each tile's centre.
+    mids: Vec<u32>,
 }
 
 /// [`fit_uniform`] for `N` dimensions (a constant, so the per-tile loops unroll).
@@ -71,6 +84,7 @@ fn fit_uniform_n<const N: usize>(
     domain: &Domain,
     (size, counts, gelbox): (&[u32], &[u32], &[u32]),
     strict: bool,
+    axes: &mut [Axis],
     (bounds, weights, summary): (&mut Vec<i32>, &mut Vec<f64>, &mut Summary),
 ) {
     // Arrays, not vectors, where the length is N (a build runs every iteration).
@@ -78,53 +92,42 @@ fn fit_uniform_n<const N: usize>(
     // The search grid's geometry, as build_grid finds it: cells of `ppg` points, cell
     // of index i = i / ppg.
     let mut grid_stride = 1usize;
-    let axes: [Axis; N] = std::array::from_fn(|d| {
+    for (d, a) in axes.iter_mut().enumerate().take(N) {
         let (ppg, ncells) = grid_dim(domain.var(d), gelbox.get(d));
-        let edges: Vec<(u32, u32)> = (0..counts[d])
-            .map(|c| (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1))
-            .collect();
-        let cells = edges
-            .iter()
-            .map(|&(lo, hi)| {
-                let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
-                (a * grid_stride, b - a + 1)
-            })
-            .collect();
-        let stride = grid_stride;
+        let edges = (0..counts[d]).map(|c| (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1));
+        a.edges.clear();
+        a.edges.extend(edges);
+        a.cells.clear();
+        a.cells.extend(a.edges.iter().map(|&(lo, hi)| {
+            let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
+            (a * grid_stride, b - a + 1)
+        }));
+        a.stride = grid_stride;
         grid_stride *= ncells as usize;
-        Axis {
-            edges,
-            cells,
-            stride,
+        a.corners.clear();
+        if N == 2 && d == 0 {
+            a.corners.extend(a.edges.iter().map(|&(lo, _)| lo));
+            a.corners.extend(a.edges.iter().map(|&(_, hi)| hi));
+        } else {
+            a.corners
+                .extend(a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]));
         }
-    });
+        a.mids.clear();
+        a.mids
+            .extend(a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2));
+    }
+    let axes = &axes[..N];
     let grid_strides: [usize; N] = std::array::from_fn(|d| axes[d].stride);
     let grid = &mut summary.grid;
     grid.clear();
     grid.resize(grid_stride, f64::NEG_INFINITY);
-    // Corner grid axes: each tile's low and high edge side by side, except dimension 0
-    // of a 2-dimensional tiling, where all the low edges come first, then all the high
-    // ones (the row fit reads each corner's values as one list; see fit_rows_2).
-    let corner_axes: [Vec<u32>; N] = std::array::from_fn(|d| {
-        let a = &axes[d];
-        if N == 2 && d == 0 {
-            let lows = a.edges.iter().map(|&(lo, _)| lo);
-            lows.chain(a.edges.iter().map(|&(_, hi)| hi)).collect()
-        } else {
-            a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect()
-        }
-    });
-    let mid_axes: [Vec<u32>; N] = std::array::from_fn(|d| {
-        let a = &axes[d];
-        a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2).collect()
-    });
     let mut corners = Scratch::take();
-    evaluate(aof, domain, &corner_axes, &mut corners.0);
+    evaluate(aof, domain, axes, false, &mut corners.0);
     // Some tile takes its centre exactly when some dimension has a tile wider than 2.
     let any_centre = (0..N).any(|d| size[d].min(pts[d]) > 2);
     let mut mids = Scratch::take();
     if any_centre {
-        evaluate(aof, domain, &mid_axes, &mut mids.0);
+        evaluate(aof, domain, axes, true, &mut mids.0);
     }
     // Strides of the two grids (dimension 0 fastest).
     let mut corner_stride = [0usize; N];
@@ -154,7 +157,7 @@ fn fit_uniform_n<const N: usize>(
     if N == 2 {
         // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
         let pieces = fit_rows_2(
-            &axes,
+            axes,
             (&corners.0, if any_centre { &mids.0 } else { &[] }),
             strict,
             (bounds, weights),
@@ -189,7 +192,7 @@ fn fit_uniform_n<const N: usize>(
         }
         weights.extend_from_slice(&w[..=N]);
         let pmax = folds.add::<N>(&lo, &hi, &w);
-        raise_cells::<N>(folds.grid, &axes, &grid_strides, &coord, pmax);
+        raise_cells::<N>(folds.grid, axes, &grid_strides, &coord, pmax);
         // The previous tile: dimension 0 counts down first.
         for d in 0..N {
             if coord[d] > 0 {
@@ -407,37 +410,49 @@ fn raise_cells<const N: usize>(
 #[derive(Debug)]
 struct Scratch(Vec<f64>);
 
+/// Values kept per thread between builds: grid-values buffers and fits' axes.
+type Pool<T> = std::thread::LocalKey<std::cell::RefCell<Vec<T>>>;
+
 thread_local! {
-    static SCRATCH: std::cell::Cell<Vec<Vec<f64>>> = const { std::cell::Cell::new(Vec::new()) };
+    static SCRATCH: std::cell::RefCell<Vec<Vec<f64>>> = const { std::cell::RefCell::new(Vec::new()) };
+    static SPARE_AXES: std::cell::RefCell<Vec<[Axis; FIT_DIMS]>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The last value kept in `pool`, if any (none once the thread is ending).
+fn pop<T>(pool: &'static Pool<T>) -> Option<T> {
+    pool.try_with(|p| p.borrow_mut().pop()).ok().flatten()
+}
+
+/// Keep `v` in `pool` (up to 8 values) for a later [`pop`].
+fn push<T>(pool: &'static Pool<T>, v: T) {
+    let _ = pool.try_with(|p| {
+        let mut kept = p.borrow_mut();
+        if kept.len() < 8 {
+            kept.push(v);
+        }
+    });
 }
 
 impl Scratch {
     fn take() -> Scratch {
-        Scratch(SCRATCH.with(|s| {
-            let mut pool = s.take();
-            let v = pool.pop().unwrap_or_default();
-            s.set(pool);
-            v
-        }))
+        Scratch(pop(&SCRATCH).unwrap_or_default())
     }
 }
 
 impl Drop for Scratch {
     fn drop(&mut self) {
-        let v = std::mem::take(&mut self.0);
-        SCRATCH.with(|s| {
-            let mut pool = s.take();
-            if pool.len() < 8 {
-                pool.push(v);
-            }
-            s.set(pool);
-        });
+        push(&SCRATCH, std::mem::take(&mut self.0));
     }
 }
 
-/// The AOF's values on the grid `axes[0] × axes[1] × …` into `out` (resized to fit).
-fn evaluate(aof: &dyn Aof, domain: &Domain, axes: &[Vec<u32>], out: &mut Vec<f64>) {
-    let len: usize = axes.iter().map(Vec::len).product();
+/// The AOF's values on the grid of the axes' corner coordinates (or their `mids`) into
+/// `out` (resized to fit).
+fn evaluate(aof: &dyn Aof, domain: &Domain, axes: &[Axis], mids: bool, out: &mut Vec<f64>) {
+    let mut refs: [&[u32]; FIT_DIMS] = [&[]; FIT_DIMS];
+    for (r, a) in refs.iter_mut().zip(axes) {
+        *r = if mids { &a.mids } else { &a.corners };
+    }
+    let len: usize = refs[..axes.len()].iter().map(|r| r.len()).product();
     if aof.eval_grid_fills() {
         // Every slot is written: what the last build left there does not matter.
         if out.len() < len {
@@ -447,10 +462,6 @@ fn evaluate(aof: &dyn Aof, domain: &Domain, axes: &[Vec<u32>], out: &mut Vec<f64
         // Zeroed, not left from the last build: a slot the AOF skips reads 0.
         out.clear();
         out.resize(len, 0.0);
-    }
-    let mut refs: [&[u32]; FIT_DIMS] = [&[]; FIT_DIMS];
-    for (r, a) in refs.iter_mut().zip(axes) {
-        *r = a;
     }
     aof.eval_grid(domain, &refs[..axes.len()], &mut out[..len]);
 }
@@ -551,6 +562,73 @@ mod tests {
             let grid = build(Reflector::new(&domain, aof));
             let tiles = build(Reflector::new(&domain, aof).tile_by_tile());
             assert_eq!(grid, tiles, "case {case}: {spec:?} {piece:?}");
+        }
+    }
+
+    /// A build in the buffers of earlier ones (the reflector's, the fit's axes and grid
+    /// values, recycled functions' buffers, all kept per thread) gives what a build on a
+    /// fresh thread, with no spares, gives: bit for bit, over rounds of builds of
+    /// different shapes, through every way out of the reflector, created twice or once.
+    #[test]
+    fn builds_in_reused_buffers_equal_fresh_ones() {
+        let cases = [
+            ("x:0:359:360,y:0:4:41", "x:3,y:3", "x:9,y:6", 0),
+            ("x:0:99:100", "x:7", "x:4", 1),
+            (
+                "x:-5:5:11,y:0:9:10,z:0:2:3",
+                "x:2,y:4,z:1",
+                "x:5,y:3,z:2",
+                2,
+            ),
+            ("x:0:359:360,y:0:4:41", "x:5,y:2", "x:5,y:2", 3),
+            ("x:0:20:21,y:0:30:31", "x:4,y:6", "x:3,y:3", 4),
+        ];
+        let build = |(spec, piece, grid, k): (&str, &str, &str, usize), twice: bool| {
+            let domain = Domain::parse(spec).expect("domain");
+            let awkward = Awkward(k as u64);
+            let bumps = Bumps {
+                k: vec![0.3, -0.7, 0.11, 0.5, -0.2, 0.9],
+                clip: 35.0,
+            };
+            let aof: &dyn Aof = if k == 4 { &awkward } else { &bumps };
+            let mut r = Reflector::new(&domain, aof);
+            r.set_param("uniform_piece", &format!("discrete@{piece}"));
+            r.set_param("uniform_grid", &format!("discrete@{grid}"));
+            r.set_param("strict_range", if k == 1 { "FALSE" } else { "true" });
+            r.create(None, None);
+            if twice {
+                // Created again: the same pieces, not twice as many.
+                r.create(None, None);
+            }
+            let f = match k % 3 {
+                0 => r.into_function_normalized_twice(),
+                1 => r.into_function(true),
+                _ => r.extract(false),
+            }
+            .expect("pieces");
+            let bits = |v: &[f64]| v.iter().map(|&w| bits_of(w)).collect::<Vec<u64>>();
+            let got = (
+                f.domain().clone(),
+                f.bounds().to_vec(),
+                bits(f.weights()),
+                bits(f.grid_bounds()),
+                f.gelbox().to_vec(),
+            );
+            f.recycle();
+            got
+        };
+        let fresh: Vec<_> = cases
+            .iter()
+            .map(|&c| {
+                std::thread::spawn(move || build(c, false))
+                    .join()
+                    .expect("build")
+            })
+            .collect();
+        for round in 0..4 {
+            for (k, (&c, want)) in cases.iter().zip(&fresh).enumerate().rev() {
+                assert_eq!(&build(c, k == 3), want, "round {round} case {k}");
+            }
         }
     }
 
