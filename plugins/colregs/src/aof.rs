@@ -2,11 +2,12 @@
 //! §5.4): AOF_R13 (overtaking), AOF_R14 (head-on), AOF_R16 (give-way) and AOF_CPA,
 //! each evaluated by the reflector on the decision grid.
 
+use std::cell::RefCell;
+
 use behavior_api::contacts::engine::Heading;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
-use behavior_api::ivp::zaic::spare;
 use behavior_api::ivp::{Aof, Domain};
 
 /// The contact and ownship as the functions see them.
@@ -83,16 +84,16 @@ impl Metric {
 }
 
 /// [`Aof::eval_grid`] for a COLREGS AOF of course × speed whose utility needs the CPA
-/// distance within `tol`: the courses' unit vectors and `prep` once per course, then
-/// per speed a row of CPA distances ([`CpaEngine::cpa_dists`], no jumps) and
-/// `point(prepared course, speed, CPA distance)` per course. `point` must give what
-/// [`Aof::eval`] gives with that CPA distance (the one `cpa_at`/`cpa_unit` gives).
+/// distance within `tol`: the courses' unit vectors and `prep` once per course (into
+/// `prepared`, emptied first: the caller's buffer), then per speed a row of CPA
+/// distances ([`CpaEngine::cpa_dists`], no jumps) and `point(prepared course, speed,
+/// CPA distance)` per course. `point` must give what [`Aof::eval`] gives with that CPA
+/// distance (the one `cpa_at`/`cpa_unit` gives).
 fn eval_rows<A: Aof + ?Sized, P>(
     aof: &A,
-    engine: &CpaEngine,
-    tol: f64,
+    (engine, tol): (&CpaEngine, f64),
     (domain, axes, out): (&Domain, &[&[u32]], &mut [f64]),
-    prep: impl Fn(f64) -> P,
+    (prepared, prep): (&mut Vec<P>, impl Fn(f64) -> P),
     point: impl Fn(&P, f64, f64) -> f64,
 ) {
     let [xs, ys] = axes else {
@@ -101,25 +102,21 @@ fn eval_rows<A: Aof + ?Sized, P>(
     if xs.is_empty() {
         return;
     }
-    // The unit vectors in the thread's spare buffers (given back below).
-    let (mut sins, mut coss) = (spare::floats(), spare::floats());
-    sins.reserve(xs.len());
-    coss.reserve(xs.len());
-    let mut prepared = Vec::with_capacity(xs.len());
-    for &i in xs.iter() {
-        let c = domain.value(0, i);
-        let (s, k) = engine.unit(c);
-        sins.push(s);
-        coss.push(k);
-        prepared.push(prep(c));
-    }
+    // The unit vectors in the thread's kept lists (given back below).
+    let c = Courses::units(engine, domain, xs);
+    prepared.clear();
+    prepared.extend(xs.iter().map(|&i| prep(domain.value(0, i))));
     for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
         let v = domain.value(1, j);
-        engine.cpa_dists((&sins, &coss), v, tol, row);
-        point_row(row, &prepared, v, &point);
+        engine.cpa_dists((&c.sins, &c.coss), v, tol, row);
+        point_row(row, prepared, v, &point);
     }
-    spare::give_floats(sins);
-    spare::give_floats(coss);
+    c.give_back();
+}
+
+thread_local! {
+    /// [`R13Aof::eval_grid`]'s prepared headings, kept for the thread's next grid.
+    static HEADINGS: RefCell<Vec<Heading>> = const { RefCell::new(Vec::new()) };
 }
 
 fn grid(domain: &Domain, index: &[u32]) -> (f64, f64) {
@@ -167,10 +164,9 @@ impl Aof for CpaAof {
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         eval_rows(
             self,
-            &self.engine,
-            self.tol,
+            (&self.engine, self.tol),
             (domain, axes, out),
-            |_| (),
+            (&mut Vec::new(), |_| ()),
             |_, _, cpa| self.metric.eval_jumpless(cpa),
         );
     }
@@ -248,14 +244,18 @@ impl Aof for R13Aof {
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         let e = &self.engine;
+        // The kept headings' buffer, or a new one while it is borrowed (never here).
+        let kept = HEADINGS.try_with(|h| h.try_borrow_mut().map(|mut h| std::mem::take(&mut *h)));
+        let mut headings = kept.ok().and_then(Result::ok).unwrap_or_default();
         eval_rows(
             self,
-            e,
-            self.tol,
+            (e, self.tol),
             (domain, axes, out),
-            |c| e.heading(c),
+            (&mut headings, |c| e.heading(c)),
             |hd, v, cpa| self.utility_with(hd, v, cpa),
         );
+        headings.clear();
+        let _ = HEADINGS.try_with(|h| h.try_borrow_mut().map(|mut h| *h = headings));
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {

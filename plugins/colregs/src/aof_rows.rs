@@ -4,10 +4,11 @@
 //! a CPU with AVX2 each loop runs compiled for it (four candidates per instruction
 //! instead of two; IEEE operations give the same bits at any width).
 
+use std::cell::RefCell;
+
 use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::angle360;
-use behavior_api::ivp::zaic::spare;
 use behavior_api::ivp::Domain;
 
 use super::Metric;
@@ -15,8 +16,11 @@ use super::Metric;
 /// The courses of a grid as the rows read them, one list per quantity: the unit
 /// vectors (for the CPA rows), the engine's per-degree cosines (`gamcos`, `cnhcos`,
 /// `tancos`, [`behavior_api::contacts::engine::Heading::cosines`]) and, for R16, the
-/// turn from ownship's heading. The lists are the thread's spare buffers
-/// ([`Courses::give_back`]): a build asks for two grids every iteration.
+/// turn from ownship's heading. The lists are kept on the thread for the next grids
+/// ([`Courses::give_back`]): a build asks for two grids every iteration, and the
+/// plugin's shared spares hand out buffers of any size (taking one that is too small
+/// would grow it, an allocation per grid).
+#[derive(Default)]
 pub(super) struct Courses {
     pub sins: Vec<f64>,
     pub coss: Vec<f64>,
@@ -29,25 +33,56 @@ pub(super) struct Courses {
     pub port_turns: Vec<f64>,
 }
 
+/// More kept course lists than grids evaluated at once on a thread are let go.
+const MAX_KEPT: usize = 4;
+
+thread_local! {
+    /// The lists of grids done with ([`Courses::give_back`]), emptied.
+    static KEPT: RefCell<Vec<Courses>> = const { RefCell::new(Vec::new()) };
+}
+
 impl Courses {
+    /// Kept lists (empty, with the room of earlier grids) or new ones.
+    fn taken() -> Self {
+        KEPT.try_with(|k| k.try_borrow_mut().ok().and_then(|mut k| k.pop()))
+            .ok()
+            .flatten()
+            .unwrap_or_default()
+    }
+
+    /// The unit vectors only (`sins`, `coss`) of the courses `xs` (indices of the
+    /// domain's first variable), the other lists empty.
+    pub fn units(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
+        let mut c = Self::taken();
+        c.sins.reserve(xs.len());
+        c.coss.reserve(xs.len());
+        for &i in xs {
+            let (s, k) = engine.unit(domain.value(0, i));
+            c.sins.push(s);
+            c.coss.push(k);
+        }
+        c
+    }
+
     /// The courses `xs` (indices of the domain's first variable) for `engine` (with its
     /// tables), and their turns from ownship's heading `osh` when given: starboard for
     /// `angle360(c − osh)` in (0, 180), port above 180.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32], osh: Option<f64>) -> Self {
-        let list = || {
-            let mut v = spare::floats();
-            v.reserve(xs.len());
-            v
-        };
-        let mut c = Courses {
-            sins: list(),
-            coss: list(),
-            gams: list(),
-            cnhs: list(),
-            tans: list(),
-            star_turns: spare::floats(),
-            port_turns: spare::floats(),
-        };
+        let mut c = Self::taken();
+        let n = xs.len();
+        for v in [
+            &mut c.sins,
+            &mut c.coss,
+            &mut c.gams,
+            &mut c.cnhs,
+            &mut c.tans,
+        ] {
+            v.reserve(n);
+        }
+        if osh.is_some() {
+            c.star_turns.reserve(n);
+            c.port_turns.reserve(n);
+        }
         for &i in xs {
             let course = domain.value(0, i);
             let (s, k) = engine.unit(course);
@@ -67,12 +102,28 @@ impl Courses {
         c
     }
 
-    /// The lists back to the thread's spare buffers.
-    pub fn give_back(self) {
-        let lists = [self.sins, self.coss, self.gams, self.cnhs, self.tans];
-        for v in lists.into_iter().chain([self.star_turns, self.port_turns]) {
-            spare::give_floats(v);
+    /// The lists, emptied, kept for the thread's next grids.
+    pub fn give_back(mut self) {
+        let lists = [
+            &mut self.sins,
+            &mut self.coss,
+            &mut self.gams,
+            &mut self.cnhs,
+        ];
+        for v in
+            lists
+                .into_iter()
+                .chain([&mut self.tans, &mut self.star_turns, &mut self.port_turns])
+        {
+            v.clear();
         }
+        let _ = KEPT.try_with(|k| {
+            if let Ok(mut k) = k.try_borrow_mut() {
+                if k.len() < MAX_KEPT {
+                    k.push(self);
+                }
+            }
+        });
     }
 }
 

@@ -156,3 +156,59 @@ fn grid_rows_equal_pointwise() {
         }
     }
 }
+
+/// The row evaluation keeps its course lists (and R13's headings) on the thread from
+/// one grid to the next: grids of other sizes and orders, one after the other, give
+/// what the pointwise evaluation gives, bit for bit (a kept list longer or shorter
+/// than the next grid's courses must not show through).
+#[test]
+fn kept_lists_serve_grids_of_any_size() {
+    let mut seed = 77u64;
+    let mut rng = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+    for case in 0..60 {
+        let s = scene(
+            (
+                ((rng() - 0.5) * 300.0).round(),
+                ((rng() - 0.5) * 300.0).round(),
+                (rng() * 720.0).round() / 2.0,
+                rng() * 4.0,
+            ),
+            (rng() * 720.0).round() / 2.0,
+        );
+        // Some courses and speeds, in any order, as many as the case says.
+        let n = [360, 1, 7, 200, 359, 45][case % 6];
+        let xs: Vec<u32> = (0..n).map(|_| (rng() * 360.0) as u32 % 360).collect();
+        let ys: Vec<u32> = (0..1 + case % 5)
+            .map(|_| (rng() * 41.0) as u32 % 41)
+            .collect();
+        let (mu, big) = (rng() * 20.0, 20.0 + rng() * 40.0);
+        let mut aofs: Vec<Box<dyn Aof>> = vec![];
+        aofs.extend(CpaAof::new(&s, 120.0, mu, big).map(|a| Box::new(a) as Box<dyn Aof>));
+        aofs.extend(
+            R13Aof::new(&s, 120.0, mu, big, Some(Side::Port)).map(|a| Box::new(a) as Box<dyn Aof>),
+        );
+        aofs.extend(R14Aof::new(&s, 120.0, mu, big).map(|a| Box::new(a) as Box<dyn Aof>));
+        aofs.extend(
+            R16Aof::new(&s, mu, big, Some(Pass::Stern), case % 2 == 0)
+                .ok()
+                .map(|a| Box::new(a) as Box<dyn Aof>),
+        );
+        for aof in &aofs {
+            let mut grid = vec![-1234.5678; xs.len() * ys.len()];
+            aof.eval_grid(&d, &[&xs, &ys], &mut grid);
+            for (j, &y) in ys.iter().enumerate() {
+                for (k, &x) in xs.iter().enumerate() {
+                    let got = grid[k + xs.len() * j];
+                    let want = aof.eval(&d, &[x, y]);
+                    assert_eq!(got.to_bits(), want.to_bits(), "case {case} at ({x}, {y})");
+                }
+            }
+        }
+    }
+}

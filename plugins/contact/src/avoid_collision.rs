@@ -1,6 +1,8 @@
 //! BHV_AvoidCollision (contacts-appcast.md §3): keep the closest point of approach to
 //! one contact above a distance, with a priority that grows as the range shrinks.
 
+use std::fmt::Write as _;
+
 use behavior_api::contact::ContactBase;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::{Domain, Reflector};
@@ -28,6 +30,9 @@ pub struct AvoidCollision {
     min_util_cpa_dist: f64,
     max_util_cpa_dist: f64,
     grade: Grade,
+    /// The `AVD_DEBUG` text of the last run, kept so that the next one is written
+    /// without allocating.
+    debug_text: String,
 }
 
 impl AvoidCollision {
@@ -44,6 +49,7 @@ impl AvoidCollision {
             min_util_cpa_dist: 10.0,
             max_util_cpa_dist: 75.0,
             grade: Grade::Quasi,
+            debug_text: String::new(),
         }
     }
 
@@ -93,8 +99,7 @@ impl AvoidCollision {
         refl.set_param("uniform_grid", "discrete @ course:9,speed:6");
         refl.create(None, None);
         if !refl.warnings().is_empty() {
-            let w = refl.warnings().to_string();
-            ctx.post_message("AVD_DEBUG", &w);
+            ctx.post_message("AVD_DEBUG", refl.warnings());
         }
         // The reference normalizes the reflector's normalized function once more.
         refl.into_function_normalized_twice()
@@ -222,7 +227,10 @@ impl IvpBehavior for AvoidCollision {
             return None;
         }
         let r = self.base.range();
-        ctx.post_message("AVD_DEBUG", &format!("In getRelevance: {r:.5}"));
+        self.debug_text.clear();
+        // Writing into a String cannot fail.
+        let _ = write!(self.debug_text, "In getRelevance: {r:.5}");
+        ctx.post_message("AVD_DEBUG", &self.debug_text);
         let relevance = self.relevance(r);
         if relevance <= 0.0 {
             return None;
