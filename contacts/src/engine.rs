@@ -297,6 +297,52 @@ thread_local! {
     };
 }
 
+/// How many spare table boxes a thread keeps (more than engines with tables alive at
+/// once on a thread are let go).
+const SPARE_TABLES: usize = 4;
+
+thread_local! {
+    /// The table boxes of dropped engines ([`CpaEngine`]'s `Drop`), for the thread's next
+    /// [`CpaEngine::with_tables`]; their contents are stale until it rewrites them.
+    static SPARE: std::cell::RefCell<[Option<Box<DegreeTables>>; SPARE_TABLES]> =
+        const { std::cell::RefCell::new([None, None, None, None]) };
+}
+
+/// A spare table box of the thread's, or a new one (contents to be overwritten).
+fn spare_tables() -> Box<DegreeTables> {
+    SPARE
+        .try_with(|s| {
+            let mut s = s.try_borrow_mut().ok()?;
+            s.iter_mut().find_map(Option::take)
+        })
+        .ok()
+        .flatten()
+        .unwrap_or_else(|| {
+            Box::new(DegreeTables {
+                gam: [0.0; 360],
+                cnh: [0.0; 360],
+                tan: [0.0; 360],
+            })
+        })
+}
+
+/// An engine's tables go back to the thread's spares (dropped when they are full, or
+/// when the thread is ending and its store is gone).
+impl Drop for CpaEngine {
+    fn drop(&mut self) {
+        let Some(t) = self.tables.take() else {
+            return;
+        };
+        let _ = SPARE.try_with(|s| {
+            if let Ok(mut s) = s.try_borrow_mut() {
+                if let Some(slot) = s.iter_mut().find(|slot| slot.is_none()) {
+                    *slot = Some(t);
+                }
+            }
+        });
+    }
+}
+
 impl CpaEngine {
     /// Reset with the contact's pose (`cnh` put through angle360, negative `cnv` → 0)
     /// and ownship's position.
@@ -392,12 +438,12 @@ impl CpaEngine {
     /// the last few tables built on this thread are kept by that angle's bits
     /// ([`KeptTables`]): a contact holding its course keeps two of the three from one
     /// iteration to the next.
+    ///
+    /// The tables' box is a spare one of the thread's when there is one ([`SPARE`]:
+    /// dropped engines give theirs back), so a steady run of builds allocates none;
+    /// all three tables are written in full here, whatever the box held.
     pub fn with_tables(mut self) -> Self {
-        let mut t = Box::new(DegreeTables {
-            gam: [0.0; 360],
-            cnh: [0.0; 360],
-            tan: [0.0; 360],
-        });
+        let mut t = self.tables.take().unwrap_or_else(spare_tables);
         KEPT.with_borrow_mut(|kept| {
             kept.table(self.theta_gam, &mut t.gam);
             kept.table(self.cnh, &mut t.cnh);

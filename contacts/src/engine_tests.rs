@@ -525,3 +525,76 @@ fn kept_tables_keep_the_steady_angles() {
         });
     }
 }
+
+/// Engines built one after another for different scenes take the table box the one
+/// before gave back (a steady run of builds allocates none), and a reused box holds
+/// exactly the tables built afresh for the new scene, bit for bit, so the engine
+/// answers as one without tables does: nothing of the scene before shows through.
+#[test]
+fn spare_table_boxes_hold_fresh_tables() {
+    let mut seed = 41u64;
+    let odd = [0.0, -0.0, 90.0, 359.5, -720.25, 1e300, f64::NAN];
+    let bits = |v: f64| {
+        if v.is_nan() {
+            f64::NAN.to_bits()
+        } else {
+            v.to_bits()
+        }
+    };
+    let spares = || SPARE.with_borrow(|s| s.iter().filter(|b| b.is_some()).count());
+    let mut last: Option<*const DegreeTables> = None;
+    for k in 0..300 {
+        let scene = [
+            ((rng(&mut seed) - 0.5) * 300.0).round(),
+            ((rng(&mut seed) - 0.5) * 300.0).round(),
+            if k % 4 == 0 {
+                odd[(k / 4) % odd.len()]
+            } else {
+                rng(&mut seed) * 360.0
+            },
+            if k % 5 == 0 {
+                0.0
+            } else {
+                rng(&mut seed) * 4.0
+            },
+            (rng(&mut seed) - 0.5) * 20.0,
+            (rng(&mut seed) - 0.5) * 20.0,
+        ];
+        let new = || CpaEngine::new(scene[0], scene[1], scene[2], scene[3], scene[4], scene[5]);
+        let e = new().with_tables();
+        assert_eq!(spares(), 0, "{k}: the spare box taken");
+        let t = e.tables.as_deref().expect("built");
+        if let Some(p) = last {
+            assert!(std::ptr::eq(p, t), "{k}: the box given back is reused");
+        }
+        let mut fresh = [[0.0; 360]; 3];
+        for (f, theta) in fresh.iter_mut().zip([e.theta_gam, e.cnh, e.theta_tn]) {
+            degree_table(theta, f);
+        }
+        for (got, want) in [&t.gam, &t.cnh, &t.tan].into_iter().zip(&fresh) {
+            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{k}");
+        }
+        let plain = new();
+        for h in 0..360 {
+            let h = f64::from(h);
+            for v in [0.0, 1.5, 4.0] {
+                let answers = |e: &CpaEngine| {
+                    [
+                        e.crosses_bow_dist(h, v),
+                        e.crosses_stern_dist(h, v),
+                        e.passes_port_dist(h, v),
+                        e.passes_star_dist(h, v),
+                        e.bearing_rate(h, v),
+                        f64::from(u8::from(e.crosses_bow_or_stern(h, v))),
+                        f64::from(u8::from(e.passes_port_or_star(h, v))),
+                    ]
+                    .map(bits)
+                };
+                assert_eq!(answers(&e), answers(&plain), "{k} at ({h}, {v})");
+            }
+        }
+        last = Some(t);
+        drop(e);
+        assert_eq!(spares(), 1, "{k}: the box given back");
+    }
+}

@@ -1,10 +1,11 @@
 //! The analytical objective functions of the contact behaviors, evaluated on the
 //! decision grid by the reflector (ivp-solver.md §8).
 
+use std::cell::RefCell;
+
 use behavior_api::contacts::engine::roc_cosine;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::reflector::eval_grid_pointwise;
-use behavior_api::ivp::zaic::spare;
 use behavior_api::ivp::{Aof, Domain};
 
 /// AOF_AvoidCollision (contacts-appcast.md §3.5): utility of the CPA a candidate
@@ -70,24 +71,60 @@ fn metric_row(cd: f64, acd: f64, row: &mut [f64]) {
     }
 }
 
-/// The unit vectors of the courses `xs` (indices of the domain's first variable) as two
-/// lists, sines and cosines, for [`CpaEngine::cpa_dists`]; in the thread's spare
-/// buffers (a build asks for two grids every iteration: give them back with
-/// [`spare::give_floats`]).
-pub(crate) fn course_units(
-    engine: &CpaEngine,
-    domain: &Domain,
-    xs: &[u32],
-) -> (Vec<f64>, Vec<f64>) {
-    let (mut sins, mut coss) = (spare::floats(), spare::floats());
-    sins.reserve(xs.len());
-    coss.reserve(xs.len());
-    for &i in xs {
-        let (s, c) = engine.unit(domain.value(0, i));
-        sins.push(s);
-        coss.push(c);
+/// The courses of a grid as the rows read them: their unit vectors as two lists, sines
+/// and cosines (for [`CpaEngine::cpa_dists`]), and for [`CutRangeAof`] their
+/// rate-of-closure cosines. The lists are kept on the thread for the next grids
+/// ([`CourseUnits::give_back`]): a build asks for two grids every iteration, and the
+/// plugin's shared spares hand out buffers of any size (taking one that is too small
+/// would grow it, an allocation per grid).
+#[derive(Default)]
+pub(crate) struct CourseUnits {
+    pub sins: Vec<f64>,
+    pub coss: Vec<f64>,
+    /// Empty unless the caller fills it.
+    pub cosines: Vec<f64>,
+}
+
+/// More kept course lists than grids evaluated at once on a thread are let go.
+const MAX_KEPT: usize = 4;
+
+thread_local! {
+    /// The lists of grids done with ([`CourseUnits::give_back`]), emptied.
+    static KEPT: RefCell<Vec<CourseUnits>> = const { RefCell::new(Vec::new()) };
+}
+
+impl CourseUnits {
+    /// The unit vectors of the courses `xs` (indices of the domain's first variable),
+    /// in kept lists (empty, with the room of earlier grids) or new ones.
+    pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
+        let mut c: Self = KEPT
+            .try_with(|k| k.try_borrow_mut().ok().and_then(|mut k| k.pop()))
+            .ok()
+            .flatten()
+            .unwrap_or_default();
+        c.sins.reserve(xs.len());
+        c.coss.reserve(xs.len());
+        for &i in xs {
+            let (s, k) = engine.unit(domain.value(0, i));
+            c.sins.push(s);
+            c.coss.push(k);
+        }
+        c
     }
-    (sins, coss)
+
+    /// The lists, emptied, kept for the thread's next grids.
+    pub fn give_back(mut self) {
+        for v in [&mut self.sins, &mut self.coss, &mut self.cosines] {
+            v.clear();
+        }
+        let _ = KEPT.try_with(|k| {
+            if let Ok(mut k) = k.try_borrow_mut() {
+                if k.len() < MAX_KEPT {
+                    k.push(self);
+                }
+            }
+        });
+    }
 }
 
 impl Aof for AvoidAof {
@@ -104,14 +141,13 @@ impl Aof for AvoidAof {
         if xs.is_empty() {
             return;
         }
-        let (sins, coss) = course_units(&self.engine, domain, xs);
+        let c = CourseUnits::of(&self.engine, domain, xs);
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let v = domain.value(1, j);
-            self.engine.cpa_dists((&sins, &coss), v, self.tol, row);
+            self.engine.cpa_dists((&c.sins, &c.coss), v, self.tol, row);
             self.metric_row(row);
         }
-        spare::give_floats(sins);
-        spare::give_floats(coss);
+        c.give_back();
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {
@@ -236,20 +272,18 @@ impl Aof for CutRangeAof {
         if xs.is_empty() {
             return;
         }
-        let (sins, coss) = course_units(&self.engine, domain, xs);
-        let mut cosines = spare::floats();
-        cosines.extend(
+        let mut c = CourseUnits::of(&self.engine, domain, xs);
+        c.cosines.reserve(xs.len());
+        c.cosines.extend(
             xs.iter()
                 .map(|&i| roc_cosine(&self.cos, domain.value(0, i))),
         );
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let s = domain.value(1, j);
-            self.engine.cpa_dists((&sins, &coss), s, self.tol, row);
-            self.blend_row(row, &cosines, s);
+            self.engine.cpa_dists((&c.sins, &c.coss), s, self.tol, row);
+            self.blend_row(row, &c.cosines, s);
         }
-        for v in [sins, coss, cosines] {
-            spare::give_floats(v);
-        }
+        c.give_back();
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {
@@ -388,6 +422,56 @@ mod tests {
                     a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
                     "case {case}: {a} {b}"
                 );
+            }
+        }
+    }
+
+    /// The row evaluation keeps its course lists on the thread from one grid to the
+    /// next: grids of other sizes and orders, one after the other, give what the
+    /// pointwise evaluation gives, bit for bit (a kept list longer or shorter than the
+    /// next grid's courses must not show through).
+    #[test]
+    fn kept_lists_serve_grids_of_any_size() {
+        let mut seed = 77u64;
+        let mut rng = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        for case in 0..60 {
+            let cn = (
+                ((rng() - 0.5) * 300.0).round(),
+                ((rng() - 0.5) * 300.0).round(),
+                (rng() * 720.0).round() / 2.0,
+                rng() * 4.0,
+            );
+            // Some courses and speeds, in any order, as many as the case says.
+            let n = [360, 1, 7, 200, 359, 45][case % 6];
+            let xs: Vec<u32> = (0..n).map(|_| (rng() * 360.0) as u32 % 360).collect();
+            let ys: Vec<u32> = (0..1 + case % 5)
+                .map(|_| (rng() * 41.0) as u32 % 41)
+                .collect();
+            let avoid = AvoidAof {
+                engine: CpaEngine::new(cn.0, cn.1, cn.2, cn.3, 0.0, 0.0),
+                tol: 120.0,
+                cd: rng() * 20.0,
+                acd: 20.0 + rng() * 40.0,
+            };
+            let cut = CutRangeAof::new(cn, (0.0, 0.0), 60.0, rng() * 100.0, 4.0);
+            let mut aofs: Vec<&dyn Aof> = vec![&avoid];
+            aofs.extend(cut.as_ref().map(|c| c as &dyn Aof));
+            for aof in aofs {
+                let mut grid = vec![-1234.5678; xs.len() * ys.len()];
+                aof.eval_grid(&d, &[&xs, &ys], &mut grid);
+                for (j, &y) in ys.iter().enumerate() {
+                    for (k, &x) in xs.iter().enumerate() {
+                        let got = grid[k + xs.len() * j];
+                        let want = aof.eval(&d, &[x, y]);
+                        assert_eq!(got.to_bits(), want.to_bits(), "case {case} at ({x}, {y})");
+                    }
+                }
             }
         }
     }
