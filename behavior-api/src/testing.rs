@@ -287,6 +287,38 @@ pub fn allocations() -> usize {
     ALLOCATIONS.load(std::sync::atomic::Ordering::Relaxed)
 }
 
+impl MockHelm {
+    /// The allocations this mock made recording the postings and flags it holds: one
+    /// per non-empty string it copied, and for a number what formatting it again costs.
+    /// An allocation test takes this off what a call made; run it outside the measured
+    /// span (it formats).
+    pub fn recording_allocations(&self) -> usize {
+        let mut n = self.flags.len();
+        for (var, val, key) in &self.posts {
+            n += usize::from(!var.is_empty()) + usize::from(!key.is_empty());
+            // A number is recorded as `format!("{n}")` (more than one allocation when long).
+            match val.parse::<f64>() {
+                Ok(v) if format!("{v}") == *val => {
+                    let before = allocations();
+                    std::hint::black_box(format!("{}", std::hint::black_box(v)));
+                    n += allocations() - before;
+                }
+                _ => n += usize::from(!val.is_empty()),
+            }
+        }
+        n
+    }
+}
+
+/// Fold `text` (and a separator) into an FNV-1a `hash`: a fingerprint of a behavior's
+/// postings, to compare them across versions.
+pub fn fnv(hash: &mut u64, text: &str) {
+    for b in text.bytes().chain([0xff]) {
+        *hash ^= u64::from(b);
+        *hash = hash.wrapping_mul(0x100_0000_01b3);
+    }
+}
+
 // SAFETY: every call is passed on to the system allocator unchanged.
 unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
     unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {

@@ -8,40 +8,12 @@
 //! refresh (the SDK's `ContactBase::update`, run again by `on_run`).
 
 use behavior_api::sdk::{HelmDomain, IvpBehavior};
-use behavior_api::testing::{allocations, CountingAlloc, MockHelm};
+use behavior_api::testing::{allocations, fnv, CountingAlloc, MockHelm};
 use bhv_colregs::params::Version;
 use bhv_colregs::Colregs;
 
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
-
-/// Allocations the mock made recording this call's postings: one per non-empty string
-/// it copies, and for a number what formatting it again costs (`helm.posts` keeps its
-/// capacity). Run outside the measured span.
-fn mock_copies(helm: &MockHelm) -> usize {
-    let mut n = helm.flags.len();
-    for (var, val, key) in &helm.posts {
-        n += usize::from(!var.is_empty()) + usize::from(!key.is_empty());
-        // A number is posted as `format!("{n}")` (more than one allocation when long).
-        match val.parse::<f64>() {
-            Ok(v) if format!("{v}") == *val => {
-                let before = allocations();
-                std::hint::black_box(format!("{}", std::hint::black_box(v)));
-                n += allocations() - before;
-            }
-            _ => n += usize::from(!val.is_empty()),
-        }
-    }
-    n
-}
-
-/// FNV-1a over every posting, in order.
-fn fnv(hash: &mut u64, text: &str) {
-    for b in text.bytes().chain([0xff]) {
-        *hash ^= u64::from(b);
-        *hash = hash.wrapping_mul(0x100_0000_01b3);
-    }
-}
 
 /// Runs one behavior through an encounter; returns (allocations of `on_run` after the
 /// first iterations, iterations counted).
@@ -83,7 +55,7 @@ fn encounter(version: Version, cn_start: (f64, f64, f64), hash: &mut u64) -> (us
         let before = allocations();
         helm.with(|ctx| b.on_every_state(ctx));
         let after = allocations();
-        let refresh = (after - before).saturating_sub(mock_copies(&helm));
+        let refresh = (after - before).saturating_sub(helm.recording_allocations());
         for (var, val, key) in &helm.posts {
             fnv(hash, var);
             fnv(hash, val);
@@ -93,7 +65,7 @@ fn encounter(version: Version, cn_start: (f64, f64, f64), hash: &mut u64) -> (us
         let before = allocations();
         helm.with(|ctx| b.on_run(ctx));
         let after = allocations();
-        let made = (after - before).saturating_sub(mock_copies(&helm));
+        let made = (after - before).saturating_sub(helm.recording_allocations());
         if made != refresh && std::env::var_os("SHOW").is_some() {
             let vars: Vec<&String> = helm.posts.iter().map(|p| &p.0).collect();
             eprintln!("{version:?} {i}: {made} (refresh {refresh}) {vars:?}");

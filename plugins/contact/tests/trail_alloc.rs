@@ -6,39 +6,11 @@
 //! helm makes of each posting are counted and taken off.
 
 use behavior_api::sdk::{HelmDomain, IvpBehavior};
-use behavior_api::testing::{allocations, CountingAlloc, MockHelm};
+use behavior_api::testing::{allocations, fnv, CountingAlloc, MockHelm};
 use bhv_contact::Trail;
 
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
-
-/// Allocations the mock made recording this call's postings: one per non-empty string
-/// it copies, and for a number what formatting it again costs (`helm.posts` keeps its
-/// capacity). Run outside the measured span.
-fn mock_copies(helm: &MockHelm) -> usize {
-    let mut n = helm.flags.len();
-    for (var, val, key) in &helm.posts {
-        n += usize::from(!var.is_empty()) + usize::from(!key.is_empty());
-        // A number is posted as `format!("{n}")` (more than one allocation when long).
-        match val.parse::<f64>() {
-            Ok(v) if format!("{v}") == *val => {
-                let before = allocations();
-                std::hint::black_box(format!("{}", std::hint::black_box(v)));
-                n += allocations() - before;
-            }
-            _ => n += usize::from(!val.is_empty()),
-        }
-    }
-    n
-}
-
-/// FNV-1a over every posting, in order.
-fn fnv(hash: &mut u64, text: &str) {
-    for b in text.bytes().chain([0xff]) {
-        *hash ^= u64::from(b);
-        *hash = hash.wrapping_mul(0x100_0000_01b3);
-    }
-}
 
 #[test]
 fn trail_texts_allocate_nothing_in_steady_state() {
@@ -72,7 +44,7 @@ fn trail_texts_allocate_nothing_in_steady_state() {
         let before = allocations();
         helm.with(|ctx| b.on_run(ctx));
         let after = allocations();
-        let made = (after - before).saturating_sub(mock_copies(&helm));
+        let made = (after - before).saturating_sub(helm.recording_allocations());
         if made > 0 && std::env::var_os("SHOW").is_some() {
             eprintln!("{i}: {made}");
         }
