@@ -1,0 +1,49 @@
+//! BHV_AvoidCollision's function build in steady state: a ratchet on the heap
+//! allocations per build, as `examples/avd_build.rs` counts them less the mock helm's
+//! copies of the postings (its reads of names and contacts still count). What is left
+//! is mostly the function's buffers handed to the helm, which frees them, so the
+//! library's spares never refill (an ABI change closes that).
+
+use behavior_api::sdk::{HelmDomain, IvpBehavior};
+use behavior_api::testing::{allocations, CountingAlloc, MockHelm};
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+#[test]
+fn avoid_collision_builds_allocate_at_most_the_ratchet() {
+    let mut b = bhv_contact::AvoidCollision::new(&HelmDomain::new("course,0,359,360:speed,0,4,41"));
+    let mut helm = MockHelm::new("avd_bob");
+    for (p, v) in [("contact", "bob"), ("pwt_outer_dist", "200")] {
+        assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
+    }
+    let rounds = 200;
+    let (mut builds, mut allocs) = (0usize, 0usize);
+    for k in 0..rounds {
+        let t = k as f64;
+        helm.nav(0.0, 0.0, (t * 7.0) % 360.0, 2.0);
+        helm.contact(
+            "bob",
+            30.0 - t * 0.2,
+            100.0 - t * 0.3,
+            (t * 13.0) % 360.0,
+            1.5,
+            "kayak",
+        );
+        helm.clear();
+        let before = allocations();
+        helm.with(|ctx| b.on_every_state(ctx));
+        let f = helm.with(|ctx| b.on_run(ctx));
+        let made = allocations() - before;
+        if k >= rounds / 2 {
+            assert!(f.is_some(), "round {k}: no function built");
+            builds += 1;
+            allocs += made.saturating_sub(helm.recording_allocations());
+        }
+    }
+    let per_build = allocs as f64 / builds as f64;
+    println!("{per_build:.1} allocations per build");
+    // 27 per build (mock included) before the reflector, tiling and AOF lists were
+    // kept per thread.
+    assert!(per_build <= 7.5, "{per_build:.1} allocations per build");
+}
