@@ -70,13 +70,39 @@ impl FlagList {
 pub fn expand_macros(text: &str, subs: &[(&str, String)]) -> String {
     let mut s = text.to_string();
     for (name, value) in subs {
-        for form in [format!("$[{name}]"), format!("$({name})")] {
-            if s.contains(&form) {
-                s = s.replace(&form, value);
+        subst(&mut s, name, value);
+    }
+    s
+}
+
+/// Replace `$[NAME]` and `$(NAME)` by `value` everywhere in `text`, in place: all
+/// `$[NAME]` first, then all `$(NAME)`, left to right, not rescanning what was put in.
+/// Nothing is allocated unless the text must grow.
+pub fn subst(text: &mut String, name: &str, value: &str) {
+    for (open, close) in [("$[", ']'), ("$(", ')')] {
+        let mut from = 0;
+        while let Some(at) = text[from..].find(open).map(|i| from + i) {
+            let start = at + open.len();
+            let end = start + name.len();
+            if text[start..].starts_with(name) && text[end..].starts_with(close) {
+                text.replace_range(at..end + 1, value);
+                from = at + value.len();
+            } else {
+                from = at + 1;
             }
         }
     }
-    s
+}
+
+/// True when `text` holds `$[NAME]` or `$(NAME)` (so that macro's value need not be
+/// worked out otherwise).
+pub fn has_macro_named(text: &str, name: &str) -> bool {
+    [("$[", ']'), ("$(", ')')].iter().any(|(open, close)| {
+        text.match_indices(open).any(|(at, _)| {
+            let rest = &text[at + open.len()..];
+            rest.starts_with(name) && rest[name.len()..].starts_with(*close)
+        })
+    })
 }
 
 /// True when `text` holds a macro at all (so building the substitutions can be skipped).

@@ -60,33 +60,7 @@ pub fn platform_update(ctx: &mut Ctx<'_>) -> Option<Platform> {
     })
 }
 
-/// Replace `$[KEY]` and `$(KEY)` by `value` everywhere in `text` (all `$[KEY]` first,
-/// then all `$(KEY)`, left to right, not rescanning what was put in), in place.
-pub fn subst(text: &mut String, key: &str, value: &str) {
-    for (open, close) in [("$[", ']'), ("$(", ')')] {
-        let mut from = 0;
-        while let Some(at) = text[from..].find(open).map(|i| from + i) {
-            let name = at + open.len();
-            let end = name + key.len();
-            if text[name..].starts_with(key) && text[end..].starts_with(close) {
-                text.replace_range(at..end + 1, value);
-                from = at + value.len();
-            } else {
-                from = at + 1;
-            }
-        }
-    }
-}
-
-/// Whether `text` holds `$[KEY]` or `$(KEY)`.
-pub fn has_macro(text: &str, key: &str) -> bool {
-    [("$[", ']'), ("$(", ')')].iter().any(|(open, close)| {
-        text.match_indices(open).any(|(at, _)| {
-            let rest = &text[at + open.len()..];
-            rest.starts_with(key) && rest[key.len()..].starts_with(*close)
-        })
-    })
-}
+pub use behavior_api::flag::{has_macro_named, subst};
 
 /// Variables appearing as the left operand of a comparison in a logic condition.
 pub fn condition_vars(cond: &str) -> Vec<String> {
@@ -231,7 +205,7 @@ mod tests {
             subst_plain(&mut b, key, value);
             assert_eq!(a, b, "text {text:?} key {key} value {value:?}");
             let plain = text.contains(&format!("$[{key}]")) || text.contains(&format!("$({key})"));
-            assert_eq!(has_macro(&text, key), plain, "{text:?} {key}");
+            assert_eq!(has_macro_named(&text, key), plain, "{text:?} {key}");
         }
     }
 }

@@ -3,7 +3,7 @@
 use geometry::{fmt_x, pts_spec};
 
 use super::BhvWaypoint;
-use crate::common::{has_macro, subst};
+use crate::common::{has_macro_named, subst};
 
 impl BhvWaypoint {
     /// Expand this type's macros (§2.6) in `text`.
@@ -15,7 +15,7 @@ impl BhvWaypoint {
         // Only the macros the text names are worked out (this runs for every flag
         // posted at a waypoint).
         for key in KEYS {
-            if has_macro(&s, key) {
+            if has_macro_named(&s, key) {
                 subst(&mut s, key, &self.macro_value(key));
             }
         }
