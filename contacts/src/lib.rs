@@ -50,7 +50,7 @@ pub use extrap::{Decay, DecayError};
 pub use filter::{ContactFilter, FilterCheck, FilterError};
 pub use geodesy::Geodesy;
 pub use ledger::{feeds_ledger, Accepted, IngestError, Ledger, Missing};
-pub use local::{local_nav_vars, NavValue, UnhandledLocal};
+pub use local::{for_each_local_nav, local_nav_vars, LocalValue, NavValue, UnhandledLocal};
 pub use relation::{ContactRelation, Pose};
 pub use report::NodeReport;
 pub use snapshot::{ContactRecord, LedgerSnap, SnapField, CONTACT_BASE_GROUP_FIELD};

@@ -26,28 +26,50 @@ pub struct UnhandledLocal;
 /// assert_eq!(v.len(), 3);
 /// ```
 pub fn local_nav_vars(report: &str) -> Result<Vec<(String, NavValue)>, UnhandledLocal> {
+    let mut out = Vec::with_capacity(4);
+    for_each_local_nav(report, |name, suffix, value| {
+        let mut var = name.to_uppercase();
+        var.push_str("_NAV_");
+        var.push_str(suffix);
+        out.push((
+            var,
+            match value {
+                LocalValue::Text(s) => NavValue::Text(s.to_string()),
+                LocalValue::Num(n) => NavValue::Num(n),
+            },
+        ));
+    })?;
+    Ok(out)
+}
+
+/// A value of [`for_each_local_nav`], borrowed from the report.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LocalValue<'a> {
+    Text(&'a str),
+    Num(f64),
+}
+
+/// [`local_nav_vars`] without allocating (ownship reports arrive every iteration):
+/// `post(name, suffix, value)` for each posting, in the same order, where the variable
+/// is `name` upper-cased, then `_NAV_`, then `suffix` (`GROUP`, `TYPE`, `COLOR`,
+/// `LENGTH`).
+pub fn for_each_local_nav<'a>(
+    report: &'a str,
+    mut post: impl FnMut(&'a str, &'static str, LocalValue<'a>),
+) -> Result<(), UnhandledLocal> {
     let r = local_fields(report);
     if r.name.is_empty() {
         return Err(UnhandledLocal);
     }
-    let mut prefix = r.name.to_uppercase();
-    prefix.push_str("_NAV_");
-    let var = |suffix: &str| {
-        let mut v = String::with_capacity(prefix.len() + suffix.len());
-        v.push_str(&prefix);
-        v.push_str(suffix);
-        v
-    };
-    let mut out = Vec::with_capacity(4);
     for (suffix, s) in [("GROUP", r.group), ("TYPE", r.vtype), ("COLOR", r.color)] {
         if !s.is_empty() {
-            out.push((var(suffix), NavValue::Text(s.to_string())));
+            post(r.name, suffix, LocalValue::Text(s));
         }
     }
     if let Some(l) = r.length.filter(|&l| l != 0.0) {
-        out.push((var("LENGTH"), NavValue::Num(l)));
+        post(r.name, "LENGTH", LocalValue::Num(l));
     }
-    Ok(out)
+    Ok(())
 }
 
 /// The fields of `report` that ownship's postings use (name, group, type, colour,

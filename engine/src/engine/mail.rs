@@ -185,18 +185,22 @@ impl Helm {
         let Value::Str(report) = &m.value else {
             return;
         };
-        match contacts::local_nav_vars(report) {
-            Ok(vars) => {
-                for (var, v) in vars {
-                    match v {
-                        contacts::NavValue::Text(s) => self.ib.set_string(&var, &s, m.time),
-                        contacts::NavValue::Num(n) => {
-                            self.ib.set_value(&var, &Value::Num(n), m.time)
-                        }
-                    }
-                }
+        // The variable written into a kept string: the report comes every iteration.
+        let mut var = std::mem::take(&mut self.report_var);
+        let ib = &mut self.ib;
+        let posted = contacts::for_each_local_nav(report, |name, suffix, value| {
+            var.clear();
+            var.extend(name.chars().flat_map(char::to_uppercase));
+            var.push_str("_NAV_");
+            var.push_str(suffix);
+            match value {
+                contacts::LocalValue::Text(s) => ib.set_string(&var, s, m.time),
+                contacts::LocalValue::Num(n) => ib.set_value(&var, &Value::Num(n), m.time),
             }
-            Err(_) => self.run_warning("Unhandled NODE_REPORT_LOCAL"),
+        });
+        self.report_var = var;
+        if posted.is_err() {
+            self.run_warning("Unhandled NODE_REPORT_LOCAL");
         }
     }
 }
