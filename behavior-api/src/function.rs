@@ -164,35 +164,56 @@ impl FunctionData {
         vars: &[usize],
         copy: bool,
     ) -> Result<ivp::IvpFunction, String> {
-        let fd = self;
-        let rejected = |e: ivp::IvpError| format!("IvP function rejected: {e}");
-        if vars.iter().any(|&i| i >= helm.size()) {
-            return Err(format!(
-                "IvP function rejected: a variable index past the helm's {}",
-                helm.size()
-            ));
+        if copy {
+            // The copy is placed; the library's buffers are then freed here (a host
+            // that can hand them back uses `copy_placed` and `Behavior::recycle_function`).
+            return self.copy_placed(helm, vars);
         }
-        let domain =
-            ivp::Domain::from_var_refs(vars.iter().map(|&i| helm.var(i))).map_err(rejected)?;
+        let fd = self;
+        let domain = placed_domain(helm, vars)?;
         FunctionData::recycle_domain(fd.domain);
-        let (bounds, weights, gelbox, grid) = if copy {
-            use ivp::zaic::spare;
-            (
-                spare::ints_from(&fd.bounds),
-                spare::floats_from(&fd.weights),
-                spare::uints_from(&fd.gelbox),
-                spare::floats_from(&fd.grid),
-            )
-        } else {
-            (
-                fd.bounds.into_vec(),
-                fd.weights.into_vec(),
-                fd.gelbox.into_vec(),
-                fd.grid.into_vec(),
-            )
-        };
+        let (bounds, weights, gelbox, grid) = (
+            fd.bounds.into_vec(),
+            fd.weights.into_vec(),
+            fd.gelbox.into_vec(),
+            fd.grid.into_vec(),
+        );
         ivp::IvpFunction::from_buffers(domain, bounds, weights, gelbox, grid, fd.pwt)
             .map_err(rejected)
+    }
+
+    /// [`FunctionData::place_with`] for a function made by a loaded library, leaving it
+    /// whole: its buffers are copied into the host's recycled storage, and the caller
+    /// hands the function back to the library (`Behavior::recycle_function`, 0.1.3), whose
+    /// next build then reuses them.
+    pub fn copy_placed(
+        &self,
+        helm: &ivp::Domain,
+        vars: &[usize],
+    ) -> Result<ivp::IvpFunction, String> {
+        use ivp::zaic::spare;
+        let domain = placed_domain(helm, vars)?;
+        ivp::IvpFunction::from_buffers(
+            domain,
+            spare::ints_from(&self.bounds),
+            spare::floats_from(&self.weights),
+            spare::uints_from(&self.gelbox),
+            spare::floats_from(&self.grid),
+            self.pwt,
+        )
+        .map_err(rejected)
+    }
+
+    /// The library's side of [`FunctionData::copy_placed`]: this function's buffers and
+    /// domain text go back into the spare storage of the thread (and library) that
+    /// built it, where [`FunctionData::from_ivp`] and the `ivp` builders take them.
+    pub fn give_back(self) {
+        use ivp::zaic::spare;
+        spare::give_ints(self.bounds.into_vec());
+        spare::give_floats(self.weights.into_vec());
+        spare::give_uints(self.gelbox.into_vec());
+        spare::give_floats(self.grid.into_vec());
+        FunctionData::recycle_domain(self.domain);
     }
 
     /// Variable names of the function's domain, in dimension order.
@@ -203,6 +224,21 @@ impl FunctionData {
             .filter(|s| !s.is_empty())
             .map(|v| v.split(',').next().unwrap_or(""))
     }
+}
+
+fn rejected(e: ivp::IvpError) -> String {
+    format!("IvP function rejected: {e}")
+}
+
+/// The function's domain: the helm's variables `vars`, in the function's order.
+fn placed_domain(helm: &ivp::Domain, vars: &[usize]) -> Result<ivp::Domain, String> {
+    if vars.iter().any(|&i| i >= helm.size()) {
+        return Err(format!(
+            "IvP function rejected: a variable index past the helm's {}",
+            helm.size()
+        ));
+    }
+    ivp::Domain::from_var_refs(vars.iter().map(|&i| helm.var(i))).map_err(rejected)
 }
 
 impl From<ivp::IvpFunction> for FunctionData {

@@ -59,6 +59,7 @@
 
 pub mod abi_v1;
 pub mod abi_v2;
+pub mod abi_v3;
 pub mod behavior;
 pub mod contact;
 pub mod context;
@@ -89,5 +90,5 @@ pub use geometry;
 pub use ivp;
 pub use mbutil;
 pub use mbutil::{atof, compact, is_color, is_number, parse_color, parse_number, Color};
-pub use module::{BehaviorLibRef, API_VERSION};
+pub use module::{BehaviorLibRef, FunctionRecycler, API_VERSION};
 pub use value::{ContactState, PostValue};

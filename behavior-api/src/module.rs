@@ -7,6 +7,7 @@ use abi_stable::std_types::{ROption, RResult, RStr, RString, RVec};
 use abi_stable::StableAbi;
 
 use crate::behavior::BehaviorBox;
+use crate::function::FunctionData;
 
 /// What a behavior library offers: the types it implements and a factory.
 ///
@@ -29,6 +30,22 @@ pub struct BehaviorLib {
         type_name: RStr<'_>,
         helm_domain: RStr<'_>,
     ) -> ROption<RResult<BehaviorBox, RString>>,
+    /// Since 0.1.3: take back a function one of this library's behaviors returned from
+    /// `on_run`, once the helm has copied it, so that the library's next build reuses its
+    /// buffers instead of allocating new ones (issue 19). Absent from a library built
+    /// against an older release: the helm then frees the buffers itself.
+    #[sabi(missing_field(option))]
+    pub recycle_function: extern "C" fn(used: FunctionData),
+}
+
+/// [`BehaviorLib::recycle_function`]: hands a used function back to its library.
+pub type FunctionRecycler = extern "C" fn(used: FunctionData);
+
+/// The library's side of [`BehaviorLib::recycle_function`] (the export macro's): the
+/// buffers go to this library's spare storage on this thread. A panic must not cross
+/// the boundary, and there is nothing to report: the buffers are then simply freed.
+pub extern "C" fn recycle_function(used: FunctionData) {
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || used.give_back()));
 }
 
 impl RootModule for BehaviorLibRef {
@@ -83,8 +100,13 @@ macro_rules! export_behaviors {
                 )+
                 ::abi_stable::std_types::ROption::RNone
             }
-            $crate::module::BehaviorLib { api_version, behavior_types, create }
-                .leak_into_prefix()
+            $crate::module::BehaviorLib {
+                api_version,
+                behavior_types,
+                create,
+                recycle_function: $crate::module::recycle_function,
+            }
+            .leak_into_prefix()
         }
     };
 }

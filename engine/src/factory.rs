@@ -90,6 +90,18 @@ impl BehaviorFactory {
         self.is_builtin(type_name) || self.libraries.iter().any(|l| l.offers(type_name))
     }
 
+    /// How to hand a function of a `type_name` behavior back to the library that made
+    /// it, when that library has the means (behavior-api 0.1.3 and later).
+    pub fn recycler(&self, type_name: &str) -> Option<behavior_api::FunctionRecycler> {
+        if self.is_builtin(type_name) {
+            return None;
+        }
+        self.libraries
+            .iter()
+            .find(|l| l.offers(type_name))
+            .and_then(|l| l.recycler())
+    }
+
     /// A new behavior of `type_name` for the helm domain (`name,low,high,points:...`):
     /// `None` if no source offers the type, `Some(Err(message))` if its constructor
     /// panicked.

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use behavior_api::{abi_v1, abi_v2, BehaviorBox, BehaviorLibRef};
+use behavior_api::{abi_v1, abi_v2, abi_v3, BehaviorBox, BehaviorLibRef};
 
 /// A loaded behavior library and the types it offers (never unloaded: behaviors from it
 /// may live as long as the process).
@@ -21,6 +21,9 @@ enum Module {
     V1(abi_v1::module::BehaviorLibRef),
     /// Built against behavior-api 0.1.1 (contacts, before the `_into` context methods).
     V2(abi_v2::module::BehaviorLibRef),
+    /// Built against behavior-api 0.1.2 (before `recycle_function`): its behaviors are
+    /// current ones.
+    V3(abi_v3::module::BehaviorLibRef),
 }
 
 impl Module {
@@ -29,6 +32,7 @@ impl Module {
             Module::Current(m) => (m.behavior_types())(),
             Module::V1(m) => (m.behavior_types())(),
             Module::V2(m) => (m.behavior_types())(),
+            Module::V3(m) => (m.behavior_types())(),
         }
     }
 }
@@ -36,6 +40,14 @@ impl Module {
 impl LoadedLibrary {
     pub fn offers(&self, type_name: &str) -> bool {
         self.types.iter().any(|t| t == type_name)
+    }
+
+    /// How to hand this library's functions back once copied (0.1.3 and later).
+    pub fn recycler(&self) -> Option<behavior_api::FunctionRecycler> {
+        match self.module {
+            Module::Current(m) => m.recycle_function(),
+            Module::V1(_) | Module::V2(_) | Module::V3(_) => None,
+        }
     }
 
     /// `None`: not offered here; `Some(Err)`: the constructor panicked (its message).
@@ -54,6 +66,9 @@ impl LoadedLibrary {
             Module::V2(m) => (m.create())(type_name.into(), helm_domain.into())
                 .into_option()
                 .map(|r| r.into_result().map(abi_v2::adapt).map_err(String::from)),
+            Module::V3(m) => (m.create())(type_name.into(), helm_domain.into())
+                .into_option()
+                .map(|r| r.into_result().map_err(String::from)),
         }
     }
 }
@@ -113,6 +128,12 @@ fn load_one(path: &Path) -> Result<Module, String> {
         return header
             .init_root_module::<abi_v2::module::BehaviorLibRef>()
             .map(Module::V2)
+            .map_err(refused);
+    }
+    if abi_v3::speaks_v3(&theirs) {
+        return header
+            .init_root_module::<abi_v3::module::BehaviorLibRef>()
+            .map(Module::V3)
             .map_err(refused);
     }
     header

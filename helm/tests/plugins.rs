@@ -822,6 +822,10 @@ const PREVIOUS_API_RELEASE: &str = "7b7850b";
 /// The last release before the context's `_into` methods were added (0.1.1, contacts).
 const CONTACTS_API_RELEASE: &str = "84fa08f";
 
+/// The last release before `Behavior::recycle_function` was added (0.1.2, the `_into`
+/// context methods).
+const INTO_API_RELEASE: &str = "7c0fafd";
+
 /// Builds `package` from the source of `commit` (read from the repo's history, whose
 /// `behavior-api` must be `api_version`), unchanged; returns a folder holding only its
 /// library. Both releases share one target folder: their registry crates build once.
@@ -936,6 +940,37 @@ fn a_contact_plugin_built_against_the_0_1_1_release_still_loads_and_runs() {
         "cutrange_spawn_pursuit",
         "trail_contact",
     ] {
+        let file = workspace().join(format!("conformance/helm/{case}.toml"));
+        let out = helm_conform(&file, Some(lib_dir.to_str().unwrap()));
+        let t = text(&out);
+        assert!(
+            out.status.success() && t.contains("1 passed, 0 failed"),
+            "{case}:\n{t}"
+        );
+    }
+}
+
+/// The contact behaviors built from the 0.1.2 release's source, whose behaviors lack
+/// `recycle_function` (0.1.3), load through the current shape (the method is optional:
+/// the helm frees their buffers itself) and give the golden answers, every step.
+#[test]
+fn a_contact_plugin_built_against_the_0_1_2_release_still_loads_and_runs() {
+    let lib_dir = build_released_plugin(INTO_API_RELEASE, "0.1.2", "bhv-contact");
+    let (factory, report) = helm_mission::factory_for(std::slice::from_ref(&lib_dir));
+    let report = report.join("\n");
+    assert!(
+        report.contains("BHV_AvoidCollision") && !report.contains("skipped"),
+        "{report}"
+    );
+    // No way to hand functions back: the helm frees them. This build's library has one.
+    assert!(factory.recycler("BHV_AvoidCollision").is_none());
+    let (current, _) = helm_mission::factory_for(&[plugin_dir().to_path_buf()]);
+    assert!(current.recycler("BHV_AvoidCollision").is_some());
+    assert!(
+        current.recycler("BHV_Waypoint").is_none(),
+        "built in: nothing to hand back"
+    );
+    for case in ["avd_spawn_two", "cutrange_spawn_pursuit", "shadow_contact"] {
         let file = workspace().join(format!("conformance/helm/{case}.toml"));
         let out = helm_conform(&file, Some(lib_dir.to_str().unwrap()));
         let t = text(&out);

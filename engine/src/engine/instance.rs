@@ -56,6 +56,7 @@ pub(crate) fn make_instance(
     };
     inst.core.empty_domain = empty_domain;
     inst.core.from_library = !factory.is_builtin(&bs.type_name);
+    inst.core.recycler = factory.recycler(&bs.type_name);
     if let Ok(d) = inst.bhv.default_duration().into_result() {
         inst.core.duration = d;
     }

@@ -475,5 +475,14 @@ fn place(
         fd.helm_vars_into(helm, &mut core.placed_vars)?;
         core.placed_domain.push_str(fd.domain.as_str());
     }
-    fd.place_with(helm, &core.placed_vars, core.from_library)
+    if !core.from_library {
+        return fd.place_with(helm, &core.placed_vars, false);
+    }
+    // A library's buffers are copied, then handed back for its next build: moving them
+    // in would free them here and make the library allocate anew every iteration.
+    let placed = fd.copy_placed(helm, &core.placed_vars);
+    if let Some(give_back) = core.recycler {
+        give_back(fd);
+    }
+    placed
 }

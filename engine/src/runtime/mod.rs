@@ -99,6 +99,8 @@ pub struct BehaviorCore {
     /// Made by a loaded library (not built in): its functions' buffers belong to the
     /// library's allocator, so the host copies them into its own recycled storage.
     pub from_library: bool,
+    /// Its library's way to take a copied function back for its next build (0.1.3).
+    pub recycler: Option<behavior_api::FunctionRecycler>,
     /// The domain text of the behavior's last function and where its variables are in
     /// the helm domain (see `Helm::decide`): checked again only when the text changes.
     pub placed_domain: String,
@@ -196,6 +198,7 @@ impl BehaviorCore {
             ownship: ownship.to_string(),
             empty_domain: false,
             from_library: false,
+            recycler: None,
             placed_domain: String::new(),
             placed_vars: Vec::new(),
             faulted: false,
