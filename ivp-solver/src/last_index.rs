@@ -203,10 +203,67 @@ impl LastIndex {
         self.ub[c]
     }
 
+    /// [`LastIndex::cell_of`] of every one of `n` boxes into `out` ([`NO_CELL`] for
+    /// none).
+    pub(super) fn cells_of(&self, boxes: &[i32], n: usize, out: &mut Vec<u32>) {
+        let bl = 2 * self.dim;
+        out.clear();
+        out.extend(
+            boxes
+                .chunks_exact(bl)
+                .take(n)
+                .map(|b| self.cell_of(b).map_or(NO_CELL, |c| c as u32)),
+        );
+    }
+
     /// The pieces meeting cell `c`, in array order.
     #[inline]
     pub(super) fn pieces(&self, c: usize) -> &[u32] {
         &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
+}
+
+/// "No cell holds the box", in [`FirstCells`].
+pub(super) const NO_CELL: u32 = u32::MAX;
+
+/// The [`LastIndex`] cell of every piece of the first function, which the search
+/// bounds one by one at its first level (thousands for a contact's tiling). The cell
+/// depends only on the piece's box and the index's cells, which stay the same from one
+/// iteration to the next: kept while they do.
+#[derive(Debug, Default)]
+pub(super) struct FirstCells {
+    cells: Vec<u32>,
+    /// What `cells` were made for: the first function's slot and its boxes'
+    /// generation (see [`Prepared::boxes_gen`](crate::prepared::Prepared)), the
+    /// index's cell size and the problem's points.
+    key: Option<(usize, u64)>,
+    key_ppg: Vec<i32>,
+    key_pts: Vec<i32>,
+}
+
+impl FirstCells {
+    /// The cells of the `n` boxes `boxes` of the first function (slot `fi`, boxes
+    /// generation `gen`) in index `ix` (on, over `pts`), made unless kept.
+    pub(super) fn refresh(
+        &mut self,
+        ix: &LastIndex,
+        (fi, gen): (usize, u64),
+        pts: &[i32],
+        boxes: &[i32],
+        n: usize,
+    ) -> &[u32] {
+        let kept = self.key == Some((fi, gen))
+            && self.key_ppg == ix.ppg
+            && self.key_pts == pts
+            && self.cells.len() == n;
+        if !kept {
+            ix.cells_of(boxes, n, &mut self.cells);
+            self.key = Some((fi, gen));
+            self.key_ppg.clone_from(&ix.ppg);
+            self.key_pts.clear();
+            self.key_pts.extend_from_slice(pts);
+        }
+        &self.cells
     }
 }
 
