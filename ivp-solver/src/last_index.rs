@@ -20,6 +20,7 @@
 
 use super::coords::CoordTable;
 use crate::prepared::ODO_DIMS;
+#[cfg(test)]
 use ivp::function::max_val;
 
 #[derive(Debug, Default)]
@@ -38,7 +39,8 @@ pub(super) struct LastIndex {
     cursor: Vec<u32>,
     /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets.
     ub: Vec<f64>,
-    clip: Vec<i32>,
+    /// Scratch of the build: one piece's `w_d·c_d` per dimension and cell coordinate.
+    terms: Vec<f64>,
     /// The pieces (boxes, weight bits) the index in memory was made from, when it was
     /// made (`made`): the same pieces on the same cells make the same index.
     made: bool,
@@ -119,8 +121,6 @@ impl LastIndex {
         self.items.resize(self.start[total] as usize, 0);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.start[..total]);
-        self.clip.clear();
-        self.clip.resize(bl, 0);
         // Pass 2: pieces in array order into every cell they meet; cell bounds.
         for k in 0..n {
             let b = &boxes[k * bl..(k + 1) * bl];
@@ -128,22 +128,34 @@ impl LastIndex {
             let Some((lo, hi)) = self.cell_span(b) else {
                 return;
             };
-            let (items, cursor, ub, clip, ppg) = (
-                &mut self.items,
-                &mut self.cursor,
-                &mut self.ub,
-                &mut self.clip,
-                &self.ppg,
-            );
+            // `maxVal(piece ∩ cell)` (spec §2.1) is `w_n + Σ_d w_d·c_d`, the corner
+            // `c_d` of the clipped box depending on the cell's coordinate in `d`
+            // alone: each product made once per coordinate, the sum in the same
+            // order, so the same value bit for bit (see `clip_max_val`).
+            let mut off = [0usize; ODO_DIMS];
+            self.terms.clear();
+            for d in 0..dim {
+                off[d] = self.terms.len();
+                let (bl_d, bh_d, ppg_d) = (b[2 * d], b[2 * d + 1], self.ppg[d]);
+                self.terms.extend((lo[d]..=hi[d]).map(|x| {
+                    let cell_lo = x as i32 * ppg_d;
+                    let c = if w[d] < 0.0 {
+                        bl_d.max(cell_lo)
+                    } else {
+                        bh_d.min(cell_lo + ppg_d - 1)
+                    };
+                    w[d] * f64::from(c)
+                }));
+            }
+            let (items, cursor, ub, terms) =
+                (&mut self.items, &mut self.cursor, &mut self.ub, &self.terms);
             walk(&lo, &hi, &self.stride, dim, |c, cur| {
                 items[cursor[c] as usize] = k as u32;
                 cursor[c] += 1;
+                let mut v = w[dim];
                 for d in 0..dim {
-                    let cell_lo = cur[d] as i32 * ppg[d];
-                    clip[2 * d] = b[2 * d].max(cell_lo);
-                    clip[2 * d + 1] = b[2 * d + 1].min(cell_lo + ppg[d] - 1);
+                    v += terms[off[d] + (cur[d] - lo[d])];
                 }
-                let v = max_val(clip, w);
                 if v > ub[c] || v.is_nan() {
                     ub[c] = v;
                 }
@@ -221,6 +233,19 @@ impl LastIndex {
     pub(super) fn pieces(&self, c: usize) -> &[u32] {
         &self.items[self.start[c] as usize..self.start[c + 1] as usize]
     }
+}
+
+/// The plain bound of cell `cur` (coordinates) for piece `b`, `w` on cells of `ppg`:
+/// `maxVal` of the piece clipped to the cell (the build's reference).
+#[cfg(test)]
+pub(super) fn clip_max_val(b: &[i32], w: &[f64], ppg: &[i32], cur: &[usize]) -> f64 {
+    let mut clip = b.to_vec();
+    for d in 0..ppg.len() {
+        let cell_lo = cur[d] as i32 * ppg[d];
+        clip[2 * d] = b[2 * d].max(cell_lo);
+        clip[2 * d + 1] = b[2 * d + 1].min(cell_lo + ppg[d] - 1);
+    }
+    max_val(&clip, w)
 }
 
 /// "No cell holds the box", in [`FirstCells`].
