@@ -20,6 +20,7 @@
 
 use super::coords::CoordTable;
 use crate::prepared::ODO_DIMS;
+#[cfg(test)]
 use ivp::function::max_val;
 
 #[derive(Debug, Default)]
@@ -38,7 +39,8 @@ pub(super) struct LastIndex {
     cursor: Vec<u32>,
     /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets.
     ub: Vec<f64>,
-    clip: Vec<i32>,
+    /// Scratch of the build: one piece's `w_d·c_d` per dimension and cell coordinate.
+    terms: Vec<f64>,
     /// The pieces (boxes, weight bits) the index in memory was made from, when it was
     /// made (`made`): the same pieces on the same cells make the same index.
     made: bool,
@@ -119,8 +121,6 @@ impl LastIndex {
         self.items.resize(self.start[total] as usize, 0);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.start[..total]);
-        self.clip.clear();
-        self.clip.resize(bl, 0);
         // Pass 2: pieces in array order into every cell they meet; cell bounds.
         for k in 0..n {
             let b = &boxes[k * bl..(k + 1) * bl];
@@ -128,22 +128,34 @@ impl LastIndex {
             let Some((lo, hi)) = self.cell_span(b) else {
                 return;
             };
-            let (items, cursor, ub, clip, ppg) = (
-                &mut self.items,
-                &mut self.cursor,
-                &mut self.ub,
-                &mut self.clip,
-                &self.ppg,
-            );
+            // `maxVal(piece ∩ cell)` (spec §2.1) is `w_n + Σ_d w_d·c_d`, the corner
+            // `c_d` of the clipped box depending on the cell's coordinate in `d`
+            // alone: each product made once per coordinate, the sum in the same
+            // order, so the same value bit for bit (see `clip_max_val`).
+            let mut off = [0usize; ODO_DIMS];
+            self.terms.clear();
+            for d in 0..dim {
+                off[d] = self.terms.len();
+                let (bl_d, bh_d, ppg_d) = (b[2 * d], b[2 * d + 1], self.ppg[d]);
+                self.terms.extend((lo[d]..=hi[d]).map(|x| {
+                    let cell_lo = x as i32 * ppg_d;
+                    let c = if w[d] < 0.0 {
+                        bl_d.max(cell_lo)
+                    } else {
+                        bh_d.min(cell_lo + ppg_d - 1)
+                    };
+                    w[d] * f64::from(c)
+                }));
+            }
+            let (items, cursor, ub, terms) =
+                (&mut self.items, &mut self.cursor, &mut self.ub, &self.terms);
             walk(&lo, &hi, &self.stride, dim, |c, cur| {
                 items[cursor[c] as usize] = k as u32;
                 cursor[c] += 1;
+                let mut v = w[dim];
                 for d in 0..dim {
-                    let cell_lo = cur[d] as i32 * ppg[d];
-                    clip[2 * d] = b[2 * d].max(cell_lo);
-                    clip[2 * d + 1] = b[2 * d + 1].min(cell_lo + ppg[d] - 1);
+                    v += terms[off[d] + (cur[d] - lo[d])];
                 }
-                let v = max_val(clip, w);
                 if v > ub[c] || v.is_nan() {
                     ub[c] = v;
                 }
@@ -203,10 +215,80 @@ impl LastIndex {
         self.ub[c]
     }
 
+    /// [`LastIndex::cell_of`] of every one of `n` boxes into `out` ([`NO_CELL`] for
+    /// none).
+    pub(super) fn cells_of(&self, boxes: &[i32], n: usize, out: &mut Vec<u32>) {
+        let bl = 2 * self.dim;
+        out.clear();
+        out.extend(
+            boxes
+                .chunks_exact(bl)
+                .take(n)
+                .map(|b| self.cell_of(b).map_or(NO_CELL, |c| c as u32)),
+        );
+    }
+
     /// The pieces meeting cell `c`, in array order.
     #[inline]
     pub(super) fn pieces(&self, c: usize) -> &[u32] {
         &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
+}
+
+/// The plain bound of cell `cur` (coordinates) for piece `b`, `w` on cells of `ppg`:
+/// `maxVal` of the piece clipped to the cell (the build's reference).
+#[cfg(test)]
+pub(super) fn clip_max_val(b: &[i32], w: &[f64], ppg: &[i32], cur: &[usize]) -> f64 {
+    let mut clip = b.to_vec();
+    for d in 0..ppg.len() {
+        let cell_lo = cur[d] as i32 * ppg[d];
+        clip[2 * d] = b[2 * d].max(cell_lo);
+        clip[2 * d + 1] = b[2 * d + 1].min(cell_lo + ppg[d] - 1);
+    }
+    max_val(&clip, w)
+}
+
+/// "No cell holds the box", in [`FirstCells`].
+pub(super) const NO_CELL: u32 = u32::MAX;
+
+/// The [`LastIndex`] cell of every piece of the first function, which the search
+/// bounds one by one at its first level (thousands for a contact's tiling). The cell
+/// depends only on the piece's box and the index's cells, which stay the same from one
+/// iteration to the next: kept while they do.
+#[derive(Debug, Default)]
+pub(super) struct FirstCells {
+    cells: Vec<u32>,
+    /// What `cells` were made for: the first function's slot and its boxes'
+    /// generation (see [`Prepared::boxes_gen`](crate::prepared::Prepared)), the
+    /// index's cell size and the problem's points.
+    key: Option<(usize, u64)>,
+    key_ppg: Vec<i32>,
+    key_pts: Vec<i32>,
+}
+
+impl FirstCells {
+    /// The cells of the `n` boxes `boxes` of the first function (slot `fi`, boxes
+    /// generation `gen`) in index `ix` (on, over `pts`), made unless kept.
+    pub(super) fn refresh(
+        &mut self,
+        ix: &LastIndex,
+        (fi, gen): (usize, u64),
+        pts: &[i32],
+        boxes: &[i32],
+        n: usize,
+    ) -> &[u32] {
+        let kept = self.key == Some((fi, gen))
+            && self.key_ppg == ix.ppg
+            && self.key_pts == pts
+            && self.cells.len() == n;
+        if !kept {
+            ix.cells_of(boxes, n, &mut self.cells);
+            self.key = Some((fi, gen));
+            self.key_ppg.clone_from(&ix.ppg);
+            self.key_pts.clear();
+            self.key_pts.extend_from_slice(pts);
+        }
+        &self.cells
     }
 }
 

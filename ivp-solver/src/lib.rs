@@ -23,7 +23,7 @@
 use ivp::function::max_val;
 use ivp::{Domain, IvpError, IvpFunction};
 use last_bits::LastBits;
-use last_index::LastIndex;
+use last_index::{FirstCells, LastIndex};
 use prepared::{Prepared, NO_BOUND};
 use search::{Search, Term};
 use std::cell::Cell;
@@ -37,6 +37,7 @@ mod setup;
 mod weigh;
 #[cfg(test)]
 use {
+    last_index::NO_CELL,
     prepared::{for_each_cell, for_each_cell_any, intersects},
     search::{bound_pair, bound_rest, bound_terms, bound_upto},
     weigh::min_max_wt,
@@ -66,6 +67,8 @@ pub struct Solver {
     best_b: Vec<i32>,
     best_w: Vec<f64>,
     last: LastIndex,
+    /// The index's cell of every piece of the first function (see `last_index.rs`).
+    first_cells: FirstCells,
     /// Bit sets over the last function when it has no [`LastIndex`] (see `last_bits.rs`).
     bits: LastBits,
     /// The previous decision point (problem indices), to seed the next search. Any
@@ -251,6 +254,12 @@ impl Solver {
         };
         let seed = seed.filter(|s| sure && s.is_finite());
         let last = (sure && self.last.on).then_some(&self.last);
+        let f0 = self.active[0];
+        let first_cells = last.map(|ix| {
+            let key = (f0, self.funcs[f0].boxes_gen);
+            let n = self.funcs[f0].n;
+            self.first_cells.refresh(ix, key, &self.pts, boxes[f0], n)
+        });
         let mut s = Search {
             funcs: &self.funcs,
             boxes: &boxes,
@@ -267,6 +276,7 @@ impl Solver {
             tol,
             doubt: Cell::new(false),
             last,
+            first_cells,
             last_ub: self.funcs[fl].global_ub,
             bits: bits_on.then_some(&mut self.bits),
             bits_ready: false,

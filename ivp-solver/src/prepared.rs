@@ -12,6 +12,9 @@ pub(crate) struct Prepared {
     /// already are: same dimensions in the same order).
     pub(crate) bounds: Vec<i32>,
     pub(crate) borrowed: bool,
+    /// Bumped whenever the boxes are made anew (kept boxes keep it): equal
+    /// generations of one slot mean equal boxes.
+    pub(crate) boxes_gen: u64,
     pub(crate) weights: Vec<f64>,
     pub(crate) n: usize,
     pub(crate) map: Vec<usize>,

@@ -2,7 +2,7 @@
 //! yet fixed, and the depth-first search over the functions' pieces.
 
 use crate::last_bits::LastBits;
-use crate::last_index::LastIndex;
+use crate::last_index::{LastIndex, NO_CELL};
 use crate::prepared::{intersects, CellRange, Prepared, BITS_AFTER, ODO_DIMS};
 use ivp::function::max_val;
 use std::cell::Cell;
@@ -143,6 +143,9 @@ pub(crate) struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     pub(crate) doubt: Cell<bool>,
     pub(crate) last: Option<&'a LastIndex>,
+    /// With `last`: the index's cell of every piece of the first function
+    /// ([`NO_CELL`] for none), so that its pieces are bounded without looking it up.
+    pub(crate) first_cells: Option<&'a [u32]>,
     /// The last function's global bound (its term when `last` is on).
     pub(crate) last_ub: f64,
     /// The last function's bit sets when it may use them, made once `scans` reaches
@@ -174,6 +177,21 @@ impl Search<'_> {
             };
             return self.prune(r, r);
         };
+        self.skip_indexed(level, b, acc, ix, || ix.cell_of(b))
+    }
+
+    /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
+    /// index's cell holding `b` (if any) when it is needed.
+    #[inline(always)]
+    fn skip_indexed(
+        &self,
+        level: usize,
+        b: &[i32],
+        acc: f64,
+        ix: &LastIndex,
+        cell: impl FnOnce() -> Option<usize>,
+    ) -> bool {
+        let (m, dim) = (self.active.len(), self.dim);
         // The last function is one cell (the index is on, so `dim <= ODO_DIMS`): its
         // term is its global bound, added last; the same sum whether or not a cell
         // holds `b`.
@@ -187,11 +205,27 @@ impl Search<'_> {
             // Pruned whatever the tighter bound.
             return self.prune(rb, rb);
         }
-        let tb = match ix.cell_of(b) {
+        let tb = match cell() {
             Some(c) => prefix + ix.bound(c),
             None => rb,
         };
         self.prune(rb, tb)
+    }
+
+    /// [`Search::skip`] of piece `q` (box `b`, value `acc`) of the first function,
+    /// its index cell read from `first_cells` (the one [`LastIndex::cell_of`] gives).
+    #[inline(always)]
+    pub(crate) fn skip_first(&self, q: usize, b: &[i32], acc: f64) -> bool {
+        let (Some(ix), Some(cells)) = (self.last, self.first_cells) else {
+            return self.skip(1, b, acc);
+        };
+        if !(self.found || self.seeded) {
+            return false;
+        }
+        self.skip_indexed(1, b, acc, ix, || {
+            let c = cells[q];
+            (c != NO_CELL).then_some(c as usize)
+        })
     }
 
     /// Whether to skip a subtree with reference bound `rb` (spec §6.1, computed
@@ -269,9 +303,9 @@ impl Search<'_> {
             }
             return;
         }
-        for (pb, pw) in pieces {
+        for (q, (pb, pw)) in pieces.enumerate() {
             let mv = max_val(pb, pw);
-            if !self.skip(1, pb, mv) {
+            if !self.skip_first(q, pb, mv) {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);

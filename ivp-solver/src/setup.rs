@@ -199,6 +199,7 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     if p.src_map == p.map && p.src_pts == pts && p.src_bounds == fb {
         return;
     }
+    p.boxes_gen = p.boxes_gen.wrapping_add(1);
     p.src_map.clone_from(&p.map);
     p.src_pts.clear();
     p.src_pts.extend_from_slice(pts);

@@ -208,3 +208,72 @@ fn last_bits_meet_exactly_the_intersecting_pieces() {
         }
     }
 }
+
+/// The last index's cell bounds, made from per-coordinate terms, are the plain fold
+/// of `maxVal(piece ∩ cell)` over each cell's pieces in array order, bit for bit.
+#[test]
+fn last_index_bounds_equal_the_clipped_max_val_fold() {
+    let mut seed = 99u64;
+    let mut cells_checked = 0;
+    for _ in 0..300 {
+        let dim = 1 + rng(&mut seed) as usize % 3;
+        let pts: Vec<i32> = (0..dim).map(|_| 1 + (rng(&mut seed) % 60) as i32).collect();
+        let ppg: Vec<i32> = pts
+            .iter()
+            .map(|&p| 1 + (rng(&mut seed) % p as u64) as i32)
+            .collect();
+        let n = 1 + rng(&mut seed) as usize % 12;
+        let (mut boxes, mut weights) = (vec![], vec![]);
+        for _ in 0..n {
+            for &p in &pts {
+                let lo = (rng(&mut seed) % p as u64) as i32;
+                let hi = lo + (rng(&mut seed) % (p - lo) as u64) as i32;
+                boxes.extend([lo, hi]);
+            }
+            for _ in 0..=dim {
+                let w = (rng(&mut seed) % 2001) as f64 / 7.0 - 140.0;
+                weights.push(if rng(&mut seed).is_multiple_of(9) {
+                    -0.0
+                } else {
+                    w
+                });
+            }
+        }
+        let mut ix = LastIndex::default();
+        ix.build(&ppg, &pts, &boxes, &weights, n);
+        assert!(ix.on);
+        let ncells: Vec<usize> = (0..dim)
+            .map(|d| ((pts[d] + ppg[d] - 1) / ppg[d]) as usize)
+            .collect();
+        let total: usize = ncells.iter().product();
+        for c in 0..total {
+            let (mut cur, mut rest) = (vec![0; dim], c);
+            for d in 0..dim {
+                cur[d] = rest % ncells[d];
+                rest /= ncells[d];
+            }
+            let mut want = f64::NEG_INFINITY;
+            let mut list = vec![];
+            for k in 0..n {
+                let b = &boxes[k * 2 * dim..(k + 1) * 2 * dim];
+                let meets = (0..dim).all(|d| {
+                    let cell_lo = cur[d] as i32 * ppg[d];
+                    b[2 * d] < cell_lo + ppg[d] && cell_lo <= b[2 * d + 1]
+                });
+                if !meets {
+                    continue;
+                }
+                list.push(k as u32);
+                let w = &weights[k * (dim + 1)..(k + 1) * (dim + 1)];
+                let v = last_index::clip_max_val(b, w, &ppg, &cur);
+                if v > want || v.is_nan() {
+                    want = v;
+                }
+            }
+            assert_eq!(ix.bound(c).to_bits(), want.to_bits(), "cell {c}");
+            assert_eq!(ix.pieces(c), &list[..], "cell {c}");
+            cells_checked += 1;
+        }
+    }
+    assert!(cells_checked > 1000, "{cells_checked}");
+}

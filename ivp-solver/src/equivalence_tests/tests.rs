@@ -508,7 +508,7 @@ fn random_box(pts: &[i32], seed: &mut u64) -> Vec<i32> {
 #[test]
 fn lazy_skip_equals_prune_of_the_bound_pair() {
     let mut seed = 4242u64;
-    let mut compared = [0usize; 2];
+    let mut compared = [0usize; 3];
     for round in 0..300 {
         let dom = random_domain(&mut seed);
         let fs = random_problem(&dom, &mut seed);
@@ -551,6 +551,20 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
             if with_index && last.is_none() {
                 continue;
             }
+            // The first function's pieces' cells, made afresh, are `cell_of`'s.
+            let f0 = solver.active[0];
+            let n0 = solver.funcs[f0].n;
+            let mut first = FirstCells::default();
+            let cells = last.map(|ix| {
+                let key = (f0, solver.funcs[f0].boxes_gen);
+                first.refresh(ix, key, &solver.pts, boxes[f0], n0).to_vec()
+            });
+            if let (Some(ix), Some(cells)) = (last, &cells) {
+                for (q, &c) in cells.iter().enumerate() {
+                    let want = ix.cell_of(&boxes[f0][q * 2 * dim..(q + 1) * 2 * dim]);
+                    assert_eq!(want.map_or(NO_CELL, |c| c as u32), c, "round {round}");
+                }
+            }
             let mut s = Search {
                 funcs: &solver.funcs,
                 boxes: &boxes,
@@ -567,6 +581,7 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 tol: 0.0,
                 doubt: Cell::new(false),
                 last,
+                first_cells: cells.as_deref(),
                 last_ub: solver.funcs[fl].global_ub,
                 bits: None,
                 bits_ready: false,
@@ -617,10 +632,26 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                     "round {round} {b:?} level {level}"
                 );
                 compared[usize::from(with_index)] += 1;
+                // A piece of the first function at the first level, its cell cached.
+                if n0 > 0 {
+                    let q = pick(&mut seed, n0 as u64) as usize;
+                    let b = &boxes[f0][q * 2 * dim..(q + 1) * 2 * dim];
+                    let (rb, tb) = bound_pair(s.funcs, s.active, dim, 1, b, acc, s.last);
+                    s.doubt.set(false);
+                    let want = s.prune(rb, tb);
+                    let want_doubt = s.doubt.replace(false);
+                    let got = s.skip_first(q, b, acc);
+                    assert_eq!(got, want, "round {round} first piece {q}");
+                    assert_eq!(s.doubt.get(), want_doubt, "round {round} first piece {q}");
+                    compared[2] += 1;
+                }
             }
         }
     }
-    assert!(compared[0] > 1000 && compared[1] > 1000, "{compared:?}");
+    assert!(
+        compared[0] > 1000 && compared[1] > 1000 && compared[2] > 1000,
+        "{compared:?}"
+    );
 }
 
 /// `weigh` (made per dimension) writes the weights, piece bounds and term scale of
