@@ -71,6 +71,10 @@ pub struct ConstantValue<K: Kind> {
     settings: Settings,
     /// The mismatch at the last successful read of the navigation variable (0 before).
     mismatch: f64,
+    /// The last function built and what it was built from (bit for bit): the function
+    /// depends on nothing else, so while they stay it is copied, not built again (the
+    /// ZAIC scans every point of the variable).
+    last: Option<([u64; 4], ivp::IvpFunction)>,
     kind: PhantomData<K>,
 }
 
@@ -86,6 +90,7 @@ impl<K: Kind> ConstantValue<K> {
                 mismatch_var: String::new(),
             },
             mismatch: 0.0,
+            last: None,
             kind: PhantomData,
         }
     }
@@ -109,6 +114,29 @@ impl<K: Kind> ConstantValue<K> {
                 }
             }
         }
+    }
+
+    /// The objective function, without pwt: a copy of the last one while the desired
+    /// value and the shape are unchanged.
+    fn build_kept(&mut self) -> Result<ivp::IvpFunction, String> {
+        let shape = &self.settings.shape;
+        let key = [
+            self.settings.value.to_bits(),
+            shape.peakwidth.to_bits(),
+            shape.basewidth.to_bits(),
+            shape.summitdelta.to_bits(),
+        ];
+        if let Some((k, f)) = &self.last {
+            if *k == key {
+                return Ok(f.copy_in_spares());
+            }
+        }
+        let f = self.build()?;
+        if let Some((_, old)) = self.last.take() {
+            old.recycle();
+        }
+        self.last = Some((key, f.copy_in_spares()));
+        Ok(f)
     }
 
     /// The objective function, without pwt.
@@ -170,7 +198,7 @@ impl<K: Kind> IvpBehavior for ConstantValue<K> {
             ctx.set_complete();
             return None;
         }
-        match self.build() {
+        match self.build_kept() {
             Ok(mut f) => {
                 f.set_pwt(ctx.priority());
                 Some(function_data(f))
@@ -180,5 +208,60 @@ impl<K: Kind> IvpBehavior for ConstantValue<K> {
                 None
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Depth;
+    impl Kind for Depth {
+        const PARAM: &'static str = "depth";
+        const NAV: &'static str = "NAV_DEPTH";
+        const MISMATCH_PARAM: &'static str = "depth_mismatch_var";
+        const SHAPE: PeakShape = PeakShape::new(3.0, 6.0, 50.0);
+    }
+
+    fn parts(f: &ivp::IvpFunction) -> (Vec<i32>, Vec<u64>, Vec<u32>, Vec<u64>, String) {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        (
+            f.bounds().to_vec(),
+            bits(f.weights()),
+            f.gelbox().to_vec(),
+            bits(f.grid_bounds()),
+            f.domain().to_ipf_string(),
+        )
+    }
+
+    /// A kept function handed out again is bit for bit the one a fresh build gives, over
+    /// random changes of the desired value and the shape (some repeated, -0.0 included).
+    #[test]
+    fn kept_function_equals_a_fresh_build() {
+        let mut b = ConstantValue::<Depth>::new(&HelmDomain::new("depth,0,100,101"));
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) % n
+        };
+        let mut unchanged = 0;
+        for _ in 0..600 {
+            match next(6) {
+                0 => b.settings.value = [0.0, -0.0, 12.5, 40.0, 99.0][next(5) as usize],
+                1 => b.settings.shape.peakwidth = [0.0, -0.0, 3.0, 10.0][next(4) as usize],
+                2 => b.settings.shape.basewidth = [0.0, 6.0, 20.0][next(3) as usize],
+                3 => b.settings.shape.summitdelta = [0.0, 25.0, 50.0][next(3) as usize],
+                _ => unchanged += 1,
+            }
+            let kept = b.build_kept().expect("builds");
+            let fresh = b.build().expect("builds");
+            assert_eq!(parts(&kept), parts(&fresh), "settings {:?}", b.settings);
+            kept.recycle();
+            fresh.recycle();
+        }
+        // Both paths ran: a third of the rounds change nothing, so the copy is used.
+        assert!(unchanged > 100, "{unchanged}");
     }
 }
