@@ -441,9 +441,10 @@ impl<'a> Reflector<'a> {
         });
         let (domain, bounds) = (self.domain.clone(), self.bounds.clone());
         let (mut weights, gelbox) = (self.weights.clone(), self.gelbox.clone());
-        if let Some(s) = self.summary.as_ref().filter(|s| s.weights_pending) {
-            s.pieces.iter().for_each(|p| p.write_weights(&mut weights));
-        }
+        let pending = self.summary.iter().filter(|s| s.weights_pending);
+        pending
+            .flat_map(|s| &s.pieces)
+            .for_each(|p| p.write_weights(&mut weights));
         Self::function(domain, bounds, weights, gelbox, summary, normalize, false)
     }
 
@@ -472,8 +473,7 @@ impl<'a> Reflector<'a> {
         Self::function(domain, bounds, weights, gelbox, summary, normalize, again)
     }
 
-    /// Whether `create` made pieces (the 2-dimensional fit's weights may still be in its
-    /// summary's lists only).
+    /// Whether `create` made pieces (their weights maybe only in the summary's lists).
     fn has_pieces(&self) -> bool {
         !self.weights.is_empty() || self.summary.as_ref().is_some_and(|s| s.weights_pending)
     }
@@ -505,8 +505,7 @@ impl<'a> Reflector<'a> {
         let (mut weights, mut grid) = (weights, s.grid);
         let min_max = s.min_max.unwrap_or((0.0, 0.0));
         if let (true, Some(mut pieces)) = (s.weights_pending, s.pieces) {
-            // The 2-dimensional fit's pieces, normalized several at a time as their
-            // weights are written out; else just written out.
+            // Normalized several at a time as their weights are written out, or just written.
             let twice = normalize && again;
             if twice && pieces.normalize_twice(min_max, (0.0, 100.0), &mut weights, &mut grid) {
                 let f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);

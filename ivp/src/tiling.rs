@@ -25,9 +25,8 @@ pub(crate) struct Summary {
     /// The pieces of a 2-dimensional fit in lists, for normalizing them several at a
     /// time ([`rows::Pieces::normalize_twice`]).
     pub pieces: Option<rows::Pieces>,
-    /// The 2-dimensional fit's weights are only in `pieces`, not yet appended to the
-    /// reflector's weights ([`rows::Pieces::write_weights`]): the contact behaviors
-    /// normalize them at once, and writing them out twice would be wasted.
+    /// The 2-dimensional fit's weights are only in `pieces`, not yet in the reflector's
+    /// ([`rows::Pieces::write_weights`]; normalize_twice writes them normalized).
     pub weights_pending: bool,
 }
 
@@ -178,7 +177,7 @@ fn fit_uniform_n<const N: usize>(
         );
         summary.min_max = folds.min_max;
         summary.pieces = Some(pieces);
-        summary.weights_pending = true;
+        summary.weights_pending = summary.min_max.is_some();
         return;
     }
     let mut coord: [usize; N] = std::array::from_fn(|d| counts[d] as usize - 1);
@@ -321,38 +320,28 @@ fn fit_rows_2(
     }
     let total = nx * ny;
     let [_, _, _, lo, hi] = &lists.pieces;
-    // One pass over the tiles in the reflector's order (the last tile first): each
-    // piece's bounds written out (its weights stay in the lists: see
-    // Summary::weights_pending), its range folded and its grid cells raised. The fold starts from the last tile's range: folding it once more changes
-    // nothing (neither comparison holds against itself, NaN or not).
-    let (mut mn, mut mx) = match (lo.get(total.wrapping_sub(1)), hi.get(total.wrapping_sub(1))) {
-        (Some(&l), Some(&h)) => (l, h),
-        _ => return pieces,
-    };
-    // Tiles one grid cell wide in dimension 0 (all of them, usually) raise one cell
-    // per row of cells.
-    let one_cell = xs.cells.iter().all(|&(_, span)| span == 1);
+    // One pass in the reflector's order (the last tile first): bounds written (the
+    // weights stay in the lists: Summary::weights_pending), ranges folded from the last
+    // tile's (folding it again changes nothing, NaN or not), grid cells raised.
+    let last = |l: &[f64]| l.get(total.wrapping_sub(1)).copied().unwrap_or(f64::NAN);
+    let (mut mn, mut mx) = (last(lo), last(hi)); // (the lists may run past the pieces)
     let (xe, xc) = (&xs.edges[..nx], &xs.cells[..nx]);
-    // Written in place (no length and capacity checks per piece) and not zeroed
-    // first: every new slot is written below.
+    // Written in place, not zeroed first: every new slot is written below.
     bounds.reserve(4 * total);
     let bs = &mut bounds.spare_capacity_mut()[..4 * total];
     let ys_rev = ys.edges.iter().zip(&ys.cells).enumerate().rev();
     for (brow, (cy, (&(ylo, yhi), &(ycell, yspan)))) in bs.chunks_exact_mut(4 * nx).zip(ys_rev) {
         let k = cy * nx;
         let (lo, hi) = (&lo[k..k + nx], &hi[k..k + nx]);
-        let (ylo, yhi) = (ylo as i32, yhi as i32);
-        let one = one_cell && yspan == 1;
         for (b, cx) in brow.chunks_exact_mut(4).zip((0..nx).rev()) {
             let (xlo, xhi) = xe[cx];
-            b[0].write(xlo as i32);
-            b[1].write(xhi as i32);
-            b[2].write(ylo);
-            b[3].write(yhi);
+            for (slot, x) in b.iter_mut().zip([xlo, xhi, ylo, yhi]) {
+                slot.write(x as i32);
+            }
             let (l, v) = (lo[cx], hi[cx]);
             mn = if l < mn { l } else { mn };
             mx = if v > mx { v } else { mx };
-            if one {
+            if xc[cx].1 == 1 && yspan == 1 {
                 let g = &mut folds.grid[xc[cx].0 + ycell];
                 if *g == f64::NEG_INFINITY || v > *g {
                     *g = v;
@@ -362,12 +351,9 @@ fn fit_rows_2(
             }
         }
     }
-    folds.min_max = Some((mn, mx));
-    // SAFETY: the rows above are the ny chunks of 4·nx slots of the first 4·total
-    // spare slots, and each row wrote all of its chunk's slots.
-    unsafe {
-        bounds.set_len(bounds.len() + 4 * total);
-    }
+    folds.min_max = (total > 0).then_some((mn, mx));
+    // SAFETY: the ny rows of 4·nx slots above wrote each of the first 4·total ones.
+    unsafe { bounds.set_len(bounds.len() + 4 * total) };
     pieces
 }
 

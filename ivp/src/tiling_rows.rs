@@ -208,11 +208,10 @@ pub(crate) struct Pieces {
 
 /// [`Pieces`]' lists, borrowed.
 pub(super) struct Lists<'a> {
-    /// Per tile of dimension 0: low edge, high edge, centre.
+    /// Per tile of dimension 0: low edge, high edge, centre; of dimension 1: low, high.
     pub xl: &'a mut [f64],
     pub xh: &'a mut [f64],
     pub xm: &'a mut [f64],
-    /// Per tile of dimension 1: low edge, high edge.
     pub yl: &'a mut [f64],
     pub yh: &'a mut [f64],
     /// Per tile: slope 0, slope 1, intercept, least value, greatest value.
@@ -242,20 +241,11 @@ impl Pieces {
         p
     }
 
-    /// The pieces' slopes and intercepts (slope 0, slope 1, intercept lists).
-    fn weight_lists(&self) -> [&[f64]; 3] {
+    /// Append the pieces' weights to `weights` in the reflector's order.
+    pub(crate) fn write_weights(&self, weights: &mut Vec<f64>) {
         let n = self.nx * self.ny;
         let w = &self.buf.0[3 * self.nx + 2 * self.ny..][..3 * n];
-        let (w0, rest) = w.split_at(n);
-        let (w1, w2) = rest.split_at(n);
-        [w0, w1, w2]
-    }
-
-    /// Append the pieces' weights to `weights` in the reflector's order (the last tile
-    /// first), each piece's slopes then intercept.
-    pub(crate) fn write_weights(&self, weights: &mut Vec<f64>) {
-        let [w0, w1, w2] = self.weight_lists();
-        write_reversed([w0, w1, w2], None, weights);
+        write_reversed([&w[..n], &w[n..2 * n], &w[2 * n..]], None, weights);
     }
 
     pub(super) fn lists_mut(&mut self) -> Lists<'_> {
@@ -334,7 +324,6 @@ impl Pieces {
                 *g = (*g + shift2) * scale2;
             }
         }
-        // The second normalization's scaling as the weights are written out.
         write_reversed([w0, w1, w2], again.then_some((shift2, scale2)), weights);
         true
     }
@@ -389,13 +378,10 @@ fn normalize_row_body(row: NormRow<'_>, shift: f64, scale: f64) {
 }
 
 /// Append the pieces' weights (slope 0, slope 1, intercept lists) to `weights`, the
-/// last piece first; with `scale` = (shift, scale), normalized on the way (`w[2] +=
-/// shift`, then every weight `*= scale`, the normalization's operations).
-fn write_reversed(w: [&[f64]; 3], scale: Option<(f64, f64)>, weights: &mut Vec<f64>) {
-    let [w0, w1, w2] = w;
-    let n = w0.len().min(w1.len()).min(w2.len());
-    let (w0, w1, w2) = (&w0[..n], &w1[..n], &w2[..n]);
-    let at = weights.len();
+/// last piece first; normalized on the way (`w[2] += shift`, then `*= scale`) if asked.
+fn write_reversed([w0, w1, w2]: [&[f64]; 3], scale: Option<(f64, f64)>, weights: &mut Vec<f64>) {
+    let n = w0.len();
+    let (w1, w2, at) = (&w1[..n], &w2[..n], weights.len());
     weights.reserve(3 * n);
     let out = &mut weights.spare_capacity_mut()[..3 * n];
     let pieces = out.chunks_exact_mut(3).zip((0..n).rev());
