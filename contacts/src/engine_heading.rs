@@ -64,6 +64,28 @@ impl CpaEngine {
         unit_of(h)
     }
 
+    /// [`CpaEngine::unit`] of each of `headings`, appended: sines to `sins`, cosines to
+    /// `coss` (the table looked up once for all of them, not per heading).
+    pub fn units_into(
+        &self,
+        headings: impl ExactSizeIterator<Item = f64>,
+        (sins, coss): (&mut Vec<f64>, &mut Vec<f64>),
+    ) {
+        let table = unit_table();
+        sins.reserve(headings.len());
+        coss.reserve(headings.len());
+        for h in headings {
+            // unit_of, with the table at hand.
+            let (s, c) = if (0.0..360.0).contains(&h) {
+                table[h as usize]
+            } else {
+                unit_of_degree(deg_index(h))
+            };
+            sins.push(s);
+            coss.push(c);
+        }
+    }
+
     /// [`CpaEngine::cpa_time`] for the heading whose [`CpaEngine::unit`] is `u`.
     #[inline]
     pub fn cpa_unit(&self, u: (f64, f64), v: f64, tol: f64) -> Cpa {

@@ -598,3 +598,46 @@ fn spare_table_boxes_hold_fresh_tables() {
         assert_eq!(spares(), 1, "{k}: the box given back");
     }
 }
+
+/// The unit vectors of a list of headings ([`CpaEngine::units_into`], one table
+/// look-up) are [`CpaEngine::unit`] of each heading, bit for bit, over random headings:
+/// integer and fractional degrees, negative, 360 and beyond, infinities and NaN.
+#[test]
+fn units_into_is_unit_per_heading() {
+    let e = CpaEngine::new(0.0, 100.0, 180.0, 2.0, 0.0, 0.0);
+    let mut seed = 41u64;
+    let mut rng = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let odd = [
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        -0.0,
+        360.0,
+        359.999,
+        -1.0,
+    ];
+    for case in 0..500 {
+        let n = case % 50;
+        let hs: Vec<f64> = (0..n)
+            .map(|_| match (rng() * 4.0) as u32 {
+                0 => odd[(rng() * odd.len() as f64) as usize % odd.len()],
+                1 => (rng() * 360.0).floor(),
+                2 => (rng() - 0.5) * 2000.0,
+                _ => rng() * 360.0,
+            })
+            .collect();
+        let (mut sins, mut coss) = (vec![9.0], vec![9.0]);
+        e.units_into(hs.iter().copied(), (&mut sins, &mut coss));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let want: Vec<(f64, f64)> = hs.iter().map(|&h| e.unit(h)).collect();
+        let (ws, wc): (Vec<f64>, Vec<f64>) = want.into_iter().unzip();
+        assert_eq!(bits(&sins[1..]), bits(&ws), "case {case}: {hs:?}");
+        assert_eq!(bits(&coss[1..]), bits(&wc), "case {case}: {hs:?}");
+        assert_eq!((sins[0], coss[0]), (9.0, 9.0));
+    }
+}

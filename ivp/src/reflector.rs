@@ -430,16 +430,21 @@ impl<'a> Reflector<'a> {
 
     /// The function (normalized to `[0,100]` if `normalize`); `None` before `create`.
     pub fn extract(&self, normalize: bool) -> Option<IvpFunction> {
-        if self.weights.is_empty() {
+        if !self.has_pieces() {
             return None;
         }
         let summary = self.summary.as_ref().map(|s| crate::tiling::Summary {
             grid: s.grid.clone(),
             min_max: s.min_max,
             pieces: None,
+            weights_pending: false,
         });
         let (domain, bounds) = (self.domain.clone(), self.bounds.clone());
-        let (weights, gelbox) = (self.weights.clone(), self.gelbox.clone());
+        let (mut weights, gelbox) = (self.weights.clone(), self.gelbox.clone());
+        let pending = self.summary.iter().filter(|s| s.weights_pending);
+        pending
+            .flat_map(|s| &s.pieces)
+            .for_each(|p| p.write_weights(&mut weights));
         Self::function(domain, bounds, weights, gelbox, summary, normalize, false)
     }
 
@@ -459,13 +464,18 @@ impl<'a> Reflector<'a> {
 
     /// The function of these pieces, moved out of the reflector (see [`Self::function`]).
     fn take_function(&mut self, normalize: bool, again: bool) -> Option<IvpFunction> {
-        if self.weights.is_empty() {
+        if !self.has_pieces() {
             return None;
         }
         let (domain, bounds) = (take(&mut self.domain), take(&mut self.bounds));
         let (weights, gelbox) = (take(&mut self.weights), take(&mut self.gelbox));
         let summary = self.summary.take();
         Self::function(domain, bounds, weights, gelbox, summary, normalize, again)
+    }
+
+    /// Whether `create` made pieces (their weights maybe only in the summary's lists).
+    fn has_pieces(&self) -> bool {
+        !self.weights.is_empty() || self.summary.as_ref().is_some_and(|s| s.weights_pending)
     }
 
     /// The function of these pieces with its search grid, normalized if asked. The
@@ -494,12 +504,14 @@ impl<'a> Reflector<'a> {
         };
         let (mut weights, mut grid) = (weights, s.grid);
         let min_max = s.min_max.unwrap_or((0.0, 0.0));
-        if let (true, Some(mut pieces)) = (normalize && again, s.pieces) {
-            // The 2-dimensional fit's pieces, normalized several at a time.
-            if pieces.normalize_twice(min_max, (0.0, 100.0), &mut weights, &mut grid) {
+        if let (true, Some(mut pieces)) = (s.weights_pending, s.pieces) {
+            // Normalized several at a time as their weights are written out, or just written.
+            let twice = normalize && again;
+            if twice && pieces.normalize_twice(min_max, (0.0, 100.0), &mut weights, &mut grid) {
                 let f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);
                 return Some(f);
             }
+            pieces.write_weights(&mut weights);
         }
         let mut f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);
         if normalize && again {

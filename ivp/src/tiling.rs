@@ -25,6 +25,9 @@ pub(crate) struct Summary {
     /// The pieces of a 2-dimensional fit in lists, for normalizing them several at a
     /// time ([`rows::Pieces::normalize_twice`]).
     pub pieces: Option<rows::Pieces>,
+    /// The 2-dimensional fit's weights are only in `pieces`, not yet in the reflector's
+    /// ([`rows::Pieces::write_weights`]; normalize_twice writes them normalized).
+    pub weights_pending: bool,
 }
 
 /// The uniform tiling of `domain` by boxes of edge `size` (`counts` of them per
@@ -76,6 +79,8 @@ struct Axis {
     corners: Vec<u32>,
     /// The midpoint grid's coordinates: each tile's centre.
     mids: Vec<u32>,
+    /// Runs of consecutive tiles of equal width: (first tile, end, width `hi − lo`).
+    runs: Vec<(usize, usize, u32)>,
 }
 
 /// [`fit_uniform`] for `N` dimensions (a constant, so the per-tile loops unroll).
@@ -115,6 +120,13 @@ fn fit_uniform_n<const N: usize>(
         a.mids.clear();
         a.mids
             .extend(a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2));
+        a.runs.clear();
+        for (k, &(lo, hi)) in a.edges.iter().enumerate() {
+            match a.runs.last_mut() {
+                Some((_, end, width)) if *width == hi - lo => *end = k + 1,
+                _ => a.runs.push((k, k + 1, hi - lo)),
+            }
+        }
     }
     let axes = &axes[..N];
     let grid_strides: [usize; N] = std::array::from_fn(|d| axes[d].stride);
@@ -160,11 +172,12 @@ fn fit_uniform_n<const N: usize>(
             axes,
             (&corners.0, if any_centre { &mids.0 } else { &[] }),
             strict,
-            (bounds, weights),
+            bounds,
             &mut folds,
         );
         summary.min_max = folds.min_max;
         summary.pieces = Some(pieces);
+        summary.weights_pending = summary.min_max.is_some();
         return;
     }
     let mut coord: [usize; N] = std::array::from_fn(|d| counts[d] as usize - 1);
@@ -255,7 +268,7 @@ fn fit_rows_2(
     axes: &[Axis],
     (corners, mids): (&[f64], &[f64]),
     strict: bool,
-    (bounds, weights): (&mut Vec<i32>, &mut Vec<f64>),
+    bounds: &mut Vec<i32>,
     folds: &mut Folds<'_>,
 ) -> rows::Pieces {
     let (xs, ys) = (&axes[0], &axes[1]);
@@ -279,13 +292,7 @@ fn fit_rows_2(
             f64::from(ylo + (yhi - ylo) / 2),
         ];
         let at = cy * nx;
-        let mut a = 0;
-        while a < nx {
-            let width = xs.edges[a].1 - xs.edges[a].0;
-            let b = a + xs.edges[a..]
-                .iter()
-                .take_while(|&&(lo, hi)| hi - lo == width)
-                .count();
+        for &(a, b, width) in &xs.runs {
             let centre = y_centre || width + 1 > 2;
             let run = rows::Run {
                 x: [&lists.xl[a..b], &lists.xh[a..b], &lists.xm[a..b]],
@@ -309,20 +316,33 @@ fn fit_rows_2(
                 max: &mut hi[i..j],
             };
             rows::fit_run(&run, &mut out);
-            a = b;
         }
     }
     let total = nx * ny;
-    let [w0, w1, w2, lo, hi] = &lists.pieces;
-    // The pieces' ranges folded and grid cells raised in the reflector's order (the
-    // last tile first).
-    for (cy, &(ycell, yspan)) in ys.cells.iter().enumerate().rev() {
-        let (lo, hi) = (&lo[cy * nx..][..nx], &hi[cy * nx..][..nx]);
-        for (cx, &(xcell, xspan)) in xs.cells.iter().enumerate().rev() {
-            let v = hi[cx];
-            folds.fold(lo[cx], v);
-            if xspan == 1 && yspan == 1 {
-                let g = &mut folds.grid[xcell + ycell];
+    let [_, _, _, lo, hi] = &lists.pieces;
+    // One pass in the reflector's order (the last tile first): bounds written (the
+    // weights stay in the lists: Summary::weights_pending), ranges folded from the last
+    // tile's (folding it again changes nothing, NaN or not), grid cells raised.
+    let last = |l: &[f64]| l.get(total.wrapping_sub(1)).copied().unwrap_or(f64::NAN);
+    let (mut mn, mut mx) = (last(lo), last(hi)); // (the lists may run past the pieces)
+    let (xe, xc) = (&xs.edges[..nx], &xs.cells[..nx]);
+    // Written in place, not zeroed first: every new slot is written below.
+    bounds.reserve(4 * total);
+    let bs = &mut bounds.spare_capacity_mut()[..4 * total];
+    let ys_rev = ys.edges.iter().zip(&ys.cells).enumerate().rev();
+    for (brow, (cy, (&(ylo, yhi), &(ycell, yspan)))) in bs.chunks_exact_mut(4 * nx).zip(ys_rev) {
+        let k = cy * nx;
+        let (lo, hi) = (&lo[k..k + nx], &hi[k..k + nx]);
+        for (b, cx) in brow.chunks_exact_mut(4).zip((0..nx).rev()) {
+            let (xlo, xhi) = xe[cx];
+            for (slot, x) in b.iter_mut().zip([xlo, xhi, ylo, yhi]) {
+                slot.write(x as i32);
+            }
+            let (l, v) = (lo[cx], hi[cx]);
+            mn = if l < mn { l } else { mn };
+            mx = if v > mx { v } else { mx };
+            if xc[cx].1 == 1 && yspan == 1 {
+                let g = &mut folds.grid[xc[cx].0 + ycell];
                 if *g == f64::NEG_INFINITY || v > *g {
                     *g = v;
                 }
@@ -331,37 +351,9 @@ fn fit_rows_2(
             }
         }
     }
-    // Their bounds and weights in that order, written in place (no length and capacity
-    // checks per piece) and not zeroed first: every new slot is written below.
-    bounds.reserve(4 * total);
-    weights.reserve(3 * total);
-    let bs = &mut bounds.spare_capacity_mut()[..4 * total];
-    let ws = &mut weights.spare_capacity_mut()[..3 * total];
-    for (cy, &(ylo, yhi)) in ys.edges.iter().enumerate() {
-        // Row cy is the reflector's pieces (ny − 1 − cy)·nx .. (ny − cy)·nx, its last
-        // tile first.
-        let p = (ny - 1 - cy) * nx;
-        let rows = bs[4 * p..4 * (p + nx)]
-            .chunks_exact_mut(4)
-            .zip(ws[3 * p..3 * (p + nx)].chunks_exact_mut(3));
-        for ((b, w), cx) in rows.zip((0..nx).rev()) {
-            let (xlo, xhi) = xs.edges[cx];
-            b[0].write(xlo as i32);
-            b[1].write(xhi as i32);
-            b[2].write(ylo as i32);
-            b[3].write(yhi as i32);
-            let k = cy * nx + cx;
-            w[0].write(w0[k]);
-            w[1].write(w1[k]);
-            w[2].write(w2[k]);
-        }
-    }
-    // SAFETY: each row above wrote all the slots of its nx pieces, and the rows' pieces
-    // are 0..total: the first 4·total (3·total) spare slots are written.
-    unsafe {
-        bounds.set_len(bounds.len() + 4 * total);
-        weights.set_len(weights.len() + 3 * total);
-    }
+    folds.min_max = (total > 0).then_some((mn, mx));
+    // SAFETY: the ny rows of 4·nx slots above wrote each of the first 4·total ones.
+    unsafe { bounds.set_len(bounds.len() + 4 * total) };
     pieces
 }
 

@@ -208,11 +208,10 @@ pub(crate) struct Pieces {
 
 /// [`Pieces`]' lists, borrowed.
 pub(super) struct Lists<'a> {
-    /// Per tile of dimension 0: low edge, high edge, centre.
+    /// Per tile of dimension 0: low edge, high edge, centre; of dimension 1: low, high.
     pub xl: &'a mut [f64],
     pub xh: &'a mut [f64],
     pub xm: &'a mut [f64],
-    /// Per tile of dimension 1: low edge, high edge.
     pub yl: &'a mut [f64],
     pub yh: &'a mut [f64],
     /// Per tile: slope 0, slope 1, intercept, least value, greatest value.
@@ -242,6 +241,13 @@ impl Pieces {
         p
     }
 
+    /// Append the pieces' weights to `weights` in the reflector's order.
+    pub(crate) fn write_weights(&self, weights: &mut Vec<f64>) {
+        let n = self.nx * self.ny;
+        let w = &self.buf.0[3 * self.nx + 2 * self.ny..][..3 * n];
+        write_reversed([&w[..n], &w[n..2 * n], &w[2 * n..]], None, weights);
+    }
+
     pub(super) fn lists_mut(&mut self) -> Lists<'_> {
         let (nx, ny, n) = (self.nx, self.ny, self.nx * self.ny);
         let (xl, rest) = self.buf.0.split_at_mut(nx);
@@ -265,21 +271,21 @@ impl Pieces {
 
     /// What [`crate::IvpFunction::normalize_from_and_min_max`]`(min_max, base, range)`
     /// then [`crate::IvpFunction::normalize_from`] of the range it returns, `base`,
-    /// `range` do to the function of these pieces (its `weights`, in the reflector's
-    /// order, and its search `grid`), bit for bit: each piece's operations are theirs,
-    /// and the ranges are folded in the reflector's order. `false` (nothing changed)
-    /// when the first range is empty or `weights` are not these pieces' weights: the
-    /// function's own methods then do it.
+    /// `range` do to the function of these pieces (its search `grid`, and its weights,
+    /// appended to the empty `weights` in the reflector's order), bit for bit: each
+    /// piece's operations are theirs, and the ranges are folded in the reflector's
+    /// order. `false` (nothing changed) when the first range is empty or `weights` is
+    /// not empty: the function's own methods then do it.
     pub(crate) fn normalize_twice(
         &mut self,
         (mn, mx): (f64, f64),
         (base, range): (f64, f64),
-        weights: &mut [f64],
+        weights: &mut Vec<f64>,
         grid: &mut [f64],
     ) -> bool {
         let r = mx - mn;
         let n = self.nx * self.ny;
-        if r.is_nan() || r <= 0.0 || weights.len() != 3 * n || n == 0 {
+        if r.is_nan() || r <= 0.0 || !weights.is_empty() || n == 0 {
             return false;
         }
         let nx = self.nx;
@@ -310,9 +316,6 @@ impl Pieces {
         let r2 = mx2 - mn2;
         let again = !(r2.is_nan() || r2 <= 0.0);
         let (shift2, scale2) = (base - mn2, range / r2);
-        if again {
-            scale_all([w0, w1, w2], shift2, scale2);
-        }
         for g in grid.iter_mut() {
             *g = (*g + shift) * scale;
         }
@@ -321,9 +324,7 @@ impl Pieces {
                 *g = (*g + shift2) * scale2;
             }
         }
-        for (w, k) in weights.chunks_exact_mut(3).zip((0..n).rev()) {
-            w.copy_from_slice(&[w0[k], w1[k], w2[k]]);
-        }
+        write_reversed([w0, w1, w2], again.then_some((shift2, scale2)), weights);
         true
     }
 }
@@ -376,33 +377,32 @@ fn normalize_row_body(row: NormRow<'_>, shift: f64, scale: f64) {
     }
 }
 
-/// `w[2] += shift`, then every weight `*= scale`, for every piece.
-fn scale_all(w: [&mut [f64]; 3], shift: f64, scale: f64) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { scale_all_avx2(w, shift, scale) };
+/// Append the pieces' weights (slope 0, slope 1, intercept lists) to `weights`, the
+/// last piece first; normalized on the way (`w[2] += shift`, then `*= scale`) if asked.
+fn write_reversed([w0, w1, w2]: [&[f64]; 3], scale: Option<(f64, f64)>, weights: &mut Vec<f64>) {
+    let n = w0.len();
+    let (w1, w2, at) = (&w1[..n], &w2[..n], weights.len());
+    weights.reserve(3 * n);
+    let out = &mut weights.spare_capacity_mut()[..3 * n];
+    let pieces = out.chunks_exact_mut(3).zip((0..n).rev());
+    match scale {
+        Some((shift, scale)) => {
+            for (o, k) in pieces {
+                o[0].write(w0[k] * scale);
+                o[1].write(w1[k] * scale);
+                o[2].write((w2[k] + shift) * scale);
+            }
+        }
+        None => {
+            for (o, k) in pieces {
+                o[0].write(w0[k]);
+                o[1].write(w1[k]);
+                o[2].write(w2[k]);
+            }
+        }
     }
-    scale_all_body(w, shift, scale);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn scale_all_avx2(w: [&mut [f64]; 3], shift: f64, scale: f64) {
-    scale_all_body(w, shift, scale);
-}
-
-#[inline(always)]
-fn scale_all_body([w0, w1, w2]: [&mut [f64]; 3], shift: f64, scale: f64) {
-    for x in w0.iter_mut() {
-        *x *= scale;
-    }
-    for x in w1.iter_mut() {
-        *x *= scale;
-    }
-    for x in w2.iter_mut() {
-        *x = (*x + shift) * scale;
-    }
+    // SAFETY: the loop above wrote each of the first 3·n spare slots (n chunks of 3).
+    unsafe { weights.set_len(at + 3 * n) };
 }
 
 #[cfg(test)]

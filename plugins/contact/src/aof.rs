@@ -102,13 +102,11 @@ impl CourseUnits {
             .ok()
             .flatten()
             .unwrap_or_default();
-        c.sins.reserve(xs.len());
-        c.coss.reserve(xs.len());
-        for &i in xs {
-            let (s, k) = engine.unit(domain.value(0, i));
-            c.sins.push(s);
-            c.coss.push(k);
-        }
+        // domain.value(0, i), its step computed once.
+        let var = domain.var(0);
+        let (low, delta) = (var.low, var.delta());
+        let courses = xs.iter().map(|&i| low + delta * f64::from(i));
+        engine.units_into(courses, (&mut c.sins, &mut c.coss));
         c
     }
 
