@@ -19,25 +19,6 @@ impl IvpFunction {
         crate::domain::give_domain(self.domain);
     }
 
-    /// A copy of this function in spare storage (no allocation once the spares hold
-    /// room): for a behavior that keeps the function it built and hands out copies
-    /// while its inputs do not change. The context is not copied.
-    pub fn copy_in_spares(&self) -> IvpFunction {
-        let mut f = IvpFunction::of_parts(
-            crate::domain::domain_of(self.domain.vars()),
-            spare::ints_from(&self.bounds),
-            spare::floats_from(&self.weights),
-            spare::uints_from(&self.gelbox),
-            if self.grid.is_empty() {
-                Vec::new()
-            } else {
-                spare::floats_from(&self.grid)
-            },
-        );
-        f.pwt = self.pwt;
-        f
-    }
-
     /// Move out the piece buffers (bounds, weights, gel box, grid), leaving them empty:
     /// the rest of the function can then be recycled apart.
     pub fn take_buffers(&mut self) -> (Vec<i32>, Vec<f64>, Vec<u32>, Vec<f64>) {

@@ -8,7 +8,7 @@ use std::marker::PhantomData;
 
 use behavior_api::ivp;
 use behavior_api::parse_number;
-use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
 use crate::no_white;
@@ -128,14 +128,16 @@ impl<K: Kind> ConstantValue<K> {
         ];
         if let Some((k, f)) = &self.last {
             if *k == key {
-                return Ok(f.copy_in_spares());
+                if let Ok(copy) = copy_function(f) {
+                    return Ok(copy);
+                }
             }
         }
         let f = self.build()?;
         if let Some((_, old)) = self.last.take() {
             old.recycle();
         }
-        self.last = Some((key, f.copy_in_spares()));
+        self.last = copy_function(&f).ok().map(|kept| (key, kept));
         Ok(f)
     }
 
