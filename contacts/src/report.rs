@@ -191,9 +191,7 @@ impl Key {
         if b.len() > 8 {
             return Key::Unknown;
         }
-        let mut buf = [0u8; 8];
-        buf[..b.len()].copy_from_slice(b);
-        let (k, len) = match upper_ascii(u64::from_le_bytes(buf)) {
+        let (k, len) = match upper_ascii(word_of(b)) {
             words::NAME => (Key::Name, 4),
             words::TYPE => (Key::Type, 4),
             words::GROUP => (Key::Group, 5),
@@ -259,6 +257,25 @@ mod words {
     pub const LENGTH: u64 = word(b"LENGTH");
     pub const LEN: u64 = word(b"LEN");
     pub const COG: u64 = word(b"COG");
+}
+
+/// The bytes of `b` (at most 8) as a little-endian word, zero-padded: two loads that
+/// may overlap, OR-ed (a byte read twice is the same byte), rather than a copy of a
+/// variable length.
+fn word_of(b: &[u8]) -> u64 {
+    let n = b.len();
+    let u32_at = |i: usize| u64::from(u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]));
+    match n {
+        0 => 0,
+        1..=3 => {
+            u64::from(b[0])
+                | u64::from(b[n / 2]) << (8 * (n / 2))
+                | u64::from(b[n - 1]) << (8 * (n - 1))
+        }
+        4..=8 => u32_at(0) | u32_at(n - 4) << (8 * (n - 4)),
+        // `Key::of` reads at most 8 bytes.
+        _ => u64::MAX,
+    }
 }
 
 /// Each byte of `w` that is an ASCII lower-case letter made upper-case, the others
@@ -582,6 +599,21 @@ mod tests {
             for_each_field(&s, |k, v| got.push((k, v)));
             for_each_field_per_byte(&s, |k, v| want.push((k, v)));
             assert_eq!(got, want, "{s:?}");
+        }
+    }
+
+    #[test]
+    fn overlapping_loads_read_the_padded_word() {
+        let bytes: Vec<u8> = (0..64u8)
+            .map(|i| i.wrapping_mul(37).wrapping_add(1))
+            .collect();
+        for n in 0..=8 {
+            for start in 0..bytes.len() - n {
+                let b = &bytes[start..start + n];
+                let mut buf = [0u8; 8];
+                buf[..n].copy_from_slice(b);
+                assert_eq!(word_of(b), u64::from_le_bytes(buf), "{b:?}");
+            }
         }
     }
 
