@@ -64,7 +64,9 @@ pub fn utm_forward(lat: f64, lon: f64) -> (f64, f64) {
     let phi = lat.to_radians();
     let (s, c) = phi.sin_cos();
     let n = A / (1.0 - E2 * s * s).sqrt();
-    let t = phi.tan().powi(2);
+    // tan(φ) once (it is used twice; the same call gives the same bits).
+    let tan_phi = phi.tan();
+    let t = tan_phi.powi(2);
     let cc = ep2 * c * c;
     let a = c * (lon - lon0).to_radians();
     let e4 = E2 * E2;
@@ -81,7 +83,7 @@ pub fn utm_forward(lat: f64, lon: f64) -> (f64, f64) {
         + FALSE_EASTING;
     let mut northing = K0
         * (m + n
-            * phi.tan()
+            * tan_phi
             * (a * a / 2.0
                 + (5.0 - t + 9.0 * cc + 4.0 * cc * cc) * a.powi(4) / 24.0
                 + (61.0 - 58.0 * t + t * t + 600.0 * cc - 330.0 * ep2) * a.powi(6) / 720.0));
@@ -98,6 +100,9 @@ pub struct Geodesy {
     lon0: f64,
     e0: f64,
     n0: f64,
+    /// `cos` of the origin's latitude (floored at 1e-9), the first guess's scale of
+    /// longitude, computed once.
+    cos0: f64,
 }
 
 /// Most corrections the x/y → lat/lon iteration makes (it converges in two or three).
@@ -114,6 +119,7 @@ impl Geodesy {
             lon0: lon_origin,
             e0,
             n0,
+            cos0: lat_origin.to_radians().cos().max(1e-9),
         }
     }
 
@@ -138,9 +144,8 @@ impl Geodesy {
     /// 1 m; nothing the helm decides reads these, contacts-appcast.md §6).
     pub fn to_latlon(&self, x: f64, y: f64) -> (f64, f64) {
         let deg_per_m = 180.0 / (std::f64::consts::PI * A);
-        let cos0 = self.lat0.to_radians().cos().max(1e-9);
         let mut lat = self.lat0 + y * deg_per_m;
-        let mut lon = self.lon0 + x * deg_per_m / cos0;
+        let mut lon = self.lon0 + x * deg_per_m / self.cos0;
         for _ in 0..INVERSE_STEPS {
             let (fx, fy) = self.to_local(lat, lon);
             let (ex, ey) = (x - fx, y - fy);

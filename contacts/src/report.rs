@@ -102,31 +102,60 @@ pub(crate) fn for_each_field<'a>(text: &'a str, mut f: impl FnMut(Key, &'a str))
     }
     // One pass: fields end at a comma outside braces (any depth; an unbalanced `}` is
     // ignored); a field's key ends at its first `=` (`:` in the JSON-ish form), braces
-    // or not. Every byte tested is ASCII, so every cut is a char boundary.
-    let between = if json { b':' } else { b'=' };
-    let bytes = body.as_bytes();
-    let (mut depth, mut start, mut split) = (0usize, 0usize, None);
-    for i in 0..=bytes.len() {
-        let b = bytes.get(i).copied();
-        if b.is_none() || (b == Some(b',') && depth == 0) {
-            let (key, value) = match (split, json) {
-                (Some(k), true) => (unquote(&body[start..k]), unquote(&body[k + 1..i])),
-                (None, true) => (unquote(&body[start..i]), ""),
-                (Some(k), false) => (trim(&body[start..k]), trim(&body[k + 1..i])),
-                (None, false) => (trim(&body[start..i]), ""),
-            };
-            f(Key::of(key), value);
-            (start, split) = (i + 1, None);
-            continue;
-        }
-        match b {
-            Some(b'{') => depth += 1,
-            Some(b'}') => depth = depth.saturating_sub(1),
-            Some(c) if c == between && split.is_none() => split = Some(i),
-            _ => {}
+    // or not. Every byte tested is ASCII, so every cut is a char boundary. Most bytes
+    // are none of these: one table look-up each (a report comes every second from
+    // every contact, and ownship's every iteration).
+    let between = if json { COLON } else { EQUALS };
+    let mut emit = |start: usize, split: usize, end: usize| {
+        let (key, value) = match (split < end, json) {
+            (true, true) => (unquote(&body[start..split]), unquote(&body[split + 1..end])),
+            (false, true) => (unquote(&body[start..end]), ""),
+            (true, false) => (trim(&body[start..split]), trim(&body[split + 1..end])),
+            (false, false) => (trim(&body[start..end]), ""),
+        };
+        f(Key::of(key), value);
+    };
+    // `split == usize::MAX`: no key/value separator in the field yet.
+    let (mut depth, mut start, mut split) = (0usize, 0usize, usize::MAX);
+    for (i, &b) in body.as_bytes().iter().enumerate() {
+        match BYTE_CLASS[usize::from(b)] {
+            PLAIN => {}
+            COMMA => {
+                if depth == 0 {
+                    emit(start, split, i);
+                    (start, split) = (i + 1, usize::MAX);
+                }
+            }
+            OPEN => depth += 1,
+            CLOSE => depth = depth.saturating_sub(1),
+            c => {
+                if c == between && split == usize::MAX {
+                    split = i;
+                }
+            }
         }
     }
+    emit(start, split, body.len());
 }
+
+/// [`BYTE_CLASS`] of a byte that separates nothing.
+const PLAIN: u8 = 0;
+const COMMA: u8 = 1;
+const OPEN: u8 = 2;
+const CLOSE: u8 = 3;
+const EQUALS: u8 = 4;
+const COLON: u8 = 5;
+
+/// What each byte is to the field scanner.
+const BYTE_CLASS: [u8; 256] = {
+    let mut t = [PLAIN; 256];
+    t[b',' as usize] = COMMA;
+    t[b'{' as usize] = OPEN;
+    t[b'}' as usize] = CLOSE;
+    t[b'=' as usize] = EQUALS;
+    t[b':' as usize] = COLON;
+    t
+};
 
 /// The known keys of a report (matched without regard to ASCII case).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -152,39 +181,116 @@ pub(crate) enum Key {
 }
 
 impl Key {
-    /// Which key `key` is: upper-cased into a small buffer (the longest known key,
-    /// `UTC_TIME`, has 8 bytes), then one `match`. Upper-casing ASCII leaves other
-    /// bytes alone, so this is `eq_ignore_ascii_case` against each upper-case name.
+    /// Which key `key` is: its (at most 8) bytes read as one little-endian word, the
+    /// ASCII letters upper-cased in the word at once ([`upper_ascii`]), then one
+    /// `match` on the word and a check of the length (a padding zero is not a NUL of
+    /// the key). Upper-casing ASCII leaves other bytes alone, so this is
+    /// `eq_ignore_ascii_case` against each upper-case name.
     pub(crate) fn of(key: &str) -> Key {
         let b = key.as_bytes();
         if b.len() > 8 {
             return Key::Unknown;
         }
-        let mut up = [0u8; 8];
-        for (u, c) in up.iter_mut().zip(b) {
-            *u = c.to_ascii_uppercase();
-        }
-        match &up[..b.len()] {
-            b"NAME" => Key::Name,
-            b"TYPE" => Key::Type,
-            b"GROUP" => Key::Group,
-            b"COLOR" => Key::Color,
-            b"VSOURCE" => Key::Vsource,
-            b"MODE" => Key::Mode,
-            b"ALLSTOP" => Key::Allstop,
-            b"TIME" | b"UTC_TIME" => Key::Time,
-            b"X" => Key::X,
-            b"Y" => Key::Y,
-            b"LAT" => Key::Lat,
-            b"LON" => Key::Lon,
-            b"SPD" | b"SPEED" => Key::Spd,
-            b"HDG" | b"HEADING" => Key::Hdg,
-            b"DEP" | b"DEPTH" => Key::Dep,
-            b"LENGTH" | b"LEN" => Key::Length,
-            b"COG" => Key::Cog,
-            _ => Key::Unknown,
+        let (k, len) = match upper_ascii(word_of(b)) {
+            words::NAME => (Key::Name, 4),
+            words::TYPE => (Key::Type, 4),
+            words::GROUP => (Key::Group, 5),
+            words::COLOR => (Key::Color, 5),
+            words::VSOURCE => (Key::Vsource, 7),
+            words::MODE => (Key::Mode, 4),
+            words::ALLSTOP => (Key::Allstop, 7),
+            words::TIME => (Key::Time, 4),
+            words::UTC_TIME => (Key::Time, 8),
+            words::X => (Key::X, 1),
+            words::Y => (Key::Y, 1),
+            words::LAT => (Key::Lat, 3),
+            words::LON => (Key::Lon, 3),
+            words::SPD => (Key::Spd, 3),
+            words::SPEED => (Key::Spd, 5),
+            words::HDG => (Key::Hdg, 3),
+            words::HEADING => (Key::Hdg, 7),
+            words::DEP => (Key::Dep, 3),
+            words::DEPTH => (Key::Dep, 5),
+            words::LENGTH => (Key::Length, 6),
+            words::LEN => (Key::Length, 3),
+            words::COG => (Key::Cog, 3),
+            _ => return Key::Unknown,
+        };
+        if b.len() == len {
+            k
+        } else {
+            Key::Unknown
         }
     }
+}
+
+/// The known names as little-endian words, zero-padded (what [`Key::of`] matches).
+mod words {
+    const fn word(name: &[u8]) -> u64 {
+        let mut buf = [0u8; 8];
+        let mut i = 0;
+        while i < name.len() {
+            buf[i] = name[i];
+            i += 1;
+        }
+        u64::from_le_bytes(buf)
+    }
+    pub const NAME: u64 = word(b"NAME");
+    pub const TYPE: u64 = word(b"TYPE");
+    pub const GROUP: u64 = word(b"GROUP");
+    pub const COLOR: u64 = word(b"COLOR");
+    pub const VSOURCE: u64 = word(b"VSOURCE");
+    pub const MODE: u64 = word(b"MODE");
+    pub const ALLSTOP: u64 = word(b"ALLSTOP");
+    pub const TIME: u64 = word(b"TIME");
+    pub const UTC_TIME: u64 = word(b"UTC_TIME");
+    pub const X: u64 = word(b"X");
+    pub const Y: u64 = word(b"Y");
+    pub const LAT: u64 = word(b"LAT");
+    pub const LON: u64 = word(b"LON");
+    pub const SPD: u64 = word(b"SPD");
+    pub const SPEED: u64 = word(b"SPEED");
+    pub const HDG: u64 = word(b"HDG");
+    pub const HEADING: u64 = word(b"HEADING");
+    pub const DEP: u64 = word(b"DEP");
+    pub const DEPTH: u64 = word(b"DEPTH");
+    pub const LENGTH: u64 = word(b"LENGTH");
+    pub const LEN: u64 = word(b"LEN");
+    pub const COG: u64 = word(b"COG");
+}
+
+/// The bytes of `b` (at most 8) as a little-endian word, zero-padded: two loads that
+/// may overlap, OR-ed (a byte read twice is the same byte), rather than a copy of a
+/// variable length.
+fn word_of(b: &[u8]) -> u64 {
+    let n = b.len();
+    let u32_at = |i: usize| u64::from(u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]));
+    match n {
+        0 => 0,
+        1..=3 => {
+            u64::from(b[0])
+                | u64::from(b[n / 2]) << (8 * (n / 2))
+                | u64::from(b[n - 1]) << (8 * (n - 1))
+        }
+        4..=8 => u32_at(0) | u32_at(n - 4) << (8 * (n - 4)),
+        // `Key::of` reads at most 8 bytes.
+        _ => u64::MAX,
+    }
+}
+
+/// Each byte of `w` that is an ASCII lower-case letter made upper-case, the others
+/// unchanged (`to_ascii_uppercase` on each of the 8 bytes). Per byte, with its top bit
+/// cleared (`h` ≤ 0x7f, so no sum below carries into the next byte): `h + 0x1f` has
+/// the top bit set iff `h` ≥ `a` (0x61), `h + 0x05` iff `h` > `z` (0x7a); a byte whose
+/// own top bit is set is not ASCII. Each lower-case letter loses 0x20.
+fn upper_ascii(w: u64) -> u64 {
+    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+    const TOP: u64 = 0x8080_8080_8080_8080;
+    let h = w & LOW7;
+    let at_least_a = h + 0x1f1f_1f1f_1f1f_1f1f;
+    let past_z = h + 0x0505_0505_0505_0505;
+    let lower = at_least_a & !past_z & !w & TOP;
+    w - (lower >> 2)
 }
 
 /// `str::trim`, with a shortcut for the usual case: both ends an ASCII byte that is not
@@ -202,6 +308,44 @@ fn trim(s: &str) -> &str {
 /// Trim, then drop one pair of surrounding double quotes.
 fn unquote(s: &str) -> &str {
     trim(mbutil::strip_quotes(trim(s)))
+}
+
+/// The field scanner before the byte table (kept as the reference of [`for_each_field`]'s
+/// test): the same one pass, every byte matched as an `Option`.
+#[cfg(test)]
+fn for_each_field_per_byte<'a>(text: &'a str, mut f: impl FnMut(Key, &'a str)) {
+    let t = trim(text);
+    let json = t.len() >= 2 && t.starts_with('{') && t.ends_with('}');
+    let body = if json { &t[1..t.len() - 1] } else { t };
+    if body.is_empty() {
+        return;
+    }
+    // One pass: fields end at a comma outside braces (any depth; an unbalanced `}` is
+    // ignored); a field's key ends at its first `=` (`:` in the JSON-ish form), braces
+    // or not. Every byte tested is ASCII, so every cut is a char boundary.
+    let between = if json { b':' } else { b'=' };
+    let bytes = body.as_bytes();
+    let (mut depth, mut start, mut split) = (0usize, 0usize, None);
+    for i in 0..=bytes.len() {
+        let b = bytes.get(i).copied();
+        if b.is_none() || (b == Some(b',') && depth == 0) {
+            let (key, value) = match (split, json) {
+                (Some(k), true) => (unquote(&body[start..k]), unquote(&body[k + 1..i])),
+                (None, true) => (unquote(&body[start..i]), ""),
+                (Some(k), false) => (trim(&body[start..k]), trim(&body[k + 1..i])),
+                (None, false) => (trim(&body[start..i]), ""),
+            };
+            f(Key::of(key), value);
+            (start, split) = (i + 1, None);
+            continue;
+        }
+        match b {
+            Some(b'{') => depth += 1,
+            Some(b'}') => depth = depth.saturating_sub(1),
+            Some(c) if c == between && split.is_none() => split = Some(i),
+            _ => {}
+        }
+    }
 }
 
 /// Split at `sep` where not inside `{...}` (any depth). An unbalanced `}` is ignored.
@@ -401,6 +545,105 @@ mod tests {
     }
 
     #[test]
+    fn table_scanner_matches_the_per_byte_scanner() {
+        // Report-like pieces and every separator, both forms, hostile bytes included.
+        let pieces = [
+            "NAME=alpha",
+            "X=-12.34",
+            "y = 5 ",
+            "\"TIME\":\"7\"",
+            "LAT:43.8",
+            ",",
+            ",,",
+            "=",
+            ":",
+            "{",
+            "}",
+            "{a,b=c}",
+            "\"",
+            " ",
+            "\t",
+            "\r\n",
+            "\u{a0}",
+            "é",
+            "\0",
+            "utc_time",
+            "Len=4",
+            "GROUP={x:y,z}",
+            "\u{7f}",
+            "\u{ff}",
+        ];
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |n: usize| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n as u64) as usize
+        };
+        for _ in 0..50_000 {
+            let mut s = String::new();
+            match next(4) {
+                0 => s.push('{'),
+                1 => s.push_str(" {"),
+                _ => {}
+            }
+            for _ in 0..next(14) {
+                s.push_str(pieces[next(pieces.len())]);
+            }
+            match next(4) {
+                0 => s.push('}'),
+                1 => s.push_str("} "),
+                _ => {}
+            }
+            let (mut got, mut want) = (Vec::new(), Vec::new());
+            for_each_field(&s, |k, v| got.push((k, v)));
+            for_each_field_per_byte(&s, |k, v| want.push((k, v)));
+            assert_eq!(got, want, "{s:?}");
+        }
+    }
+
+    #[test]
+    fn overlapping_loads_read_the_padded_word() {
+        let bytes: Vec<u8> = (0..64u8)
+            .map(|i| i.wrapping_mul(37).wrapping_add(1))
+            .collect();
+        for n in 0..=8 {
+            for start in 0..bytes.len() - n {
+                let b = &bytes[start..start + n];
+                let mut buf = [0u8; 8];
+                buf[..n].copy_from_slice(b);
+                assert_eq!(word_of(b), u64::from_le_bytes(buf), "{b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn word_upper_casing_is_per_byte_upper_casing() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut words: Vec<u64> = (0..=255u8)
+            .map(|b| u64::from(b) * 0x0101_0101_0101_0101)
+            .collect();
+        for _ in 0..100_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            words.push(seed);
+        }
+        for w in words {
+            let want = u64::from_le_bytes(w.to_le_bytes().map(|b| b.to_ascii_uppercase()));
+            assert_eq!(upper_ascii(w), want, "{w:#x}");
+        }
+        // Every byte value at every position, the others a letter.
+        for pos in 0..8 {
+            for b in 0..=255u64 {
+                let w = (0x6161_6161_6161_6161 & !(0xff << (8 * pos))) | (b << (8 * pos));
+                let want = u64::from_le_bytes(w.to_le_bytes().map(|b| b.to_ascii_uppercase()));
+                assert_eq!(upper_ascii(w), want, "{w:#x}");
+            }
+        }
+    }
+
+    #[test]
     fn key_lookup_and_trim_match_the_straightforward_versions() {
         // Pieces that make near-misses: known names, case changes, extra bytes,
         // white space of every kind (ASCII and not), non-ASCII letters.
@@ -443,6 +686,14 @@ mod tests {
             "\"",
             "1.5",
             "nan",
+            "\0",
+            "\0\0",
+            "\u{80}",
+            "\u{ff}",
+            "@",
+            "[",
+            "`",
+            "{",
         ];
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut next = |n: usize| {

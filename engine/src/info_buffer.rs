@@ -28,13 +28,15 @@ impl Entry {
 /// Latest values per variable, their times, and this iteration's values.
 #[derive(Debug, Default)]
 pub struct InfoBuffer {
-    /// Looked up many times per iteration by name; never iterated, so the hasher's
-    /// order cannot show. Fx: SipHash's DoS resistance buys nothing here.
-    vars: FxHashMap<String, Entry>,
-    /// Variables with deltas this iteration (the first `touched_count`; the rest are
-    /// spare strings), so clearing touches only those.
-    touched: Vec<String>,
-    touched_count: usize,
+    /// Each variable's place in `entries`. Looked up many times per iteration by name;
+    /// never iterated, so the hasher's order cannot show. Fx: SipHash's DoS resistance
+    /// buys nothing here. (A place rather than the entry: a write finds an existing
+    /// variable with one look-up, and a new one is added without a second.)
+    index: FxHashMap<String, usize>,
+    entries: Vec<Entry>,
+    /// Places of the variables with deltas this iteration, so clearing touches only
+    /// those.
+    touched: Vec<usize>,
     curr_time: f64,
     start_time: f64,
 }
@@ -58,23 +60,32 @@ impl InfoBuffer {
         self.curr_time - self.start_time
     }
 
-    fn entry(&mut self, var: &str) -> &mut Entry {
-        if !self.vars.contains_key(var) {
-            self.vars.insert(var.to_string(), Entry::default());
-        }
-        // The entry was just ensured above.
-        self.vars.get_mut(var).expect("entry exists")
+    /// `var`'s entry, made on first sight, and its place.
+    fn entry(&mut self, var: &str) -> (&mut Entry, usize) {
+        let i = match self.index.get(var) {
+            Some(&i) => i,
+            None => {
+                self.entries.push(Entry::default());
+                self.index.insert(var.to_string(), self.entries.len() - 1);
+                self.entries.len() - 1
+            }
+        };
+        (&mut self.entries[i], i)
     }
 
-    fn touch(&mut self, var: &str, first_delta: bool) {
+    fn get(&self, var: &str) -> Option<&Entry> {
+        self.index.get(var).map(|&i| &self.entries[i])
+    }
+
+    fn touch(&mut self, place: usize, first_delta: bool) {
         if first_delta {
-            push_reused(&mut self.touched, &mut self.touched_count, var);
+            self.touched.push(place);
         }
     }
 
     pub fn set_string(&mut self, var: &str, val: &str, msg_time: f64) {
         let now = self.curr_time;
-        let e = self.entry(var);
+        let (e, place) = self.entry(var);
         let first = !e.has_deltas();
         match &mut e.sval {
             Some(s) => {
@@ -86,18 +97,18 @@ impl InfoBuffer {
         e.time = now;
         e.msg_time = msg_time;
         push_reused(&mut e.str_deltas, &mut e.str_count, val);
-        self.touch(var, first);
+        self.touch(place, first);
     }
 
     pub fn set_double(&mut self, var: &str, val: f64, msg_time: f64) {
         let now = self.curr_time;
-        let e = self.entry(var);
+        let (e, place) = self.entry(var);
         let first = !e.has_deltas();
         e.dval = Some(val);
         e.time = now;
         e.msg_time = msg_time;
         e.dbl_deltas.push(val);
-        self.touch(var, first);
+        self.touch(place, first);
     }
 
     pub fn set_value(&mut self, var: &str, val: &crate::posting::Value, msg_time: f64) {
@@ -108,19 +119,19 @@ impl InfoBuffer {
     }
 
     pub fn is_known(&self, var: &str) -> bool {
-        self.vars.contains_key(var)
+        self.index.contains_key(var)
     }
     pub fn dval(&self, var: &str) -> Option<f64> {
-        self.vars.get(var).and_then(|e| e.dval)
+        self.get(var).and_then(|e| e.dval)
     }
     pub fn sval(&self, var: &str) -> Option<&str> {
-        self.vars.get(var).and_then(|e| e.sval.as_deref())
+        self.get(var).and_then(|e| e.sval.as_deref())
     }
 
     /// `getBufferDoubleVal`: the number, else a numeric string converted, else the
     /// `_DELTA` convention, else none.
     pub fn double_val(&self, var: &str) -> Option<f64> {
-        if let Some(e) = self.vars.get(var) {
+        if let Some(e) = self.get(var) {
             if let Some(d) = e.dval {
                 return Some(d);
             }
@@ -138,7 +149,7 @@ impl InfoBuffer {
 
     /// `getBufferStringVal`: the string, else the number printed `%.6f`.
     pub fn string_val(&self, var: &str) -> Option<String> {
-        let e = self.vars.get(var)?;
+        let e = self.get(var)?;
         if let Some(s) = &e.sval {
             return Some(s.clone());
         }
@@ -147,37 +158,32 @@ impl InfoBuffer {
 
     /// Seconds since the variable was last written; -1 if never.
     pub fn time_val(&self, var: &str) -> f64 {
-        self.vars.get(var).map_or(-1.0, |e| self.curr_time - e.time)
+        self.get(var).map_or(-1.0, |e| self.curr_time - e.time)
     }
     /// Seconds since the timestamp of the message that last wrote it; -1 if never.
     pub fn msg_time_val(&self, var: &str) -> f64 {
-        self.vars
-            .get(var)
-            .map_or(-1.0, |e| self.curr_time - e.msg_time)
+        self.get(var).map_or(-1.0, |e| self.curr_time - e.msg_time)
     }
     /// Buffer time of the last write, if any.
     pub fn update_time(&self, var: &str) -> Option<f64> {
-        self.vars.get(var).map(|e| e.time)
+        self.get(var).map(|e| e.time)
     }
 
     pub fn string_deltas(&self, var: &str) -> &[String] {
-        self.vars
-            .get(var)
-            .map_or(&[], |e| &e.str_deltas[..e.str_count])
+        self.get(var).map_or(&[], |e| &e.str_deltas[..e.str_count])
     }
     pub fn double_deltas(&self, var: &str) -> &[f64] {
-        self.vars.get(var).map_or(&[], |e| &e.dbl_deltas)
+        self.get(var).map_or(&[], |e| &e.dbl_deltas)
     }
 
     /// End of an iteration (or parked): this iteration's values are forgotten.
     pub fn clear_deltas(&mut self) {
-        for var in &self.touched[..self.touched_count] {
-            if let Some(e) = self.vars.get_mut(var) {
-                e.str_count = 0;
-                e.dbl_deltas.clear();
-            }
+        for &i in &self.touched {
+            let e = &mut self.entries[i];
+            e.str_count = 0;
+            e.dbl_deltas.clear();
         }
-        self.touched_count = 0;
+        self.touched.clear();
     }
 }
 

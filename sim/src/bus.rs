@@ -73,14 +73,21 @@ pub const HELM: usize = 0;
 
 /// Overwrite `dst` with `var = value` (keeping `dst`'s string storage; a value string
 /// it cannot use goes to `spare_text`, and comes from there when needed).
-fn fill(
+fn fill(dst: &mut Mail, spare_text: &mut Vec<String>, parts: (&str, &str, &Value, &str, f64)) {
+    dst.var.clear();
+    dst.var.push_str(parts.1);
+    fill_but_var(dst, spare_text, parts);
+}
+
+/// [`fill`] of a message that already names `var` (a slot's latest value: the slot is
+/// its variable's).
+fn fill_but_var(
     dst: &mut Mail,
     spare_text: &mut Vec<String>,
     (source, var, value, aux, now): (&str, &str, &Value, &str, f64),
 ) {
+    debug_assert_eq!(dst.var, var);
     dst.time = now;
-    dst.var.clear();
-    dst.var.push_str(var);
     dst.source.clear();
     dst.source.push_str(source);
     dst.source_aux.clear();
@@ -202,7 +209,7 @@ impl SimBus {
         // Keep `var`'s latest value, reusing the previous one's storage.
         let slot = &mut self.slots[i];
         match &mut slot.last {
-            Some(m) => fill(m, &mut self.spare_text, parts),
+            Some(m) => fill_but_var(m, &mut self.spare_text, parts),
             None => {
                 slot.last = Some(Mail {
                     var: var.to_string(),
