@@ -922,24 +922,19 @@ fn a_plugin_built_against_the_previous_release_still_loads_and_runs() {
     );
 }
 
-/// The contact behaviors built from the 0.1.1 release's source (`plugins/contact`
-/// against its `behavior-api` 0.1.1, unchanged) load through the frozen 0.1.1 shape
-/// (`abi_v2`) and give the golden answers of the contact cases, every step: the 0.1.1
-/// contact methods (`contact`, `contact_text`, `set_contact` ...) are called through it.
-#[test]
-fn a_contact_plugin_built_against_the_0_1_1_release_still_loads_and_runs() {
-    let lib_dir = build_released_plugin(CONTACTS_API_RELEASE, "0.1.1", "bhv-contact");
-    let (_, report) = helm_mission::factory_for(std::slice::from_ref(&lib_dir));
+/// Loads the contact library in `lib_dir` (built from a release's source), checks that
+/// nothing was skipped and that it passes `cases` at every step; returns its factory.
+fn released_contact_plugin_passes(
+    lib_dir: &Path,
+    cases: &[&str],
+) -> helm_engine::factory::BehaviorFactory {
+    let (factory, report) = helm_mission::factory_for(&[lib_dir.to_path_buf()]);
     let report = report.join("\n");
     assert!(
         report.contains("BHV_AvoidCollision") && !report.contains("skipped"),
         "{report}"
     );
-    for case in [
-        "avd_ten_contacts",
-        "cutrange_spawn_pursuit",
-        "trail_contact",
-    ] {
+    for case in cases {
         let file = workspace().join(format!("conformance/helm/{case}.toml"));
         let out = helm_conform(&file, Some(lib_dir.to_str().unwrap()));
         let t = text(&out);
@@ -948,20 +943,32 @@ fn a_contact_plugin_built_against_the_0_1_1_release_still_loads_and_runs() {
             "{case}:\n{t}"
         );
     }
+    factory
 }
 
-/// The contact behaviors built from the 0.1.2 release's source, whose behaviors lack
-/// `recycle_function` (0.1.3), load through the current shape (the method is optional:
-/// the helm frees their buffers itself) and give the golden answers, every step.
+/// The contact behaviors built from the 0.1.1 release's source (`plugins/contact`
+/// against its `behavior-api` 0.1.1, unchanged) load through the frozen 0.1.1 shape
+/// (`abi_v2`) and give the golden answers of the contact cases, every step: the 0.1.1
+/// contact methods (`contact`, `contact_text`, `set_contact` ...) are called through it.
+#[test]
+fn a_contact_plugin_built_against_the_0_1_1_release_still_loads_and_runs() {
+    let lib_dir = build_released_plugin(CONTACTS_API_RELEASE, "0.1.1", "bhv-contact");
+    let cases = [
+        "avd_ten_contacts",
+        "cutrange_spawn_pursuit",
+        "trail_contact",
+    ];
+    released_contact_plugin_passes(&lib_dir, &cases);
+}
+
+/// The contact behaviors built from the 0.1.2 release's source, whose root module lacks
+/// `recycle_function` (0.1.3), load through the frozen 0.1.2 shape (`abi_v3`; the helm
+/// frees their buffers itself) and give the golden answers, every step.
 #[test]
 fn a_contact_plugin_built_against_the_0_1_2_release_still_loads_and_runs() {
     let lib_dir = build_released_plugin(INTO_API_RELEASE, "0.1.2", "bhv-contact");
-    let (factory, report) = helm_mission::factory_for(std::slice::from_ref(&lib_dir));
-    let report = report.join("\n");
-    assert!(
-        report.contains("BHV_AvoidCollision") && !report.contains("skipped"),
-        "{report}"
-    );
+    let cases = ["avd_spawn_two", "cutrange_spawn_pursuit", "shadow_contact"];
+    let factory = released_contact_plugin_passes(&lib_dir, &cases);
     // No way to hand functions back: the helm frees them. This build's library has one.
     assert!(factory.recycler("BHV_AvoidCollision").is_none());
     let (current, _) = helm_mission::factory_for(&[plugin_dir().to_path_buf()]);
@@ -970,15 +977,6 @@ fn a_contact_plugin_built_against_the_0_1_2_release_still_loads_and_runs() {
         current.recycler("BHV_Waypoint").is_none(),
         "built in: nothing to hand back"
     );
-    for case in ["avd_spawn_two", "cutrange_spawn_pursuit", "shadow_contact"] {
-        let file = workspace().join(format!("conformance/helm/{case}.toml"));
-        let out = helm_conform(&file, Some(lib_dir.to_str().unwrap()));
-        let t = text(&out);
-        assert!(
-            out.status.success() && t.contains("1 passed, 0 failed"),
-            "{case}:\n{t}"
-        );
-    }
 }
 
 /// The helm binary copied into `<root>/bin` with `libs` in `<root>/<lib_sub>`.
