@@ -166,7 +166,8 @@ impl FunctionData {
     ) -> Result<ivp::IvpFunction, String> {
         if copy {
             // The copy is placed; the library's buffers are then freed here (a host
-            // that can hand them back uses `copy_placed` and `Behavior::recycle_function`).
+            // that can hand them back uses `copy_placed` and the library's
+            // `BehaviorLib::recycle_function`).
             return self.copy_placed(helm, vars);
         }
         let fd = self;
@@ -184,21 +185,20 @@ impl FunctionData {
 
     /// [`FunctionData::place_with`] for a function made by a loaded library, leaving it
     /// whole: its buffers are copied into the host's recycled storage, and the caller
-    /// hands the function back to the library (`Behavior::recycle_function`, 0.1.3), whose
-    /// next build then reuses them.
+    /// hands the function back to the library (`BehaviorLib::recycle_function`, 0.1.3),
+    /// whose next build then reuses them.
     pub fn copy_placed(
         &self,
         helm: &ivp::Domain,
         vars: &[usize],
     ) -> Result<ivp::IvpFunction, String> {
-        use ivp::zaic::spare;
         let domain = placed_domain(helm, vars)?;
-        ivp::IvpFunction::from_buffers(
+        copied_function(
             domain,
-            spare::ints_from(&self.bounds),
-            spare::floats_from(&self.weights),
-            spare::uints_from(&self.gelbox),
-            spare::floats_from(&self.grid),
+            &self.bounds,
+            &self.weights,
+            &self.gelbox,
+            &self.grid,
             self.pwt,
         )
         .map_err(rejected)
@@ -224,6 +224,34 @@ impl FunctionData {
             .filter(|s| !s.is_empty())
             .map(|v| v.split(',').next().unwrap_or(""))
     }
+}
+
+/// A function over `domain` whose buffers are copies of these, in this thread's spare
+/// storage (no allocation once the spares hold room), checked like any function.
+pub(crate) fn copied_function(
+    domain: ivp::Domain,
+    bounds: &[i32],
+    weights: &[f64],
+    gelbox: &[u32],
+    grid: &[f64],
+    pwt: f64,
+) -> Result<ivp::IvpFunction, ivp::IvpError> {
+    use ivp::zaic::spare;
+    // An empty grid stays without a buffer: taking a spare for it would leave a larger
+    // function without one.
+    let grid = if grid.is_empty() {
+        Vec::new()
+    } else {
+        spare::floats_from(grid)
+    };
+    ivp::IvpFunction::from_buffers(
+        domain,
+        spare::ints_from(bounds),
+        spare::floats_from(weights),
+        spare::uints_from(gelbox),
+        grid,
+        pwt,
+    )
 }
 
 fn rejected(e: ivp::IvpError) -> String {

@@ -466,18 +466,12 @@ pub fn function_data(f: ivp::IvpFunction) -> FunctionData {
 /// room; the context is not copied): for a behavior that keeps a function depending
 /// only on its parameters and hands out copies while they stay (the Constant* plugins).
 pub fn copy_function(f: &ivp::IvpFunction) -> Result<ivp::IvpFunction, ivp::IvpError> {
-    use ivp::zaic::spare;
-    let grid = if f.has_grid() {
-        spare::floats_from(f.grid_bounds())
-    } else {
-        Vec::new()
-    };
-    ivp::IvpFunction::from_buffers(
+    crate::function::copied_function(
         ivp::Domain::from_var_refs(f.domain().vars().iter())?,
-        spare::ints_from(f.bounds()),
-        spare::floats_from(f.weights()),
-        spare::uints_from(f.gelbox()),
-        grid,
+        f.bounds(),
+        f.weights(),
+        f.gelbox(),
+        f.grid_bounds(),
         f.pwt(),
     )
 }

@@ -822,7 +822,7 @@ const PREVIOUS_API_RELEASE: &str = "7b7850b";
 /// The last release before the context's `_into` methods were added (0.1.1, contacts).
 const CONTACTS_API_RELEASE: &str = "84fa08f";
 
-/// The last release before `Behavior::recycle_function` was added (0.1.2, the `_into`
+/// The last release before `BehaviorLib::recycle_function` was added (0.1.2, the `_into`
 /// context methods).
 const INTO_API_RELEASE: &str = "7c0fafd";
 
