@@ -161,10 +161,8 @@ impl Helm {
         let mut var = std::mem::take(&mut self.report_var);
         match self.env.ledger.ingest(report, now) {
             Ok(a) => {
-                for (suffix, value) in [("_NAV_GROUP", &a.group), ("_NAV_TYPE", &a.vtype)] {
-                    var.clear();
-                    var.extend(a.name.chars().flat_map(char::to_uppercase));
-                    var.push_str(suffix);
+                for (suffix, value) in [("GROUP", &a.group), ("TYPE", &a.vtype)] {
+                    nav_var(&mut var, a.name, suffix);
                     self.ib.set_string(&var, value, m.time);
                 }
             }
@@ -189,10 +187,7 @@ impl Helm {
         let mut var = std::mem::take(&mut self.report_var);
         let ib = &mut self.ib;
         let posted = contacts::for_each_local_nav(report, |name, suffix, value| {
-            var.clear();
-            var.extend(name.chars().flat_map(char::to_uppercase));
-            var.push_str("_NAV_");
-            var.push_str(suffix);
+            nav_var(&mut var, name, suffix);
             match value {
                 contacts::LocalValue::Text(s) => ib.set_string(&var, s, m.time),
                 contacts::LocalValue::Num(n) => ib.set_value(&var, &Value::Num(n), m.time),
@@ -203,4 +198,13 @@ impl Helm {
             self.run_warning("Unhandled NODE_REPORT_LOCAL");
         }
     }
+}
+
+/// `<NAME>_NAV_<SUFFIX>` with the name upper-cased, into `out` (a kept string: reports
+/// arrive every iteration).
+fn nav_var(out: &mut String, name: &str, suffix: &str) {
+    out.clear();
+    out.extend(name.chars().flat_map(char::to_uppercase));
+    out.push_str("_NAV_");
+    out.push_str(suffix);
 }
