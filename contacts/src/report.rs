@@ -385,6 +385,16 @@ fn split_top_level(s: &str, sep: u8) -> impl Iterator<Item = &str> {
 mod tests {
     use super::*;
 
+    /// Xorshift64 from `seed` (non-zero): the tests' reproducible random stream.
+    fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        }
+    }
+
     #[test]
     fn reads_the_pnodereporter_form() {
         let s = "NAME=alpha,X=0,Y=0,SPD=0,HDG=0,DEP=0,LAT=43.8253,LON=-70.3304,TYPE=kayak,\
@@ -520,13 +530,8 @@ mod tests {
             "\"X\":\"1\"",
             "LEN=4",
         ];
-        let mut seed = 0x853c_49e6_748f_ea9bu64;
-        let mut next = |n: usize| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % n as u64) as usize
-        };
+        let mut rng = xorshift(0x853c_49e6_748f_ea9bu64);
+        let mut next = |n: usize| (rng() % n as u64) as usize;
         for _ in 0..30_000 {
             let mut s = String::new();
             if next(3) == 0 {
@@ -573,13 +578,8 @@ mod tests {
             "\u{7f}",
             "\u{ff}",
         ];
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |n: usize| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % n as u64) as usize
-        };
+        let mut rng = xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = |n: usize| (rng() % n as u64) as usize;
         for _ in 0..50_000 {
             let mut s = String::new();
             match next(4) {
@@ -619,16 +619,11 @@ mod tests {
 
     #[test]
     fn word_upper_casing_is_per_byte_upper_casing() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = xorshift(0x2545_f491_4f6c_dd1du64);
         let mut words: Vec<u64> = (0..=255u8)
             .map(|b| u64::from(b) * 0x0101_0101_0101_0101)
             .collect();
-        for _ in 0..100_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            words.push(seed);
-        }
+        words.extend((0..100_000).map(|_| rng()));
         for w in words {
             let want = u64::from_le_bytes(w.to_le_bytes().map(|b| b.to_ascii_uppercase()));
             assert_eq!(upper_ascii(w), want, "{w:#x}");
@@ -695,13 +690,8 @@ mod tests {
             "`",
             "{",
         ];
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |n: usize| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % n as u64) as usize
-        };
+        let mut rng = xorshift(0x2545_f491_4f6c_dd1du64);
+        let mut next = |n: usize| (rng() % n as u64) as usize;
         for _ in 0..20_000 {
             let mut s = String::new();
             for _ in 0..next(4) {
