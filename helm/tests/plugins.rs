@@ -828,8 +828,17 @@ const INTO_API_RELEASE: &str = "7c0fafd";
 
 /// Builds `package` from the source of `commit` (read from the repo's history, whose
 /// `behavior-api` must be `api_version`), unchanged; returns a folder holding only its
-/// library. Both releases share one target folder: their registry crates build once.
+/// library. The releases share one target folder, so their registry crates build once.
+///
+/// Sharing needs two guards. Cargo names a path crate's artifact by its place in the
+/// workspace, so two releases' `contacts` land in the same file; and `git archive`
+/// stamps files with the commit's time, older than any artifact. So the builds run one
+/// at a time, and `tar -m` stamps each tree with the time it is unpacked: a release's
+/// sources are then newer than every artifact the previous one left, and rebuild.
 fn build_released_plugin(commit: &str, api_version: &str, package: &str) -> PathBuf {
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    // A test that failed while holding the lock leaves nothing half-done that matters.
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let root = scratch(format!("release-{commit}"));
     let ws = workspace();
     let tree = root.join("tree");
@@ -846,7 +855,7 @@ fn build_released_plugin(commit: &str, api_version: &str, package: &str) -> Path
     );
     let mut tar = Command::new("tar")
         .current_dir(&tree)
-        .args(["-x", "-f", "-"])
+        .args(["-x", "-m", "-f", "-"])
         .stdin(std::process::Stdio::piped())
         .spawn()
         .expect("run tar");
