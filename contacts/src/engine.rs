@@ -6,6 +6,7 @@
 //! speed v is v·(sin h, cos h).
 
 use geometry::rel_ang;
+use mbutil::spare;
 
 /// `geometry::angle360`, except that a huge finite angle (which its subtract-360 loop
 /// would take forever on, e.g. a hostile `HDG=1000…0`) is wrapped by remainder.
@@ -304,42 +305,28 @@ const SPARE_TABLES: usize = 4;
 thread_local! {
     /// The table boxes of dropped engines ([`CpaEngine`]'s `Drop`), for the thread's next
     /// [`CpaEngine::with_tables`]; their contents are stale until it rewrites them.
-    static SPARE: std::cell::RefCell<[Option<Box<DegreeTables>>; SPARE_TABLES]> =
-        const { std::cell::RefCell::new([None, None, None, None]) };
+    static SPARE: std::cell::RefCell<Vec<Box<DegreeTables>>> =
+        const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// A spare table box of the thread's, or a new one (contents to be overwritten).
 fn spare_tables() -> Box<DegreeTables> {
-    SPARE
-        .try_with(|s| {
-            let mut s = s.try_borrow_mut().ok()?;
-            s.iter_mut().find_map(Option::take)
+    spare::take_kept_or(&SPARE, || {
+        Box::new(DegreeTables {
+            gam: [0.0; 360],
+            cnh: [0.0; 360],
+            tan: [0.0; 360],
         })
-        .ok()
-        .flatten()
-        .unwrap_or_else(|| {
-            Box::new(DegreeTables {
-                gam: [0.0; 360],
-                cnh: [0.0; 360],
-                tan: [0.0; 360],
-            })
-        })
+    })
 }
 
 /// An engine's tables go back to the thread's spares (dropped when they are full, or
 /// when the thread is ending and its store is gone).
 impl Drop for CpaEngine {
     fn drop(&mut self) {
-        let Some(t) = self.tables.take() else {
-            return;
-        };
-        let _ = SPARE.try_with(|s| {
-            if let Ok(mut s) = s.try_borrow_mut() {
-                if let Some(slot) = s.iter_mut().find(|slot| slot.is_none()) {
-                    *slot = Some(t);
-                }
-            }
-        });
+        if let Some(t) = self.tables.take() {
+            spare::keep_in(&SPARE, t, SPARE_TABLES);
+        }
     }
 }
 

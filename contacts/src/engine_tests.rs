@@ -541,7 +541,7 @@ fn spare_table_boxes_hold_fresh_tables() {
             v.to_bits()
         }
     };
-    let spares = || SPARE.with_borrow(|s| s.iter().filter(|b| b.is_some()).count());
+    let spares = || SPARE.with_borrow(Vec::len);
     let mut last: Option<*const DegreeTables> = None;
     for k in 0..300 {
         let scene = [

@@ -43,6 +43,39 @@ fn give(put: impl FnOnce(&mut Spare)) {
     });
 }
 
+/// A thread's store of kept values of one kind: `thread_local!` of a `RefCell<Vec<T>>`
+/// (a builder's scratch lists, table boxes, ...), used through [`take_kept`] and
+/// [`keep_in`]. Each builder declares its own, so that kinds never mix.
+pub type Store<T> = std::thread::LocalKey<RefCell<Vec<T>>>;
+
+/// The most recently kept value of `store`, or a new (default) one when it is empty,
+/// in use, or gone (the thread is ending).
+pub fn take_kept<T: Default>(store: &'static Store<T>) -> T {
+    take_kept_or(store, T::default)
+}
+
+/// [`take_kept`] with `new` making the value when none is kept.
+pub fn take_kept_or<T>(store: &'static Store<T>, new: impl FnOnce() -> T) -> T {
+    store
+        .try_with(|k| k.try_borrow_mut().ok().and_then(|mut k| k.pop()))
+        .ok()
+        .flatten()
+        .unwrap_or_else(new)
+}
+
+/// Keep `item` (the caller emptied what must not carry over) in `store` for the
+/// thread's next [`take_kept`], unless it already holds `max` (more than are in use at
+/// once on a thread are let go) or is in use or gone: then `item` is dropped.
+pub fn keep_in<T>(store: &'static Store<T>, item: T, max: usize) {
+    let _ = store.try_with(|k| {
+        if let Ok(mut k) = k.try_borrow_mut() {
+            if k.len() < max {
+                k.push(item);
+            }
+        }
+    });
+}
+
 /// Keep `item` in `list` unless it is full (the caller cleared it).
 pub fn keep<T>(list: &mut Vec<T>, item: T) {
     if list.len() < MAX_SPARE {
@@ -117,5 +150,38 @@ pub fn give_string(mut text: String) {
     if text.capacity() > 0 {
         text.clear();
         give(|s| keep(&mut s.strings, text));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    thread_local! {
+        static LISTS: RefCell<Vec<Vec<u8>>> = const { RefCell::new(Vec::new()) };
+    }
+
+    #[test]
+    fn a_kept_value_comes_back_with_its_room_and_the_store_holds_at_most_max() {
+        assert_eq!(take_kept(&LISTS).capacity(), 0);
+        for n in [10, 20, 30] {
+            keep_in(&LISTS, Vec::with_capacity(n), 2);
+        }
+        // The third was let go; the last kept comes back first.
+        assert_eq!(take_kept(&LISTS).capacity(), 20);
+        assert_eq!(take_kept(&LISTS).capacity(), 10);
+        assert_eq!(take_kept(&LISTS).capacity(), 0);
+        assert_eq!(take_kept_or(&LISTS, || vec![7]), vec![7]);
+    }
+
+    #[test]
+    fn a_store_in_use_gives_a_new_value_and_keeps_nothing() {
+        keep_in(&LISTS, Vec::with_capacity(5), 4);
+        LISTS.with_borrow_mut(|_in_use| {
+            assert_eq!(take_kept(&LISTS).capacity(), 0);
+            keep_in(&LISTS, Vec::with_capacity(9), 4);
+        });
+        assert_eq!(take_kept(&LISTS).capacity(), 5);
+        assert_eq!(take_kept(&LISTS).capacity(), 0);
     }
 }

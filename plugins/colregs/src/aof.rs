@@ -9,6 +9,7 @@ use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::{angle360, rel_ang};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
+use behavior_api::mbutil::spare;
 
 /// The contact and ownship as the functions see them.
 #[derive(Clone, Copy, Debug)]
@@ -115,8 +116,8 @@ fn eval_rows<A: Aof + ?Sized, P>(
 }
 
 thread_local! {
-    /// [`R13Aof::eval_grid`]'s prepared headings, kept for the thread's next grid.
-    static HEADINGS: RefCell<Vec<Heading>> = const { RefCell::new(Vec::new()) };
+    /// [`R13Aof::eval_grid`]'s prepared headings' list, kept for the thread's next grid.
+    static HEADINGS: RefCell<Vec<Vec<Heading>>> = const { RefCell::new(Vec::new()) };
 }
 
 fn grid(domain: &Domain, index: &[u32]) -> (f64, f64) {
@@ -244,9 +245,7 @@ impl Aof for R13Aof {
     }
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
         let e = &self.engine;
-        // The kept headings' buffer, or a new one while it is borrowed (never here).
-        let kept = HEADINGS.try_with(|h| h.try_borrow_mut().map(|mut h| std::mem::take(&mut *h)));
-        let mut headings = kept.ok().and_then(Result::ok).unwrap_or_default();
+        let mut headings = spare::take_kept(&HEADINGS);
         eval_rows(
             self,
             (e, self.tol),
@@ -255,7 +254,7 @@ impl Aof for R13Aof {
             |hd, v, cpa| self.utility_with(hd, v, cpa),
         );
         headings.clear();
-        let _ = HEADINGS.try_with(|h| h.try_borrow_mut().map(|mut h| *h = headings));
+        spare::keep_in(&HEADINGS, headings, 1);
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {

@@ -10,6 +10,7 @@ use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::angle360;
 use behavior_api::ivp::Domain;
+use behavior_api::mbutil::spare;
 
 use super::Metric;
 
@@ -44,10 +45,7 @@ thread_local! {
 impl Courses {
     /// Kept lists (empty, with the room of earlier grids) or new ones.
     fn taken() -> Self {
-        KEPT.try_with(|k| k.try_borrow_mut().ok().and_then(|mut k| k.pop()))
-            .ok()
-            .flatten()
-            .unwrap_or_default()
+        spare::take_kept(&KEPT)
     }
 
     /// The unit vectors only (`sins`, `coss`) of the courses `xs` (indices of the
@@ -117,13 +115,7 @@ impl Courses {
         {
             v.clear();
         }
-        let _ = KEPT.try_with(|k| {
-            if let Ok(mut k) = k.try_borrow_mut() {
-                if k.len() < MAX_KEPT {
-                    k.push(self);
-                }
-            }
-        });
+        spare::keep_in(&KEPT, self, MAX_KEPT);
     }
 }
 

@@ -7,6 +7,7 @@ use behavior_api::contacts::engine::roc_cosine;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
+use behavior_api::mbutil::spare;
 
 /// AOF_AvoidCollision (contacts-appcast.md §3.5): utility of the CPA a candidate
 /// course/speed gives within `tol` seconds.
@@ -97,11 +98,7 @@ impl CourseUnits {
     /// The unit vectors of the courses `xs` (indices of the domain's first variable),
     /// in kept lists (empty, with the room of earlier grids) or new ones.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
-        let mut c: Self = KEPT
-            .try_with(|k| k.try_borrow_mut().ok().and_then(|mut k| k.pop()))
-            .ok()
-            .flatten()
-            .unwrap_or_default();
+        let mut c: Self = spare::take_kept(&KEPT);
         // domain.value(0, i), its step computed once.
         let var = domain.var(0);
         let (low, delta) = (var.low, var.delta());
@@ -115,13 +112,7 @@ impl CourseUnits {
         for v in [&mut self.sins, &mut self.coss, &mut self.cosines] {
             v.clear();
         }
-        let _ = KEPT.try_with(|k| {
-            if let Ok(mut k) = k.try_borrow_mut() {
-                if k.len() < MAX_KEPT {
-                    k.push(self);
-                }
-            }
-        });
+        spare::keep_in(&KEPT, self, MAX_KEPT);
     }
 }
 
