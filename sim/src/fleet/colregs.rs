@@ -338,6 +338,9 @@ pub fn label(situation: &str) -> &'static str {
     }
 }
 
+/// More rule judgments than this are summed up in the terminal, not listed.
+pub const LISTED_AT_MOST: usize = 6;
+
 /// The terminal lines of one run (each ending in a newline).
 pub fn terminal(
     s: &mut String,
@@ -347,6 +350,36 @@ pub fn terminal(
     use std::fmt::Write as _;
     if let Some(ob) = obstacles {
         let _ = writeln!(s, "{}", ob.terminal());
+    }
+    // A fleet has a judgment per ordered pair (56 for eight vessels): past a few, the
+    // terminal gets the tally and `summary.json` keeps each one.
+    if rules.len() > LISTED_AT_MOST {
+        let _ = writeln!(
+            s,
+            "  COLREGS by the geometry at first alert, {} ordered pairs (each in summary.json `colregs`):",
+            rules.len()
+        );
+        let mut judged = 0;
+        for (situation, n, passed) in tally(rules.iter().map(|r| (r.situation.as_str(), r.passed)))
+        {
+            judged += n;
+            if n > 0 {
+                let _ = writeln!(
+                    s,
+                    "    {} {n}: {} {passed} of {n}",
+                    label(situation),
+                    asks(situation)
+                );
+            }
+        }
+        if judged < rules.len() {
+            let _ = writeln!(
+                s,
+                "    not judged (no rule situation): {}",
+                rules.len() - judged
+            );
+        }
+        return;
     }
     for r in rules {
         let verdict = match r.passed {
@@ -454,5 +487,44 @@ mod tests {
         );
         assert_eq!(t[0], ("headon", 1, 1));
         assert_eq!(t[1], ("giveway", 2, 1));
+    }
+
+    #[test]
+    fn the_terminal_lists_a_few_judgments_and_sums_up_many() {
+        let rule = |k: usize, situation: &str, passed: Option<bool>| RuleRecord {
+            ownship: format!("v{k}"),
+            contact: "w".into(),
+            situation: situation.into(),
+            trigger: "alert".into(),
+            at_s: 10.0,
+            range_m: 70.0,
+            os_cn_rel_bng: 0.0,
+            cn_os_rel_bng: 0.0,
+            passed,
+            detail: "d".into(),
+        };
+        let few = [rule(0, "giveway", Some(true)), rule(1, "none", None)];
+        let mut s = String::new();
+        terminal(&mut s, None, &few);
+        assert_eq!(s.lines().count(), 2, "{s}");
+        assert!(s.contains("COLREGS v0 vs w: giveway"), "{s}");
+
+        let mut many: Vec<RuleRecord> = (0..5).map(|k| rule(k, "giveway", Some(k < 2))).collect();
+        many.extend((5..7).map(|k| rule(k, "headon", Some(true))));
+        many.push(rule(7, "none", None));
+        let mut s = String::new();
+        terminal(&mut s, None, &many);
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(lines.len(), 4, "{s}");
+        assert!(lines[0].contains("8 ordered pairs"), "{s}");
+        assert_eq!(
+            lines[1].trim(),
+            "head-on encounters 2: passed port to port 2 of 2"
+        );
+        assert_eq!(
+            lines[2].trim(),
+            "give-way crossings 5: passed astern 2 of 5"
+        );
+        assert_eq!(lines[3].trim(), "not judged (no rule situation): 1");
     }
 }
