@@ -29,6 +29,7 @@ pub(crate) mod decor;
 pub mod depth_strip;
 pub mod fleet;
 pub mod interrupt;
+pub(crate) mod labels;
 pub mod montecarlo;
 pub mod output;
 pub mod picture;
