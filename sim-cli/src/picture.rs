@@ -255,9 +255,10 @@ pub fn svg_with_tracks(
         }
         let _ = writeln!(
             o,
-            r##"<text x="{:.1}" y="{:.1}" font-size="11" fill="{color}" stroke="#fff" stroke-width="3" paint-order="stroke">{}</text>"##,
+            r##"<text x="{:.1}" y="{:.1}" font-size="11" fill="{color}" {}>{}</text>"##,
             at.x,
             at.y,
+            super::canvas::halo(color),
             esc(text)
         );
     }

@@ -70,11 +70,12 @@ pub fn svg(o: &FleetOutcome, title: &str, subtitle: &str) -> String {
         };
         let _ = writeln!(
             s,
-            r##"<text x="{:.1}" y="{:.1}" font-size="{}"{weight} fill="{}" stroke="#fff" stroke-width="3" paint-order="stroke">{}</text>"##,
+            r##"<text x="{:.1}" y="{:.1}" font-size="{}"{weight} fill="{}" {}>{}</text>"##,
             l.at.x,
             l.at.y,
             l.style.size,
             esc(&l.color),
+            crate::canvas::halo(&l.color),
             esc(&l.text)
         );
     }
