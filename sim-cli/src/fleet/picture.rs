@@ -189,6 +189,9 @@ fn labels(v: &View, o: &FleetOutcome) -> Vec<Label> {
         w: 204.0,
         h: 18.0 * n + 6.0 + 3.0 * 16.0 + 4.0,
     });
+    if let Some(ob) = &o.obstacles {
+        super::obstacle_layer::keep_clear(&mut placer, v, ob);
+    }
     let pairs = marked(o);
     for veh in &o.vehicles {
         let pts: Vec<(f64, f64)> = veh.observer.track.points();
