@@ -1,17 +1,19 @@
 //! A small label placer for the pictures: labels that cover neither each other nor the
 //! lines they annotate.
 //!
-//! The picture first tells the [`Placer`] what is drawn: line segments (tracks, the
-//! closest-approach lines) and small boxes (start circles, end squares, tick dots, the
-//! legend). Then it places its labels one at a time, most important first. Each label
-//! has an anchor (the point it names), a clearance around the anchor (the radius of the
-//! mark drawn there), a text and a font size. The placer tries a fixed list of
-//! candidate spots: eight directions around the anchor at a small gap, then the same
-//! eight farther out (see [`GAPS`] and [`DIRECTIONS`]), and takes the first spot whose
-//! estimated text box covers no placed label, no segment and no box (a spot that would
-//! leave the drawing's bounds is first moved inside them). When none is free it takes the spot with the least overlap (the
-//! first of those tied), so a label is never dropped; the placed box then counts as an
-//! obstacle for the labels after it.
+//! The picture first tells the [`Placer`] what is drawn: line segments (tracks, paths,
+//! closest-approach lines, obstacle edges) and small boxes (start circles, end squares,
+//! tick dots, the legend). Then it places its labels one at a time, most important
+//! first. Each label has an anchor (the point it names), a clearance around the anchor
+//! (the radius of the mark drawn there), a text and a [`Style`] (font size, bold, leader
+//! line or not). The placer tries a fixed list of candidate spots: eight directions
+//! around the anchor at a small gap, then the same eight at three larger gaps (see
+//! [`GAPS`] and [`DIRECTIONS`]), each moved inside the drawing's bounds if it would
+//! leave them, and takes the first spot whose estimated text box covers no placed label,
+//! no segment and no box. When none is free it takes the spot with the least overlap
+//! (the first of those tied), so a label is never dropped. The placed box, and the
+//! leader line of a label that landed on one of the two outer rings, then count as
+//! obstacles for the labels after it.
 //!
 //! Everything is in screen pixels (y down). There is no randomness and no hash-map
 //! iteration: the same calls give the same spots, hence the same SVG bytes.
