@@ -90,3 +90,73 @@ pub fn nice_length(width_m: f64) -> f64 {
         .rfind(|l| *l <= target)
         .unwrap_or(p)
 }
+
+/// The halo (outline, SVG attributes) that keeps a label in `color` legible over
+/// anything: 3 px of white, or a thin dark grey outline when the text itself is light
+/// (white, yellow, a `light…` or `pale…` name, a hex colour of luminance above 0.8). A
+/// white halo around white or yellow text would blot out the picture and leave the text
+/// unreadable; a 3 px dark one makes small text a smudge.
+pub fn halo(color: &str) -> &'static str {
+    const LIGHT: &[&str] = &[
+        "white",
+        "yellow",
+        "ivory",
+        "snow",
+        "azure",
+        "beige",
+        "linen",
+        "seashell",
+        "honeydew",
+        "mintcream",
+        "aliceblue",
+        "cornsilk",
+        "oldlace",
+        "wheat",
+        "khaki",
+        "gold",
+        "lime",
+        "cyan",
+        "aqua",
+        "aquamarine",
+        "chartreuse",
+        "greenyellow",
+        "lawngreen",
+        "gainsboro",
+        "lavenderblush",
+        "lemonchiffon",
+        "papayawhip",
+        "blanchedalmond",
+        "moccasin",
+        "bisque",
+        "mistyrose",
+        "floralwhite",
+        "ghostwhite",
+        "whitesmoke",
+    ];
+    let c = color.trim().to_ascii_lowercase();
+    let light = if let Some(hex) = c.strip_prefix('#').filter(|h| h.len() == 6) {
+        let ch =
+            |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_or(0.0, |v| v as f64 / 255.0);
+        0.2126 * ch(0) + 0.7152 * ch(2) + 0.0722 * ch(4) > 0.8
+    } else {
+        LIGHT.contains(&c.as_str()) || c.starts_with("light") || c.starts_with("pale")
+    };
+    if light {
+        r##"stroke="#333" stroke-width="1.2" paint-order="stroke""##
+    } else {
+        r##"stroke="#fff" stroke-width="3" paint-order="stroke""##
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn light_text_gets_a_dark_halo() {
+        for light in ["white", "yellow", "lightblue", "#ffff80", "#FFFFFF"] {
+            assert!(super::halo(light).contains("#333"), "{light}");
+        }
+        for dark in ["dodgerblue", "#c0392b", "#b8b8b8", "orangered"] {
+            assert!(super::halo(dark).contains("#fff"), "{dark}");
+        }
+    }
+}

@@ -1,10 +1,10 @@
 //! Layers of the one-vehicle picture (`picture.rs`): the metre grid with the
-//! origin, heading arrows, label placement that keeps labels off each other and off the
-//! track, and the Monte-Carlo start and end clouds.
+//! origin, heading arrows, and the Monte-Carlo start and end clouds. (Its labels are
+//! placed by `labels.rs`.)
 
 use std::fmt::Write as _;
 
-use super::canvas::{esc, nice_length, View, H, MARGIN, W};
+use super::canvas::{nice_length, View, H, MARGIN, W};
 
 const GRID: &str = "#e8e8e8";
 const GRID_TEXT: &str = "#9a9a9a";
@@ -107,89 +107,9 @@ pub(crate) fn clouds(o: &mut String, v: &View, tracks: &[Vec<(f64, f64)>], start
     }
 }
 
-/// Labels placed so that none covers another or the track.
-#[derive(Default)]
-pub(crate) struct Labels {
-    boxes: Vec<(f64, f64, f64, f64)>,
-}
-
-fn overlaps(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
-    a.0 < b.0 + b.2 && b.0 < a.0 + a.2 && a.1 < b.1 + b.3 && b.1 < a.1 + a.3
-}
-
-impl Labels {
-    /// Write `label` near world point `(x, y)`: the first of a few positions around it
-    /// that covers no placed label and no point of `track` (else the first position).
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn place(
-        &mut self,
-        o: &mut String,
-        v: &View,
-        x: f64,
-        y: f64,
-        label: &str,
-        color: &str,
-        track: &[(f64, f64)],
-    ) {
-        if label.is_empty() {
-            return;
-        }
-        let (px, py) = v.p(x, y);
-        let w = 6.0 * label.chars().count() as f64 + 2.0;
-        let h = 13.0;
-        let spots = [
-            (8.0, 14.0),
-            (8.0, -6.0),
-            (-8.0 - w, 14.0),
-            (-8.0 - w, -6.0),
-            (8.0, 28.0),
-            (8.0, -20.0),
-            (-w / 2.0, 30.0),
-            (-w / 2.0, -22.0),
-        ];
-        let screen: Vec<(f64, f64)> = track.iter().map(|&(tx, ty)| v.p(tx, ty)).collect();
-        let free = |b: (f64, f64, f64, f64)| {
-            !self.boxes.iter().any(|o| overlaps(*o, b))
-                && !screen
-                    .iter()
-                    .any(|&(sx, sy)| sx >= b.0 && sx <= b.0 + b.2 && sy >= b.1 && sy <= b.1 + b.3)
-        };
-        let boxed = |(dx, dy): (f64, f64)| (px + dx, py + dy - 11.0, w, h);
-        let chosen = spots
-            .iter()
-            .copied()
-            .find(|s| free(boxed(*s)))
-            .unwrap_or(spots[0]);
-        self.boxes.push(boxed(chosen));
-        let _ = writeln!(
-            o,
-            r#"<text x="{:.1}" y="{:.1}" font-size="11" fill="{color}">{}</text>"#,
-            px + chosen.0,
-            py + chosen.1,
-            esc(label)
-        );
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn labels_avoid_each_other_and_the_track() {
-        let v = View::fit(&[(0.0, 0.0), (100.0, 100.0)]);
-        let mut l = Labels::default();
-        let mut o = String::new();
-        let track: Vec<(f64, f64)> = (0..100).map(|i| (i as f64, 50.0)).collect();
-        l.place(&mut o, &v, 50.0, 50.0, "first", "red", &track);
-        l.place(&mut o, &v, 50.0, 50.0, "second", "red", &track);
-        assert_eq!(l.boxes.len(), 2);
-        assert!(!overlaps(l.boxes[0], l.boxes[1]), "{:?}", l.boxes);
-        let (_, ty) = v.p(0.0, 50.0);
-        for b in &l.boxes {
-            assert!(!(b.1 <= ty && ty <= b.1 + b.3), "on the track: {b:?}");
-        }
-    }
 
     #[test]
     fn thinning_keeps_the_ends() {

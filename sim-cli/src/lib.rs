@@ -3,7 +3,8 @@
 //! [`cli`] is the command line ([`args`] its arguments); [`montecarlo`] runs a mission
 //! many times from perturbed starts ([`interrupt`]: Ctrl-C keeps the finished runs);
 //! [`output`] writes `summary.json` and `runs.csv`, [`picture`] the SVG ([`canvas`],
-//! [`decor`] and [`depth_strip`] its parts); [`fleet`] does the same for fleets, with
+//! [`decor`] and [`depth_strip`] its parts, [`labels`] placing its texts and the fleet
+//! picture's); [`fleet`] does the same for fleets, with
 //! shards and `helm sim merge`.
 //!
 //! It may depend on `helm-sim`, `helm-engine` (posted values), `geometry` and `mbutil`;
@@ -29,6 +30,7 @@ pub(crate) mod decor;
 pub mod depth_strip;
 pub mod fleet;
 pub mod interrupt;
+pub(crate) mod labels;
 pub mod montecarlo;
 pub mod output;
 pub mod picture;

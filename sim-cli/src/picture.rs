@@ -5,6 +5,7 @@
 use std::fmt::Write as _;
 
 use super::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
+use super::labels::{Placed, Placer, Rect, Style};
 use helm_sim::observe::{Observer, ViewKind};
 
 const TRACK: &str = "#1f6fd1";
@@ -150,22 +151,19 @@ pub fn svg_with_tracks(
         esc(subtitle)
     );
     super::decor::grid(&mut o, &v);
-    let mut labels = super::decor::Labels::default();
+    let labels = place_labels(&v, &shapes, obs);
     // Polygons and circles first (areas), then paths, then the track on top.
     for (s, c) in &shapes {
         match s {
-            Shape::Polygon(p, label) => {
+            Shape::Polygon(p, _) => {
                 let col = c.as_deref().unwrap_or(POLY);
                 let _ = writeln!(
                     o,
                     r#"<polygon points="{}" fill="{col}" fill-opacity="0.08" stroke="{col}" stroke-width="1.5"/>"#,
                     poly_points(&v, p)
                 );
-                if let Some(&(x, y)) = p.first() {
-                    labels.place(&mut o, &v, x, y, label, col, &track);
-                }
             }
-            Shape::Circle(x, y, r, label) => {
+            Shape::Circle(x, y, r, _) => {
                 let col = c.as_deref().unwrap_or(CIRCLE);
                 let (px, py) = v.p(*x, *y);
                 let _ = writeln!(
@@ -173,31 +171,24 @@ pub fn svg_with_tracks(
                     r#"<circle cx="{px:.1}" cy="{py:.1}" r="{:.1}" fill="none" stroke="{col}" stroke-width="1.2" stroke-dasharray="3,3"/>"#,
                     r * v.scale
                 );
-                labels.place(&mut o, &v, *x, y + r, label, col, &track);
             }
             _ => {}
         }
     }
     for (s, c) in &shapes {
-        if let Shape::Path(p, label) = s {
+        if let Shape::Path(p, _) = s {
             let path_color = c.as_deref().unwrap_or(PATH);
             let _ = writeln!(
                 o,
                 r#"<polyline points="{}" fill="none" stroke="{path_color}" stroke-width="1.5" stroke-dasharray="6,4"/>"#,
                 poly_points(&v, p)
             );
-            for (i, &(x, y)) in p.iter().enumerate() {
+            for &(x, y) in p {
                 let (px, py) = v.p(x, y);
                 let _ = writeln!(
                     o,
-                    r##"<circle cx="{px:.1}" cy="{py:.1}" r="5" fill="#fff" stroke="{path_color}" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="11" fill="{path_color}">{}</text>"##,
-                    px + 7.0,
-                    py - 7.0,
-                    i + 1
+                    r##"<circle cx="{px:.1}" cy="{py:.1}" r="5" fill="#fff" stroke="{path_color}" stroke-width="2"/>"##
                 );
-            }
-            if let Some(&(x, y)) = p.first() {
-                labels.place(&mut o, &v, x, y, label, path_color, &track);
             }
         }
     }
@@ -219,7 +210,7 @@ pub fn svg_with_tracks(
         );
     }
     for (s, c) in &shapes {
-        if let Shape::Point(x, y, label) = s {
+        if let Shape::Point(x, y, _) = s {
             let col = c.as_deref().unwrap_or(POINT);
             let (px, py) = v.p(*x, *y);
             let _ = writeln!(
@@ -230,7 +221,6 @@ pub fn svg_with_tracks(
                 px + 4.0,
                 py + 4.0
             );
-            labels.place(&mut o, &v, *x, *y, label, col, &track);
         }
     }
     if let Some((x, y)) = obs.track.last() {
@@ -254,6 +244,24 @@ pub fn svg_with_tracks(
         super::decor::heading_arrow(&mut o, &v, a, h0, START);
         super::decor::heading_arrow(&mut o, &v, b, h1, END);
     }
+    // On top of everything, each with a white halo.
+    for (at, text, color) in &labels {
+        if let Some((a, b)) = at.leader {
+            let _ = writeln!(
+                o,
+                r#"<path d="M{:.1},{:.1} L{:.1},{:.1}" stroke="{color}" stroke-width="0.8" stroke-opacity="0.7"/>"#,
+                a.0, a.1, b.0, b.1
+            );
+        }
+        let _ = writeln!(
+            o,
+            r##"<text x="{:.1}" y="{:.1}" font-size="11" fill="{color}" {}>{}</text>"##,
+            at.x,
+            at.y,
+            super::canvas::halo(color),
+            esc(text)
+        );
+    }
     // Scale bar, bottom left.
     let width_m = (W - 2.0 * MARGIN - 170.0) / v.scale;
     let len = nice_length(width_m);
@@ -276,6 +284,121 @@ pub fn svg_with_tracks(
     }
     o.push_str("</svg>\n");
     o
+}
+
+/// The objects' labels and the waypoint numbers (1, 2, …), placed by
+/// [`crate::labels`] off each other and off the track, the paths, the polygon and circle
+/// edges, the marks (waypoints, points, start, end, origin) and the heading arrows,
+/// inside the grid area. Object labels first, then waypoint numbers; each with its
+/// colour.
+fn place_labels(
+    v: &View,
+    shapes: &[(Shape, Option<String>)],
+    obs: &Observer,
+) -> Vec<(Placed, String, String)> {
+    const STYLE: Style = Style {
+        size: 11.0,
+        bold: false,
+        leader: true,
+    };
+    let mut placer = Placer::new(Rect {
+        x: MARGIN,
+        y: MARGIN,
+        w: W - 2.0 * MARGIN - 170.0,
+        h: H - 2.0 * MARGIN,
+    });
+    let screen = |pts: &[(f64, f64)]| pts.iter().map(|&(x, y)| v.p(x, y)).collect::<Vec<_>>();
+    placer.add_polyline(&screen(&obs.track.points()));
+    for (s, _) in shapes {
+        match s {
+            Shape::Path(p, _) => {
+                placer.add_polyline(&screen(p));
+                for &(px, py) in &screen(p) {
+                    placer.add_mark(Rect::around(px, py, 6.0));
+                }
+            }
+            Shape::Polygon(p, _) => {
+                let mut ring = screen(p);
+                ring.extend(ring.first().copied());
+                placer.add_polyline(&ring);
+            }
+            Shape::Point(x, y, _) => {
+                let (px, py) = v.p(*x, *y);
+                placer.add_mark(Rect::around(px, py, 4.5));
+            }
+            Shape::Circle(x, y, r, _) => {
+                let ring: Vec<(f64, f64)> = (0..=24)
+                    .map(|i| {
+                        let a = i as f64 * std::f64::consts::TAU / 24.0;
+                        v.p(x + r * a.cos(), y + r * a.sin())
+                    })
+                    .collect();
+                placer.add_polyline(&ring);
+            }
+        }
+    }
+    let (ox, oy) = v.p(0.0, 0.0);
+    // The origin's cross and its "0,0" (see decor::grid).
+    placer.add_mark(Rect {
+        x: ox - 7.0,
+        y: oy - 7.0,
+        w: 28.0,
+        h: 20.0,
+    });
+    let ends = [
+        (obs.track.first(), 10.5, obs.headings.map(|h| h.0)),
+        (obs.track.last(), 6.75, obs.headings.map(|h| h.1)),
+    ];
+    for (at, r, heading) in ends {
+        if let Some((x, y)) = at {
+            let (px, py) = v.p(x, y);
+            placer.add_mark(Rect::around(px, py, r));
+            if let Some(h) = heading {
+                let h = h.to_radians();
+                placer.add_polyline(&[(px, py), (px + 24.0 * h.sin(), py - 24.0 * h.cos())]);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let mut put = |(x, y): (f64, f64), clear: f64, text: String, color: &str| {
+        if !text.is_empty() {
+            let at = placer.place(v.p(x, y), clear, &text, STYLE);
+            out.push((at, text, color.to_string()));
+        }
+    };
+    for (s, c) in shapes {
+        match s {
+            Shape::Polygon(p, label) => {
+                if let Some(&first) = p.first() {
+                    put(first, 2.0, label.clone(), c.as_deref().unwrap_or(POLY));
+                }
+            }
+            Shape::Circle(x, y, r, label) => {
+                put(
+                    (*x, y + r),
+                    2.0,
+                    label.clone(),
+                    c.as_deref().unwrap_or(CIRCLE),
+                );
+            }
+            Shape::Path(p, label) => {
+                if let Some(&first) = p.first() {
+                    put(first, 6.0, label.clone(), c.as_deref().unwrap_or(PATH));
+                }
+            }
+            Shape::Point(x, y, label) => {
+                put((*x, *y), 4.5, label.clone(), c.as_deref().unwrap_or(POINT));
+            }
+        }
+    }
+    for (s, c) in shapes {
+        if let Shape::Path(p, _) = s {
+            for (i, &q) in p.iter().enumerate() {
+                put(q, 6.0, (i + 1).to_string(), c.as_deref().unwrap_or(PATH));
+            }
+        }
+    }
+    out
 }
 
 /// Extra height under the map for the depth strip (0 without depth in the domain).
@@ -503,6 +626,46 @@ mod tests {
             svg.matches("fill-opacity=\"0.45\"").count() >= 2000,
             "start and end clouds"
         );
+    }
+
+    /// alpha's case: a path (with its label and numbers) starting where the track
+    /// starts and ends, at the origin. No label covers another, the start ring or the
+    /// track, and every one is drawn with its halo.
+    #[test]
+    fn labels_clear_the_start_the_track_and_each_other() {
+        let mut o = Observer::new(0.0, Vec::new());
+        let s = |v: &str| Value::Str(v.into());
+        o.on_posting(
+            "VIEW_SEGLIST",
+            &s("pts={0,0:60,-20:60,-140:150,-140},label=waypt_survey"),
+            1.0,
+        );
+        o.on_posting("VIEW_POINT", &s("x=1,y=1,label=return_point"), 1.0);
+        for i in 0..=60 {
+            o.track.push(i as f64, -i as f64 / 3.0);
+        }
+        for i in 0..=120 {
+            o.track.push(60.0, -20.0 - i as f64);
+        }
+        o.headings = Some((0.0, 90.0));
+        let shapes = shapes(&o);
+        let v = View::fit(&[(0.0, 0.0), (150.0, -140.0)]);
+        let labels = place_labels(&v, &shapes, &o);
+        assert_eq!(labels.len(), 2 + 4, "two labels, four waypoint numbers");
+        let (sx, sy) = v.p(0.0, 0.0);
+        let ring = Rect::around(sx, sy, 10.5);
+        let track: Vec<(f64, f64)> = o.track.points().iter().map(|&(x, y)| v.p(x, y)).collect();
+        for (i, (a, text, _)) in labels.iter().enumerate() {
+            assert_eq!(a.rect.overlap(&ring), 0.0, "{text} on the start");
+            for w in track.windows(2) {
+                assert_eq!(a.rect.clip_len(w[0], w[1]), 0.0, "{text} on the track");
+            }
+            for (b, other, _) in &labels[..i] {
+                assert_eq!(a.rect.overlap(&b.rect), 0.0, "{text} on {other}");
+            }
+        }
+        let svg = svg(&o, "t", "s");
+        assert_eq!(svg.matches(r#"paint-order="stroke""#).count(), labels.len());
     }
 
     #[test]
