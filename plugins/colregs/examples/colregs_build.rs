@@ -40,6 +40,8 @@ fn main() {
     let (mut builds, mut allocs) = (0usize, 0usize);
     for k in 0..rounds {
         let t = k as f64 * 0.25;
+        // The clock runs, as the helm's does (the behavior's history stays bounded).
+        helm.time = 1000.0 + t;
         helm.nav(0.0, t * 0.5, 0.0, 2.0);
         // Coming from starboard, heading west at 2 m/s.
         helm.contact("hal", cnx - t * 2.0, cny, 270.0, 2.0, "kayak");
