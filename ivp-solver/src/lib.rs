@@ -35,6 +35,8 @@ mod prepared;
 mod search;
 mod setup;
 mod weigh;
+#[cfg(target_arch = "x86_64")]
+mod weigh_simd;
 #[cfg(test)]
 use {
     last_index::NO_CELL,

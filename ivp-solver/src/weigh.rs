@@ -3,8 +3,13 @@
 //! scale and its `maxVal`. They run over every piece of every function each iteration
 //! (thousands per contact), so each is made for 1 to 3 dimensions by inlining one
 //! loop with a constant dimension (unrolled, indices checked once per piece): the
-//! same operations in the same order as the loop for any dimension.
+//! same operations in the same order as the loop for any dimension. Two-dimensional
+//! functions (the contacts' course × speed pieces, most of the work) go four pieces a
+//! step through the AVX2 bodies of `weigh_simd` when the CPU has AVX2, to the same
+//! bits; the scalar loops finish the last pieces and do everything else.
 
+#[cfg(target_arch = "x86_64")]
+use crate::weigh_simd::{extremes2, weigh2, Scale2};
 use ivp::function::max_val;
 use ivp::IvpFunction;
 
@@ -36,21 +41,73 @@ pub(crate) fn weigh(
     boxes: Option<&[i32]>,
     piece_ub: &mut Vec<f64>,
 ) -> f64 {
+    weigh_with(wg, src, od, weights, boxes, piece_ub, avx2())
+}
+
+/// Whether the AVX2 bodies of `weigh_simd` may run.
+fn avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    return false;
+}
+
+/// [`weigh`], with the AVX2 body for two dimensions (either order) if `simd`.
+fn weigh_with(
+    wg: &Weighing,
+    src: &[f64],
+    od: usize,
+    weights: &mut [f64],
+    boxes: Option<&[i32]>,
+    piece_ub: &mut Vec<f64>,
+    simd: bool,
+) -> f64 {
     piece_ub.clear();
     let id = wg.identity;
+    if boxes.is_some() {
+        let wl = wg.pts.len() + 1;
+        piece_ub.resize((weights.len() / wl).min(src.len() / (od + 1)), 0.0);
+    }
+    #[cfg(target_arch = "x86_64")]
+    // Two dimensions, the function's in problem order or the other way round.
+    if simd && od == 2 && wg.pts.len() == 2 && matches!(wg.map, [0, 1] | [1, 0]) {
+        let sc = Scale2 {
+            norm: wg.norm.then_some((wg.shift, wg.scale)),
+            pwt: wg.pwt,
+            span: [0, 1].map(|d| f64::from((wg.pts[d] - 1).max(0))),
+        };
+        let swap = wg.map[0] == 1;
+        // SAFETY: `simd` is only true when the CPU has AVX2 (see `avx2`).
+        let (done, most, nan) = unsafe { weigh2(&sc, swap, src, weights, boxes, piece_ub) };
+        let most = if nan {
+            // The scalar keeps the last NaN: its terms again, from the weights made.
+            let made = weights[..3 * done].chunks_exact(3);
+            made.fold(0.0, |m, w| most_of(m, term(w, &wg.pts[..2])))
+        } else {
+            most
+        };
+        let rest = (&src[3 * done..], &mut weights[3 * done..]);
+        let boxes = boxes.map(|b| &b[4 * done..]);
+        let at = done.min(piece_ub.len());
+        let ub = &mut piece_ub[at..];
+        return weigh_dims(wg, rest.0, 2, 2, !swap, rest.1, boxes, ub, most);
+    }
+    let _ = simd;
+    let piece_ub = &mut piece_ub[..];
     match (od, wg.pts.len()) {
-        (1, 1) => weigh_dims(wg, src, 1, 1, id, weights, boxes, piece_ub),
-        (2, 2) => weigh_dims(wg, src, 2, 2, id, weights, boxes, piece_ub),
-        (3, 3) => weigh_dims(wg, src, 3, 3, id, weights, boxes, piece_ub),
-        (1, 2) => weigh_dims(wg, src, 1, 2, id, weights, boxes, piece_ub),
-        (1, 3) => weigh_dims(wg, src, 1, 3, id, weights, boxes, piece_ub),
-        (2, 3) => weigh_dims(wg, src, 2, 3, id, weights, boxes, piece_ub),
-        (od, dim) => weigh_dims(wg, src, od, dim, id, weights, boxes, piece_ub),
+        (1, 1) => weigh_dims(wg, src, 1, 1, id, weights, boxes, piece_ub, 0.0),
+        (2, 2) => weigh_dims(wg, src, 2, 2, id, weights, boxes, piece_ub, 0.0),
+        (3, 3) => weigh_dims(wg, src, 3, 3, id, weights, boxes, piece_ub, 0.0),
+        (1, 2) => weigh_dims(wg, src, 1, 2, id, weights, boxes, piece_ub, 0.0),
+        (1, 3) => weigh_dims(wg, src, 1, 3, id, weights, boxes, piece_ub, 0.0),
+        (2, 3) => weigh_dims(wg, src, 2, 3, id, weights, boxes, piece_ub, 0.0),
+        (od, dim) => weigh_dims(wg, src, od, dim, id, weights, boxes, piece_ub, 0.0),
     }
 }
 
 /// [`weigh`] for `od` function and `dim` problem dimensions (`identity`: `map` is
-/// `0..dim`, written directly).
+/// `0..dim`, written directly), `most` the largest term scale so far, `piece_ub`
+/// already sized (with boxes).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn weigh_dims(
@@ -61,13 +118,13 @@ fn weigh_dims(
     identity: bool,
     weights: &mut [f64],
     boxes: Option<&[i32]>,
-    piece_ub: &mut Vec<f64>,
+    piece_ub: &mut [f64],
+    most: f64,
 ) -> f64 {
     let (bl, wl) = (2 * dim, dim + 1);
-    let mut most = 0.0f64;
+    let mut most = most;
     match boxes {
         Some(b) => {
-            piece_ub.resize((weights.len() / wl).min(src.len() / (od + 1)), 0.0);
             let pieces = weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1));
             for (((w, s), b), ub) in pieces.zip(b.chunks_exact(bl)).zip(piece_ub.iter_mut()) {
                 most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
@@ -151,18 +208,19 @@ pub(crate) fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
     if od == 0 || f.piece_count() == 0 || b.len() < 2 * od || w.len() < od + 1 {
         return f.min_max_wt();
     }
+    let simd = avx2();
     match od {
-        1 => extremes(b, w, 1),
-        2 => extremes(b, w, 2),
-        3 => extremes(b, w, 3),
-        _ => extremes(b, w, od),
+        1 => extremes(b, w, 1, simd),
+        2 => extremes(b, w, 2, simd),
+        3 => extremes(b, w, 3, simd),
+        _ => extremes(b, w, od, simd),
     }
 }
 
 /// The least and greatest piece extremes over boxes `bounds` and weights `weights` of
-/// `od` dimensions (at least one piece).
+/// `od` dimensions (at least one piece); the AVX2 body for two dimensions if `simd`.
 #[inline(always)]
-fn extremes(bounds: &[i32], weights: &[f64], od: usize) -> (f64, f64) {
+fn extremes(bounds: &[i32], weights: &[f64], od: usize, simd: bool) -> (f64, f64) {
     let piece = |b: &[i32], w: &[f64]| {
         let (b, w) = (&b[..2 * od], &w[..od + 1]);
         let (mut lo, mut hi) = (w[od], w[od]);
@@ -180,11 +238,20 @@ fn extremes(bounds: &[i32], weights: &[f64], od: usize) -> (f64, f64) {
         (lo, hi)
     };
     let (mut mn, mut mx) = piece(bounds, weights);
-    for (b, w) in bounds
-        .chunks_exact(2 * od)
-        .zip(weights.chunks_exact(od + 1))
-        .skip(1)
-    {
+    let mut done = 1;
+    // Once the first piece's values are numbers, NaN pieces change nothing (`<` is
+    // false), which the lanes do too; a NaN first value is kept: scalar then.
+    #[cfg(target_arch = "x86_64")]
+    if simd && od == 2 && !mn.is_nan() && !mx.is_nan() {
+        // SAFETY: `simd` is only true when the CPU has AVX2 (see `avx2`).
+        let (n, lo, hi) = unsafe { extremes2(bounds, weights) };
+        if n > 0 {
+            (done, mn, mx) = (n, lo, hi);
+        }
+    }
+    let _ = simd;
+    let rest = (&bounds[2 * od * done..], &weights[(od + 1) * done..]);
+    for (b, w) in rest.0.chunks_exact(2 * od).zip(rest.1.chunks_exact(od + 1)) {
         let (lo, hi) = piece(b, w);
         if lo < mn {
             mn = lo;
@@ -195,3 +262,7 @@ fn extremes(bounds: &[i32], weights: &[f64], od: usize) -> (f64, f64) {
     }
     (mn, mx)
 }
+
+#[cfg(test)]
+#[path = "weigh_tests.rs"]
+mod tests;

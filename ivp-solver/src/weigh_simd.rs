@@ -1,0 +1,263 @@
+//! AVX2 bodies of the set-up's two passes over the pieces (see `weigh`) for the hot
+//! shape: two-dimensional pieces, weights already in problem order (the contacts'
+//! course × speed functions, thousands of pieces a decision). Four pieces a step,
+//! read as array-of-structs (bounds `[lo0, hi0, lo1, hi1]`, weights `[w0, w1, c]`)
+//! and spread into one vector per field. Every per-piece value is made with the same
+//! operations in the same order as the scalar loops (separate multiply and add, never
+//! fused), so it is the same bit for bit; what the lanes cannot know (which piece came
+//! first, the last NaN) is tracked or left to the caller, as each function says.
+//!
+//! Only the whole groups of four are done here; the caller finishes the rest with its
+//! scalar loop, starting from the values returned.
+
+use std::arch::x86_64::*;
+
+/// The bounds of the 4 pieces at `b` (16 `i32`s) as `[lo0, hi0, lo1, hi1]`, 4 lanes each.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn bounds4(b: *const i32) -> [__m256d; 4] {
+    // SAFETY (all loads here): the caller has 16 readable `i32`s at `b`.
+    let (p01, p23) = unsafe {
+        (
+            _mm256_loadu_si256(b.cast()),
+            _mm256_loadu_si256(b.add(8).cast()),
+        )
+    };
+    // [l0a h0a l1a h1a l0b ...] -> [l0a l0b h0a h0b | l1a l1b h1a h1b]
+    let pair = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    let (p01, p23) = (
+        _mm256_permutevar8x32_epi32(p01, pair),
+        _mm256_permutevar8x32_epi32(p23, pair),
+    );
+    let (lo, hi) = (
+        _mm256_unpacklo_epi64(p01, p23),
+        _mm256_unpackhi_epi64(p01, p23),
+    );
+    [
+        _mm256_cvtepi32_pd(_mm256_castsi256_si128(lo)),
+        _mm256_cvtepi32_pd(_mm256_castsi256_si128(hi)),
+        _mm256_cvtepi32_pd(_mm256_extracti128_si256::<1>(lo)),
+        _mm256_cvtepi32_pd(_mm256_extracti128_si256::<1>(hi)),
+    ]
+}
+
+/// 4 pieces' weights, 3 vectors in memory order, as `[w0, w1, c]`, 4 lanes each.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn spread3(a: __m256d, b: __m256d, c: __m256d) -> [__m256d; 3] {
+    // a = [w0a w1a ca w0b], b = [w1b cb w0c w1c], c = [cc w0d w1d cd]
+    let w0 = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(a, b), c); // a d c b
+    let w1 = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(a, b), c); // b a d c
+    let cc = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(a, b), c); // c b a d
+    [
+        _mm256_permute4x64_pd::<0b01_10_11_00>(w0),
+        _mm256_permute_pd::<0b0101>(w1),
+        _mm256_permute4x64_pd::<0b11_00_01_10>(cc),
+    ]
+}
+
+/// `x < 0 ? neg : pos`, lane by lane (NaN takes `pos`, as `<` is false).
+#[target_feature(enable = "avx2")]
+#[inline]
+fn by_sign(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
+    _mm256_blendv_pd(
+        pos,
+        neg,
+        _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_setzero_pd()),
+    )
+}
+
+/// The extremes of the first `4·k` pieces (as many whole groups as both slices hold):
+/// `(k·4, least lo, greatest hi)`, each the value of the FIRST piece reaching it, as
+/// the scalar `if lo < mn` keeps (lanes keep their own first; the group index of it
+/// is tracked, so ties between -0.0 and +0.0 resolve as in piece order). NaN values
+/// are skipped, as the scalar loop does once it holds a number: the caller must not
+/// come here when the first piece's extremes are NaN.
+#[target_feature(enable = "avx2")]
+pub(crate) fn extremes2(bounds: &[i32], weights: &[f64]) -> (usize, f64, f64) {
+    let groups = (bounds.len() / 16).min(weights.len() / 12);
+    let (mut mn, mut mx) = (
+        _mm256_set1_pd(f64::INFINITY),
+        _mm256_set1_pd(f64::NEG_INFINITY),
+    );
+    let (mut mn_at, mut mx_at) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    let mut at = _mm256_setzero_pd();
+    let one = _mm256_set1_pd(1.0);
+    for g in 0..groups {
+        // SAFETY: group g < groups reads bounds[16g..16g+16] and weights[12g..12g+12].
+        let ([l0, h0, l1, h1], (a, b, c)) = unsafe {
+            let w = weights.as_ptr().add(12 * g);
+            (
+                bounds4(bounds.as_ptr().add(16 * g)),
+                (
+                    _mm256_loadu_pd(w),
+                    _mm256_loadu_pd(w.add(4)),
+                    _mm256_loadu_pd(w.add(8)),
+                ),
+            )
+        };
+        let [w0, w1, cc] = spread3(a, b, c);
+        let hi = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
+        let lo = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, h0, l0)));
+        let hi = _mm256_add_pd(hi, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
+        let lo = _mm256_add_pd(lo, _mm256_mul_pd(w1, by_sign(w1, h1, l1)));
+        let less = _mm256_cmp_pd::<_CMP_LT_OQ>(lo, mn);
+        mn = _mm256_blendv_pd(mn, lo, less);
+        mn_at = _mm256_blendv_pd(mn_at, at, less);
+        let more = _mm256_cmp_pd::<_CMP_GT_OQ>(hi, mx);
+        mx = _mm256_blendv_pd(mx, hi, more);
+        mx_at = _mm256_blendv_pd(mx_at, at, more);
+        at = _mm256_add_pd(at, one);
+    }
+    let lo = first_best(mn, mn_at, |a, b| a < b);
+    let hi = first_best(mx, mx_at, |a, b| a > b);
+    (4 * groups, lo, hi)
+}
+
+/// The best of the 4 lanes `v` by `better`, among equals the one of the first piece
+/// (lane j's value came from piece `4·at_j + j`).
+#[target_feature(enable = "avx2")]
+#[inline]
+fn first_best(v: __m256d, at: __m256d, better: fn(f64, f64) -> bool) -> f64 {
+    let (mut x, mut group) = ([0.0f64; 4], [0.0f64; 4]);
+    // SAFETY: 4 doubles each into arrays of 4.
+    unsafe {
+        _mm256_storeu_pd(x.as_mut_ptr(), v);
+        _mm256_storeu_pd(group.as_mut_ptr(), at);
+    }
+    let piece = |j: usize| 4.0 * group[j] + j as f64;
+    let mut best = 0;
+    for j in 1..4 {
+        if better(x[j], x[best]) || (x[j] == x[best] && piece(j) < piece(best)) {
+            best = j;
+        }
+    }
+    x[best]
+}
+
+/// How [`weigh2`] makes the weights: `Some((shift, scale))` normalizes.
+pub(crate) struct Scale2 {
+    pub(crate) norm: Option<(f64, f64)>,
+    pub(crate) pwt: f64,
+    /// `f64::from((pts_d - 1).max(0))` of the two problem dimensions.
+    pub(crate) span: [f64; 2],
+}
+
+/// Inverse of [`spread3`]: `[w0, w1, c]` (4 lanes each) as 3 vectors in memory order.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn gather3(w0: __m256d, w1: __m256d, c: __m256d) -> [__m256d; 3] {
+    // The same permutations as `spread3` (each its own inverse): a d c b, b a d c, c b a d.
+    let w0 = _mm256_permute4x64_pd::<0b01_10_11_00>(w0);
+    let w1 = _mm256_permute_pd::<0b0101>(w1);
+    let c = _mm256_permute4x64_pd::<0b11_00_01_10>(c);
+    [
+        _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(w0, w1), c),
+        _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(w1, c), w0),
+        _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(c, w0), w1),
+    ]
+}
+
+/// The first `4·k` pieces (whole groups that `src`, `weights`, `ub` and, if given,
+/// `boxes` all hold) of `weigh` for two dimensions, the function's in problem order
+/// or, with `swap`, the other way round (map `[1, 0]`): weights from `src` into
+/// `weights`, each piece's `maxVal` over `boxes` into `ub`. Returns
+/// `(4·k, the largest term scale, whether any term was NaN)`; with a NaN the largest
+/// is not the scalar's (which keeps the last NaN): the caller recomputes it.
+#[target_feature(enable = "avx2")]
+pub(crate) fn weigh2(
+    sc: &Scale2,
+    swap: bool,
+    src: &[f64],
+    weights: &mut [f64],
+    boxes: Option<&[i32]>,
+    ub: &mut [f64],
+) -> (usize, f64, bool) {
+    match swap {
+        false => weigh2_body::<false>(sc, src, weights, boxes, ub),
+        true => weigh2_body::<true>(sc, src, weights, boxes, ub),
+    }
+}
+
+/// [`weigh2`] for a constant `SWAP`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn weigh2_body<const SWAP: bool>(
+    sc: &Scale2,
+    src: &[f64],
+    weights: &mut [f64],
+    boxes: Option<&[i32]>,
+    ub: &mut [f64],
+) -> (usize, f64, bool) {
+    let mut groups = (src.len() / 12).min(weights.len() / 12);
+    if let Some(b) = boxes {
+        groups = groups.min(b.len() / 16).min(ub.len() / 4);
+    }
+    let pwt = _mm256_set1_pd(sc.pwt);
+    let (k0, k1) = (_mm256_set1_pd(sc.span[0]), _mm256_set1_pd(sc.span[1]));
+    let sign = _mm256_set1_pd(-0.0);
+    // In memory order, adding -0.0 leaves every slope as it is (-0.0 too); the
+    // intercepts get `shift`.
+    let (shift, scale) = sc.norm.unwrap_or((0.0, 1.0));
+    let z = -0.0;
+    let shifts = [
+        _mm256_setr_pd(z, z, shift, z),
+        _mm256_setr_pd(z, shift, z, z),
+        _mm256_setr_pd(shift, z, z, shift),
+    ];
+    let (shift, scale) = (_mm256_set1_pd(shift), _mm256_set1_pd(scale));
+    let slope = |x: __m256d| match sc.norm {
+        Some(_) => _mm256_mul_pd(_mm256_mul_pd(x, scale), pwt),
+        None => _mm256_mul_pd(x, pwt),
+    };
+    let (mut most, mut nan) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    for g in 0..groups {
+        let mut v = [_mm256_setzero_pd(); 3];
+        for (k, v) in v.iter_mut().enumerate() {
+            // SAFETY: group g < groups reads src[12g..12g+12].
+            *v = unsafe { _mm256_loadu_pd(src.as_ptr().add(12 * g + 4 * k)) };
+            if !SWAP {
+                *v = match sc.norm {
+                    Some(_) => {
+                        _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(*v, shifts[k]), scale), pwt)
+                    }
+                    None => _mm256_mul_pd(*v, pwt),
+                };
+            }
+        }
+        let [w0, w1, c] = if SWAP {
+            let [s0, s1, sc_] = spread3(v[0], v[1], v[2]);
+            let c = match sc.norm {
+                Some(_) => _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(sc_, shift), scale), pwt),
+                None => _mm256_mul_pd(sc_, pwt),
+            };
+            let w = [slope(s1), slope(s0), c];
+            v = gather3(w[0], w[1], w[2]);
+            w
+        } else {
+            spread3(v[0], v[1], v[2])
+        };
+        for (k, v) in v.iter().enumerate() {
+            // SAFETY: group g < groups writes weights[12g..12g+12].
+            unsafe { _mm256_storeu_pd(weights.as_mut_ptr().add(12 * g + 4 * k), *v) };
+        }
+        let t = _mm256_andnot_pd(sign, c);
+        let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w0), k0));
+        let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w1), k1));
+        most = _mm256_max_pd(t, most);
+        nan = _mm256_or_pd(nan, _mm256_cmp_pd::<_CMP_UNORD_Q>(t, t));
+        if let Some(b) = boxes {
+            // SAFETY: group g < groups reads b[16g..16g+16], writes ub[4g..4g+4].
+            let [l0, h0, l1, h1] = unsafe { bounds4(b.as_ptr().add(16 * g)) };
+            let top = _mm256_add_pd(c, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
+            let top = _mm256_add_pd(top, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
+            unsafe { _mm256_storeu_pd(ub.as_mut_ptr().add(4 * g), top) };
+        }
+    }
+    let mut x = [0.0f64; 4];
+    // SAFETY: 4 doubles into an array of 4.
+    unsafe { _mm256_storeu_pd(x.as_mut_ptr(), most) };
+    // No lane holds NaN or -0.0 (terms are sums of magnitudes): `max` is exact.
+    let top = x.iter().fold(0.0f64, |m, &t| if t > m { t } else { m });
+    (4 * groups, top, _mm256_movemask_pd(nan) != 0)
+}
