@@ -69,17 +69,22 @@ impl LastBits {
                 self.sets[(base + b[2 * d] as usize) * words + k / 64] |= bit;
                 self.sets[(base + p + b[2 * d + 1] as usize) * words + k / 64] |= bit;
             }
-            // "lo <= v" accumulates upwards, "hi >= v" downwards.
-            for v in 1..p {
-                for w in 0..words {
-                    let x = self.sets[(base + v - 1) * words + w];
-                    self.sets[(base + v) * words + w] |= x;
+            // "lo <= v" accumulates upwards, "hi >= v" downwards: a running OR per word,
+            // row by row (one load, OR and store per word; no index arithmetic to
+            // strength-reduce, so it stays cheap whatever the compiler inlines around it).
+            let (lo, hi) = self.sets[base * words..(base + 2 * p) * words].split_at_mut(p * words);
+            let mut acc = [0u64; WORDS];
+            for row in lo.chunks_exact_mut(words) {
+                for (a, x) in acc.iter_mut().zip(row) {
+                    *a |= *x;
+                    *x = *a;
                 }
             }
-            for v in (0..p.saturating_sub(1)).rev() {
-                for w in 0..words {
-                    let x = self.sets[(base + p + v + 1) * words + w];
-                    self.sets[(base + p + v) * words + w] |= x;
+            let mut acc = [0u64; WORDS];
+            for row in hi.chunks_exact_mut(words).rev() {
+                for (a, x) in acc.iter_mut().zip(row) {
+                    *a |= *x;
+                    *x = *a;
                 }
             }
         }
