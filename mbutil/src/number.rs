@@ -201,7 +201,52 @@ pub fn strip_quotes(s: &str) -> &str {
 /// assert_eq!(mbutil::parse_number("1e3"), None);
 /// ```
 pub fn parse_number(s: &str) -> Option<f64> {
+    if let Some(v) = plain_decimal(s.as_bytes()) {
+        return Some(v);
+    }
     is_number(s).then(|| atof(s))
+}
+
+/// Powers of ten that are exact doubles.
+const EXACT_POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// [`parse_number`]'s common case without the general parser: `[+-]digits[.digits]`,
+/// no blanks, whose digits make an integer `m <= 2^53` with `k <= 22` of them after the
+/// dot. Then `m` and `10^k` are exact doubles and one division rounds correctly
+/// (Clinger's fast path), so this is the correctly rounded value `atof` gives. `None`
+/// sends every other text (blanks, many digits, `--5`, `.`) down the general path.
+/// Node reports carry a dozen numbers each, from every contact, every second.
+fn plain_decimal(b: &[u8]) -> Option<f64> {
+    let (neg, digits) = match b.first()? {
+        b'-' => (true, &b[1..]),
+        b'+' => (false, &b[1..]),
+        _ => (false, b),
+    };
+    let mut m: u64 = 0;
+    let mut count = 0usize;
+    let mut dot = None;
+    for (i, &c) in digits.iter().enumerate() {
+        match c {
+            b'0'..=b'9' => {
+                count += 1;
+                if count > 19 {
+                    return None;
+                }
+                m = m * 10 + u64::from(c - b'0');
+            }
+            b'.' if dot.is_none() => dot = Some(i),
+            _ => return None,
+        }
+    }
+    let k = dot.map_or(0, |i| digits.len() - i - 1);
+    if count == 0 || m > 1 << 53 || k >= EXACT_POW10.len() {
+        return None;
+    }
+    let v = m as f64 / EXACT_POW10[k];
+    Some(if neg { -v } else { v })
 }
 
 /// MOOS-IvP booleans: `true/false/yes/no/on/off`, any case, blanks around ignored
@@ -311,6 +356,75 @@ mod tests {
         assert_eq!(parse_number(""), None);
         assert_eq!(strip_quotes("\"a b\""), "a b");
         assert_eq!(strip_quotes("\""), "\"");
+    }
+
+    /// The fast path gives what the number test and `atof` give, bit for bit, on texts
+    /// near its limits (digit counts around 15-20, 2^53, 22 decimals, signs, dots,
+    /// blanks and stray characters).
+    #[test]
+    fn plain_decimals_are_what_the_general_path_gives() {
+        let general = |s: &str| is_number(s).then(|| atof(s));
+        let mut seed = 7u64;
+        let mut next = move |n: u64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) % n
+        };
+        let mut fast = 0;
+        for _ in 0..200_000 {
+            let mut s = String::new();
+            match next(8) {
+                0 => s.push('-'),
+                1 => s.push('+'),
+                2 => s.push_str("--"),
+                3 => s.push(' '),
+                _ => {}
+            }
+            let whole = next(21);
+            for _ in 0..whole {
+                s.push(char::from(b'0' + next(10) as u8));
+            }
+            if next(3) > 0 {
+                s.push('.');
+                for _ in 0..next(25) {
+                    s.push(char::from(b'0' + next(10) as u8));
+                }
+            }
+            match next(12) {
+                0 => s.push('.'),
+                1 => s.push('e'),
+                2 => s.push(' '),
+                _ => {}
+            }
+            if plain_decimal(s.as_bytes()).is_some() {
+                fast += 1;
+            }
+            let (got, want) = (parse_number(&s), general(&s));
+            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{s:?}");
+        }
+        for s in [
+            "9007199254740992",
+            "9007199254740993",
+            "900719925474099.3",
+            "0.9007199254740993",
+            "1.0000000000000000000001",
+            "-0",
+            "-0.000",
+            "+.5",
+            "5.",
+            "0.1",
+            "43.82639681",
+            "-70.32899417",
+        ] {
+            assert_eq!(
+                parse_number(s).map(f64::to_bits),
+                general(s).map(f64::to_bits),
+                "{s:?}"
+            );
+        }
+        // Most of the random texts took the fast path, so it was tested.
+        assert!(fast > 50_000, "{fast}");
     }
 
     #[test]
