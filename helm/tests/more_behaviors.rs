@@ -3,9 +3,6 @@
 //! MOOS-IvP distribution's missions load without a problem, and bad values are refused
 //! with the `.bhv` file and line.
 
-use std::path::Path;
-use std::process::Command;
-
 mod common;
 
 const PACKAGES: [&str; 3] = ["bhv-depth", "bhv-survey", "bhv-visuals"];
@@ -109,20 +106,7 @@ Behavior = BHV_LegRun
 "#;
 
 fn check(name: &str, bhv: &str) -> (i32, String, String) {
-    let built = common::build_plugins(&PACKAGES);
-    let libs = common::lib_folder(&built, &PACKAGES, "more-behaviors-libs");
-    let d = common::scratch(Path::new("more_behaviors").join(name));
-    std::fs::write(d.join("m.moos"), MISSION).expect("write mission");
-    std::fs::write(d.join("m.bhv"), bhv).expect("write bhv");
-    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
-        .arg("check")
-        .arg(d.join("m.moos"))
-        .env("IVP_BEHAVIOR_DIRS", &libs)
-        .env("IVP_HELM_BUNDLED_DIR", "")
-        .output()
-        .expect("run helm");
-    let path = d.join("m.bhv").display().to_string();
-    (out.status.code().unwrap_or(-1), common::text(&out), path)
+    common::check_bhv("more_behaviors", &PACKAGES, name, MISSION, bhv)
 }
 
 #[test]

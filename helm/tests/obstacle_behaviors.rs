@@ -6,9 +6,6 @@
 //! s1_alpha_obstaclemgr write them, are refused at configuration with the real helm's
 //! four deprecation lines, naming BHV_AvoidObstacleV24.
 
-use std::path::Path;
-use std::process::Command;
-
 mod common;
 
 const PACKAGES: [&str; 1] = ["bhv-obstacle"];
@@ -82,25 +79,7 @@ const PLAIN_BLOCK: &str = r#"Behavior = BHV_AvoidObstacle
 "#;
 
 fn check(name: &str, bhv: &str) -> (i32, String, String) {
-    // Built and copied once: a copy rewrites the library while another test's helm may
-    // be loading it.
-    static LIBS: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
-    let libs = LIBS.get_or_init(|| {
-        let built = common::build_plugins(&PACKAGES);
-        common::lib_folder(&built, &PACKAGES, "obstacle-behaviors-libs")
-    });
-    let d = common::scratch(Path::new("obstacle_behaviors").join(name));
-    std::fs::write(d.join("m.moos"), MISSION).expect("write mission");
-    std::fs::write(d.join("m.bhv"), bhv).expect("write bhv");
-    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
-        .arg("check")
-        .arg(d.join("m.moos"))
-        .env("IVP_BEHAVIOR_DIRS", libs)
-        .env("IVP_HELM_BUNDLED_DIR", "")
-        .output()
-        .expect("run helm");
-    let path = d.join("m.bhv").display().to_string();
-    (out.status.code().unwrap_or(-1), common::text(&out), path)
+    common::check_bhv("obstacle_behaviors", &PACKAGES, name, MISSION, bhv)
 }
 
 #[test]

@@ -214,6 +214,45 @@ pub fn lib_folder(built: &Path, packages: &[&str], folder: &str) -> PathBuf {
     only
 }
 
+/// `helm check` of a mission (`moos`, whose behavior file is `m.bhv`) with `bhv` as its
+/// behavior file and the behavior libraries of `packages`, in the scratch folder
+/// `<group>/<name>`: the exit code, the output, and the `.bhv` path (for file:line
+/// messages). The libraries are built and copied into `<group>-libs` once per test
+/// binary: a second copy would rewrite a library another test's helm may be loading.
+pub fn check_bhv(
+    group: &str,
+    packages: &[&str],
+    name: &str,
+    moos: &str,
+    bhv: &str,
+) -> (i32, String, String) {
+    static LIBS: std::sync::Mutex<Vec<(String, PathBuf)>> = std::sync::Mutex::new(Vec::new());
+    let libs = {
+        let mut known = LIBS.lock().unwrap_or_else(|e| e.into_inner());
+        match known.iter().find(|(g, _)| g == group) {
+            Some((_, dir)) => dir.clone(),
+            None => {
+                let folder = format!("{}-libs", group.replace('_', "-"));
+                let dir = lib_folder(&build_plugins(packages), packages, &folder);
+                known.push((group.to_string(), dir.clone()));
+                dir
+            }
+        }
+    };
+    let d = scratch(Path::new(group).join(name));
+    std::fs::write(d.join("m.moos"), moos).expect("write mission");
+    std::fs::write(d.join("m.bhv"), bhv).expect("write bhv");
+    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .arg("check")
+        .arg(d.join("m.moos"))
+        .env("IVP_BEHAVIOR_DIRS", &libs)
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .output()
+        .expect("run helm");
+    let path = d.join("m.bhv").display().to_string();
+    (out.status.code().unwrap_or(-1), text(&out), path)
+}
+
 /// A golden case (the conformance format) named `name`: `bhv` in drive with course and
 /// speed domains, then `steps` iterations 0.25 s apart from 1000 s, each mailed zero
 /// navigation and the mail entries `extra` gives for its step (TOML text, each entry
