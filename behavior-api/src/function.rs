@@ -204,6 +204,18 @@ impl FunctionData {
         .map_err(rejected)
     }
 
+    /// The domain of a function over the helm's variables `vars` (what
+    /// [`FunctionData::helm_vars_into`] found), or why it is rejected: for a host that
+    /// reads the function's buffers in place instead of [`FunctionData::copy_placed`].
+    pub fn placed_domain(helm: &ivp::Domain, vars: &[usize]) -> Result<ivp::Domain, String> {
+        placed_domain(helm, vars)
+    }
+
+    /// What [`FunctionData::copy_placed`] says of buffers failing `e`'s check.
+    pub fn rejection(e: ivp::IvpError) -> String {
+        rejected(e)
+    }
+
     /// The library's side of [`FunctionData::copy_placed`]: this function's buffers and
     /// domain text go back into the spare storage of the thread (and library) that
     /// built it, where [`FunctionData::from_ivp`] and the `ivp` builders take them.

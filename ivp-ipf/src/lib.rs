@@ -162,6 +162,31 @@ pub fn encode_weight(w: f64, out: &mut String) {
     Utf8Out::new(out).weight(w);
 }
 
+/// What BHV_IPF shows of a function, borrowed, in [`IvpFunction`]'s layout: an owned
+/// function's (see `From`) or a host's view of a plugin's buffers, read in place.
+#[derive(Clone, Copy, Debug)]
+pub struct IpfSource<'a> {
+    pub context: &'a str,
+    pub domain: &'a ivp::Domain,
+    pub pwt: f64,
+    pub gelbox: &'a [u32],
+    pub bounds: &'a [i32],
+    pub weights: &'a [f64],
+}
+
+impl<'a> From<&'a IvpFunction> for IpfSource<'a> {
+    fn from(f: &'a IvpFunction) -> Self {
+        IpfSource {
+            context: f.context(),
+            domain: f.domain(),
+            pwt: f.pwt(),
+            gelbox: f.gelbox(),
+            bounds: f.bounds(),
+            weights: f.weights(),
+        }
+    }
+}
+
 /// BHV_IPF whole-function string (spec §9.1).
 pub fn encode(f: &IvpFunction) -> String {
     let mut s = String::new();
@@ -172,22 +197,28 @@ pub fn encode(f: &IvpFunction) -> String {
 /// BHV_IPF whole-function string (spec §9.1) written into `s` (cleared first), whose
 /// allocation is kept: the decision step reuses one string for every function.
 pub fn encode_into(f: &IvpFunction, s: &mut String) {
+    encode_source_into(IpfSource::from(f), s);
+}
+
+/// [`encode_into`] from borrowed parts (e.g. a plugin's buffers read in place).
+pub fn encode_source_into(f: IpfSource<'_>, s: &mut String) {
     s.clear();
-    let dim = f.dim();
+    let dim = f.domain.size();
+    let pieces = f.weights.len() / (dim + 1);
     s.push_str("H,");
-    s.push_str(itoa::Buffer::new().format(f.context().chars().count()));
+    s.push_str(itoa::Buffer::new().format(f.context.chars().count()));
     s.push(',');
-    s.push_str(f.context());
+    s.push_str(f.context);
     s.push(',');
     s.push_str(itoa::Buffer::new().format(dim));
     s.push(',');
-    s.push_str(itoa::Buffer::new().format(f.piece_count()));
+    s.push_str(itoa::Buffer::new().format(pieces));
     s.push_str(",1,");
-    push_compact(s, f.pwt());
+    push_compact(s, f.pwt);
     s.push_str(",D,");
-    f.domain().write_ipf(s);
+    f.domain.write_ipf(s);
     s.push_str(",G");
-    for &g in f.gelbox() {
+    for &g in f.gelbox {
         s.push(',');
         s.push_str(itoa::Buffer::new().format(g));
     }
@@ -197,14 +228,14 @@ pub fn encode_into(f: &IvpFunction, s: &mut String) {
     }
     let mut out = Utf8Out::new(s);
     // Generous: growing a string of thousands of pieces copies it each time.
-    out.reserve(f.piece_count() * (dim * 12 + (dim + 1) * 10));
+    out.reserve(pieces * (dim * 12 + (dim + 1) * 10));
     // Pieces are formatted on the stack and appended a batch at a time: no capacity
     // check per character, one per number.
     let mut text = PieceText::new();
     let pieces = f
-        .bounds()
+        .bounds
         .chunks_exact(2 * dim)
-        .zip(f.weights().chunks_exact(dim + 1));
+        .zip(f.weights.chunks_exact(dim + 1));
     for (bounds, weights) in pieces {
         for &b in bounds {
             text.make_room(&mut out);
@@ -540,7 +571,12 @@ impl IpfWriter {
     /// `f` as behavior `name`'s function of iteration `iter` (packet id `name^iter`),
     /// ready to be written packet by packet.
     pub fn packets(&mut self, f: &IvpFunction, name: &str, iter: u64) -> Packets<'_> {
-        encode_into(f, &mut self.whole);
+        self.source_packets(f.into(), name, iter)
+    }
+
+    /// [`IpfWriter::packets`] from borrowed parts.
+    pub fn source_packets(&mut self, f: IpfSource<'_>, name: &str, iter: u64) -> Packets<'_> {
+        encode_source_into(f, &mut self.whole);
         self.id.clear();
         self.id.push_str(name);
         self.id.push('^');

@@ -34,9 +34,12 @@ mod last_index;
 mod prepared;
 mod search;
 mod setup;
+mod view;
 mod weigh;
 #[cfg(target_arch = "x86_64")]
 mod weigh_simd;
+
+pub use view::{CheckedFunction, FunctionView, PieceBuffers};
 #[cfg(test)]
 use {
     last_index::NO_CELL,
@@ -83,6 +86,8 @@ pub struct Solver {
     boxes_buf: Vec<&'static [i32]>,
     /// The allocation of each solve's list of bound terms, kept empty between solves.
     terms_buf: Vec<Term<'static>>,
+    /// The allocation of the views the `&[&IvpFunction]` entry points solve.
+    views_buf: Vec<FunctionView<'static>>,
     /// Last solve: (seeded, searched again unseeded, last bit sets on), for the tests.
     #[cfg(test)]
     stats: (usize, usize, usize),
@@ -91,6 +96,12 @@ pub struct Solver {
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
 /// in place, so the buffer is kept and nothing of the old borrows remains.
 fn recycle_slices<'b>(mut v: Vec<&[i32]>) -> Vec<&'b [i32]> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("cleared")).collect()
+}
+
+/// [`recycle_slices`] for a list of function views.
+fn recycle_views<'b>(mut v: Vec<FunctionView<'_>>) -> Vec<FunctionView<'b>> {
     v.clear();
     v.into_iter().map(|_| unreachable!("cleared")).collect()
 }
@@ -130,6 +141,21 @@ impl Solver {
         functions: &[&IvpFunction],
         out: &mut Decision,
     ) -> Result<bool, IvpError> {
+        let mut views = recycle_views(std::mem::take(&mut self.views_buf));
+        views.extend(functions.iter().map(|&f| FunctionView::from(f)));
+        let found = self.solve_views_into(helm_domain, &views, out);
+        self.views_buf = recycle_views(views);
+        found
+    }
+
+    /// As [`Solver::solve_into`] over functions read in place (e.g. a plugin's
+    /// buffers, see [`CheckedFunction`]).
+    pub fn solve_views_into(
+        &mut self,
+        helm_domain: &Domain,
+        functions: &[FunctionView<'_>],
+        out: &mut Decision,
+    ) -> Result<bool, IvpError> {
         self.used.clear();
         for f in functions {
             for v in f.domain().vars() {
@@ -160,7 +186,8 @@ impl Solver {
         self.prob_to_helm.clear();
         self.prob_to_helm.extend(0..problem.size());
         let mut d = Decision::default();
-        Ok(if self.run(problem, functions, &mut d)? {
+        let views: Vec<FunctionView<'_>> = functions.iter().map(|&f| f.into()).collect();
+        Ok(if self.run(problem, &views, &mut d)? {
             Some(d)
         } else {
             None
@@ -170,7 +197,7 @@ impl Solver {
     fn run(
         &mut self,
         helm: &Domain,
-        functions: &[&IvpFunction],
+        functions: &[FunctionView<'_>],
         out: &mut Decision,
     ) -> Result<bool, IvpError> {
         out.values.clear();

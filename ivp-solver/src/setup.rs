@@ -15,7 +15,7 @@ impl Solver {
     pub(super) fn prepare(
         &mut self,
         fi: usize,
-        f: &IvpFunction,
+        f: &FunctionView<'_>,
         helm: &Domain,
         dim: usize,
         first: bool,

@@ -162,7 +162,7 @@ fn solver_min_max_wt_equals_the_functions() {
     let mut seed = 7u64;
     for round in 0..600 {
         let f = random_function(&doms[round % doms.len()], &mut seed);
-        let (a, b) = min_max_wt(&f);
+        let (a, b) = min_max_wt(&FunctionView::from(&f));
         let (c, d) = f.min_max_wt();
         assert_eq!((a.to_bits(), b.to_bits()), (c.to_bits(), d.to_bits()));
     }
@@ -276,4 +276,115 @@ fn last_index_bounds_equal_the_clipped_max_val_fold() {
         }
     }
     assert!(cells_checked > 1000, "{cells_checked}");
+}
+
+/// Functions read in place from buffers of their own (as a plugin's are, over a domain
+/// made apart) give the decisions of the owned functions, bit for bit.
+#[test]
+fn views_of_copied_buffers_solve_like_the_functions() {
+    let helm = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+    let subs = [
+        helm.clone(),
+        helm.sub_domain(&["course"]),
+        helm.sub_domain(&["speed"]),
+    ];
+    let mut seed = 5u64;
+    let (mut owned, mut viewed) = (Solver::new(), Solver::new());
+    let (mut want, mut got) = (Decision::default(), Decision::default());
+    for round in 0..200 {
+        let m = 1 + rng(&mut seed) as usize % 4;
+        let fs: Vec<IvpFunction> = (0..m)
+            .map(|k| random_function(&subs[(round + k) % subs.len()], &mut seed))
+            .collect();
+        // Every buffer copied, every domain rebuilt: nothing shared with `fs`.
+        let parts: Vec<_> = fs
+            .iter()
+            .map(|f| {
+                let d = Domain::from_vars(f.domain().vars().to_vec()).unwrap();
+                let b = (
+                    f.bounds().to_vec(),
+                    f.weights().to_vec(),
+                    f.gelbox().to_vec(),
+                );
+                (d, b, f.grid_bounds().to_vec(), f.pwt())
+            })
+            .collect();
+        let views: Vec<FunctionView<'_>> = parts
+            .iter()
+            .map(|(d, (b, w, g), grid, pwt)| FunctionView::checked(d, b, w, g, grid, *pwt).unwrap())
+            .collect();
+        let refs: Vec<&IvpFunction> = fs.iter().collect();
+        let a = owned.solve_into(&helm, &refs, &mut want).unwrap();
+        let b = viewed.solve_views_into(&helm, &views, &mut got).unwrap();
+        assert_eq!((a, &want.indices), (b, &got.indices), "round {round}");
+        assert_eq!(
+            want.utility.to_bits(),
+            got.utility.to_bits(),
+            "round {round}"
+        );
+    }
+}
+
+/// Buffers broken one way or another are rejected by [`CheckedFunction`] exactly when
+/// `IvpFunction::from_buffers` rejects them, with the same error; good ones read back
+/// as they were given.
+#[test]
+fn checked_functions_reject_what_owned_functions_reject() {
+    struct Parts(Vec<i32>, Vec<f64>, Vec<u32>, Vec<f64>);
+    impl PieceBuffers for Parts {
+        fn bounds(&self) -> &[i32] {
+            &self.0
+        }
+        fn weights(&self) -> &[f64] {
+            &self.1
+        }
+        fn gelbox(&self) -> &[u32] {
+            &self.2
+        }
+        fn grid(&self) -> &[f64] {
+            &self.3
+        }
+        fn pwt(&self) -> f64 {
+            2.0
+        }
+    }
+    let dom = std::sync::Arc::new(Domain::parse("x:0:9:10,y:0:6:7").unwrap());
+    let mut seed = 9u64;
+    for round in 0..500 {
+        let f = random_function(&dom, &mut seed);
+        let mut p = Parts(
+            f.bounds().to_vec(),
+            f.weights().to_vec(),
+            f.gelbox().to_vec(),
+            f.grid_bounds().to_vec(),
+        );
+        match round % 6 {
+            0 => p.0[1] = 10,
+            1 => p.0[0] = -1,
+            2 => {
+                p.1.pop();
+            }
+            3 => p.2.push(1),
+            4 => p.3.push(0.5),
+            _ => {}
+        }
+        let owned = IvpFunction::from_buffers(
+            (*dom).clone(),
+            p.0.clone(),
+            p.1.clone(),
+            p.2.clone(),
+            p.3.clone(),
+            2.0,
+        );
+        match (CheckedFunction::new(p, dom.clone()), owned) {
+            (Ok(c), Ok(o)) => {
+                let v = c.view();
+                assert_eq!((v.bounds(), v.weights()), (o.bounds(), o.weights()));
+                assert_eq!((v.gelbox(), v.grid_bounds()), (o.gelbox(), o.grid_bounds()));
+                assert_eq!((v.piece_count(), v.pwt()), (o.piece_count(), o.pwt()));
+            }
+            (Err((_, a)), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+            (c, o) => panic!("round {round}: checked {} but owned {o:?}", c.is_ok()),
+        }
+    }
 }

@@ -10,8 +10,8 @@
 
 #[cfg(target_arch = "x86_64")]
 use crate::weigh_simd::{extremes2, weigh2, Scale2};
+use crate::FunctionView;
 use ivp::function::max_val;
-use ivp::IvpFunction;
 
 /// How a function's weights become the problem's (see [`weigh`]).
 pub(crate) struct Weighing<'a> {
@@ -200,13 +200,15 @@ pub(crate) fn term(w: &[f64], pts: &[i32]) -> f64 {
     t
 }
 
-/// [`IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
+/// [`ivp::IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
 /// dimensions: each accumulates the same terms in the same order, and the pieces are
 /// compared in the same order, so the values are the same bit for bit.
-pub(crate) fn min_max_wt(f: &IvpFunction) -> (f64, f64) {
+pub(crate) fn min_max_wt(f: &FunctionView<'_>) -> (f64, f64) {
     let (od, b, w) = (f.dim(), f.bounds(), f.weights());
     if od == 0 || f.piece_count() == 0 || b.len() < 2 * od || w.len() < od + 1 {
-        return f.min_max_wt();
+        // No piece (a checked function over no variable has none): what
+        // `IvpFunction::min_max_wt` gives then.
+        return (0.0, 0.0);
     }
     let simd = avx2();
     match od {

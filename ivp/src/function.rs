@@ -284,19 +284,9 @@ impl IvpFunction {
     /// Rebuild from raw parts (validated; the buffers are moved in, not copied).
     pub fn from_raw_parts(raw: RawFunction) -> Result<IvpFunction, IvpError> {
         let domain = Domain::from_vars(raw.vars)?;
-        let mut f = Self::from_flat(domain, raw.bounds, raw.weights, raw.gelbox)?;
-        f.pwt = raw.pwt;
+        let (b, w, g) = (raw.bounds, raw.weights, raw.gelbox);
+        let mut f = Self::from_buffers(domain, b, w, g, raw.grid, raw.pwt)?;
         f.context = raw.context;
-        if !raw.grid.is_empty() {
-            let cells = grid_total(&f.domain, &f.gelbox);
-            if raw.grid.len() != cells {
-                return Err(IvpError::Invalid {
-                    param: "grid".into(),
-                    reason: format!("needs {cells} cell bounds"),
-                });
-            }
-            f.grid = raw.grid;
-        }
         Ok(f)
     }
 
@@ -506,10 +496,6 @@ impl IvpFunction {
     pub fn context_mut(&mut self) -> &mut String {
         &mut self.context
     }
-    /// True if any weight is NaN.
-    pub fn has_nan(&self) -> bool {
-        self.weights.iter().any(|w| w.is_nan())
-    }
 
     /// Translate into `target` (spec §2.3): dimensions move to the same-named
     /// target variable; new dimensions get the full interval and slope 0.
@@ -604,6 +590,7 @@ mod reuse;
 
 pub(crate) use grid::grid_dim;
 use grid::grid_total;
+pub use layout::check_buffers;
 use layout::check_layout;
 
 #[cfg(test)]

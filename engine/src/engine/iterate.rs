@@ -1,5 +1,10 @@
 //! One helm iteration (helm.md §6), the decision (§7) and the all-stop logic (§9).
 
+use std::sync::Arc;
+
+use behavior_api::FunctionData;
+use ivp_solver::{CheckedFunction, FunctionView, PieceBuffers};
+
 use super::{Helm, HelmState};
 use crate::posting::{Posting, Value};
 use crate::runtime::step;
@@ -273,14 +278,9 @@ impl Helm {
             if let Some(fd) = outcome.function {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
                 match place(&mut self.behaviors[i].core, fd, &self.config.domain) {
-                    Ok(mut f) => {
+                    Ok(f) => {
                         // BHV_IPF shows the function before normalization, pwt apart.
-                        let context = f.context_mut();
-                        context.clear();
-                        mbutil::push_u64(context, iter);
-                        context.push(':');
-                        context.push_str(&name);
-                        self.post_ipf(i, &f, &name, iter);
+                        self.post_ipf(i, f.view(), &name, iter);
                         self.functions.push((name, f));
                     }
                     Err(msg) => {
@@ -320,28 +320,41 @@ impl Helm {
         let solving = std::time::Instant::now();
         self.functions
             .sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
-        // The list of references lives in last iteration's allocation.
-        let mut refs = reuse_refs(std::mem::take(&mut self.function_refs));
-        refs.extend(self.functions.iter().map(|(_, f)| f));
+        // The list of views lives in last iteration's allocation.
+        let mut views = reuse_views(std::mem::take(&mut self.function_refs));
+        views.extend(self.functions.iter().map(|(_, f)| f.view()));
         match self
             .solver
-            .solve_into(&self.config.domain, &refs, &mut self.decision)
+            .solve_views_into(&self.config.domain, &views, &mut self.decision)
         {
             Ok(found) => summary.solved = found,
             Err(e) => summary.halted = Some(e.to_string()),
         }
-        self.function_refs = reuse_refs(refs);
+        self.function_refs = reuse_views(views);
         summary.solve_secs = solving.elapsed().as_secs_f64();
         summary
     }
 
     /// BHV_IPF (behavior-common.md §4 step 10.7): the function serialised into packets,
     /// queued as the behavior's messages; every string is a reused one.
-    fn post_ipf(&mut self, i: usize, f: &ivp::IvpFunction, name: &str, iter: u64) {
+    fn post_ipf(&mut self, i: usize, f: FunctionView<'_>, name: &str, iter: u64) {
         if self.ipf_off {
             return;
         }
-        let packets = self.ipf.packets(f, name, iter);
+        // The function's context is `iteration:behavior`.
+        let mut context = self.pool.take();
+        mbutil::push_u64(&mut context, iter);
+        context.push(':');
+        context.push_str(name);
+        let source = ivp_ipf::IpfSource {
+            context: &context,
+            domain: f.domain(),
+            pwt: f.pwt(),
+            gelbox: f.gelbox(),
+            bounds: f.bounds(),
+            weights: f.weights(),
+        };
+        let packets = self.ipf.source_packets(source, name, iter);
         for k in 1..=packets.count() {
             let mut p = self.pool.take_long();
             packets.write(k, &mut p);
@@ -352,6 +365,7 @@ impl Helm {
             };
             self.behaviors[i].core.messages.push(message);
         }
+        self.pool.give(context);
     }
 
     /// §9.1: all-stop or the decision.
@@ -435,9 +449,9 @@ impl Helm {
     }
 }
 
-/// An empty list of function references in `v`'s allocation (the solver's input is
+/// An empty list of function views in `v`'s allocation (the solver's input is
 /// rebuilt every iteration; collecting in place keeps the buffer).
-fn reuse_refs<'b>(mut v: Vec<&ivp::IvpFunction>) -> Vec<&'b ivp::IvpFunction> {
+fn reuse_views<'b>(mut v: Vec<FunctionView<'_>>) -> Vec<FunctionView<'b>> {
     v.clear();
     v.into_iter().map(|_| unreachable!("cleared")).collect()
 }
@@ -462,27 +476,135 @@ pub(crate) fn typed(s: &str) -> Value {
     }
 }
 
+/// A behavior's function of this iteration: made by the host (built-in behaviors), or
+/// a library's, read in place where the library built it until the next decision hands
+/// it back (copying it would cost more than the solve of a big one).
+pub(crate) enum HelmFunction {
+    Owned(ivp::IvpFunction),
+    Library(
+        CheckedFunction<LibraryFunction>,
+        Option<behavior_api::FunctionRecycler>,
+    ),
+}
+
+/// A library's function as it crossed the ABI, read in place.
+#[derive(Debug)]
+pub(crate) struct LibraryFunction(FunctionData);
+
+impl PieceBuffers for LibraryFunction {
+    fn bounds(&self) -> &[i32] {
+        &self.0.bounds
+    }
+    fn weights(&self) -> &[f64] {
+        &self.0.weights
+    }
+    fn gelbox(&self) -> &[u32] {
+        &self.0.gelbox
+    }
+    fn grid(&self) -> &[f64] {
+        &self.0.grid
+    }
+    fn pwt(&self) -> f64 {
+        self.0.pwt
+    }
+}
+
+impl HelmFunction {
+    pub(crate) fn view(&self) -> FunctionView<'_> {
+        match self {
+            HelmFunction::Owned(f) => f.into(),
+            HelmFunction::Library(f, _) => f.view(),
+        }
+    }
+
+    pub(crate) fn piece_count(&self) -> usize {
+        self.view().piece_count()
+    }
+
+    /// Storage back to whoever made it: the host's spares, or the library's next build
+    /// (a library older than the recycler frees it here, through its own allocator).
+    fn recycle(self) {
+        match self {
+            HelmFunction::Owned(f) => f.recycle(),
+            HelmFunction::Library(f, give_back) => hand_back(f.into_parts().0, give_back),
+        }
+    }
+}
+
+fn hand_back(fd: FunctionData, give_back: Option<behavior_api::FunctionRecycler>) {
+    if let Some(give_back) = give_back {
+        give_back(fd);
+    }
+}
+
+thread_local! {
+    /// Domains of library functions, made once per set of helm variables (the helms of
+    /// a thread share them; one is found by its variables, so any helm domain fits).
+    static PLACED: std::cell::RefCell<Vec<Arc<ivp::Domain>>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The domain of a function over the helm's variables `vars`, shared, or why the
+/// function is rejected.
+fn placed_domain(helm: &ivp::Domain, vars: &[usize]) -> Result<Arc<ivp::Domain>, String> {
+    let fits = |d: &ivp::Domain| {
+        d.size() == vars.len()
+            && vars
+                .iter()
+                .enumerate()
+                .all(|(k, &i)| i < helm.size() && d.var(k) == helm.var(i))
+    };
+    let found = PLACED
+        .try_with(|p| p.borrow().iter().find(|d| fits(d)).cloned())
+        .ok()
+        .flatten();
+    if let Some(d) = found {
+        return Ok(d);
+    }
+    let d = Arc::new(FunctionData::placed_domain(helm, vars)?);
+    let _ = PLACED.try_with(|p| {
+        let mut p = p.borrow_mut();
+        if p.len() >= 64 {
+            p.remove(0);
+        }
+        p.push(Arc::clone(&d));
+    });
+    Ok(d)
+}
+
 /// A behavior's function on the helm domain. Its domain text is parsed and checked
 /// against the helm's grid only when it differs from the behavior's previous one (a
 /// behavior's domain rarely changes, and the text's numbers are slow to read).
 fn place(
     core: &mut crate::runtime::BehaviorCore,
-    fd: behavior_api::FunctionData,
+    fd: FunctionData,
     helm: &ivp::Domain,
-) -> Result<ivp::IvpFunction, String> {
+) -> Result<HelmFunction, String> {
     if core.placed_domain != fd.domain.as_str() {
         core.placed_domain.clear();
         fd.helm_vars_into(helm, &mut core.placed_vars)?;
         core.placed_domain.push_str(fd.domain.as_str());
     }
     if !core.from_library {
-        return fd.place_with(helm, &core.placed_vars, false);
+        return fd
+            .place_with(helm, &core.placed_vars, false)
+            .map(HelmFunction::Owned);
     }
-    // A library's buffers are copied, then handed back for its next build: moving them
-    // in would free them here and make the library allocate anew every iteration.
-    let placed = fd.copy_placed(helm, &core.placed_vars);
-    if let Some(give_back) = core.recycler {
-        give_back(fd);
+    // A library's buffers are read where they are, then handed back for its next build
+    // (moving them in would free them here and make the library allocate anew).
+    let give_back = core.recycler;
+    let domain = match placed_domain(helm, &core.placed_vars) {
+        Ok(d) => d,
+        Err(msg) => {
+            hand_back(fd, give_back);
+            return Err(msg);
+        }
+    };
+    match CheckedFunction::new(LibraryFunction(fd), domain) {
+        Ok(f) => Ok(HelmFunction::Library(f, give_back)),
+        Err((LibraryFunction(fd), e)) => {
+            hand_back(fd, give_back);
+            Err(FunctionData::rejection(e))
+        }
     }
-    placed
 }

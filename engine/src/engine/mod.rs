@@ -99,7 +99,7 @@ pub struct Helm {
     pub(crate) life_events: Vec<String>,
     pub(crate) turn_samples: Vec<(f64, f64)>,
     /// Functions of this iteration (behavior name, function), reused across iterations.
-    pub(crate) functions: Vec<(String, ivp::IvpFunction)>,
+    pub(crate) functions: Vec<(String, iterate::HelmFunction)>,
     /// Time spent in the engine's decision step (what the C++ timing measures), and count.
     pub(crate) decide_time: std::time::Duration,
     pub(crate) decide_count: u64,
@@ -139,7 +139,7 @@ pub struct Helm {
     /// Scratch for a contact report's info-buffer variable names.
     pub(crate) report_var: String,
     /// The solver's list of this iteration's functions, kept for its allocation.
-    pub(crate) function_refs: Vec<&'static ivp::IvpFunction>,
+    pub(crate) function_refs: Vec<ivp_solver::FunctionView<'static>>,
 }
 
 impl Helm {

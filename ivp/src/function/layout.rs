@@ -1,8 +1,32 @@
 //! The layout check of a function's pieces (every function that crosses the plugin ABI
 //! goes through it).
 
+use super::grid_total;
 use crate::domain::Domain;
 use crate::error::IvpError;
+
+/// [`crate::IvpFunction::from_buffers`]'s check, for buffers read in place (a plugin's).
+pub fn check_buffers(
+    domain: &Domain,
+    bounds: &[i32],
+    weights: &[f64],
+    gelbox: &[u32],
+    grid: &[f64],
+) -> Result<(), IvpError> {
+    check_layout(domain, bounds, weights, gelbox)?;
+    let cells = if grid.is_empty() {
+        0
+    } else {
+        grid_total(domain, gelbox)
+    };
+    if grid.len() != cells {
+        return Err(IvpError::Invalid {
+            param: "grid".into(),
+            reason: format!("needs {cells} cell bounds"),
+        });
+    }
+    Ok(())
+}
 
 pub(super) fn check_layout(
     domain: &Domain,

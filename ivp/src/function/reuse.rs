@@ -2,7 +2,7 @@
 //! them (issue 19: a helm iteration allocates nothing in steady state), kept per
 //! thread in `mbutil::spare` (domains in `crate::domain`).
 
-use super::{grid_total, IvpFunction};
+use super::{check_buffers, grid_total, IvpFunction};
 use crate::domain::Domain;
 use crate::error::IvpError;
 use mbutil::spare;
@@ -40,20 +40,10 @@ impl IvpFunction {
         grid: Vec<f64>,
         pwt: f64,
     ) -> Result<IvpFunction, IvpError> {
-        let mut f = Self::from_flat(domain, bounds, weights, gelbox)?;
-        f.pwt = pwt;
-        f.context = spare::string();
-        if !grid.is_empty() {
-            let cells = grid_total(&f.domain, &f.gelbox);
-            if grid.len() != cells {
-                return Err(IvpError::Invalid {
-                    param: "grid".into(),
-                    reason: format!("needs {cells} cell bounds"),
-                });
-            }
-            f.grid = grid;
-        }
-        Ok(f)
+        check_buffers(&domain, &bounds, &weights, &gelbox, &grid)?;
+        let context = spare::string();
+        let f = Self::of_parts(domain, bounds, weights, gelbox, grid);
+        Ok(IvpFunction { pwt, context, ..f })
     }
 
     /// Unchecked constructor for builders of this crate (layout is correct by
