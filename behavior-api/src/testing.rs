@@ -285,17 +285,26 @@ fn refill(out: &mut RString, text: &str) {
 }
 
 /// A global allocator for a profiling binary or test of a behavior: the system
-/// allocator, counting allocations and reallocations ([`allocations`]), so one can see
-/// whether a build allocates in steady state. Install it in the binary:
+/// allocator, counting allocations and reallocations per thread ([`allocations`]), so
+/// one can see whether a build allocates in steady state. Install it in the binary:
 /// `#[global_allocator] static GLOBAL: CountingAlloc = CountingAlloc;`
 pub struct CountingAlloc;
 
-static ALLOCATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+thread_local! {
+    /// This thread's count. Per thread, so that what the test harness's own thread
+    /// allocates meanwhile (it may run late on a loaded machine) is not counted.
+    static ALLOCATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
 
-/// Allocations and reallocations so far through [`CountingAlloc`] (0 when it is not the
-/// global allocator).
+/// Allocations and reallocations so far on this thread through [`CountingAlloc`] (0
+/// when it is not the global allocator).
 pub fn allocations() -> usize {
-    ALLOCATIONS.load(std::sync::atomic::Ordering::Relaxed)
+    ALLOCATIONS.try_with(std::cell::Cell::get).unwrap_or(0)
+}
+
+fn count_one() {
+    // A thread being torn down has no count left to keep.
+    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
 }
 
 impl MockHelm {
@@ -333,7 +342,7 @@ pub fn fnv(hash: &mut u64, text: &str) {
 // SAFETY: every call is passed on to the system allocator unchanged.
 unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
     unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        count_one();
         // SAFETY: the caller's contract, passed on.
         unsafe { std::alloc::System.alloc(layout) }
     }
@@ -342,7 +351,7 @@ unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
         unsafe { std::alloc::System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        count_one();
         // SAFETY: the caller's contract, passed on.
         unsafe { std::alloc::System.realloc(ptr, layout, new_size) }
     }
