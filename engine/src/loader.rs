@@ -98,6 +98,28 @@ fn is_library(p: &Path) -> bool {
         .is_some_and(|e| e == "so" || e == "dylib" || e == "dll")
 }
 
+/// Libraries this process has opened, by path. A fleet's every vehicle loads the same
+/// ones, and abi_stable's layout check walks every type of the ABI each time (about
+/// 2.6 M instructions a library, a tenth of a second for ten vehicles). A library stays
+/// loaded for the life of the process, and the system would hand back the loaded one
+/// for the same path anyway, so the module found the first time is the answer.
+static OPENED: std::sync::Mutex<Vec<(PathBuf, Module)>> = std::sync::Mutex::new(Vec::new());
+
+/// [`load_one`], once per path and process (refusals are not kept: they are rare, and
+/// the file may be mended).
+fn load_once(path: &Path) -> Result<Module, String> {
+    let opened = || OPENED.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(&(_, module)) = opened().iter().find(|(p, _)| p == path) {
+        return Ok(module);
+    }
+    let module = load_one(path)?;
+    let mut all = opened();
+    if !all.iter().any(|(p, _)| p == path) {
+        all.push((path.to_path_buf(), module));
+    }
+    Ok(module)
+}
+
 /// Open one library: check the `behavior-api` version it was built against, then let
 /// abi_stable check every type layout. The reason for a refusal is one line.
 fn load_one(path: &Path) -> Result<Module, String> {
@@ -215,7 +237,7 @@ pub fn load_dirs(
             .collect();
         files.sort();
         for path in files {
-            match load_one(&path) {
+            match load_once(&path) {
                 Ok(module) => {
                     let mut types: Vec<String> = module
                         .behavior_types()
