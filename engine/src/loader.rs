@@ -42,7 +42,8 @@ impl LoadedLibrary {
         self.types.iter().any(|t| t == type_name)
     }
 
-    /// How to hand this library's functions back once copied (0.1.3 and later).
+    /// How to hand this library's functions back once the helm has read them (0.1.3
+    /// and later).
     pub fn recycler(&self) -> Option<behavior_api::FunctionRecycler> {
         match self.module {
             Module::Current(m) => m.recycle_function(),

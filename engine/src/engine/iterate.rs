@@ -537,41 +537,6 @@ fn hand_back(fd: FunctionData, give_back: Option<behavior_api::FunctionRecycler>
     }
 }
 
-thread_local! {
-    /// Domains of library functions, made once per set of helm variables (the helms of
-    /// a thread share them; one is found by its variables, so any helm domain fits).
-    static PLACED: std::cell::RefCell<Vec<Arc<ivp::Domain>>> =
-        const { std::cell::RefCell::new(Vec::new()) };
-}
-
-/// The domain of a function over the helm's variables `vars`, shared, or why the
-/// function is rejected.
-fn placed_domain(helm: &ivp::Domain, vars: &[usize]) -> Result<Arc<ivp::Domain>, String> {
-    let fits = |d: &ivp::Domain| {
-        d.size() == vars.len()
-            && vars
-                .iter()
-                .enumerate()
-                .all(|(k, &i)| i < helm.size() && d.var(k) == helm.var(i))
-    };
-    let found = PLACED
-        .try_with(|p| p.borrow().iter().find(|d| fits(d)).cloned())
-        .ok()
-        .flatten();
-    if let Some(d) = found {
-        return Ok(d);
-    }
-    let d = Arc::new(FunctionData::placed_domain(helm, vars)?);
-    let _ = PLACED.try_with(|p| {
-        let mut p = p.borrow_mut();
-        if p.len() >= 64 {
-            p.remove(0);
-        }
-        p.push(Arc::clone(&d));
-    });
-    Ok(d)
-}
-
 /// A behavior's function on the helm domain. Its domain text is parsed and checked
 /// against the helm's grid only when it differs from the behavior's previous one (a
 /// behavior's domain rarely changes, and the text's numbers are slow to read).
@@ -582,6 +547,7 @@ fn place(
 ) -> Result<HelmFunction, String> {
     if core.placed_domain != fd.domain.as_str() {
         core.placed_domain.clear();
+        core.placed = None;
         fd.helm_vars_into(helm, &mut core.placed_vars)?;
         core.placed_domain.push_str(fd.domain.as_str());
     }
@@ -593,12 +559,15 @@ fn place(
     // A library's buffers are read where they are, then handed back for its next build
     // (moving them in would free them here and make the library allocate anew).
     let give_back = core.recycler;
-    let domain = match placed_domain(helm, &core.placed_vars) {
-        Ok(d) => d,
-        Err(msg) => {
-            hand_back(fd, give_back);
-            return Err(msg);
-        }
+    let domain = match &core.placed {
+        Some(d) => Arc::clone(d),
+        None => match FunctionData::placed_domain(helm, &core.placed_vars) {
+            Ok(d) => Arc::clone(core.placed.insert(Arc::new(d))),
+            Err(msg) => {
+                hand_back(fd, give_back);
+                return Err(msg);
+            }
+        },
     };
     match CheckedFunction::new(LibraryFunction(fd), domain) {
         Ok(f) => Ok(HelmFunction::Library(f, give_back)),

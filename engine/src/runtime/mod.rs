@@ -97,14 +97,16 @@ pub struct BehaviorCore {
     /// The behavior's own domain is empty ("Null IvPDomain").
     pub empty_domain: bool,
     /// Made by a loaded library (not built in): its functions' buffers belong to the
-    /// library's allocator, so the host copies them into its own recycled storage.
+    /// library's allocator, so the host reads them where they are and hands them back.
     pub from_library: bool,
-    /// Its library's way to take a copied function back for its next build (0.1.3).
+    /// Its library's way to take a function back for its next build (0.1.3).
     pub recycler: Option<behavior_api::FunctionRecycler>,
-    /// The domain text of the behavior's last function and where its variables are in
-    /// the helm domain (see `Helm::decide`): checked again only when the text changes.
+    /// The domain text of the behavior's last function, where its variables are in the
+    /// helm domain, and (for a library's function) that domain as the solver reads it
+    /// (see `Helm::decide`): made again only when the text changes.
     pub placed_domain: String,
     pub placed_vars: Vec<usize>,
+    pub placed: Option<std::sync::Arc<ivp::Domain>>,
     /// For behaviors spawned from a template: the template's name prefix.
     pub spawn_prefix: Option<String>,
     /// Disabled after a panic or a function that could not be trusted.
@@ -201,6 +203,7 @@ impl BehaviorCore {
             recycler: None,
             placed_domain: String::new(),
             placed_vars: Vec::new(),
+            placed: None,
             faulted: false,
             spawn_prefix: None,
             state: RunState::Fresh,
