@@ -202,14 +202,32 @@ pub fn encode_into(f: &IvpFunction, s: &mut String) {
 
 /// [`encode_into`] from borrowed parts (e.g. a plugin's buffers read in place).
 pub fn encode_source_into(f: IpfSource<'_>, s: &mut String) {
+    encode_head_into(&f, s);
+    encode_pieces_into(&f, s);
+}
+
+/// The whole-function string up to and including `F` (cleared first): everything but
+/// the pieces.
+fn encode_head_into(f: &IpfSource<'_>, s: &mut String) {
+    encode_context_into(f, s);
+    encode_shape_into(f, s);
+}
+
+/// The start of the whole-function string (cleared first): `H`, the context.
+fn encode_context_into(f: &IpfSource<'_>, s: &mut String) {
     s.clear();
-    let dim = f.domain.size();
-    let pieces = f.weights.len() / (dim + 1);
     s.push_str("H,");
     s.push_str(itoa::Buffer::new().format(f.context.chars().count()));
     s.push(',');
     s.push_str(f.context);
     s.push(',');
+}
+
+/// What follows the context up to and including `F`, appended to `s`: the sizes, the
+/// weight, the domain and the gelbox.
+fn encode_shape_into(f: &IpfSource<'_>, s: &mut String) {
+    let dim = f.domain.size();
+    let pieces = f.weights.len() / (dim + 1);
     s.push_str(itoa::Buffer::new().format(dim));
     s.push(',');
     s.push_str(itoa::Buffer::new().format(pieces));
@@ -223,9 +241,15 @@ pub fn encode_source_into(f: IpfSource<'_>, s: &mut String) {
         s.push_str(itoa::Buffer::new().format(g));
     }
     s.push_str(",F");
+}
+
+/// The pieces of the whole-function string, appended to `s`.
+fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
+    let dim = f.domain.size();
     if dim == 0 {
         return;
     }
+    let pieces = f.weights.len() / (dim + 1);
     let mut out = Utf8Out::new(s);
     // Generous: growing a string of thousands of pieces copies it each time.
     out.reserve(pieces * (dim * 12 + (dim + 1) * 10));
@@ -502,11 +526,12 @@ impl PieceText {
 const MIN_BODY: usize = 500;
 
 /// The BHV_IPF packets of one whole-function string (spec §9.2, packet size 2000),
-/// measured once and written one at a time into caller-owned strings.
+/// measured once and written one at a time into caller-owned strings. The string may
+/// come in parts, one after the other, so kept text need not be copied to be sent.
 #[derive(Clone, Copy, Debug)]
 pub struct Packets<'a> {
     id: &'a str,
-    whole: &'a str,
+    parts: [&'a str; 3],
     /// Characters of body per packet.
     body: usize,
     count: usize,
@@ -516,17 +541,22 @@ pub struct Packets<'a> {
 
 impl<'a> Packets<'a> {
     pub fn new(id: &'a str, whole: &'a str) -> Self {
-        let ascii = whole.is_ascii();
+        Self::of_parts(id, [whole, "", ""])
+    }
+
+    /// The packets of the string made of `parts` one after the other.
+    pub fn of_parts(id: &'a str, parts: [&'a str; 3]) -> Self {
+        let ascii = parts.iter().all(|p| p.is_ascii());
         let header = id.chars().count() + 50;
         let body = 2000usize.saturating_sub(header).max(MIN_BODY);
-        let chars = if ascii {
-            whole.len()
+        let chars: usize = if ascii {
+            parts.iter().map(|p| p.len()).sum()
         } else {
-            whole.chars().count()
+            parts.iter().map(|p| p.chars().count()).sum()
         };
         Packets {
             id,
-            whole,
+            parts,
             body,
             count: chars / body + 1,
             ascii,
@@ -550,11 +580,20 @@ impl<'a> Packets<'a> {
         out.push(',');
         let first = k.saturating_sub(1) * self.body;
         if self.ascii {
-            let a = first.min(self.whole.len());
-            let b = (first + self.body).min(self.whole.len());
-            out.push_str(&self.whole[a..b]);
+            // The byte range [first, first + body) of the parts laid end to end.
+            let (mut start, mut end) = (first, first + self.body);
+            for part in self.parts {
+                let n = part.len();
+                if start < n && end > start {
+                    out.push_str(&part[start..end.min(n)]);
+                }
+                start = start.saturating_sub(n);
+                end = end.saturating_sub(n);
+            }
         } else {
-            out.extend(self.whole.chars().skip(first).take(self.body));
+            let [a, b, c] = self.parts;
+            let whole = a.chars().chain(b.chars()).chain(c.chars());
+            out.extend(whole.skip(first).take(self.body));
         }
     }
 }
@@ -577,12 +616,116 @@ impl IpfWriter {
     /// [`IpfWriter::packets`] from borrowed parts.
     pub fn source_packets(&mut self, f: IpfSource<'_>, name: &str, iter: u64) -> Packets<'_> {
         encode_source_into(f, &mut self.whole);
+        self.set_id(name, iter);
+        Packets::new(&self.id, &self.whole)
+    }
+
+    /// [`IpfWriter::source_packets`] with the text after the context taken from `kept`
+    /// where the numbers it shows are the ones it last formatted (bit for bit), and
+    /// formatted into it otherwise.
+    pub fn kept_packets<'s>(
+        &'s mut self,
+        f: IpfSource<'_>,
+        kept: &'s mut KeptIpf,
+        name: &str,
+        iter: u64,
+    ) -> Packets<'s> {
+        encode_context_into(&f, &mut self.whole);
+        kept.update(&f);
+        self.set_id(name, iter);
+        Packets::of_parts(&self.id, [&self.whole, &kept.shape, &kept.pieces])
+    }
+
+    fn set_id(&mut self, name: &str, iter: u64) {
         self.id.clear();
         self.id.push_str(name);
         self.id.push('^');
         self.id.push_str(itoa::Buffer::new().format(iter));
-        Packets::new(&self.id, &self.whole)
     }
+}
+
+/// One behavior's last function as BHV_IPF shows it after the context (which holds
+/// the iteration), with the numbers that text was made of. A function that is the same
+/// from one iteration to the next (a constant depth, a held speed) is formatted once,
+/// and a changing function's domain and weight once while they hold: comparing numbers
+/// costs a fraction of printing them.
+#[derive(Debug, Default)]
+pub struct KeptIpf {
+    /// The text from the dimension to `F`, and what it shows.
+    shape: String,
+    count: usize,
+    pwt: u64,
+    gelbox: Vec<u32>,
+    domain: Option<ivp::Domain>,
+    /// The pieces' text, and what it shows (weights compared bit for bit: 0.0 and -0.0
+    /// apart).
+    pieces: String,
+    pieces_valid: bool,
+    dim: usize,
+    bounds: Vec<i32>,
+    weights: Vec<f64>,
+    /// Iterations in a row the pieces changed.
+    changed: u32,
+}
+
+impl KeptIpf {
+    fn update(&mut self, f: &IpfSource<'_>) {
+        let dim = f.domain.size();
+        let count = f.weights.len() / (dim + 1);
+        let same_domain = self
+            .domain
+            .as_ref()
+            .is_some_and(|d| same_domain(d, f.domain));
+        // The domain is kept from the first function on.
+        let shape_kept = same_domain
+            && self.count == count
+            && self.pwt == f.pwt.to_bits()
+            && self.gelbox == f.gelbox;
+        if !shape_kept {
+            self.shape.clear();
+            encode_shape_into(f, &mut self.shape);
+            if !same_domain {
+                self.domain = Some(f.domain.clone());
+            }
+            (self.count, self.pwt) = (count, f.pwt.to_bits());
+            self.gelbox.clear();
+            self.gelbox.extend_from_slice(f.gelbox);
+        }
+        let pieces_kept = self.pieces_valid
+            && self.dim == dim
+            && self.bounds == f.bounds
+            && self.weights.len() == f.weights.len()
+            && (self.weights.iter().zip(f.weights)).all(|(a, b)| a.to_bits() == b.to_bits());
+        if pieces_kept {
+            self.changed = 0;
+            return;
+        }
+        self.pieces.clear();
+        encode_pieces_into(f, &mut self.pieces);
+        self.changed = self.changed.saturating_add(1);
+        // The numbers of a function that changes every iteration (one that follows a
+        // contact: thousands of pieces) are copied only now and then, to notice when
+        // it settles.
+        self.pieces_valid = self.changed <= 2 || self.changed.is_multiple_of(8);
+        if self.pieces_valid {
+            self.dim = dim;
+            self.bounds.clear();
+            self.bounds.extend_from_slice(f.bounds);
+            self.weights.clear();
+            self.weights.extend_from_slice(f.weights);
+        }
+    }
+}
+
+/// The same domain text: names, points, and the bounds bit for bit.
+fn same_domain(a: &ivp::Domain, b: &ivp::Domain) -> bool {
+    a.size() == b.size()
+        && a.vars().iter().zip(b.vars()).all(|(x, y)| {
+            x.name == y.name
+                && x.points == y.points
+                && x.low.to_bits() == y.low.to_bits()
+                && x.high.to_bits() == y.high.to_bits()
+        })
 }
 
 /// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
@@ -887,6 +1030,7 @@ mod tests {
         let mut seed = 3u64;
         let mut whole = String::new();
         let mut packet = String::new();
+        let mut kept = KeptIpf::default();
         for case in 0..1500 {
             // Now and then many dimensions (batches flushed inside a piece).
             let dim = if case % 97 == 0 {
@@ -951,7 +1095,82 @@ mod tests {
                 assert_eq!(&packet, w, "case {case} packet {}", k + 1);
             }
             assert_eq!(ipf_packets(&id, &whole), want);
+            kept_packets_match(&f, &mut kept, &id, case);
         }
+    }
+
+    /// The kept-text path gives the whole-string packets when the function is new (the
+    /// last case's is kept), when it is the same again, when one weight changed (in its
+    /// sign only; 0.0 to -0.0 included) and when only the weight (pwt) changed.
+    fn kept_packets_match(f: &IvpFunction, kept: &mut KeptIpf, id: &str, case: usize) {
+        let (name, iter) = id.rsplit_once('^').unwrap();
+        let iter: u64 = iter.parse().unwrap();
+        let mut weights = f.weights().to_vec();
+        let (mut whole, mut a, mut b) = (String::new(), String::new(), String::new());
+        let mut writer = IpfWriter::default();
+        for round in 0..6 {
+            if (2..5).contains(&round) && !weights.is_empty() {
+                let k = case % weights.len();
+                weights[k] = match round {
+                    2 => -weights[k],
+                    3 => 0.0,
+                    _ => -0.0,
+                };
+            }
+            let src = IpfSource {
+                weights: &weights,
+                pwt: if round == 5 { f.pwt() * 0.5 } else { f.pwt() },
+                ..IpfSource::from(f)
+            };
+            encode_source_into(src, &mut whole);
+            let want = Packets::new(id, &whole);
+            let got = writer.kept_packets(src, kept, name, iter);
+            assert_eq!(got.count(), want.count(), "case {case} round {round}");
+            for k in 1..=want.count() {
+                want.write(k, &mut a);
+                got.write(k, &mut b);
+                assert_eq!(a, b, "case {case} round {round} packet {k}");
+            }
+        }
+    }
+
+    /// A function that changes for a while and then holds: every iteration's packets are
+    /// the whole string's, whether the pieces' numbers were kept or not.
+    #[test]
+    fn kept_text_follows_a_function_that_changes_then_holds() {
+        let d = Domain::parse("course:0:359:360").unwrap();
+        let spec = |k: i32| {
+            (0..40i32)
+                .map(|i| {
+                    (
+                        vec![(9 * i, 9 * i + 8)],
+                        vec![0.5 * f64::from(i), f64::from(i + k)],
+                    )
+                })
+                .collect::<Vec<_>>()
+        };
+        let (mut kept, mut writer) = (KeptIpf::default(), IpfWriter::default());
+        let (mut whole, mut a, mut b) = (String::new(), String::new(), String::new());
+        for iter in 0..60u64 {
+            // Changes on iterations 0-29 (but repeats 12), then holds.
+            let k = match iter {
+                12 => 11,
+                0..30 => iter as i32,
+                _ => 30,
+            };
+            let mut f = IvpFunction::from_pieces(d.clone(), &spec(k)).unwrap();
+            f.set_context(&format!("{iter}:hold"));
+            encode_into(&f, &mut whole);
+            let want = Packets::new("hold^1", &whole);
+            let got = writer.kept_packets((&f).into(), &mut kept, "hold", 1);
+            assert_eq!(got.count(), want.count());
+            for p in 1..=want.count() {
+                want.write(p, &mut a);
+                got.write(p, &mut b);
+                assert_eq!(a, b, "iteration {iter}");
+            }
+        }
+        assert_eq!(kept.changed, 0, "the held function is kept");
     }
 
     fn enc(w: f64) -> String {
@@ -970,6 +1189,7 @@ mod tests {
         assert_eq!(enc(-1000.0), "-1000.");
         assert_eq!(enc(0.289425), "0.2894");
         assert_eq!(enc(0.0), "0");
+        assert_eq!(enc(-0.0), "0");
         assert_eq!(enc(0.05), "0.05");
         assert_eq!(enc(1.0001), "1.0001");
         assert_eq!(enc(12345678.9), "12345678.9");

@@ -354,7 +354,10 @@ impl Helm {
             bounds: f.bounds(),
             weights: f.weights(),
         };
-        let packets = self.ipf.source_packets(source, name, iter);
+        let core = &mut self.behaviors[i].core;
+        let packets = self
+            .ipf
+            .kept_packets(source, &mut core.ipf_kept, name, iter);
         for k in 1..=packets.count() {
             let mut p = self.pool.take_long();
             packets.write(k, &mut p);
@@ -363,7 +366,7 @@ impl Helm {
                 value: Value::Str(p),
                 key: self.pool.copy_of("repeatable"),
             };
-            self.behaviors[i].core.messages.push(message);
+            core.messages.push(message);
         }
         self.pool.give(context);
     }

@@ -107,6 +107,8 @@ pub struct BehaviorCore {
     pub placed_domain: String,
     pub placed_vars: Vec<usize>,
     pub placed: Option<std::sync::Arc<ivp::Domain>>,
+    /// The text of this behavior's last BHV_IPF function, reused while it does not change.
+    pub ipf_kept: ivp_ipf::KeptIpf,
     /// For behaviors spawned from a template: the template's name prefix.
     pub spawn_prefix: Option<String>,
     /// Disabled after a panic or a function that could not be trusted.
@@ -204,6 +206,7 @@ impl BehaviorCore {
             placed_domain: String::new(),
             placed_vars: Vec::new(),
             placed: None,
+            ipf_kept: ivp_ipf::KeptIpf::default(),
             faulted: false,
             spawn_prefix: None,
             state: RunState::Fresh,
