@@ -81,6 +81,7 @@ fn apply_common(core: &mut BehaviorCore, param: &str, value: &str) -> Option<boo
         "condition" => match LogicCondition::parse(&value.replace(',', "=")) {
             Ok(c) => {
                 core.conditions.push(c);
+                core.conditions_checked = None;
                 true
             }
             Err(_) => false,

@@ -82,6 +82,9 @@ pub struct BehaviorCore {
     pub name: String,
     pub pwt: f64,
     pub conditions: Vec<LogicCondition>,
+    /// The iteration whose conditions were last evaluated, and the first that failed
+    /// then: the runnable test runs twice an iteration on the same information.
+    pub conditions_checked: Option<(u64, Option<usize>)>,
     pub flags: FlagLists,
     pub nostarve: Option<(Vec<String>, f64)>,
     pub duration: f64,
@@ -188,6 +191,7 @@ impl BehaviorCore {
             name: default_name.to_string(),
             pwt: 100.0,
             conditions: Vec::new(),
+            conditions_checked: None,
             flags: FlagLists::default(),
             nostarve: None,
             duration: -1.0,

@@ -109,13 +109,21 @@ fn runnable(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> RunS
     if core.faulted {
         return RunState::Disabled;
     }
-    for c in core.conditions.iter_mut() {
-        c.update(ib);
-        if !c.eval() {
-            core.status_info.push_str(",pc=");
-            core.status_info.push_str(c.raw());
-            return RunState::Idle;
+    let failed = match core.conditions_checked {
+        Some((iteration, failed)) if iteration == core.iteration => failed,
+        _ => {
+            let failed = core.conditions.iter_mut().position(|c| {
+                c.update(ib);
+                !c.eval()
+            });
+            core.conditions_checked = Some((core.iteration, failed));
+            failed
         }
+    };
+    if let Some(c) = failed.and_then(|i| core.conditions.get(i)) {
+        core.status_info.push_str(",pc=");
+        core.status_info.push_str(c.raw());
+        return RunState::Idle;
     }
     if core.duration_reset_pending {
         reset_duration(core);
@@ -174,23 +182,26 @@ fn accumulate(core: &mut BehaviorCore, now: f64, running: bool) {
 }
 
 /// Checks a function from a behavior before the helm trusts it.
-fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<FunctionData> {
-    if f.weights.iter().any(|w| w.is_nan()) || f.pwt.is_nan() {
+/// The function and its piece count, or `None` when it is dropped.
+fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<(FunctionData, usize)> {
+    // Not short-circuited: the whole scan vectorizes (thousands of weights a function).
+    let nan = f.weights.iter().fold(false, |nan, w| nan | w.is_nan());
+    if nan || f.pwt.is_nan() {
         // Never trusted again: disabled, like a panic (the C++ helm only discards it).
         fault(core, "NaN detected in IvP Function");
         return None;
     }
-    if f.piece_count().is_none() {
+    let Some(pieces) = f.piece_count() else {
         fault(
             core,
             "IvP function rejected: its buffers do not match its domain",
         );
         return None;
-    }
+    };
     if f.pwt <= 0.0 {
         return None;
     }
-    Some(f)
+    Some((f, pieces))
 }
 
 /// Run one behavior for one iteration.
@@ -250,12 +261,11 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
             }
             post_flags(inst, env, ib, FlagKind::Runx, true);
             let kept = f.and_then(|f| validate(&mut inst.core, f));
-            if let Some(f) = kept {
+            if let Some((f, pcs)) = kept {
                 if old != RunState::Active {
                     post_flags(inst, env, ib, FlagKind::Active, true);
                 }
                 new = RunState::Active;
-                let pcs = f.piece_count().unwrap_or(0);
                 let info = &mut inst.core.status_info;
                 info.push_str(",pwt=");
                 mbutil::push_fixed(info, f.pwt, 5);
