@@ -120,6 +120,67 @@ pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -
     acc
 }
 
+/// The last function's pieces, for a tighter bound of nodes two or more levels above
+/// it when it is one cell and has no [`LastIndex`] (a waypoint's course × speed, or a
+/// speed × depth function, below 1-D functions: their global bound is loose).
+///
+/// `max_q maxVal(q ∩ b)` over the pieces `q` meeting box `b` bounds the last
+/// function over `b`: a leaf below `b` lies in `b ∩ q` for its piece `q`, so its value
+/// is at most `maxVal(b) + Σ cheap bounds of the functions between + maxVal(q ∩ b)`
+/// (up to rounding, which the search's slack covers, as for [`LastIndex`] bounds).
+#[derive(Clone, Copy)]
+pub(crate) struct Clip<'a> {
+    pub(crate) boxes: &'a [i32],
+    pub(crate) weights: &'a [f64],
+    pub(crate) n: usize,
+    /// Bit `d`: the last function has problem dimension `d` (the others are whole,
+    /// slope 0: a box narrow only there leaves the global bound as tight as this one).
+    pub(crate) dims: u32,
+    /// The first level (functions `from..` not yet fixed) whose nodes may be narrower
+    /// in one of those dimensions: above it the bound is the global one.
+    pub(crate) from: usize,
+}
+
+impl Clip<'_> {
+    /// Whether box `b` is narrower than the domain in a dimension of the function.
+    #[inline(always)]
+    pub(crate) fn narrows(&self, b: &[i32], pts: &[i32]) -> bool {
+        (0..pts.len()).any(|d| {
+            self.dims & 1u32.checked_shl(d as u32).unwrap_or(0) != 0
+                && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1)
+        })
+    }
+
+    /// `max maxVal(q ∩ b)` over the pieces meeting `b` (`-inf` for none, NaN kept).
+    #[inline]
+    pub(crate) fn bound(&self, b: &[i32], dim: usize) -> f64 {
+        let (bl, wl) = (2 * dim, dim + 1);
+        let mut best = f64::NEG_INFINITY;
+        let pieces = self
+            .boxes
+            .chunks_exact(bl)
+            .zip(self.weights.chunks_exact(wl));
+        for (qb, qw) in pieces.take(self.n) {
+            if !intersects(b, qb, dim) {
+                continue;
+            }
+            let mut v = qw[dim];
+            for d in 0..dim {
+                let c = if qw[d] < 0.0 {
+                    b[2 * d].max(qb[2 * d])
+                } else {
+                    b[2 * d + 1].min(qb[2 * d + 1])
+                };
+                v += qw[d] * f64::from(c);
+            }
+            if v > best || v.is_nan() {
+                best = v;
+            }
+        }
+        best
+    }
+}
+
 pub(crate) struct Search<'a> {
     pub(crate) funcs: &'a [Prepared],
     /// The boxes of function `fi` (see [`Prepared::bounds`]).
@@ -143,6 +204,11 @@ pub(crate) struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     pub(crate) doubt: Cell<bool>,
     pub(crate) last: Option<&'a LastIndex>,
+    /// Without `last`: the last function's clipped bound, for nodes two or more levels
+    /// above it when the functions from there on are all one cell.
+    pub(crate) clip: Option<Clip<'a>>,
+    /// The first level from which every function is one cell (`active.len()`: none).
+    pub(crate) singles_from: usize,
     /// With `last`: the index's cell of every piece of the first function
     /// ([`NO_CELL`] for none), so that its pieces are bounded without looking it up.
     pub(crate) first_cells: Option<&'a [u32]>,
@@ -170,6 +236,9 @@ impl Search<'_> {
         }
         let (m, dim) = (self.active.len(), self.dim);
         let Some(ix) = self.last else {
+            if level >= self.singles_from {
+                return self.skip_singles(level, b, acc);
+            }
             let r = if dim <= ODO_DIMS {
                 bound_terms(&self.terms[level..m], dim, b, acc)
             } else {
@@ -177,24 +246,47 @@ impl Search<'_> {
             };
             return self.prune(r, r);
         };
-        self.skip_indexed(level, b, acc, ix, || ix.cell_of(b))
+        self.skip_tight(level, b, acc, || ix.cell_of(b).map(|c| ix.bound(c)))
     }
 
-    /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
-    /// index's cell holding `b` (if any) when it is needed.
+    /// [`Search::skip`] without the index when the functions `level..` are all one
+    /// cell: their terms are their global bounds, added in order as [`bound_terms`]
+    /// adds them, the last one last; the tighter bound is the [`Clip`] one, when on.
     #[inline(always)]
-    fn skip_indexed(
+    fn skip_singles(&self, level: usize, b: &[i32], acc: f64) -> bool {
+        let m = self.active.len();
+        let mut prefix = acc;
+        for t in &self.terms[level..m - 1] {
+            prefix += t.ub;
+        }
+        let rb = prefix + self.last_ub;
+        if rb <= self.best {
+            return self.prune(rb, rb);
+        }
+        let tb = match &self.clip {
+            // Next to the last function its leaves cost about what this bound does.
+            Some(clip) if clip.from <= level && level + 1 < m && clip.narrows(b, self.pts) => {
+                prefix + clip.bound(b, self.dim)
+            }
+            _ => rb,
+        };
+        self.prune(rb, tb)
+    }
+
+    /// [`Search::skip`] with a tighter bound of the last function over `b` (the
+    /// [`LastIndex`] cell's or the [`Clip`] one), `tight` giving it (if any) when it is
+    /// needed (`found || seeded`).
+    #[inline(always)]
+    fn skip_tight(
         &self,
         level: usize,
         b: &[i32],
         acc: f64,
-        ix: &LastIndex,
-        cell: impl FnOnce() -> Option<usize>,
+        tight: impl FnOnce() -> Option<f64>,
     ) -> bool {
         let (m, dim) = (self.active.len(), self.dim);
-        // The last function is one cell (the index is on, so `dim <= ODO_DIMS`): its
-        // term is its global bound, added last; the same sum whether or not a cell
-        // holds `b`.
+        // The last function is one cell (index or clip on, so `dim <= ODO_DIMS`): its
+        // term is its global bound, added last; the same sum whatever the tighter one.
         let prefix = if level + 1 == m {
             acc
         } else {
@@ -205,8 +297,8 @@ impl Search<'_> {
             // Pruned whatever the tighter bound.
             return self.prune(rb, rb);
         }
-        let tb = match cell() {
-            Some(c) => prefix + ix.bound(c),
+        let tb = match tight() {
+            Some(x) => prefix + x,
             None => rb,
         };
         self.prune(rb, tb)
@@ -222,9 +314,9 @@ impl Search<'_> {
         if !(self.found || self.seeded) {
             return false;
         }
-        self.skip_indexed(1, b, acc, ix, || {
+        self.skip_tight(1, b, acc, || {
             let c = cells[q];
-            (c != NO_CELL).then_some(c as usize)
+            (c != NO_CELL).then(|| ix.bound(c as usize))
         })
     }
 
