@@ -246,7 +246,7 @@ impl Search<'_> {
             };
             return self.prune(r, r);
         };
-        self.skip_tight(level, b, acc, || ix.cell_of(b).map(|c| ix.bound(c)))
+        self.skip_indexed(level, b, acc, ix, || ix.cell_of(b))
     }
 
     /// [`Search::skip`] without the index when the functions `level..` are all one
@@ -273,20 +273,21 @@ impl Search<'_> {
         self.prune(rb, tb)
     }
 
-    /// [`Search::skip`] with a tighter bound of the last function over `b` (the
-    /// [`LastIndex`] cell's or the [`Clip`] one), `tight` giving it (if any) when it is
-    /// needed (`found || seeded`).
+    /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
+    /// index's cell holding `b` (if any) when it is needed.
     #[inline(always)]
-    fn skip_tight(
+    fn skip_indexed(
         &self,
         level: usize,
         b: &[i32],
         acc: f64,
-        tight: impl FnOnce() -> Option<f64>,
+        ix: &LastIndex,
+        cell: impl FnOnce() -> Option<usize>,
     ) -> bool {
         let (m, dim) = (self.active.len(), self.dim);
-        // The last function is one cell (index or clip on, so `dim <= ODO_DIMS`): its
-        // term is its global bound, added last; the same sum whatever the tighter one.
+        // The last function is one cell (the index is on, so `dim <= ODO_DIMS`): its
+        // term is its global bound, added last; the same sum whether or not a cell
+        // holds `b`.
         let prefix = if level + 1 == m {
             acc
         } else {
@@ -297,8 +298,8 @@ impl Search<'_> {
             // Pruned whatever the tighter bound.
             return self.prune(rb, rb);
         }
-        let tb = match tight() {
-            Some(x) => prefix + x,
+        let tb = match cell() {
+            Some(c) => prefix + ix.bound(c),
             None => rb,
         };
         self.prune(rb, tb)
@@ -314,9 +315,9 @@ impl Search<'_> {
         if !(self.found || self.seeded) {
             return false;
         }
-        self.skip_tight(1, b, acc, || {
+        self.skip_indexed(1, b, acc, ix, || {
             let c = cells[q];
-            (c != NO_CELL).then(|| ix.bound(c as usize))
+            (c != NO_CELL).then_some(c as usize)
         })
     }
 
@@ -423,42 +424,65 @@ impl Search<'_> {
     /// only materialized when it becomes the incumbent. A node inside one cell of the
     /// [`LastIndex`] meets only that cell's pieces (array order, as here).
     pub(crate) fn last_level_single(&mut self, level: usize, f: &Prepared, fb: &[i32]) {
-        let bl = 2 * self.dim;
+        // The helm's dimensions made constants: the per-leaf loops unrolled.
+        match self.dim {
+            1 => self.last_level_dim(level, f, fb, 1),
+            2 => self.last_level_dim(level, f, fb, 2),
+            3 => self.last_level_dim(level, f, fb, 3),
+            dim => self.last_level_dim(level, f, fb, dim),
+        }
+    }
+
+    /// [`Search::last_level_single`] with `dim == self.dim`.
+    #[inline(always)]
+    fn last_level_dim(&mut self, level: usize, f: &Prepared, fb: &[i32], dim: usize) {
+        let (bl, wl) = (2 * dim, dim + 1);
         let cell = {
             let node_b = &self.node_b[(level - 1) * bl..level * bl];
             self.last
                 .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
         };
-        let wl = self.dim + 1;
-        match cell {
-            Some(list) => {
+        let mut meet = [0u64; 4];
+        let words = match cell {
+            Some(_) => None,
+            None => self.bits_meeting(level, f, fb, &mut meet),
+        };
+        // The node held apart from `self` while the leaves update the incumbent.
+        let (all_b, all_w) = (
+            std::mem::take(&mut self.node_b),
+            std::mem::take(&mut self.node_w),
+        );
+        let nb = &all_b[(level - 1) * bl..level * bl];
+        let nw = &all_w[(level - 1) * wl..level * wl];
+        let weights = &f.weights;
+        match (cell, words) {
+            (Some(list), _) => {
                 for &q in list {
                     let q = q as usize;
-                    let qb = &fb[q * bl..(q + 1) * bl];
-                    self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
+                    let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
+                    self.last_leaf(nb, nw, qb, qw, dim);
                 }
             }
-            None => {
-                let mut meet = [0u64; 4];
-                if let Some(words) = self.bits_meeting(level, f, fb, &mut meet) {
-                    // The pieces meeting the node, in array order.
-                    for (w, &word) in meet.iter().enumerate().take(words) {
-                        let mut word = word;
-                        while word != 0 {
-                            let q = w * 64 + word.trailing_zeros() as usize;
-                            word &= word - 1;
-                            let qb = &fb[q * bl..(q + 1) * bl];
-                            self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
-                        }
+            (None, Some(words)) => {
+                // The pieces meeting the node, in array order.
+                for (w, &word) in meet.iter().enumerate().take(words) {
+                    let mut word = word;
+                    while word != 0 {
+                        let q = w * 64 + word.trailing_zeros() as usize;
+                        word &= word - 1;
+                        let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
+                        self.last_leaf(nb, nw, qb, qw, dim);
                     }
-                    return;
                 }
-                let pieces = fb.chunks_exact(bl).zip(f.weights.chunks_exact(wl));
+            }
+            (None, None) => {
+                let pieces = fb.chunks_exact(bl).zip(weights.chunks_exact(wl));
                 for (qb, qw) in pieces.take(f.n) {
-                    self.last_leaf(level, qb, qw);
+                    self.last_leaf(nb, nw, qb, qw, dim);
                 }
             }
         }
+        (self.node_b, self.node_w) = (all_b, all_w);
     }
 
     /// The pieces of the last function meeting the node at `level` into `meet`, and the
@@ -489,39 +513,40 @@ impl Search<'_> {
         bits.meeting(node_b, meet).then(|| bits.words())
     }
 
-    /// The leaf `node ∩ q` of [`Search::last_level_single`] (`q` = box `qb`, weights
-    /// `qw`), if they meet.
+    /// The leaf `node ∩ q` of [`Search::last_level_single`] (the node's box and weights
+    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet.
     #[inline(always)]
-    pub(crate) fn last_leaf(&mut self, level: usize, qb: &[i32], qw: &[f64]) {
-        let dim = self.dim;
+    pub(crate) fn last_leaf(
+        &mut self,
+        node_b: &[i32],
+        node_w: &[f64],
+        qb: &[i32],
+        qw: &[f64],
+        dim: usize,
+    ) {
         let (bl, wl) = (2 * dim, dim + 1);
-        let node_b = &self.node_b[(level - 1) * bl..level * bl];
-        let node_w = &self.node_w[(level - 1) * wl..level * wl];
-        {
-            if !intersects(node_b, qb, dim) {
-                return;
-            }
-            let mut acc = node_w[dim] + qw[dim];
+        let (node_b, node_w, qb, qw) = (&node_b[..bl], &node_w[..wl], &qb[..bl], &qw[..wl]);
+        if !intersects(node_b, qb, dim) {
+            return;
+        }
+        let mut acc = node_w[dim] + qw[dim];
+        for d in 0..dim {
+            let w = node_w[d] + qw[d];
+            let c = if w < 0.0 {
+                node_b[2 * d].max(qb[2 * d])
+            } else {
+                node_b[2 * d + 1].min(qb[2 * d + 1])
+            };
+            acc += w * f64::from(c);
+        }
+        if self.takes(acc) {
+            self.set_best(acc);
             for d in 0..dim {
-                let w = node_w[d] + qw[d];
-                let c = if w < 0.0 {
-                    node_b[2 * d].max(qb[2 * d])
-                } else {
-                    node_b[2 * d + 1].min(qb[2 * d + 1])
-                };
-                acc += w * f64::from(c);
+                self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
+                self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
             }
-            if self.takes(acc) {
-                // `set_best`, field by field (the node is borrowed).
-                self.best = acc;
-                self.found = true;
-                for d in 0..dim {
-                    self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
-                    self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
-                }
-                for i in 0..wl {
-                    self.best_w[i] = node_w[i] + qw[i];
-                }
+            for i in 0..wl {
+                self.best_w[i] = node_w[i] + qw[i];
             }
         }
     }
