@@ -82,6 +82,10 @@ pub struct Solver {
     prev: Vec<i32>,
     seed_b: Vec<i32>,
     seed_w: Vec<f64>,
+    /// The helm domain and problem variables the slots' keys were made in (see
+    /// `setup.rs`).
+    key_helm: Domain,
+    key_prob: Vec<usize>,
     /// The allocation of each solve's list of box slices, kept empty between solves.
     boxes_buf: Vec<&'static [i32]>,
     /// The allocation of each solve's list of bound terms, kept empty between solves.
@@ -92,6 +96,9 @@ pub struct Solver {
     /// on), for the tests.
     #[cfg(test)]
     stats: (usize, usize, usize, usize),
+    /// Functions kept from an earlier solve, over the solver's life, for the tests.
+    #[cfg(test)]
+    kept: usize,
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -213,13 +220,16 @@ impl Solver {
         if self.funcs.len() < functions.len() {
             self.funcs.resize_with(functions.len(), Prepared::default);
         }
+        // Whether the problem is the one the slots' keys were made in: checked when a
+        // key is first used or made (see `Solver::same_problem`).
+        let mut same_problem = None;
         self.active.clear();
         for (fi, f) in functions.iter().enumerate() {
             if f.pwt() <= 0.0 {
                 continue;
             }
             let first = self.active.is_empty();
-            self.prepare(fi, f, helm, dim, first)?;
+            self.prepare(fi, f, helm, dim, first, &mut same_problem)?;
             self.active.push(fi);
         }
         if self.active.is_empty() || dim == 0 {
@@ -299,7 +309,7 @@ impl Solver {
             let bit = |d: usize| 1u32.checked_shl(d as u32).unwrap_or(0);
             self.funcs[fi].map.iter().fold(0, |a, &d| a | bit(d))
         };
-        let clip_from = (sure && last.is_none() && singles_from < m)
+        let clip_from = (m >= 3 && sure && last.is_none() && singles_from < m)
             .then(|| {
                 let mut above = 0;
                 (1..m).find(|&k| {

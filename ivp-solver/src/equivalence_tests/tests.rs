@@ -498,6 +498,72 @@ fn helm_shaped_search_equals_the_straightforward_branch_and_bound() {
     assert!(seeded > solves / 2, "{seeded} seeded of {solves}");
 }
 
+/// Kept set-ups across helm domains: the same functions solved in helm domains with
+/// the variables in other orders, or fewer of them, with functions switched off now
+/// and then (their slots keep keys from an earlier problem): every solve as a fresh
+/// solver's.
+#[test]
+fn kept_setup_follows_the_problem() {
+    let mut seed = 5150u64;
+    let helms = [
+        "course:0:35:36,speed:0:9:10,depth:0:7:8",
+        "depth:0:7:8,course:0:35:36,speed:0:9:10",
+        "speed:0:9:10,course:0:35:36",
+    ]
+    .map(|h| Domain::parse(h).unwrap());
+    let cs = sub_domain(&helms[0], &[0, 1]);
+    let mut kept = 0;
+    for round in 0..60 {
+        let mut fs: Vec<IvpFunction> = (0..2 + pick(&mut seed, 3))
+            .map(|_| {
+                if pick(&mut seed, 2) == 0 {
+                    tiling(&cs, &[1 + pick(&mut seed, 9) as i32, 3], false, &mut seed)
+                } else {
+                    zaic_like(
+                        &sub_domain(&cs, &[pick(&mut seed, 2) as usize]),
+                        false,
+                        &mut seed,
+                    )
+                }
+            })
+            .collect();
+        // Each function's own priority, given back when it is switched on again.
+        let pwts: Vec<f64> = fs
+            .iter()
+            .map(|_| 1.0 + pick(&mut seed, 50) as f64)
+            .collect();
+        for (f, &w) in fs.iter_mut().zip(&pwts) {
+            f.set_pwt(w);
+        }
+        let mut solver = Solver::new();
+        for step in 0..12 {
+            let helm = &helms[pick(&mut seed, 3) as usize];
+            for (f, &w) in fs.iter_mut().zip(&pwts) {
+                if pick(&mut seed, 3) == 0 {
+                    f.set_pwt(if f.pwt() > 0.0 { 0.0 } else { w });
+                }
+            }
+            let refs: Vec<&IvpFunction> = fs.iter().collect();
+            let was = solver.kept;
+            let got = solver.solve(helm, &refs).unwrap();
+            kept += solver.kept - was;
+            let mut fresh = Solver::new();
+            let want = fresh.solve(helm, &refs).unwrap();
+            assert_eq!(
+                setup_fingerprint(&solver, &refs),
+                setup_fingerprint(&fresh, &refs),
+                "round {round} step {step}"
+            );
+            assert_eq!(
+                got.as_ref().map(fingerprint),
+                want.as_ref().map(fingerprint),
+                "round {round} step {step}"
+            );
+        }
+    }
+    assert!(kept > 100, "{kept}");
+}
+
 /// The clipped bound is `max maxVal(q ∩ b)` over the pieces meeting `b`, and bounds
 /// the last function at every point of `b`.
 #[test]
@@ -591,7 +657,7 @@ fn setup_fingerprint(s: &Solver, functions: &[&IvpFunction]) -> Vec<String> {
 #[test]
 fn kept_setup_equals_a_fresh_one() {
     let mut seed = 77u64;
-    let mut kept_boxes = 0;
+    let (mut kept_boxes, mut kept) = (0, 0);
     for round in 0..200 {
         let dom = random_domain(&mut seed);
         let mut fs = random_problem(&dom, &mut seed);
@@ -624,8 +690,10 @@ fn kept_setup_equals_a_fresh_one() {
                 .iter()
                 .filter(|p| !p.lists_ppg.is_empty())
                 .count();
+            let was = solver.kept;
             let got = solver.solve(&dom, &refs).unwrap();
             kept_boxes += before.min(1);
+            kept += solver.kept - was;
             let mut fresh = Solver::new();
             let want = fresh.solve(&dom, &refs).unwrap();
             assert_eq!(
@@ -641,6 +709,8 @@ fn kept_setup_equals_a_fresh_one() {
         }
     }
     assert!(kept_boxes > 100, "{kept_boxes}");
+    // Unchanged functions were kept whole (and matched a fresh set-up above).
+    assert!(kept > 500, "{kept}");
 }
 
 /// A random box inside `pts` (the search's nodes are), small ones often.
