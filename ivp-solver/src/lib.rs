@@ -25,7 +25,7 @@ use ivp::{Domain, IvpError, IvpFunction};
 use last_bits::LastBits;
 use last_index::{FirstCells, LastIndex};
 use prepared::{Prepared, NO_BOUND};
-use search::{Search, Term};
+use search::{Clip, Search, Term};
 use std::cell::Cell;
 
 mod coords;
@@ -82,15 +82,23 @@ pub struct Solver {
     prev: Vec<i32>,
     seed_b: Vec<i32>,
     seed_w: Vec<f64>,
+    /// The helm domain and problem variables the slots' keys were made in (see
+    /// `setup.rs`).
+    key_helm: Domain,
+    key_prob: Vec<usize>,
     /// The allocation of each solve's list of box slices, kept empty between solves.
     boxes_buf: Vec<&'static [i32]>,
     /// The allocation of each solve's list of bound terms, kept empty between solves.
     terms_buf: Vec<Term<'static>>,
     /// The allocation of the views the `&[&IvpFunction]` entry points solve.
     views_buf: Vec<FunctionView<'static>>,
-    /// Last solve: (seeded, searched again unseeded, last bit sets on), for the tests.
+    /// Last solve: (seeded, searched again unseeded, last bit sets on, clipped bound
+    /// on), for the tests.
     #[cfg(test)]
-    stats: (usize, usize, usize),
+    stats: (usize, usize, usize, usize),
+    /// Functions kept from an earlier solve, over the solver's life, for the tests.
+    #[cfg(test)]
+    kept: usize,
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -212,13 +220,16 @@ impl Solver {
         if self.funcs.len() < functions.len() {
             self.funcs.resize_with(functions.len(), Prepared::default);
         }
+        // Whether the problem is the one the slots' keys were made in: checked when a
+        // key is first used or made (see `Solver::same_problem`).
+        let mut same_problem = None;
         self.active.clear();
         for (fi, f) in functions.iter().enumerate() {
             if f.pwt() <= 0.0 {
                 continue;
             }
             let first = self.active.is_empty();
-            self.prepare(fi, f, helm, dim, first)?;
+            self.prepare(fi, f, helm, dim, first, &mut same_problem)?;
             self.active.push(fi);
         }
         if self.active.is_empty() || dim == 0 {
@@ -283,6 +294,42 @@ impl Solver {
         };
         let seed = seed.filter(|s| sure && s.is_finite());
         let last = (sure && self.last.on).then_some(&self.last);
+        // The functions from `singles_from` on are all one cell (their bounds are
+        // their global ones).
+        let singles_from = (0..m)
+            .rev()
+            .find(|&k| !self.funcs[self.active[k]].single)
+            .map_or(0, |k| k + 1);
+        // The last function's clipped bound, from the first level whose nodes may be
+        // narrower than the domain in one of its dimensions (a function above fixes
+        // one of them), if that is two or more levels above it and all below are one
+        // cell.
+        // (Dimensions past 31 are left out: the bound is valid whatever the mask.)
+        let dims = |fi: usize| {
+            let bit = |d: usize| 1u32.checked_shl(d as u32).unwrap_or(0);
+            self.funcs[fi].map.iter().fold(0, |a, &d| a | bit(d))
+        };
+        let clip_from = (m >= 3 && sure && last.is_none() && singles_from < m)
+            .then(|| {
+                let mut above = 0;
+                (1..m).find(|&k| {
+                    above |= dims(self.active[k - 1]);
+                    above & dims(fl) != 0
+                })
+            })
+            .flatten()
+            .map(|from| from.max(singles_from))
+            .filter(|&from| from + 1 < m);
+        let clip = clip_from.map(|from| {
+            let f = &self.funcs[fl];
+            Clip {
+                boxes: boxes[fl],
+                weights: &f.weights,
+                n: f.n,
+                dims: dims(fl),
+                from,
+            }
+        });
         let f0 = self.active[0];
         let first_cells = last.map(|ix| {
             let key = (f0, self.funcs[f0].boxes_gen);
@@ -306,6 +353,8 @@ impl Solver {
             doubt: Cell::new(false),
             last,
             first_cells,
+            clip,
+            singles_from,
             last_ub: self.funcs[fl].global_ub,
             bits: bits_on.then_some(&mut self.bits),
             bits_ready: false,
@@ -322,6 +371,7 @@ impl Solver {
                 usize::from(seeded),
                 usize::from(rerun),
                 usize::from(bits_on),
+                usize::from(s.clip.is_some()),
             );
         }
         if rerun {

@@ -50,6 +50,8 @@ pub(crate) struct Prepared {
     /// The cell size the cell lists were made for (from the boxes of `src_*`), empty
     /// for none.
     pub(crate) lists_ppg: Vec<i32>,
+    /// What the slot was last prepared from (see `setup.rs`).
+    pub(crate) key: crate::setup::MadeFrom,
 }
 
 pub(crate) const NO_BOUND: f64 = -99999.0;

@@ -120,6 +120,67 @@ pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -
     acc
 }
 
+/// The last function's pieces, for a tighter bound of nodes two or more levels above
+/// it when it is one cell and has no [`LastIndex`] (a waypoint's course × speed, or a
+/// speed × depth function, below 1-D functions: their global bound is loose).
+///
+/// `max_q maxVal(q ∩ b)` over the pieces `q` meeting box `b` bounds the last
+/// function over `b`: a leaf below `b` lies in `b ∩ q` for its piece `q`, so its value
+/// is at most `maxVal(b) + Σ cheap bounds of the functions between + maxVal(q ∩ b)`
+/// (up to rounding, which the search's slack covers, as for [`LastIndex`] bounds).
+#[derive(Clone, Copy)]
+pub(crate) struct Clip<'a> {
+    pub(crate) boxes: &'a [i32],
+    pub(crate) weights: &'a [f64],
+    pub(crate) n: usize,
+    /// Bit `d`: the last function has problem dimension `d` (the others are whole,
+    /// slope 0: a box narrow only there leaves the global bound as tight as this one).
+    pub(crate) dims: u32,
+    /// The first level (functions `from..` not yet fixed) whose nodes may be narrower
+    /// in one of those dimensions: above it the bound is the global one.
+    pub(crate) from: usize,
+}
+
+impl Clip<'_> {
+    /// Whether box `b` is narrower than the domain in a dimension of the function.
+    #[inline(always)]
+    pub(crate) fn narrows(&self, b: &[i32], pts: &[i32]) -> bool {
+        (0..pts.len()).any(|d| {
+            self.dims & 1u32.checked_shl(d as u32).unwrap_or(0) != 0
+                && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1)
+        })
+    }
+
+    /// `max maxVal(q ∩ b)` over the pieces meeting `b` (`-inf` for none, NaN kept).
+    #[inline]
+    pub(crate) fn bound(&self, b: &[i32], dim: usize) -> f64 {
+        let (bl, wl) = (2 * dim, dim + 1);
+        let mut best = f64::NEG_INFINITY;
+        let pieces = self
+            .boxes
+            .chunks_exact(bl)
+            .zip(self.weights.chunks_exact(wl));
+        for (qb, qw) in pieces.take(self.n) {
+            if !intersects(b, qb, dim) {
+                continue;
+            }
+            let mut v = qw[dim];
+            for d in 0..dim {
+                let c = if qw[d] < 0.0 {
+                    b[2 * d].max(qb[2 * d])
+                } else {
+                    b[2 * d + 1].min(qb[2 * d + 1])
+                };
+                v += qw[d] * f64::from(c);
+            }
+            if v > best || v.is_nan() {
+                best = v;
+            }
+        }
+        best
+    }
+}
+
 pub(crate) struct Search<'a> {
     pub(crate) funcs: &'a [Prepared],
     /// The boxes of function `fi` (see [`Prepared::bounds`]).
@@ -143,6 +204,11 @@ pub(crate) struct Search<'a> {
     /// reference (see [`Search::prune`]); the caller then searches again unseeded.
     pub(crate) doubt: Cell<bool>,
     pub(crate) last: Option<&'a LastIndex>,
+    /// Without `last`: the last function's clipped bound, for nodes two or more levels
+    /// above it when the functions from there on are all one cell.
+    pub(crate) clip: Option<Clip<'a>>,
+    /// The first level from which every function is one cell (`active.len()`: none).
+    pub(crate) singles_from: usize,
     /// With `last`: the index's cell of every piece of the first function
     /// ([`NO_CELL`] for none), so that its pieces are bounded without looking it up.
     pub(crate) first_cells: Option<&'a [u32]>,
@@ -170,6 +236,9 @@ impl Search<'_> {
         }
         let (m, dim) = (self.active.len(), self.dim);
         let Some(ix) = self.last else {
+            if level >= self.singles_from {
+                return self.skip_singles(level, b, acc);
+            }
             let r = if dim <= ODO_DIMS {
                 bound_terms(&self.terms[level..m], dim, b, acc)
             } else {
@@ -178,6 +247,30 @@ impl Search<'_> {
             return self.prune(r, r);
         };
         self.skip_indexed(level, b, acc, ix, || ix.cell_of(b))
+    }
+
+    /// [`Search::skip`] without the index when the functions `level..` are all one
+    /// cell: their terms are their global bounds, added in order as [`bound_terms`]
+    /// adds them, the last one last; the tighter bound is the [`Clip`] one, when on.
+    #[inline(always)]
+    fn skip_singles(&self, level: usize, b: &[i32], acc: f64) -> bool {
+        let m = self.active.len();
+        let mut prefix = acc;
+        for t in &self.terms[level..m - 1] {
+            prefix += t.ub;
+        }
+        let rb = prefix + self.last_ub;
+        if rb <= self.best {
+            return self.prune(rb, rb);
+        }
+        let tb = match &self.clip {
+            // Next to the last function its leaves cost about what this bound does.
+            Some(clip) if clip.from <= level && level + 1 < m && clip.narrows(b, self.pts) => {
+                prefix + clip.bound(b, self.dim)
+            }
+            _ => rb,
+        };
+        self.prune(rb, tb)
     }
 
     /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
@@ -331,42 +424,65 @@ impl Search<'_> {
     /// only materialized when it becomes the incumbent. A node inside one cell of the
     /// [`LastIndex`] meets only that cell's pieces (array order, as here).
     pub(crate) fn last_level_single(&mut self, level: usize, f: &Prepared, fb: &[i32]) {
-        let bl = 2 * self.dim;
+        // The helm's dimensions made constants: the per-leaf loops unrolled.
+        match self.dim {
+            1 => self.last_level_dim(level, f, fb, 1),
+            2 => self.last_level_dim(level, f, fb, 2),
+            3 => self.last_level_dim(level, f, fb, 3),
+            dim => self.last_level_dim(level, f, fb, dim),
+        }
+    }
+
+    /// [`Search::last_level_single`] with `dim == self.dim`.
+    #[inline(always)]
+    fn last_level_dim(&mut self, level: usize, f: &Prepared, fb: &[i32], dim: usize) {
+        let (bl, wl) = (2 * dim, dim + 1);
         let cell = {
             let node_b = &self.node_b[(level - 1) * bl..level * bl];
             self.last
                 .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
         };
-        let wl = self.dim + 1;
-        match cell {
-            Some(list) => {
+        let mut meet = [0u64; 4];
+        let words = match cell {
+            Some(_) => None,
+            None => self.bits_meeting(level, f, fb, &mut meet),
+        };
+        // The node held apart from `self` while the leaves update the incumbent.
+        let (all_b, all_w) = (
+            std::mem::take(&mut self.node_b),
+            std::mem::take(&mut self.node_w),
+        );
+        let nb = &all_b[(level - 1) * bl..level * bl];
+        let nw = &all_w[(level - 1) * wl..level * wl];
+        let weights = &f.weights;
+        match (cell, words) {
+            (Some(list), _) => {
                 for &q in list {
                     let q = q as usize;
-                    let qb = &fb[q * bl..(q + 1) * bl];
-                    self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
+                    let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
+                    self.last_leaf(nb, nw, qb, qw, dim);
                 }
             }
-            None => {
-                let mut meet = [0u64; 4];
-                if let Some(words) = self.bits_meeting(level, f, fb, &mut meet) {
-                    // The pieces meeting the node, in array order.
-                    for (w, &word) in meet.iter().enumerate().take(words) {
-                        let mut word = word;
-                        while word != 0 {
-                            let q = w * 64 + word.trailing_zeros() as usize;
-                            word &= word - 1;
-                            let qb = &fb[q * bl..(q + 1) * bl];
-                            self.last_leaf(level, qb, &f.weights[q * wl..(q + 1) * wl]);
-                        }
+            (None, Some(words)) => {
+                // The pieces meeting the node, in array order.
+                for (w, &word) in meet.iter().enumerate().take(words) {
+                    let mut word = word;
+                    while word != 0 {
+                        let q = w * 64 + word.trailing_zeros() as usize;
+                        word &= word - 1;
+                        let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
+                        self.last_leaf(nb, nw, qb, qw, dim);
                     }
-                    return;
                 }
-                let pieces = fb.chunks_exact(bl).zip(f.weights.chunks_exact(wl));
+            }
+            (None, None) => {
+                let pieces = fb.chunks_exact(bl).zip(weights.chunks_exact(wl));
                 for (qb, qw) in pieces.take(f.n) {
-                    self.last_leaf(level, qb, qw);
+                    self.last_leaf(nb, nw, qb, qw, dim);
                 }
             }
         }
+        (self.node_b, self.node_w) = (all_b, all_w);
     }
 
     /// The pieces of the last function meeting the node at `level` into `meet`, and the
@@ -397,39 +513,40 @@ impl Search<'_> {
         bits.meeting(node_b, meet).then(|| bits.words())
     }
 
-    /// The leaf `node ∩ q` of [`Search::last_level_single`] (`q` = box `qb`, weights
-    /// `qw`), if they meet.
+    /// The leaf `node ∩ q` of [`Search::last_level_single`] (the node's box and weights
+    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet.
     #[inline(always)]
-    pub(crate) fn last_leaf(&mut self, level: usize, qb: &[i32], qw: &[f64]) {
-        let dim = self.dim;
+    pub(crate) fn last_leaf(
+        &mut self,
+        node_b: &[i32],
+        node_w: &[f64],
+        qb: &[i32],
+        qw: &[f64],
+        dim: usize,
+    ) {
         let (bl, wl) = (2 * dim, dim + 1);
-        let node_b = &self.node_b[(level - 1) * bl..level * bl];
-        let node_w = &self.node_w[(level - 1) * wl..level * wl];
-        {
-            if !intersects(node_b, qb, dim) {
-                return;
-            }
-            let mut acc = node_w[dim] + qw[dim];
+        let (node_b, node_w, qb, qw) = (&node_b[..bl], &node_w[..wl], &qb[..bl], &qw[..wl]);
+        if !intersects(node_b, qb, dim) {
+            return;
+        }
+        let mut acc = node_w[dim] + qw[dim];
+        for d in 0..dim {
+            let w = node_w[d] + qw[d];
+            let c = if w < 0.0 {
+                node_b[2 * d].max(qb[2 * d])
+            } else {
+                node_b[2 * d + 1].min(qb[2 * d + 1])
+            };
+            acc += w * f64::from(c);
+        }
+        if self.takes(acc) {
+            self.set_best(acc);
             for d in 0..dim {
-                let w = node_w[d] + qw[d];
-                let c = if w < 0.0 {
-                    node_b[2 * d].max(qb[2 * d])
-                } else {
-                    node_b[2 * d + 1].min(qb[2 * d + 1])
-                };
-                acc += w * f64::from(c);
+                self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
+                self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
             }
-            if self.takes(acc) {
-                // `set_best`, field by field (the node is borrowed).
-                self.best = acc;
-                self.found = true;
-                for d in 0..dim {
-                    self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
-                    self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
-                }
-                for i in 0..wl {
-                    self.best_w[i] = node_w[i] + qw[i];
-                }
+            for i in 0..wl {
+                self.best_w[i] = node_w[i] + qw[i];
             }
         }
     }

@@ -12,7 +12,68 @@ impl Solver {
     /// and the cell lists are kept from the last solve when they were made from the
     /// same boxes the same way (the contacts' tilings are the same every iteration):
     /// only the weights and the cell bounds are new.
+    ///
+    /// A function the slot was prepared from last time, unchanged (same domain, boxes,
+    /// weight bits, gel box, grid bits, pwt bits and level) in the same problem (see
+    /// [`Solver::same_problem`], `same` its answer in this solve once asked), is kept
+    /// as it is: prepared again it would be the same (the helm's depth functions, a
+    /// waypoint while ownship holds still).
     pub(super) fn prepare(
+        &mut self,
+        fi: usize,
+        f: &FunctionView<'_>,
+        helm: &Domain,
+        dim: usize,
+        first: bool,
+        same: &mut Option<bool>,
+    ) -> Result<(), IvpError> {
+        if self.funcs[fi].key.on
+            && self.same_problem(helm, same)
+            && self.funcs[fi].made_from(f, first)
+        {
+            self.funcs[fi].key.misses = 0;
+            #[cfg(test)]
+            {
+                self.kept += 1;
+            }
+            return Ok(());
+        }
+        let key = &mut self.funcs[fi].key;
+        key.on = false;
+        key.misses = key.misses.saturating_add(1);
+        self.prepare_fresh(fi, f, helm, dim, first)?;
+        // Large functions (the contacts' tilings) change every iteration: keying them
+        // would copy and compare thousands of weights for nothing. A slot whose
+        // function keeps changing (a moving waypoint) is keyed now and then only.
+        let misses = self.funcs[fi].key.misses;
+        if (misses <= 2 || misses.is_multiple_of(16)) && f.piece_count() <= KEEP_MAX_PIECES {
+            self.same_problem(helm, same);
+            self.funcs[fi].key.set(f, first);
+        }
+        Ok(())
+    }
+
+    /// Whether the problem (helm domain, `prob_to_helm`) is the one the slots' keys
+    /// were made in, asked once per solve (`same`). When it is not, every key is
+    /// dropped and this problem recorded: keys made from here on are this problem's.
+    fn same_problem(&mut self, helm: &Domain, same: &mut Option<bool>) -> bool {
+        if let Some(s) = *same {
+            return s;
+        }
+        let s = self.key_helm == *helm && self.key_prob == self.prob_to_helm;
+        if !s {
+            for p in &mut self.funcs {
+                p.key.on = false;
+            }
+            self.key_helm.clone_from(helm);
+            self.key_prob.clone_from(&self.prob_to_helm);
+        }
+        *same = Some(s);
+        s
+    }
+
+    /// [`Solver::prepare`] from scratch (but for the kept boxes and cell lists).
+    fn prepare_fresh(
         &mut self,
         fi: usize,
         f: &FunctionView<'_>,
@@ -281,4 +342,61 @@ fn build_lists(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize) {
         });
     }
     (p.cell_items, p.cursor) = (items, cursor);
+}
+
+/// Largest function kept from one solve to the next (see [`Solver::prepare`]).
+const KEEP_MAX_PIECES: usize = 128;
+
+/// What a slot was last prepared from (see [`Solver::prepare`]); `bounds` are the
+/// slot's `src_bounds`.
+#[derive(Debug, Default)]
+pub(crate) struct MadeFrom {
+    pub(crate) on: bool,
+    domain: Domain,
+    weights: Vec<u64>,
+    gelbox: Vec<u32>,
+    grid: Vec<u64>,
+    pwt: u64,
+    first: bool,
+    /// Fresh preparations of the slot in a row.
+    misses: u32,
+}
+
+/// The bits of `x` equal `key`, element by element (NaN and signed zeros told apart).
+fn same_bits(key: &[u64], x: &[f64]) -> bool {
+    key.len() == x.len() && key.iter().zip(x).all(|(&k, v)| k == v.to_bits())
+}
+
+impl MadeFrom {
+    fn set(&mut self, f: &FunctionView<'_>, first: bool) {
+        // (A domain's names would be allocated anew by `clone_from`.)
+        if self.domain != *f.domain() {
+            self.domain.clone_from(f.domain());
+        }
+        self.weights.clear();
+        self.weights.extend(f.weights().iter().map(|w| w.to_bits()));
+        self.gelbox.clear();
+        self.gelbox.extend_from_slice(f.gelbox());
+        self.grid.clear();
+        self.grid
+            .extend(f.grid_bounds().iter().map(|w| w.to_bits()));
+        self.pwt = f.pwt().to_bits();
+        self.first = first;
+        self.on = true;
+    }
+}
+
+impl Prepared {
+    /// Whether the slot was last prepared from `f` at the same level (`first`).
+    fn made_from(&self, f: &FunctionView<'_>, first: bool) -> bool {
+        let k = &self.key;
+        // The weights first: what changes when anything does.
+        k.on && same_bits(&k.weights, f.weights())
+            && k.first == first
+            && k.pwt == f.pwt().to_bits()
+            && self.src_bounds == f.bounds()
+            && k.gelbox == f.gelbox()
+            && same_bits(&k.grid, f.grid_bounds())
+            && k.domain == *f.domain()
+    }
 }
