@@ -1,12 +1,11 @@
 //! What a behavior keeps between its function builds: a function whose inputs (by their
 //! exact bits) did not change, and the ZAIC builders it sets up again every iteration.
 
-use behavior_api::sdk::copy_function;
 use ivp::zaic::ZaicPeak;
 use ivp::{Domain, IvpFunction};
 
 /// The last function built, with the key of the inputs it was built from: while the key
-/// is the same it is handed out again (as a copy in spare storage) instead of built.
+/// is the same it is lent again instead of built.
 pub struct Kept<K> {
     last: Option<(K, IvpFunction)>,
 }
@@ -18,26 +17,23 @@ impl<K> Default for Kept<K> {
 }
 
 impl<K: PartialEq> Kept<K> {
-    /// A copy of the kept function when `key` is its key, else `build()` (kept when it
-    /// succeeds; failures are not kept, so they are met again with the same inputs).
+    /// The kept function when `key` is its key, else `build()` (kept when it succeeds;
+    /// failures are not kept, so they are met again with the same inputs).
     pub fn get<E>(
         &mut self,
         key: K,
         build: impl FnOnce() -> Result<IvpFunction, E>,
-    ) -> Result<IvpFunction, E> {
-        if let Some((k, f)) = &self.last {
-            if *k == key {
-                if let Ok(copy) = copy_function(f) {
-                    return Ok(copy);
+    ) -> Result<&IvpFunction, E> {
+        let kept = match self.last.take() {
+            Some((k, f)) if k == key => (k, f),
+            old => {
+                if let Some((_, f)) = old {
+                    f.recycle();
                 }
+                (key, build()?)
             }
-        }
-        let f = build()?;
-        if let Some((_, old)) = self.last.take() {
-            old.recycle();
-        }
-        self.last = copy_function(&f).ok().map(|kept| (key, kept));
-        Ok(f)
+        };
+        Ok(&self.last.insert(kept).1)
     }
 }
 

@@ -66,11 +66,12 @@ fn couple(
     Ok(f)
 }
 
-/// What one Loiter keeps between builds (over its one domain): the speed function while
-/// the ZAIC type and the speed are the same, and the course builder.
+/// What one Loiter keeps between builds (over its one domain): the speed function,
+/// normalized as the coupler normalizes it, while the ZAIC type, the speed and the
+/// patience are the same, and the course builder.
 #[derive(Default)]
 pub struct Builder {
-    speed: Kept<(bool, u64)>,
+    speed: Kept<(bool, u64, u64)>,
     course: Option<ZaicPeak>,
 }
 
@@ -81,8 +82,14 @@ impl Builder {
         domain: &Domain,
         o: &LoiterObjective<'_>,
     ) -> Result<IvpFunction, Failure> {
-        let key = (o.ipf_type == "zaic_spd", o.speed.to_bits());
-        let spd = match self.speed.get(key, || speed(domain, o)) {
+        let w2 = 100.0 - o.patience;
+        let key = (o.ipf_type == "zaic_spd", o.speed.to_bits(), w2.to_bits());
+        let spd = self.speed.get(key, || {
+            let mut f = speed(domain, o)?;
+            f.normalize(0.0, w2);
+            Ok::<_, Failure>(f)
+        });
+        let spd = match spd {
             Err(None) => return Err(None),
             spd => spd.ok(),
         };
@@ -90,7 +97,13 @@ impl Builder {
         let ok = z.set_params(o.bearing, 0.0, 180.0, 0.0, 0.0, 100.0, 0);
         let crs = z.extract(true);
         kept::drop_on_failure(&mut self.course, ok);
-        couple(crs, spd, o)
+        let (Some(crs), Some(spd)) = (crs, spd) else {
+            return Err(ZAIC_FAIL);
+        };
+        let coupled = ivp::coupler::try_couple_normalized(crs, spd, o.patience, w2, true);
+        let mut f = coupled.map_err(|_| None)?;
+        f.normalize(0.0, 100.0);
+        Ok(f)
     }
 }
 

@@ -29,10 +29,11 @@ pub fn build(domain: &Domain, o: &WptObjective<'_>) -> Result<IvpFunction, &'sta
     let k = z.add_component();
     z.set_params(o.heading, 30.0, 180.0, 5.0, 0.0, 20.0, k);
     let crs = z.extract(false).ok_or(CRS_FAIL)?;
-    couple(crs, spd, o)
+    ivp::coupler::couple(crs, spd, o.crs_pct, 100.0 - o.crs_pct, true).ok_or(COUPLE_FAIL)
 }
 
 const CRS_FAIL: &str = "Failure on the CRS ZAIC";
+const COUPLE_FAIL: &str = "Failure on the CRS_SPD COUPLER";
 
 /// The speed function: it depends on the ZAIC type and the cruise speed only.
 fn speed(domain: &Domain, o: &WptObjective<'_>) -> Result<IvpFunction, &'static str> {
@@ -58,21 +59,13 @@ fn set_course(z: &mut ZaicPeak, o: &WptObjective<'_>) -> bool {
     z.set_params(o.heading, 30.0, 180.0, 5.0, 0.0, 20.0, 1) && ok
 }
 
-fn couple(
-    crs: IvpFunction,
-    spd: IvpFunction,
-    o: &WptObjective<'_>,
-) -> Result<IvpFunction, &'static str> {
-    ivp::coupler::couple(crs, spd, o.crs_pct, 100.0 - o.crs_pct, true)
-        .ok_or("Failure on the CRS_SPD COUPLER")
-}
-
-/// What one Waypoint keeps between builds (over its one domain): the speed function
-/// while the ZAIC type and the cruise speed are the same (they seldom change, the
-/// bearing and heading change every iteration), and the course builder.
+/// What one Waypoint keeps between builds (over its one domain): the speed function,
+/// normalized as the coupler normalizes it, while the ZAIC type, the cruise speed and
+/// the speed weight are the same (they seldom change, the bearing and heading change
+/// every iteration), and the course builder.
 #[derive(Default)]
 pub struct Builder {
-    speed: Kept<(bool, u64)>,
+    speed: Kept<(bool, u64, u64)>,
     course: Option<ZaicPeak>,
 }
 
@@ -83,13 +76,19 @@ impl Builder {
         domain: &Domain,
         o: &WptObjective<'_>,
     ) -> Result<IvpFunction, &'static str> {
-        let key = (o.ipf_type == "zaic_spd", o.cruise.to_bits());
-        let spd = self.speed.get(key, || speed(domain, o))?;
+        let w2 = 100.0 - o.crs_pct;
+        let key = (o.ipf_type == "zaic_spd", o.cruise.to_bits(), w2.to_bits());
+        let spd = self.speed.get(key, || {
+            let mut f = speed(domain, o)?;
+            f.normalize(0.0, w2);
+            Ok::<_, &str>(f)
+        })?;
         let z = kept::peak(&mut self.course, domain, "course", true, 2).ok_or(CRS_FAIL)?;
         let ok = set_course(z, o);
         let crs = z.extract(false);
         kept::drop_on_failure(&mut self.course, ok);
-        couple(crs.ok_or(CRS_FAIL)?, spd, o)
+        ivp::coupler::try_couple_normalized(crs.ok_or(CRS_FAIL)?, spd, o.crs_pct, w2, true)
+            .map_err(|_| COUPLE_FAIL)
     }
 }
 
