@@ -2,6 +2,7 @@
 //! (behaviors-std.md), written against the behavior SDK.
 
 pub mod common;
+pub mod kept;
 pub mod loiter;
 pub mod timer;
 pub mod waypoint;

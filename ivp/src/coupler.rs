@@ -36,8 +36,23 @@ pub fn couple(
 
 /// As [`couple`] with a typed error.
 pub fn try_couple(
-    mut f1: IvpFunction,
+    f1: IvpFunction,
     mut f2: IvpFunction,
+    w1: f64,
+    w2: f64,
+    normalize: bool,
+) -> Result<IvpFunction, IvpError> {
+    f2.normalize(0.0, w2);
+    let out = try_couple_normalized(f1, &f2, w1, w2, normalize);
+    f2.recycle();
+    out
+}
+
+/// [`try_couple`] given `f2` after `f2.normalize(0.0, w2)`, only borrowed: the same
+/// function, bit for bit, for a caller that keeps `f2` across iterations.
+pub fn try_couple_normalized(
+    mut f1: IvpFunction,
+    f2: &IvpFunction,
     w1: f64,
     w2: f64,
     normalize: bool,
@@ -63,7 +78,6 @@ pub fn try_couple(
         return Err(IvpError::Couple("the functions share a variable".into()));
     }
     f1.normalize(0.0, w1);
-    f2.normalize(0.0, w2);
     // The two share no variable, so the coupled domain is f1's variables then f2's:
     // each piece of f1 spans f2's dimensions whole and the other way round. A coupled
     // piece is then f1's box beside f2's, with the weights each function's translation
@@ -71,9 +85,9 @@ pub fn try_couple(
     // translating both functions first (this runs for every Waypoint every iteration).
     let (d1, d2) = (f1.dim(), f2.dim());
     let (n1, n2) = (f1.piece_count(), f2.piece_count());
-    // The union of two disjoint domains: f1's variables then f2's, moved, not copied.
+    // The union of two disjoint domains: f1's variables (moved) then f2's.
     let mut dom = f1.take_domain();
-    dom.append_disjoint(f2.take_domain());
+    dom.append_disjoint(crate::domain::domain_of(f2.domain().vars()));
     let td = dom.size();
     debug_assert_eq!(td, d1 + d2);
     let (bl, wl) = (2 * td, td + 1);
@@ -109,9 +123,8 @@ pub fn try_couple(
         });
         None
     };
-    // The two inputs' storage goes to the next builds.
+    // f1's storage goes to the next builds.
     f1.recycle();
-    f2.recycle();
     let mut out = IvpFunction::assemble(dom, bounds, weights);
     if normalize {
         match min_max {
@@ -393,6 +406,31 @@ mod tests {
             let got = try_couple(a, b, w1, w2, true).unwrap();
             assert_eq!(got.bounds(), want.bounds(), "round {round}");
             assert_eq!(bits(got.weights()), bits(want.weights()), "round {round}");
+        }
+    }
+
+    /// One normalized f2, lent to many couplings, gives each what coupling a fresh f2
+    /// gives, bit for bit, and is left as it was.
+    #[test]
+    fn a_lent_normalized_f2_couples_as_an_owned_one() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let mut s = ZaicPeak::new(&d, "speed").unwrap();
+        s.set_params(1.5, 0.75, 1.6, 20.0, 0.0, 100.0, 0);
+        let spd = s.extract(true).unwrap();
+        let mut kept = spd.clone();
+        kept.normalize(0.0, 40.0);
+        let before = kept.clone();
+        for k in 0..40 {
+            let mut c = ZaicPeak::new(&d, "course").unwrap();
+            c.set_params(f64::from(k) * 9.1, 10.0, 90.0, 30.0, 0.0, 100.0, 0);
+            let crs = c.extract(true).unwrap();
+            let want = try_couple(crs.clone(), spd.clone(), 60.0, 40.0, k % 2 == 0).unwrap();
+            let got = try_couple_normalized(crs, &kept, 60.0, 40.0, k % 2 == 0).unwrap();
+            let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(got.bounds(), want.bounds(), "{k}");
+            assert_eq!(bits(got.weights()), bits(want.weights()), "{k}");
+            assert_eq!(got.domain(), want.domain());
+            assert_eq!(bits(kept.weights()), bits(before.weights()));
         }
     }
 

@@ -54,7 +54,7 @@ mod regions;
 mod tiling;
 pub mod zaic;
 
-pub use coupler::{couple, try_couple};
+pub use coupler::{couple, try_couple, try_couple_normalized};
 pub use domain::{Domain, DomainVar, Snap};
 pub use error::IvpError;
 pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};

@@ -2,6 +2,7 @@
 //! or inside.
 
 pub mod engine;
+pub mod ipf;
 
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{FunctionData, PostValue};
@@ -9,7 +10,6 @@ use geometry::{
     angle_diff, dist, fmt_x, is_color, parse_point, parse_polygon, point_spec, rel_ang, Attrs,
     Polygon,
 };
-use ivp::zaic::{ZaicPeak, ZaicSpd};
 
 use crate::common::Platform;
 use crate::common::{no_white, parse_bool, parse_nonneg, parse_number, platform_update, subst};
@@ -83,6 +83,7 @@ pub struct BhvLoiter {
     /// The path spec, formatted again only when the path or its look changes.
     view_cache: geometry::SeglistSpecCache,
     ivp_domain: Option<ivp::Domain>,
+    ipf: ipf::Builder,
     speed_high: Option<f64>,
     poly: Polygon,
     engine: WaypointEngine,
@@ -120,6 +121,7 @@ impl BhvLoiter {
             view_cache: Default::default(),
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
+            ipf: ipf::Builder::default(),
             speed_high: helm.var("speed").map(|v| v.high),
             poly: Polygon::default(),
             engine,
@@ -326,31 +328,26 @@ impl BhvLoiter {
         )
     }
 
-    fn build_function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+    fn build_function(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         let dom = self.ivp_domain.as_ref()?;
-        let speed = self.desired_speed();
-        let spd = if self.ipf_type == "zaic_spd" {
-            let mut z = ZaicSpd::new(dom, "speed").ok()?;
-            z.set_params(speed, 0.1, speed + 0.4, 85.0, 20.0, 0.0, 0.0, 100.0);
-            z.extract()
-        } else {
-            let mut z = ZaicPeak::new(dom, "speed").ok()?;
-            z.set_params(speed, 0.0, 0.3, 0.0, 0.0, 100.0, 0);
-            z.extract(true)
+        let o = ipf::LoiterObjective {
+            ipf_type: &self.ipf_type,
+            speed: self.desired_speed(),
+            bearing: rel_ang(self.plat.x, self.plat.y, self.nextpt.0, self.nextpt.1),
+            patience: self.patience,
         };
-        let bearing = rel_ang(self.plat.x, self.plat.y, self.nextpt.0, self.nextpt.1);
-        let mut z = ZaicPeak::new(dom, "course").ok()?;
-        z.set_value_wrap(true);
-        z.set_params(bearing, 0.0, 180.0, 0.0, 0.0, 100.0, 0);
-        let crs = z.extract(true);
-        let (Some(crs), Some(spd)) = (crs, spd) else {
-            ctx.post_wmessage("Failure on the ZAIC");
-            return None;
-        };
-        let mut f = ivp::coupler::couple(crs, spd, self.patience, 100.0 - self.patience, true)?;
-        f.normalize(0.0, 100.0);
-        f.set_pwt(ctx.priority());
-        Some(function_data(f))
+        match self.ipf.build(dom, &o) {
+            Ok(mut f) => {
+                f.set_pwt(ctx.priority());
+                Some(function_data(f))
+            }
+            Err(msg) => {
+                if let Some(msg) = msg {
+                    ctx.post_wmessage(msg);
+                }
+                None
+            }
+        }
     }
 
     fn reset_slingshot(&mut self) {

@@ -3,6 +3,8 @@
 use ivp::zaic::{ZaicPeak, ZaicSpd};
 use ivp::{Domain, IvpFunction};
 
+use crate::kept::{self, Kept};
+
 /// Inputs of one function build.
 #[derive(Clone, Copy, Debug)]
 pub struct WptObjective<'a> {
@@ -18,29 +20,76 @@ pub struct WptObjective<'a> {
 }
 
 /// Build the coupled course × speed function, normalized to [0,100]; on failure the
-/// BHV_WARNING text.
+/// BHV_WARNING text. Everything made afresh: the reference [`Builder::build`] keeps to.
 pub fn build(domain: &Domain, o: &WptObjective<'_>) -> Result<IvpFunction, &'static str> {
-    let spd = if o.ipf_type == "zaic_spd" {
+    let spd = speed(domain, o)?;
+    let mut z = ZaicPeak::new(domain, "course").map_err(|_| CRS_FAIL)?;
+    z.set_value_wrap(true);
+    z.set_params(o.bearing, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+    let k = z.add_component();
+    z.set_params(o.heading, 30.0, 180.0, 5.0, 0.0, 20.0, k);
+    let crs = z.extract(false).ok_or(CRS_FAIL)?;
+    ivp::coupler::couple(crs, spd, o.crs_pct, 100.0 - o.crs_pct, true).ok_or(COUPLE_FAIL)
+}
+
+const CRS_FAIL: &str = "Failure on the CRS ZAIC";
+const COUPLE_FAIL: &str = "Failure on the CRS_SPD COUPLER";
+
+/// The speed function: it depends on the ZAIC type and the cruise speed only.
+fn speed(domain: &Domain, o: &WptObjective<'_>) -> Result<IvpFunction, &'static str> {
+    if o.ipf_type == "zaic_spd" {
         let mut z = ZaicSpd::new(domain, "speed")
             .map_err(|_| "Failure on the SPD ZAIC via ZAIC_SPD utility")?;
         z.set_params(o.cruise, 0.1, o.cruise + 0.4, 70.0, 20.0, 0.0, 0.0, 100.0);
         z.extract()
-            .ok_or("Failure on the SPD ZAIC via ZAIC_SPD utility")?
+            .ok_or("Failure on the SPD ZAIC via ZAIC_SPD utility")
     } else {
         let mut z = ZaicPeak::new(domain, "speed")
             .map_err(|_| "Failure on the SPD ZAIC via ZAIC_PEAK utility")?;
         z.set_params(o.cruise, o.cruise / 2.0, 1.6, 20.0, 0.0, 100.0, 0);
         z.extract(true)
-            .ok_or("Failure on the SPD ZAIC via ZAIC_PEAK utility")?
-    };
-    let mut z = ZaicPeak::new(domain, "course").map_err(|_| "Failure on the CRS ZAIC")?;
-    z.set_value_wrap(true);
-    z.set_params(o.bearing, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
-    let k = z.add_component();
-    z.set_params(o.heading, 30.0, 180.0, 5.0, 0.0, 20.0, k);
-    let crs = z.extract(false).ok_or("Failure on the CRS ZAIC")?;
-    ivp::coupler::couple(crs, spd, o.crs_pct, 100.0 - o.crs_pct, true)
-        .ok_or("Failure on the CRS_SPD COUPLER")
+            .ok_or("Failure on the SPD ZAIC via ZAIC_PEAK utility")
+    }
+}
+
+/// The course builder's two components (track bearing, ownship heading), as [`build`]
+/// sets them; false when a setter failed.
+fn set_course(z: &mut ZaicPeak, o: &WptObjective<'_>) -> bool {
+    let ok = z.set_params(o.bearing, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+    z.set_params(o.heading, 30.0, 180.0, 5.0, 0.0, 20.0, 1) && ok
+}
+
+/// What one Waypoint keeps between builds (over its one domain): the speed function,
+/// normalized as the coupler normalizes it, while the ZAIC type, the cruise speed and
+/// the speed weight are the same (they seldom change, the bearing and heading change
+/// every iteration), and the course builder.
+#[derive(Default)]
+pub struct Builder {
+    speed: Kept<(bool, u64, u64)>,
+    course: Option<ZaicPeak>,
+}
+
+impl Builder {
+    /// [`build`], bit for bit, without building again what did not change.
+    pub fn build(
+        &mut self,
+        domain: &Domain,
+        o: &WptObjective<'_>,
+    ) -> Result<IvpFunction, &'static str> {
+        let w2 = 100.0 - o.crs_pct;
+        let key = (o.ipf_type == "zaic_spd", o.cruise.to_bits(), w2.to_bits());
+        let spd = self.speed.get(key, || {
+            let mut f = speed(domain, o)?;
+            f.normalize(0.0, w2);
+            Ok::<_, &str>(f)
+        })?;
+        let z = kept::peak(&mut self.course, domain, "course", true, 2).ok_or(CRS_FAIL)?;
+        let ok = set_course(z, o);
+        let crs = z.extract(false);
+        kept::drop_on_failure(&mut self.course, ok);
+        ivp::coupler::try_couple_normalized(crs.ok_or(CRS_FAIL)?, spd, o.crs_pct, w2, true)
+            .map_err(|_| COUPLE_FAIL)
+    }
 }
 
 #[cfg(test)]
@@ -114,6 +163,49 @@ pub(crate) mod tests {
             let (c, s, _) = argmax(&f);
             assert_eq!((c, s), (crs, spd), "case hdg {h}");
         }
+    }
+
+    /// What the kept builder hands out is bit for bit what a fresh build gives, over
+    /// random changes of every input (some repeated, -0.0, NaN and out-of-domain values
+    /// included) and of the ZAIC type, failures and recoveries from them included.
+    #[test]
+    fn kept_function_equals_a_fresh_build() {
+        let d = domain(4.0, 41);
+        let mut b = Builder::default();
+        let mut next = crate::kept::tests::picker(0x9e37_79b9_7f4a_7c15);
+        let mut o = obj(1.5, 45.0, 90.0);
+        let (mut same_speed, mut failed) = (0, 0);
+        for round in 0..3000 {
+            let angle = |r: u64| [0.0, -0.0, 359.0, 359.5, 180.0, 12.25, f64::NAN][r as usize];
+            match next(8) {
+                0 => o.cruise = [0.0, -0.0, 1.5, 2.0, 3.9, 4.5, f64::NAN][next(7) as usize],
+                1 => o.ipf_type = ["zaic", "zaic_spd", "roc"][next(3) as usize],
+                2 => o.crs_pct = [50.0, 30.0, 99.0, 0.0][next(4) as usize],
+                3 => o.bearing = angle(next(7)),
+                4 => o.heading = angle(next(7)),
+                _ => same_speed += 1,
+            }
+            // Most rounds turn the vehicle a little, as the iterations do.
+            if next(3) > 0 {
+                o.bearing = (next(36_000) as f64) / 100.0;
+                o.heading = (next(3600) as f64) / 10.0;
+            }
+            let kept = b.build(&d, &o);
+            let fresh = build(&d, &o);
+            match (kept, fresh) {
+                (Ok(k), Ok(f)) => {
+                    let p = crate::kept::tests::parts;
+                    assert_eq!(p(&k), p(&f), "round {round} {o:?}");
+                    k.recycle();
+                    f.recycle();
+                }
+                (k, f) => {
+                    assert_eq!(k.err(), f.err(), "round {round} {o:?}");
+                    failed += 1;
+                }
+            }
+        }
+        assert!(same_speed > 1000 && failed > 100, "{same_speed} {failed}");
     }
 
     #[test]

@@ -39,6 +39,7 @@ pub struct BhvWaypoint {
     trk_attrs: String,
     text: String,
     ivp_domain: Option<ivp::Domain>,
+    ipf: ipf::Builder,
     speed_high: Option<f64>,
     pub(crate) engine: WaypointEngine,
     cruise_speed: f64,
@@ -109,6 +110,7 @@ impl BhvWaypoint {
             text: String::new(),
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
+            ipf: ipf::Builder::default(),
             speed_high: helm.var("speed").map(|v| v.high),
             engine: WaypointEngine::new(),
             cruise_speed: 0.0,
@@ -519,7 +521,7 @@ impl BhvWaypoint {
         cruise
     }
 
-    fn build_function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+    fn build_function(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         let dom = self.ivp_domain.as_ref()?;
         let o = ipf::WptObjective {
             ipf_type: &self.ipf_type,
@@ -528,7 +530,7 @@ impl BhvWaypoint {
             heading: self.plat.heading,
             crs_pct: self.crs_ratio,
         };
-        match ipf::build(dom, &o) {
+        match self.ipf.build(dom, &o) {
             Ok(mut f) => {
                 f.set_pwt(ctx.priority());
                 Some(function_data(f))

@@ -134,7 +134,8 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     if kinks.iter().any(|k| !k.is_finite()) {
         return None;
     }
-    kinks.sort_unstable_by(f64::total_cmp);
+    // All finite: `<` orders them (a -0.0 beside a 0.0 either way compares the same below).
+    kinks.sort_unstable_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     let kinks = &*kinks;
     // Is component k constant on the stretch that holds sample i (off any kink)?
     let flat_at = |k: usize, i: usize| -> bool {

@@ -1,0 +1,97 @@
+//! What a behavior keeps between its function builds: a function whose inputs (by their
+//! exact bits) did not change, and the ZAIC builders it sets up again every iteration.
+
+use ivp::zaic::ZaicPeak;
+use ivp::{Domain, IvpFunction};
+
+/// The last function built, with the key of the inputs it was built from: while the key
+/// is the same it is lent again instead of built.
+pub struct Kept<K> {
+    last: Option<(K, IvpFunction)>,
+}
+
+impl<K> Default for Kept<K> {
+    fn default() -> Self {
+        Kept { last: None }
+    }
+}
+
+impl<K: PartialEq> Kept<K> {
+    /// The kept function when `key` is its key, else `build()` (kept when it succeeds;
+    /// failures are not kept, so they are met again with the same inputs).
+    pub fn get<E>(
+        &mut self,
+        key: K,
+        build: impl FnOnce() -> Result<IvpFunction, E>,
+    ) -> Result<&IvpFunction, E> {
+        let kept = match self.last.take() {
+            Some((k, f)) if k == key => (k, f),
+            old => {
+                if let Some((_, f)) = old {
+                    f.recycle();
+                }
+                (key, build()?)
+            }
+        };
+        Ok(&self.last.insert(kept).1)
+    }
+}
+
+/// The ZAIC_PEAK builder over `var` kept in `slot` (made, with value wrap `wrap` and
+/// `comps` components, when there is none), its parameters to be set again by the
+/// caller: every parameter the caller sets is overwritten, so it builds what a fresh
+/// builder would. A builder whose setter failed carries that failure: the caller drops
+/// it ([`drop_on_failure`]).
+pub fn peak<'a>(
+    slot: &'a mut Option<ZaicPeak>,
+    domain: &Domain,
+    var: &str,
+    wrap: bool,
+    comps: usize,
+) -> Option<&'a mut ZaicPeak> {
+    if slot.is_none() {
+        let mut z = ZaicPeak::new(domain, var).ok()?;
+        z.set_value_wrap(wrap);
+        while z.components() < comps {
+            z.add_component();
+        }
+        *slot = Some(z);
+    }
+    slot.as_mut()
+}
+
+/// Drop the kept builder after a failed setter (`ok` false): the next build starts
+/// from a fresh one, as the reference does every iteration.
+pub fn drop_on_failure(slot: &mut Option<ZaicPeak>, ok: bool) {
+    if !ok {
+        *slot = None;
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use ivp::IvpFunction;
+
+    /// Everything a function is made of, floats by their bits.
+    pub fn parts(f: &IvpFunction) -> (Vec<i32>, Vec<u64>, Vec<u32>, Vec<u64>, String, u64) {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        (
+            f.bounds().to_vec(),
+            bits(f.weights()),
+            f.gelbox().to_vec(),
+            bits(f.grid_bounds()),
+            f.domain().to_ipf_string(),
+            f.pwt().to_bits(),
+        )
+    }
+
+    /// A reproducible pick among `n`.
+    pub fn picker(mut seed: u64) -> impl FnMut(u64) -> u64 {
+        move |n| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) % n
+        }
+    }
+}
