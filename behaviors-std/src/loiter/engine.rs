@@ -81,7 +81,8 @@ pub fn acquire_vertex(
 /// Position relative to the polygon band.
 pub fn loiter_mode(prev: &str, dist_to_poly: f64, acquire_dist: f64) -> &'static str {
     let stable_or = |side: &str| {
-        if prev == "stable" || prev == format!("recovering_{side}") {
+        let recovering = prev.strip_prefix("recovering_") == Some(side);
+        if prev == "stable" || recovering {
             if side == "external" {
                 "recovering_external"
             } else {

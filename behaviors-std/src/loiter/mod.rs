@@ -3,12 +3,12 @@
 
 pub mod engine;
 pub mod ipf;
+mod posts;
 
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{FunctionData, PostValue};
 use geometry::{
-    angle_diff, dist, fmt_x, is_color, parse_point, parse_polygon, point_spec, rel_ang, Attrs,
-    Polygon,
+    angle_diff, dist, fmt_x, is_color, parse_point, parse_polygon, rel_ang, Attrs, Polygon,
 };
 
 use crate::common::Platform;
@@ -101,6 +101,7 @@ pub struct BhvLoiter {
     ipf_type: String,
     suffix: String,
     hints: Hints,
+    posts: posts::Posts,
     // run-time state
     plat: Platform,
     acquire_mode: bool,
@@ -139,6 +140,7 @@ impl BhvLoiter {
             ipf_type: "zaic".into(),
             suffix: String::new(),
             hints: Hints::default(),
+            posts: posts::Posts::default(),
             plat: Platform::default(),
             acquire_mode: true,
             mode: "idle".into(),
@@ -148,10 +150,6 @@ impl BhvLoiter {
             bng_last: None,
             bng_total: 0.0,
         }
-    }
-
-    fn sfx(&self, var: &str) -> String {
-        format!("{var}{}", self.suffix)
     }
 
     /// Orient the polygon to `clockwise` and (re)load it as the waypoint list.
@@ -266,8 +264,9 @@ impl BhvLoiter {
         ctx.post_message("VIEW_POLYGON", &poly);
     }
 
-    fn post_views(&mut self, ctx: &mut Ctx<'_>) {
-        let attrs = Attrs {
+    /// The polygon's and the next point's view attributes.
+    fn view_attrs(&self, ctx: &Ctx<'_>) -> (Attrs, Attrs) {
+        let poly = Attrs {
             label: self.poly_label(ctx, false),
             label_color: self.hints.label_color.clone(),
             edge_color: self.hints.edge_color.clone(),
@@ -276,44 +275,60 @@ impl BhvLoiter {
             edge_size: Some(self.hints.edge_size),
             ..Attrs::default()
         };
-        let poly = self.view_cache.get(self.engine.points(), 1, &attrs);
-        ctx.post_message("VIEW_POLYGON", poly);
-        let attrs = Attrs {
+        let pt = Attrs {
             label: format!("{}_waypoint", ctx.ownship()),
             label_color: self.hints.nextpt_lcolor.clone(),
             vertex_color: self.hints.nextpt_color.clone(),
             vertex_size: Some(self.hints.nextpt_vertex_size),
             ..Attrs::default()
         };
-        let pt = point_spec(self.nextpt.0, self.nextpt.1, None, &attrs);
-        ctx.post_message("VIEW_POINT", &pt);
+        (poly, pt)
     }
 
-    fn post_status(&self, ctx: &mut Ctx<'_>) {
+    fn post_views(&mut self, ctx: &mut Ctx<'_>) {
+        if self.posts.views.is_none() {
+            self.posts.views = Some(self.view_attrs(ctx));
+        }
+        let Some((poly_attrs, pt_attrs)) = &self.posts.views else {
+            return;
+        };
+        let poly = self.view_cache.get(self.engine.points(), 1, poly_attrs);
+        ctx.post_message("VIEW_POLYGON", poly);
+        let pt = &mut self.posts.point;
+        pt.clear();
+        geometry::push_point_spec(pt, self.nextpt.0, self.nextpt.1, None, pt_attrs);
+        ctx.post_message("VIEW_POINT", pt);
+    }
+
+    fn post_status(&mut self, ctx: &mut Ctx<'_>) {
+        use posts::{ACQUIRE, DIST_TO_POLY, ETA_TO_POLY, INDEX, MODE, REPORT};
         let ix = self.engine.index();
-        let report = format!(
-            "index={ix},capture_hits={},nonmono_hits={},acquire_mode={}",
-            self.engine.capture_hits(),
-            self.engine.slip_hits(),
-            self.acquire_mode
-        );
-        ctx.post_message(&self.sfx("LOITER_REPORT"), &report);
-        ctx.post_message_num(&self.sfx("LOITER_INDEX"), ix as f64);
-        ctx.post_message(&self.sfx("LOITER_MODE"), &self.mode);
-        ctx.post_message_num(
-            &self.sfx("LOITER_ACQUIRE"),
-            if self.acquire_mode { 1.0 } else { 0.0 },
-        );
+        let mut report = std::mem::take(&mut self.posts.report);
+        report.clear();
+        report.push_str("index=");
+        behavior_api::push_u64(&mut report, ix as u64);
+        report.push_str(",capture_hits=");
+        behavior_api::push_u64(&mut report, u64::from(self.engine.capture_hits()));
+        report.push_str(",nonmono_hits=");
+        behavior_api::push_u64(&mut report, u64::from(self.engine.slip_hits()));
+        report.push_str(",acquire_mode=");
+        report.push_str(if self.acquire_mode { "true" } else { "false" });
+        let names = self.posts.names(&self.suffix);
+        ctx.post_message(&names[REPORT], &report);
+        ctx.post_message_num(&names[INDEX], ix as f64);
+        ctx.post_message(&names[MODE], &self.mode);
+        ctx.post_message_num(&names[ACQUIRE], if self.acquire_mode { 1.0 } else { 0.0 });
         let d = self.dist_to_poly;
         let d = if d > 10.0 { (d + 0.5).trunc() } else { d };
-        ctx.post_message_num(&self.sfx("LOITER_DIST_TO_POLY"), d);
+        ctx.post_message_num(&names[DIST_TO_POLY], d);
         let e = self.eta_to_poly;
         let e = if e > 10.0 || e == 0.0 {
             (e + 0.5).trunc()
         } else {
             e
         };
-        ctx.post_message_num(&self.sfx("LOITER_ETA_TO_POLY"), e);
+        ctx.post_message_num(&names[ETA_TO_POLY], e);
+        self.posts.report = report;
     }
 
     fn settings(&self, name: &str) -> String {
@@ -384,6 +399,8 @@ impl IvpBehavior for BhvLoiter {
     }
 
     fn set_param(&mut self, ctx: &mut Ctx<'_>, param: &str, value: &str) -> bool {
+        // Names and view attributes follow the parameters.
+        self.posts.forget();
         let v = value.trim();
         let lower = v.to_ascii_lowercase();
         match param {
@@ -537,7 +554,11 @@ impl IvpBehavior for BhvLoiter {
             self.erase_visuals(ctx);
             return None;
         }
-        self.mode = engine::loiter_mode(&self.mode, self.dist_to_poly, self.acquire_dist).into();
+        let mode = engine::loiter_mode(&self.mode, self.dist_to_poly, self.acquire_dist);
+        if self.mode != mode {
+            self.mode.clear();
+            self.mode.push_str(mode);
+        }
         if !self.center_pending.is_empty() {
             let pending = std::mem::take(&mut self.center_pending);
             self.apply_center(pending.trim_start_matches(','));
