@@ -4,7 +4,6 @@
 //! from the last posting, so a steady iteration allocates nothing here.
 
 use std::collections::VecDeque;
-use std::fmt::Write as _;
 
 use crate::config::Config;
 use crate::table::Table;
@@ -67,7 +66,7 @@ impl Status {
 
         buf.clear();
         for (n, i) in alerted {
-            let _ = write!(buf, "({n},{i})");
+            push_pair(buf, n, i);
         }
         on_change(out, "CONTACTS_ALERTED", buf, &mut self.prev_alerted);
 
@@ -81,7 +80,7 @@ impl Status {
             {
                 let hit = alerted.iter().any(|(n, i)| *n == c.name && *i == a.id);
                 if !hit {
-                    let _ = write!(buf, "({},{})", c.name, a.id);
+                    push_pair(buf, &c.name, &a.id);
                 }
             }
         }
@@ -112,7 +111,12 @@ impl Status {
                     buf.push_str(" # ");
                 }
                 let r = contacts::range(os.x, os.y, c.x, c.y);
-                let _ = write!(buf, "vname={},range={r:.2},age={:.2}", c.name, now - c.utc);
+                buf.push_str("vname=");
+                buf.push_str(&c.name);
+                buf.push_str(",range=");
+                mbutil::push_fixed(buf, r, 2);
+                buf.push_str(",age=");
+                mbutil::push_fixed(buf, now - c.utc, 2);
             }
             out.push(Posting::str("CONTACTS_RECAP", buf.as_str()));
         }
@@ -124,7 +128,9 @@ impl Status {
                     buf.push(',');
                 }
                 let r = contacts::range(os.x, os.y, c.x, c.y);
-                let _ = write!(buf, "{}={r:.0}", c.name);
+                buf.push_str(&c.name);
+                buf.push('=');
+                mbutil::push_fixed(buf, r, 0);
             }
             on_change(out, "CONTACT_RANGES", buf, &mut self.prev_ranges);
         }
@@ -181,4 +187,13 @@ impl Status {
             }
         }
     }
+}
+
+/// `(name,id)`: one entry of CONTACTS_ALERTED and CONTACTS_UNALERTED.
+fn push_pair(buf: &mut String, name: &str, id: &str) {
+    buf.push('(');
+    buf.push_str(name);
+    buf.push(',');
+    buf.push_str(id);
+    buf.push(')');
 }

@@ -140,7 +140,10 @@ impl Helm {
             .map(|(v, f)| v.len() + f.len() + 2)
             .sum();
         let mut out = self.pool.take_for(most + 48);
-        let _ = write!(out, "iter={},utc_time={:.2}", self.env.helm_iteration, now);
+        out.push_str("iter=");
+        mbutil::push_u64(&mut out, self.env.helm_iteration);
+        out.push_str(",utc_time=");
+        mbutil::push_fixed(&mut out, now, 2);
         for (k, v) in fields.iter().enumerate() {
             let changed = self.summary_last.get(k) != Some(v);
             if full || changed {
