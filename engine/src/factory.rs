@@ -91,10 +91,11 @@ impl BehaviorFactory {
     }
 
     /// How to hand a function of a `type_name` behavior back to the library that made
-    /// it, when that library has the means (behavior-api 0.1.3 and later).
+    /// it, when that library has the means (behavior-api 0.1.3 and later); a built-in
+    /// behavior's goes to the host's own spare storage, where its next build takes it.
     pub fn recycler(&self, type_name: &str) -> Option<behavior_api::FunctionRecycler> {
         if self.is_builtin(type_name) {
-            return None;
+            return Some(behavior_api::module::recycle_function);
         }
         self.libraries
             .iter()

@@ -55,7 +55,6 @@ pub(crate) fn make_instance(
         core: BehaviorCore::new(&bs.type_name, &default_name, ownship),
     };
     inst.core.empty_domain = empty_domain;
-    inst.core.from_library = !factory.is_builtin(&bs.type_name);
     inst.core.recycler = factory.recycler(&bs.type_name);
     if let Ok(d) = inst.bhv.default_duration().into_result() {
         inst.core.duration = d;

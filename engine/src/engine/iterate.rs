@@ -479,18 +479,15 @@ pub(crate) fn typed(s: &str) -> Value {
     }
 }
 
-/// A behavior's function of this iteration: made by the host (built-in behaviors), or
-/// a library's, read in place where the library built it until the next decision hands
-/// it back (copying it would cost more than the solve of a big one).
-pub(crate) enum HelmFunction {
-    Owned(ivp::IvpFunction),
-    Library(
-        CheckedFunction<LibraryFunction>,
-        Option<behavior_api::FunctionRecycler>,
-    ),
-}
+/// A behavior's function of this iteration, read in place where its behavior built it
+/// (copying it would cost more than the solve of a big one) until the next decision
+/// hands it back.
+pub(crate) struct HelmFunction(
+    CheckedFunction<LibraryFunction>,
+    Option<behavior_api::FunctionRecycler>,
+);
 
-/// A library's function as it crossed the ABI, read in place.
+/// A behavior's function as it crossed the ABI, read in place.
 #[derive(Debug)]
 pub(crate) struct LibraryFunction(FunctionData);
 
@@ -514,23 +511,18 @@ impl PieceBuffers for LibraryFunction {
 
 impl HelmFunction {
     pub(crate) fn view(&self) -> FunctionView<'_> {
-        match self {
-            HelmFunction::Owned(f) => f.into(),
-            HelmFunction::Library(f, _) => f.view(),
-        }
+        self.0.view()
     }
 
     pub(crate) fn piece_count(&self) -> usize {
         self.view().piece_count()
     }
 
-    /// Storage back to whoever made it: the host's spares, or the library's next build
-    /// (a library older than the recycler frees it here, through its own allocator).
+    /// Storage back to whoever made it: the host's spares or the library's, for the
+    /// next build (a library older than the recycler frees it here, through its own
+    /// allocator).
     fn recycle(self) {
-        match self {
-            HelmFunction::Owned(f) => f.recycle(),
-            HelmFunction::Library(f, give_back) => hand_back(f.into_parts().0, give_back),
-        }
+        hand_back(self.0.into_parts().0, self.1);
     }
 }
 
@@ -554,13 +546,8 @@ fn place(
         fd.helm_vars_into(helm, &mut core.placed_vars)?;
         core.placed_domain.push_str(fd.domain.as_str());
     }
-    if !core.from_library {
-        return fd
-            .place_with(helm, &core.placed_vars, false)
-            .map(HelmFunction::Owned);
-    }
-    // A library's buffers are read where they are, then handed back for its next build
-    // (moving them in would free them here and make the library allocate anew).
+    // The buffers are read where they are, then handed back for the next build (moving
+    // them in would free a library's here and make it allocate anew).
     let give_back = core.recycler;
     let domain = match &core.placed {
         Some(d) => Arc::clone(d),
@@ -573,7 +560,7 @@ fn place(
         },
     };
     match CheckedFunction::new(LibraryFunction(fd), domain) {
-        Ok(f) => Ok(HelmFunction::Library(f, give_back)),
+        Ok(f) => Ok(HelmFunction(f, give_back)),
         Err((LibraryFunction(fd), e)) => {
             hand_back(fd, give_back);
             Err(FunctionData::rejection(e))

@@ -99,10 +99,9 @@ pub struct BehaviorCore {
     pub ownship: String,
     /// The behavior's own domain is empty ("Null IvPDomain").
     pub empty_domain: bool,
-    /// Made by a loaded library (not built in): its functions' buffers belong to the
-    /// library's allocator, so the host reads them where they are and hands them back.
-    pub from_library: bool,
-    /// Its library's way to take a function back for its next build (0.1.3).
+    /// How its functions go back to whoever built them for the next build, after the
+    /// host read them where they are: its library's recycler (0.1.3), or the host's own
+    /// for a built-in behavior.
     pub recycler: Option<behavior_api::FunctionRecycler>,
     /// The domain text of the behavior's last function, where its variables are in the
     /// helm domain, and (for a library's function) that domain as the solver reads it
@@ -205,7 +204,6 @@ impl BehaviorCore {
             build_info: String::new(),
             ownship: ownship.to_string(),
             empty_domain: false,
-            from_library: false,
             recycler: None,
             placed_domain: String::new(),
             placed_vars: Vec::new(),
