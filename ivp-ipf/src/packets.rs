@@ -1,0 +1,227 @@
+//! BHV_IPF packets (ivp-solver.md §9.2): the whole-function string split for posting,
+//! and what each behavior keeps of its last function's text.
+
+use super::{
+    encode_context_into, encode_pieces_into, encode_shape_into, encode_source_into, IpfSource,
+};
+use ivp::IvpFunction;
+
+/// Smallest packet body. The spec's `2000 - header` goes to 0 and below for behavior
+/// names of 1950+ characters (one packet per character, thousands per iteration); names
+/// under 1450 characters never reach this floor, so real missions are split as specified.
+const MIN_BODY: usize = 500;
+
+/// The BHV_IPF packets of one whole-function string (spec §9.2, packet size 2000),
+/// measured once and written one at a time into caller-owned strings. The string may
+/// come in parts, one after the other, so kept text need not be copied to be sent.
+#[derive(Clone, Copy, Debug)]
+pub struct Packets<'a> {
+    id: &'a str,
+    parts: [&'a str; 3],
+    /// Characters of body per packet.
+    body: usize,
+    count: usize,
+    /// Bytes are characters (the usual case): bodies are byte slices.
+    ascii: bool,
+}
+
+impl<'a> Packets<'a> {
+    pub fn new(id: &'a str, whole: &'a str) -> Self {
+        Self::of_parts(id, [whole, "", ""])
+    }
+
+    /// The packets of the string made of `parts` one after the other.
+    pub fn of_parts(id: &'a str, parts: [&'a str; 3]) -> Self {
+        let ascii = parts.iter().all(|p| p.is_ascii());
+        let header = id.chars().count() + 50;
+        let body = 2000usize.saturating_sub(header).max(MIN_BODY);
+        let chars: usize = if ascii {
+            parts.iter().map(|p| p.len()).sum()
+        } else {
+            parts.iter().map(|p| p.chars().count()).sum()
+        };
+        Packets {
+            id,
+            parts,
+            body,
+            count: chars / body + 1,
+            ascii,
+        }
+    }
+
+    /// How many packets.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Packet `k` (1-based) written into `out` (cleared first; its allocation is kept).
+    pub fn write(&self, k: usize, out: &mut String) {
+        out.clear();
+        out.push_str("P,");
+        out.push_str(self.id);
+        out.push(',');
+        out.push_str(itoa::Buffer::new().format(self.count));
+        out.push(',');
+        out.push_str(itoa::Buffer::new().format(k));
+        out.push(',');
+        let first = k.saturating_sub(1) * self.body;
+        if self.ascii {
+            // The byte range [first, first + body) of the parts laid end to end.
+            let (mut start, mut end) = (first, first + self.body);
+            for part in self.parts {
+                let n = part.len();
+                if start < n && end > start {
+                    out.push_str(&part[start..end.min(n)]);
+                }
+                start = start.saturating_sub(n);
+                end = end.saturating_sub(n);
+            }
+        } else {
+            let [a, b, c] = self.parts;
+            let whole = a.chars().chain(b.chars()).chain(c.chars());
+            out.extend(whole.skip(first).take(self.body));
+        }
+    }
+}
+
+/// One behavior's BHV_IPF posting as the helm writes it every iteration: the strings
+/// are kept, so once they have grown to the function's size nothing is allocated.
+#[derive(Debug, Default)]
+pub struct IpfWriter {
+    whole: String,
+    id: String,
+}
+
+impl IpfWriter {
+    /// `f` as behavior `name`'s function of iteration `iter` (packet id `name^iter`),
+    /// ready to be written packet by packet.
+    pub fn packets(&mut self, f: &IvpFunction, name: &str, iter: u64) -> Packets<'_> {
+        self.source_packets(f.into(), name, iter)
+    }
+
+    /// [`IpfWriter::packets`] from borrowed parts.
+    pub fn source_packets(&mut self, f: IpfSource<'_>, name: &str, iter: u64) -> Packets<'_> {
+        encode_source_into(f, &mut self.whole);
+        self.set_id(name, iter);
+        Packets::new(&self.id, &self.whole)
+    }
+
+    /// [`IpfWriter::source_packets`] with the text after the context taken from `kept`
+    /// where the numbers it shows are the ones it last formatted (bit for bit), and
+    /// formatted into it otherwise.
+    pub fn kept_packets<'s>(
+        &'s mut self,
+        f: IpfSource<'_>,
+        kept: &'s mut KeptIpf,
+        name: &str,
+        iter: u64,
+    ) -> Packets<'s> {
+        encode_context_into(&f, &mut self.whole);
+        kept.update(&f);
+        self.set_id(name, iter);
+        Packets::of_parts(&self.id, [&self.whole, &kept.shape, &kept.pieces])
+    }
+
+    fn set_id(&mut self, name: &str, iter: u64) {
+        self.id.clear();
+        self.id.push_str(name);
+        self.id.push('^');
+        self.id.push_str(itoa::Buffer::new().format(iter));
+    }
+}
+
+/// One behavior's last function as BHV_IPF shows it after the context (which holds
+/// the iteration), with the numbers that text was made of. A function that is the same
+/// from one iteration to the next (a constant depth, a held speed) is formatted once,
+/// and a changing function's domain and weight once while they hold: comparing numbers
+/// costs a fraction of printing them.
+#[derive(Debug, Default)]
+pub struct KeptIpf {
+    /// The text from the dimension to `F`, and what it shows.
+    shape: String,
+    count: usize,
+    pwt: u64,
+    gelbox: Vec<u32>,
+    domain: Option<ivp::Domain>,
+    /// The pieces' text, and what it shows (weights compared bit for bit: 0.0 and -0.0
+    /// apart).
+    pieces: String,
+    pieces_valid: bool,
+    dim: usize,
+    bounds: Vec<i32>,
+    weights: Vec<f64>,
+    /// Iterations in a row the pieces changed.
+    pub(crate) changed: u32,
+}
+
+impl KeptIpf {
+    fn update(&mut self, f: &IpfSource<'_>) {
+        let dim = f.domain.size();
+        let count = f.weights.len() / (dim + 1);
+        let same_domain = self
+            .domain
+            .as_ref()
+            .is_some_and(|d| same_domain(d, f.domain));
+        // The domain is kept from the first function on.
+        let shape_kept = same_domain
+            && self.count == count
+            && self.pwt == f.pwt.to_bits()
+            && self.gelbox == f.gelbox;
+        if !shape_kept {
+            self.shape.clear();
+            encode_shape_into(f, &mut self.shape);
+            if !same_domain {
+                self.domain = Some(f.domain.clone());
+            }
+            (self.count, self.pwt) = (count, f.pwt.to_bits());
+            self.gelbox.clear();
+            self.gelbox.extend_from_slice(f.gelbox);
+        }
+        let pieces_kept = self.pieces_valid
+            && self.dim == dim
+            && self.bounds == f.bounds
+            && self.weights.len() == f.weights.len()
+            && (self.weights.iter().zip(f.weights)).all(|(a, b)| a.to_bits() == b.to_bits());
+        if pieces_kept {
+            self.changed = 0;
+            return;
+        }
+        self.pieces.clear();
+        encode_pieces_into(f, &mut self.pieces);
+        self.changed = self.changed.saturating_add(1);
+        // The numbers of a function that changes every iteration (one that follows a
+        // contact: thousands of pieces) are copied only now and then, to notice when
+        // it settles.
+        self.pieces_valid = self.changed <= 2 || self.changed.is_multiple_of(8);
+        if self.pieces_valid {
+            self.dim = dim;
+            self.bounds.clear();
+            self.bounds.extend_from_slice(f.bounds);
+            self.weights.clear();
+            self.weights.extend_from_slice(f.weights);
+        }
+    }
+}
+
+/// The same domain text: names, points, and the bounds bit for bit.
+fn same_domain(a: &ivp::Domain, b: &ivp::Domain) -> bool {
+    a.size() == b.size()
+        && a.vars().iter().zip(b.vars()).all(|(x, y)| {
+            x.name == y.name
+                && x.points == y.points
+                && x.low.to_bits() == y.low.to_bits()
+                && x.high.to_bits() == y.high.to_bits()
+        })
+}
+
+/// Split a whole-function string into BHV_IPF packets (spec §9.2, packet size 2000).
+pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
+    let packets = Packets::new(id, whole);
+    (1..=packets.count())
+        .map(|k| {
+            let mut p = String::new();
+            packets.write(k, &mut p);
+            p
+        })
+        .collect()
+}
