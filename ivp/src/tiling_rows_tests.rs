@@ -189,7 +189,7 @@ fn fold_range_equals_the_fold_in_order() {
     for case in 1..6000 {
         let n = 1 + case % 37;
         let zeros = [0.0, -0.0];
-        let mut pick = |seed: &mut u64| {
+        let pick = |seed: &mut u64| {
             if case % 3 == 0 && rng(seed) < 0.5 {
                 zeros[(rng(seed) * 2.0) as usize % 2]
             } else {
