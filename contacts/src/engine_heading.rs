@@ -72,17 +72,18 @@ impl CpaEngine {
         (sins, coss): (&mut Vec<f64>, &mut Vec<f64>),
     ) {
         let table = unit_table();
-        sins.reserve(headings.len());
-        coss.reserve(headings.len());
-        for h in headings {
+        let (at, n) = (sins.len(), headings.len());
+        // Written in place: a push checks the capacity per heading.
+        sins.resize(at + n, 0.0);
+        coss.resize(at + n, 0.0);
+        for ((h, s), c) in headings.zip(&mut sins[at..]).zip(&mut coss[at..]) {
             // unit_of, with the table at hand.
-            let (s, c) = if (0.0..360.0).contains(&h) {
-                table[h as usize]
+            (*s, *c) = if (0.0..360.0).contains(&h) {
+                // SAFETY: 0 <= h < 360, so h truncated fits a u32 (and indexes the table).
+                table[unsafe { h.to_int_unchecked::<u32>() }.min(359) as usize]
             } else {
                 unit_of_degree(deg_index(h))
             };
-            sins.push(s);
-            coss.push(c);
         }
     }
 
@@ -397,6 +398,20 @@ impl CpaEngine {
     /// CPU with AVX2 the same loop runs compiled for it (four candidates per
     /// instruction instead of two; IEEE operations give the same bits at any width).
     pub fn cpa_dists(&self, units: (&[f64], &[f64]), v: f64, tol: f64, out: &mut [f64]) {
+        self.cpa_dists_map(units, (v, tol), out, |d| d);
+    }
+
+    /// [`CpaEngine::cpa_dists`] at speed `v` and horizon `tol`, each distance `d` written
+    /// as `f(d)`: `f` runs inside the row's loop (for an objective function's utility of
+    /// the distance: no pass of its own over the row), so it should have no jumps either.
+    #[inline]
+    pub fn cpa_dists_map<F: Fn(f64) -> f64>(
+        &self,
+        units: (&[f64], &[f64]),
+        (v, tol): (f64, f64),
+        out: &mut [f64],
+        f: F,
+    ) {
         let row = CpaRow {
             v: v.max(0.0),
             px: self.osx - self.cnx,
@@ -409,9 +424,9 @@ impl CpaEngine {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { cpa_row_avx2(&row, units, out) };
+            return unsafe { cpa_row_avx2(&row, units, out, f) };
         }
-        cpa_row(&row, units, out);
+        cpa_row(&row, units, out, f);
     }
 }
 
@@ -434,14 +449,24 @@ pub(super) struct CpaRow {
 /// [`CpaEngine::cpa_dists`]'s loop compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-pub(super) unsafe fn cpa_row_avx2(row: &CpaRow, units: (&[f64], &[f64]), out: &mut [f64]) {
-    cpa_row(row, units, out);
+pub(super) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
+    row: &CpaRow,
+    units: (&[f64], &[f64]),
+    out: &mut [f64],
+    f: F,
+) {
+    cpa_row(row, units, out, f);
 }
 
 /// [`CpaEngine::cpa_dists`]'s loop, for the target's baseline instructions (and inlined
 /// into [`cpa_row_avx2`]).
 #[inline(always)]
-pub(super) fn cpa_row(row: &CpaRow, (sins, coss): (&[f64], &[f64]), out: &mut [f64]) {
+pub(super) fn cpa_row<F: Fn(f64) -> f64>(
+    row: &CpaRow,
+    (sins, coss): (&[f64], &[f64]),
+    out: &mut [f64],
+    f: F,
+) {
     let &CpaRow {
         v,
         px,
@@ -462,6 +487,6 @@ pub(super) fn cpa_row(row: &CpaRow, (sins, coss): (&[f64], &[f64]), out: &mut [f
         let (dx, dy) = (px + wx * t, py + wy * t);
         let d2 = dx * dx + dy * dy;
         let d = if d2 > 0.0 { d2.sqrt() } else { 0.0 };
-        out[k] = if closing { d } else { now };
+        out[k] = f(if closing { d } else { now });
     }
 }

@@ -424,9 +424,9 @@ fn cpa_row_avx2_is_the_plain_row() {
             tol: pick(&mut seed, 300.0),
         };
         let (mut plain, mut wide) = (vec![1.5; n], vec![-2.5; n]);
-        cpa_row(&row, (&sins, &coss), &mut plain);
+        cpa_row(&row, (&sins, &coss), &mut plain, |d| d);
         // SAFETY: AVX2 is present (checked above).
-        unsafe { cpa_row_avx2(&row, (&sins, &coss), &mut wide) };
+        unsafe { cpa_row_avx2(&row, (&sins, &coss), &mut wide, |d| d) };
         for (a, b) in plain.iter().zip(&wide) {
             assert!(
                 a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),

@@ -444,7 +444,7 @@ impl<'a> Reflector<'a> {
         let pending = self.summary.iter().filter(|s| s.weights_pending);
         pending
             .flat_map(|s| &s.pieces)
-            .for_each(|p| p.write_weights(&mut weights));
+            .for_each(|p| p.write_weights(&mut weights, None));
         Self::function(domain, bounds, weights, gelbox, summary, normalize, false)
     }
 
@@ -506,12 +506,12 @@ impl<'a> Reflector<'a> {
         let min_max = s.min_max.unwrap_or((0.0, 0.0));
         if let (true, Some(mut pieces)) = (s.weights_pending, s.pieces) {
             // Normalized several at a time as their weights are written out, or just written.
-            let twice = normalize && again;
-            if twice && pieces.normalize_twice(min_max, (0.0, 100.0), &mut weights, &mut grid) {
+            let out = (&mut weights, &mut grid[..]);
+            if normalize && pieces.normalize(min_max, (0.0, 100.0), again, out) {
                 let f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);
                 return Some(f);
             }
-            pieces.write_weights(&mut weights);
+            pieces.write_weights(&mut weights, None);
         }
         let mut f = IvpFunction::with_grid_unchecked(domain, bounds, weights, gelbox, grid);
         if normalize && again {

@@ -23,10 +23,10 @@ pub(crate) struct Summary {
     /// The least piece minimum and the greatest piece maximum (`None`: no pieces).
     pub min_max: Option<(f64, f64)>,
     /// The pieces of a 2-dimensional fit in lists, for normalizing them several at a
-    /// time ([`rows::Pieces::normalize_twice`]).
+    /// time ([`rows::Pieces::normalize`]).
     pub pieces: Option<rows::Pieces>,
     /// The 2-dimensional fit's weights are only in `pieces`, not yet in the reflector's
-    /// ([`rows::Pieces::write_weights`]; normalize_twice writes them normalized).
+    /// ([`rows::Pieces::write_weights`]; normalize writes them normalized).
     pub weights_pending: bool,
 }
 
@@ -162,24 +162,18 @@ fn fit_uniform_n<const N: usize>(
     let total: usize = counts.iter().map(|&c| c as usize).product();
     bounds.reserve(total * 2 * N);
     weights.reserve(total * (N + 1));
+    if N == 2 {
+        // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
+        let mids = if any_centre { &mids.0[..] } else { &[] };
+        let (pieces, min_max) = fit_rows_2(axes, (&corners.0, mids), strict, bounds, grid);
+        (summary.min_max, summary.pieces) = (min_max, Some(pieces));
+        summary.weights_pending = min_max.is_some();
+        return;
+    }
     let mut folds = Folds {
         grid,
         min_max: None,
     };
-    if N == 2 {
-        // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
-        let pieces = fit_rows_2(
-            axes,
-            (&corners.0, if any_centre { &mids.0 } else { &[] }),
-            strict,
-            bounds,
-            &mut folds,
-        );
-        summary.min_max = folds.min_max;
-        summary.pieces = Some(pieces);
-        summary.weights_pending = summary.min_max.is_some();
-        return;
-    }
     let mut coord: [usize; N] = std::array::from_fn(|d| counts[d] as usize - 1);
     let mut vals = [0.0f64; (1 << FIT_DIMS) + 1];
     let mut w = [0.0f64; FIT_DIMS + 1];
@@ -241,13 +235,6 @@ impl Folds<'_> {
             pmax += w[d] * if w[d] < 0.0 { l } else { h };
             pmin += w[d] * if w[d] < 0.0 { h } else { l };
         }
-        self.fold(pmin, pmax);
-        pmax
-    }
-
-    /// Fold in a piece's least and greatest value as min_max_wt folds them.
-    #[inline(always)]
-    fn fold(&mut self, pmin: f64, pmax: f64) {
         self.min_max = Some(match self.min_max {
             None => (pmin, pmax),
             Some((mn, mx)) => (
@@ -255,6 +242,7 @@ impl Folds<'_> {
                 if pmax > mx { pmax } else { mx },
             ),
         });
+        pmax
     }
 }
 
@@ -269,8 +257,8 @@ fn fit_rows_2(
     (corners, mids): (&[f64], &[f64]),
     strict: bool,
     bounds: &mut Vec<i32>,
-    folds: &mut Folds<'_>,
-) -> rows::Pieces {
+    grid: &mut [f64],
+) -> (rows::Pieces, Option<(f64, f64)>) {
     let (xs, ys) = (&axes[0], &axes[1]);
     let (nx, ny) = (xs.edges.len(), ys.edges.len());
     let row = 2 * nx;
@@ -320,41 +308,39 @@ fn fit_rows_2(
     }
     let total = nx * ny;
     let [_, _, _, lo, hi] = &lists.pieces;
-    // One pass in the reflector's order (the last tile first): bounds written (the
-    // weights stay in the lists: Summary::weights_pending), ranges folded from the last
-    // tile's (folding it again changes nothing, NaN or not), grid cells raised.
-    let last = |l: &[f64]| l.get(total.wrapping_sub(1)).copied().unwrap_or(f64::NAN);
-    let (mut mn, mut mx) = (last(lo), last(hi)); // (the lists may run past the pieces)
-    let (xe, xc) = (&xs.edges[..nx], &xs.cells[..nx]);
+    let (lo, hi) = (&lo[..total], &hi[..total]);
+    // In the reflector's order (the last tile first), each in a pass of its own (tight
+    // loops): ranges folded, bounds written (the weights stay in the lists:
+    // Summary::weights_pending), grid cells raised.
+    let min_max = (total > 0).then(|| rows::fold_range(lo, hi));
     // Written in place, not zeroed first: every new slot is written below.
     bounds.reserve(4 * total);
     let bs = &mut bounds.spare_capacity_mut()[..4 * total];
-    let ys_rev = ys.edges.iter().zip(&ys.cells).enumerate().rev();
-    for (brow, (cy, (&(ylo, yhi), &(ycell, yspan)))) in bs.chunks_exact_mut(4 * nx).zip(ys_rev) {
-        let k = cy * nx;
-        let (lo, hi) = (&lo[k..k + nx], &hi[k..k + nx]);
-        for (b, cx) in brow.chunks_exact_mut(4).zip((0..nx).rev()) {
-            let (xlo, xhi) = xe[cx];
+    for (brow, &(ylo, yhi)) in bs.chunks_exact_mut(4 * nx).zip(ys.edges.iter().rev()) {
+        for (b, &(xlo, xhi)) in brow.chunks_exact_mut(4).zip(xs.edges.iter().rev()) {
             for (slot, x) in b.iter_mut().zip([xlo, xhi, ylo, yhi]) {
                 slot.write(x as i32);
             }
-            let (l, v) = (lo[cx], hi[cx]);
-            mn = if l < mn { l } else { mn };
-            mx = if v > mx { v } else { mx };
-            if xc[cx].1 == 1 && yspan == 1 {
-                let g = &mut folds.grid[xc[cx].0 + ycell];
-                if *g == f64::NEG_INFINITY || v > *g {
-                    *g = v;
-                }
-            } else {
-                raise_cells::<2>(folds.grid, axes, &[1, ys.stride], &[cx, cy], v);
+        }
+    }
+    // SAFETY: the ny rows of 4·nx slots above wrote each of the first 4·total ones.
+    unsafe { bounds.set_len(bounds.len() + 4 * total) };
+    let one_cell = xs.cells.iter().all(|c| c.1 == 1);
+    for (cy, &(ycell, yspan)) in ys.cells.iter().enumerate().rev() {
+        let row = &hi[cy * nx..][..nx];
+        if !(one_cell && yspan == 1) {
+            let raise = |cx| raise_cells::<2>(grid, axes, &[1, ys.stride], &[cx, cy], row[cx]);
+            (0..nx).rev().for_each(raise);
+            continue;
+        }
+        for (&(xcell, _), &v) in xs.cells.iter().zip(row).rev() {
+            let g = &mut grid[xcell + ycell];
+            if *g == f64::NEG_INFINITY || v > *g {
+                *g = v;
             }
         }
     }
-    folds.min_max = (total > 0).then_some((mn, mx));
-    // SAFETY: the ny rows of 4·nx slots above wrote each of the first 4·total ones.
-    unsafe { bounds.set_len(bounds.len() + 4 * total) };
-    pieces
+    (pieces, min_max)
 }
 
 #[path = "tiling_rows.rs"]
@@ -779,7 +765,8 @@ mod tests {
 
     /// The reflector's function normalized twice in one step is its normalized function
     /// normalized once more (the previous way), bit for bit, from the grid fit and from
-    /// the tile-by-tile fit, over random domains and surfaces.
+    /// the tile-by-tile fit, over random domains and surfaces; normalized once, the grid
+    /// fit's function is the tile-by-tile one's.
     #[test]
     fn normalized_twice_equals_normalize_after_into_function() {
         let mut seed = 21u64;
@@ -802,6 +789,7 @@ mod tests {
             };
             let awkward = Awkward(case as u64);
             let aof: &dyn Aof = if case % 5 == 4 { &awkward } else { &bumps };
+            let mut once = vec![];
             for tiles in [false, true] {
                 let make = || {
                     let r = Reflector::new(&domain, aof);
@@ -810,10 +798,18 @@ mod tests {
                     r.create(None, None);
                     r
                 };
+                // Normalized once: the grid fit's weights written normalized are the
+                // tile-by-tile function's, normalized in a pass of its own.
+                let f = make().into_function(true).expect("pieces");
+                let bits = |v: &[f64]| v.iter().map(|&x| bits_of(x)).collect::<Vec<_>>();
+                once.push((
+                    bits(f.weights()),
+                    bits(f.grid_bounds()),
+                    f.bounds().to_vec(),
+                ));
                 let got = make().into_function_normalized_twice().expect("pieces");
                 let mut want = make().into_function(true).expect("pieces");
                 want.normalize(0.0, 100.0);
-                let bits = |v: &[f64]| v.iter().map(|&x| bits_of(x)).collect::<Vec<_>>();
                 assert_eq!(bits(got.weights()), bits(want.weights()), "case {case}");
                 assert_eq!(got.bounds(), want.bounds(), "case {case}");
                 assert_eq!(
@@ -822,6 +818,7 @@ mod tests {
                     "case {case}"
                 );
             }
+            assert_eq!(once[0], once[1], "case {case}");
         }
     }
 }

@@ -241,11 +241,12 @@ impl Pieces {
         p
     }
 
-    /// Append the pieces' weights to `weights` in the reflector's order.
-    pub(crate) fn write_weights(&self, weights: &mut Vec<f64>) {
+    /// Append the pieces' weights to `weights` in the reflector's order, normalized on
+    /// the way if asked (see [`write_reversed`]).
+    pub(crate) fn write_weights(&self, weights: &mut Vec<f64>, scale: Option<(f64, f64)>) {
         let n = self.nx * self.ny;
         let w = &self.buf.0[3 * self.nx + 2 * self.ny..][..3 * n];
-        write_reversed([&w[..n], &w[n..2 * n], &w[2 * n..]], None, weights);
+        write_reversed([&w[..n], &w[n..2 * n], &w[2 * n..]], scale, weights);
     }
 
     pub(super) fn lists_mut(&mut self) -> Lists<'_> {
@@ -269,29 +270,35 @@ impl Pieces {
         }
     }
 
-    /// What [`crate::IvpFunction::normalize_from_and_min_max`]`(min_max, base, range)`
-    /// then [`crate::IvpFunction::normalize_from`] of the range it returns, `base`,
-    /// `range` do to the function of these pieces (its search `grid`, and its weights,
-    /// appended to the empty `weights` in the reflector's order), bit for bit: each
-    /// piece's operations are theirs, and the ranges are folded in the reflector's
-    /// order. `false` (nothing changed) when the first range is empty or `weights` is
-    /// not empty: the function's own methods then do it.
-    pub(crate) fn normalize_twice(
+    /// What [`crate::IvpFunction::normalize_from`]`(min_max, base, range)` does to the
+    /// function of these pieces (its search `grid`, and its weights, appended to the
+    /// empty `weights` in the reflector's order), bit for bit; if `twice`, what
+    /// [`crate::IvpFunction::normalize_from_and_min_max`] then normalize_from of the
+    /// range it returns do: each piece's operations are theirs, and the ranges are folded
+    /// in the reflector's order. `false` (nothing changed) when the first range is empty
+    /// or `weights` is not empty: the function's own methods then do it.
+    pub(crate) fn normalize(
         &mut self,
         (mn, mx): (f64, f64),
         (base, range): (f64, f64),
-        weights: &mut Vec<f64>,
-        grid: &mut [f64],
+        twice: bool,
+        (weights, grid): (&mut Vec<f64>, &mut [f64]),
     ) -> bool {
         let r = mx - mn;
         let n = self.nx * self.ny;
         if r.is_nan() || r <= 0.0 || !weights.is_empty() || n == 0 {
             return false;
         }
+        let (shift, scale) = (base - mn, range / r);
+        grid.iter_mut().for_each(|g| *g = (*g + shift) * scale);
+        if !twice {
+            // Written out normalized: no pass of its own over the function's weights.
+            self.write_weights(weights, Some((shift, scale)));
+            return true;
+        }
         let nx = self.nx;
         let l = self.lists_mut();
         let [w0, w1, w2, lo, hi] = l.pieces;
-        let (shift, scale) = (base - mn, range / r);
         for cy in 0..l.yl.len() {
             let (i, j) = (cy * nx, (cy + 1) * nx);
             let row = NormRow {
@@ -303,30 +310,28 @@ impl Pieces {
             };
             normalize_row(row, shift, scale);
         }
-        // min_max_wt's fold, in the reflector's order (the last tile first).
-        let (mut mn2, mut mx2) = (lo[n - 1], hi[n - 1]);
-        for k in (0..n - 1).rev() {
-            if lo[k] < mn2 {
-                mn2 = lo[k];
-            }
-            if hi[k] > mx2 {
-                mx2 = hi[k];
-            }
-        }
+        let (mn2, mx2) = fold_range(&lo[..n], &hi[..n]);
         let r2 = mx2 - mn2;
         let again = !(r2.is_nan() || r2 <= 0.0);
         let (shift2, scale2) = (base - mn2, range / r2);
-        for g in grid.iter_mut() {
-            *g = (*g + shift) * scale;
-        }
         if again {
-            for g in grid.iter_mut() {
-                *g = (*g + shift2) * scale2;
-            }
+            grid.iter_mut().for_each(|g| *g = (*g + shift2) * scale2);
         }
         write_reversed([w0, w1, w2], again.then_some((shift2, scale2)), weights);
         true
     }
+}
+
+/// The least of `lo` and the greatest of `hi` (not empty) as min_max_wt folds them: in
+/// the reflector's order (the last piece first), from the last piece's.
+pub(super) fn fold_range(lo: &[f64], hi: &[f64]) -> (f64, f64) {
+    let n = lo.len().min(hi.len());
+    let (mut mn, mut mx) = (lo[n - 1], hi[n - 1]);
+    for (&l, &h) in lo[..n].iter().zip(&hi[..n]).rev() {
+        mn = if l < mn { l } else { mn };
+        mx = if h > mx { h } else { mx };
+    }
+    (mn, mx)
 }
 
 /// One row of pieces to normalize: the tiles' edges and the pieces' lists.
@@ -368,8 +373,12 @@ fn normalize_row_body(row: NormRow<'_>, shift: f64, scale: f64) {
         let c = (w2[k] + shift) * scale;
         (w0[k], w1[k], w2[k]) = (a, b, c);
         let (mut lo, mut hi) = (c, c);
-        hi += a * if a < 0.0 { xl[k] } else { xh[k] };
-        lo += a * if a < 0.0 { xh[k] } else { xl[k] };
+        // The edges picked as l + 0 or l + (h − l), exact (integers): a pick between the
+        // loaded edges would be compiled as a pick between lists, a lane at a time.
+        let (l, h) = (xl[k], xh[k]);
+        let up = if a < 0.0 { 0.0 } else { h - l };
+        hi += a * (l + up);
+        lo += a * (h - up);
         hi += b * if b < 0.0 { yl } else { yh };
         lo += b * if b < 0.0 { yh } else { yl };
         min[k] = lo;

@@ -135,3 +135,79 @@ fn normalize_avx2_is_the_plain_normalize() {
         assert_eq!(results[0], results[1], "case {case}");
     }
 }
+
+/// The normalizing row before the edges were picked arithmetically (the oracle): the
+/// same weights and ranges bit for bit, on awkward weights and random integer edges.
+#[test]
+fn normalize_row_equals_the_pick_of_edges() {
+    let mut seed = 29u64;
+    for case in 0..4000 {
+        let n = case % 41;
+        let xl: Vec<f64> = (0..n).map(|_| (rng(&mut seed) * 400.0).floor()).collect();
+        let xh: Vec<f64> = xl
+            .iter()
+            .map(|x| x + (rng(&mut seed) * 9.0).floor())
+            .collect();
+        let w: Vec<Vec<f64>> = (0..3)
+            .map(|_| (0..n).map(|_| value(&mut seed)).collect())
+            .collect();
+        let (shift, scale) = (value(&mut seed), value(&mut seed));
+        let y = [(case % 13) as f64, (case % 13 + 2) as f64];
+        let (mut w0, mut w1, mut w2) = (w[0].clone(), w[1].clone(), w[2].clone());
+        let (mut lo, mut hi) = (vec![0.0; n], vec![0.0; n]);
+        let row = NormRow {
+            x: [&xl, &xh],
+            y,
+            w: [&mut w0, &mut w1, &mut w2],
+            min: &mut lo,
+            max: &mut hi,
+        };
+        normalize_row(row, shift, scale);
+        let mut want = [w[0].clone(), w[1].clone(), w[2].clone(), vec![], vec![]];
+        for k in 0..n {
+            let (a, b) = (w[0][k] * scale, w[1][k] * scale);
+            let c = (w[2][k] + shift) * scale;
+            let (mut lo, mut hi) = (c, c);
+            hi += a * if a < 0.0 { xl[k] } else { xh[k] };
+            lo += a * if a < 0.0 { xh[k] } else { xl[k] };
+            hi += b * if b < 0.0 { y[0] } else { y[1] };
+            lo += b * if b < 0.0 { y[1] } else { y[0] };
+            (want[0][k], want[1][k], want[2][k]) = (a, b, c);
+            want[3].push(lo);
+            want[4].push(hi);
+        }
+        let got = [w0, w1, w2, lo, hi].map(|v| bits(&v));
+        assert_eq!(got, want.map(|v| bits(&v)), "case {case}");
+    }
+}
+
+/// [`fold_range`] is the reflector's fold as it was written (the oracle: min_max_wt's
+/// comparisons, the last piece first), on awkward values with ties of signed zeros.
+#[test]
+fn fold_range_equals_the_fold_in_order() {
+    let mut seed = 31u64;
+    for case in 1..6000 {
+        let n = 1 + case % 37;
+        let zeros = [0.0, -0.0];
+        let pick = |seed: &mut u64| {
+            if case % 3 == 0 && rng(seed) < 0.5 {
+                zeros[(rng(seed) * 2.0) as usize % 2]
+            } else {
+                value(seed)
+            }
+        };
+        let lo: Vec<f64> = (0..n).map(|_| pick(&mut seed)).collect();
+        let hi: Vec<f64> = (0..n).map(|_| pick(&mut seed)).collect();
+        let (mut mn, mut mx) = (lo[n - 1], hi[n - 1]);
+        for k in (0..n - 1).rev() {
+            if lo[k] < mn {
+                mn = lo[k];
+            }
+            if hi[k] > mx {
+                mx = hi[k];
+            }
+        }
+        let got = fold_range(&lo, &hi);
+        assert_eq!(bits(&[got.0, got.1]), bits(&[mn, mx]), "case {case}");
+    }
+}

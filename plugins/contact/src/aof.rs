@@ -40,35 +40,18 @@ impl AvoidAof {
     fn utility_of_unit(&self, u: (f64, f64), v: f64) -> f64 {
         self.metric(self.engine.cpa_unit(u, v, self.tol).dist)
     }
-
-    /// [`Self::metric`] of each CPA distance in `row`, in place: the formula computed
-    /// for every entry and the answer picked, so the row runs without jumps (compiled
-    /// for AVX2 on a CPU that has it: four entries per instruction, the same bits).
-    fn metric_row(&self, row: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { metric_row_avx2(self.cd, self.acd, row) };
-        }
-        metric_row(self.cd, self.acd, row);
-    }
 }
 
-/// [`metric_row`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn metric_row_avx2(cd: f64, acd: f64, row: &mut [f64]) {
-    metric_row(cd, acd, row);
-}
-
-/// [`AvoidAof::metric`] of each entry of `row`, in place, without jumps.
+/// [`AvoidAof::metric`] of `x`, the formula computed and the answer picked (no jumps:
+/// it runs inside the CPA row's loop, several entries per instruction).
 #[inline(always)]
-fn metric_row(cd: f64, acd: f64, row: &mut [f64]) {
-    for d in row.iter_mut() {
-        let x = *d;
-        let mid = 25.0 + 75.0 * (x - cd) / (acd - cd);
-        let high = if x > acd { 100.0 } else { mid };
-        *d = if x < cd { 0.0 } else { high };
+fn metric_of(cd: f64, acd: f64, x: f64) -> f64 {
+    let mid = 25.0 + 75.0 * (x - cd) / (acd - cd);
+    let high = if x > acd { 100.0 } else { mid };
+    if x < cd {
+        0.0
+    } else {
+        high
     }
 }
 
@@ -102,7 +85,7 @@ impl CourseUnits {
         // domain.value(0, i), its step computed once.
         let var = domain.var(0);
         let (low, delta) = (var.low, var.delta());
-        let courses = xs.iter().map(|&i| low + delta * f64::from(i));
+        let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
         engine.units_into(courses, (&mut c.sins, &mut c.coss));
         c
     }
@@ -133,8 +116,10 @@ impl Aof for AvoidAof {
         let c = CourseUnits::of(&self.engine, domain, xs);
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let v = domain.value(1, j);
-            self.engine.cpa_dists((&c.sins, &c.coss), v, self.tol, row);
-            self.metric_row(row);
+            let (cd, acd) = (self.cd, self.acd);
+            let metric = move |d| metric_of(cd, acd, d);
+            self.engine
+                .cpa_dists_map((&c.sins, &c.coss), (v, self.tol), row, metric);
         }
         c.give_back();
     }
@@ -376,13 +361,20 @@ mod tests {
         }
     }
 
-    /// The metric row compiled for AVX2 gives the baseline compilation's bits, over
-    /// rows of every length 0..=41 with awkward distances and settings.
-    #[cfg(target_arch = "x86_64")]
+    /// The metric without jumps, as the CPA row's loop runs it (compiled for AVX2 when
+    /// the CPU has it, several entries per instruction, and for the baseline), is
+    /// [`AvoidAof::metric`] bit for bit, over rows of every length 0..=41 with awkward
+    /// distances and settings.
     #[test]
-    fn metric_row_avx2_is_the_plain_row() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
-            return;
+    fn metric_without_jumps_is_the_metric() {
+        #[inline(always)]
+        fn metric_row(cd: f64, acd: f64, row: &mut [f64]) {
+            row.iter_mut().for_each(|d| *d = metric_of(cd, acd, *d));
+        }
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn metric_row_avx2(cd: f64, acd: f64, row: &mut [f64]) {
+            metric_row(cd, acd, row);
         }
         let mut seed = 31u64;
         let mut rng = move || {
@@ -403,15 +395,25 @@ mod tests {
             let n = case % 42;
             let row: Vec<f64> = (0..n).map(|_| pick(rng(), rng())).collect();
             let (cd, acd) = (pick(rng(), rng()), pick(rng(), rng()));
+            let aof = AvoidAof {
+                engine: CpaEngine::new(0.0, 100.0, 180.0, 2.0, 0.0, 0.0),
+                tol: 120.0,
+                cd,
+                acd,
+            };
+            let want: Vec<f64> = row.iter().map(|&d| aof.metric(d)).collect();
             let (mut plain, mut wide) = (row.clone(), row);
             metric_row(cd, acd, &mut plain);
-            // SAFETY: AVX2 is present (checked above).
-            unsafe { metric_row_avx2(cd, acd, &mut wide) };
-            for (a, b) in plain.iter().zip(&wide) {
-                assert!(
-                    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
-                    "case {case}: {a} {b}"
-                );
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: AVX2 is present (checked just above).
+                unsafe { metric_row_avx2(cd, acd, &mut wide) };
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            metric_row(cd, acd, &mut wide);
+            for ((a, b), w) in plain.iter().zip(&wide).zip(&want) {
+                let same = |x: &f64| x.to_bits() == w.to_bits() || (x.is_nan() && w.is_nan());
+                assert!(same(a) && same(b), "case {case}: {a} {b} {w}");
             }
         }
     }
