@@ -93,9 +93,9 @@ pub struct Solver {
     /// The allocation of the views the `&[&IvpFunction]` entry points solve.
     views_buf: Vec<FunctionView<'static>>,
     /// Last solve: (seeded, searched again unseeded, last bit sets on, clipped bound
-    /// on), for the tests.
+    /// on, last index on), for the tests.
     #[cfg(test)]
-    stats: (usize, usize, usize, usize),
+    stats: (usize, usize, usize, usize, usize),
     /// Functions kept from an earlier solve, over the solver's life, for the tests.
     #[cfg(test)]
     kept: usize,
@@ -372,6 +372,7 @@ impl Solver {
                 usize::from(rerun),
                 usize::from(bits_on),
                 usize::from(s.clip.is_some()),
+                usize::from(s.last.is_some()),
             );
         }
         if rerun {

@@ -384,10 +384,25 @@ impl Search<'_> {
             .chunks_exact(bl)
             .zip(f0.weights.chunks_exact(wl))
             .take(f0.n);
+        // The set-up made every piece's `maxVal` (`piece_ub`, the same operations).
+        let mvs = &f0.piece_ub[..];
+        let known = mvs.len() == f0.n;
+        if m > 1 && known {
+            if let (Some(ix), Some(cells)) = (self.last, self.first_cells) {
+                return self.run_indexed(ix, cells, mvs);
+            }
+        }
+        let mv_of = |q: usize, pb: &[i32], pw: &[f64]| {
+            if known {
+                mvs[q]
+            } else {
+                max_val(pb, pw)
+            }
+        };
         if m == 1 {
             // The pieces are the leaves: copied only when one becomes the incumbent.
-            for (pb, pw) in pieces {
-                let mv = max_val(pb, pw);
+            for (q, (pb, pw)) in pieces.enumerate() {
+                let mv = mv_of(q, pb, pw);
                 if self.takes(mv) {
                     self.set_best(mv);
                     self.best_b.copy_from_slice(pb);
@@ -397,12 +412,55 @@ impl Search<'_> {
             return;
         }
         for (q, (pb, pw)) in pieces.enumerate() {
-            let mv = max_val(pb, pw);
+            let mv = mv_of(q, pb, pw);
             if !self.skip_first(q, pb, mv) {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);
             }
+        }
+    }
+
+    /// The first level of [`Search::run`] with the index on, `mvs` the first
+    /// function's `maxVal`s and `cells` their index cells: [`Search::skip_first`]
+    /// inlined, with the pieces the reference bound prunes passed over in a tight loop
+    /// (only those whose pruning cannot raise `doubt`: the same prunes, the same flag).
+    fn run_indexed(&mut self, ix: &LastIndex, cells: &[u32], mvs: &[f64]) {
+        let (dim, m) = (self.dim, self.active.len());
+        let (bl, wl) = (2 * dim, dim + 1);
+        let f0 = &self.funcs[self.active[0]];
+        let (fb, fw) = (self.boxes[self.active[0]], &f0.weights[..]);
+        let n = f0.n.min(mvs.len()).min(cells.len());
+        let last_ub = self.last_ub;
+        let mut q = 0;
+        while q < n {
+            if m == 2 && (self.found || self.seeded) {
+                // `rb = mv + last_ub` at most `lim`: pruned by `prune(rb, rb)`, which
+                // raises `doubt` only above `best - 2 tol` before the first leaf.
+                let lim = if self.found {
+                    self.best
+                } else {
+                    self.best - 2.0 * self.tol
+                };
+                while q < n && mvs[q] + last_ub <= lim {
+                    q += 1;
+                }
+                if q == n {
+                    return;
+                }
+            }
+            let (pb, mv) = (&fb[q * bl..(q + 1) * bl], mvs[q]);
+            let skip = (self.found || self.seeded)
+                && self.skip_indexed(1, pb, mv, ix, || {
+                    let c = cells[q];
+                    (c != NO_CELL).then_some(c as usize)
+                });
+            if !skip {
+                self.node_b[..bl].copy_from_slice(pb);
+                self.node_w[..wl].copy_from_slice(&fw[q * wl..(q + 1) * wl]);
+                self.recurse(1);
+            }
+            q += 1;
         }
     }
 

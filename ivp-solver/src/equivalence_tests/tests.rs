@@ -341,7 +341,7 @@ fn fingerprint(d: &Decision) -> (Vec<Option<u32>>, Vec<Option<u64>>, u64) {
 #[test]
 fn search_equals_the_straightforward_branch_and_bound() {
     let mut seed = 2026u64;
-    let (mut solves, mut seeded, mut reruns, mut bits) = (0, 0, 0, 0);
+    let (mut solves, mut seeded, mut reruns, mut bits, mut indexed) = (0, 0, 0, 0, 0);
     for round in 0..300 {
         let dom = random_domain(&mut seed);
         let mut fs = random_problem(&dom, &mut seed);
@@ -357,6 +357,7 @@ fn search_equals_the_straightforward_branch_and_bound() {
             seeded += solver.stats.0;
             reruns += solver.stats.1;
             bits += solver.stats.2;
+            indexed += solver.stats.4;
             // A fresh solver: no seed.
             let fresh = Solver::new().solve(&dom, &refs).unwrap();
             assert_eq!(found, fresh.is_some(), "round {round} step {step}");
@@ -385,8 +386,15 @@ fn search_equals_the_straightforward_branch_and_bound() {
         }
     }
     // The seeded search ran, and mostly without falling back.
-    eprintln!("{solves} solves, {seeded} seeded, {reruns} reruns, {bits} with bit sets");
+    eprintln!(
+        "{solves} solves, {seeded} seeded, {reruns} reruns, {bits} with bit sets, \
+         {indexed} with the last index"
+    );
     assert!(bits * 60 > solves, "{bits} with bit sets of {solves}");
+    assert!(
+        indexed * 20 > solves,
+        "{indexed} with the last index of {solves}"
+    );
     assert!(seeded > solves / 2, "{seeded} seeded of {solves}");
     assert!(reruns * 20 < seeded, "{reruns} reruns of {seeded}");
 }
