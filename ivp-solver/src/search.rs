@@ -212,6 +212,9 @@ pub(crate) struct Search<'a> {
     /// With `last`: the index's cell of every piece of the first function
     /// ([`NO_CELL`] for none), so that its pieces are bounded without looking it up.
     pub(crate) first_cells: Option<&'a [u32]>,
+    /// With `last` and functions between the first and the last: the first pieces'
+    /// middle cells and the cells' sums (see `first_level.rs`).
+    pub(crate) mid: Option<(&'a [u32], &'a [f64])>,
     /// The last function's global bound (its term when `last` is on).
     pub(crate) last_ub: f64,
     /// The last function's bit sets when it may use them, made once `scans` reaches
@@ -276,7 +279,7 @@ impl Search<'_> {
     /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
     /// index's cell holding `b` (if any) when it is needed.
     #[inline(always)]
-    fn skip_indexed(
+    pub(crate) fn skip_indexed(
         &self,
         level: usize,
         b: &[i32],
@@ -418,49 +421,6 @@ impl Search<'_> {
                 self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);
             }
-        }
-    }
-
-    /// The first level of [`Search::run`] with the index on, `mvs` the first
-    /// function's `maxVal`s and `cells` their index cells: [`Search::skip_first`]
-    /// inlined, with the pieces the reference bound prunes passed over in a tight loop
-    /// (only those whose pruning cannot raise `doubt`: the same prunes, the same flag).
-    fn run_indexed(&mut self, ix: &LastIndex, cells: &[u32], mvs: &[f64]) {
-        let (dim, m) = (self.dim, self.active.len());
-        let (bl, wl) = (2 * dim, dim + 1);
-        let f0 = &self.funcs[self.active[0]];
-        let (fb, fw) = (self.boxes[self.active[0]], &f0.weights[..]);
-        let n = f0.n.min(mvs.len()).min(cells.len());
-        let last_ub = self.last_ub;
-        let mut q = 0;
-        while q < n {
-            if m == 2 && (self.found || self.seeded) {
-                // `rb = mv + last_ub` at most `lim`: pruned by `prune(rb, rb)`, which
-                // raises `doubt` only above `best - 2 tol` before the first leaf.
-                let lim = if self.found {
-                    self.best
-                } else {
-                    self.best - 2.0 * self.tol
-                };
-                while q < n && mvs[q] + last_ub <= lim {
-                    q += 1;
-                }
-                if q == n {
-                    return;
-                }
-            }
-            let (pb, mv) = (&fb[q * bl..(q + 1) * bl], mvs[q]);
-            let skip = (self.found || self.seeded)
-                && self.skip_indexed(1, pb, mv, ix, || {
-                    let c = cells[q];
-                    (c != NO_CELL).then_some(c as usize)
-                });
-            if !skip {
-                self.node_b[..bl].copy_from_slice(pb);
-                self.node_w[..wl].copy_from_slice(&fw[q * wl..(q + 1) * wl]);
-                self.recurse(1);
-            }
-            q += 1;
         }
     }
 
