@@ -98,8 +98,9 @@ impl Mid {
 impl Search<'_> {
     /// The first level of [`Search::run`] with the index on, `mvs` the first
     /// function's `maxVal`s and `cells` their index cells: [`Search::skip_first`]
-    /// inlined, with the pieces the reference bound prunes passed over in a tight loop
-    /// (only those whose pruning cannot raise `doubt`: the same prunes, the same flag).
+    /// inlined, with the pieces it prunes passed over in a tight loop when there are
+    /// two functions (before the first leaf only those whose pruning cannot raise
+    /// `doubt`): the same prunes, the same flag.
     pub(crate) fn run_indexed(&mut self, ix: &LastIndex, cells: &[u32], mvs: &[f64]) {
         let (dim, m) = (self.dim, self.active.len());
         let (bl, wl) = (2 * dim, dim + 1);
@@ -107,24 +108,42 @@ impl Search<'_> {
         let (fb, fw) = (self.boxes[self.active[0]], &f0.weights[..]);
         let n = f0.n.min(mvs.len()).min(cells.len());
         let last_ub = self.last_ub;
+        // Held in locals: the loop tests them once per piece the tight loops stop at.
+        let (two, mid) = (m == 2, self.mid.filter(|_| m > 2));
         let mut q = 0;
         while q < n {
-            if m == 2 && (self.found || self.seeded) {
+            if two && (self.found || self.seeded) {
                 // `rb = mv + last_ub` at most `lim`: pruned by `prune(rb, rb)`, which
                 // raises `doubt` only above `best - 2 tol` before the first leaf.
-                let lim = if self.found {
-                    self.best
+                if self.found {
+                    // `skip_indexed` once a leaf is found (no `doubt` then): the
+                    // reference bound, then the index's.
+                    let (best, floor) = (self.best, self.best - 2.0 * self.tol);
+                    while q < n {
+                        let rb = mvs[q] + last_ub;
+                        let c = cells[q];
+                        let pruned = rb <= best
+                            || (if c != NO_CELL {
+                                mvs[q] + ix.bound(c as usize)
+                            } else {
+                                rb
+                            }) <= floor;
+                        if !pruned {
+                            break;
+                        }
+                        q += 1;
+                    }
                 } else {
-                    self.best - 2.0 * self.tol
-                };
-                while q < n && mvs[q] + last_ub <= lim {
-                    q += 1;
+                    let lim = self.best - 2.0 * self.tol;
+                    while q < n && mvs[q] + last_ub <= lim {
+                        q += 1;
+                    }
                 }
                 if q == n {
                     return;
                 }
             }
-            if let (Some((tops, sums)), true) = (self.mid, self.found) {
+            if let (Some((tops, sums)), true) = (mid, self.found) {
                 // The quick bound (see the module docs), the rest exactly as below.
                 let lim = self.best - 2.0 * self.tol;
                 while q < n && tops[q] != NO_CELL {
