@@ -101,6 +101,8 @@ impl Search<'_> {
     /// inlined, with the pieces it prunes passed over in a tight loop when there are
     /// two functions (before the first leaf only those whose pruning cannot raise
     /// `doubt`): the same prunes, the same flag.
+    // Once per solve: kept out of `Search::run`, whose other loops it would crowd.
+    #[inline(never)]
     pub(crate) fn run_indexed(&mut self, ix: &LastIndex, cells: &[u32], mvs: &[f64]) {
         let (dim, m) = (self.dim, self.active.len());
         let (bl, wl) = (2 * dim, dim + 1);
