@@ -42,9 +42,12 @@ pub(super) struct LastIndex {
     /// Scratch of the build: one piece's `w_d·c_d` per dimension and cell coordinate.
     terms: Vec<f64>,
     /// The pieces (boxes, weight bits) the index in memory was made from, when it was
-    /// made (`made`): the same pieces on the same cells make the same index.
+    /// made (`made`): the same pieces on the same cells make the same index, the same
+    /// boxes the same lists.
     made: bool,
     key_boxes: Vec<i32>,
+    /// Every piece's lowest and highest cell coordinates (kept with the lists).
+    spans: Vec<([usize; ODO_DIMS], [usize; ODO_DIMS])>,
     key_weights: Vec<u64>,
 }
 
@@ -67,27 +70,36 @@ impl LastIndex {
         }
         let (bl, wl) = (2 * dim, dim + 1);
         let (boxes, weights) = (&boxes[..n * bl], &weights[..n * wl]);
-        // The waypoint's function often stays the same from one iteration to the next.
-        let same = self.made
+        // The waypoint's boxes often stay the same from one iteration to the next (its
+        // weights less often): the same boxes on the same cells make the same lists.
+        let same_boxes = self.made
             && self.dim == dim
             && self.ppg == ppg
             && self.coords.is_for(pts, ppg)
-            && self.key_boxes == boxes
-            && self.key_weights.len() == weights.len()
-            && self
-                .key_weights
-                .iter()
-                .zip(weights)
-                .all(|(&k, w)| k == w.to_bits());
-        if same {
+            && self.key_boxes == boxes;
+        if same_boxes && same_bits(&self.key_weights, weights) {
             self.on = true;
             return;
         }
+        if !same_boxes && !self.make_lists(ppg, pts, boxes, n) {
+            self.made = false;
+            return;
+        }
+        self.key_weights.clear();
+        self.key_weights.extend(weights.iter().map(|w| w.to_bits()));
+        self.make_bounds(boxes, weights, n);
+        self.on = true;
+        self.made = true;
+    }
+
+    /// The cells and the cell lists of the `n` boxes `boxes` (keyed as made, with
+    /// each box's cell span); false when a box leaves the domain.
+    fn make_lists(&mut self, ppg: &[i32], pts: &[i32], boxes: &[i32], n: usize) -> bool {
+        let dim = pts.len();
+        let bl = 2 * dim;
         self.made = false;
         self.key_boxes.clear();
         self.key_boxes.extend_from_slice(boxes);
-        self.key_weights.clear();
-        self.key_weights.extend(weights.iter().map(|w| w.to_bits()));
         self.dim = dim;
         self.ppg.clear();
         self.ppg.extend_from_slice(ppg);
@@ -102,17 +114,19 @@ impl LastIndex {
             let (at, len) = self.coords.span(d);
             self.lines[d] = (at, len, self.stride[d]);
         }
+        self.spans.clear();
+        for k in 0..n {
+            let Some(span) = self.cell_span(&boxes[k * bl..(k + 1) * bl]) else {
+                return false;
+            };
+            self.spans.push(span);
+        }
         self.start.clear();
         self.start.resize(total + 1, 0);
-        self.ub.clear();
-        self.ub.resize(total, f64::NEG_INFINITY);
-        // Pass 1: count the pieces per cell (and check every box is inside the table).
-        for k in 0..n {
-            let Some((lo, hi)) = self.cell_span(&boxes[k * bl..(k + 1) * bl]) else {
-                return;
-            };
+        // Pass 1: count the pieces per cell.
+        for (lo, hi) in &self.spans {
             let start = &mut self.start;
-            walk(&lo, &hi, &self.stride, dim, |c, _| start[c + 1] += 1);
+            walk(lo, hi, &self.stride, dim, |c| start[c + 1] += 1);
         }
         for c in 0..total {
             self.start[c + 1] += self.start[c];
@@ -121,22 +135,39 @@ impl LastIndex {
         self.items.resize(self.start[total] as usize, 0);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.start[..total]);
-        // Pass 2: pieces in array order into every cell they meet; cell bounds.
+        // Pass 2: pieces in array order into every cell they meet.
+        for (k, (lo, hi)) in self.spans.iter().enumerate() {
+            let (items, cursor) = (&mut self.items, &mut self.cursor);
+            walk(lo, hi, &self.stride, dim, |c| {
+                items[cursor[c] as usize] = k as u32;
+                cursor[c] += 1;
+            });
+        }
+        true
+    }
+
+    /// The cell bounds of the pieces (the boxes the lists and spans were made from,
+    /// `weights` theirs), each cell's from its pieces in array order.
+    fn make_bounds(&mut self, boxes: &[i32], weights: &[f64], n: usize) {
+        let dim = self.dim;
+        let (bl, wl) = (2 * dim, dim + 1);
+        self.ub.clear();
+        self.ub.resize(self.start.len() - 1, f64::NEG_INFINITY);
         for k in 0..n {
             let b = &boxes[k * bl..(k + 1) * bl];
             let w = &weights[k * wl..(k + 1) * wl];
-            let Some((lo, hi)) = self.cell_span(b) else {
-                return;
-            };
+            let (lo, hi) = self.spans[k];
             // `maxVal(piece ∩ cell)` (spec §2.1) is `w_n + Σ_d w_d·c_d`, the corner
             // `c_d` of the clipped box depending on the cell's coordinate in `d`
             // alone: each product made once per coordinate, the sum in the same
-            // order, so the same value bit for bit (see `clip_max_val`).
+            // order, so the same value bit for bit (see `clip_max_val`). The first
+            // add (intercept and dimension 0) is made once per coordinate too.
             let mut off = [0usize; ODO_DIMS];
             self.terms.clear();
             for d in 0..dim {
                 off[d] = self.terms.len();
                 let (bl_d, bh_d, ppg_d) = (b[2 * d], b[2 * d + 1], self.ppg[d]);
+                let first = (d == 0).then_some(w[dim]);
                 self.terms.extend((lo[d]..=hi[d]).map(|x| {
                     let cell_lo = x as i32 * ppg_d;
                     let c = if w[d] < 0.0 {
@@ -144,25 +175,30 @@ impl LastIndex {
                     } else {
                         bh_d.min(cell_lo + ppg_d - 1)
                     };
-                    w[d] * f64::from(c)
+                    let t = w[d] * f64::from(c);
+                    first.map_or(t, |a| a + t)
                 }));
             }
-            let (items, cursor, ub, terms) =
-                (&mut self.items, &mut self.cursor, &mut self.ub, &self.terms);
-            walk(&lo, &hi, &self.stride, dim, |c, cur| {
-                items[cursor[c] as usize] = k as u32;
-                cursor[c] += 1;
-                let mut v = w[dim];
-                for d in 0..dim {
-                    v += terms[off[d] + (cur[d] - lo[d])];
+            let (ub, terms) = (&mut self.ub, &self.terms);
+            // Rows along dimension 0 (stride 1): the other dimensions' terms per row.
+            let row = &terms[..=hi[0] - lo[0]];
+            walk_rows(&lo, &hi, &self.stride, dim, |c0, cur| {
+                let mut rest = [0.0; ODO_DIMS];
+                for d in 1..dim {
+                    rest[d] = terms[off[d] + (cur[d] - lo[d])];
                 }
-                if v > ub[c] || v.is_nan() {
-                    ub[c] = v;
+                for (x, &a) in row.iter().enumerate() {
+                    let mut v = a;
+                    for &t in &rest[1..dim] {
+                        v += t;
+                    }
+                    let u = &mut ub[c0 + x];
+                    if v > *u || v.is_nan() {
+                        *u = v;
+                    }
                 }
             });
         }
-        self.on = true;
-        self.made = true;
     }
 
     fn make_coord_table(&mut self, pts: &[i32]) {
@@ -292,19 +328,18 @@ impl FirstCells {
     }
 }
 
-/// Visit the cells from `lo` to `hi` (any order will do: callers only append per cell),
-/// with each cell's coordinates.
+/// Visit the cells from `lo` to `hi` (any order will do: callers only append per cell).
 fn walk(
     lo: &[usize; ODO_DIMS],
     hi: &[usize; ODO_DIMS],
     stride: &[usize],
     dim: usize,
-    mut f: impl FnMut(usize, &[usize; ODO_DIMS]),
+    mut f: impl FnMut(usize),
 ) {
     let mut cur = *lo;
+    let mut c: usize = (0..dim).map(|d| lo[d] * stride[d]).sum();
     loop {
-        let c = (0..dim).map(|d| cur[d] * stride[d]).sum();
-        f(c, &cur);
+        f(c);
         let mut d = 0;
         loop {
             if d == dim {
@@ -312,10 +347,48 @@ fn walk(
             }
             if cur[d] < hi[d] {
                 cur[d] += 1;
+                c += stride[d];
                 break;
             }
+            c -= (cur[d] - lo[d]) * stride[d];
             cur[d] = lo[d];
             d += 1;
         }
     }
+}
+
+/// [`walk`] by rows along dimension 0 (stride 1): `f` gets the cell number of the row's
+/// first cell (coordinate `lo[0]`) and the row's coordinates (dimension 0 left at
+/// `lo[0]`).
+fn walk_rows(
+    lo: &[usize; ODO_DIMS],
+    hi: &[usize; ODO_DIMS],
+    stride: &[usize],
+    dim: usize,
+    mut f: impl FnMut(usize, &[usize; ODO_DIMS]),
+) {
+    let mut cur = *lo;
+    let mut c: usize = (0..dim).map(|d| lo[d] * stride[d]).sum();
+    loop {
+        f(c, &cur);
+        let mut d = 1;
+        loop {
+            if d >= dim {
+                return;
+            }
+            if cur[d] < hi[d] {
+                cur[d] += 1;
+                c += stride[d];
+                break;
+            }
+            c -= (cur[d] - lo[d]) * stride[d];
+            cur[d] = lo[d];
+            d += 1;
+        }
+    }
+}
+
+/// The bits of `x` equal `key`, element by element.
+fn same_bits(key: &[u64], x: &[f64]) -> bool {
+    key.len() == x.len() && key.iter().zip(x).all(|(&k, w)| k == w.to_bits())
 }

@@ -29,6 +29,7 @@ use search::{Clip, Search, Term};
 use std::cell::Cell;
 
 mod coords;
+mod first_level;
 mod last_bits;
 mod last_index;
 mod prepared;
@@ -76,6 +77,8 @@ pub struct Solver {
     first_cells: FirstCells,
     /// Bit sets over the last function when it has no [`LastIndex`] (see `last_bits.rs`).
     bits: LastBits,
+    /// The first level's quick bound over the functions between (see `first_level.rs`).
+    mid: first_level::Mid,
     /// The previous decision point (problem indices), to seed the next search. Any
     /// point of the domain is a valid seed (see [`seed_value`]); a stale one only
     /// prunes less.
@@ -93,9 +96,9 @@ pub struct Solver {
     /// The allocation of the views the `&[&IvpFunction]` entry points solve.
     views_buf: Vec<FunctionView<'static>>,
     /// Last solve: (seeded, searched again unseeded, last bit sets on, clipped bound
-    /// on), for the tests.
+    /// on, last index on), for the tests.
     #[cfg(test)]
-    stats: (usize, usize, usize, usize),
+    stats: (usize, usize, usize, usize, usize),
     /// Functions kept from an earlier solve, over the solver's life, for the tests.
     #[cfg(test)]
     kept: usize,
@@ -336,6 +339,10 @@ impl Solver {
             let n = self.funcs[f0].n;
             self.first_cells.refresh(ix, key, &self.pts, boxes[f0], n)
         });
+        let mid = last.and_then(|_| {
+            self.mid
+                .refresh(&self.funcs, &self.active, &self.pts, boxes[f0])
+        });
         let mut s = Search {
             funcs: &self.funcs,
             boxes: &boxes,
@@ -353,6 +360,7 @@ impl Solver {
             doubt: Cell::new(false),
             last,
             first_cells,
+            mid,
             clip,
             singles_from,
             last_ub: self.funcs[fl].global_ub,
@@ -372,6 +380,7 @@ impl Solver {
                 usize::from(rerun),
                 usize::from(bits_on),
                 usize::from(s.clip.is_some()),
+                usize::from(s.last.is_some()) + usize::from(s.mid.is_some()),
             );
         }
         if rerun {

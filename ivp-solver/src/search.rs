@@ -212,6 +212,9 @@ pub(crate) struct Search<'a> {
     /// With `last`: the index's cell of every piece of the first function
     /// ([`NO_CELL`] for none), so that its pieces are bounded without looking it up.
     pub(crate) first_cells: Option<&'a [u32]>,
+    /// With `last` and functions between the first and the last: the first pieces'
+    /// middle cells and the cells' sums (see `first_level.rs`).
+    pub(crate) mid: Option<(&'a [u32], &'a [f64])>,
     /// The last function's global bound (its term when `last` is on).
     pub(crate) last_ub: f64,
     /// The last function's bit sets when it may use them, made once `scans` reaches
@@ -276,7 +279,7 @@ impl Search<'_> {
     /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
     /// index's cell holding `b` (if any) when it is needed.
     #[inline(always)]
-    fn skip_indexed(
+    pub(crate) fn skip_indexed(
         &self,
         level: usize,
         b: &[i32],
@@ -384,10 +387,25 @@ impl Search<'_> {
             .chunks_exact(bl)
             .zip(f0.weights.chunks_exact(wl))
             .take(f0.n);
+        // The set-up made every piece's `maxVal` (`piece_ub`, the same operations).
+        let mvs = &f0.piece_ub[..];
+        let known = mvs.len() == f0.n;
+        if m > 1 && known {
+            if let (Some(ix), Some(cells)) = (self.last, self.first_cells) {
+                return self.run_indexed(ix, cells, mvs);
+            }
+        }
+        let mv_of = |q: usize, pb: &[i32], pw: &[f64]| {
+            if known {
+                mvs[q]
+            } else {
+                max_val(pb, pw)
+            }
+        };
         if m == 1 {
             // The pieces are the leaves: copied only when one becomes the incumbent.
-            for (pb, pw) in pieces {
-                let mv = max_val(pb, pw);
+            for (q, (pb, pw)) in pieces.enumerate() {
+                let mv = mv_of(q, pb, pw);
                 if self.takes(mv) {
                     self.set_best(mv);
                     self.best_b.copy_from_slice(pb);
@@ -397,7 +415,7 @@ impl Search<'_> {
             return;
         }
         for (q, (pb, pw)) in pieces.enumerate() {
-            let mv = max_val(pb, pw);
+            let mv = mv_of(q, pb, pw);
             if !self.skip_first(q, pb, mv) {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);

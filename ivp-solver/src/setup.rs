@@ -132,7 +132,9 @@ impl Solver {
             identity && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
         let g = f.grid_bounds();
         let keep_grid = same && g.len() == total;
-        let piece_bounds = !first && !keep_grid;
+        // The first function's `maxVal`s are its first-level node values (see
+        // `Search::run`).
+        let piece_bounds = first || !keep_grid;
         // Weights: slope x -> (x*scale)*pwt, intercept x -> ((x+shift)*scale)*pwt when
         // normalizing, x*pwt otherwise; dimensions the function lacks get slope 0.
         // With them each piece's term scale and, if needed, its `maxVal`.

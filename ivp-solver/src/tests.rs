@@ -278,6 +278,68 @@ fn last_index_bounds_equal_the_clipped_max_val_fold() {
     assert!(cells_checked > 1000, "{cells_checked}");
 }
 
+/// An index built again and again (boxes kept with new weights, weights kept, boxes
+/// new, cells new) has every cell's list and bound of an index built fresh, bit for bit.
+#[test]
+fn last_index_rebuilt_equals_a_fresh_one() {
+    let mut seed = 7u64;
+    let mut kept_boxes = 0;
+    for _ in 0..60 {
+        let dim = 1 + rng(&mut seed) as usize % 3;
+        let pts: Vec<i32> = (0..dim).map(|_| 1 + (rng(&mut seed) % 50) as i32).collect();
+        let mut ppg: Vec<i32> = pts
+            .iter()
+            .map(|&p| 1 + (rng(&mut seed) % p as u64) as i32)
+            .collect();
+        let n = 1 + rng(&mut seed) as usize % 10;
+        let mut reused = LastIndex::default();
+        let (mut boxes, mut weights) = (vec![], vec![]);
+        for round in 0..12 {
+            let what = rng(&mut seed) % 5;
+            if round == 0 || what == 0 {
+                boxes.clear();
+                for _ in 0..n {
+                    for &p in &pts {
+                        let lo = (rng(&mut seed) % p as u64) as i32;
+                        let hi = lo + (rng(&mut seed) % (p - lo) as u64) as i32;
+                        boxes.extend([lo, hi]);
+                    }
+                }
+            } else {
+                kept_boxes += 1;
+            }
+            if what == 1 {
+                // New cells over the same boxes.
+                let d = rng(&mut seed) as usize % dim;
+                ppg[d] = 1 + (rng(&mut seed) % pts[d] as u64) as i32;
+            }
+            if round == 0 || what != 2 {
+                weights.clear();
+                for _ in 0..n * (dim + 1) {
+                    let w = (rng(&mut seed) % 2001) as f64 / 7.0 - 140.0;
+                    weights.push(match rng(&mut seed) % 11 {
+                        0 => -0.0,
+                        1 => f64::NAN,
+                        _ => w,
+                    });
+                }
+            }
+            let mut fresh = LastIndex::default();
+            fresh.build(&ppg, &pts, &boxes, &weights, n);
+            reused.build(&ppg, &pts, &boxes, &weights, n);
+            assert!(fresh.on && reused.on);
+            let total: usize = (0..dim)
+                .map(|d| ((pts[d] + ppg[d] - 1) / ppg[d]) as usize)
+                .product();
+            for c in 0..total {
+                assert_eq!(reused.bound(c).to_bits(), fresh.bound(c).to_bits());
+                assert_eq!(reused.pieces(c), fresh.pieces(c));
+            }
+        }
+    }
+    assert!(kept_boxes > 300, "{kept_boxes}");
+}
+
 /// Functions read in place from buffers of their own (as a plugin's are, over a domain
 /// made apart) give the decisions of the owned functions, bit for bit.
 #[test]

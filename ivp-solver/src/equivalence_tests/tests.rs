@@ -341,7 +341,7 @@ fn fingerprint(d: &Decision) -> (Vec<Option<u32>>, Vec<Option<u64>>, u64) {
 #[test]
 fn search_equals_the_straightforward_branch_and_bound() {
     let mut seed = 2026u64;
-    let (mut solves, mut seeded, mut reruns, mut bits) = (0, 0, 0, 0);
+    let (mut solves, mut seeded, mut reruns, mut bits, mut indexed) = (0, 0, 0, 0, 0);
     for round in 0..300 {
         let dom = random_domain(&mut seed);
         let mut fs = random_problem(&dom, &mut seed);
@@ -357,6 +357,7 @@ fn search_equals_the_straightforward_branch_and_bound() {
             seeded += solver.stats.0;
             reruns += solver.stats.1;
             bits += solver.stats.2;
+            indexed += solver.stats.4;
             // A fresh solver: no seed.
             let fresh = Solver::new().solve(&dom, &refs).unwrap();
             assert_eq!(found, fresh.is_some(), "round {round} step {step}");
@@ -385,8 +386,15 @@ fn search_equals_the_straightforward_branch_and_bound() {
         }
     }
     // The seeded search ran, and mostly without falling back.
-    eprintln!("{solves} solves, {seeded} seeded, {reruns} reruns, {bits} with bit sets");
+    eprintln!(
+        "{solves} solves, {seeded} seeded, {reruns} reruns, {bits} with bit sets, \
+         {indexed} with the last index"
+    );
     assert!(bits * 60 > solves, "{bits} with bit sets of {solves}");
+    assert!(
+        indexed * 20 > solves,
+        "{indexed} with the last index of {solves}"
+    );
     assert!(seeded > solves / 2, "{seeded} seeded of {solves}");
     assert!(reruns * 20 < seeded, "{reruns} reruns of {seeded}");
 }
@@ -496,6 +504,83 @@ fn helm_shaped_search_equals_the_straightforward_branch_and_bound() {
     eprintln!("{solves} solves, {seeded} seeded, {clipped} with the clipped bound");
     assert!(clipped * 4 > solves, "{clipped} clipped of {solves}");
     assert!(seeded > solves / 2, "{seeded} seeded of {solves}");
+}
+
+/// Contacts-shaped problems: two or more tilings of one tile size and gel box over
+/// course × speed (now and then a one-cell function between them), a waypoint-like
+/// function last, solved in sequences (seeded, the tilings' boxes kept): the first
+/// level's quick bound over the functions between is on, and the decisions are the
+/// straightforward branch and bound's and a fresh solver's, bit for bit.
+#[test]
+fn contacts_shaped_search_equals_the_straightforward_branch_and_bound() {
+    let mut seed = 4242u64;
+    let (mut solves, mut quick) = (0, 0);
+    for round in 0..150 {
+        let spec = format!(
+            "course:0:{}:{},speed:0:{}:{}",
+            29 + pick(&mut seed, 60),
+            30 + pick(&mut seed, 60),
+            5 + pick(&mut seed, 16),
+            6 + pick(&mut seed, 16),
+        );
+        let dom = Domain::parse(&spec).unwrap();
+        let size = [1 + pick(&mut seed, 8) as i32, 1 + pick(&mut seed, 4) as i32];
+        let gel = random_gel(&dom, Some(&size), &mut seed);
+        let mut fs: Vec<IvpFunction> = (0..2 + pick(&mut seed, 4))
+            .map(|_| {
+                let mut f = tiling(&dom, &size, pick(&mut seed, 4) == 0, &mut seed);
+                f.set_gelbox(gel.clone()).unwrap();
+                f.set_pwt(1.0 + pick(&mut seed, 200) as f64);
+                f
+            })
+            .collect();
+        if pick(&mut seed, 3) == 0 {
+            let mut f = zaic_like(&sub_domain(&dom, &[1]), false, &mut seed);
+            f.set_pwt(1.0 + pick(&mut seed, 50) as f64);
+            fs.insert(1, f);
+        }
+        let mut w = zaic_like(&dom, pick(&mut seed, 4) == 0, &mut seed);
+        w.set_pwt(1.0 + pick(&mut seed, 200) as f64);
+        fs.push(w);
+        let mut solver = Solver::new();
+        for step in 0..6 {
+            if step > 0 {
+                nudge(&mut fs, &mut seed);
+            }
+            let refs: Vec<&IvpFunction> = fs.iter().collect();
+            let mut got = Decision::default();
+            let found = solver.solve_into(&dom, &refs, &mut got).unwrap();
+            solves += 1;
+            quick += usize::from(solver.stats.4 == 2);
+            let want = reference(&solver, &refs);
+            assert_eq!(found, want.is_some(), "round {round} step {step}");
+            let Some((v, b, w)) = want else { continue };
+            assert_eq!(
+                got.utility.to_bits(),
+                v.to_bits(),
+                "round {round} step {step}"
+            );
+            for (d, &h) in solver.prob_to_helm.iter().enumerate() {
+                let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
+                assert_eq!(
+                    got.indices[h],
+                    Some(ix.max(0) as u32),
+                    "round {round} step {step}"
+                );
+            }
+            let fresh = Solver::new().solve(&dom, &refs).unwrap().unwrap();
+            assert_eq!(
+                fingerprint(&got),
+                fingerprint(&fresh),
+                "round {round} step {step}"
+            );
+        }
+    }
+    eprintln!("{solves} solves, {quick} with the quick bound");
+    assert!(
+        quick * 2 > solves,
+        "{quick} with the quick bound of {solves}"
+    );
 }
 
 /// Kept set-ups across helm domains: the same functions solved in helm domains with
@@ -807,6 +892,7 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 doubt: Cell::new(false),
                 last,
                 first_cells: cells.as_deref(),
+                mid: None,
                 clip: None,
                 singles_from: (0..m)
                     .rev()
