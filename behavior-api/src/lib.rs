@@ -66,6 +66,7 @@ pub mod context;
 pub mod flag;
 pub mod format;
 pub mod function;
+pub mod kept;
 pub mod module;
 pub mod params;
 pub mod platform;

@@ -1,41 +1,10 @@
 //! What a behavior keeps between its function builds: a function whose inputs (by their
-//! exact bits) did not change, and the ZAIC builders it sets up again every iteration.
+//! exact bits) did not change (the SDK's [`Kept`]), and the ZAIC builders it sets up
+//! again every iteration.
 
+pub use behavior_api::kept::Kept;
 use ivp::zaic::ZaicPeak;
-use ivp::{Domain, IvpFunction};
-
-/// The last function built, with the key of the inputs it was built from: while the key
-/// is the same it is lent again instead of built.
-pub struct Kept<K> {
-    last: Option<(K, IvpFunction)>,
-}
-
-impl<K> Default for Kept<K> {
-    fn default() -> Self {
-        Kept { last: None }
-    }
-}
-
-impl<K: PartialEq> Kept<K> {
-    /// The kept function when `key` is its key, else `build()` (kept when it succeeds;
-    /// failures are not kept, so they are met again with the same inputs).
-    pub fn get<E>(
-        &mut self,
-        key: K,
-        build: impl FnOnce() -> Result<IvpFunction, E>,
-    ) -> Result<&IvpFunction, E> {
-        let kept = match self.last.take() {
-            Some((k, f)) if k == key => (k, f),
-            old => {
-                if let Some((_, f)) = old {
-                    f.recycle();
-                }
-                (key, build()?)
-            }
-        };
-        Ok(&self.last.insert(kept).1)
-    }
-}
+use ivp::Domain;
 
 /// The ZAIC_PEAK builder over `var` kept in `slot` (made, with value wrap `wrap` and
 /// `comps` components, when there is none), its parameters to be set again by the

@@ -7,6 +7,7 @@
 use std::marker::PhantomData;
 
 use behavior_api::ivp;
+use behavior_api::kept::Kept;
 use behavior_api::parse_number;
 use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
@@ -74,7 +75,7 @@ pub struct ConstantValue<K: Kind> {
     /// The last function built and what it was built from (bit for bit): the function
     /// depends on nothing else, so while they stay it is copied, not built again (the
     /// ZAIC scans every point of the variable).
-    last: Option<([u64; 4], ivp::IvpFunction)>,
+    last: Kept<[u64; 4]>,
     kind: PhantomData<K>,
 }
 
@@ -90,7 +91,7 @@ impl<K: Kind> ConstantValue<K> {
                 mismatch_var: String::new(),
             },
             mismatch: 0.0,
-            last: None,
+            last: Kept::default(),
             kind: PhantomData,
         }
     }
@@ -126,30 +127,19 @@ impl<K: Kind> ConstantValue<K> {
             shape.basewidth.to_bits(),
             shape.summitdelta.to_bits(),
         ];
-        if let Some((k, f)) = &self.last {
-            if *k == key {
-                if let Ok(copy) = copy_function(f) {
-                    return Ok(copy);
-                }
-            }
-        }
-        let f = self.build()?;
-        if let Some((_, old)) = self.last.take() {
-            old.recycle();
-        }
-        self.last = copy_function(&f).ok().map(|kept| (key, kept));
-        Ok(f)
+        let (dom, settings) = (&self.ivp_domain, &self.settings);
+        let kept = self.last.get(key, || Self::build(dom, settings))?;
+        copy_function(kept).map_err(|e| e.to_string())
     }
 
     /// The objective function, without pwt.
-    fn build(&self) -> Result<ivp::IvpFunction, String> {
-        let dom = self
-            .ivp_domain
+    fn build(dom: &Option<ivp::Domain>, settings: &Settings) -> Result<ivp::IvpFunction, String> {
+        let dom = dom
             .as_ref()
             .ok_or_else(|| format!("No '{}' variable in the helm domain", K::DOMAIN_NAME))?;
-        self.settings
+        settings
             .shape
-            .function(dom, K::VAR, self.settings.value, K::WRAP)
+            .function(dom, K::VAR, settings.value, K::WRAP)
             .ok_or_else(|| format!("Unable to generate constant-{} IvP function", K::PARAM))
     }
 }
@@ -258,7 +248,7 @@ mod tests {
                 _ => unchanged += 1,
             }
             let kept = b.build_kept().expect("builds");
-            let fresh = b.build().expect("builds");
+            let fresh = ConstantValue::<Depth>::build(&b.ivp_domain, &b.settings).expect("builds");
             assert_eq!(parts(&kept), parts(&fresh), "settings {:?}", b.settings);
             kept.recycle();
             fresh.recycle();
