@@ -483,15 +483,15 @@ pub(crate) fn typed(s: &str) -> Value {
 /// (copying it would cost more than the solve of a big one) until the next decision
 /// hands it back.
 pub(crate) struct HelmFunction(
-    CheckedFunction<LibraryFunction>,
+    CheckedFunction<AbiFunction>,
     Option<behavior_api::FunctionRecycler>,
 );
 
 /// A behavior's function as it crossed the ABI, read in place.
 #[derive(Debug)]
-pub(crate) struct LibraryFunction(FunctionData);
+pub(crate) struct AbiFunction(FunctionData);
 
-impl PieceBuffers for LibraryFunction {
+impl PieceBuffers for AbiFunction {
     fn bounds(&self) -> &[i32] {
         &self.0.bounds
     }
@@ -559,9 +559,9 @@ fn place(
             }
         },
     };
-    match CheckedFunction::new(LibraryFunction(fd), domain) {
+    match CheckedFunction::new(AbiFunction(fd), domain) {
         Ok(f) => Ok(HelmFunction(f, give_back)),
-        Err((LibraryFunction(fd), e)) => {
+        Err((AbiFunction(fd), e)) => {
             hand_back(fd, give_back);
             Err(FunctionData::rejection(e))
         }
