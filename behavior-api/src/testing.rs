@@ -330,6 +330,23 @@ impl MockHelm {
     }
 }
 
+/// Everything an IvP function is made of, its numbers by their bits: two functions are
+/// the same bit for bit when these are equal (a kept function against a fresh build).
+#[allow(clippy::type_complexity)]
+pub fn function_bits(
+    f: &ivp::IvpFunction,
+) -> (Vec<i32>, Vec<u64>, Vec<u32>, Vec<u64>, String, u64) {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    (
+        f.bounds().to_vec(),
+        bits(f.weights()),
+        f.gelbox().to_vec(),
+        bits(f.grid_bounds()),
+        f.domain().to_ipf_string(),
+        f.pwt().to_bits(),
+    )
+}
+
 /// Fold `text` (and a separator) into an FNV-1a `hash`: a fingerprint of a behavior's
 /// postings, to compare them across versions.
 pub fn fnv(hash: &mut u64, text: &str) {

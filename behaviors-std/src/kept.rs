@@ -39,20 +39,7 @@ pub fn drop_on_failure(slot: &mut Option<ZaicPeak>, ok: bool) {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use ivp::IvpFunction;
-
-    /// Everything a function is made of, floats by their bits.
-    pub fn parts(f: &IvpFunction) -> (Vec<i32>, Vec<u64>, Vec<u32>, Vec<u64>, String, u64) {
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        (
-            f.bounds().to_vec(),
-            bits(f.weights()),
-            f.gelbox().to_vec(),
-            bits(f.grid_bounds()),
-            f.domain().to_ipf_string(),
-            f.pwt().to_bits(),
-        )
-    }
+    pub use behavior_api::testing::function_bits as parts;
 
     /// A reproducible pick among `n`.
     pub fn picker(mut seed: u64) -> impl FnMut(u64) -> u64 {

@@ -215,16 +215,7 @@ mod tests {
         const SHAPE: PeakShape = PeakShape::new(3.0, 6.0, 50.0);
     }
 
-    fn parts(f: &ivp::IvpFunction) -> (Vec<i32>, Vec<u64>, Vec<u32>, Vec<u64>, String) {
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        (
-            f.bounds().to_vec(),
-            bits(f.weights()),
-            f.gelbox().to_vec(),
-            bits(f.grid_bounds()),
-            f.domain().to_ipf_string(),
-        )
-    }
+    use behavior_api::testing::function_bits as parts;
 
     /// A kept function handed out again is bit for bit the one a fresh build gives, over
     /// random changes of the desired value and the shape (some repeated, -0.0 included).
