@@ -252,6 +252,28 @@ impl Search<'_> {
         self.skip_indexed(level, b, acc, ix, || ix.cell_of(b))
     }
 
+    /// Whether [`Search::skip`] at `level` reduces, once a leaf is found, to the
+    /// reference bound of one-cell functions: no index, no clipped bound, the
+    /// functions `level..` all one cell (see [`Search::skip_found_singles`]).
+    #[inline(always)]
+    fn singles_at(&self, level: usize) -> bool {
+        self.last.is_none() && self.clip.is_none() && level >= self.singles_from
+    }
+
+    /// [`Search::skip`] at a `level` where [`Search::singles_at`] holds, once `found`,
+    /// inlined into the search's loops: the same sum as [`Search::skip_singles`], the
+    /// same answer (`prune(rb, rb)` is `rb <= best` once found: `best - 2 tol` is not
+    /// above `best`, and nothing raises `doubt`).
+    #[inline(always)]
+    fn skip_found_singles(&self, level: usize, acc: f64) -> bool {
+        let m = self.active.len();
+        let mut prefix = acc;
+        for t in &self.terms[level..m - 1] {
+            prefix += t.ub;
+        }
+        prefix + self.last_ub <= self.best
+    }
+
     /// [`Search::skip`] without the index when the functions `level..` are all one
     /// cell: their terms are their global bounds, added in order as [`bound_terms`]
     /// adds them, the last one last; the tighter bound is the [`Clip`] one, when on.
@@ -414,9 +436,15 @@ impl Search<'_> {
             }
             return;
         }
+        let singles = self.singles_at(1);
         for (q, (pb, pw)) in pieces.enumerate() {
             let mv = mv_of(q, pb, pw);
-            if !self.skip_first(q, pb, mv) {
+            let skip = if singles && self.found {
+                self.skip_found_singles(1, mv)
+            } else {
+                self.skip_first(q, pb, mv)
+            };
+            if !skip {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);
                 self.recurse(1);
@@ -436,22 +464,12 @@ impl Search<'_> {
         }
     }
 
-    /// Fast path for the deepest level with a single-cell grid: leaf values are
-    /// computed on the fly with exactly the operations of `maxVal(node ∩ q)`
-    /// (summed weights, intercept first, then dimensions in order); the leaf is
-    /// only materialized when it becomes the incumbent. A node inside one cell of the
-    /// [`LastIndex`] meets only that cell's pieces (array order, as here).
-    pub(crate) fn last_level_single(&mut self, level: usize, f: &Prepared, fb: &[i32]) {
-        // The helm's dimensions made constants: the per-leaf loops unrolled.
-        match self.dim {
-            1 => self.last_level_dim(level, f, fb, 1),
-            2 => self.last_level_dim(level, f, fb, 2),
-            3 => self.last_level_dim(level, f, fb, 3),
-            dim => self.last_level_dim(level, f, fb, dim),
-        }
-    }
-
-    /// [`Search::last_level_single`] with `dim == self.dim`.
+    /// Fast path for the deepest level with a single-cell grid (`dim == self.dim`, a
+    /// constant in [`Search::recurse_dim`]): leaf values are computed on the fly with
+    /// exactly the operations of `maxVal(node ∩ q)` (summed weights, intercept first,
+    /// then dimensions in order); the leaf is only materialized when it becomes the
+    /// incumbent. A node inside one cell of the [`LastIndex`] meets only that cell's
+    /// pieces (array order, as here).
     #[inline(always)]
     fn last_level_dim(&mut self, level: usize, f: &Prepared, fb: &[i32], dim: usize) {
         let (bl, wl) = (2 * dim, dim + 1);
@@ -531,7 +549,7 @@ impl Search<'_> {
         bits.meeting(node_b, meet).then(|| bits.words())
     }
 
-    /// The leaf `node ∩ q` of [`Search::last_level_single`] (the node's box and weights
+    /// The leaf `node ∩ q` of [`Search::last_level_dim`] (the node's box and weights
     /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet.
     #[inline(always)]
     pub(crate) fn last_leaf(
@@ -571,21 +589,35 @@ impl Search<'_> {
 
     /// `level` = index of the function to intersect with; node is in slot `level-1`.
     pub(crate) fn recurse(&mut self, level: usize) {
-        let dim = self.dim;
+        // The helm's dimensions made constants: the per-piece loops here and the
+        // per-leaf ones of `last_level_dim` unrolled, the slices' lengths known.
+        match self.dim {
+            1 => self.recurse_dim::<1>(level),
+            2 => self.recurse_dim::<2>(level),
+            3 => self.recurse_dim::<3>(level),
+            _ => self.recurse_dim::<0>(level),
+        }
+    }
+
+    /// [`Search::recurse`] with `D == self.dim` (`D == 0`: any dimension).
+    fn recurse_dim<const D: usize>(&mut self, level: usize) {
+        let dim = if D == 0 { self.dim } else { D };
         let (bl, wl) = (2 * dim, dim + 1);
         let funcs = self.funcs;
         let f = &funcs[self.active[level]];
         let fb = self.boxes[self.active[level]];
         let last = level + 1 == self.active.len();
         if last && f.single {
-            self.last_level_single(level, f, fb);
+            self.last_level_dim(level, f, fb, dim);
             return;
         }
+        let singles = self.singles_at(level + 1);
         let visit = |s: &mut Self, q: usize| {
             let (nb, cb) = s.node_b.split_at_mut(level * bl);
             let (nw, cw) = s.node_w.split_at_mut(level * wl);
             let node_b = &nb[(level - 1) * bl..];
             let node_w = &nw[(level - 1) * wl..];
+            let (node_b, node_w) = (&node_b[..bl], &node_w[..wl]);
             let qb = &fb[q * bl..(q + 1) * bl];
             let qw = &f.weights[q * wl..(q + 1) * wl];
             let child_b = &mut cb[..bl];
@@ -600,8 +632,15 @@ impl Search<'_> {
             let mv = max_val(child_b, child_w);
             if last {
                 s.leaf(level, mv);
-            } else if !s.skip(level + 1, &s.node_b[level * bl..(level + 1) * bl], mv) {
-                s.recurse(level + 1);
+            } else {
+                let skip = if singles && s.found {
+                    s.skip_found_singles(level + 1, mv)
+                } else {
+                    s.skip(level + 1, &s.node_b[level * bl..(level + 1) * bl], mv)
+                };
+                if !skip {
+                    s.recurse_dim::<D>(level + 1);
+                }
             }
         };
         if f.single {

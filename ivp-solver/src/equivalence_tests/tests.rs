@@ -1104,3 +1104,67 @@ fn cell_bounds_equal_the_plain_fold() {
     }
     assert!(cells > 1000, "{cells}");
 }
+
+/// Four and five dimensions (the search's loops for any dimension, and past the stack
+/// odometer's four): helm-shaped problems, with a tiling over all the variables now and
+/// then, solved in sequences against the straightforward branch and bound and a fresh
+/// solver, bit for bit.
+#[test]
+fn search_beyond_three_dimensions_equals_the_straightforward_branch_and_bound() {
+    let mut seed = 4545u64;
+    let names = ["course", "speed", "depth", "x", "y"];
+    let mut solves = 0;
+    for round in 0..200 {
+        let dim = 4 + pick(&mut seed, 2) as usize;
+        let spec: Vec<String> = (0..dim)
+            .map(|d| {
+                let pts = 3 + pick(&mut seed, 5);
+                format!("{}:0:{}:{}", names[d], pts - 1, pts)
+            })
+            .collect();
+        let dom = Domain::parse(&spec.join(",")).unwrap();
+        let mut fs = helm_problem(&dom, &mut seed);
+        if pick(&mut seed, 2) == 0 {
+            let size: Vec<i32> = (0..dim).map(|_| 1 + pick(&mut seed, 3) as i32).collect();
+            let mut f = tiling(&dom, &size, false, &mut seed);
+            let gel = random_gel(&dom, Some(&size), &mut seed);
+            f.set_gelbox(gel).unwrap();
+            f.set_pwt(1.0 + pick(&mut seed, 50) as f64);
+            let at = pick(&mut seed, fs.len() as u64 + 1) as usize;
+            fs.insert(at, f);
+        }
+        let mut solver = Solver::new();
+        for step in 0..4 {
+            if step > 0 {
+                nudge(&mut fs, &mut seed);
+            }
+            let refs: Vec<&IvpFunction> = fs.iter().collect();
+            let mut got = Decision::default();
+            let found = solver.solve_into(&dom, &refs, &mut got).unwrap();
+            solves += 1;
+            let want = reference(&solver, &refs);
+            assert_eq!(found, want.is_some(), "round {round} step {step}");
+            let Some((v, b, w)) = want else { continue };
+            assert_eq!(
+                got.utility.to_bits(),
+                v.to_bits(),
+                "round {round} step {step}"
+            );
+            for (d, &h) in solver.prob_to_helm.iter().enumerate() {
+                let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
+                assert_eq!(
+                    got.indices[h],
+                    Some(ix.max(0) as u32),
+                    "round {round} step {step}"
+                );
+            }
+            let fresh = Solver::new().solve(&dom, &refs).unwrap().unwrap();
+            assert_eq!(
+                fingerprint(&got),
+                fingerprint(&fresh),
+                "round {round} step {step}"
+            );
+        }
+    }
+    assert_eq!(solves, 800);
+}
