@@ -32,7 +32,12 @@ impl<'a> Packets<'a> {
 
     /// The packets of the string made of `parts` one after the other.
     pub fn of_parts(id: &'a str, parts: [&'a str; 3]) -> Self {
-        let ascii = parts.iter().all(|p| p.is_ascii());
+        Self::with_ascii(id, parts, parts.iter().all(|p| p.is_ascii()))
+    }
+
+    /// [`Packets::of_parts`] told whether the parts are ASCII (kept text is scanned
+    /// once, when it is formatted, not at every sending).
+    fn with_ascii(id: &'a str, parts: [&'a str; 3], ascii: bool) -> Self {
         let header = id.chars().count() + 50;
         let body = 2000usize.saturating_sub(header).max(MIN_BODY);
         let chars: usize = if ascii {
@@ -117,9 +122,48 @@ impl IpfWriter {
         iter: u64,
     ) -> Packets<'s> {
         encode_context_into(&f, &mut self.whole);
+        self.kept_rest(f, kept, name, iter)
+    }
+
+    /// [`IpfWriter::kept_packets`] with the helm's context, `iter:name`, written here
+    /// straight into the text (`f.context` is not read): the helm need not build it.
+    pub fn helm_packets<'s>(
+        &'s mut self,
+        f: IpfSource<'_>,
+        kept: &'s mut KeptIpf,
+        name: &str,
+        iter: u64,
+    ) -> Packets<'s> {
+        let mut digits = itoa::Buffer::new();
+        let iter_text = digits.format(iter);
+        // `H,<characters of the context>,<context>,` as `encode_context_into` writes it.
+        let w = &mut self.whole;
+        w.clear();
+        w.push_str("H,");
+        w.push_str(itoa::Buffer::new().format(iter_text.len() + 1 + name.chars().count()));
+        w.push(',');
+        w.push_str(iter_text);
+        w.push(':');
+        w.push_str(name);
+        w.push(',');
+        self.kept_rest(f, kept, name, iter)
+    }
+
+    /// The packets once the context is in `whole`: the rest from `kept`.
+    fn kept_rest<'s>(
+        &'s mut self,
+        f: IpfSource<'_>,
+        kept: &'s mut KeptIpf,
+        name: &str,
+        iter: u64,
+    ) -> Packets<'s> {
         kept.update(&f);
         self.set_id(name, iter);
-        Packets::of_parts(&self.id, [&self.whole, &kept.shape, &kept.pieces])
+        // The pieces are numbers and commas only, ASCII by construction.
+        debug_assert!(kept.pieces.is_ascii());
+        let ascii = kept.shape_ascii && self.whole.is_ascii();
+        let parts = [self.whole.as_str(), &kept.shape, &kept.pieces];
+        Packets::with_ascii(&self.id, parts, ascii)
     }
 
     fn set_id(&mut self, name: &str, iter: u64) {
@@ -139,6 +183,7 @@ impl IpfWriter {
 pub struct KeptIpf {
     /// The text from the dimension to `F`, and what it shows.
     shape: String,
+    shape_ascii: bool,
     count: usize,
     pwt: u64,
     gelbox: Vec<u32>,
@@ -170,6 +215,7 @@ impl KeptIpf {
         if !shape_kept {
             self.shape.clear();
             encode_shape_into(f, &mut self.shape);
+            self.shape_ascii = self.shape.is_ascii();
             if !same_domain {
                 self.domain = Some(f.domain.clone());
             }
@@ -224,4 +270,49 @@ pub fn ipf_packets(id: &str, whole: &str) -> Vec<String> {
             p
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ivp::{Domain, IvpFunction};
+
+    /// The helm's path (context written by the writer) gives the packets of the
+    /// context passed in, for ASCII and other names, short and long (several packets),
+    /// as the function changes and holds.
+    #[test]
+    fn helm_packets_equal_kept_packets_with_the_context_passed_in() {
+        let d = Domain::parse("course:0:359:360").unwrap();
+        let names = ["a", "wpt_survey", "tête_à_tête", &"long".repeat(300)];
+        let (mut a, mut b) = (String::new(), String::new());
+        for (case, name) in names.iter().enumerate() {
+            let (mut kept_a, mut kept_b) = (KeptIpf::default(), KeptIpf::default());
+            let (mut wa, mut wb) = (IpfWriter::default(), IpfWriter::default());
+            for iter in [0u64, 1, 9, 10, 99, 12345, 12345, u64::MAX] {
+                let k = (iter % 7) as i32 + case as i32;
+                let pieces: Vec<_> = (0..40i32)
+                    .map(|i| {
+                        (
+                            vec![(9 * i, 9 * i + 8)],
+                            vec![0.5 * f64::from(i), f64::from(k)],
+                        )
+                    })
+                    .collect();
+                let mut f = IvpFunction::from_pieces(d.clone(), &pieces).unwrap();
+                f.set_context(&format!("{iter}:{name}"));
+                let want = wa.kept_packets((&f).into(), &mut kept_a, name, iter);
+                let src = IpfSource {
+                    context: "",
+                    ..(&f).into()
+                };
+                let got = wb.helm_packets(src, &mut kept_b, name, iter);
+                assert_eq!(got.count(), want.count(), "{name} {iter}");
+                for p in 1..=want.count() {
+                    want.write(p, &mut a);
+                    got.write(p, &mut b);
+                    assert_eq!(a, b, "{name} {iter} packet {p}");
+                }
+            }
+        }
+    }
 }

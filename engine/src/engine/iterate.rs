@@ -272,8 +272,8 @@ impl Helm {
             f.recycle();
         }
         let created = std::time::Instant::now();
+        let mut t = created; // a behavior's end is the next one's start
         for i in 0..self.behaviors.len() {
-            let t = std::time::Instant::now();
             let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
             if let Some(fd) = outcome.function {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
@@ -290,7 +290,8 @@ impl Helm {
                     }
                 }
             }
-            self.behaviors[i].core.step_secs = t.elapsed().as_secs_f64();
+            let start = std::mem::replace(&mut t, std::time::Instant::now());
+            self.behaviors[i].core.step_secs = (t - start).as_secs_f64();
             if !self.behaviors[i].core.ok {
                 let last = self.behaviors[i]
                     .core
@@ -341,13 +342,9 @@ impl Helm {
         if self.ipf_off {
             return;
         }
-        // The function's context is `iteration:behavior`.
-        let mut context = self.pool.take();
-        mbutil::push_u64(&mut context, iter);
-        context.push(':');
-        context.push_str(name);
+        // The function's context, `iteration:behavior`, is written by the writer.
         let source = ivp_ipf::IpfSource {
-            context: &context,
+            context: "",
             domain: f.domain(),
             pwt: f.pwt(),
             gelbox: f.gelbox(),
@@ -357,18 +354,17 @@ impl Helm {
         let core = &mut self.behaviors[i].core;
         let packets = self
             .ipf
-            .kept_packets(source, &mut core.ipf_kept, name, iter);
+            .helm_packets(source, &mut core.ipf_kept, name, iter);
         for k in 1..=packets.count() {
             let mut p = self.pool.take_long();
             packets.write(k, &mut p);
             let message = crate::runtime::Message {
                 var: self.pool.copy_of("BHV_IPF"),
                 value: Value::Str(p),
-                key: self.pool.copy_of("repeatable"),
+                key: String::new(), // unread: BHV_IPF skips the duplicate filter
             };
             core.messages.push(message);
         }
-        self.pool.give(context);
     }
 
     /// §9.1: all-stop or the decision.

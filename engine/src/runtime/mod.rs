@@ -252,19 +252,16 @@ impl BehaviorCore {
             Some(to) => self.pool.copy_of(to),
             None => self.pool.copy_of(var),
         };
-        let repeatable = given_key.eq_ignore_ascii_case("repeatable");
-        let mut key = self.pool.take_for(if repeatable {
-            10
+        let key = if given_key.eq_ignore_ascii_case("repeatable") {
+            self.pool.copy_of("repeatable")
         } else {
-            self.name.len() + var.len() + given_key.len()
-        });
-        if repeatable {
-            key.push_str("repeatable");
-        } else {
+            let len = self.name.len() + var.len() + given_key.len();
+            let mut key = self.pool.take_for(len);
             key.push_str(&self.name);
             key.push_str(&var);
             key.push_str(given_key);
-        }
+            key
+        };
         self.messages.push(Message { var, value, key });
     }
 

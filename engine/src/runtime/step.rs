@@ -68,8 +68,9 @@ fn post_duration_status(core: &mut BehaviorCore, remaining: f64) {
     } else {
         (remaining + 0.5).trunc()
     };
-    let var = core.duration_status.clone();
+    let var = std::mem::take(&mut core.duration_status); // lent, not copied
     core.post(&var, Value::Num(v), "");
+    core.duration_status = var;
 }
 
 fn reset_duration(core: &mut BehaviorCore) {
