@@ -388,30 +388,57 @@ fn normalize_row_body(row: NormRow<'_>, shift: f64, scale: f64) {
 
 /// Append the pieces' weights (slope 0, slope 1, intercept lists) to `weights`, the
 /// last piece first; normalized on the way (`w[2] += shift`, then `*= scale`) if asked.
-fn write_reversed([w0, w1, w2]: [&[f64]; 3], scale: Option<(f64, f64)>, weights: &mut Vec<f64>) {
-    let n = w0.len();
-    let (w1, w2, at) = (&w1[..n], &w2[..n], weights.len());
+fn write_reversed(w: [&[f64]; 3], scale: Option<(f64, f64)>, weights: &mut Vec<f64>) {
+    let (n, at) = (w[0].len().min(w[1].len()).min(w[2].len()), weights.len());
     weights.reserve(3 * n);
     let out = &mut weights.spare_capacity_mut()[..3 * n];
-    let pieces = out.chunks_exact_mut(3).zip((0..n).rev());
-    match scale {
-        Some((shift, scale)) => {
-            for (o, k) in pieces {
-                o[0].write(w0[k] * scale);
-                o[1].write(w1[k] * scale);
-                o[2].write((w2[k] + shift) * scale);
-            }
-        }
-        None => {
-            for (o, k) in pieces {
-                o[0].write(w0[k]);
-                o[1].write(w1[k]);
-                o[2].write(w2[k]);
-            }
-        }
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        done = unsafe { write_reversed_avx2(w, scale, out) };
     }
-    // SAFETY: the loop above wrote each of the first 3·n spare slots (n chunks of 3).
+    for (o, k) in out[3 * done..].chunks_exact_mut(3).zip((0..n - done).rev()) {
+        let p = [w[0][k], w[1][k], w[2][k]];
+        let p = scale.map_or(p, |(shift, s)| [p[0] * s, p[1] * s, (p[2] + shift) * s]);
+        o.iter_mut().zip(p).for_each(|(o, x)| _ = o.write(x));
+    }
+    // SAFETY: the loops above wrote each of the first 3·n spare slots (n chunks of 3).
     unsafe { weights.set_len(at + 3 * n) };
+}
+
+/// [`write_reversed`]'s loop four pieces at a time, reversed and interleaved by shuffles;
+/// returns how many it wrote (from the last; the first n mod 4 are left to the caller).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn write_reversed_avx2(
+    [w0, w1, w2]: [&[f64]; 3],
+    scale: Option<(f64, f64)>,
+    out: &mut [std::mem::MaybeUninit<f64>],
+) -> usize {
+    use std::arch::x86_64::*;
+    let n = w0.len().min(w1.len()).min(w2.len()).min(out.len() / 3);
+    let (scaled, (shift, scale)) = (scale.is_some(), scale.unwrap_or((0.0, 1.0)));
+    let (shift, s) = (_mm256_set1_pd(shift), _mm256_set1_pd(scale));
+    for done in (0..n / 4).map(|q| 4 * q) {
+        // Pieces j..j+4 (in bounds: j + 4 <= n), written j+3 first; scaled if asked.
+        let j = n - done - 4;
+        let [mut x, mut y, mut z] = [w0, w1, w2].map(|w| _mm256_loadu_pd(w[j..j + 4].as_ptr()));
+        if scaled {
+            (x, y) = (_mm256_mul_pd(x, s), _mm256_mul_pd(y, s));
+            z = _mm256_mul_pd(_mm256_add_pd(z, shift), s);
+        }
+        // Reversed: x0 = piece j+3.
+        let [x, y, z] = [x, y, z].map(|v| _mm256_permute4x64_pd::<0x1B>(v));
+        let t = _mm256_unpacklo_pd(x, y); // x0 y0 x2 y2
+        let u = _mm256_shuffle_pd::<0b1010>(z, x); // z0 x1 z2 x3
+        let v = _mm256_unpackhi_pd(y, z); // y1 z1 y3 z3
+        let o = out[3 * done..3 * done + 12].as_mut_ptr().cast::<f64>();
+        _mm256_storeu_pd(o, _mm256_permute2f128_pd::<0x20>(t, u));
+        _mm256_storeu_pd(o.add(4), _mm256_blend_pd::<0b1100>(v, t));
+        _mm256_storeu_pd(o.add(8), _mm256_permute2f128_pd::<0x31>(u, v));
+    }
+    n / 4 * 4
 }
 
 #[cfg(test)]

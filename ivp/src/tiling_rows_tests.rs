@@ -211,3 +211,30 @@ fn fold_range_equals_the_fold_in_order() {
         assert_eq!(bits(&[got.0, got.1]), bits(&[mn, mx]), "case {case}");
     }
 }
+
+/// [`write_reversed`] (four pieces at a time by shuffles where AVX2 is at hand) is the
+/// piece-by-piece write in reverse, normalized or not, bit for bit, after any prefix
+/// already in the weights, over lists of 0 to 40 pieces of awkward values.
+#[test]
+fn write_reversed_is_the_reversed_write() {
+    let mut seed = 43u64;
+    for case in 0..3000 {
+        let n = case % 41;
+        let w: Vec<Vec<f64>> = (0..3)
+            .map(|_| (0..n).map(|_| value(&mut seed)).collect())
+            .collect();
+        let scale = (case % 3 != 0).then(|| (value(&mut seed), value(&mut seed)));
+        let prefix: Vec<f64> = (0..case % 5).map(|_| value(&mut seed)).collect();
+        let mut want = prefix.clone();
+        for k in (0..n).rev() {
+            let p = [w[0][k], w[1][k], w[2][k]];
+            want.extend(match scale {
+                Some((shift, s)) => [p[0] * s, p[1] * s, (p[2] + shift) * s],
+                None => p,
+            });
+        }
+        let mut got = prefix;
+        write_reversed([&w[0], &w[1], &w[2]], scale, &mut got);
+        assert_eq!(bits(&got), bits(&want), "case {case}");
+    }
+}
