@@ -100,29 +100,14 @@ pub fn try_couple_normalized(
     let full = |d: usize| (0, dom.var(d).points as i32 - 1);
     // Two one-variable functions (the Waypoint's course and speed) are paired in one
     // pass that also folds the result's least and greatest values.
-    let min_max = if d1 == 1 && d2 == 1 {
-        let tops = [full(0).1, full(1).1];
-        Some(pair_lines(
-            [b1, b2],
-            [w1s, w2s],
-            tops,
-            &mut bounds,
-            &mut weights,
-        ))
-    } else {
-        SCRATCH.with_borrow_mut(|scratch| {
-            pair_pieces(
-                scratch,
-                [b1, b2],
-                [w1s, w2s],
-                [d1, d2],
-                full,
-                &mut bounds,
-                &mut weights,
-            );
-        });
+    let min_max = SCRATCH.with_borrow_mut(|scratch| {
+        let (bw, ws, out) = ([b1, b2], [w1s, w2s], (&mut bounds, &mut weights));
+        if d1 == 1 && d2 == 1 {
+            return Some(pair_lines(scratch, bw, ws, [full(0).1, full(1).1], out));
+        }
+        pair_pieces(scratch, bw, ws, [d1, d2], full, out);
         None
-    };
+    });
     // f1's storage goes to the next builds.
     f1.recycle();
     let mut out = IvpFunction::assemble(dom, bounds, weights);
@@ -141,19 +126,18 @@ pub fn try_couple_normalized(
 /// course term, then the speed term), folded over the pieces in order the same way.
 /// `tops[d]` is the highest index of dimension `d`.
 fn pair_lines(
+    scratch: &mut Scratch,
     [b1, b2]: [&[i32]; 2],
     [w1s, w2s]: [&[f64]; 2],
     tops: [i32; 2],
-    bounds: &mut Vec<i32>,
-    weights: &mut Vec<f64>,
+    (bounds, weights): (&mut Vec<i32>, &mut Vec<f64>),
 ) -> (f64, f64) {
     // A piece's box within `[0, top]`, `None` if that leaves it empty.
     let clip = |b: &[i32], top: i32| {
         let (lo, hi) = (b[0].max(0), b[1].min(top));
         (lo <= hi).then_some((lo, hi))
     };
-    // (lo, hi, value at lo, value at hi) of `slope * x` for x in [lo, hi]: the term
-    // each end of the box adds to the least and the greatest value.
+    // The least and greatest term `slope * x` adds over the box `[lo, hi]`.
     let ends = |lo: i32, hi: i32, s: f64| {
         let (l, h) = (f64::from(lo), f64::from(hi));
         (
@@ -161,27 +145,41 @@ fn pair_lines(
             s * if s < 0.0 { l } else { h },
         )
     };
-    let (mut mn, mut mx) = (0.0, 0.0);
-    let mut first = true;
+    // f2's side of every coupled piece, worked out once: its box (empty ones left out)
+    // and its slope, least and greatest term and intercept.
+    let (q_boxes, q_vals) = (&mut scratch.q_boxes, &mut scratch.q_slopes);
+    q_boxes.clear();
+    q_vals.clear();
+    for (qb, qw) in b2.chunks_exact(2).zip(w2s.chunks_exact(2)) {
+        if let Some((lo, hi)) = clip(qb, tops[1]) {
+            let qs = 0.0 + qw[0];
+            let (q_min, q_max) = ends(lo, hi, qs);
+            q_boxes.extend([lo, hi]);
+            q_vals.extend([qs, q_min, q_max, qw[1]]);
+        }
+    }
+    // Written in place, room for every pair cut to those used: no capacity checks.
+    let most = (b1.len() / 2) * (q_boxes.len() / 2);
+    bounds.resize(4 * most, 0);
+    weights.resize(3 * most, 0.0);
+    let mut slots = bounds.chunks_exact_mut(4).zip(weights.chunks_exact_mut(3));
+    let (mut mn, mut mx, mut used) = (0.0, 0.0, 0);
     for (pb, pw) in b1.chunks_exact(2).zip(w1s.chunks_exact(2)) {
         let Some((plo, phi)) = clip(pb, tops[0]) else {
             continue;
         };
         let ps = pw[0] + 0.0;
         let (p_min, p_max) = ends(plo, phi, ps);
-        for (qb, qw) in b2.chunks_exact(2).zip(w2s.chunks_exact(2)) {
-            let Some((qlo, qhi)) = clip(qb, tops[1]) else {
-                continue;
-            };
-            let qs = 0.0 + qw[0];
-            let c = pw[1] + qw[1];
-            bounds.extend_from_slice(&[plo, phi, qlo, qhi]);
-            weights.extend_from_slice(&[ps, qs, c]);
-            let (q_min, q_max) = ends(qlo, qhi, qs);
-            let (lo, hi) = ((c + p_min) + q_min, (c + p_max) + q_max);
-            if first {
+        let qs = q_boxes.chunks_exact(2).zip(q_vals.chunks_exact(4));
+        // `slots` holds one for every pair: the zip ends with the q's.
+        for ((q, v), (bs, ws)) in qs.zip(slots.by_ref()) {
+            let c = pw[1] + v[3];
+            bs.copy_from_slice(&[plo, phi, q[0], q[1]]);
+            ws.copy_from_slice(&[ps, v[0], c]);
+            let (lo, hi) = ((c + p_min) + v[1], (c + p_max) + v[2]);
+            used += 1;
+            if used == 1 {
                 (mn, mx) = (lo, hi);
-                first = false;
                 continue;
             }
             if lo < mn {
@@ -192,6 +190,8 @@ fn pair_lines(
             }
         }
     }
+    bounds.truncate(4 * used);
+    weights.truncate(3 * used);
     (mn, mx)
 }
 
@@ -203,8 +203,7 @@ fn pair_pieces(
     [w1s, w2s]: [&[f64]; 2],
     [d1, d2]: [usize; 2],
     full: impl Fn(usize) -> (i32, i32),
-    bounds: &mut Vec<i32>,
-    weights: &mut Vec<f64>,
+    (bounds, weights): (&mut Vec<i32>, &mut Vec<f64>),
 ) {
     let (n1, n2) = (w1s.len() / (d1 + 1), w2s.len() / (d2 + 1));
     let Scratch {

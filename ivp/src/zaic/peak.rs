@@ -29,8 +29,8 @@ pub(crate) struct Component {
 /// values are bit-identical, without two divisions per sample.
 #[derive(Clone, Copy)]
 pub(crate) struct Shape {
-    pwidth: f64,
-    reach: f64,
+    pub(crate) pwidth: f64,
+    pub(crate) reach: f64,
     pub(crate) sd: f64,
     peak_slope: f64,
     edge: f64,

@@ -62,14 +62,14 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     if delta.is_nan() || delta <= 0.0 {
         return None;
     }
-    let mut shapes = [None; MAX_COMPS];
+    let mut shapes = [Shape::of(&comps[0]); MAX_COMPS];
     let mut util = 0.0;
     for (k, c) in comps.iter().enumerate() {
         util += c.maxutil.abs().max(c.minutil.abs());
         if grid.wrap && (c.summit < low - delta || c.summit > high + delta) {
             return None;
         }
-        shapes[k] = Some(Shape::of(c));
+        shapes[k] = Shape::of(c);
     }
     if util > MAX_UTIL {
         return None;
@@ -78,7 +78,7 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     let one = |k: usize, i: usize| -> f64 {
         let x = f64::from(i as u32) * delta + low;
         let d = dist_of(comps[k].summit, x, grid.wrap, low, high, delta);
-        shapes[k].as_ref().map_or(0.0, |s| s.at(d))
+        shapes[k].at(d)
     };
     // Exactly the sampler's arithmetic: the first component, then each next one added.
     let value = |i: usize| -> f64 {
@@ -103,10 +103,12 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     let span = (high - low) + delta;
     for c in comps {
         let reach = c.pwidth + c.bwidth;
-        // Kinks off the grid (by more than a step) cut no stretch: left out.
+        // Kinks off the grid (by more than a step) cut no stretch, nor does one just added
+        // again (a peak of no width, half the span round both ways): left out.
         let mut add = |x: f64| {
             let k = (x - low) / delta;
-            if !(-2.0..=(n + 1) as f64).contains(&k) && k.is_finite() {
+            let again = nk > 0 && kinks[nk - 1] == k;
+            if again || (!(-2.0..=(n + 1) as f64).contains(&k) && k.is_finite()) {
                 return;
             }
             kinks[nk] = k;
@@ -139,11 +141,10 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     let kinks = &*kinks;
     // Is component k constant on the stretch that holds sample i (off any kink)?
     let flat_at = |k: usize, i: usize| -> bool {
-        let c = &comps[k];
         let x = f64::from(i as u32) * delta + low;
-        let d = dist_of(c.summit, x, grid.wrap, low, high, delta);
-        let reach = c.pwidth + c.bwidth;
-        d > reach || (d <= c.pwidth && Shape::of(c).sd <= 0.0)
+        let d = dist_of(comps[k].summit, x, grid.wrap, low, high, delta);
+        let s = &shapes[k];
+        d > s.reach || (d <= s.pwidth && s.sd <= 0.0)
     };
     let mut cursor = 0usize;
     let skip = |line: &Line, i: usize| -> Option<(usize, f64)> {
@@ -162,11 +163,7 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
         // Last sample strictly before the kink (by more than NEAR), and never the last
         // sample (its step closes the final piece).
         let before = (next - NEAR).ceil() - 1.0;
-        let j = if before >= (n - 2) as f64 {
-            n - 2
-        } else {
-            before as usize
-        };
+        let j = before.min((n - 2) as f64) as usize;
         if j <= i {
             return None;
         }

@@ -2,7 +2,8 @@
 //! each for its time, `repeat` extra passes, then complete.
 
 use behavior_api::ivp::{self, ZaicPeak};
-use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::kept::Kept;
+use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 use behavior_api::{atof, is_number};
 
@@ -27,6 +28,9 @@ pub struct GoToDepth {
     plateau: bool,
     plateau_start: f64,
     first: bool,
+    /// The function of the last level's depth (by its bits), without pwt: it depends on
+    /// nothing else, so while the level holds it is copied, not built again.
+    last: Kept<u64>,
 }
 
 /// What an advance to the next level did.
@@ -50,6 +54,7 @@ impl GoToDepth {
             plateau: false,
             plateau_start: 0.0,
             first: true,
+            last: Kept::default(),
         }
     }
 
@@ -97,16 +102,25 @@ impl GoToDepth {
         Advance::Advanced
     }
 
-    fn function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
-        let dom = self.ivp_domain.as_ref()?;
-        let mut z = ZaicPeak::new(dom, "depth").ok()?;
-        z.set_summit(self.levels[self.ix].depth, 0);
-        z.set_base_width(5.0, 0);
-        z.set_peak_width(0.0, 0);
-        let mut f = z.extract(true)?;
+    fn function(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+        let depth = self.levels[self.ix].depth;
+        let dom = &self.ivp_domain;
+        let kept = self
+            .last
+            .get(depth.to_bits(), || build(dom, depth).ok_or(()));
+        let mut f = copy_function(kept.ok()?).ok()?;
         f.set_pwt(ctx.priority());
         Some(function_data(f))
     }
+}
+
+/// The function of holding `depth`, without pwt.
+fn build(dom: &Option<ivp::Domain>, depth: f64) -> Option<ivp::IvpFunction> {
+    let mut z = ZaicPeak::new(dom.as_ref()?, "depth").ok()?;
+    z.set_summit(depth, 0);
+    z.set_base_width(5.0, 0);
+    z.set_peak_width(0.0, 0);
+    z.extract(true)
 }
 
 impl IvpBehavior for GoToDepth {
@@ -196,7 +210,7 @@ impl IvpBehavior for GoToDepth {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use behavior_api::testing::MockHelm;
 
@@ -272,6 +286,38 @@ mod tests {
         helm.time += 1.0;
         assert!(helm.with(|ctx| b.on_run(ctx)).is_none());
         assert_eq!(helm.completes, 1);
+    }
+
+    /// The function handed out while a level holds (copied from the kept one) is bit for
+    /// bit the fresh build's, over levels that change, repeat and come back.
+    #[test]
+    fn kept_level_function_equals_a_fresh_build() {
+        let (mut b, mut helm) = gtd(&[("depth", "12,6:24,10:6,0:24,0:0.5,1:-0,1")]);
+        let mut seen = std::collections::HashSet::new();
+        for round in 0..200 {
+            b.ix = [0, 1, 1, 2, 3, 3, 4, 5, 0][round % 9] % b.levels.len();
+            let depth = b.levels[b.ix].depth;
+            seen.insert(depth.to_bits());
+            let got = helm.with(|ctx| b.function(ctx)).unwrap();
+            let mut want = build(&b.ivp_domain, depth).unwrap();
+            want.set_pwt(helm.with(|ctx| ctx.priority()));
+            let want = function_data(want);
+            assert_eq!(parts(&got), parts(&want), "round {round}");
+        }
+        assert_eq!(seen.len(), 5);
+    }
+
+    /// Every field of a function's data, numbers by their bits.
+    pub(crate) fn parts(f: &FunctionData) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
+        let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        (
+            f.domain.to_string(),
+            f.bounds.to_vec(),
+            bits(&f.weights),
+            f.pwt.to_bits(),
+            f.gelbox.to_vec(),
+            bits(&f.grid),
+        )
     }
 
     #[test]

@@ -3,9 +3,10 @@
 //! A coupled speed × depth function only while ascending or at the surface.
 
 use behavior_api::ivp::{self, couple, ZaicPeak};
+use behavior_api::kept::Kept;
 use behavior_api::params::non_negative;
 use behavior_api::parse_number;
-use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +60,9 @@ pub struct PeriodicSurface {
     depth_at_ascent: f64,
     speed_at_ascent: f64,
     surface_time: f64,
+    /// The function of the last desired speed (by its bits), without pwt: it depends on
+    /// nothing else, so at the surface (speed 0 every iteration) it is copied, not built.
+    last: Kept<u64>,
 }
 
 /// The C `(int)` conversion of x86: out-of-range values become `INT_MIN`.
@@ -96,6 +100,7 @@ impl PeriodicSurface {
             depth_at_ascent: 0.0,
             speed_at_ascent: 0.0,
             surface_time: 0.0,
+            last: Kept::default(),
         }
     }
 
@@ -177,24 +182,33 @@ impl PeriodicSurface {
         }
     }
 
-    fn function(&self, ctx: &mut Ctx<'_>, speed: f64) -> Option<FunctionData> {
-        let dom = self.ivp_domain.as_ref()?;
-        let mut zs = ZaicPeak::new(dom, "speed").ok()?;
-        zs.set_summit(speed, 0);
-        zs.set_base_width(if speed == 0.0 { 0.0 } else { 0.5 }, 0);
-        zs.set_peak_width(0.0, 0);
-        zs.set_min_max_util(0.0, 100.0, 0);
-        let fs = zs.extract(true)?;
-        let mut zd = ZaicPeak::new(dom, "depth").ok()?;
-        zd.set_summit(0.0, 0);
-        zd.set_base_width(0.0, 0);
-        zd.set_peak_width(0.0, 0);
-        zd.set_min_max_util(0.0, 100.0, 0);
-        let fd = zd.extract(true)?;
-        let mut f = couple(fs, fd, 50.0, 50.0, true)?;
+    fn function(&mut self, ctx: &mut Ctx<'_>, speed: f64) -> Option<FunctionData> {
+        let dom = &self.ivp_domain;
+        let kept = self
+            .last
+            .get(speed.to_bits(), || build(dom, speed).ok_or(()));
+        let mut f = copy_function(kept.ok()?).ok()?;
         f.set_pwt(ctx.priority());
         Some(function_data(f))
     }
+}
+
+/// The coupled speed × depth function of ascending at `speed`, without pwt.
+fn build(dom: &Option<ivp::Domain>, speed: f64) -> Option<ivp::IvpFunction> {
+    let dom = dom.as_ref()?;
+    let mut zs = ZaicPeak::new(dom, "speed").ok()?;
+    zs.set_summit(speed, 0);
+    zs.set_base_width(if speed == 0.0 { 0.0 } else { 0.5 }, 0);
+    zs.set_peak_width(0.0, 0);
+    zs.set_min_max_util(0.0, 100.0, 0);
+    let fs = zs.extract(true)?;
+    let mut zd = ZaicPeak::new(dom, "depth").ok()?;
+    zd.set_summit(0.0, 0);
+    zd.set_base_width(0.0, 0);
+    zd.set_peak_width(0.0, 0);
+    zd.set_min_max_util(0.0, 100.0, 0);
+    let fd = zd.extract(true)?;
+    couple(fs, fd, 50.0, 50.0, true)
 }
 
 impl IvpBehavior for PeriodicSurface {
@@ -366,6 +380,22 @@ impl IvpBehavior for PeriodicSurface {
 mod tests {
     use super::*;
     use behavior_api::testing::MockHelm;
+
+    /// The function handed out (copied from the kept one while the speed repeats) is bit
+    /// for bit the fresh build's, over speeds that change, repeat and come back.
+    #[test]
+    fn kept_function_equals_a_fresh_build() {
+        let (mut b, mut helm) = psurf(&[]);
+        let speeds = [0.0, 0.0, 1.25, 1.25, 0.7, 0.0, -0.0, 1.25, 3.9, 0.0];
+        for (round, &speed) in speeds.iter().cycle().take(100).enumerate() {
+            let got = helm.with(|ctx| b.function(ctx, speed)).unwrap();
+            let mut want = build(&b.ivp_domain, speed).unwrap();
+            want.set_pwt(helm.with(|ctx| ctx.priority()));
+            let want = function_data(want);
+            let parts = crate::goto_depth::tests::parts;
+            assert_eq!(parts(&got), parts(&want), "round {round} speed {speed}");
+        }
+    }
 
     fn psurf(params: &[(&str, &str)]) -> (PeriodicSurface, MockHelm) {
         let mut b = PeriodicSurface::new(&HelmDomain::new(
