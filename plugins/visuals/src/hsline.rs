@@ -14,6 +14,9 @@ pub struct HsLine {
     max_seen: f64,
     /// The last line drawn (empty before the first run).
     line: Vec<Vertex>,
+    /// `<ownship>_<name>`, asked of the helm once: both are fixed for a behavior's life
+    /// (each costs a string across the ABI).
+    label: Option<String>,
 }
 
 impl HsLine {
@@ -24,21 +27,25 @@ impl HsLine {
             time_on_leg: 60.0,
             max_seen: -1.0,
             line: Vec::new(),
+            label: None,
         }
     }
 
-    fn label(ctx: &Ctx<'_>) -> String {
-        format!("{}_{}", ctx.ownship(), ctx.name())
+    fn label(&mut self, ctx: &Ctx<'_>) -> String {
+        let label = self
+            .label
+            .get_or_insert_with(|| format!("{}_{}", ctx.ownship(), ctx.name()));
+        label.clone()
     }
 
     /// Post the last line inactive (idle and complete); nothing if it never ran.
-    fn erase(&self, ctx: &mut Ctx<'_>) {
+    fn erase(&mut self, ctx: &mut Ctx<'_>) {
         if self.line.is_empty() {
             return;
         }
         let attrs = Attrs {
             active: Some(false),
-            label: Self::label(ctx),
+            label: self.label(ctx),
             ..Attrs::default()
         };
         ctx.post_message("VIEW_SEGLIST", &seglist_spec(&self.line, 1, &attrs));
@@ -110,7 +117,7 @@ impl IvpBehavior for HsLine {
         self.line.push(Vertex::new(x2, y2));
         let attrs = Attrs {
             active: Some(true),
-            label: Self::label(ctx),
+            label: self.label(ctx),
             ..Attrs::default()
         };
         ctx.post_message("VIEW_SEGLIST", &seglist_spec(&self.line, 1, &attrs));
