@@ -549,10 +549,11 @@ impl ContactBase {
         if !self.bearing_line_show || self.bearing_lines.is_empty() {
             return;
         }
-        let s = format!(
-            "pts={{0,0:9,0:0,9}},active=false,label={}",
-            self.line_label(ctx)
-        );
+        const HEAD: &str = "pts={0,0:9,0:0,9},active=false,label=";
+        let label = self.line_label(ctx);
+        let mut s = String::with_capacity(HEAD.len() + label.len());
+        s.push_str(HEAD);
+        s.push_str(label);
         ctx.post_message("VIEW_SEGLIST", &s);
     }
 }

@@ -1,14 +1,12 @@
 //! BHV_AvoidCollision (contacts-appcast.md §3): keep the closest point of approach to
 //! one contact above a distance, with a priority that grows as the range shrinks.
 
-use std::fmt::Write as _;
-
 use behavior_api::contact::ContactBase;
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::{Domain, Reflector};
 use behavior_api::params::parse_bool;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::{parse_number, FunctionData};
+use behavior_api::{parse_number, push_fixed, FunctionData};
 
 use crate::aof::AvoidAof;
 
@@ -228,8 +226,8 @@ impl IvpBehavior for AvoidCollision {
         }
         let r = self.base.range();
         self.debug_text.clear();
-        // Writing into a String cannot fail.
-        let _ = write!(self.debug_text, "In getRelevance: {r:.5}");
+        self.debug_text.push_str("In getRelevance: ");
+        push_fixed(&mut self.debug_text, r, 5);
         ctx.post_message("AVD_DEBUG", &self.debug_text);
         let relevance = self.relevance(r);
         if relevance <= 0.0 {
