@@ -296,9 +296,7 @@ impl BowStarRate {
         // passes_star_at: passes port or starboard (on the beam, or the beam closing),
         // and not to port (on the beam: ownship on the port side; else the bearing rate
         // of the sign for fore or aft).
-        let w = cnh * v;
-        let (aft_e, fore_e) = (w - c.cnv, c.cnv - w);
-        let e = if s.aft_of_cn { aft_e } else { fore_e };
+        let e = c.beam_closing(s.aft_of_cn, cnh, v);
         let either = s.on_beam | (e > 0.0);
         let (gt, lt) = (br > 0.0, br < 0.0);
         let off_beam_port = if s.aft_of_cn { gt } else { lt };
@@ -368,6 +366,18 @@ impl RowConsts {
     #[inline(always)]
     pub fn bearing_rate(&self, tan: f64, v: f64) -> f64 {
         (-v * tan + self.cn_tan) * self.tn_const
+    }
+
+    /// The beam closing speed at speed `v` of the heading whose `cnhcos` is `cnh`, with
+    /// ownship aft of the contact or not (positive: passing port or starboard).
+    #[inline(always)]
+    pub fn beam_closing(&self, aft: bool, cnh: f64, v: f64) -> f64 {
+        let w = cnh * v;
+        if aft {
+            w - self.cnv
+        } else {
+            self.cnv - w
+        }
     }
 }
 
