@@ -169,6 +169,24 @@ fn r16_row_plain(
     row: &mut [f64],
     refused: impl Fn(bool, bool, bool, bool) -> bool,
 ) {
+    let sides = r.sides;
+    // Ownship's side of the contact decided once per row (no choice per candidate).
+    if sides.port_of_cn {
+        r16_row_sides::<true>(r, c, row, refused);
+    } else {
+        r16_row_sides::<false>(r, c, row, refused);
+    }
+}
+
+/// [`r16_row_plain`] for ownship to port of the contact or not (`PORT`): `BowStern::of`
+/// with that fact put in.
+#[inline(always)]
+fn r16_row_sides<const PORT: bool>(
+    r: &R16Row,
+    c: &Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
     let R16Row {
         sides,
         consts,
@@ -179,6 +197,10 @@ fn r16_row_plain(
     let n = n.min(c.star_turns.len()).min(c.port_turns.len());
     let (gams, tans, row) = (&c.gams[..n], &c.tans[..n], &mut row[..n]);
     let (stars, ports) = (&c.star_turns[..n], &c.port_turns[..n]);
+    let sides = Sides {
+        port_of_cn: PORT,
+        ..sides
+    };
     for k in 0..n {
         let bs = BowStern::of(&sides, &consts, (gams[k], tans[k]), v);
         let turns = (stars[k] != 0.0, ports[k] != 0.0);
