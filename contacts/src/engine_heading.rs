@@ -296,9 +296,7 @@ impl BowStarRate {
         // passes_star_at: passes port or starboard (on the beam, or the beam closing),
         // and not to port (on the beam: ownship on the port side; else the bearing rate
         // of the sign for fore or aft).
-        let w = cnh * v;
-        let (aft_e, fore_e) = (w - c.cnv, c.cnv - w);
-        let e = if s.aft_of_cn { aft_e } else { fore_e };
+        let e = c.beam_closing(s.aft_of_cn, cnh, v);
         let either = s.on_beam | (e > 0.0);
         let (gt, lt) = (br > 0.0, br < 0.0);
         let off_beam_port = if s.aft_of_cn { gt } else { lt };
@@ -369,6 +367,18 @@ impl RowConsts {
     pub fn bearing_rate(&self, tan: f64, v: f64) -> f64 {
         (-v * tan + self.cn_tan) * self.tn_const
     }
+
+    /// The beam closing speed at speed `v` of the heading whose `cnhcos` is `cnh`, with
+    /// ownship aft of the contact or not (positive: passing port or starboard).
+    #[inline(always)]
+    pub fn beam_closing(&self, aft: bool, cnh: f64, v: f64) -> f64 {
+        let w = cnh * v;
+        if aft {
+            w - self.cnv
+        } else {
+            self.cnv - w
+        }
+    }
 }
 
 impl BowStern {
@@ -404,6 +414,8 @@ impl CpaEngine {
     /// [`CpaEngine::cpa_dists`] at speed `v` and horizon `tol`, each distance `d` written
     /// as `f(d)`: `f` runs inside the row's loop (for an objective function's utility of
     /// the distance: no pass of its own over the row), so it should have no jumps either.
+    /// `f` must be a function of its argument only: a row at speed 0 (all one value) is
+    /// computed once and `f`'s answer copied.
     #[inline]
     pub fn cpa_dists_map<F: Fn(f64) -> f64>(
         &self,
@@ -431,6 +443,7 @@ impl CpaEngine {
 }
 
 /// What a row of CPA distances needs of the engine and the speed.
+#[derive(Clone, Copy)]
 pub(super) struct CpaRow {
     /// Ownship's speed (negative counted as 0).
     pub v: f64,
@@ -473,20 +486,62 @@ pub(super) fn cpa_row<F: Fn(f64) -> f64>(
         py,
         cn_vx,
         cn_vy,
-        now,
-        tol,
+        ..
     } = row;
     let n = out.len().min(sins.len()).min(coss.len());
     let (sins, coss, out) = (&sins[..n], &coss[..n], &mut out[..n]);
-    for k in 0..n {
-        let (wx, wy) = (v * sins[k] - cn_vx, v * coss[k] - cn_vy);
-        let ww = wx * wx + wy * wy;
-        let t = -(px * wx + py * wy) / ww;
-        let closing = !(ww == 0.0) & !(t.is_nan() | (t <= 0.0));
-        let t = if t > tol { tol } else { t };
-        let (dx, dy) = (px + wx * t, py + wy * t);
-        let d2 = dx * dx + dy * dy;
-        let d = if d2 > 0.0 { d2.sqrt() } else { 0.0 };
-        out[k] = f(if closing { d } else { now });
+    if v == 0.0 && all_finite(&[sins, coss, &[px, py, cn_vx, cn_vy]]) {
+        // Still: v·sin is ±0 for every finite unit, so the candidates differ at most in
+        // the sign of zeros, which no result shows (a zero closing speed or time is
+        // "not closing", a zero offset is squared): the row is its first entry.
+        if let Some((first, rest)) = out.split_first_mut() {
+            *first = cpa_entry(row, (sins[0], coss[0]), &f);
+            rest.fill(*first);
+        }
+        return;
     }
+    for k in 0..n {
+        out[k] = cpa_entry(row, (sins[k], coss[k]), &f);
+    }
+}
+
+/// One entry of [`cpa_row`]: `cpa_of_ranged`'s formula with the relative velocity
+/// negated, `u = contact − ownship` (so `t = p·u / |u|²` needs no sign flip and
+/// `p + w·t` is `p − u·t`): `u` is `−w` exactly but for the sign of a zero, which
+/// changes only zero or non-closing values (`t` ≤ 0 or NaN: the range now) and the sign
+/// of a zero offset (squared). The branches are all computed and the answer picked.
+#[inline(always)]
+fn cpa_entry<F: Fn(f64) -> f64>(row: &CpaRow, (s, c): (f64, f64), f: &F) -> f64 {
+    let CpaRow {
+        v,
+        px,
+        py,
+        cn_vx,
+        cn_vy,
+        now,
+        tol,
+    } = *row;
+    let (ux, uy) = (cn_vx - v * s, cn_vy - v * c);
+    let ww = ux * ux + uy * uy;
+    let t = (px * ux + py * uy) / ww;
+    let closing = !(ww == 0.0) & !(t.is_nan() | (t <= 0.0));
+    let t = if t > tol { tol } else { t };
+    let (dx, dy) = (px - ux * t, py - uy * t);
+    // √d2 > 0 exactly when d2 > 0 (NaN and ±0 give 0): one max instruction.
+    let r = (dx * dx + dy * dy).sqrt();
+    let d = if r > 0.0 { r } else { 0.0 };
+    f(if closing { d } else { now })
+}
+
+/// True if no number in `lists` is infinite or NaN (bit tests OR-ed, no early exit: the
+/// loop runs several numbers per instruction).
+#[inline(always)]
+fn all_finite(lists: &[&[f64]]) -> bool {
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    let odd = lists.iter().fold(0u64, |a, l| {
+        a | l
+            .iter()
+            .fold(0u64, |b, x| b | u64::from(x.to_bits() & EXP == EXP))
+    });
+    odd == 0
 }

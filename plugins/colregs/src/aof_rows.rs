@@ -6,7 +6,7 @@
 
 use std::cell::RefCell;
 
-use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
+use behavior_api::contacts::engine::{BowStern, RowConsts, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::angle360;
 use behavior_api::ivp::Domain;
@@ -169,6 +169,24 @@ fn r16_row_plain(
     row: &mut [f64],
     refused: impl Fn(bool, bool, bool, bool) -> bool,
 ) {
+    let sides = r.sides;
+    // Ownship's side of the contact decided once per row (no choice per candidate).
+    if sides.port_of_cn {
+        r16_row_sides::<true>(r, c, row, refused);
+    } else {
+        r16_row_sides::<false>(r, c, row, refused);
+    }
+}
+
+/// [`r16_row_plain`] for ownship to port of the contact or not (`PORT`): `BowStern::of`
+/// with that fact put in.
+#[inline(always)]
+fn r16_row_sides<const PORT: bool>(
+    r: &R16Row,
+    c: &Courses,
+    row: &mut [f64],
+    refused: impl Fn(bool, bool, bool, bool) -> bool,
+) {
     let R16Row {
         sides,
         consts,
@@ -179,6 +197,10 @@ fn r16_row_plain(
     let n = n.min(c.star_turns.len()).min(c.port_turns.len());
     let (gams, tans, row) = (&c.gams[..n], &c.tans[..n], &mut row[..n]);
     let (stars, ports) = (&c.star_turns[..n], &c.port_turns[..n]);
+    let sides = Sides {
+        port_of_cn: PORT,
+        ..sides
+    };
     for k in 0..n {
         let bs = BowStern::of(&sides, &consts, (gams[k], tans[k]), v);
         let turns = (stars[k] != 0.0, ports[k] != 0.0);
@@ -219,9 +241,34 @@ unsafe fn r14_row_avx2(r: &R14Row, c: &Courses, row: &mut [f64]) {
 }
 
 /// [`r14_row`]'s loop, for the target's baseline instructions (and inlined into
-/// [`r14_row_avx2`]).
+/// [`r14_row_avx2`]): one loop per combination of the engine's side facts, so that the
+/// rules' choices between comparisons are made once per row, not per candidate.
 #[inline(always)]
 fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
+    let s = &r.sides;
+    match (s.port_of_cn, s.aft_of_cn, s.on_beam) {
+        (false, false, false) => r14_row_sides::<false, false, false>(r, c, row),
+        (false, false, true) => r14_row_sides::<false, false, true>(r, c, row),
+        (false, true, false) => r14_row_sides::<false, true, false>(r, c, row),
+        (false, true, true) => r14_row_sides::<false, true, true>(r, c, row),
+        (true, false, false) => r14_row_sides::<true, false, false>(r, c, row),
+        (true, false, true) => r14_row_sides::<true, false, true>(r, c, row),
+        (true, true, false) => r14_row_sides::<true, true, false>(r, c, row),
+        (true, true, true) => r14_row_sides::<true, true, true>(r, c, row),
+    }
+}
+
+/// [`r14_row_plain`] for ownship to port of the contact (`PORT`), aft of it (`AFT`) and
+/// on its beam (`BEAM`): `BowStarRate::of`'s rules with those facts put in. Refused
+/// (utility 0) is `on_contact | (PORT & crosses_bow) | passes_star`, where crosses_bow
+/// is `on_sternline | (moving & br ≥ 0)` (port side) and passes_star is `!PORT` on the
+/// beam, else the beam closing and the bearing rate not of the port sign.
+#[inline(always)]
+fn r14_row_sides<const PORT: bool, const AFT: bool, const BEAM: bool>(
+    r: &R14Row,
+    c: &Courses,
+    row: &mut [f64],
+) {
     let R14Row {
         sides: s,
         consts,
@@ -236,11 +283,27 @@ fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
         .min(c.tans.len());
     let (gams, cnhs, tans) = (&c.gams[..n], &c.cnhs[..n], &c.tans[..n]);
     let row = &mut row[..n];
+    // Every candidate refused: on the contact, crossing the bow from port on the stern
+    // line, or passing to starboard on the beam from starboard.
+    if s.on_contact || (PORT && s.on_sternline) || (BEAM && !PORT) {
+        row.fill(0.0);
+        return;
+    }
+    // Negated, not `v > 0.0`: a NaN speed counts as moving (BowStarRate::of).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let v_moving = !(v <= 0.0);
     for k in 0..n {
-        let r = BowStarRate::of(&s, &consts, (gams[k], cnhs[k], tans[k]), v);
-        let refused = s.on_contact | (s.port_of_cn & r.crosses_bow) | r.passes_star;
+        let br = consts.bearing_rate(tans[k], v);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let bow = PORT & v_moving & !(gams[k] <= 0.0) & (br >= 0.0);
+        // On the beam (from port here) nothing passes to starboard.
+        let star = !BEAM & {
+            let e = consts.beam_closing(AFT, cnhs[k], v);
+            let port = if AFT { br > 0.0 } else { br < 0.0 };
+            (e > 0.0) & !port
+        };
+        let refused = bow | star;
         let m1 = metric.eval_jumpless(row[k]);
-        let br = r.bearing_rate;
         let scaled = 100.0 * br / b0;
         let beyond = if br <= b0 { 100.0 } else { scaled };
         let opening = if br >= 0.0 { 0.0 } else { beyond };
