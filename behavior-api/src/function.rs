@@ -8,11 +8,57 @@
 use abi_stable::std_types::{RString, RVec};
 use abi_stable::StableAbi;
 
+/// Domain texts of functions the host has read, for the next ones built here, and
+/// where a domain's text is written before it goes into the ABI string: one thread
+/// local for both, reached once per function.
+struct Texts {
+    spare: Vec<RString>,
+    scratch: String,
+    /// The texts of the last few domains written: a behavior's functions keep their
+    /// domain from one iteration to the next, and a lookup is cheaper than writing the
+    /// numbers again. Equal domains have the same text (only 0 and -0 differ in bits,
+    /// and both are written `0`).
+    known: Vec<(ivp::Domain, String)>,
+}
+
+/// More domains than a thread's behaviors use at once are written each time.
+const KNOWN_DOMAINS: usize = 8;
+
 thread_local! {
-    /// Domain texts of functions the host has read, for the next ones built here.
-    static SPARE_TEXT: std::cell::RefCell<Vec<RString>> = const { std::cell::RefCell::new(Vec::new()) };
-    /// Where a domain's text is written before it goes into the ABI string.
-    static DOMAIN_TEXT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+    static TEXTS: std::cell::RefCell<Texts> = const {
+        std::cell::RefCell::new(Texts { spare: Vec::new(), scratch: String::new(), known: Vec::new() })
+    };
+}
+
+/// `domain`'s text (`name,low,high,points` joined by `:`) in a spare string of this
+/// thread when one is kept.
+pub(crate) fn domain_text(domain: &ivp::Domain) -> RString {
+    let written = TEXTS.try_with(|t| {
+        let Ok(mut t) = t.try_borrow_mut() else {
+            return None;
+        };
+        let t = &mut *t;
+        let mut text = t.spare.pop().unwrap_or_default();
+        text.clear();
+        text.reserve(32 * domain.size());
+        if let Some((_, known)) = t.known.iter().find(|(d, _)| d == domain) {
+            text.push_str(known);
+        } else {
+            t.scratch.clear();
+            domain.push_text(&mut t.scratch);
+            text.push_str(&t.scratch);
+            if t.known.len() < KNOWN_DOMAINS {
+                t.known.push((domain.clone(), t.scratch.clone()));
+            }
+        }
+        Some(text)
+    });
+    written.ok().flatten().unwrap_or_else(|| {
+        let mut text = RString::new();
+        text.reserve(32 * domain.size());
+        let _ = std::fmt::Write::write_fmt(&mut text, format_args!("{domain}"));
+        text
+    })
 }
 
 /// An IvP function of degree 1 as plain data.
@@ -69,22 +115,7 @@ impl FunctionData {
     /// the function (its domain) is recycled for later builds (see
     /// [`ivp::IvpFunction::recycle`]).
     pub fn from_ivp(mut f: ivp::IvpFunction) -> FunctionData {
-        let mut domain = SPARE_TEXT
-            .try_with(|s| s.borrow_mut().pop())
-            .ok()
-            .flatten()
-            .unwrap_or_default();
-        domain.clear();
-        domain.reserve(32 * f.dim());
-        let written = DOMAIN_TEXT.try_with(|t| {
-            let mut t = t.borrow_mut();
-            t.clear();
-            f.domain().push_text(&mut t);
-            domain.push_str(&t);
-        });
-        if written.is_err() {
-            let _ = std::fmt::Write::write_fmt(&mut domain, format_args!("{}", f.domain()));
-        }
+        let domain = domain_text(f.domain());
         let pwt = f.pwt();
         let (bounds, weights, gelbox, grid) = f.take_buffers();
         f.recycle();
@@ -102,10 +133,11 @@ impl FunctionData {
     /// [`FunctionData::from_ivp`] on this thread. The text keeps its own allocator,
     /// so one from a plugin is reused as it is, not copied.
     pub fn recycle_domain(text: RString) {
-        let _ = SPARE_TEXT.try_with(|s| {
-            let mut s = s.borrow_mut();
-            if s.len() < 64 && text.capacity() > 0 {
-                s.push(text);
+        let _ = TEXTS.try_with(|t| {
+            if let Ok(mut t) = t.try_borrow_mut() {
+                if t.spare.len() < 64 && text.capacity() > 0 {
+                    t.spare.push(text);
+                }
             }
         });
     }
@@ -226,11 +258,12 @@ impl FunctionData {
     /// domain text go back into the spare storage of the thread (and library) that
     /// built it, where [`FunctionData::from_ivp`] and the `ivp` builders take them.
     pub fn give_back(self) {
-        use ivp::zaic::spare;
-        spare::give_ints(self.bounds.into_vec());
-        spare::give_floats(self.weights.into_vec());
-        spare::give_uints(self.gelbox.into_vec());
-        spare::give_floats(self.grid.into_vec());
+        ivp::zaic::spare::give_function_buffers(
+            self.bounds.into_vec(),
+            self.weights.into_vec(),
+            self.gelbox.into_vec(),
+            self.grid.into_vec(),
+        );
         FunctionData::recycle_domain(self.domain);
     }
 
@@ -290,5 +323,49 @@ fn placed_domain(helm: &ivp::Domain, vars: &[usize]) -> Result<ivp::Domain, Stri
 impl From<ivp::IvpFunction> for FunctionData {
     fn from(f: ivp::IvpFunction) -> Self {
         FunctionData::from_ivp(f)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The text of a domain seen before is the one written afresh, for more domains
+    /// than are remembered, -0 and fractions included.
+    #[test]
+    fn remembered_domain_texts_are_the_written_ones() {
+        let specs = [
+            "depth:0:50:51",
+            "depth:-0:50:51",
+            "course:0:359:360,speed:0:4:41",
+            "speed:0:4:41,course:0:359:360",
+            "x:0.5:2.25:8",
+            "x:-3.125:7:5",
+            "speed:0:5:51",
+            "depth:0:100:101",
+            "y:1:1:1",
+            "z:-1e20:1e20:3",
+        ];
+        for round in 0..3 {
+            for spec in specs {
+                let d = ivp::Domain::parse(spec).unwrap();
+                let text = domain_text(&d);
+                assert_eq!(text.as_str(), d.to_string(), "{spec}, round {round}");
+                FunctionData::recycle_domain(text);
+            }
+        }
+    }
+
+    /// `give_back` keeps the buffers as the four separate gives did: the next copy
+    /// finds them again.
+    #[test]
+    fn given_back_buffers_are_reused() {
+        let d = ivp::Domain::parse("x:0:9:10").unwrap();
+        let f = ivp::IvpFunction::from_pieces(d, &[(vec![(0, 9)], vec![1.0, 2.0])]).unwrap();
+        let fd = crate::sdk::copy_function_data(&f, 3.0);
+        let (b, w) = (fd.bounds.as_ptr(), fd.weights.as_ptr());
+        fd.give_back();
+        let again = crate::sdk::copy_function_data(&f, 3.0);
+        assert_eq!((again.bounds.as_ptr(), again.weights.as_ptr()), (b, w));
     }
 }

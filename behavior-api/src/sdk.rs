@@ -476,6 +476,28 @@ pub fn copy_function(f: &ivp::IvpFunction) -> Result<ivp::IvpFunction, ivp::IvpE
     )
 }
 
+/// [`copy_function`] then [`function_data`], without the `ivp` function between them:
+/// the copy's buffers go straight into the ABI form, in this thread's spare storage,
+/// and no domain (with its name strings) or context is made only to be dropped again.
+/// The result is the same, bit for bit; `pwt` replaces the function's own.
+pub fn copy_function_data(f: &ivp::IvpFunction, pwt: f64) -> FunctionData {
+    use ivp::zaic::spare;
+    // An empty grid stays without a buffer, as in `copy_function`.
+    let grid = if f.grid_bounds().is_empty() {
+        Vec::new()
+    } else {
+        spare::floats_from(f.grid_bounds())
+    };
+    FunctionData {
+        domain: crate::function::domain_text(f.domain()),
+        bounds: spare::ints_from(f.bounds()).into(),
+        weights: spare::floats_from(f.weights()).into(),
+        pwt,
+        gelbox: spare::uints_from(f.gelbox()).into(),
+        grid: grid.into(),
+    }
+}
+
 impl HelmDomain {
     /// The `ivp` domain with exactly `names` (in that order); `None` if one is missing.
     pub fn ivp_domain(&self, names: &[&str]) -> Option<ivp::Domain> {
@@ -485,5 +507,46 @@ impl HelmDomain {
             d.add_var(&v.name, v.low, v.high, v.points).ok()?;
         }
         Some(d)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field of `f`, numbers by their bits.
+    fn bits(f: &FunctionData) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
+        let b = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        (
+            f.domain.to_string(),
+            f.bounds.to_vec(),
+            b(&f.weights),
+            f.pwt.to_bits(),
+            f.gelbox.to_vec(),
+            b(&f.grid),
+        )
+    }
+
+    /// `copy_function_data` gives what `copy_function`, a new pwt and `function_data`
+    /// give, with and without a grid.
+    #[test]
+    fn copy_function_data_is_copy_then_function_data() {
+        let d = ivp::Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let pieces = [
+            (vec![(0, 99), (0, 40)], vec![0.5, -0.0, 3.0]),
+            (vec![(100, 359), (0, 40)], vec![-0.25, 1.5, 7.0]),
+        ];
+        let mut f = ivp::IvpFunction::from_pieces(d, &pieces).unwrap();
+        for grid in [false, true] {
+            if grid {
+                f.build_grid();
+            }
+            let direct = copy_function_data(&f, 42.5);
+            let mut copy = copy_function(&f).unwrap();
+            copy.set_pwt(42.5);
+            let via = function_data(copy);
+            assert_eq!(bits(&direct), bits(&via), "grid {grid}");
+            assert_eq!(direct.grid.is_empty(), !grid);
+        }
     }
 }

@@ -145,6 +145,36 @@ pub fn give_uints(mut v: Vec<u32>) {
         give(|s| keep(&mut s.uints, v));
     }
 }
+/// Keep the four buffers of a function (bounds, weights, gel box, grid) for later
+/// builds, with one visit to the thread's storage instead of four (a plugin hands
+/// back every function it built, every iteration).
+pub fn give_function_buffers(
+    mut bounds: Vec<i32>,
+    mut weights: Vec<f64>,
+    mut gelbox: Vec<u32>,
+    mut grid: Vec<f64>,
+) {
+    bounds.clear();
+    weights.clear();
+    gelbox.clear();
+    grid.clear();
+    give(|s| {
+        // In the order of the four `give_*` calls, an empty one not kept.
+        if bounds.capacity() > 0 {
+            keep(&mut s.ints, bounds);
+        }
+        if weights.capacity() > 0 {
+            keep(&mut s.floats, weights);
+        }
+        if gelbox.capacity() > 0 {
+            keep(&mut s.uints, gelbox);
+        }
+        if grid.capacity() > 0 {
+            keep(&mut s.floats, grid);
+        }
+    });
+}
+
 /// Keep a string for later builds (a function's context, a variable's name).
 pub fn give_string(mut text: String) {
     if text.capacity() > 0 {
@@ -172,6 +202,22 @@ mod tests {
         assert_eq!(take_kept(&LISTS).capacity(), 10);
         assert_eq!(take_kept(&LISTS).capacity(), 0);
         assert_eq!(take_kept_or(&LISTS, || vec![7]), vec![7]);
+    }
+
+    #[test]
+    fn function_buffers_are_kept_as_the_four_gives_keep_them() {
+        // This thread's storage starts empty (each test runs on its own thread).
+        give_function_buffers(
+            Vec::with_capacity(3),
+            Vec::with_capacity(5),
+            Vec::new(),
+            Vec::with_capacity(7),
+        );
+        assert_eq!(floats().capacity(), 7);
+        assert_eq!(floats().capacity(), 5);
+        assert_eq!(floats().capacity(), 0);
+        assert_eq!(ints().capacity(), 3);
+        assert_eq!(uints().capacity(), 0);
     }
 
     #[test]

@@ -157,12 +157,29 @@ impl LogicCondition {
     /// the type it first received).
     pub fn update(&mut self, src: &dyn VarSource) {
         let (vars, slots) = (&self.vars, &mut self.slots);
+        // A typed slot ignores values of the other type, so only its own type is looked
+        // up (one look-up per variable, not two: this runs for every condition of every
+        // behavior every iteration).
         for (var, slot) in vars.iter().zip(slots.iter_mut()) {
-            if let Some(s) = src.string_val(var) {
-                assign_str(slot, s);
-            }
-            if let Some(d) = src.double_val(var) {
-                assign_num(slot, d);
+            match slot {
+                Slot::Str(s) => {
+                    if let Some(v) = src.string_val(var) {
+                        s.clear();
+                        s.push_str(v);
+                    }
+                }
+                Slot::Num(n) => {
+                    if let Some(d) = src.double_val(var) {
+                        *n = d;
+                    }
+                }
+                Slot::Unset => {
+                    if let Some(v) = src.string_val(var) {
+                        *slot = Slot::Str(v.to_string());
+                    } else if let Some(d) = src.double_val(var) {
+                        *slot = Slot::Num(d);
+                    }
+                }
             }
         }
     }

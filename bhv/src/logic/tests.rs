@@ -308,3 +308,50 @@ proptest::proptest! {
         }
     }
 }
+
+/// `update` looks a typed slot's variable up once, in its own type, and ends with the
+/// slots the rule "string first, then number, the first type sticks" gives.
+#[test]
+fn update_looks_up_once_per_typed_slot() {
+    use std::cell::Cell;
+    struct Counting {
+        s: Option<&'static str>,
+        d: Option<f64>,
+        calls: Cell<u32>,
+    }
+    impl VarSource for Counting {
+        fn string_val(&self, _: &str) -> Option<&str> {
+            self.calls.set(self.calls.get() + 1);
+            self.s
+        }
+        fn double_val(&self, _: &str) -> Option<f64> {
+            self.calls.set(self.calls.get() + 1);
+            self.d
+        }
+    }
+    let src = |s, d| Counting {
+        s,
+        d,
+        calls: Cell::new(0),
+    };
+    // Unset, then a number: two look-ups; afterwards one, and strings are ignored.
+    let mut c = LogicCondition::parse("A = 7").unwrap();
+    let none = src(None, None);
+    c.update(&none);
+    assert_eq!(none.calls.get(), 2);
+    let num = src(None, Some(7.0));
+    c.update(&num);
+    assert!(c.eval());
+    let both = src(Some("x"), Some(7.0));
+    c.update(&both);
+    assert_eq!(both.calls.get(), 1);
+    assert!(c.eval(), "the numeric slot kept its type");
+    // A string first: one look-up, and a number is ignored from then on.
+    let mut c = LogicCondition::parse("A = x").unwrap();
+    let s = src(Some("x"), Some(1.0));
+    c.update(&s);
+    assert_eq!(s.calls.get(), 1);
+    assert!(c.eval());
+    c.update(&src(None, Some(2.0)));
+    assert!(c.eval(), "the string slot kept its value");
+}

@@ -9,7 +9,7 @@ use std::marker::PhantomData;
 use behavior_api::ivp;
 use behavior_api::kept::Kept;
 use behavior_api::parse_number;
-use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::sdk::{copy_function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
 use crate::no_white;
@@ -117,9 +117,9 @@ impl<K: Kind> ConstantValue<K> {
         }
     }
 
-    /// The objective function, without pwt: a copy of the last one while the desired
-    /// value and the shape are unchanged.
-    fn build_kept(&mut self) -> Result<ivp::IvpFunction, String> {
+    /// The objective function with priority `pwt`, in the ABI form: a copy of the last
+    /// one while the desired value and the shape are unchanged.
+    fn build_kept(&mut self, pwt: f64) -> Result<FunctionData, String> {
         let shape = &self.settings.shape;
         let key = [
             self.settings.value.to_bits(),
@@ -129,7 +129,7 @@ impl<K: Kind> ConstantValue<K> {
         ];
         let (dom, settings) = (&self.ivp_domain, &self.settings);
         let kept = self.last.get(key, || Self::build(dom, settings))?;
-        copy_function(kept).map_err(|e| e.to_string())
+        Ok(copy_function_data(kept, pwt))
     }
 
     /// The objective function, without pwt.
@@ -190,11 +190,8 @@ impl<K: Kind> IvpBehavior for ConstantValue<K> {
             ctx.set_complete();
             return None;
         }
-        match self.build_kept() {
-            Ok(mut f) => {
-                f.set_pwt(ctx.priority());
-                Some(function_data(f))
-            }
+        match self.build_kept(ctx.priority()) {
+            Ok(f) => Some(f),
             Err(msg) => {
                 ctx.post_emessage(&msg);
                 None
@@ -215,7 +212,18 @@ mod tests {
         const SHAPE: PeakShape = PeakShape::new(3.0, 6.0, 50.0);
     }
 
-    use behavior_api::testing::function_bits as parts;
+    /// Every field of `f`, numbers by their bits.
+    fn bits(f: &FunctionData) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
+        let b = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        (
+            f.domain.to_string(),
+            f.bounds.to_vec(),
+            b(&f.weights),
+            f.pwt.to_bits(),
+            f.gelbox.to_vec(),
+            b(&f.grid),
+        )
+    }
 
     /// A kept function handed out again is bit for bit the one a fresh build gives, over
     /// random changes of the desired value and the shape (some repeated, -0.0 included).
@@ -238,11 +246,14 @@ mod tests {
                 3 => b.settings.shape.summitdelta = [0.0, 25.0, 50.0][next(3) as usize],
                 _ => unchanged += 1,
             }
-            let kept = b.build_kept().expect("builds");
-            let fresh = ConstantValue::<Depth>::build(&b.ivp_domain, &b.settings).expect("builds");
-            assert_eq!(parts(&kept), parts(&fresh), "settings {:?}", b.settings);
-            kept.recycle();
-            fresh.recycle();
+            let kept = b.build_kept(12.5).expect("builds");
+            let mut fresh =
+                ConstantValue::<Depth>::build(&b.ivp_domain, &b.settings).expect("builds");
+            fresh.set_pwt(12.5);
+            let fresh = FunctionData::from_ivp(fresh);
+            assert_eq!(bits(&kept), bits(&fresh), "settings {:?}", b.settings);
+            fresh.give_back();
+            kept.give_back();
         }
         // Both paths ran: a third of the rounds change nothing, so the copy is used.
         assert!(unchanged > 100, "{unchanged}");
