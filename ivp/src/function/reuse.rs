@@ -11,10 +11,8 @@ impl IvpFunction {
     /// Give this function's buffers to the builders of later functions on this thread
     /// (the helm does this with every function once it has solved).
     pub fn recycle(self) {
-        spare::give_ints(self.bounds);
-        spare::give_floats(self.weights);
-        spare::give_floats(self.grid);
-        spare::give_uints(self.gelbox);
+        // One visit to the thread's storage for the four piece buffers.
+        spare::give_function_buffers(self.bounds, self.weights, self.gelbox, self.grid);
         spare::give_string(self.context);
         crate::domain::give_domain(self.domain);
     }

@@ -3,7 +3,7 @@
 
 use behavior_api::ivp::{self, ZaicPeak};
 use behavior_api::kept::Kept;
-use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::sdk::{copy_function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 use behavior_api::{atof, is_number};
 
@@ -108,9 +108,7 @@ impl GoToDepth {
         let kept = self
             .last
             .get(depth.to_bits(), || build(dom, depth).ok_or(()));
-        let mut f = copy_function(kept.ok()?).ok()?;
-        f.set_pwt(ctx.priority());
-        Some(function_data(f))
+        Some(copy_function_data(kept.ok()?, ctx.priority()))
     }
 }
 
@@ -301,7 +299,7 @@ pub(crate) mod tests {
             let got = helm.with(|ctx| b.function(ctx)).unwrap();
             let mut want = build(&b.ivp_domain, depth).unwrap();
             want.set_pwt(helm.with(|ctx| ctx.priority()));
-            let want = function_data(want);
+            let want = behavior_api::sdk::function_data(want);
             assert_eq!(parts(&got), parts(&want), "round {round}");
         }
         assert_eq!(seen.len(), 5);

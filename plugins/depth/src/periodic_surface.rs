@@ -6,7 +6,7 @@ use behavior_api::ivp::{self, couple, ZaicPeak};
 use behavior_api::kept::Kept;
 use behavior_api::params::non_negative;
 use behavior_api::parse_number;
-use behavior_api::sdk::{copy_function, function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::sdk::{copy_function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -187,9 +187,7 @@ impl PeriodicSurface {
         let kept = self
             .last
             .get(speed.to_bits(), || build(dom, speed).ok_or(()));
-        let mut f = copy_function(kept.ok()?).ok()?;
-        f.set_pwt(ctx.priority());
-        Some(function_data(f))
+        Some(copy_function_data(kept.ok()?, ctx.priority()))
     }
 }
 
@@ -391,7 +389,7 @@ mod tests {
             let got = helm.with(|ctx| b.function(ctx, speed)).unwrap();
             let mut want = build(&b.ivp_domain, speed).unwrap();
             want.set_pwt(helm.with(|ctx| ctx.priority()));
-            let want = function_data(want);
+            let want = behavior_api::sdk::function_data(want);
             let parts = crate::goto_depth::tests::parts;
             assert_eq!(parts(&got), parts(&want), "round {round} speed {speed}");
         }
