@@ -60,3 +60,30 @@ pub fn eval_grid_pointwise<A: Aof + ?Sized>(
         }
     }
 }
+
+/// [`Aof::eval_grid`] for an AOF of the first two variables whose work splits in two:
+/// `prep` of the first variable's value (once per index of `axes[0]`), then `point` of
+/// that and the second variable's value, per grid point. `point(&prep(x), y)` must be
+/// what [`Aof::eval`] gives at (x, y). Grids of other than two axes go point by point.
+pub fn eval_grid_2d<A: Aof + ?Sized, T>(
+    aof: &A,
+    domain: &Domain,
+    axes: &[&[u32]],
+    out: &mut [f64],
+    prep: impl Fn(f64) -> T,
+    point: impl Fn(&T, f64) -> f64,
+) {
+    let [xs, ys] = axes else {
+        return eval_grid_pointwise(aof, domain, axes, out);
+    };
+    if xs.is_empty() {
+        return;
+    }
+    let prepared: Vec<T> = xs.iter().map(|&i| prep(domain.value(0, i))).collect();
+    for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+        let y = domain.value(1, j);
+        for (o, p) in row.iter_mut().zip(&prepared) {
+            *o = point(p, y);
+        }
+    }
+}

@@ -2,7 +2,7 @@
 
 use std::cell::RefCell;
 
-use crate::error::IvpError;
+use crate::error::{invalid, IvpError};
 use crate::function::IvpFunction;
 
 /// The coupler's working lists, kept per thread (it runs for every Waypoint every
@@ -58,16 +58,10 @@ pub fn try_couple_normalized(
     normalize: bool,
 ) -> Result<IvpFunction, IvpError> {
     if w1.is_nan() || w1 <= 0.0 {
-        return Err(IvpError::Invalid {
-            param: "w1".into(),
-            reason: format!("must be > 0 (got {w1})"),
-        });
+        return Err(invalid("w1", format!("must be > 0 (got {w1})")));
     }
     if w2.is_nan() || w2 <= 0.0 {
-        return Err(IvpError::Invalid {
-            param: "w2".into(),
-            reason: format!("must be > 0 (got {w2})"),
-        });
+        return Err(invalid("w2", format!("must be > 0 (got {w2})")));
     }
     if f2
         .domain()

@@ -56,24 +56,16 @@ fn validate(name: &str, low: f64, high: f64, points: u32) -> Result<(), IvpError
         finite(&format!("{name}.high"), high)?;
     }
     if points < 1 {
-        return Err(IvpError::PointsTooFew {
-            var: name.to_string(),
-            points,
-        });
+        let var = name.to_string();
+        return Err(IvpError::PointsTooFew { var, points });
     }
     if low > high {
-        return Err(IvpError::LowAboveHigh {
-            var: name.to_string(),
-            low,
-            high,
-        });
+        let var = name.to_string();
+        return Err(IvpError::LowAboveHigh { var, low, high });
     }
     if points == 1 && high != low {
-        return Err(IvpError::SinglePointRange {
-            var: name.to_string(),
-            low,
-            high,
-        });
+        let var = name.to_string();
+        return Err(IvpError::SinglePointRange { var, low, high });
     }
     Ok(())
 }

@@ -61,9 +61,19 @@ pub(crate) fn finite(param: &str, value: f64) -> Result<f64, IvpError> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(IvpError::NotFinite {
-            param: param.to_string(),
-            value,
-        })
+        let param = param.to_string();
+        Err(IvpError::NotFinite { param, value })
     }
+}
+
+/// [`IvpError::Invalid`] of `param`.
+pub(crate) fn invalid(param: &str, reason: impl Into<String>) -> IvpError {
+    let (param, reason) = (param.to_string(), reason.into());
+    IvpError::Invalid { param, reason }
+}
+
+/// [`IvpError::BadPiece`] of piece `piece`.
+pub(crate) fn bad_piece(piece: usize, reason: impl Into<String>) -> IvpError {
+    let reason = reason.into();
+    IvpError::BadPiece { piece, reason }
 }

@@ -1,7 +1,7 @@
 //! Piecewise-linear IvP functions stored as flat arrays (spec §2).
 
 use crate::domain::{Domain, DomainVar};
-use crate::error::IvpError;
+use crate::error::{bad_piece, invalid, IvpError};
 
 /// An IvP function: an ordered list of linear pieces over its own [`Domain`].
 ///
@@ -203,10 +203,10 @@ impl IvpFunction {
         let mut weights = Vec::with_capacity(pieces.len() * (dim + 1));
         for (k, (b, w)) in pieces.iter().enumerate() {
             if b.len() != dim || w.len() != dim + 1 {
-                return Err(IvpError::BadPiece {
-                    piece: k,
-                    reason: format!("needs {dim} intervals and {} weights", dim + 1),
-                });
+                return Err(bad_piece(
+                    k,
+                    format!("needs {dim} intervals and {} weights", dim + 1),
+                ));
             }
             for &(lo, hi) in b {
                 bounds.push(lo);
@@ -332,10 +332,7 @@ impl IvpFunction {
     /// Set the gel box (one entry per dimension).
     pub fn set_gelbox(&mut self, gelbox: Vec<u32>) -> Result<(), IvpError> {
         if gelbox.len() != self.dim() {
-            return Err(IvpError::Invalid {
-                param: "gelbox".into(),
-                reason: format!("needs {} entries", self.dim()),
-            });
+            return Err(invalid("gelbox", format!("needs {} entries", self.dim())));
         }
         self.gelbox = gelbox;
         if !self.grid.is_empty() {

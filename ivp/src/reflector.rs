@@ -8,7 +8,7 @@
 //! `smart_percent`: the reference picks random leaves, so it is not
 //! reproducible anyway) and auto-peak; `create`'s smart amount is ignored.
 
-pub use crate::aof::{eval_grid_pointwise, Aof};
+pub use crate::aof::{eval_grid_2d, eval_grid_pointwise, Aof};
 use crate::domain::Domain;
 use crate::fit::{fit_values, takes_centre, FIT_DIMS};
 use crate::function::IvpFunction;

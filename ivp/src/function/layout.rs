@@ -3,7 +3,7 @@
 
 use super::grid_total;
 use crate::domain::Domain;
-use crate::error::IvpError;
+use crate::error::{bad_piece, invalid, IvpError};
 
 /// [`crate::IvpFunction::from_buffers`]'s check, for buffers read in place (a plugin's).
 pub fn check_buffers(
@@ -20,10 +20,7 @@ pub fn check_buffers(
         grid_total(domain, gelbox)
     };
     if grid.len() != cells {
-        return Err(IvpError::Invalid {
-            param: "grid".into(),
-            reason: format!("needs {cells} cell bounds"),
-        });
+        return Err(invalid("grid", format!("needs {cells} cell bounds")));
     }
     Ok(())
 }
@@ -39,10 +36,7 @@ pub(super) fn check_layout(
         if bounds.is_empty() && weights.is_empty() {
             return Ok(());
         }
-        return Err(IvpError::BadPiece {
-            piece: 0,
-            reason: "pieces over an empty domain".into(),
-        });
+        return Err(bad_piece(0, "pieces over an empty domain"));
     }
     let bl = 2 * dim;
     let wl = dim + 1;
@@ -50,16 +44,13 @@ pub(super) fn check_layout(
         || weights.len() / wl * wl != weights.len()
         || bounds.len() / bl != weights.len() / wl
     {
-        return Err(IvpError::BadPiece {
-            piece: 0,
-            reason: "bounds/weights lengths do not match the dimension".into(),
-        });
+        return Err(bad_piece(
+            0,
+            "bounds/weights lengths do not match the dimension",
+        ));
     }
     if gelbox.len() != dim {
-        return Err(IvpError::Invalid {
-            param: "gelbox".into(),
-            reason: format!("needs {dim} entries"),
-        });
+        return Err(invalid("gelbox", format!("needs {dim} entries")));
     }
     // Every function crossing the ABI is checked piece by piece: first whether all
     // pieces are in range (no branch per piece), and only when one is not, which one.

@@ -17,7 +17,7 @@ pub use spd::ZaicSpd;
 pub use vector::ZaicVector;
 
 use crate::domain::Domain;
-use crate::error::IvpError;
+use crate::error::{invalid, IvpError};
 use crate::function::IvpFunction;
 
 /// The one-variable domain of a builder.
@@ -217,10 +217,10 @@ pub(crate) fn pieces_from_anchors(d: &[i32], r: &[f64], n: i32) -> Option<Pieces
 pub fn from_samples(domain: &Domain, var: &str, values: &[f64]) -> Result<IvpFunction, IvpError> {
     let d = one_var(domain, var)?;
     if values.len() != d.var(0).points as usize || values.len() < 2 {
-        return Err(IvpError::Invalid {
-            param: "values".into(),
-            reason: format!("{} values for {} points", values.len(), d.var(0).points),
-        });
+        return Err(invalid(
+            "values",
+            format!("{} values for {} points", values.len(), d.var(0).points),
+        ));
     }
     for (k, &v) in values.iter().enumerate() {
         crate::error::finite(&format!("values[{k}]"), v)?;

@@ -2,7 +2,7 @@
 
 use super::{one_var, pieces_from_anchors};
 use crate::domain::Domain;
-use crate::error::IvpError;
+use crate::error::{invalid, IvpError};
 use crate::function::IvpFunction;
 
 /// ZAIC_SPD builder.
@@ -272,10 +272,8 @@ impl ZaicSpd {
             d.push(n - 1);
             r.push(max_u);
         }
-        let p = pieces_from_anchors(&d, &r, n).ok_or_else(|| IvpError::Invalid {
-            param: "anchors".into(),
-            reason: "not strictly increasing from 0 to N-1".into(),
-        })?;
+        let p = pieces_from_anchors(&d, &r, n)
+            .ok_or_else(|| invalid("anchors", "not strictly increasing from 0 to N-1"))?;
         Ok(p.finish(self.domain.clone()))
     }
 }

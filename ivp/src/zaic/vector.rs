@@ -2,7 +2,7 @@
 
 use super::{one_var, Pieces1};
 use crate::domain::{Domain, Snap};
-use crate::error::IvpError;
+use crate::error::{invalid, IvpError};
 use crate::function::IvpFunction;
 
 /// ZAIC_Vector builder.
@@ -55,10 +55,7 @@ impl ZaicVector {
 
     pub fn try_extract(&mut self) -> Result<IvpFunction, IvpError> {
         if self.values.len() != self.utils.len() {
-            return Err(IvpError::Invalid {
-                param: "range_vals".into(),
-                reason: "length differs from domain_vals".into(),
-            });
+            return Err(invalid("range_vals", "length differs from domain_vals"));
         }
         for (k, (&x, &u)) in self.values.iter().zip(&self.utils).enumerate() {
             crate::error::finite(&format!("domain_vals[{k}]"), x)?;
@@ -66,10 +63,10 @@ impl ZaicVector {
         }
         let var = self.domain.var(0).clone();
         if self.values.is_empty() || self.values[0] < var.low || self.values[0] > var.high {
-            return Err(IvpError::Invalid {
-                param: "domain_vals".into(),
-                reason: "first value outside the domain range".into(),
-            });
+            return Err(invalid(
+                "domain_vals",
+                "first value outside the domain range",
+            ));
         }
         if self
             .values
@@ -133,10 +130,7 @@ impl ZaicVector {
             i = j;
         }
         if d.len() < 2 {
-            return Err(IvpError::Invalid {
-                param: "domain_vals".into(),
-                reason: "need at least 2 distinct indices".into(),
-            });
+            return Err(invalid("domain_vals", "need at least 2 distinct indices"));
         }
         let mut out = Pieces1::default();
         for k in 0..d.len() - 1 {
