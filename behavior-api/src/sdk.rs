@@ -514,19 +514,6 @@ impl HelmDomain {
 mod tests {
     use super::*;
 
-    /// Every field of `f`, numbers by their bits.
-    fn bits(f: &FunctionData) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
-        let b = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        (
-            f.domain.to_string(),
-            f.bounds.to_vec(),
-            b(&f.weights),
-            f.pwt.to_bits(),
-            f.gelbox.to_vec(),
-            b(&f.grid),
-        )
-    }
-
     /// `copy_function_data` gives what `copy_function`, a new pwt and `function_data`
     /// give, with and without a grid.
     #[test]
@@ -545,6 +532,7 @@ mod tests {
             let mut copy = copy_function(&f).unwrap();
             copy.set_pwt(42.5);
             let via = function_data(copy);
+            let bits = crate::testing::function_data_bits;
             assert_eq!(bits(&direct), bits(&via), "grid {grid}");
             assert_eq!(direct.grid.is_empty(), !grid);
         }

@@ -347,6 +347,24 @@ pub fn function_bits(
     )
 }
 
+/// [`function_bits`] of a function as it crosses the ABI: its domain text, pieces, pwt,
+/// gel box and grid, numbers by their bits (a kept function handed out against a fresh
+/// build's `function_data`).
+#[allow(clippy::type_complexity)]
+pub fn function_data_bits(
+    f: &crate::FunctionData,
+) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    (
+        f.domain.to_string(),
+        f.bounds.to_vec(),
+        bits(&f.weights),
+        f.pwt.to_bits(),
+        f.gelbox.to_vec(),
+        bits(&f.grid),
+    )
+}
+
 /// Fold `text` (and a separator) into an FNV-1a `hash`: a fingerprint of a behavior's
 /// postings, to compare them across versions.
 pub fn fnv(hash: &mut u64, text: &str) {

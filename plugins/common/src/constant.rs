@@ -212,19 +212,6 @@ mod tests {
         const SHAPE: PeakShape = PeakShape::new(3.0, 6.0, 50.0);
     }
 
-    /// Every field of `f`, numbers by their bits.
-    fn bits(f: &FunctionData) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
-        let b = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        (
-            f.domain.to_string(),
-            f.bounds.to_vec(),
-            b(&f.weights),
-            f.pwt.to_bits(),
-            f.gelbox.to_vec(),
-            b(&f.grid),
-        )
-    }
-
     /// A kept function handed out again is bit for bit the one a fresh build gives, over
     /// random changes of the desired value and the shape (some repeated, -0.0 included).
     #[test]
@@ -251,6 +238,7 @@ mod tests {
                 ConstantValue::<Depth>::build(&b.ivp_domain, &b.settings).expect("builds");
             fresh.set_pwt(12.5);
             let fresh = FunctionData::from_ivp(fresh);
+            let bits = behavior_api::testing::function_data_bits;
             assert_eq!(bits(&kept), bits(&fresh), "settings {:?}", b.settings);
             fresh.give_back();
             kept.give_back();

@@ -210,7 +210,7 @@ impl IvpBehavior for GoToDepth {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use behavior_api::testing::MockHelm;
+    use behavior_api::testing::{function_data_bits, MockHelm};
 
     fn gtd(params: &[(&str, &str)]) -> (GoToDepth, MockHelm) {
         let mut b = GoToDepth::new(&HelmDomain::new("speed,0,4,41:depth,0,50,51"));
@@ -300,22 +300,13 @@ pub(crate) mod tests {
             let mut want = build(&b.ivp_domain, depth).unwrap();
             want.set_pwt(helm.with(|ctx| ctx.priority()));
             let want = behavior_api::sdk::function_data(want);
-            assert_eq!(parts(&got), parts(&want), "round {round}");
+            assert_eq!(
+                function_data_bits(&got),
+                function_data_bits(&want),
+                "round {round}"
+            );
         }
         assert_eq!(seen.len(), 5);
-    }
-
-    /// Every field of a function's data, numbers by their bits.
-    pub(crate) fn parts(f: &FunctionData) -> (String, Vec<i32>, Vec<u64>, u64, Vec<u32>, Vec<u64>) {
-        let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        (
-            f.domain.to_string(),
-            f.bounds.to_vec(),
-            bits(&f.weights),
-            f.pwt.to_bits(),
-            f.gelbox.to_vec(),
-            bits(&f.grid),
-        )
     }
 
     #[test]

@@ -390,7 +390,7 @@ mod tests {
             let mut want = build(&b.ivp_domain, speed).unwrap();
             want.set_pwt(helm.with(|ctx| ctx.priority()));
             let want = behavior_api::sdk::function_data(want);
-            let parts = crate::goto_depth::tests::parts;
+            let parts = behavior_api::testing::function_data_bits;
             assert_eq!(parts(&got), parts(&want), "round {round} speed {speed}");
         }
     }
