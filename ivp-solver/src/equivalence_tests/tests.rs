@@ -330,6 +330,28 @@ fn nudge(fs: &mut [IvpFunction], seed: &mut u64) {
 }
 
 /// The decision a solver made: per helm variable index and value bits, and the utility.
+/// `got` (and `found`, whether a decision was found) is what the straightforward branch
+/// and bound finds for `solver`'s problem: the same utility bit for bit, each
+/// variable's index at the optimum's box edge its weight points to, and the same
+/// decision as a fresh solver's.
+fn assert_as_reference(
+    solver: &Solver,
+    (dom, refs): (&Domain, &[&IvpFunction]),
+    (found, got): (bool, &Decision),
+    at: &str,
+) {
+    let want = reference(solver, refs);
+    assert_eq!(found, want.is_some(), "{at}");
+    let Some((v, b, w)) = want else { return };
+    assert_eq!(got.utility.to_bits(), v.to_bits(), "{at}");
+    for (d, &h) in solver.prob_to_helm.iter().enumerate() {
+        let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
+        assert_eq!(got.indices[h], Some(ix.max(0) as u32), "{at}");
+    }
+    let fresh = Solver::new().solve(dom, refs).unwrap().unwrap();
+    assert_eq!(fingerprint(got), fingerprint(&fresh), "{at}");
+}
+
 fn fingerprint(d: &Decision) -> (Vec<Option<u32>>, Vec<Option<u64>>, u64) {
     (
         d.indices.clone(),
@@ -361,28 +383,8 @@ fn search_equals_the_straightforward_branch_and_bound() {
             // A fresh solver: no seed.
             let fresh = Solver::new().solve(&dom, &refs).unwrap();
             assert_eq!(found, fresh.is_some(), "round {round} step {step}");
-            let want = reference(&solver, &refs);
-            assert_eq!(found, want.is_some(), "round {round} step {step}");
-            let Some((v, b, w)) = want else { continue };
-            assert_eq!(
-                got.utility.to_bits(),
-                v.to_bits(),
-                "round {round} step {step}"
-            );
-            for (d, &h) in solver.prob_to_helm.iter().enumerate() {
-                let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
-                assert_eq!(
-                    got.indices[h],
-                    Some(ix.max(0) as u32),
-                    "round {round} step {step}"
-                );
-            }
-            let fresh = fresh.unwrap();
-            assert_eq!(
-                fingerprint(&got),
-                fingerprint(&fresh),
-                "round {round} step {step}"
-            );
+            let at = format!("round {round} step {step}");
+            assert_as_reference(&solver, (&dom, &refs), (found, &got), &at);
         }
     }
     // The seeded search ran, and mostly without falling back.
@@ -477,28 +479,8 @@ fn helm_shaped_search_equals_the_straightforward_branch_and_bound() {
             solves += 1;
             seeded += solver.stats.0;
             clipped += solver.stats.3;
-            let want = reference(&solver, &refs);
-            assert_eq!(found, want.is_some(), "round {round} step {step}");
-            let Some((v, b, w)) = want else { continue };
-            assert_eq!(
-                got.utility.to_bits(),
-                v.to_bits(),
-                "round {round} step {step}"
-            );
-            for (d, &h) in solver.prob_to_helm.iter().enumerate() {
-                let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
-                assert_eq!(
-                    got.indices[h],
-                    Some(ix.max(0) as u32),
-                    "round {round} step {step}"
-                );
-            }
-            let fresh = Solver::new().solve(&dom, &refs).unwrap().unwrap();
-            assert_eq!(
-                fingerprint(&got),
-                fingerprint(&fresh),
-                "round {round} step {step}"
-            );
+            let at = format!("round {round} step {step}");
+            assert_as_reference(&solver, (&dom, &refs), (found, &got), &at);
         }
     }
     eprintln!("{solves} solves, {seeded} seeded, {clipped} with the clipped bound");
@@ -552,28 +534,8 @@ fn contacts_shaped_search_equals_the_straightforward_branch_and_bound() {
             let found = solver.solve_into(&dom, &refs, &mut got).unwrap();
             solves += 1;
             quick += usize::from(solver.stats.4 == 2);
-            let want = reference(&solver, &refs);
-            assert_eq!(found, want.is_some(), "round {round} step {step}");
-            let Some((v, b, w)) = want else { continue };
-            assert_eq!(
-                got.utility.to_bits(),
-                v.to_bits(),
-                "round {round} step {step}"
-            );
-            for (d, &h) in solver.prob_to_helm.iter().enumerate() {
-                let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
-                assert_eq!(
-                    got.indices[h],
-                    Some(ix.max(0) as u32),
-                    "round {round} step {step}"
-                );
-            }
-            let fresh = Solver::new().solve(&dom, &refs).unwrap().unwrap();
-            assert_eq!(
-                fingerprint(&got),
-                fingerprint(&fresh),
-                "round {round} step {step}"
-            );
+            let at = format!("round {round} step {step}");
+            assert_as_reference(&solver, (&dom, &refs), (found, &got), &at);
         }
     }
     eprintln!("{solves} solves, {quick} with the quick bound");
@@ -1142,28 +1104,8 @@ fn search_beyond_three_dimensions_equals_the_straightforward_branch_and_bound() 
             let mut got = Decision::default();
             let found = solver.solve_into(&dom, &refs, &mut got).unwrap();
             solves += 1;
-            let want = reference(&solver, &refs);
-            assert_eq!(found, want.is_some(), "round {round} step {step}");
-            let Some((v, b, w)) = want else { continue };
-            assert_eq!(
-                got.utility.to_bits(),
-                v.to_bits(),
-                "round {round} step {step}"
-            );
-            for (d, &h) in solver.prob_to_helm.iter().enumerate() {
-                let ix = if w[d] < 0.0 { b[2 * d] } else { b[2 * d + 1] };
-                assert_eq!(
-                    got.indices[h],
-                    Some(ix.max(0) as u32),
-                    "round {round} step {step}"
-                );
-            }
-            let fresh = Solver::new().solve(&dom, &refs).unwrap().unwrap();
-            assert_eq!(
-                fingerprint(&got),
-                fingerprint(&fresh),
-                "round {round} step {step}"
-            );
+            let at = format!("round {round} step {step}");
+            assert_as_reference(&solver, (&dom, &refs), (found, &got), &at);
         }
     }
     assert_eq!(solves, 800);
