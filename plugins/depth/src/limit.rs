@@ -5,9 +5,10 @@
 use std::marker::PhantomData;
 
 use behavior_api::ivp::{self, ZaicLeq};
+use behavior_api::kept::Kept;
 use behavior_api::params::no_white;
 use behavior_api::parse_number;
-use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::sdk::{copy_function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
 /// What distinguishes MaxSpeed from MaxDepth.
@@ -59,6 +60,9 @@ pub struct Limit<K: LimitKind> {
     limit: f64,
     basewidth: f64,
     slack_var: String,
+    /// The function of the last (limit, basewidth), by their bits, without pwt: it only
+    /// changes with an update, so it is built once, not every iteration.
+    last: Kept<(u64, u64)>,
     kind: PhantomData<K>,
 }
 
@@ -75,6 +79,7 @@ impl<K: LimitKind> Limit<K> {
             limit: K::LIMIT,
             basewidth: K::BASEWIDTH,
             slack_var: String::new(),
+            last: Kept::default(),
             kind: PhantomData,
         }
     }
@@ -138,17 +143,14 @@ impl<K: LimitKind> IvpBehavior for Limit<K> {
         if self.limit < var.low || self.limit > var.high {
             ctx.post_wmessage("given summit value out of domain range (suspicious):");
         }
-        let built = ZaicLeq::new(dom, K::VAR).ok().and_then(|mut z| {
-            z.set_summit(self.limit);
-            z.set_base_width(self.basewidth);
-            z.extract()
-        });
-        match built {
-            Some(mut f) => {
-                f.set_pwt(ctx.priority());
-                Some(function_data(f))
-            }
-            None => {
+        let (limit, basewidth) = (self.limit, self.basewidth);
+        let key = (limit.to_bits(), basewidth.to_bits());
+        match self
+            .last
+            .get(key, || build::<K>(dom, limit, basewidth).ok_or(()))
+        {
+            Ok(f) => Some(copy_function_data(f, ctx.priority())),
+            Err(()) => {
                 ctx.post_emessage(K::NO_FUNCTION);
                 None
             }
@@ -156,10 +158,18 @@ impl<K: LimitKind> IvpBehavior for Limit<K> {
     }
 }
 
+/// The ZAIC_LEQ of `limit` and `basewidth` over `dom`, without pwt.
+fn build<K: LimitKind>(dom: &ivp::Domain, limit: f64, basewidth: f64) -> Option<ivp::IvpFunction> {
+    let mut z = ZaicLeq::new(dom, K::VAR).ok()?;
+    z.set_summit(limit);
+    z.set_base_width(basewidth);
+    z.extract()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use behavior_api::testing::MockHelm;
+    use behavior_api::testing::{function_data_bits, MockHelm};
 
     fn helm() -> HelmDomain {
         HelmDomain::new("course,0,359,360:speed,0,4,21:depth,0,100,101")
@@ -261,5 +271,42 @@ mod tests {
             h.posted("BHV_WARNING"),
             vec!["cap: given summit value out of domain range (suspicious):"]
         );
+    }
+
+    /// The function handed out (copied from the kept one while limit and basewidth
+    /// hold) is bit for bit a fresh build's, over updates that change, repeat and come
+    /// back, and with the priority changing in between.
+    #[test]
+    fn kept_function_equals_a_fresh_build() {
+        let mut d = MaxDepth::new(&helm());
+        let mut h = MockHelm::new("cap");
+        let settings = [
+            ("6.3", "1"),
+            ("6.3", "1"),
+            ("20", "1"),
+            ("20", "4"),
+            ("6.3", "1"),
+        ];
+        let mut builds = std::collections::HashSet::new();
+        for round in 0..40 {
+            let (limit, width) = settings[round % settings.len()];
+            h.with(|ctx| {
+                assert!(d.set_param(ctx, "max_depth", limit));
+                assert!(d.set_param(ctx, "tolerance", width));
+            });
+            h.priority = 100.0 + round as f64;
+            let got = h.with(|ctx| d.on_run(ctx)).unwrap();
+            let fresh = build::<DepthKind>(d.ivp_domain.as_ref().unwrap(), d.limit, d.basewidth);
+            let mut want = fresh.unwrap();
+            want.set_pwt(h.with(|ctx| ctx.priority()));
+            let want = behavior_api::sdk::function_data(want);
+            assert_eq!(
+                function_data_bits(&got),
+                function_data_bits(&want),
+                "round {round}"
+            );
+            builds.insert((d.limit.to_bits(), d.basewidth.to_bits()));
+        }
+        assert_eq!(builds.len(), 3);
     }
 }

@@ -57,6 +57,8 @@ pub struct PeriodicSurface {
     last_num_mark: f64,
     last_str_mark: String,
     last_acomms: String,
+    /// Scratch for the texts read every iteration.
+    text: String,
     depth_at_ascent: f64,
     speed_at_ascent: f64,
     surface_time: f64,
@@ -97,6 +99,7 @@ impl PeriodicSurface {
             last_num_mark: 0.0,
             last_str_mark: String::new(),
             last_acomms: String::new(),
+            text: String::new(),
             depth_at_ascent: 0.0,
             speed_at_ascent: 0.0,
             surface_time: 0.0,
@@ -137,13 +140,16 @@ impl PeriodicSurface {
                 noted = true;
             }
         }
-        if let Some(s) = ctx.get_buffer_string_val_quiet(&self.mark_var) {
-            if self.first_str_mark || s != self.last_str_mark {
-                self.first_str_mark = false;
-                self.last_str_mark = s;
-                noted = true;
-            }
+        // Read into a kept string: the mark variable is read every iteration.
+        let mut s = std::mem::take(&mut self.text);
+        if ctx.get_buffer_string_val_quiet_into(&self.mark_var, &mut s)
+            && (self.first_str_mark || s != self.last_str_mark)
+        {
+            self.first_str_mark = false;
+            std::mem::swap(&mut self.last_str_mark, &mut s);
+            noted = true;
         }
+        self.text = s;
         noted
     }
 
@@ -152,13 +158,13 @@ impl PeriodicSurface {
         if self.ext >= a.max_time {
             return;
         }
-        let (var, interval, max_time) = (a.var.clone(), a.interval, a.max_time);
-        if let Some(s) = ctx.get_buffer_string_val(&var) {
-            if s != self.last_acomms {
-                self.last_acomms = s;
-                self.ext = (self.ext + interval).min(max_time);
-            }
+        let (interval, max_time) = (a.interval, a.max_time);
+        let mut s = std::mem::take(&mut self.text);
+        if ctx.get_buffer_string_val_into(&a.var, &mut s) && s != self.last_acomms {
+            std::mem::swap(&mut self.last_acomms, &mut s);
+            self.ext = (self.ext + interval).min(max_time);
         }
+        self.text = s;
     }
 
     fn ascent_speed_now(&self, depth: f64) -> f64 {
@@ -332,10 +338,10 @@ impl IvpBehavior for PeriodicSurface {
         }
         self.check_acomms(ctx);
 
-        let at_var = self.atsurface_var.clone();
+        let at_var = self.atsurface_var.as_str();
         if remaining > 0.0 {
             self.state = State::Waiting;
-            ctx.post_message_num(&at_var, 0.0);
+            ctx.post_message_num(at_var, 0.0);
             return None;
         }
         if self.state == State::Waiting {
@@ -355,7 +361,7 @@ impl IvpBehavior for PeriodicSurface {
         }
         if self.state == State::AtSurface {
             let t = now - self.surface_time;
-            ctx.post_message_num(&at_var, c_int(t + 0.5));
+            ctx.post_message_num(at_var, c_int(t + 0.5));
             if t >= self.max_time_at_surface {
                 self.mark_time = now;
                 self.state = State::Waiting;
@@ -363,7 +369,7 @@ impl IvpBehavior for PeriodicSurface {
                 return None;
             }
         } else {
-            ctx.post_message_num(&at_var, 0.0);
+            ctx.post_message_num(at_var, 0.0);
         }
         let ds = if self.state == State::Ascending {
             self.ascent_speed_now(depth)
@@ -437,6 +443,27 @@ mod tests {
             }
         });
         assert_eq!(b.acomms.as_ref().map(|a| a.max_time), Some(30.0));
+    }
+
+    /// A text mark is noted when it changes (and the first time), not while it holds;
+    /// each new acomms text extends the period by its interval up to the maximum.
+    #[test]
+    fn text_marks_and_acomms_extensions() {
+        let (mut b, mut helm) = psurf(&[("acomms_mark_variable", "ACOMMS, 10, 25")]);
+        helm.with(|ctx| assert!(!b.mark_noted(ctx)));
+        let mut noted = Vec::new();
+        for text in ["a", "a", "b", "b", "b", "a"] {
+            helm.strs.insert("GPS_UPDATE_RECEIVED".into(), text.into());
+            noted.push(helm.with(|ctx| b.mark_noted(ctx)));
+        }
+        assert_eq!(noted, [true, false, true, false, false, true]);
+        let mut ext = Vec::new();
+        for text in ["m1", "m1", "m2", "m3", "m4", "m5"] {
+            helm.strs.insert("ACOMMS".into(), text.into());
+            helm.with(|ctx| b.check_acomms(ctx));
+            ext.push(b.ext);
+        }
+        assert_eq!(ext, [10.0, 10.0, 20.0, 25.0, 25.0, 25.0]);
     }
 
     #[test]

@@ -37,7 +37,7 @@ enum Transit {
 }
 
 /// (label, radius bits, active, station x bits, station y bits)
-type CircleKey = (String, u64, bool, u64, u64);
+type CircleKey = (&'static str, u64, bool, u64, u64);
 
 /// BHV_StationKeep.
 pub struct StationKeep {
@@ -181,9 +181,17 @@ impl StationKeep {
         s
     }
 
-    fn post_circle(&self, ctx: &mut Ctx<'_>, label: &str, key: &str, radius: f64, active: bool) {
+    fn post_circle(
+        &self,
+        ctx: &mut Ctx<'_>,
+        label: &'static str,
+        key: &str,
+        radius: f64,
+        active: bool,
+    ) {
+        // The labels are fixed texts: the key is made without a new string.
         let ck: CircleKey = (
-            label.to_string(),
+            label,
             radius.to_bits(),
             active,
             self.station.0.to_bits(),

@@ -2,7 +2,7 @@
 //! heading, its length the desired speed (scaled by the largest seen) times
 //! `time_on_leg`.
 
-use behavior_api::geometry::{project_point, seglist_spec, Attrs, Vertex};
+use behavior_api::geometry::{project_point, push_pts_props_spec, Attrs, Vertex};
 use behavior_api::parse_number;
 use behavior_api::sdk::{Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
@@ -14,9 +14,11 @@ pub struct HsLine {
     max_seen: f64,
     /// The last line drawn (empty before the first run).
     line: Vec<Vertex>,
-    /// `<ownship>_<name>`, asked of the helm once: both are fixed for a behavior's life
-    /// (each costs a string across the ABI).
-    label: Option<String>,
+    /// The line's attributes, its label `<ownship>_<name>` asked of the helm once: both
+    /// are fixed for a behavior's life (each costs a string across the ABI).
+    attrs: Option<Attrs>,
+    /// The posted text, kept: the line is posted every iteration.
+    text: String,
 }
 
 impl HsLine {
@@ -27,28 +29,29 @@ impl HsLine {
             time_on_leg: 60.0,
             max_seen: -1.0,
             line: Vec::new(),
-            label: None,
+            attrs: None,
+            text: String::new(),
         }
     }
 
-    fn label(&mut self, ctx: &Ctx<'_>) -> String {
-        let label = self
-            .label
-            .get_or_insert_with(|| format!("{}_{}", ctx.ownship(), ctx.name()));
-        label.clone()
+    /// Post the line as `VIEW_SEGLIST`, active or not (`seglist_spec`'s text).
+    fn post(&mut self, ctx: &mut Ctx<'_>, active: bool) {
+        let attrs = self.attrs.get_or_insert_with(|| Attrs {
+            label: format!("{}_{}", ctx.ownship(), ctx.name()),
+            ..Attrs::default()
+        });
+        attrs.active = Some(active);
+        self.text.clear();
+        push_pts_props_spec(&mut self.text, &self.line, &[], 1);
+        attrs.push_spec(&mut self.text);
+        ctx.post_message("VIEW_SEGLIST", &self.text);
     }
 
     /// Post the last line inactive (idle and complete); nothing if it never ran.
     fn erase(&mut self, ctx: &mut Ctx<'_>) {
-        if self.line.is_empty() {
-            return;
+        if !self.line.is_empty() {
+            self.post(ctx, false);
         }
-        let attrs = Attrs {
-            active: Some(false),
-            label: self.label(ctx),
-            ..Attrs::default()
-        };
-        ctx.post_message("VIEW_SEGLIST", &seglist_spec(&self.line, 1, &attrs));
     }
 }
 
@@ -115,12 +118,7 @@ impl IvpBehavior for HsLine {
         self.line.clear();
         self.line.push(Vertex::new(x, y));
         self.line.push(Vertex::new(x2, y2));
-        let attrs = Attrs {
-            active: Some(true),
-            label: self.label(ctx),
-            ..Attrs::default()
-        };
-        ctx.post_message("VIEW_SEGLIST", &seglist_spec(&self.line, 1, &attrs));
+        self.post(ctx, true);
         None
     }
 }
