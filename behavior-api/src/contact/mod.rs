@@ -551,7 +551,12 @@ impl ContactBase {
         }
         const HEAD: &str = "pts={0,0:9,0:0,9},active=false,label=";
         let label = self.line_label(ctx);
-        let mut s = String::with_capacity(HEAD.len() + label.len());
+        // The active line's kept text: an idle contact behavior posts this every
+        // iteration, and a new string each time was its only steady allocation.
+        let Ok(mut s) = self.line_text.try_borrow_mut() else {
+            return;
+        };
+        s.clear();
         s.push_str(HEAD);
         s.push_str(label);
         ctx.post_message("VIEW_SEGLIST", &s);

@@ -56,3 +56,42 @@ fn avoid_collision_builds_allocate_at_most_the_ratchet() {
         "{per_build:.1} allocations per build in steady state"
     );
 }
+
+/// An idle AvoidCollision (its contact out of range) posts its inactive bearing line
+/// every iteration, into a kept string: nothing allocated.
+#[test]
+fn inactive_iterations_allocate_nothing() {
+    let mut b = bhv_contact::AvoidCollision::new(&HelmDomain::new("course,0,359,360:speed,0,4,41"));
+    let mut helm = MockHelm::new("avd_bob");
+    for (p, v) in [
+        ("contact", "bob"),
+        ("pwt_outer_dist", "50"),
+        (
+            "bearing_line_config",
+            "white:0, green:0.65, yellow:0.8, red:1.0",
+        ),
+    ] {
+        assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
+    }
+    let mut made = 0;
+    for k in 0..200 {
+        helm.nav(0.0, 0.0, 90.0, 2.0);
+        helm.contact("bob", 500.0 + k as f64, 400.0, 180.0, 1.5, "kayak");
+        helm.clear();
+        let before = allocations();
+        helm.with(|ctx| b.on_every_state(ctx));
+        let f = helm.with(|ctx| b.on_run(ctx));
+        assert!(f.is_none(), "out of range: no function");
+        helm.with(|ctx| b.on_inactive(ctx));
+        let n = allocations() - before;
+        let lines = helm.posted("VIEW_SEGLIST");
+        assert!(
+            lines.iter().any(|l| l.contains("active=false")),
+            "{lines:?}"
+        );
+        if k >= 100 {
+            made += n.saturating_sub(helm.recording_allocations());
+        }
+    }
+    assert_eq!(made, 0, "allocations in 100 inactive iterations");
+}
