@@ -20,6 +20,7 @@
 //! ```
 
 pub mod legrun;
+mod objective;
 pub mod odometer;
 pub mod zigzag;
 

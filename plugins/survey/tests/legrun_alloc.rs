@@ -1,5 +1,6 @@
 //! BHV_LegRun's texts (VIEW_POINT / VIEW_SEGLIST specs, labels) allocate nothing in
-//! steady state, and stay the texts they were.
+//! steady state, and stay the texts they were; ZigZag's whole iteration (function
+//! included) allocates nothing either.
 //!
 //! The behavior runs on a domain without `course`, so `on_run` stops before building
 //! its IvP function (the function build is not measured here); the copies the mock
@@ -134,3 +135,44 @@ fn legrun_texts_allocate_nothing_in_steady_state() {
 }
 
 const EXPECTED_HASH: u64 = 0x2dad_031d_ae1c_c0af;
+
+/// ZigZag's function (course and speed) and lines, built every iteration, allocate
+/// nothing once warm: the speed function is kept while the speed holds, the course
+/// builder and the line texts are kept.
+#[test]
+fn zigzag_function_and_lines_allocate_nothing_in_steady_state() {
+    use bhv_survey::ZigZag;
+    let mut b = ZigZag::new(&HelmDomain::new("course,0,359,360:speed,0,4,41"));
+    let mut helm = MockHelm::new("zig");
+    for (p, v) in [
+        ("speed", "2"),
+        ("zig_angle", "30"),
+        ("max_zig_zags", "100000"),
+        ("visual_hints", "draw_req_hdg=true"),
+    ] {
+        assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}={v}");
+    }
+    let (mut made, mut functions) = (0, 0);
+    let (mut x, mut y, mut h) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..600 {
+        helm.nav(x, y, h, 2.0);
+        helm.time += 0.25;
+        helm.clear();
+        let before = allocations();
+        let f = helm.with(|ctx| b.on_run(ctx));
+        let n = allocations() - before;
+        if k >= 300 {
+            made += n.saturating_sub(helm.recording_allocations());
+            functions += usize::from(f.is_some());
+        }
+        if let Some(f) = f {
+            f.give_back();
+        }
+        // Turn a little toward the requested heading each step.
+        h = (h + 3.0) % 360.0;
+        x += 0.5 * h.to_radians().sin();
+        y += 0.5 * h.to_radians().cos();
+    }
+    assert!(functions > 250, "{functions} functions");
+    assert_eq!(made, 0, "allocations in 300 steady iterations");
+}

@@ -5,11 +5,12 @@ use std::collections::HashMap;
 
 use behavior_api::flag::FlagList;
 use behavior_api::geometry::rel_ang;
-use behavior_api::ivp::{self, couple, ZaicPeak, ZaicSpd};
+use behavior_api::ivp;
 use behavior_api::platform::platform_update;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
+use crate::objective::{Objective, Shape};
 use crate::odometer::Odometer;
 use engine::{Pt, WptEngine};
 use leg::Leg;
@@ -68,6 +69,12 @@ struct Flags {
     mid_turn: FlagList,
 }
 
+/// LegRun's speed and course functions.
+const SHAPE: Shape = Shape {
+    spd_high_util: 70.0,
+    peak_width: None,
+};
+
 pub struct LegRun {
     domain: String,
     ivp_domain: Option<ivp::Domain>,
@@ -104,6 +111,7 @@ pub struct LegRun {
     started: bool,
     /// The track point of the engine stepped last with success.
     aim: Pt,
+    objective: Objective,
 }
 
 impl LegRun {
@@ -142,6 +150,7 @@ impl LegRun {
             markers: [None, None],
             started: false,
             aim: (0.0, 0.0),
+            objective: Objective::default(),
         }
     }
 
@@ -314,7 +323,7 @@ impl LegRun {
         }
     }
 
-    fn function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+    fn function(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         let v = if self.cur_spd > 0.0 {
             self.cur_spd
         } else {
@@ -322,17 +331,12 @@ impl LegRun {
         };
         ctx.post_message_num("LR_NOW_SPD", v);
         let dom = self.ivp_domain.as_ref()?;
-        let mut zs = ZaicSpd::new(dom, "speed").ok()?;
-        zs.set_params5(v, 0.1, v + 0.4, 70.0, 20.0);
-        let spd = zs.extract()?;
         // The engine whose step succeeded (a leg's last iteration still aims along the leg).
         let t = self.aim;
-        let mut zc = ZaicPeak::new(dom, "course").ok()?;
-        zc.set_summit(rel_ang(self.os.0, self.os.1, t.0, t.1), 0);
-        zc.set_base_width(180.0, 0);
-        zc.set_value_wrap(true);
-        let crs = zc.extract(false)?;
-        let mut f = couple(crs, spd, self.patience, 100.0 - self.patience, true)?;
+        let bearing = rel_ang(self.os.0, self.os.1, t.0, t.1);
+        let mut f = self
+            .objective
+            .build(dom, v, bearing, self.patience, SHAPE)?;
         f.set_pwt(ctx.priority());
         Some(function_data(f))
     }

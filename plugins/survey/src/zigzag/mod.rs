@@ -4,13 +4,14 @@
 
 use behavior_api::flag::{expand_macros, has_macro, FlagList};
 use behavior_api::geometry::{
-    angle360, angle_diff, dist, fmt_x, perp_seg_int_pt, project_point, seglist_erase_spec,
-    seglist_spec, Attrs, Vertex,
+    angle360, angle_diff, dist, fmt_x, perp_seg_int_pt, project_point, push_pts_props_spec,
+    seglist_erase_spec, Attrs, Vertex,
 };
-use behavior_api::ivp::{self, couple, ZaicPeak, ZaicSpd};
+use behavior_api::ivp;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::FunctionData;
 
+use crate::objective::{Objective, Shape};
 use crate::odometer::Odometer;
 
 mod params;
@@ -75,6 +76,11 @@ pub fn dist_to_line(px: f64, py: f64, ax: f64, ay: f64, bx: f64, by: f64) -> f64
 }
 
 pub struct ZigZag {
+    /// The function's builders, kept between iterations.
+    objective: Objective,
+    /// The set and requested heading lines' attributes and text, kept.
+    line_attrs: [Attrs; 2],
+    line_text: String,
     domain: String,
     ivp_domain: Option<ivp::Domain>,
     speed_max: f64,
@@ -122,6 +128,9 @@ pub struct ZigZag {
 impl ZigZag {
     pub fn new(helm_domain: &HelmDomain) -> Self {
         ZigZag {
+            objective: Objective::default(),
+            line_attrs: Default::default(),
+            line_text: String::new(),
             domain: helm_domain.sub_domain(&["course", "speed"]),
             ivp_domain: helm_domain.ivp_domain(&["course", "speed"]),
             speed_max: helm_domain.var("speed").map_or(0.0, |v| v.high),
@@ -296,13 +305,14 @@ impl ZigZag {
         self.z_delta = 0.0;
     }
 
-    fn post_visuals(&self, ctx: &mut Ctx<'_>) {
-        let own = ctx.ownship();
+    fn post_visuals(&mut self, ctx: &mut Ctx<'_>) {
         let (x, y) = (self.os.0, self.os.1);
-        for (draw, hdg, label, color) in [
-            (self.draw_set, self.set_hdg, "zig_set_", &self.set_color),
-            (self.draw_req, self.req_hdg, "zig_req_", &self.req_color),
-        ] {
+        for k in 0..2 {
+            let (draw, hdg, label, color) = if k == 0 {
+                (self.draw_set, self.set_hdg, "zig_set_", &self.set_color)
+            } else {
+                (self.draw_req, self.req_hdg, "zig_req_", &self.req_color)
+            };
             if !draw {
                 continue;
             }
@@ -312,33 +322,38 @@ impl ZigZag {
             } else {
                 color.as_str()
             };
-            let attrs = Attrs {
-                label: format!("{label}{own}"),
-                label_color: "invisible".into(),
-                edge_color: color.into(),
-                vertex_color: color.into(),
-                duration: Some(5.0),
-                vertex_size: Some(2.0),
-                edge_size: Some(1.0),
-                ..Attrs::default()
-            };
+            // The attributes are kept (made again only when a colour changed): the
+            // lines are posted every iteration.
+            let attrs = &mut self.line_attrs[k];
+            if attrs.label.is_empty() || attrs.edge_color != color {
+                *attrs = Attrs {
+                    label: format!("{label}{}", ctx.ownship()),
+                    label_color: "invisible".into(),
+                    edge_color: color.into(),
+                    vertex_color: color.into(),
+                    duration: Some(5.0),
+                    vertex_size: Some(2.0),
+                    edge_size: Some(1.0),
+                    ..Attrs::default()
+                };
+            }
             let pts = [Vertex::new(x, y), Vertex::new(ex, ey)];
-            ctx.post_message("VIEW_SEGLIST", &seglist_spec(&pts, 1, &attrs));
+            self.line_text.clear();
+            push_pts_props_spec(&mut self.line_text, &pts, &[], 1);
+            attrs.push_spec(&mut self.line_text);
+            ctx.post_message("VIEW_SEGLIST", &self.line_text);
         }
     }
 
-    fn function(&self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
+    fn function(&mut self, ctx: &mut Ctx<'_>) -> Option<FunctionData> {
         let dom = self.ivp_domain.as_ref()?;
-        let mut zs = ZaicSpd::new(dom, "speed").ok()?;
-        zs.set_params5(self.speed, 0.1, self.speed + 0.4, 85.0, 20.0);
-        let spd = zs.extract()?;
-        let mut zc = ZaicPeak::new(dom, "course").ok()?;
-        zc.set_summit(self.req_hdg, 0);
-        zc.set_base_width(180.0, 0);
-        zc.set_value_wrap(true);
-        zc.set_peak_width(0.0, 0);
-        let crs = zc.extract(false)?;
-        let mut f = couple(crs, spd, 50.0, 50.0, true)?;
+        let shape = Shape {
+            spd_high_util: 85.0,
+            peak_width: Some(0.0),
+        };
+        let mut f = self
+            .objective
+            .build(dom, self.speed, self.req_hdg, 50.0, shape)?;
         f.normalize(0.0, 100.0);
         f.set_pwt(ctx.priority());
         Some(function_data(f))

@@ -88,6 +88,15 @@ fn zigs_count_turns_post_flags_and_complete() {
         "pts={0,0:16.4,11.5},label=zig_set_abe,label_color=invisible,edge_color=white,\
          vertex_color=white,duration=5,vertex_size=2,edge_size=1"
     );
+    // A new colour reaches the kept line attributes.
+    helm.with(|ctx| assert!(b.set_param(ctx, "visual_hints", "set_hdg_color=off")));
+    helm.clear();
+    helm.with(|ctx| b.on_run(ctx));
+    assert_eq!(
+        helm.posted("VIEW_SEGLIST")[0],
+        "pts={0,0:16.4,11.5},label=zig_set_abe,label_color=invisible,edge_color=invisible,\
+         vertex_color=invisible,duration=5,vertex_size=2,edge_size=1"
+    );
     helm.flags.clear();
     // Within hdg_thresh of 55: the first turn is done.
     helm.nav(5.0, 5.0, 54.0, 2.0);
