@@ -1,7 +1,7 @@
 //! BHV_AvoidObstacleV24 (obstacles.md §1): the hooks, flags, postings and visuals around
 //! the model of [`crate::model`].
 
-use behavior_api::geometry::{rel_ang, Polygon};
+use behavior_api::geometry::rel_ang;
 use behavior_api::ivp::{Domain, Reflector};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{compact, FunctionData, PostValue};
@@ -11,6 +11,7 @@ use crate::model::{
     Side,
 };
 use crate::params::{Params, Set};
+use crate::visuals;
 
 /// Per-encounter closest-approach detector state (§1.5 step 5).
 #[derive(Clone, Copy, Debug)]
@@ -37,6 +38,7 @@ pub struct AvoidObstacleV24 {
     event: CpaEvent,
     side_lock: Option<Side>,
     disabled: bool,
+    visuals: visuals::Kept,
 }
 
 impl AvoidObstacleV24 {
@@ -60,6 +62,7 @@ impl AvoidObstacleV24 {
             },
             side_lock: None,
             disabled: false,
+            visuals: visuals::Kept::default(),
         }
     }
 
@@ -188,28 +191,6 @@ impl AvoidObstacleV24 {
         ctx.post_repeatable_message("BHV_SETTINGS", PostValue::from(s.as_str()));
     }
 
-    /// Apply the hints with prefix `pre` to a polygon (§1.10).
-    fn apply_hints(&self, poly: &mut Polygon, pre: &str) {
-        let get = |attr: &str| {
-            self.params
-                .hint(&format!("{pre}_{attr}"))
-                .or_else(|| self.params.hint(attr))
-                .map(str::to_string)
-        };
-        for attr in [
-            "label_color",
-            "vertex_color",
-            "edge_color",
-            "fill_color",
-            "edge_size",
-            "vertex_size",
-        ] {
-            if let Some(v) = get(attr) {
-                poly.attrs.set(attr, &v);
-            }
-        }
-    }
-
     fn post_visuals(&mut self, ctx: &mut Ctx<'_>) {
         let Some(d) = self.derived.as_ref() else {
             return;
@@ -222,15 +203,9 @@ impl AvoidObstacleV24 {
         self.params.set_hint("gut_fill_color", fill);
         self.params.set_hint("mid_fill_color", "gray70");
         self.params.set_hint("rim_fill_color", "gray70");
-        let polys = [
-            (self.params.obstacle.clone(), "gut"),
-            (d.mid.clone(), "mid"),
-            (d.rim.clone(), "rim"),
-        ];
-        for (mut p, key) in polys {
-            p.attrs.active = None;
-            self.apply_hints(&mut p, key);
-            let s = p.spec(5);
+        let sources = [&self.params.obstacle, &d.mid, &d.rim];
+        let texts = self.visuals.texts(&self.params, sources);
+        for (s, key) in texts.iter().zip(visuals::KEYS) {
             ctx.post_message_key("VIEW_POLYGON", PostValue::from(s.as_str()), key);
         }
     }

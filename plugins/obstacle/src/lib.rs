@@ -28,6 +28,7 @@ mod behavior;
 pub mod model;
 pub mod params;
 pub mod refinery;
+mod visuals;
 
 pub use behavior::AvoidObstacleV24;
 

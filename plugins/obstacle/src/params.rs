@@ -298,7 +298,13 @@ impl Params {
 
     pub fn set_hint(&mut self, key: &str, val: &str) {
         match self.hints.iter_mut().find(|(k, _)| k == key) {
-            Some(e) => e.1 = val.to_string(),
+            // In place: the behavior sets its fill hints every iteration.
+            Some(e) => {
+                if e.1 != val {
+                    e.1.clear();
+                    e.1.push_str(val);
+                }
+            }
             None => self.hints.push((key.to_string(), val.to_string())),
         }
     }
