@@ -374,3 +374,46 @@ fn avd_ten_contacts_decision_path_allocations() {
         "{per_iteration:.1} allocations per iteration"
     );
 }
+
+/// `conformance/helm/modes_bravo.toml`'s hierarchical modes, deployed at the first
+/// step: the modes are evaluated, set in the info buffer and offered for posting every
+/// iteration, through the survey, the return and the inactive end.
+fn modes_decision_path(iterations: usize) -> Measured {
+    let case_file = common::workspace().join("conformance/helm/modes_bravo.toml");
+    let case = helm_conform::load(&case_file).expect("case loads");
+    let factory = helm_engine::factory::BehaviorFactory::with_builtins();
+    let mut helm = helm_conform::build_helm(&case, &case_file, &factory).expect("helm builds");
+    let mission = helm_mission::load(
+        &common::workspace().join("missions/alpha/alpha.moos"),
+        &[],
+        "pHelmIvP",
+    )
+    .expect("alpha loads")
+    .into_helm()
+    .1;
+    let boat = Kinematics::from_mission(&mission);
+    drive(
+        &mut helm,
+        boat,
+        1000.0,
+        iterations,
+        &mut |k, now, _, batch| {
+            if k == 1 {
+                batch.push(mail("DEPLOY", Value::Str("true".into()), now, "uPokeDB"));
+            }
+        },
+    )
+}
+
+#[test]
+fn modes_decision_path_allocations() {
+    let measured = modes_decision_path(1100);
+    let per_iteration = per_iteration("modes_bravo", &measured.steps);
+    // 5 per iteration before the mode pairs were kept (a copy of the pairs, a string
+    // value per pair to set and one to offer for posting); what is left comes with
+    // events (a mode or a behavior changing, the waypoints' flags).
+    assert!(
+        per_iteration <= 0.5,
+        "{per_iteration:.1} allocations per iteration"
+    );
+}

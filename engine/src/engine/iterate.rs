@@ -258,13 +258,16 @@ impl Helm {
         let mut summary = DecisionSummary::default();
         self.process_spawns(now);
 
-        // Modes, before any behavior runs.
-        let pairs: Vec<(String, String)> = self.modes.evaluate(&self.ib).to_vec();
-        for (var, val) in &pairs {
-            let v = typed(val);
-            self.ib.set_value(var, &v, now);
+        // Modes, before any behavior runs: copied into the kept pairs (their strings
+        // reused), each set as a number if it reads as one, else as a string.
+        copy_pairs(&mut self.mode_pairs, self.modes.evaluate(&self.ib));
+        for (var, val) in &self.mode_pairs {
+            if bhv::number::is_number(val) {
+                self.ib.set_double(var, bhv::number::atof(val), now);
+            } else {
+                self.ib.set_string(var, val, now);
+            }
         }
-        self.mode_pairs = pairs;
 
         // Last iteration's functions: their storage goes to this iteration's builders.
         for (name, f) in self.functions.drain(..) {
@@ -466,13 +469,15 @@ pub(crate) fn desired_var(prefix: &str, name: &str) -> String {
     format!("{prefix}DESIRED_{up}")
 }
 
-/// A mode or init value: numeric if it is a number.
-pub(crate) fn typed(s: &str) -> Value {
-    if bhv::number::is_number(s) {
-        Value::Num(bhv::number::atof(s))
-    } else {
-        Value::Str(s.to_string())
+/// `to` made equal to `from`, its strings' room reused.
+fn copy_pairs(to: &mut Vec<(String, String)>, from: &[(String, String)]) {
+    to.truncate(from.len());
+    for ((a, b), (x, y)) in to.iter_mut().zip(from) {
+        a.clone_from(x);
+        b.clone_from(y);
     }
+    let have = to.len();
+    to.extend_from_slice(&from[have..]);
 }
 
 /// A behavior's function of this iteration, read in place where its behavior built it

@@ -1,6 +1,5 @@
 //! Publication of mode variables and behavior output (helm.md §8).
 
-use super::iterate::typed;
 use super::Helm;
 use crate::posting::Value;
 use crate::runtime::RunState;
@@ -11,12 +10,22 @@ impl Helm {
     pub(crate) fn publish_behavior_output(&mut self, now: f64) {
         let iter = self.env.helm_iteration;
         // Mode variables share the single key `mode_set` (quirk, QUIRKS.md).
-        for (var, val) in std::mem::take(&mut self.mode_pairs) {
-            let v = typed(&val);
+        // The pairs stay for the next iteration to refill (no new strings), and a
+        // string value comes from the pool and goes back to it when filtered out.
+        let pairs = std::mem::take(&mut self.mode_pairs);
+        for (var, val) in &pairs {
+            let v = if bhv::number::is_number(val) {
+                Value::Num(bhv::number::atof(val))
+            } else {
+                Value::Str(self.pool.copy_of(val))
+            };
             if self.filter.allow("mode_set", &v) {
-                self.post(&var, v, "HELM_MODE");
+                self.post(var, v, "HELM_MODE");
+            } else {
+                crate::posting::give_value(&mut self.pool, v);
             }
         }
+        self.mode_pairs = pairs;
         let cnt = self.behaviors.len() as f64;
         self.post_on_change("IVPHELM_BHV_CNT", Value::Num(cnt));
         let ever = self.bhv_cnt_ever as f64;
