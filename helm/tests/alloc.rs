@@ -278,6 +278,17 @@ fn alpha_decision_path_allocations() {
     );
 }
 
+/// The vehicle of the alpha mission, for a golden case's helm (the cases have no
+/// simulator block of their own).
+fn alpha_boat() -> Kinematics {
+    let moos = common::workspace().join("missions/alpha/alpha.moos");
+    let mission = helm_mission::load(&moos, &[], "pHelmIvP")
+        .expect("alpha loads")
+        .into_helm()
+        .1;
+    Kinematics::from_mission(&mission)
+}
+
 /// Ten contacts, each with its spawned BHV_AvoidCollision (from the `bhv-contact`
 /// library), and a BHV_Waypoint looping through them: the setup of
 /// `conformance/helm/avd_ten_contacts.toml`, driven like alpha, with NODE_REPORTs every
@@ -293,15 +304,7 @@ fn avd_decision_path(iterations: usize) -> Measured {
     let built = common::build_plugins(&["bhv-contact"]);
     let (factory, _) = helm_mission::factory_for(&[built]);
     let mut helm = helm_conform::build_helm(&case, &case_file, &factory).expect("helm builds");
-    let mission = helm_mission::load(
-        &common::workspace().join("missions/alpha/alpha.moos"),
-        &[],
-        "pHelmIvP",
-    )
-    .expect("alpha loads")
-    .into_helm()
-    .1;
-    let boat = Kinematics::from_mission(&mission);
+    let boat = alpha_boat();
     let names = [
         "abe", "ben", "cal", "dan", "eve", "fay", "gus", "hal", "ike", "jim",
     ];
@@ -383,15 +386,7 @@ fn modes_decision_path(iterations: usize) -> Measured {
     let case = helm_conform::load(&case_file).expect("case loads");
     let factory = helm_engine::factory::BehaviorFactory::with_builtins();
     let mut helm = helm_conform::build_helm(&case, &case_file, &factory).expect("helm builds");
-    let mission = helm_mission::load(
-        &common::workspace().join("missions/alpha/alpha.moos"),
-        &[],
-        "pHelmIvP",
-    )
-    .expect("alpha loads")
-    .into_helm()
-    .1;
-    let boat = Kinematics::from_mission(&mission);
+    let boat = alpha_boat();
     drive(
         &mut helm,
         boat,
