@@ -9,6 +9,7 @@
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::rc::Rc;
 
 use contact_manager::{Config, ContactManager, MailValue};
 use contacts::Geodesy;
@@ -18,6 +19,7 @@ use helm_engine::{Helm, HelmState, Mail};
 use helm_mission::HelmRecipe;
 use vehicle_model::{Drift, Kinematics, Nav, Severity, SimBlock, VehicleModel, SIM_NAME};
 
+use super::relay::{Pending, Relayed};
 use super::spec::VehicleSpec;
 use crate::bus::{SimBus, HELM};
 use crate::observe::Observer;
@@ -163,8 +165,13 @@ pub struct Live {
     sim_in: Vec<Mail>,
     helm_in: Vec<Mail>,
     mgr_in: Vec<Mail>,
+    /// The node reports posted to the helm and to the contact manager, not yet fetched.
+    helm_reports: Pending,
+    mgr_reports: Pending,
     /// Always a `Value::Str`: the contact manager's text postings, one after another.
     mgr_text: Value,
+    /// Always a `Value::Str`: the node report being delivered.
+    relay_text: Value,
     report: String,
     report_index: u64,
     pub obm: Option<super::obstacles::ObmLive>,
@@ -241,7 +248,10 @@ impl Live {
             sim_in: Vec::new(),
             helm_in: Vec::new(),
             mgr_in: Vec::new(),
+            helm_reports: Pending::default(),
+            mgr_reports: Pending::default(),
             mgr_text: Value::Str(String::new()),
+            relay_text: Value::Str(String::new()),
             report: String::new(),
             report_index: 0,
             obm,
@@ -322,7 +332,10 @@ impl Live {
                 self.over = true;
             } else {
                 self.bus.fetch(HELM, &mut self.helm_in);
-                self.cycle.mail(&mut self.helm, now, &self.helm_in);
+                self.helm_reports.take(&self.helm_in);
+                let read = self.helm_reports.reports();
+                self.cycle
+                    .mail_parsed(&mut self.helm, now, &self.helm_in, &read);
                 self.cycle.iterate(&mut self.helm, &mut self.bus, now);
                 self.drove |= self.helm.state() == HelmState::Drive;
                 self.kh += 1;
@@ -384,8 +397,10 @@ impl Live {
             };
             batch.push((m.var.as_str(), v));
         }
-        self.mgr.handle_mail(now, &batch);
-        drop(batch);
+        self.mgr_reports.take(&self.mgr_in);
+        let read = self.mgr_reports.reports();
+        self.mgr.handle_mail_parsed(now, &batch, &read);
+        drop((batch, read));
         for post in self.mgr.iterate(now) {
             match &post.val {
                 contact_manager::Value::Str(s) => {
@@ -401,6 +416,25 @@ impl Live {
                         .post(CMGR_NAME, &post.var, &Value::Num(*n), "", now);
                 }
             }
+        }
+    }
+
+    /// The comms model delivers another vehicle's report `r` (as `NODE_REPORT`); the
+    /// helm and the contact manager will read it as they fetch it (see [`Pending`]).
+    pub fn receive_report(&mut self, r: Rc<Relayed>, now: f64) {
+        if let Value::Str(text) = &mut self.relay_text {
+            text.clear();
+            text.push_str(&r.text);
+        }
+        self.bus
+            .post(COMMS_NAME, "NODE_REPORT", &self.relay_text, "", now);
+        // Only for an app that will fetch it (subscriptions are never dropped; a helm
+        // that is over fetches no more).
+        if !self.over && self.bus.subscribes(HELM, "NODE_REPORT") {
+            self.helm_reports.push(r.clone());
+        }
+        if self.bus.subscribes(CMGR, "NODE_REPORT") {
+            self.mgr_reports.push(r);
         }
     }
 
