@@ -168,6 +168,9 @@ pub struct Live {
     /// The node reports posted to the helm and to the contact manager, not yet fetched.
     helm_reports: Pending,
     mgr_reports: Pending,
+    /// The helm, the contact manager subscribed to `NODE_REPORT` (known once true:
+    /// subscriptions are never dropped).
+    hears_reports: [bool; 2],
     /// Always a `Value::Str`: the contact manager's text postings, one after another.
     mgr_text: Value,
     /// Always a `Value::Str`: the node report being delivered.
@@ -250,6 +253,7 @@ impl Live {
             mgr_in: Vec::new(),
             helm_reports: Pending::default(),
             mgr_reports: Pending::default(),
+            hears_reports: [false; 2],
             mgr_text: Value::Str(String::new()),
             relay_text: Value::Str(String::new()),
             report: String::new(),
@@ -428,12 +432,14 @@ impl Live {
         }
         self.bus
             .post(COMMS_NAME, "NODE_REPORT", &self.relay_text, "", now);
-        // Only for an app that will fetch it (subscriptions are never dropped; a helm
-        // that is over fetches no more).
-        if !self.over && self.bus.subscribes(HELM, "NODE_REPORT") {
+        // Only for an app that will fetch it (a helm that is over fetches no more).
+        for (hears, app) in self.hears_reports.iter_mut().zip([HELM, CMGR]) {
+            *hears = *hears || self.bus.subscribes(app, "NODE_REPORT");
+        }
+        if !self.over && self.hears_reports[0] {
             self.helm_reports.push(r.clone());
         }
-        if self.bus.subscribes(CMGR, "NODE_REPORT") {
+        if self.hears_reports[1] {
             self.mgr_reports.push(r);
         }
     }
