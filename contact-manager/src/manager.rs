@@ -218,13 +218,31 @@ impl ContactManager {
 
     /// Take one batch of mail received by time `now`.
     pub fn handle_mail(&mut self, now: f64, mail: &[(&str, MailValue<'_>)]) {
+        self.handle_mail_parsed(now, mail, &[]);
+    }
+
+    /// [`Self::handle_mail`] with some `NODE_REPORT`s already read: `parsed[k]`, when
+    /// given, is `NodeReport::parse` of `mail[k]`'s text (a fleet simulator reads each
+    /// report once for all its receivers); the others are read here.
+    pub fn handle_mail_parsed(
+        &mut self,
+        now: f64,
+        mail: &[(&str, MailValue<'_>)],
+        parsed: &[Option<NodeReport<'_>>],
+    ) {
         self.fresh_postings();
-        for (var, val) in mail {
-            self.one_mail(now, var, val);
+        for (k, (var, val)) in mail.iter().enumerate() {
+            self.one_mail(now, var, val, parsed.get(k).and_then(Option::as_ref));
         }
     }
 
-    fn one_mail(&mut self, now: f64, var: &str, val: &MailValue<'_>) {
+    fn one_mail(
+        &mut self,
+        now: f64,
+        var: &str,
+        val: &MailValue<'_>,
+        parsed: Option<&NodeReport<'_>>,
+    ) {
         let num = |slot: &mut f64| {
             if let Some(v) = val.num().filter(|v| v.is_finite()) {
                 *slot = v;
@@ -236,8 +254,8 @@ impl ContactManager {
             "NAV_HEADING" => num(&mut self.os.hdg),
             "NAV_SPEED" => num(&mut self.os.spd),
             "NODE_REPORT" => match val {
-                MailValue::Str(s) => self.node_report(s, true),
-                MailValue::Num(_) => self.node_report(&val.text(), false),
+                MailValue::Str(s) => self.node_report(s, true, parsed),
+                MailValue::Num(_) => self.node_report(&val.text(), false, None),
             },
             "BCM_ALERT_REQUEST" => {
                 self.alert_requests += 1;
@@ -305,15 +323,22 @@ impl ContactManager {
 
     /// One `NODE_REPORT` (`text`: it came as a string, so it counts toward
     /// [`Self::malformed_reports`]).
-    fn node_report(&mut self, report: &str, text: bool) {
+    fn node_report(&mut self, report: &str, text: bool, parsed: Option<&NodeReport<'_>>) {
         self.reports_received += 1;
-        let r = NodeReport::parse(report);
+        let read;
+        let r = match parsed {
+            Some(r) => r,
+            None => {
+                read = NodeReport::parse(report);
+                &read
+            }
+        };
         if text && (r.name.is_empty() || r.time.is_none() || !(r.has_xy() || r.has_latlon())) {
             self.malformed_reports += 1;
         }
         match self
             .table
-            .ingest_parsed(&r, &self.cfg.filter, &self.ownship_name)
+            .ingest_parsed(r, &self.cfg.filter, &self.ownship_name)
         {
             Ok((name, new)) => {
                 if new && self.cfg.alert_verbose {

@@ -359,3 +359,42 @@ fn display_radii_draws_the_largest_cpa_range() {
         "{s}"
     );
 }
+
+#[test]
+fn parsed_reports_act_as_their_text() {
+    // Good, ownship's, malformed, filtered-by-depth and numeric reports, mixed with
+    // other mail: reading the reports beforehand changes nothing.
+    let texts = [
+        "NAME=bob,X=0,Y=74,HDG=180,SPD=3,TIME=11,TYPE=kayak",
+        "NAME=alpha,X=1,Y=1,TIME=11",
+        "TYPE=kayak,X=1",
+        "NAME=gus,X=5,Y=5,TIME=11,TYPE=uuv",
+        "NAME=cal,LAT=43.8,LON=-70.3,TIME=11",
+    ];
+    let mut mail: Vec<(&str, MailValue<'_>)> = vec![("NAV_X", Num(0.0)), ("NODE_REPORT", Num(7.0))];
+    mail.extend(texts.iter().map(|t| ("NODE_REPORT", Str(t))));
+    let parsed: Vec<Option<NodeReport<'_>>> = mail
+        .iter()
+        .map(|(_, v)| match v {
+            Str(t) => Some(NodeReport::parse(t)),
+            Num(_) => None,
+        })
+        .collect();
+    let (mut text, mut read) = (manager(&[("alert", AVD)]), manager(&[("alert", AVD)]));
+    text.handle_mail(11.0, &mail);
+    read.handle_mail_parsed(11.0, &mail, &parsed);
+    let (a, b) = (text.iterate(11.0).to_vec(), read.iterate(11.0).to_vec());
+    assert_eq!(a, b);
+    assert_eq!(text.received(), read.received());
+    assert_eq!(text.malformed_reports(), read.malformed_reports());
+    assert_eq!(text.malformed_reports(), 1);
+    assert!(text.table().contacts().eq(read.table().contacts()));
+    assert!(text
+        .warnings()
+        .run_warnings()
+        .eq(read.warnings().run_warnings()));
+    assert!(
+        text.warnings().run_total() > 0,
+        "the uuv without depth warns"
+    );
+}

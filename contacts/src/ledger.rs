@@ -203,8 +203,17 @@ impl Ledger {
     /// assert_eq!(e.to_string(), "Missing vname.Missing timestamp.");
     /// ```
     pub fn ingest(&mut self, report: &str, now: f64) -> Result<Accepted<'_>, IngestError> {
-        let r = self.check(&NodeReport::parse(report));
-        let r = match r {
+        self.ingest_parsed(&NodeReport::parse(report), now)
+    }
+
+    /// [`Ledger::ingest`] of a report already read (`NodeReport::parse` of its text),
+    /// for a caller that reads one report for several readers (a fleet simulator).
+    pub fn ingest_parsed(
+        &mut self,
+        report: &NodeReport<'_>,
+        now: f64,
+    ) -> Result<Accepted<'_>, IngestError> {
+        let r = match self.check(report) {
             Ok(r) => r,
             Err(e) => {
                 self.refused += 1;

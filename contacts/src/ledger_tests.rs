@@ -204,3 +204,39 @@ fn routing() {
     assert!(feeds_ledger("NODE_REPORT") && feeds_ledger("AIS_REPORT_LOCAL"));
     assert!(!feeds_ledger("NODE_REPORT_LOCAL") && !feeds_ledger("node_report"));
 }
+
+#[test]
+fn ingest_parsed_is_ingest_of_the_text() {
+    // Accepted, updated, refused (missing fields, depth, full) and malformed reports:
+    // the text path and the parsed path give the same results, counters and snapshot.
+    let reports = [
+        rep("bob", 10.0),
+        rep("bob", 11.0),
+        "NAME=cal,LAT=43.826,LON=-70.33,TIME=12,TYPE=glider".to_string(),
+        "NAME=cal,LAT=43.826,LON=-70.33,TIME=12,TYPE=glider,DEP=3".to_string(),
+        "TYPE=kayak".to_string(),
+        "{\"NAME\":\"dee\",\"X\":\"1\",\"Y\":\"2\",\"TIME\":\"13\",\"GROUP\":\"g\"}".to_string(),
+        "NAME=eve,X=1,Y=2,TIME=14,TYPE=uuv".to_string(),
+        rep("fay", 15.0),
+    ];
+    let (mut text, mut parsed) = (Ledger::new(ORIGIN), Ledger::new(ORIGIN));
+    text.set_max_contacts(3);
+    parsed.set_max_contacts(3);
+    for (k, r) in reports.iter().enumerate() {
+        let now = 20.0 + k as f64;
+        let a = text.ingest(r, now).map(|a| format!("{a:?}"));
+        let b = parsed
+            .ingest_parsed(&NodeReport::parse(r), now)
+            .map(|a| format!("{a:?}"));
+        assert_eq!(a, b, "{r}");
+    }
+    assert_eq!(
+        (text.reps(), text.refused(), text.refused_full()),
+        (parsed.reps(), parsed.refused(), parsed.refused_full())
+    );
+    assert_eq!(text.refused_full(), 2, "eve and fay found the ledger full");
+    text.maintain(30.0);
+    parsed.maintain(30.0);
+    assert_eq!(text.summary(), parsed.summary());
+    assert_eq!(text.snapshot(), parsed.snapshot());
+}

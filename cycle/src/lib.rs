@@ -102,11 +102,23 @@ impl HelmCycle {
 
     /// One batch of mail (already in time order), before the iteration.
     pub fn mail(&mut self, helm: &mut Helm, now: f64, mail: &[Mail]) {
+        self.mail_parsed(helm, now, mail, &[]);
+    }
+
+    /// [`HelmCycle::mail`] with some contact reports already read (see
+    /// [`Helm::handle_mail_parsed`]).
+    pub fn mail_parsed(
+        &mut self,
+        helm: &mut Helm,
+        now: f64,
+        mail: &[Mail],
+        parsed: &[Option<contacts::NodeReport<'_>>],
+    ) {
         for m in mail {
             self.status.on_mail(m);
         }
         if !mail.is_empty() {
-            helm.handle_mail(now, mail);
+            helm.handle_mail_parsed(now, mail, parsed);
         }
     }
 

@@ -182,6 +182,13 @@ impl SimBus {
         true
     }
 
+    /// Whether `client` is subscribed to `var`.
+    pub fn subscribes(&self, client: usize, var: &str) -> bool {
+        self.index
+            .get(var)
+            .is_some_and(|&i| self.slots[i].subs.binary_search(&client).is_ok())
+    }
+
     /// Whether anything on this bus ever reads `var`: an app subscribed to it, the
     /// `.alog`, the in-memory record, or an end condition on it. (The helm is asked
     /// after start-up, when every app has subscribed.)

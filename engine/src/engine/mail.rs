@@ -20,14 +20,26 @@ pub(crate) const HOLD_WAIT: &str = "Not all HoldOnApps have been detected";
 impl Helm {
     /// Take one batch of mail into the info buffer.
     pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
+        self.handle_mail_parsed(now, batch, &[]);
+    }
+
+    /// [`Helm::handle_mail`] with the contact reports already read: `parsed[k]`, when
+    /// given, is `NodeReport::parse` of `batch[k]`'s text (a fleet simulator reads each
+    /// report once for all its receivers); the others are read here.
+    pub fn handle_mail_parsed(
+        &mut self,
+        now: f64,
+        batch: &[Mail],
+        parsed: &[Option<contacts::NodeReport<'_>>],
+    ) {
         self.fresh_outbox();
         if self.state == HelmState::Disabled {
             return;
         }
         self.ib.set_curr_time(now);
         self.mail_this_cycle = true;
-        for m in batch {
-            self.handle_one(now, m);
+        for (k, m) in batch.iter().enumerate() {
+            self.handle_one(now, m, parsed.get(k).and_then(Option::as_ref));
         }
         self.ib.set_string("COMMS_POLICY", "open", now);
         if self.state == HelmState::Standby {
@@ -56,7 +68,7 @@ impl Helm {
         m.source == self.app_name
     }
 
-    fn handle_one(&mut self, now: f64, m: &Mail) {
+    fn handle_one(&mut self, now: f64, m: &Mail, parsed: Option<&contacts::NodeReport<'_>>) {
         if let Some(ok_skew) = self.config.ok_skew {
             let skew = (now - m.time).abs();
             if skew > ok_skew && !self.is_own_posting(m) && m.var != "HELM_MAP_CLEAR" {
@@ -133,7 +145,7 @@ impl Helm {
             "BHV_ABLE_FILTER" => {}
             "NODE_REPORT_LOCAL" => self.note_local_report(m),
             _ if contacts::feeds_ledger(var) => {
-                self.ingest_report(m);
+                self.ingest_report(m, parsed);
                 self.ib.set_value(var, &m.value, m.time);
             }
             "HELM_MAP_CLEAR" => self.refresh_pending = true,
@@ -151,7 +163,7 @@ impl Helm {
     /// and type go to the info buffer as `<NAME>_NAV_GROUP`/`_NAV_TYPE`; a refused report
     /// is two run warnings, and (as the real helm) still sets those two variables of the
     /// empty name to "".
-    fn ingest_report(&mut self, m: &Mail) {
+    fn ingest_report(&mut self, m: &Mail, parsed: Option<&contacts::NodeReport<'_>>) {
         let Value::Str(report) = &m.value else {
             return;
         };
@@ -159,7 +171,11 @@ impl Helm {
         // `<NAME>_NAV_GROUP` and `<NAME>_NAV_TYPE` written into a kept string (a report
         // comes from every contact every second).
         let mut var = std::mem::take(&mut self.report_var);
-        match self.env.ledger.ingest(report, now) {
+        let got = match parsed {
+            Some(r) => self.env.ledger.ingest_parsed(r, now),
+            None => self.env.ledger.ingest(report, now),
+        };
+        match got {
             Ok(a) => {
                 for (suffix, value) in [("GROUP", &a.group), ("TYPE", &a.vtype)] {
                     nav_var(&mut var, a.name, suffix);
@@ -204,7 +220,13 @@ impl Helm {
 /// arrive every iteration).
 fn nav_var(out: &mut String, name: &str, suffix: &str) {
     out.clear();
-    out.extend(name.chars().flat_map(char::to_uppercase));
+    // ASCII (every real name): the same as per char, without the char iteration.
+    if name.is_ascii() {
+        out.push_str(name);
+        out.make_ascii_uppercase();
+    } else {
+        out.extend(name.chars().flat_map(char::to_uppercase));
+    }
     out.push_str("_NAV_");
     out.push_str(suffix);
 }

@@ -22,17 +22,17 @@ pub struct CommsStats {
     pub dropped: u64,
 }
 
-/// Reports on their way.
-pub struct CommsModel {
+/// Reports (`T`: what carries one) on their way.
+pub struct CommsModel<T> {
     cfg: Comms,
     rng: u64,
-    queue: VecDeque<(f64, usize, String)>,
+    queue: VecDeque<(f64, usize, T)>,
     pub stats: CommsStats,
 }
 
-impl CommsModel {
+impl<T: Clone> CommsModel<T> {
     /// `seed` is mixed into the scenario's comms seed (Monte Carlo runs differ).
-    pub fn new(cfg: Comms, seed: u64) -> CommsModel {
+    pub fn new(cfg: Comms, seed: u64) -> CommsModel<T> {
         let mut rng = cfg.seed ^ seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
         splitmix64(&mut rng);
         CommsModel {
@@ -45,7 +45,7 @@ impl CommsModel {
 
     /// Vehicle `from` posted `report` at `t` (s from the start); `pos` are all vehicles'
     /// positions now.
-    pub fn send(&mut self, t: f64, from: usize, report: &str, pos: &[(f64, f64)]) {
+    pub fn send(&mut self, t: f64, from: usize, report: T, pos: &[(f64, f64)]) {
         self.stats.reports += 1;
         let (fx, fy) = pos[from];
         for (to, &(x, y)) in pos.iter().enumerate() {
@@ -65,12 +65,12 @@ impl CommsModel {
             }
             self.stats.delivered += 1;
             self.queue
-                .push_back((t + self.cfg.latency, to, report.to_string()));
+                .push_back((t + self.cfg.latency, to, report.clone()));
         }
     }
 
     /// The next report due at or before `t`, with its receiver.
-    pub fn due(&mut self, t: f64) -> Option<(usize, String)> {
+    pub fn due(&mut self, t: f64) -> Option<(usize, T)> {
         // One latency for all: the queue is in due-time order.
         if self.queue.front().is_some_and(|(at, _, _)| *at <= t) {
             self.queue.pop_front().map(|(_, to, r)| (to, r))
@@ -97,7 +97,7 @@ mod tests {
         c.send(1.0, 0, "NAME=a", &pos);
         assert_eq!((c.stats.delivered, c.stats.out_of_range), (1, 1));
         assert!(c.due(2.9).is_none(), "latency 2 s");
-        assert_eq!(c.due(3.0), Some((1, "NAME=a".to_string())));
+        assert_eq!(c.due(3.0), Some((1, "NAME=a")));
         assert!(c.due(10.0).is_none());
 
         let mut lossy = CommsModel::new(

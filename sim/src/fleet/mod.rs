@@ -12,6 +12,7 @@ pub mod collide;
 pub mod colregs;
 pub mod comms;
 pub mod obstacles;
+pub mod relay;
 pub mod run;
 pub mod spec;
 pub mod vehicle;

@@ -13,6 +13,7 @@ use std::time::Instant;
 
 use super::collide::{Detector, PairRecord};
 use super::comms::{CommsModel, CommsStats};
+use super::relay::Relayed;
 use super::spec::{FleetScenario, Ranges};
 use super::vehicle::{Live, VehiclePlan, COMMS_NAME};
 use crate::observe::Observer;
@@ -178,9 +179,7 @@ impl FleetPlan {
                 kp += 1;
             }
             while let Some((to, r)) = comms.due(off) {
-                live[to]
-                    .bus
-                    .post(COMMS_NAME, "NODE_REPORT", &Value::Str(r), "", now);
+                live[to].receive_report(r, now);
             }
             if td == off {
                 for (i, l) in live.iter_mut().enumerate() {
@@ -240,7 +239,7 @@ impl FleetPlan {
                 l.take_reports(&mut reports);
                 for m in &reports {
                     if let Value::Str(s) = &m.value {
-                        comms.send(off, i, s, &pos);
+                        comms.send(off, i, Relayed::new(s.clone()), &pos);
                     }
                 }
             }

@@ -9,6 +9,7 @@
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::rc::Rc;
 
 use contact_manager::{Config, ContactManager, MailValue};
 use contacts::Geodesy;
@@ -18,6 +19,7 @@ use helm_engine::{Helm, HelmState, Mail};
 use helm_mission::HelmRecipe;
 use vehicle_model::{Drift, Kinematics, Nav, Severity, SimBlock, VehicleModel, SIM_NAME};
 
+use super::relay::{Pending, Relayed};
 use super::spec::VehicleSpec;
 use crate::bus::{SimBus, HELM};
 use crate::observe::Observer;
@@ -163,8 +165,16 @@ pub struct Live {
     sim_in: Vec<Mail>,
     helm_in: Vec<Mail>,
     mgr_in: Vec<Mail>,
+    /// The node reports posted to the helm and to the contact manager, not yet fetched.
+    helm_reports: Pending,
+    mgr_reports: Pending,
+    /// The helm, the contact manager subscribed to `NODE_REPORT` (known once true:
+    /// subscriptions are never dropped).
+    hears_reports: [bool; 2],
     /// Always a `Value::Str`: the contact manager's text postings, one after another.
     mgr_text: Value,
+    /// Always a `Value::Str`: the node report being delivered.
+    relay_text: Value,
     report: String,
     report_index: u64,
     pub obm: Option<super::obstacles::ObmLive>,
@@ -241,7 +251,11 @@ impl Live {
             sim_in: Vec::new(),
             helm_in: Vec::new(),
             mgr_in: Vec::new(),
+            helm_reports: Pending::default(),
+            mgr_reports: Pending::default(),
+            hears_reports: [false; 2],
             mgr_text: Value::Str(String::new()),
+            relay_text: Value::Str(String::new()),
             report: String::new(),
             report_index: 0,
             obm,
@@ -322,7 +336,10 @@ impl Live {
                 self.over = true;
             } else {
                 self.bus.fetch(HELM, &mut self.helm_in);
-                self.cycle.mail(&mut self.helm, now, &self.helm_in);
+                self.helm_reports.take(&self.helm_in);
+                let read = self.helm_reports.reports();
+                self.cycle
+                    .mail_parsed(&mut self.helm, now, &self.helm_in, &read);
                 self.cycle.iterate(&mut self.helm, &mut self.bus, now);
                 self.drove |= self.helm.state() == HelmState::Drive;
                 self.kh += 1;
@@ -384,8 +401,10 @@ impl Live {
             };
             batch.push((m.var.as_str(), v));
         }
-        self.mgr.handle_mail(now, &batch);
-        drop(batch);
+        self.mgr_reports.take(&self.mgr_in);
+        let read = self.mgr_reports.reports();
+        self.mgr.handle_mail_parsed(now, &batch, &read);
+        drop((batch, read));
         for post in self.mgr.iterate(now) {
             match &post.val {
                 contact_manager::Value::Str(s) => {
@@ -401,6 +420,27 @@ impl Live {
                         .post(CMGR_NAME, &post.var, &Value::Num(*n), "", now);
                 }
             }
+        }
+    }
+
+    /// The comms model delivers another vehicle's report `r` (as `NODE_REPORT`); the
+    /// helm and the contact manager will read it as they fetch it (see [`Pending`]).
+    pub fn receive_report(&mut self, r: Rc<Relayed>, now: f64) {
+        if let Value::Str(text) = &mut self.relay_text {
+            text.clear();
+            text.push_str(&r.text);
+        }
+        self.bus
+            .post(COMMS_NAME, "NODE_REPORT", &self.relay_text, "", now);
+        // Only for an app that will fetch it (a helm that is over fetches no more).
+        for (hears, app) in self.hears_reports.iter_mut().zip([HELM, CMGR]) {
+            *hears = *hears || self.bus.subscribes(app, "NODE_REPORT");
+        }
+        if !self.over && self.hears_reports[0] {
+            self.helm_reports.push(r.clone());
+        }
+        if self.hears_reports[1] {
+            self.mgr_reports.push(r);
         }
     }
 

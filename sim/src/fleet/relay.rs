@@ -1,0 +1,217 @@
+//! A node report on its way between vehicles, read once for all its readers.
+//!
+//! The comms model hands one vehicle's `NODE_REPORT_LOCAL` to up to every other
+//! vehicle, where the helm's ledger and the contact manager each read it: 2 × (n − 1)
+//! reads of one text. Here it is read once, by the first reader ([`Relayed::report`]),
+//! and kept as where its text fields lie in the text, so every reader gets the same
+//! [`NodeReport`] without reading again. Each receiving app keeps the reports posted to
+//! it in a [`Pending`] queue, in posting order (the bus's order), and takes the one at
+//! the front for a `NODE_REPORT` of the same text: a message of any other text (a value
+//! sent on registration, a poke) is read by the app itself, so what it gets is always
+//! `NodeReport::parse` of its own text.
+
+use std::cell::OnceCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+use contacts::NodeReport;
+use helm_engine::posting::Value;
+use helm_engine::Mail;
+
+/// One report text, with its reading once somebody asked for it.
+#[derive(Debug)]
+pub struct Relayed {
+    pub text: String,
+    read: OnceCell<Option<Read>>,
+}
+
+/// `NodeReport::parse(text)`: its numbers, and its text fields as byte ranges of
+/// `text` (name, type, group, color, vsource, mode, allstop).
+#[derive(Debug)]
+struct Read {
+    numbers: NodeReport<'static>,
+    spans: [(usize, usize); 7],
+}
+
+impl Relayed {
+    pub fn new(text: String) -> Rc<Relayed> {
+        Rc::new(Relayed {
+            text,
+            read: OnceCell::new(),
+        })
+    }
+
+    /// `NodeReport::parse(&self.text)`, read on the first call. `None` only if a field
+    /// were not a piece of the text (parsing only borrows, so never): the reader parses.
+    pub fn report(&self) -> Option<NodeReport<'_>> {
+        let read = self.read.get_or_init(|| read(&self.text)).as_ref()?;
+        let [name, vtype, group, color, vsource, mode, allstop] =
+            read.spans.map(|(a, b)| self.text.get(a..b).unwrap_or(""));
+        Some(NodeReport {
+            name,
+            vtype,
+            group,
+            color,
+            vsource,
+            mode,
+            allstop,
+            ..read.numbers.clone()
+        })
+    }
+}
+
+fn read(text: &str) -> Option<Read> {
+    let r = NodeReport::parse(text);
+    let fields = [
+        r.name, r.vtype, r.group, r.color, r.vsource, r.mode, r.allstop,
+    ];
+    let mut spans = [(0, 0); 7];
+    for (span, field) in spans.iter_mut().zip(fields) {
+        *span = span_in(text, field)?;
+    }
+    Some(Read {
+        numbers: NodeReport {
+            name: "",
+            vtype: "",
+            group: "",
+            color: "",
+            vsource: "",
+            mode: "",
+            allstop: "",
+            time: r.time,
+            x: r.x,
+            y: r.y,
+            lat: r.lat,
+            lon: r.lon,
+            spd: r.spd,
+            hdg: r.hdg,
+            dep: r.dep,
+            length: r.length,
+            cog: r.cog,
+            unknown_fields: r.unknown_fields,
+        },
+        spans,
+    })
+}
+
+/// Where `field`, a piece of `text` (or empty), lies in it: found by address, checked.
+fn span_in(text: &str, field: &str) -> Option<(usize, usize)> {
+    if field.is_empty() {
+        return Some((0, 0));
+    }
+    let start = (field.as_ptr() as usize).wrapping_sub(text.as_ptr() as usize);
+    let end = start.checked_add(field.len())?;
+    let piece = text.get(start..end)?;
+    (piece.as_ptr() == field.as_ptr()).then_some((start, end))
+}
+
+/// The reports posted to one app, not yet fetched, in posting order.
+#[derive(Debug, Default)]
+pub struct Pending {
+    queue: VecDeque<Rc<Relayed>>,
+    /// The last batch's matches, one per message (kept for the storage).
+    matched: Vec<Option<Rc<Relayed>>>,
+}
+
+impl Pending {
+    pub fn push(&mut self, r: Rc<Relayed>) {
+        self.queue.push_back(r);
+    }
+
+    /// Match a fetched batch: for each `NODE_REPORT` whose text is the front report's,
+    /// that report. Call [`Pending::reports`] next.
+    pub fn take(&mut self, batch: &[Mail]) {
+        self.matched.clear();
+        for m in batch {
+            let hit = match &m.value {
+                Value::Str(s) if m.var == "NODE_REPORT" => match self.queue.front() {
+                    Some(r) if r.text == *s => self.queue.pop_front(),
+                    _ => None,
+                },
+                _ => None,
+            };
+            self.matched.push(hit);
+        }
+    }
+
+    /// The batch's reports read, one per message (`None`: the app reads it); empty when
+    /// the batch had none.
+    pub fn reports(&self) -> Vec<Option<NodeReport<'_>>> {
+        if self.matched.iter().all(Option::is_none) {
+            return Vec::new();
+        }
+        self.matched
+            .iter()
+            .map(|r| r.as_ref().and_then(|r| r.report()))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mail(var: &str, text: &str) -> Mail {
+        Mail {
+            var: var.into(),
+            value: Value::Str(text.into()),
+            time: 0.0,
+            source: String::new(),
+            source_aux: String::new(),
+        }
+    }
+
+    #[test]
+    fn a_relayed_report_reads_as_its_text() {
+        for text in [
+            "NAME=bob,X=1.50,Y=-2,SPD=1,HDG=90,DEP=0,LAT=43.8,LON=-70.3,TYPE=kayak,\
+             COLOR=red,MODE=DRIVE,INDEX=3,YAW=0.1,TIME=1000.25,LENGTH=4",
+            " name = Bob , group=g1, vsource=ais, allstop=x, X=nan, Y=2 ",
+            "{\"NAME\":\"dee\",\"X\":\"1\",\"TYPE\":\"{a,b}\"}",
+            "",
+            "X=1,Y=2",
+        ] {
+            let r = Relayed::new(text.to_string());
+            assert_eq!(r.report(), Some(NodeReport::parse(text)), "{text}");
+            assert_eq!(r.report(), Some(NodeReport::parse(text)), "again: {text}");
+        }
+        let t = String::from("abc");
+        assert_eq!(span_in(&t, &t[1..2]), Some((1, 2)));
+        assert_eq!(span_in(&t, "b"), None, "not a piece of the text");
+    }
+
+    #[test]
+    fn pending_matches_by_text_in_order() {
+        let (a, b) = (
+            Relayed::new("NAME=a,X=1".into()),
+            Relayed::new("NAME=b".into()),
+        );
+        let mut p = Pending::default();
+        p.push(a.clone());
+        p.push(b.clone());
+        // A registration copy of an older text, then a, another variable, then b.
+        let batch = [
+            mail("NODE_REPORT", "NAME=z"),
+            mail("NODE_REPORT", "NAME=a,X=1"),
+            mail("NAV_X", "NAME=b"),
+            mail("NODE_REPORT", "NAME=b"),
+        ];
+        p.take(&batch);
+        let got = p.reports();
+        assert_eq!(
+            got,
+            [
+                None,
+                Some(NodeReport::parse("NAME=a,X=1")),
+                None,
+                Some(NodeReport::parse("NAME=b"))
+            ]
+        );
+        drop(got);
+        p.take(&batch[2..3]);
+        assert!(
+            p.reports().is_empty(),
+            "nothing matched: nothing handed over"
+        );
+    }
+}
