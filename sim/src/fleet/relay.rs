@@ -113,8 +113,17 @@ pub struct Pending {
     matched: Vec<Option<Rc<Relayed>>>,
 }
 
+/// Reports kept per app at most. Between two fetches an app gets one per other vehicle
+/// per report tick (tens); should the queue ever stop matching what the bus delivers
+/// (an app that stopped fetching, a bus that dropped one), the oldest go: the app then
+/// reads those texts itself, and memory stays bounded.
+const MAX_PENDING: usize = 512;
+
 impl Pending {
     pub fn push(&mut self, r: Rc<Relayed>) {
+        if self.queue.len() >= MAX_PENDING {
+            self.queue.pop_front();
+        }
         self.queue.push_back(r);
     }
 
@@ -213,5 +222,21 @@ mod tests {
             p.reports().is_empty(),
             "nothing matched: nothing handed over"
         );
+    }
+
+    /// A queue that never matches (its app stopped fetching) stays bounded, and after
+    /// losing its oldest entries it still matches what comes in order.
+    #[test]
+    fn pending_is_bounded() {
+        let mut p = Pending::default();
+        let lost = Relayed::new("NAME=lost".into());
+        p.push(lost);
+        for k in 0..3 * MAX_PENDING {
+            p.push(Relayed::new(format!("NAME=v{k}")));
+        }
+        assert_eq!(p.queue.len(), MAX_PENDING);
+        let next = format!("NAME=v{}", 2 * MAX_PENDING);
+        p.take(&[mail("NODE_REPORT", &next)]);
+        assert_eq!(p.reports(), [Some(NodeReport::parse(&next))]);
     }
 }
