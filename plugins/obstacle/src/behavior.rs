@@ -39,6 +39,10 @@ pub struct AvoidObstacleV24 {
     side_lock: Option<Side>,
     disabled: bool,
     visuals: visuals::Kept,
+    /// The course utilities' list, kept from build to build.
+    course_list: Vec<f64>,
+    /// The text of the warning posted every iteration ([`post_warning`]).
+    warning: String,
 }
 
 impl AvoidObstacleV24 {
@@ -63,6 +67,8 @@ impl AvoidObstacleV24 {
             side_lock: None,
             disabled: false,
             visuals: visuals::Kept::default(),
+            course_list: Vec::new(),
+            warning: String::new(),
         }
     }
 
@@ -97,7 +103,7 @@ impl AvoidObstacleV24 {
             os,
             self.params.min_util_cpa,
             self.params.max_util_cpa,
-            self.derived.as_ref(),
+            self.derived.take(),
         );
         self.valid = self.params.distances_ordered() && d.mid.is_convex() && d.rim.is_convex();
         self.derived = Some(d);
@@ -136,7 +142,7 @@ impl AvoidObstacleV24 {
         }
     }
 
-    fn build(&self, ctx: &mut Ctx<'_>) -> Option<behavior_api::ivp::IvpFunction> {
+    fn build(&mut self, ctx: &mut Ctx<'_>) -> Option<behavior_api::ivp::IvpFunction> {
         let os = self.pose?;
         let d = self.derived.as_ref()?;
         let Some(domain) = self.domain.as_ref() else {
@@ -157,7 +163,7 @@ impl AvoidObstacleV24 {
             centre: d.centre,
             course_ix: domain.index_of("course")?,
         };
-        let table = CourseTable::new(&aof, domain);
+        let table = CourseTable::new(&aof, domain, std::mem::take(&mut self.course_list));
         let mut refl = Reflector::new(domain, &table);
         refl.set_param("uniform_piece", "discrete@course:3,speed:3");
         refl.set_param("uniform_grid", "discrete@course:9,speed:9");
@@ -175,6 +181,7 @@ impl AvoidObstacleV24 {
         refl.create(None, None);
         let warnings = refl.warnings().to_string();
         let f = refl.into_function(true);
+        self.course_list = table.into_list();
         if f.is_none() && !warnings.is_empty() {
             ctx.post_wmessage(&warnings);
         }
@@ -260,6 +267,18 @@ impl AvoidObstacleV24 {
         }
         expunge
     }
+}
+
+/// `Ctx::post_wmessage` (`<name>: <msg>` to BHV_WARNING) written into `text`, kept by
+/// the caller: the SDK's makes a new string per message, and one is posted every
+/// iteration.
+fn post_warning(ctx: &mut Ctx<'_>, text: &mut String, msg: &str) {
+    ctx.name_into(text);
+    if !text.is_empty() {
+        text.push_str(": ");
+    }
+    text.push_str(msg);
+    ctx.post_repeatable_message("BHV_WARNING", PostValue::from(text.as_str()));
 }
 
 /// Read one able-filter string: `Ok(Some(action))` when it applies to this obstacle,
@@ -398,7 +417,8 @@ impl IvpBehavior for AvoidObstacleV24 {
         }
         // The helm's default platform model is holonomic; a plugin cannot see pmgen.
         if !self.params.holonomic_ok {
-            ctx.post_wmessage("holo plat_model not best. Set holonomic_ok=true to silence");
+            let msg = "holo plat_model not best. Set holonomic_ok=true to silence";
+            post_warning(ctx, &mut self.warning, msg);
         }
     }
 

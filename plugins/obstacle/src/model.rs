@@ -2,8 +2,9 @@
 //! obstacle: range, the mid and rim buffer polygons, the passing side, the relevance with
 //! its bearing discount and side lock, and the objective function over courses.
 
-use behavior_api::geometry::obstacle::{bearing_min_max, buffer_polygon, poly_ray_cpa};
+use behavior_api::geometry::obstacle::{buffer_polygon, closest_point, poly_ray_cpa};
 use behavior_api::geometry::{angle360, angle_diff, rel_ang, Polygon};
+use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
 
 /// Corner rounding step of the mid and rim polygons (fixed, degrees).
@@ -46,15 +47,20 @@ pub struct Derived {
     pub passing_side: Side,
     /// `Bad Expand: ...` / `Bad expand: ...` when a buffer failed.
     pub failed_expand: Option<String>,
+    /// What `mid` and `rim` were made from when both expansions went well: the obstacle
+    /// and the two flexed distances' bits. The next derive keeps them while these hold
+    /// (they are rebuilt every iteration otherwise, though they seldom change).
+    made_from: Option<(Polygon, [u64; 2])>,
 }
 
-/// Compute the derived values; `prev` keeps the old mid/rim when an expansion fails.
+/// Compute the derived values; `prev` (the last ones) keeps the old mid/rim when an
+/// expansion fails, and gives them again when they were made from the same inputs.
 pub fn derive(
     gut: &Polygon,
     os: Pose,
     min_cpa: f64,
     max_cpa: f64,
-    prev: Option<&Derived>,
+    prev: Option<Derived>,
 ) -> Derived {
     let range = if gut.contains(os.x, os.y) {
         0.0
@@ -68,25 +74,39 @@ pub fn derive(
             d
         }
     };
+    let (dmid, drim) = (flex(min_cpa), flex(max_cpa));
+    let bits = [dmid.to_bits(), drim.to_bits()];
     let mut failed_expand = None;
-    let mid = buffer_polygon(gut, flex(min_cpa), CORNER_STEP);
-    let rim = buffer_polygon(gut, flex(max_cpa), CORNER_STEP);
-    let (mut mid, mut rim) = if !mid.is_convex() || !rim.is_convex() {
-        failed_expand = Some(format!("Bad Expand: {}", gut.spec(1)));
-        match prev {
-            Some(p) => (p.mid.clone(), p.rim.clone()),
-            None => (Polygon::default(), Polygon::default()),
+    let (mid, rim, made_from) = match prev {
+        Some(Derived {
+            mid,
+            rim,
+            made_from: Some((from, b)),
+            ..
+        }) if b == bits && from == *gut => (mid, rim, Some((from, b))),
+        prev => {
+            let mid = buffer_polygon(gut, dmid, CORNER_STEP);
+            let rim = buffer_polygon(gut, drim, CORNER_STEP);
+            let (mut mid, mut rim) = if !mid.is_convex() || !rim.is_convex() {
+                failed_expand = Some(format!("Bad Expand: {}", gut.spec(1)));
+                match prev {
+                    Some(p) => (p.mid, p.rim),
+                    None => (Polygon::default(), Polygon::default()),
+                }
+            } else {
+                let holds = |b: &Polygon| gut.vertices().iter().all(|v| b.contains(v.x, v.y));
+                if !holds(&mid) || !holds(&rim) {
+                    failed_expand = Some(format!("Bad expand: {}", gut.spec(1)));
+                }
+                (mid, rim)
+            };
+            let label = &gut.attrs.label;
+            mid.attrs.label = format!("{label}_mid_poly");
+            rim.attrs.label = format!("{label}_rim_poly");
+            let made_from = failed_expand.is_none().then(|| (gut.clone(), bits));
+            (mid, rim, made_from)
         }
-    } else {
-        let holds = |b: &Polygon| gut.vertices().iter().all(|v| b.contains(v.x, v.y));
-        if !holds(&mid) || !holds(&rim) {
-            failed_expand = Some(format!("Bad expand: {}", gut.spec(1)));
-        }
-        (mid, rim)
     };
-    let label = &gut.attrs.label;
-    mid.attrs.label = format!("{label}_mid_poly");
-    rim.attrs.label = format!("{label}_rim_poly");
     let centre = gut.center();
     let obcent_bng = rel_ang(os.x, os.y, centre.0, centre.1);
     let rel = angle360(obcent_bng - os.heading);
@@ -105,6 +125,7 @@ pub fn derive(
         obcent_bng,
         passing_side,
         failed_expand,
+        made_from,
     }
 }
 
@@ -133,6 +154,46 @@ pub fn range_relevance(gut: &Polygon, os: Pose, range: f64, inner: f64, outer: f
         0.01
     } else {
         rr
+    }
+}
+
+/// `geometry::obstacle::bearing_min_max` without its list of the vertices' bearings
+/// (a new one per call, every iteration here): each bearing is computed again where it
+/// is read, by the same arithmetic, so the answer is the same bit for bit.
+fn bearing_min_max(p: &Polygon, x: f64, y: f64) -> Option<(f64, f64)> {
+    if p.is_empty() || p.contains(x, y) {
+        return None;
+    }
+    let bngs = || p.vertices().iter().map(move |v| rel_ang(x, y, v.x, v.y));
+    let mut quad = [false; 4];
+    for b in bngs() {
+        quad[((b / 90.0).floor() as usize).min(3)] = true;
+    }
+    let closest_bng = || {
+        closest_point(p, x, y)
+            .map(|(cx, cy)| rel_ang(x, y, cx, cy))
+            .unwrap_or(0.0)
+    };
+    let wraps = match quad {
+        [true, false, false, true] | [true, false, true, true] | [true, true, false, true] => true,
+        [true, false, true, false] => {
+            let b = closest_bng();
+            !(b > 45.0 && b <= 225.0)
+        }
+        [false, true, false, true] => {
+            let b = closest_bng();
+            !(b > 135.0 && b <= 315.0)
+        }
+        _ => false,
+    };
+    if wraps {
+        let bmin = bngs().filter(|b| *b > 180.0).fold(360.0, f64::min);
+        let bmax = bngs().filter(|b| *b <= 180.0).fold(0.0, f64::max);
+        Some((bmin, bmax))
+    } else {
+        let bmin = bngs().fold(f64::INFINITY, f64::min);
+        let bmax = bngs().fold(f64::NEG_INFINITY, f64::max);
+        Some((bmin, bmax))
     }
 }
 
@@ -222,32 +283,61 @@ impl Aof for ObstacleAof<'_> {
 
 /// The same utilities, one per course index, computed once: the reflector asks for
 /// every piece corner (about 4200 points for 840 pieces) but only the course matters.
+/// The list is the caller's, kept from build to build ([`CourseTable::into_list`]).
 pub struct CourseTable {
     course_ix: usize,
     table: Vec<f64>,
 }
 
 impl CourseTable {
-    pub fn new(aof: &ObstacleAof<'_>, domain: &Domain) -> Self {
+    /// The table in `list` (emptied first).
+    pub fn new(aof: &ObstacleAof<'_>, domain: &Domain, mut list: Vec<f64>) -> Self {
         let points = domain.var(aof.course_ix).points;
+        list.clear();
+        list.extend((0..points).map(|j| aof.utility(domain.value(aof.course_ix, j))));
         CourseTable {
             course_ix: aof.course_ix,
-            table: (0..points)
-                .map(|j| aof.utility(domain.value(aof.course_ix, j)))
-                .collect(),
+            table: list,
         }
+    }
+
+    /// The list back, for the next table.
+    pub fn into_list(self) -> Vec<f64> {
+        self.table
+    }
+
+    fn at(&self, j: u32) -> f64 {
+        self.table.get(j as usize).copied().unwrap_or(0.0)
     }
 }
 
+// Speed is ignored but not declared so (`Aof::ignores`): the reflector would then fit
+// tile by tile in new lists each build. Its grid fit gives the same pieces bit for bit
+// (the speed slope is exactly 0 either way) in kept storage.
 impl Aof for CourseTable {
     fn eval(&self, _domain: &Domain, index: &[u32]) -> f64 {
-        self.table
-            .get(index[self.course_ix] as usize)
-            .copied()
-            .unwrap_or(0.0)
+        self.at(index[self.course_ix])
     }
-    fn ignores(&self, dim: usize) -> bool {
-        dim != self.course_ix
+    /// Rows of table entries (course first) or rows of one entry (course second).
+    fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            if self.course_ix == 0 {
+                for (o, &i) in row.iter_mut().zip(xs.iter()) {
+                    *o = self.at(i);
+                }
+            } else {
+                row.fill(self.at(j));
+            }
+        }
+    }
+    fn eval_grid_fills(&self) -> bool {
+        true
     }
 }
 
@@ -278,6 +368,136 @@ mod tests {
         assert!((rr * 500.0 - 56.81371).abs() < 1e-4, "{}", rr * 500.0);
         // Centre (70, −3) is right of the bow: passing side star.
         assert_eq!(d.passing_side, Side::Star);
+    }
+
+    /// Derived values with kept polygons equal those derived afresh (the previous ones
+    /// given only for a failed expansion) over poses and distances that change, repeat
+    /// and come back, and an obstacle that changes.
+    #[test]
+    fn kept_polygons_are_the_fresh_ones() {
+        let tri = Polygon::from_xy(&[(60.0, -12.0), (70.0, 6.0), (80.0, -12.0)]);
+        let (mut kept, mut fresh): (Option<Derived>, Option<Derived>) = (None, None);
+        let mut reused = 0;
+        for k in 0..120 {
+            // Range 10 (no flex), 6 and 3.5 (flexed), steps of 0.25 in y; back and forth.
+            let x = [50.0, 50.0, 54.0, 50.0, 56.5, 56.5, 50.0][k % 7];
+            let os = Pose {
+                x,
+                y: -8.0 + 0.25 * (k % 11) as f64,
+                heading: (k * 37 % 360) as f64,
+            };
+            let (min, max) = if (40..60).contains(&k) {
+                (2.0, 9.5)
+            } else {
+                (3.0, 7.0)
+            };
+            let gut = if (80..90).contains(&k) {
+                tri.clone()
+            } else {
+                rect()
+            };
+            let had = kept.as_ref().and_then(|d| d.made_from.clone());
+            let d = derive(&gut, os, min, max, kept.take());
+            if had.is_some() && had == d.made_from {
+                reused += 1;
+            }
+            // The reference: the previous values without what they were made from.
+            let prev = fresh.take().map(|p| Derived {
+                made_from: None,
+                ..p
+            });
+            let f = derive(&gut, os, min, max, prev);
+            assert_eq!(d.mid, f.mid, "step {k}");
+            assert_eq!(d.rim, f.rim, "step {k}");
+            assert_eq!(d.failed_expand, f.failed_expand, "step {k}");
+            assert_eq!(
+                (d.range.to_bits(), d.obcent_bng.to_bits(), d.passing_side),
+                (f.range.to_bits(), f.obcent_bng.to_bits(), f.passing_side),
+                "step {k}"
+            );
+            assert_eq!(d.centre, f.centre, "step {k}");
+            (kept, fresh) = (Some(d), Some(f));
+        }
+        assert!(reused > 30, "polygons kept {reused} times");
+    }
+
+    /// The bearing range without a list is geometry's, bit for bit, all around the
+    /// obstacle (north-straddling and not) and inside it.
+    #[test]
+    fn bearing_range_is_geometrys() {
+        use behavior_api::geometry::obstacle::bearing_min_max as geometrys;
+        let tri = Polygon::from_xy(&[(-1.0, 10.0), (1.0, 10.0), (0.0, 12.0)]);
+        for poly in [rect(), tri] {
+            for i in 0..40 {
+                for j in 0..40 {
+                    let (x, y) = (-20.0 + 2.7 * i as f64, -30.0 + 1.9 * j as f64);
+                    let bits = |r: Option<(f64, f64)>| r.map(|(a, b)| (a.to_bits(), b.to_bits()));
+                    assert_eq!(
+                        bits(bearing_min_max(&poly, x, y)),
+                        bits(geometrys(&poly, x, y)),
+                        "({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The table as it was declared before: ignoring every dimension but the course, so
+    /// the reflector fitted it tile by tile with shared fits.
+    struct Sharing<'a>(&'a CourseTable);
+
+    impl Aof for Sharing<'_> {
+        fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
+            self.0.eval(domain, index)
+        }
+        fn ignores(&self, dim: usize) -> bool {
+            dim != self.0.course_ix
+        }
+    }
+
+    /// The table's grid fit gives the functions of the shared tile-by-tile fit bit for
+    /// bit, course first or second in the domain, with and without the side lock.
+    #[test]
+    fn grid_fit_is_the_shared_fit() {
+        use behavior_api::ivp::Reflector;
+        use behavior_api::testing::function_bits;
+        let gut = rect();
+        let build = |domain: &Domain, aof: &dyn Aof| {
+            let mut refl = Reflector::new(domain, aof);
+            refl.set_param("uniform_piece", "discrete@course:3,speed:3");
+            refl.set_param("uniform_grid", "discrete@course:9,speed:9");
+            refl.create(None, None);
+            function_bits(&refl.into_function(true).expect("function"))
+        };
+        for course_first in [true, false] {
+            let mut domain = Domain::new();
+            let vars = [("course", 0.0, 359.0, 360), ("speed", 0.0, 4.0, 21)];
+            for k in [0, 1] {
+                let (name, lo, hi, n) = vars[if course_first { k } else { 1 - k }];
+                domain.add_var(name, lo, hi, n).expect("var");
+            }
+            let course_ix = domain.index_of("course").expect("course");
+            for k in 0..12 {
+                let os = Pose {
+                    x: 40.0 + 1.5 * k as f64,
+                    y: -20.0 + 3.0 * k as f64,
+                    heading: (k * 29 % 360) as f64,
+                };
+                let aof = ObstacleAof {
+                    gut: &gut,
+                    os,
+                    min_cpa: 3.0,
+                    max_cpa: 7.0,
+                    locked: k % 3 == 0,
+                    passing_side: if k % 2 == 0 { Side::Star } else { Side::Port },
+                    centre: gut.center(),
+                    course_ix,
+                };
+                let table = CourseTable::new(&aof, &domain, Vec::new());
+                let want = build(&domain, &Sharing(&table));
+                assert_eq!(build(&domain, &table), want, "pose {k}");
+            }
+        }
     }
 
     #[test]
