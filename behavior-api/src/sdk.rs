@@ -220,27 +220,29 @@ impl<'a> Ctx<'a> {
         if msg.is_empty() {
             return;
         }
-        let text = self.prefixed(msg);
-        self.post_repeatable_message("BHV_WARNING", PostValue::from(text.as_str()));
+        self.with_prefixed(msg, |ctx, text| {
+            ctx.post_repeatable_message("BHV_WARNING", PostValue::from(text));
+        });
     }
     /// `postRetractWMessage`: retracts the app warning; the text is still posted.
     pub fn post_retract_wmessage(&mut self, msg: &str) {
-        let text = self.prefixed(msg);
-        self.inner.post(
-            "BHV_WARNING".into(),
-            PostValue::from(text.as_str()),
-            "retract".into(),
-        );
+        self.with_prefixed(msg, |ctx, text| {
+            ctx.inner.post(
+                "BHV_WARNING".into(),
+                PostValue::from(text),
+                "retract".into(),
+            );
+        });
     }
     /// `postEMessage`: `BHV_ERROR = <name>: <msg>`; halts the helm for this iteration.
     pub fn post_emessage(&mut self, msg: &str) {
-        let text = self.prefixed(msg);
-        self.post_repeatable_message("BHV_ERROR", PostValue::from(text.as_str()));
+        self.with_prefixed(msg, |ctx, text| {
+            ctx.post_repeatable_message("BHV_ERROR", PostValue::from(text));
+        });
     }
     /// `postEventMessage`: `BHV_EVENT = <name>: <msg>`.
     pub fn post_event_message(&mut self, msg: &str) {
-        let text = self.prefixed(msg);
-        self.post_message("BHV_EVENT", &text);
+        self.with_prefixed(msg, |ctx, text| ctx.post_message("BHV_EVENT", text));
     }
     /// Post a flag in `.bhv` flag syntax; common macros are expanded by the host.
     pub fn post_flag(&mut self, flag: &str, repeatable: bool) {
@@ -306,15 +308,24 @@ impl<'a> Ctx<'a> {
         self.inner.set_contact(name.into())
     }
 
-    fn prefixed(&self, msg: &str) -> String {
-        let mut text = String::new();
+    /// `<name>: <msg>` (just `msg` without a name) handed to `post`, written into this
+    /// thread's kept string: a behavior may warn every iteration.
+    fn with_prefixed(&mut self, msg: &str, post: impl FnOnce(&mut Self, &str)) {
+        // Taken out while in use: a nested message (none is expected) gets a new one.
+        let mut text = PREFIXED.with(Cell::take);
         self.name_into(&mut text);
         if !text.is_empty() {
             text.push_str(": ");
         }
         text.push_str(msg);
-        text
+        post(self, &text);
+        PREFIXED.with(|s| s.set(text));
     }
+}
+
+thread_local! {
+    /// The text of the last prefixed message ([`Ctx::with_prefixed`]), kept.
+    static PREFIXED: Cell<String> = const { Cell::new(String::new()) };
 }
 
 thread_local! {

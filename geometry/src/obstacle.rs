@@ -137,15 +137,12 @@ pub fn bearing_min_max(p: &Polygon, x: f64, y: f64) -> Option<(f64, f64)> {
     if p.is_empty() || p.contains(x, y) {
         return None;
     }
-    let bngs: Vec<f64> = p
-        .vertices()
-        .iter()
-        .map(|v| rel_ang(x, y, v.x, v.y))
-        .collect();
+    // Each bearing computed again where it is read (same arithmetic, same bits): no list
+    // per call, and an obstacle behavior asks every iteration.
+    let bngs = || p.vertices().iter().map(move |v| rel_ang(x, y, v.x, v.y));
     let mut quad = [false; 4];
-    for &b in &bngs {
-        let q = ((b / 90.0).floor() as usize).min(3);
-        quad[q] = true;
+    for b in bngs() {
+        quad[((b / 90.0).floor() as usize).min(3)] = true;
     }
     let closest_bng = || {
         closest_point(p, x, y)
@@ -165,20 +162,12 @@ pub fn bearing_min_max(p: &Polygon, x: f64, y: f64) -> Option<(f64, f64)> {
         _ => false,
     };
     if wraps {
-        let bmin = bngs
-            .iter()
-            .copied()
-            .filter(|b| *b > 180.0)
-            .fold(360.0, f64::min);
-        let bmax = bngs
-            .iter()
-            .copied()
-            .filter(|b| *b <= 180.0)
-            .fold(0.0, f64::max);
+        let bmin = bngs().filter(|b| *b > 180.0).fold(360.0, f64::min);
+        let bmax = bngs().filter(|b| *b <= 180.0).fold(0.0, f64::max);
         Some((bmin, bmax))
     } else {
-        let bmin = bngs.iter().copied().fold(f64::INFINITY, f64::min);
-        let bmax = bngs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let bmin = bngs().fold(f64::INFINITY, f64::min);
+        let bmax = bngs().fold(f64::NEG_INFINITY, f64::max);
         Some((bmin, bmax))
     }
 }
@@ -271,6 +260,68 @@ mod tests {
 
     fn rect() -> Polygon {
         Polygon::from_xy(&[(60.0, -12.0), (60.0, 6.0), (80.0, 6.0), (80.0, -12.0)])
+    }
+
+    /// The bearings listed once, as the function did before it computed them where they
+    /// are read: the reference for [`bearing_min_max`].
+    fn bearing_min_max_listed(p: &Polygon, x: f64, y: f64) -> Option<(f64, f64)> {
+        if p.is_empty() || p.contains(x, y) {
+            return None;
+        }
+        let bngs: Vec<f64> = p
+            .vertices()
+            .iter()
+            .map(|v| rel_ang(x, y, v.x, v.y))
+            .collect();
+        let mut quad = [false; 4];
+        for &b in &bngs {
+            quad[((b / 90.0).floor() as usize).min(3)] = true;
+        }
+        let closest = || closest_point(p, x, y).map_or(0.0, |(cx, cy)| rel_ang(x, y, cx, cy));
+        let wraps = match quad {
+            [true, false, false, true] | [true, false, true, true] | [true, true, false, true] => {
+                true
+            }
+            [true, false, true, false] => !(closest() > 45.0 && closest() <= 225.0),
+            [false, true, false, true] => !(closest() > 135.0 && closest() <= 315.0),
+            _ => false,
+        };
+        let it = bngs.iter().copied();
+        Some(if wraps {
+            (
+                it.clone().filter(|b| *b > 180.0).fold(360.0, f64::min),
+                it.filter(|b| *b <= 180.0).fold(0.0, f64::max),
+            )
+        } else {
+            (
+                it.clone().fold(f64::INFINITY, f64::min),
+                it.fold(f64::NEG_INFINITY, f64::max),
+            )
+        })
+    }
+
+    /// Bit for bit the listed reference all around two obstacles (north-straddling and
+    /// not) and inside them.
+    #[test]
+    fn bearing_range_is_the_listed_one() {
+        let tri = Polygon::from_xy(&[(-1.0, 10.0), (1.0, 10.0), (0.0, 12.0)]);
+        let bits = |r: Option<(f64, f64)>| r.map(|(a, b)| (a.to_bits(), b.to_bits()));
+        let mut some = 0;
+        for poly in [rect(), tri] {
+            for i in 0..40 {
+                for j in 0..40 {
+                    let (x, y) = (-20.0 + 2.7 * f64::from(i), -30.0 + 1.9 * f64::from(j));
+                    let got = bearing_min_max(&poly, x, y);
+                    some += usize::from(got.is_some());
+                    assert_eq!(
+                        bits(got),
+                        bits(bearing_min_max_listed(&poly, x, y)),
+                        "({x}, {y})"
+                    );
+                }
+            }
+        }
+        assert!(some > 3000, "{some}");
     }
 
     #[test]

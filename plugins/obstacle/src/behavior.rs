@@ -41,8 +41,6 @@ pub struct AvoidObstacleV24 {
     visuals: visuals::Kept,
     /// The course utilities' list, kept from build to build.
     course_list: Vec<f64>,
-    /// The text of the warning posted every iteration ([`post_warning`]).
-    warning: String,
 }
 
 impl AvoidObstacleV24 {
@@ -68,7 +66,6 @@ impl AvoidObstacleV24 {
             disabled: false,
             visuals: visuals::Kept::default(),
             course_list: Vec::new(),
-            warning: String::new(),
         }
     }
 
@@ -269,18 +266,6 @@ impl AvoidObstacleV24 {
     }
 }
 
-/// `Ctx::post_wmessage` (`<name>: <msg>` to BHV_WARNING) written into `text`, kept by
-/// the caller: the SDK's makes a new string per message, and one is posted every
-/// iteration.
-fn post_warning(ctx: &mut Ctx<'_>, text: &mut String, msg: &str) {
-    ctx.name_into(text);
-    if !text.is_empty() {
-        text.push_str(": ");
-    }
-    text.push_str(msg);
-    ctx.post_repeatable_message("BHV_WARNING", PostValue::from(text.as_str()));
-}
-
 /// Read one able-filter string: `Ok(Some(action))` when it applies to this obstacle,
 /// `Ok(None)` when it is about another, `Err` when malformed.
 fn able_action(s: &str, id: &str, vsource: &str) -> Result<Option<String>, ()> {
@@ -417,8 +402,7 @@ impl IvpBehavior for AvoidObstacleV24 {
         }
         // The helm's default platform model is holonomic; a plugin cannot see pmgen.
         if !self.params.holonomic_ok {
-            let msg = "holo plat_model not best. Set holonomic_ok=true to silence";
-            post_warning(ctx, &mut self.warning, msg);
+            ctx.post_wmessage("holo plat_model not best. Set holonomic_ok=true to silence");
         }
     }
 

@@ -2,7 +2,7 @@
 //! obstacle: range, the mid and rim buffer polygons, the passing side, the relevance with
 //! its bearing discount and side lock, and the objective function over courses.
 
-use behavior_api::geometry::obstacle::{buffer_polygon, closest_point, poly_ray_cpa};
+use behavior_api::geometry::obstacle::{bearing_min_max, buffer_polygon, poly_ray_cpa};
 use behavior_api::geometry::{angle360, angle_diff, rel_ang, Polygon};
 use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
@@ -154,46 +154,6 @@ pub fn range_relevance(gut: &Polygon, os: Pose, range: f64, inner: f64, outer: f
         0.01
     } else {
         rr
-    }
-}
-
-/// `geometry::obstacle::bearing_min_max` without its list of the vertices' bearings
-/// (a new one per call, every iteration here): each bearing is computed again where it
-/// is read, by the same arithmetic, so the answer is the same bit for bit.
-fn bearing_min_max(p: &Polygon, x: f64, y: f64) -> Option<(f64, f64)> {
-    if p.is_empty() || p.contains(x, y) {
-        return None;
-    }
-    let bngs = || p.vertices().iter().map(move |v| rel_ang(x, y, v.x, v.y));
-    let mut quad = [false; 4];
-    for b in bngs() {
-        quad[((b / 90.0).floor() as usize).min(3)] = true;
-    }
-    let closest_bng = || {
-        closest_point(p, x, y)
-            .map(|(cx, cy)| rel_ang(x, y, cx, cy))
-            .unwrap_or(0.0)
-    };
-    let wraps = match quad {
-        [true, false, false, true] | [true, false, true, true] | [true, true, false, true] => true,
-        [true, false, true, false] => {
-            let b = closest_bng();
-            !(b > 45.0 && b <= 225.0)
-        }
-        [false, true, false, true] => {
-            let b = closest_bng();
-            !(b > 135.0 && b <= 315.0)
-        }
-        _ => false,
-    };
-    if wraps {
-        let bmin = bngs().filter(|b| *b > 180.0).fold(360.0, f64::min);
-        let bmax = bngs().filter(|b| *b <= 180.0).fold(0.0, f64::max);
-        Some((bmin, bmax))
-    } else {
-        let bmin = bngs().fold(f64::INFINITY, f64::min);
-        let bmax = bngs().fold(f64::NEG_INFINITY, f64::max);
-        Some((bmin, bmax))
     }
 }
 
@@ -419,27 +379,6 @@ mod tests {
             (kept, fresh) = (Some(d), Some(f));
         }
         assert!(reused > 30, "polygons kept {reused} times");
-    }
-
-    /// The bearing range without a list is geometry's, bit for bit, all around the
-    /// obstacle (north-straddling and not) and inside it.
-    #[test]
-    fn bearing_range_is_geometrys() {
-        use behavior_api::geometry::obstacle::bearing_min_max as geometrys;
-        let tri = Polygon::from_xy(&[(-1.0, 10.0), (1.0, 10.0), (0.0, 12.0)]);
-        for poly in [rect(), tri] {
-            for i in 0..40 {
-                for j in 0..40 {
-                    let (x, y) = (-20.0 + 2.7 * i as f64, -30.0 + 1.9 * j as f64);
-                    let bits = |r: Option<(f64, f64)>| r.map(|(a, b)| (a.to_bits(), b.to_bits()));
-                    assert_eq!(
-                        bits(bearing_min_max(&poly, x, y)),
-                        bits(geometrys(&poly, x, y)),
-                        "({x}, {y})"
-                    );
-                }
-            }
-        }
     }
 
     /// The table as it was declared before: ignoring every dimension but the course, so
