@@ -371,3 +371,43 @@ fn ctrl_c_during_a_fleet_monte_carlo_keeps_the_finished_runs() {
     assert!(!out.join("shard.json").exists());
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `--alogs` on a fleet: each run's vehicle logs in `run-0000/`, ... (they were silently
+/// not written), with the helms' functions in them; the runs are the same as without.
+#[test]
+fn fleet_runs_write_their_logs_with_alogs() {
+    let m = mission("encounter");
+    let common_args = [
+        "--runs",
+        "3",
+        "--seed",
+        "4",
+        "--jitter",
+        "x=5,y=5,heading=10",
+    ];
+    let (with, without) = (
+        common::temp_dir("fleet-alogs"),
+        common::temp_dir("fleet-no-alogs"),
+    );
+    for (dir, extra) in [(&with, Some("--alogs")), (&without, None)] {
+        let mut args = vec![s(&m), "--out", s(dir), "--max-time", "40"];
+        args.extend(common_args);
+        args.extend(extra);
+        let o = helm_sim(&args);
+        assert!(o.status.success(), "{}", common::text(&o));
+    }
+    for run in ["run-0000", "run-0001", "run-0002"] {
+        for vehicle in ["abe", "ben"] {
+            let log = with.join(run).join(format!("{vehicle}.alog"));
+            let text = std::fs::read_to_string(&log).unwrap_or_else(|e| panic!("{log:?}: {e}"));
+            assert!(
+                text.contains("NODE_REPORT") && text.contains("BHV_IPF"),
+                "{log:?}"
+            );
+        }
+    }
+    assert!(!with.join("run-0003").exists());
+    assert!(!without.join("run-0000").exists());
+    let table = |d: &Path| std::fs::read(d.join("runs.csv")).expect("runs.csv");
+    assert!(table(&with) == table(&without), "logs changed the runs");
+}

@@ -36,7 +36,9 @@ pub struct SimArgs {
     #[arg(long)]
     pub jitter: Option<Jitter>,
     /// With --runs: also write each run's `.alog` (`run-0000.alog`, ... beside
-    /// `runs.csv`), so `helm view DIR` can replay every run. About 2 MB per alpha run.
+    /// `runs.csv`), so `helm view DIR` can replay every run; for a fleet, each run's
+    /// vehicle logs in a folder `run-0000/`, ... as a one-run fleet writes them. About 2 MB
+    /// per alpha run.
     /// Without it the helms do not serialise their functions (BHV_IPF), which only a
     /// log would read: the runs are the same, faster.
     #[arg(long)]

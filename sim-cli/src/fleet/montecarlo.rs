@@ -85,13 +85,25 @@ pub fn slice(runs: usize, k: usize, n: usize) -> std::ops::Range<usize> {
     (k - 1) * runs / n..k * runs / n
 }
 
-/// Run `range` of the run set with first seed `seed`.
+/// Where run `i` of `runs` writes its vehicles' logs under `dir` (`--alogs`): a folder
+/// named as a one-vehicle run's log (`run-0000`, ...), holding `<vehicle>.alog` as a
+/// one-run fleet writes them.
+pub fn run_alog_dir(dir: &Path, i: usize, runs: usize) -> PathBuf {
+    let name = crate::montecarlo::run_alog_name(i, runs);
+    dir.join(name.strip_suffix(".alog").unwrap_or(&name))
+}
+
+/// Run `range` of the run set of `runs` runs with first seed `seed`; with `alogs`, each
+/// run's logs go to [`run_alog_dir`] under it.
+#[allow(clippy::too_many_arguments)]
 pub fn run_range(
     plan: &FleetPlan,
     range: std::ops::Range<usize>,
+    runs: usize,
     seed: u64,
     jitter: Jitter,
     max_time: Option<f64>,
+    alogs: Option<&Path>,
     done: &(dyn Fn() + Sync),
 ) -> Result<Vec<Row>, SimError> {
     range
@@ -103,9 +115,21 @@ pub fn run_range(
             }
             let s = seed.wrapping_add(i as u64);
             let shifts = shifts(&jitter, s, plan.vehicles.len());
+            let alog_dir = match alogs {
+                Some(dir) => {
+                    let d = run_alog_dir(dir, i, runs);
+                    std::fs::create_dir_all(&d).map_err(|source| SimError::Write {
+                        path: d.clone(),
+                        source,
+                    })?;
+                    Some(d)
+                }
+                None => None,
+            };
             let o = plan.run(
                 &shifts,
                 &FleetOptions {
+                    alog_dir,
                     max_time,
                     seed: s,
                     ..FleetOptions::default()
@@ -373,7 +397,17 @@ pub fn cli(args: &SimArgs, plan: &FleetPlan) -> Result<u8, SimError> {
         bar.inc(1);
         lines.tick();
     };
-    let rows = run_range(plan, range.clone(), args.seed, jitter, args.max_time, &done)?;
+    let alogs = args.alogs.then_some(dir.as_path());
+    let rows = run_range(
+        plan,
+        range.clone(),
+        runs,
+        args.seed,
+        jitter,
+        args.max_time,
+        alogs,
+        &done,
+    )?;
     bar.finish_and_clear();
     let vehicles: Vec<String> = plan.vehicles.iter().map(|v| v.spec.name.clone()).collect();
     let csv_path = dir.join("runs.csv");
