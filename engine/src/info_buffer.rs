@@ -135,12 +135,7 @@ impl InfoBuffer {
             if let Some(d) = e.dval {
                 return Some(d);
             }
-            if let Some(s) = &e.sval {
-                if bhv::number::is_number(s) {
-                    return Some(bhv::number::atof(s));
-                }
-            }
-            return None;
+            return e.sval.as_deref().and_then(mbutil::parse_number);
         }
         let base = var.strip_suffix("_DELTA")?;
         let v = self.double_val(base)?;

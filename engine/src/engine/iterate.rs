@@ -262,10 +262,9 @@ impl Helm {
         // reused), each set as a number if it reads as one, else as a string.
         copy_pairs(&mut self.mode_pairs, self.modes.evaluate(&self.ib));
         for (var, val) in &self.mode_pairs {
-            if bhv::number::is_number(val) {
-                self.ib.set_double(var, bhv::number::atof(val), now);
-            } else {
-                self.ib.set_string(var, val, now);
+            match mbutil::parse_number(val) {
+                Some(n) => self.ib.set_double(var, n, now),
+                None => self.ib.set_string(var, val, now),
             }
         }
 

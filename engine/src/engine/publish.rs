@@ -14,10 +14,9 @@ impl Helm {
         // string value comes from the pool and goes back to it when filtered out.
         let pairs = std::mem::take(&mut self.mode_pairs);
         for (var, val) in &pairs {
-            let v = if bhv::number::is_number(val) {
-                Value::Num(bhv::number::atof(val))
-            } else {
-                Value::Str(self.pool.copy_of(val))
+            let v = match mbutil::parse_number(val) {
+                Some(n) => Value::Num(n),
+                None => Value::Str(self.pool.copy_of(val)),
             };
             if self.filter.allow("mode_set", &v) {
                 self.post(var, v, "HELM_MODE");

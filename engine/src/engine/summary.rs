@@ -75,10 +75,9 @@ impl Helm {
             }
             out.push_str(var);
             out.push('@');
-            if bhv::number::is_number(val) {
-                push_compact(out, bhv::number::atof(val), 6);
-            } else {
-                out.push_str(val);
+            match mbutil::parse_number(val) {
+                Some(n) => push_compact(out, n, 6),
+                None => out.push_str(val),
             }
         }
     }
