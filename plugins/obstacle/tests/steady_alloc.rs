@@ -14,16 +14,7 @@ static GLOBAL: CountingAlloc = CountingAlloc;
 fn behavior() -> (AvoidObstacleV24, MockHelm) {
     let mut b = AvoidObstacleV24::new(&HelmDomain::new("course,0,359,360:speed,0,4,21"));
     let mut helm = MockHelm::new("avd_ob_oba");
-    for (p, v) in [
-        ("poly", "pts={60,-12:60,6:80,6:80,-12},label=oba"),
-        ("id", "oba"),
-        ("allowable_ttc", "5"),
-        ("min_util_cpa_dist", "3"),
-        ("max_util_cpa_dist", "7"),
-        ("pwt_outer_dist", "15"),
-        ("pwt_inner_dist", "5"),
-        ("completed_dist", "15"),
-    ] {
+    for (p, v) in bhv_obstacle::EXAMPLE_PARAMS {
         assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
     }
     helm.with(|ctx| b.on_params_complete(ctx));

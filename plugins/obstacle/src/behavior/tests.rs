@@ -8,16 +8,7 @@ fn spawned() -> (AvoidObstacleV24, MockHelm) {
     let mut b = AvoidObstacleV24::new(&HelmDomain::new("course,0,359,360:speed,0,4,21"));
     let mut helm = MockHelm::new("avd_ob_oba");
     helm.priority = 500.0;
-    for (p, v) in [
-        ("allowable_ttc", "5"),
-        ("min_util_cpa_dist", "3"),
-        ("max_util_cpa_dist", "7"),
-        ("pwt_outer_dist", "15"),
-        ("pwt_inner_dist", "5"),
-        ("completed_dist", "15"),
-        ("poly", RECT),
-        ("id", "oba"),
-    ] {
+    for (p, v) in crate::EXAMPLE_PARAMS {
         assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
     }
     (b, helm)
