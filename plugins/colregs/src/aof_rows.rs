@@ -6,7 +6,7 @@
 
 use std::cell::RefCell;
 
-use behavior_api::contacts::engine::{BowStern, RowConsts, Sides};
+use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::angle360;
 use behavior_api::ivp::Domain;
@@ -259,10 +259,9 @@ fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
 }
 
 /// [`r14_row_plain`] for ownship to port of the contact (`PORT`), aft of it (`AFT`) and
-/// on its beam (`BEAM`): `BowStarRate::of`'s rules with those facts put in. Refused
-/// (utility 0) is `on_contact | (PORT & crosses_bow) | passes_star`, where crosses_bow
-/// is `on_sternline | (moving & br ≥ 0)` (port side) and passes_star is `!PORT` on the
-/// beam, else the beam closing and the bearing rate not of the port sign.
+/// on its beam (`BEAM`): those facts are constants in the [`Sides`] given to
+/// [`BowStarRate::of`] (inlined), so its choices fold away. Refused (utility 0) is
+/// `on_contact | (PORT & crosses_bow) | passes_star`.
 #[inline(always)]
 fn r14_row_sides<const PORT: bool, const AFT: bool, const BEAM: bool>(
     r: &R14Row,
@@ -289,20 +288,16 @@ fn r14_row_sides<const PORT: bool, const AFT: bool, const BEAM: bool>(
         row.fill(0.0);
         return;
     }
-    // Negated, not `v > 0.0`: a NaN speed counts as moving (BowStarRate::of).
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    let v_moving = !(v <= 0.0);
+    let sides = Sides {
+        port_of_cn: PORT,
+        aft_of_cn: AFT,
+        on_beam: BEAM,
+        ..s
+    };
     for k in 0..n {
-        let br = consts.bearing_rate(tans[k], v);
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let bow = PORT & v_moving & !(gams[k] <= 0.0) & (br >= 0.0);
-        // On the beam (from port here) nothing passes to starboard.
-        let star = !BEAM & {
-            let e = consts.beam_closing(AFT, cnhs[k], v);
-            let port = if AFT { br > 0.0 } else { br < 0.0 };
-            (e > 0.0) & !port
-        };
-        let refused = bow | star;
+        let r = BowStarRate::of(&sides, &consts, (gams[k], cnhs[k], tans[k]), v);
+        let refused = (PORT & r.crosses_bow) | r.passes_star;
+        let br = r.bearing_rate;
         let m1 = metric.eval_jumpless(row[k]);
         let scaled = 100.0 * br / b0;
         let beyond = if br <= b0 { 100.0 } else { scaled };
