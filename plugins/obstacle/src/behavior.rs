@@ -4,7 +4,7 @@
 use behavior_api::geometry::rel_ang;
 use behavior_api::ivp::{Domain, Reflector};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
-use behavior_api::{compact, FunctionData, PostValue};
+use behavior_api::{compact, push_compact, FunctionData, PostValue};
 
 use crate::model::{
     all_aft, derive, range_relevance, update_side_lock, CourseTable, Derived, ObstacleAof, Pose,
@@ -41,6 +41,17 @@ pub struct AvoidObstacleV24 {
     visuals: visuals::Kept,
     /// The course utilities' list, kept from build to build.
     course_list: Vec<f64>,
+    /// The flags' macro expansion buffers, kept so that posting flags allocates nothing.
+    macro_bufs: MacroBufs,
+}
+
+/// Kept buffers of [`AvoidObstacleV24::expand_into`]: the expanded text, the text it is
+/// rebuilt into at each replacement (the two swap), and a formatted number.
+#[derive(Default)]
+struct MacroBufs {
+    text: String,
+    spare: String,
+    num: String,
 }
 
 impl AvoidObstacleV24 {
@@ -66,6 +77,7 @@ impl AvoidObstacleV24 {
             disabled: false,
             visuals: visuals::Kept::default(),
             course_list: Vec::new(),
+            macro_bufs: MacroBufs::default(),
         }
     }
 
@@ -378,25 +390,24 @@ impl IvpBehavior for AvoidObstacleV24 {
             self.cpa_ever = rng;
         }
         self.cpa_reported = self.cpa_ever;
-        let flags: Vec<String> = self
-            .params
-            .rng_flags
-            .iter()
-            .filter(|f| f.below <= 0.0 || rng < f.below)
-            .map(|f| f.flag.clone())
-            .collect();
-        for f in flags {
-            let text = self.expand(&f);
-            ctx.post_flag(&text, false);
+        // Taken out while `expand_into` reads `self`; put back below.
+        let mut bufs = std::mem::take(&mut self.macro_bufs);
+        let MacroBufs { text, spare, num } = &mut bufs;
+        for f in &self.params.rng_flags {
+            if f.below <= 0.0 || rng < f.below {
+                self.expand_into(&f.flag, text, spare, num);
+                ctx.post_flag(text, false);
+            }
         }
         if self.cpa_event(rng) && rng < self.params.pwt_outer {
             self.cpa_reported = self.event.cpa_sofar;
-            for f in self.params.cpa_flags.clone() {
-                let text = self.expand(&f);
-                ctx.post_flag(&text, false);
+            for f in &self.params.cpa_flags {
+                self.expand_into(f, text, spare, num);
+                ctx.post_flag(text, false);
             }
             self.cpa_reported = self.cpa_ever;
         }
+        self.macro_bufs = bufs;
         if rng > self.params.completed {
             self.resolved_pending = true;
         }
@@ -470,10 +481,22 @@ impl IvpBehavior for AvoidObstacleV24 {
 impl AvoidObstacleV24 {
     /// The type's macros (§1.13); `$[RBNG]` is never expanded, as in the reference.
     pub fn expand(&self, text: &str) -> String {
+        let mut out = String::new();
+        self.expand_into(text, &mut out, &mut String::new(), &mut String::new());
+        out
+    }
+
+    /// [`Self::expand`] into `out`, with `spare` and `num` as scratch: nothing is
+    /// allocated once the buffers have grown. The macros are replaced one after another
+    /// in the reference's order, each in the text the previous one left (so a value
+    /// holding a later macro, a label with `$[CPA]`, is expanded too).
+    fn expand_into(&self, text: &str, out: &mut String, spare: &mut String, num: &mut String) {
+        out.clear();
+        out.push_str(text);
         if !text.contains("$[") {
-            return text.to_string();
+            return;
         }
-        let label = &self.params.obstacle.attrs.label;
+        let label = self.params.obstacle.attrs.label.as_str();
         let oidx = label.rsplit_once('_').map_or("", |(_, t)| t);
         let (bng, side) = match (self.pose, self.derived.as_ref()) {
             (Some(os), Some(d)) => (
@@ -483,17 +506,53 @@ impl AvoidObstacleV24 {
             _ => (0.0, "n/a"),
         };
         let slock = self.side_lock.map_or("", Side::as_str);
-        let n = |v: f64| compact(v, 3);
-        text.replace("$[RNG]", &n(self.range()))
-            .replace("$[BNG]", &n(bng))
-            .replace("$[SIDE]", side)
-            .replace("$[OIDX]", oidx)
-            .replace("$[OID]", label)
-            .replace("$[CPA]", &n(self.cpa_reported))
-            .replace("$[SLOCK]", slock)
-            .replace("$[MINU_CPA]", &n(self.params.min_util_cpa))
-            .replace("$[MAXU_CPA]", &n(self.params.max_util_cpa))
+        let p = &self.params;
+        let steps = [
+            ("$[RNG]", Value::Num(self.range())),
+            ("$[BNG]", Value::Num(bng)),
+            ("$[SIDE]", Value::Text(side)),
+            ("$[OIDX]", Value::Text(oidx)),
+            ("$[OID]", Value::Text(label)),
+            ("$[CPA]", Value::Num(self.cpa_reported)),
+            ("$[SLOCK]", Value::Text(slock)),
+            ("$[MINU_CPA]", Value::Num(p.min_util_cpa)),
+            ("$[MAXU_CPA]", Value::Num(p.max_util_cpa)),
+        ];
+        for (token, value) in steps {
+            // A replacement without the token would copy the text unchanged.
+            if !out.contains(token) {
+                continue;
+            }
+            let value = match value {
+                Value::Text(s) => s,
+                Value::Num(v) => {
+                    num.clear();
+                    push_compact(num, v, 3);
+                    num.as_str()
+                }
+            };
+            replace_into(out, token, value, spare);
+        }
     }
+}
+
+/// A macro's value: numbers are formatted only when their macro is present.
+enum Value<'a> {
+    Text(&'a str),
+    Num(f64),
+}
+
+/// `*text = text.replace(token, value)`, built in `spare` (the two are swapped).
+fn replace_into(text: &mut String, token: &str, value: &str, spare: &mut String) {
+    spare.clear();
+    let mut last = 0;
+    for (at, _) in text.match_indices(token) {
+        spare.push_str(&text[last..at]);
+        spare.push_str(value);
+        last = at + token.len();
+    }
+    spare.push_str(&text[last..]);
+    std::mem::swap(text, spare);
 }
 
 #[cfg(test)]

@@ -80,3 +80,36 @@ fn changing_range_allocates_only_when_the_polygons_change() {
     println!("{at_changes} allocations at 40 changes of the polygons");
     assert_eq!(between, 0, "allocations between the changes");
 }
+
+/// With a range flag and a CPA flag holding macros, ownship swings between 12 m and
+/// 10 m off the obstacle (above both CPA distances + 1, so the polygons hold): the range
+/// flag is posted every iteration and the CPA event fires every other one, and the
+/// macro expansion allocates nothing either (only the mock's copies of the flags).
+#[test]
+fn flags_with_macros_allocate_nothing() {
+    let (mut b, mut helm) = behavior();
+    for (p, v) in [
+        ("rng_flag", "<20 RNGF = $[OID]:$[RNG]"),
+        (
+            "cpa_flag",
+            "CPAF = $[OID],cpa=$[CPA],bng=$[BNG],side=$[SIDE],min=$[MINU_CPA]",
+        ),
+    ] {
+        assert!(helm.with(|ctx| b.set_param(ctx, p, v)), "{p}");
+    }
+    let rounds = 200;
+    let (mut made, mut cpa_posts) = (0, 0);
+    for k in 0..rounds {
+        let x = if k % 2 == 0 { 48.0 } else { 50.0 };
+        let (n, built) = iteration(&mut b, &mut helm, x, -8.0 + 0.04 * k as f64);
+        assert!(built, "round {k}: no function");
+        let rng = if k % 2 == 0 { "12" } else { "10" };
+        assert_eq!(helm.flags[0].0, format!("RNGF = oba:{rng}"), "round {k}");
+        if k >= rounds / 2 {
+            made += n;
+            cpa_posts += helm.flags.len() - 1;
+        }
+    }
+    assert_eq!(cpa_posts, rounds / 4, "one CPA flag every other iteration");
+    assert_eq!(made, 0, "allocations in {} steady iterations", rounds / 2);
+}

@@ -218,3 +218,124 @@ fn eval(f: &FunctionData, c: i32, s: i32) -> Option<f64> {
             .then(|| w[0] * f64::from(c) + w[1] * f64::from(s) + w[2])
     })
 }
+
+/// The expansion as a chain of `str::replace`, each on the previous one's result (the
+/// reference's order), with the values computed independently of `expand_into`.
+fn replace_chain(b: &AvoidObstacleV24, text: &str) -> String {
+    let label = &b.params.obstacle.attrs.label;
+    let oidx = label.rsplit_once('_').map_or("", |(_, t)| t);
+    let (bng, side) = match (b.pose, b.derived.as_ref()) {
+        (Some(os), Some(d)) => (
+            rel_ang(os.x, os.y, d.centre.0, d.centre.1),
+            d.passing_side.as_str(),
+        ),
+        _ => (0.0, "n/a"),
+    };
+    let rng = b.derived.as_ref().map_or(-1.0, |d| d.range);
+    let slock = b.side_lock.map_or("", Side::as_str);
+    let n = |v: f64| compact(v, 3);
+    text.replace("$[RNG]", &n(rng))
+        .replace("$[BNG]", &n(bng))
+        .replace("$[SIDE]", side)
+        .replace("$[OIDX]", oidx)
+        .replace("$[OID]", label)
+        .replace("$[CPA]", &n(b.cpa_reported))
+        .replace("$[SLOCK]", slock)
+        .replace("$[MINU_CPA]", &n(b.params.min_util_cpa))
+        .replace("$[MAXU_CPA]", &n(b.params.max_util_cpa))
+}
+
+/// Texts made of macros, pieces of macros and other text, repeated and adjacent.
+const PIECES: [&str; 24] = [
+    "$[RNG]",
+    "$[BNG]",
+    "$[SIDE]",
+    "$[OIDX]",
+    "$[OID]",
+    "$[CPA]",
+    "$[SLOCK]",
+    "$[MINU_CPA]",
+    "$[MAXU_CPA]",
+    "$[RBNG]",
+    "$[",
+    "]",
+    "$",
+    "[",
+    "$[OI",
+    "D]",
+    "X]",
+    "$[MINU_",
+    "CPA]",
+    "ü",
+    "日本",
+    " = ",
+    ",",
+    "$[$[RNG]]",
+];
+
+/// Labels whose inserted values hold macros: expanded when later in the order (`$[CPA]`
+/// after `$[OID]`), kept when earlier (`$[SIDE]`), and `$[OIDX]`'s value `$[OID]`.
+const LABELS: [&str; 9] = [
+    "oba",
+    "ob_a_7",
+    "x_$[CPA]",
+    "a_$[OID]",
+    "$[SIDE]_$[MAXU_CPA]",
+    "ö_ñ$[SLOCK]$[RNG]",
+    "ob_D]",
+    "",
+    "_",
+];
+
+#[test]
+fn expansion_is_the_replace_chain() {
+    let (mut b, mut helm) = spawned();
+    helm.with(|ctx| b.on_params_complete(ctx));
+    let (mut text, mut spare, mut num) = (String::new(), String::new(), String::new());
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move |n: usize| {
+        // xorshift64: a fixed, repeatable sequence.
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n as u64) as usize
+    };
+    let mut checked = 0;
+    // Without a pose first (range -1, side n/a), then at fractional ranges and bearings.
+    for (k, nav) in [
+        None,
+        Some((47.3, -1.7)),
+        Some((50.0, 0.0)),
+        Some((56.125, 9.5)),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        if let Some((x, y)) = nav {
+            helm.nav(x, y, 37.0, 2.0);
+            helm.with(|ctx| b.on_every_state(ctx));
+            assert!(b.derived.is_some(), "nav {k}");
+        }
+        b.side_lock = [None, Some(Side::Star), Some(Side::Port), None][k];
+        b.cpa_reported = [-1.0, 4.56789, 10.0, 0.0005][k];
+        b.params.min_util_cpa = [3.0, 2.5, 1.0 / 3.0, -0.0][k];
+        b.params.max_util_cpa = [7.0, 7.125, 1e20, 8.0][k];
+        for label in LABELS {
+            b.params.obstacle.attrs.label = label.to_string();
+            for t in PIECES.iter().chain(LABELS.iter()) {
+                let want = replace_chain(&b, t);
+                assert_eq!(b.expand(t), want, "{t:?} label {label:?}");
+            }
+            for _ in 0..400 {
+                let s: String = (0..next(9)).map(|_| PIECES[next(PIECES.len())]).collect();
+                let want = replace_chain(&b, &s);
+                assert_eq!(b.expand(&s), want, "{s:?} label {label:?}");
+                // Kept buffers holding earlier texts give the same.
+                b.expand_into(&s, &mut text, &mut spare, &mut num);
+                assert_eq!(text, want, "{s:?} label {label:?}, kept buffers");
+                checked += usize::from(s != want);
+            }
+        }
+    }
+    assert!(checked > 5000, "only {checked} texts had a macro expanded");
+}
