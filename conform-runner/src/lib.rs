@@ -16,7 +16,6 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use serde::Deserialize;
 
@@ -24,6 +23,9 @@ use helm_engine::config::{BlockLine, HelmConfig};
 use helm_engine::factory::BehaviorFactory;
 use helm_engine::posting::{Posting, Value};
 use helm_engine::{Helm, Mail};
+
+mod bench;
+pub use bench::{bench_file, BenchOutcome, BenchResult, CppTiming};
 
 /// One recorded case.
 #[derive(Debug, Deserialize)]
@@ -356,56 +358,4 @@ pub fn run_file(file: &Path, factory: &BehaviorFactory) -> CaseResult {
         },
         Err(e) => CaseResult::failed(case.name, file, e),
     }
-}
-
-/// Timing of a case replayed repeatedly for at least `min_secs`.
-#[derive(Debug, Clone)]
-pub struct BenchResult {
-    pub name: String,
-    /// Mean µs per decision iteration (modes, behaviors, solve): the C++ measure.
-    pub decision_us: f64,
-    /// Mean µs per whole iteration step: mail, iteration, publication, runner echo.
-    pub whole_us: f64,
-}
-
-/// What `bench_file` measured.
-#[derive(Debug, Clone)]
-pub enum BenchOutcome {
-    Timed(BenchResult),
-    /// The case names behavior types the project does not have yet (see [`missing_types`]).
-    Waiting(Vec<String>),
-}
-
-/// Replay `case` repeatedly, each time through a fresh helm, for at least `min_secs`.
-pub fn bench_file(
-    file: &Path,
-    factory: &BehaviorFactory,
-    min_secs: f64,
-) -> Result<BenchOutcome, String> {
-    let case = load(file).map_err(|e| e.to_string())?;
-    let waiting_for = missing_types(&case, file, factory);
-    if !waiting_for.is_empty() {
-        return Ok(BenchOutcome::Waiting(waiting_for));
-    }
-    let mut decide = std::time::Duration::ZERO;
-    let mut decisions = 0u64;
-    let mut whole = 0.0;
-    let mut reps = 0usize;
-    let wall = Instant::now();
-    while wall.elapsed().as_secs_f64() < min_secs || reps == 0 {
-        let mut helm = build_helm(&case, file, factory)?;
-        let t = Instant::now();
-        replay(&case, &mut helm, false);
-        whole += t.elapsed().as_secs_f64();
-        let (d, n) = helm.decision_timing();
-        decide += d;
-        decisions += n;
-        reps += 1;
-    }
-    let decisions = decisions.max(1);
-    Ok(BenchOutcome::Timed(BenchResult {
-        name: case.name,
-        decision_us: decide.as_secs_f64() / decisions as f64 * 1e6,
-        whole_us: whole / decisions as f64 * 1e6,
-    }))
 }

@@ -127,6 +127,9 @@ enum Command {
         all: bool,
         /// Replay each case for at least 2 s and print `bench <case> <µs>`: the mean time
         /// of the decision step (modes, behaviors, solve), as the C++ timings measure it.
+        /// Where the case's `.timing-O2.json` is beside it, the C++ helm's mean and
+        /// median-replay times follow with our share of each, and a last line counts the
+        /// cases at most 1/10 of it. The C++ times were recorded on another machine.
         #[arg(long)]
         bench: bool,
         #[arg(required = true)]
@@ -212,6 +215,92 @@ fn factory_from_env() -> BehaviorFactory {
     factory
 }
 
+/// `helm conform --bench`: each case's decision step beside the C++ helm's time for it.
+fn bench_cmd(files: &[PathBuf], factory: &BehaviorFactory) -> ExitCode {
+    let mut failed = false;
+    // Cases with a C++ timing, and how many of them are at most 1/10 of it (mean, median).
+    let (mut compared, mut by_mean, mut by_median) = (0, 0, 0);
+    let mut cpp_cpu = String::new();
+    for f in files {
+        match conform::bench_file(f, factory, 2.0) {
+            Ok(conform::BenchOutcome::Waiting(types)) => {
+                println!(
+                    "bench {}: waiting for its behavior types: {}",
+                    f.display(),
+                    types.join(", ")
+                );
+            }
+            Ok(conform::BenchOutcome::Timed(r)) => {
+                match conform::CppTiming::beside(f) {
+                    Ok(Some(cpp)) => {
+                        let (mean, median) = against_cpp(&r, &cpp);
+                        compared += 1;
+                        by_mean += usize::from(mean <= 0.1);
+                        by_median += usize::from(median <= 0.1);
+                        if cpp_cpu.is_empty() {
+                            cpp_cpu = cpp.cpu;
+                        }
+                    }
+                    Ok(None) => println!("bench {} {:.3}", r.name, r.decision_us),
+                    Err(e) => {
+                        failed = true;
+                        println!("bench {} {:.3}", r.name, r.decision_us);
+                        eprintln!("bench {}: {e}", f.display());
+                    }
+                }
+                // After the case's line, in order when both go to one file.
+                let _ = std::io::Write::flush(&mut std::io::stdout());
+                eprintln!(
+                    "  (whole step incl. mail, publication and replay: {:.3} µs)",
+                    r.whole_us
+                );
+            }
+            Err(e) => {
+                failed = true;
+                eprintln!("bench {}: {e}", f.display());
+            }
+        }
+    }
+    if compared > 0 {
+        if cpp_cpu.is_empty() {
+            cpp_cpu = "an unnamed CPU".into();
+        }
+        println!(
+            "at most 1/10 of the C++ time: {by_mean} of {compared} cases by the mean, \
+             {by_median} by the median replay (C++ timed on {cpp_cpu}; this machine: {})",
+            this_cpu()
+        );
+    }
+    if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Prints a case's line with the C++ times; returns our mean and median over theirs.
+fn against_cpp(r: &conform::BenchResult, cpp: &conform::CppTiming) -> (f64, f64) {
+    let mean = r.decision_us / cpp.mean_us;
+    let median = r.median_rep_us / cpp.median_rep_us;
+    println!(
+        "bench {} {:.3}  (C++ {:.3}: {mean:.3}; median of {} replays {:.3} vs {:.3}: {median:.3})",
+        r.name, r.decision_us, cpp.mean_us, r.reps, r.median_rep_us, cpp.median_rep_us
+    );
+    (mean, median)
+}
+
+/// The CPU model, as Linux names it (timings differ between machines).
+fn this_cpu() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find_map(|l| l.strip_prefix("model name").and_then(|r| r.split_once(':')))
+                .map(|(_, m)| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
 fn conform_cmd(bench: bool, all: bool, paths: &[PathBuf]) -> ExitCode {
     let files = match conform::collect(paths) {
         Ok(f) => f,
@@ -222,34 +311,7 @@ fn conform_cmd(bench: bool, all: bool, paths: &[PathBuf]) -> ExitCode {
     };
     let factory = factory_from_env();
     if bench {
-        let mut failed = false;
-        for f in &files {
-            match conform::bench_file(f, &factory, 2.0) {
-                Ok(conform::BenchOutcome::Waiting(types)) => {
-                    println!(
-                        "bench {}: waiting for its behavior types: {}",
-                        f.display(),
-                        types.join(", ")
-                    );
-                }
-                Ok(conform::BenchOutcome::Timed(r)) => {
-                    println!("bench {} {:.3}", r.name, r.decision_us);
-                    eprintln!(
-                        "  (whole step incl. mail, publication and replay: {:.3} µs)",
-                        r.whole_us
-                    );
-                }
-                Err(e) => {
-                    failed = true;
-                    eprintln!("bench {}: {e}", f.display());
-                }
-            }
-        }
-        return if failed {
-            ExitCode::FAILURE
-        } else {
-            ExitCode::SUCCESS
-        };
+        return bench_cmd(&files, &factory);
     }
     let (mut passed, mut failed, mut waiting) = (0, 0, 0);
     for f in &files {

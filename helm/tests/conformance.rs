@@ -115,3 +115,66 @@ fn a_case_that_differs_fails_with_case_step_variable_expected_and_got() {
     );
     assert!(text.trim_end().ends_with("0 passed, 1 failed"), "{text}");
 }
+
+/// `helm conform --bench` prints each case's time beside the C++ helm's time recorded for
+/// it, the ratios, and how many cases are at most 1/10 of it; a case without a recorded
+/// timing gets its own time only.
+#[test]
+fn bench_puts_the_cpp_time_beside_ours() {
+    let src = common::workspace().join("conformance/helm/timer_gate.toml");
+    let cpp = helm_conform::CppTiming::beside(&src)
+        .expect("readable")
+        .expect("timer_gate has its C++ timing");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("conform-bench");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let bare = dir.join("timer_gate.toml");
+    std::fs::copy(&src, &bare).expect("copy case");
+    let out = Command::new(env!("CARGO_BIN_EXE_helm"))
+        .args(["conform", "--bench"])
+        .arg(&src)
+        .arg(&bare)
+        .env_remove("IVP_BEHAVIOR_DIRS")
+        .env("IVP_HELM_BUNDLED_DIR", "")
+        .output()
+        .expect("run helm");
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{text}");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    // bench timer_gate <us>  (C++ <mean>: <ratio>; median of <n> replays <us> vs <us>: <ratio>)
+    let f: Vec<&str> = lines[0].split_whitespace().collect();
+    assert_eq!(&f[..2], ["bench", "timer_gate"], "{text}");
+    let num = |s: &str| -> f64 {
+        s.trim_end_matches([':', ';', ')'])
+            .parse()
+            .unwrap_or_else(|_| panic!("{s:?} in {text}"))
+    };
+    let ours = num(f[2]);
+    assert_eq!(f[3], "(C++", "{text}");
+    assert_eq!(num(f[4]), (cpp.mean_us * 1e3).round() / 1e3, "{text}");
+    assert!((num(f[5]) - ours / cpp.mean_us).abs() < 1e-3, "{text}");
+    let reps = num(f[8]);
+    assert!(reps >= 1.0, "{text}");
+    assert_eq!(
+        num(f[12]),
+        (cpp.median_rep_us * 1e3).round() / 1e3,
+        "{text}"
+    );
+    assert!(
+        (num(f[13]) - num(f[10]) / cpp.median_rep_us).abs() < 1e-3,
+        "{text}"
+    );
+    // The copy has no timing beside it: our time alone.
+    let g: Vec<&str> = lines[1].split_whitespace().collect();
+    assert_eq!(g.len(), 3, "{text}");
+    assert_eq!(&g[..2], ["bench", "timer_gate"], "{text}");
+    // Only the case with a timing counts.
+    let within = usize::from(ours / cpp.mean_us <= 0.1);
+    assert!(
+        lines[2].starts_with(&format!(
+            "at most 1/10 of the C++ time: {within} of 1 cases by the mean, "
+        )),
+        "{text}"
+    );
+    assert!(lines[2].contains("this machine: "), "{text}");
+}
