@@ -8,7 +8,7 @@
 //! draw (a malformed VIEW_*, a node report without a name). Lines are read with a bound,
 //! so a file without newlines cannot exhaust memory.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read};
 use std::path::Path;
@@ -69,6 +69,10 @@ pub struct AlogIndex {
     pub skipped: BTreeMap<String, u64>,
     /// min x, min y, max x, max y over every position and shape vertex.
     pub bounds: Option<[f64; 4]>,
+    /// The header's `%% LOGSTART` (UNIX time of time 0), to line up logs of one run.
+    pub logstart: Option<f64>,
+    /// Vehicles reported in `NODE_REPORT_LOCAL`: the log's own (the rest are contacts).
+    pub local: BTreeSet<String>,
     tracks: BTreeMap<String, Track>,
     events: Vec<(f64, ViewChange)>,
     /// (number of events applied, key → index of the event that drew it).
@@ -205,7 +209,13 @@ impl AlogIndex {
                 }
             };
             let l = l.trim();
-            if l.is_empty() || l.starts_with('%') {
+            if l.starts_with('%') {
+                if ix.logstart.is_none() {
+                    ix.logstart = logstart(l);
+                }
+                continue;
+            }
+            if l.is_empty() {
                 continue;
             }
             let Some((t, var, value)) = columns(l) else {
@@ -228,6 +238,11 @@ impl AlogIndex {
                 _ => Value::Str(value),
             };
             if let Some(u) = feed.apply(var, v, t) {
+                if let (Update::Vehicle(v), "NODE_REPORT_LOCAL") = (&u, var) {
+                    if !ix.local.contains(&v.name) {
+                        ix.local.insert(v.name.clone());
+                    }
+                }
                 ix.push(t, u);
             }
         }
@@ -385,6 +400,13 @@ impl AlogIndex {
     pub fn skipped_summary(&self) -> String {
         summary(&self.skipped)
     }
+}
+
+/// The time of a `%% LOGSTART 1700000000.00` header line.
+fn logstart(l: &str) -> Option<f64> {
+    let mut it = l.trim_start_matches('%').split_whitespace();
+    (it.next()? == "LOGSTART").then_some(())?;
+    it.next()?.parse().ok().filter(|t: &f64| t.is_finite())
 }
 
 /// `N lines skipped: 3 not UTF-8, 1 last line cut short` (empty when none).

@@ -131,10 +131,10 @@ fn run(args: &ViewArgs) -> Result<(), ViewError> {
 
 fn replay(path: &Path) -> Result<App, ViewError> {
     let runs = crate::runs::open(path)?;
-    for r in &runs.runs {
-        let s = r.index.skipped_summary();
+    for l in runs.runs.iter().flat_map(|r| &r.logs) {
+        let s = l.index.skipped_summary();
         if !s.is_empty() {
-            eprintln!("helm view: {}: {} lines read, {s}", r.name, r.index.lines);
+            eprintln!("helm view: {}: {} lines read, {s}", l.name, l.index.lines);
         }
     }
     Ok(App {

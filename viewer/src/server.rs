@@ -244,13 +244,16 @@ fn info(app: &App, ws_port: Option<u16>) -> serde_json::Value {
                 .runs
                 .iter()
                 .map(|run| {
+                    let logs: Vec<&str> = run.logs.iter().map(|l| l.name.as_str()).collect();
                     json!({
                         "name": run.name,
-                        "t0": run.index.t0,
-                        "t1": run.index.t1,
-                        "lines": run.index.lines,
-                        "skipped": run.index.skipped_summary(),
-                        "bounds": run.index.bounds,
+                        "t0": run.t0(),
+                        "t1": run.t1(),
+                        "lines": run.lines(),
+                        "skipped": run.skipped_summary(),
+                        "bounds": run.bounds(),
+                        "logs": logs,
+                        "vehicles": run.vehicle_names(),
                     })
                 })
                 .collect();
@@ -286,7 +289,7 @@ fn frame(app: &App, rq: Request, url: &str) {
         }
     }
     match r.runs.get(run) {
-        Some(run) => respond_json(rq, 200, &run.index.frame(t)),
+        Some(run) => respond_json(rq, 200, &run.frame(t)),
         None => respond(rq, 404, "text/plain", b"no such run".to_vec()),
     }
 }
@@ -296,7 +299,7 @@ fn tracks(app: &App, rq: Request) {
     let Mode::Replay(r) = &app.mode else {
         return respond_json(rq, 200, &Vec::<()>::new());
     };
-    let all: Vec<_> = r.runs.iter().map(|run| run.index.tracks(400)).collect();
+    let all: Vec<_> = r.runs.iter().map(|run| run.tracks(400)).collect();
     respond_json(rq, 200, &all)
 }
 
@@ -343,6 +346,56 @@ fn press(app: &App, rq: Request, host: &str, path: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// GET `path` from a server on 127.0.0.1: the body as JSON.
+    fn get(addr: SocketAddr, path: &str) -> serde_json::Value {
+        use std::io::{Read, Write};
+        let mut s = std::net::TcpStream::connect(addr).unwrap();
+        let rq = format!("GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+        s.write_all(rq.as_bytes()).unwrap();
+        let mut text = String::new();
+        s.read_to_string(&mut text).unwrap();
+        let body = text.split_once("\r\n\r\n").map_or("", |(_, b)| b);
+        serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {text}"))
+    }
+
+    #[test]
+    fn a_fleets_run_is_served_with_every_vehicle_in_one_frame() {
+        let dir = crate::runs::tests::folder("server-fleet");
+        crate::runs::tests::fleet_runs(&dir, 2);
+        let runs = crate::runs::open(&dir).unwrap();
+        let app = App {
+            title: "fleet".into(),
+            mode: Mode::Replay(runs),
+            buttons: Vec::new(),
+        };
+        let s = start(Arc::new(app), "127.0.0.1:0".parse().unwrap()).unwrap();
+        let info = get(s.addr, "/api/info");
+        assert_eq!(info["runs"].as_array().map(Vec::len), Some(2));
+        assert_eq!(info["runs"][1]["vehicles"], json!(["abe", "ben"]));
+        assert_eq!(
+            info["runs"][1]["logs"],
+            json!(["run-0001/abe.alog", "run-0001/ben.alog"])
+        );
+        let (t0, t1) = (
+            info["runs"][1]["t0"].as_f64(),
+            info["runs"][1]["t1"].as_f64(),
+        );
+        assert_eq!((t0, t1), (Some(0.0), Some(12.0)));
+        // The middle of run 1: both vehicles, each where its own log puts it.
+        let f = get(s.addr, "/api/frame?run=1&t=6");
+        let at: Vec<(&str, f64)> = f["vehicles"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| (v["name"].as_str().unwrap(), v["x"].as_f64().unwrap()))
+            .collect();
+        assert_eq!(at, [("abe", 6.0), ("ben", 4.0)]);
+        assert!(f["trails"]["abe"].is_array() && f["trails"]["ben"].is_array());
+        let tracks = get(s.addr, "/api/tracks");
+        assert_eq!(tracks[1].as_object().map(|t| t.len()), Some(2));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn queries() {

@@ -1,6 +1,7 @@
 //! `helm view` on `.alog` files, looked at in a real (headless) Chromium: the vehicle is
 //! drawn where the log puts it at the slider's time, a polygon appears and disappears
-//! with time, labels that look like markup stay text, a folder of runs shows its table.
+//! with time, labels that look like markup stay text, a folder of runs shows its table,
+//! a fleet's Monte Carlo (`helm sim --runs N --alogs`) plays each run's vehicles together.
 //! Screenshots: `target/viewer-artifacts/replay-*.png`.
 
 mod common;
@@ -9,7 +10,7 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 use common::cdp::Browser;
-use common::{artifacts, helm_view, temp_dir};
+use common::{artifacts, helm_bin, helm_view, temp_dir, workspace};
 
 const LIMIT: Duration = Duration::from_secs(60);
 
@@ -202,4 +203,133 @@ fn a_folder_of_runs_shows_the_table_and_a_click_shows_that_run() {
         "2"
     );
     b.screenshot(&artifacts().join("replay-runs.png"));
+}
+
+/// Two vehicles crossing within each other's comms range (so each log also reports the
+/// other as a contact): missions/encounter's, with only their transits (the avoidance
+/// behavior is a plugin library, which a debug test build does not have).
+const CROSSING: &str = r#"
+[[vehicle]]
+name    = "abe"
+mission = "encounter.moos"
+bhv     = ["abe.bhv"]
+x       = 0
+y       = -40
+heading = 0
+color   = "dodger_blue"
+
+[[vehicle]]
+name    = "ben"
+mission = "encounter.moos"
+bhv     = ["ben.bhv"]
+x       = 40
+y       = 0
+heading = 270
+color   = "orange_red"
+
+[comms]
+range = 100
+"#;
+
+/// A vehicle's last `NODE_REPORT_LOCAL` position at or before `t` in its own log.
+fn own_position(log: &std::path::Path, t: f64) -> (f64, f64) {
+    let text = std::fs::read_to_string(log).expect("read log");
+    let mut at = (f64::NAN, f64::NAN);
+    for l in text.lines() {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        if f.len() < 4 || f[1] != "NODE_REPORT_LOCAL" || f[0].parse::<f64>().map_or(true, |x| x > t)
+        {
+            continue;
+        }
+        let num = |k: &str| {
+            f[3].split(',')
+                .find_map(|kv| kv.strip_prefix(k))
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(f64::NAN)
+        };
+        at = (num("X="), num("Y="));
+    }
+    at
+}
+
+#[test]
+fn a_fleets_runs_play_all_their_vehicles_together() {
+    let mission = temp_dir("viewer-fleet-mission");
+    let src = workspace().join("missions/encounter");
+    for f in ["encounter.moos", "abe.bhv", "ben.bhv"] {
+        std::fs::copy(src.join(f), mission.join(f)).expect("copy mission file");
+    }
+    std::fs::write(mission.join("encounter.bhv"), "initialize DEPLOY = true\n").expect("bhv");
+    std::fs::write(mission.join("scenario.toml"), CROSSING).expect("scenario");
+    let out = temp_dir("viewer-fleet-runs");
+    let sim = std::process::Command::new(helm_bin())
+        .arg("sim")
+        .arg(&mission)
+        .args([
+            "--runs",
+            "2",
+            "--alogs",
+            "--jitter",
+            "x=5,y=5,heading=10",
+            "--max-time",
+            "20",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("run helm sim");
+    assert!(
+        sim.status.success(),
+        "{}",
+        String::from_utf8_lossy(&sim.stderr)
+    );
+    assert!(out.join("run-0001/ben.alog").is_file());
+
+    let (_view, url) = helm_view(&[out.to_str().expect("utf-8 path")]);
+    let mut b = Browser::start();
+    b.goto(&url);
+    // One row per run (runs.csv), not one per vehicle log.
+    b.wait_for(
+        "document.querySelectorAll('#runs tbody tr').length === 2",
+        LIMIT,
+    );
+    assert_eq!(
+        b.eval("document.querySelectorAll('#runs tbody tr').length"),
+        2
+    );
+    let cols = b.eval("[...document.querySelectorAll('#runs thead th')].map(h => h.textContent)");
+    assert!(
+        cols.as_array()
+            .is_some_and(|c| c.iter().any(|c| c == "cpa_abe_ben")),
+        "{cols}"
+    );
+    // Both vehicles' tracks of both runs in the overview.
+    b.wait_for(
+        "document.querySelectorAll('#alltracks polyline').length === 4",
+        LIMIT,
+    );
+
+    b.eval("document.querySelector('#runs tbody tr:nth-child(2)').click()");
+    b.wait_for("document.querySelector('#runs tr.sel') && document.querySelector('#runs tr.sel').dataset.run === '1'", LIMIT);
+    set_time(&mut b, 10.0);
+    let v = vehicles(&mut b);
+    let names: Vec<&str> = v.iter().map(|v| v.0.as_str()).collect();
+    assert_eq!(names, ["abe", "ben"], "each vehicle drawn once: {v:?}");
+    // Each where its own log of run 1 puts it, its hull drawn there.
+    for (name, x, y, off) in &v {
+        let own = own_position(&out.join(format!("run-0001/{name}.alog")), 10.0);
+        assert_eq!((*x, *y), own, "{name}");
+        assert!(*off < 3.0, "{name}'s hull is {off} px from its position");
+    }
+    let trails =
+        b.eval("[...document.querySelectorAll('#trails polyline')].map(p => p.dataset.name)");
+    assert_eq!(trails, serde_json::json!(["abe", "ben"]));
+    b.screenshot(&artifacts().join("replay-fleet.png"));
+    // A closer look: the map centred on the two vehicles, drawn at the next paint.
+    b.eval(
+        "(() => { const [a, c] = [...S.vehicles.values()];
+          S.view.cx = (a.x + c.x) / 2; S.view.cy = (a.y + c.y) / 2; S.view.s = 10; S.dirty = true;
+          return new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r))); })()",
+    );
+    b.screenshot(&artifacts().join("replay-fleet-zoomed.png"));
 }

@@ -29,6 +29,9 @@ fn vehicle_is_where_the_log_puts_it_at_each_time() {
     assert_eq!(ix.frame(9.0).vehicles[0].mode, "M1");
     assert!(ix.frame(-1.0).vehicles.is_empty());
     assert_eq!(ix.bounds, Some([0.0, -9.0, 18.0, 0.0]));
+    // The header's clock and the log's own vehicle, for lining up a fleet's logs.
+    assert_eq!(ix.logstart, Some(1795316330.37));
+    assert_eq!(ix.local.iter().collect::<Vec<_>>(), ["abe"]);
 }
 
 #[test]
