@@ -36,6 +36,62 @@ pub const SHIPPED_LIBRARY_TYPES: &[&str] = &[
     "BHV_ZigZag",
 ];
 
+/// The behavior types the real helm (MOOS-IvP) creates by name (behavior-common.md §9),
+/// so a mission naming one this project lacks hears that the type is real, not a typo.
+pub const REAL_HELM_TYPES: &[&str] = &[
+    "BHV_OpRegion",
+    "BHV_OpRegionRecover",
+    "BHV_OpRegionV24",
+    "BHV_Waypoint",
+    "BHV_LegRun",
+    "BHV_ZigZag",
+    "BHV_FullStop",
+    "BHV_FixTurn",
+    "BHV_FixedTurn",
+    "BHV_ConstantSpeed",
+    "BHV_Trail",
+    "BHV_Convoy",
+    "BHV_MaxDepth",
+    "BHV_MaxSpeed",
+    "BHV_ConstantDepth",
+    "BHV_ConstantHeading",
+    "BHV_MaintainHeading",
+    "BHV_Loiter",
+    "BHV_StationKeep",
+    "BHV_RStationKeep",
+    "BHV_Timer",
+    "BHV_TestFailure",
+    "BHV_HSLine",
+    "BHV_BearingLine",
+    "BHV_HeadingChange",
+    "BHV_Shadow",
+    "BHV_CutRange",
+    "BHV_AvoidCollision",
+    "BHV_AvoidObstacle",
+    "BHV_AvoidObstacleX",
+    "BHV_AvoidObstacleV21",
+    "BHV_AvoidObstacleV24",
+    "BHV_PeriodicSpeed",
+    "BHV_PeriodicSurface",
+    "BHV_GoToDepth",
+    "BHV_MemoryTurnLimit",
+    "BHV_Hysteresis",
+    "BHV_Attractor",
+    "BHV_RubberBand",
+    "BHV_HeadingBias",
+    "BHV_MinAltitudeX",
+    "BHV_AvdColregsV17",
+    "BHV_AvdColregsV19",
+    "BHV_AvdColregsV22",
+    "BHV_AvdColregsV26",
+    "BHV_PModelView",
+];
+
+/// A real helm type this project does not provide (see [`REAL_HELM_TYPES`]).
+pub fn real_type_not_here(type_name: &str) -> bool {
+    REAL_HELM_TYPES.contains(&type_name) && !project_has_type(type_name)
+}
+
 /// Whether this project provides `type_name`, built in or as a shipped library.
 pub fn project_has_type(type_name: &str) -> bool {
     SHIPPED_LIBRARY_TYPES.contains(&type_name)
@@ -118,5 +174,38 @@ impl BehaviorFactory {
             .iter()
             .find(|l| l.offers(type_name))
             .and_then(|l| l.create(type_name, helm_domain))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every type we provide is one the real helm has, but the template (ours alone).
+    #[test]
+    fn what_we_provide_is_a_real_helm_type() {
+        let builtins = behaviors_std::builtin_types();
+        let ours = SHIPPED_LIBRARY_TYPES
+            .iter()
+            .copied()
+            .chain(builtins.iter().map(|(n, _)| *n));
+        for t in ours.filter(|t| *t != "BHV_Template") {
+            assert!(REAL_HELM_TYPES.contains(&t), "{t}");
+        }
+    }
+
+    #[test]
+    fn real_types_we_lack() {
+        assert!(real_type_not_here("BHV_PeriodicSpeed"));
+        assert!(real_type_not_here("BHV_AvdColregsV26"));
+        // Ours; refused with its own reason (deprecated); a typo; case matters.
+        for t in [
+            "BHV_Waypoint",
+            "BHV_AvoidObstacle",
+            "BHV_Waypiont",
+            "bhv_periodicspeed",
+        ] {
+            assert!(!real_type_not_here(t), "{t}");
+        }
     }
 }

@@ -351,6 +351,28 @@ fn bhv_problems_say_which_in_one_pass_in_line_order() {
     );
 }
 
+/// A MOOS-IvP user's mission naming a real helm type this helm lacks hears that the type
+/// is real (not a typo) and how a library for it would load.
+#[test]
+fn a_real_helm_type_we_lack_is_named_as_such() {
+    let dir = alpha_copy("realtype", |m| m.to_string());
+    let bhv = "initialize DEPLOY = true\n\nBehavior = BHV_PeriodicSpeed\n{\n  name = ps\n}\n";
+    std::fs::write(dir.join("alpha.bhv"), bhv).expect("write");
+    let moos = dir.join("alpha.moos");
+    let o = helm(&["check", moos.to_str().expect("utf-8")]);
+    let t = common::text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    let line = t
+        .lines()
+        .find(|l| l.contains("alpha.bhv:3: unknown behavior type BHV_PeriodicSpeed"))
+        .unwrap_or_else(|| panic!("no line for the type:\n{t}"));
+    assert!(
+        line.contains("the real helm has this type and this helm does not yet")
+            && line.contains("IVP_BEHAVIOR_DIRS"),
+        "{line}"
+    );
+}
+
 #[test]
 fn a_bhv_given_as_mission_and_a_missing_bhv_say_so() {
     let dir = alpha_copy("bhvmission", |m| {

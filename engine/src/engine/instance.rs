@@ -40,6 +40,11 @@ pub(crate) fn make_instance(
             Some(why) if crate::factory::SHIPPED_LIBRARY_TYPES.contains(&bs.type_name.as_str()) => {
                 format!(": it is one of the helm's shipped libraries: {why}")
             }
+            _ if crate::factory::real_type_not_here(&bs.type_name) => {
+                ": the real helm has this type and this helm does not yet; a library \
+                 providing it loads from IVP_BEHAVIOR_DIRS or an ivp_behavior_dir line"
+                    .to_string()
+            }
             _ => String::new(),
         };
         return Err(vec![format!(
