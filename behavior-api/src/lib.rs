@@ -75,6 +75,14 @@ pub mod testing;
 pub mod value;
 pub mod zaic;
 
+/// Domains, functions, ZAIC builders and coupler (the crate `ivp`) with the
+/// OF_Reflector (the crate `ivp-reflector`), at the paths behaviors have always used:
+/// `ivp::Reflector`, `ivp::Aof`, `ivp::reflector::…` beside `ivp::Domain` and the rest.
+pub mod ivp {
+    pub use ::ivp::*;
+    pub use ivp_reflector::{reflector, Aof, Reflector};
+}
+
 // The tutorial's files are shown whole, their `#[cfg(test)]` tests included: rustdoc
 // compiles them, and helm/tests/plugin_copy.rs builds them as crates and runs the tests.
 #[allow(clippy::test_attr_in_doctest)]
@@ -88,7 +96,6 @@ pub use context::HelmCtx;
 pub use format::{push_compact, push_fixed, push_i64, push_u64};
 pub use function::FunctionData;
 pub use geometry;
-pub use ivp;
 pub use mbutil;
 pub use mbutil::{atof, compact, is_color, is_number, parse_color, parse_number, Color};
 pub use module::{BehaviorLibRef, FunctionRecycler, API_VERSION};

@@ -46,3 +46,36 @@ fn view_attributes_use_the_one_colour_parser() {
     assert!(behavior_api::geometry::is_color("Gray70"));
     assert!(!behavior_api::geometry::is_color("0:0:0"));
 }
+
+/// The reflector lives in its own crate (ivp-reflector) but behaviors reach it where they
+/// always did, beside ivp's own items: `ivp::Reflector`, `ivp::Aof`, `ivp::reflector::…`.
+#[test]
+fn the_reflector_is_reached_through_ivp() {
+    use behavior_api::ivp::reflector::{box_subtract, eval_grid_pointwise, intersects, IndexBox};
+    use behavior_api::ivp::{couple, Aof, Domain, IvpFunction, Reflector, ZaicPeak};
+
+    struct Flat;
+    impl Aof for Flat {
+        fn eval(&self, _: &Domain, index: &[u32]) -> f64 {
+            f64::from(index[0])
+        }
+    }
+    let dom = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+    let mut out = [0.0; 2];
+    eval_grid_pointwise(&Flat, &dom, &[&[3, 4], &[0]], &mut out);
+    assert_eq!(out, [3.0, 4.0]);
+    let mut r = Reflector::new(&dom, &Flat);
+    assert!(r.set_param("uniform_piece", "discrete@course:10,speed:41"));
+    r.create(None, None);
+    let f: IvpFunction = r.extract(true).unwrap();
+    assert_eq!(f.domain().size(), 2);
+    let mut crs = ZaicPeak::new(&dom, "course").unwrap();
+    crs.set_params(90.0, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+    let mut spd = ZaicPeak::new(&dom, "speed").unwrap();
+    spd.set_params(2.0, 1.0, 1.6, 20.0, 0.0, 100.0, 0);
+    let (c, s) = (crs.extract(true).unwrap(), spd.extract(true).unwrap());
+    assert!(couple(c, s, 50.0, 50.0, true).is_some());
+    let whole: IndexBox = vec![(0, 9)];
+    assert!(intersects(&whole, &[(5, 5)]));
+    assert_eq!(box_subtract(&whole, &[(5, 5)]).len(), 2);
+}

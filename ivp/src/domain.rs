@@ -95,7 +95,9 @@ thread_local! {
 /// A domain of copies of `vars`, in a spare domain's storage (its variable names
 /// reused). Room for a few variables is kept, so that coupling two functions' domains
 /// into one does not grow it.
-pub(crate) fn domain_of(vars: &[DomainVar]) -> Domain {
+// Public but hidden: for ivp-reflector only, not part of ivp's API.
+#[doc(hidden)]
+pub fn domain_of(vars: &[DomainVar]) -> Domain {
     let spare = SPARE_DOMAINS.try_with(|s| s.borrow_mut().pop());
     let mut d = spare.ok().flatten().unwrap_or_default();
     d.assign_from(vars);
@@ -103,7 +105,9 @@ pub(crate) fn domain_of(vars: &[DomainVar]) -> Domain {
 }
 
 /// Keep a domain's storage for later builds.
-pub(crate) fn give_domain(domain: Domain) {
+// Public but hidden: for ivp-reflector only, not part of ivp's API.
+#[doc(hidden)]
+pub fn give_domain(domain: Domain) {
     if domain.vars.capacity() > 0 {
         let _ = SPARE_DOMAINS.try_with(|s| mbutil::spare::keep(&mut s.borrow_mut(), domain));
     }

@@ -256,7 +256,9 @@ impl IvpFunction {
     /// A builder's function whose search grid it computed along with the pieces (what
     /// [`IvpFunction::build_grid`] gives for them); the layout is correct by
     /// construction (checked in debug builds).
-    pub(crate) fn with_grid_unchecked(
+    // Public but hidden: for ivp-reflector only, not part of ivp's API.
+    #[doc(hidden)]
+    pub fn with_grid_unchecked(
         domain: Domain,
         bounds: Vec<i32>,
         weights: Vec<f64>,
@@ -414,7 +416,9 @@ impl IvpFunction {
 
     /// [`IvpFunction::normalize`] given what [`IvpFunction::min_max_wt`] returns (a
     /// builder that has it already).
-    pub(crate) fn normalize_from(&mut self, (mn, mx): (f64, f64), base: f64, range: f64) {
+    // Public but hidden: for ivp-reflector only, not part of ivp's API.
+    #[doc(hidden)]
+    pub fn normalize_from(&mut self, (mn, mx): (f64, f64), base: f64, range: f64) {
         let r = mx - mn;
         if r.is_nan() || r <= 0.0 {
             return;
@@ -439,7 +443,9 @@ impl IvpFunction {
     /// afterwards: for 1 to 3 dimensions each piece's new least and greatest value are
     /// taken as its weights are written (the same operations on the same values, folded
     /// in the same order), saving a pass over the pieces when normalizing again.
-    pub(crate) fn normalize_from_and_min_max(
+    // Public but hidden: for ivp-reflector only, not part of ivp's API.
+    #[doc(hidden)]
+    pub fn normalize_from_and_min_max(
         &mut self,
         (mn, mx): (f64, f64),
         base: f64,
@@ -587,7 +593,9 @@ mod grid;
 mod layout;
 mod reuse;
 
-pub(crate) use grid::grid_dim;
+// Public but hidden: for ivp-reflector only, not part of ivp's API.
+#[doc(hidden)]
+pub use grid::grid_dim;
 use grid::grid_total;
 pub use layout::check_buffers;
 use layout::check_layout;

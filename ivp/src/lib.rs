@@ -37,26 +37,21 @@
 //! it exactly as the reference does, which settles rare floating-point
 //! near-ties.
 //!
-//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`reflector`]. The
+//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`]. The OF_Reflector is the
+//! crate `ivp-reflector` (a few hidden items here are public for it alone); the
 //! BHV_IPF text of a function is the crate `ivp-ipf`.
 
 // Index loops over dimensions read closest to the spec's formulas.
 #![allow(clippy::needless_range_loop)]
 
-mod aof;
 pub mod coupler;
 pub mod domain;
 pub mod error;
-mod fit;
 pub mod function;
-pub mod reflector;
-mod regions;
-mod tiling;
 pub mod zaic;
 
 pub use coupler::{couple, try_couple, try_couple_normalized};
 pub use domain::{Domain, DomainVar, Snap};
 pub use error::IvpError;
 pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};
-pub use reflector::{Aof, Reflector};
 pub use zaic::{ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};

@@ -4,7 +4,8 @@
 mod aof_waypoint;
 
 use aof_waypoint::AofWaypoint;
-use ivp::{couple, Domain, IvpFunction, Reflector, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd};
+use ivp::{couple, Domain, IvpFunction, ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd};
+use ivp_reflector::Reflector;
 use ivp_solver::Solver;
 use std::path::PathBuf;
 use toml::Value;

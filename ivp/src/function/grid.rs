@@ -138,7 +138,7 @@ impl IvpFunction {
 /// Points per cell = `gelbox+1` clamped to `[2, points]`.
 /// Points per grid cell and number of cells of variable `v` under gel-box entry `g`
 /// (none: one cell across the variable).
-pub(crate) fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
+pub fn grid_dim(v: &crate::domain::DomainVar, g: Option<&u32>) -> (i32, i32) {
     let pts = v.points as i32;
     let g = g.map_or(pts - 1, |&g| g.min(i32::MAX as u32 - 1) as i32);
     let p = (g + 1).max(2).min(pts).max(1);

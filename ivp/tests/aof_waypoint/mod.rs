@@ -4,7 +4,8 @@
 //! `geometry`, the one place the compass arithmetic is written.
 
 use geometry::{angle180, angle360, rel_ang};
-use ivp::{Aof, Domain};
+use ivp::Domain;
+use ivp_reflector::Aof;
 
 /// Rate of closure toward a point, at (course, speed).
 pub struct AofWaypoint {

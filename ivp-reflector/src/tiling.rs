@@ -8,13 +8,13 @@
 //! over instead of having them computed again from the pieces.
 
 use crate::aof::Aof;
-use crate::domain::Domain;
 use crate::fit::{fit_box, FIT_DIMS};
-use crate::function::grid_dim;
+use ivp::domain::Domain;
+use ivp::function::grid_dim;
 
 /// What the fitting pass gives besides the pieces: what the function's
-/// [`IvpFunction::build_grid`](crate::IvpFunction::build_grid) and
-/// [`IvpFunction::min_max_wt`](crate::IvpFunction::min_max_wt) would compute from them,
+/// [`IvpFunction::build_grid`](ivp::IvpFunction::build_grid) and
+/// [`IvpFunction::min_max_wt`](ivp::IvpFunction::min_max_wt) would compute from them,
 /// taken while each piece is at hand.
 #[derive(Debug, Default)]
 pub(crate) struct Summary {
@@ -446,7 +446,8 @@ fn evaluate(aof: &dyn Aof, domain: &Domain, axes: &[Axis], mids: bool, out: &mut
 
 #[cfg(test)]
 mod tests {
-    use crate::{Aof, Domain, Reflector};
+    use crate::{Aof, Reflector};
+    use ivp::Domain;
 
     fn rng(seed: &mut u64) -> f64 {
         *seed = seed
@@ -734,7 +735,7 @@ mod tests {
                 }
             }
             let gel = vec![1 + (rng(&mut seed) * 3.0) as u32; dim];
-            let Ok(mut f) = crate::IvpFunction::from_flat(dom, bounds, weights, gel) else {
+            let Ok(mut f) = ivp::IvpFunction::from_flat(dom, bounds, weights, gel) else {
                 continue;
             };
             f.build_grid();

@@ -17,7 +17,7 @@ pub fn intersects(a: &[(u32, u32)], b: &[(u32, u32)]) -> bool {
 /// `sub` then the part below it are cut off `orig`, each new piece put at the front.
 ///
 /// ```
-/// use ivp::reflector::box_subtract;
+/// use ivp_reflector::reflector::box_subtract;
 /// // [0,9] minus [3,5] (one dimension): the part above, then the part below, in front.
 /// assert_eq!(box_subtract(&[(0, 9)], &[(3, 5)]), vec![vec![(0, 2)], vec![(6, 9)]]);
 /// assert!(box_subtract(&[(3, 4)], &[(0, 9)]).is_empty());
@@ -92,7 +92,8 @@ mod tests {
 
     #[test]
     fn reflector_pieces_around_a_plateau() {
-        use crate::{Aof, Domain, Reflector};
+        use crate::{Aof, Reflector};
+        use ivp::Domain;
         struct Ramp;
         impl Aof for Ramp {
             fn eval(&self, _: &Domain, ix: &[u32]) -> f64 {
@@ -116,7 +117,8 @@ mod tests {
 
     #[test]
     fn ignored_dimension_shares_fits_bit_for_bit() {
-        use crate::{Aof, Domain, Reflector};
+        use crate::{Aof, Reflector};
+        use ivp::Domain;
         struct Wave(bool);
         impl Aof for Wave {
             fn eval(&self, _: &Domain, ix: &[u32]) -> f64 {

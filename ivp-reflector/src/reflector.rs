@@ -9,10 +9,10 @@
 //! reproducible anyway) and auto-peak; `create`'s smart amount is ignored.
 
 pub use crate::aof::{eval_grid_2d, eval_grid_pointwise, Aof};
-use crate::domain::Domain;
 use crate::fit::{fit_values, takes_centre, FIT_DIMS};
-use crate::function::IvpFunction;
 pub use crate::regions::{box_subtract, intersects, IndexBox};
+use ivp::domain::Domain;
+use ivp::function::IvpFunction;
 use mbutil::spare;
 use std::mem::take;
 
@@ -42,7 +42,7 @@ impl<'a> Reflector<'a> {
     /// `mbutil::spare`; a behavior builds one every iteration).
     pub fn new(domain: &Domain, aof: &'a dyn Aof) -> Self {
         Reflector {
-            domain: crate::domain::domain_of(domain.vars()),
+            domain: ivp::domain::domain_of(domain.vars()),
             aof,
             uniform_piece: None,
             uniform_grid: None,
@@ -528,7 +528,7 @@ impl<'a> Reflector<'a> {
 /// build (the pieces' buffers when no function took them).
 impl Drop for Reflector<'_> {
     fn drop(&mut self) {
-        crate::domain::give_domain(take(&mut self.domain));
+        ivp::domain::give_domain(take(&mut self.domain));
         spare::give_ints(take(&mut self.bounds));
         let grid = self.summary.take().map(|s| s.grid);
         let floats = [Some(take(&mut self.weights)), grid];

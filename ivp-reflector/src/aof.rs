@@ -1,7 +1,7 @@
 //! Analytical objective functions (AOFs): what the OF_Reflector (spec §8) approximates,
 //! and the helpers that evaluate one over a whole grid.
 
-use crate::domain::Domain;
+use ivp::domain::Domain;
 
 /// An analytical objective function over a domain's grid.
 pub trait Aof {

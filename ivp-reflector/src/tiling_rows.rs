@@ -270,10 +270,10 @@ impl Pieces {
         }
     }
 
-    /// What [`crate::IvpFunction::normalize_from`]`(min_max, base, range)` does to the
+    /// What [`ivp::IvpFunction::normalize_from`]`(min_max, base, range)` does to the
     /// function of these pieces (its search `grid`, and its weights, appended to the
     /// empty `weights` in the reflector's order), bit for bit; if `twice`, what
-    /// [`crate::IvpFunction::normalize_from_and_min_max`] then normalize_from of the
+    /// [`ivp::IvpFunction::normalize_from_and_min_max`] then normalize_from of the
     /// range it returns do: each piece's operations are theirs, and the ranges are folded
     /// in the reflector's order. `false` (nothing changed) when the first range is empty
     /// or `weights` is not empty: the function's own methods then do it.
