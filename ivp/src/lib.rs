@@ -6,7 +6,8 @@
 //! indices. The solver, which picks the grid point maximizing the sum of several
 //! weighted IvP functions with the reference helm's exact tie-breaking, is its own
 //! crate (`ivp-solver`, built on this one). This crate depends on no helm, MOOS or
-//! ABI crate: only the number formatter of `mbutil`.
+//! ABI crate: only `mbutil` (the number formatter, and the spare buffers that let
+//! builders reuse their storage).
 //!
 //! ```
 //! use ivp::{Domain, ZaicPeak, couple};

@@ -63,8 +63,9 @@ impl ZaicSpd {
 
     /// `setParams(med, low, hgh, low_util, hgh_util, min_util, max_util, max_util_total)`.
     /// Speeds are clipped into the domain, utilities into `[0, max_util_total]`.
-    /// Returns true exactly when the adjustment step changed something (see
-    /// [`ZaicSpd::adjust`]); false also when a value is not finite (nothing built then).
+    /// Returns true exactly when the adjustment step changed something (the values
+    /// clipped, or a low/high utility overridden at the domain's edge); false also when
+    /// a value is not finite (nothing built then).
     #[allow(clippy::too_many_arguments)]
     pub fn set_params(
         &mut self,
