@@ -670,10 +670,12 @@ fn build_future_abi_library() -> Option<PathBuf> {
         format!(
             "[package]\nname = \"behavior-api\"\nversion = \"0.2.0\"\nedition = \"2021\"\n\n\
              [dependencies]\nabi_stable = \"{abi_stable_req}\"\nivp = {{ path = {:?} }}\n\
+             ivp-reflector = {{ path = {:?} }}\n\
              geometry = {{ path = {:?} }}\nmbutil = {{ path = {:?} }}\n\
              bhv = {{ path = {:?} }}\ncontacts = {{ path = {:?} }}\n\n\
              [workspace]\n",
             ws.join("ivp").display().to_string(),
+            ws.join("ivp-reflector").display().to_string(),
             ws.join("geometry").display().to_string(),
             ws.join("mbutil").display().to_string(),
             ws.join("bhv").display().to_string(),
