@@ -52,7 +52,7 @@ impl<'a> Utf8Out<'a> {
     /// A batch of formatted pieces (inlined: the batch's length then stays in a
     /// register through the piece loop).
     #[inline(always)]
-    fn ascii(&mut self, text: &mut PieceText) {
+    fn ascii(&mut self, text: &mut PieceText<'_>) {
         let b = text.take();
         debug_assert!(b.is_ascii());
         self.bytes.extend_from_slice(b);
@@ -257,23 +257,52 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     // Generous: growing a string of thousands of pieces copies it each time.
     out.reserve(pieces * (dim * 12 + (dim + 1) * 10));
     // Pieces are formatted on the stack and appended a batch at a time: no capacity
-    // check per character, one per number.
-    let mut text = PieceText::new();
-    let pieces = f
-        .bounds
-        .chunks_exact(2 * dim)
-        .zip(f.weights.chunks_exact(dim + 1));
-    for (bounds, weights) in pieces {
-        for &b in bounds {
-            text.make_room(&mut out);
-            text.bound(b);
-        }
-        for &w in weights {
-            text.make_room(&mut out);
-            text.weight_or_slow(w, &mut out);
+    // check per character.
+    let mut batch = [0; PieceText::SIZE + 8];
+    let mut text = PieceText::new(&mut batch);
+    let (b, w) = (f.bounds, f.weights);
+    // The usual dimensions with the piece's size a constant: the per-piece loops
+    // unroll and the room is made once per piece.
+    match dim {
+        1 => pieces_n::<1, 2, 2>(b, w, &mut text, &mut out),
+        2 => pieces_n::<2, 4, 3>(b, w, &mut text, &mut out),
+        3 => pieces_n::<3, 6, 4>(b, w, &mut text, &mut out),
+        _ => {
+            for (bounds, weights) in b.chunks_exact(2 * dim).zip(w.chunks_exact(dim + 1)) {
+                for &b in bounds {
+                    text.make_room(PieceText::BOUND_MAX, &mut out);
+                    text.bound(b);
+                }
+                for &w in weights {
+                    text.make_room(PieceText::WEIGHT_MAX, &mut out);
+                    text.weight_or_slow(w, &mut out);
+                }
+            }
         }
     }
     out.ascii(&mut text);
+}
+
+/// The pieces of `D` dimensions (`B` = 2·D bounds and `W` = D + 1 weights each).
+#[inline(always)]
+fn pieces_n<const D: usize, const B: usize, const W: usize>(
+    bounds: &[i32],
+    weights: &[f64],
+    text: &mut PieceText,
+    out: &mut Utf8Out<'_>,
+) {
+    debug_assert!(B == 2 * D && W == D + 1);
+    let (bounds, _) = bounds.as_chunks::<B>();
+    let (weights, _) = weights.as_chunks::<W>();
+    for (b, w) in bounds.iter().zip(weights) {
+        text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
+        for &b in b {
+            text.bound(b);
+        }
+        for &w in w {
+            text.weight_or_slow(w, out);
+        }
+    }
 }
 
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
@@ -340,51 +369,72 @@ const PAIRS: [u16; 100] = {
     t
 };
 
-/// Trailing zeros of a two-digit group (`00` has two).
-const ZEROS: [u8; 100] = {
-    let mut t = [0u8; 100];
+/// `.` and the two digits of `0..=99` (first digit in the second byte).
+const DOT_PAIRS: [u32; 100] = {
+    let mut t = [0u32; 100];
     let mut n = 0;
     while n < 100 {
-        t[n] = if n == 0 {
-            2
-        } else if n % 10 == 0 {
-            1
-        } else {
-            0
-        };
+        t[n] = b'.' as u32 | ((PAIRS[n] as u32) << 8);
         n += 1;
     }
     t
 };
 
-/// A batch of pieces' text (ASCII digits and punctuation only) on the stack.
-struct PieceText {
-    /// `SIZE` bytes of text and room for the 8-byte stores that write a number's
-    /// bytes at once (the bytes past a number are overwritten by the next one).
-    buf: [u8; PieceText::SIZE + 8],
+/// Characters of `.` and the four decimals of `0..=9999` with trailing zeros removed
+/// (`.` alone for 0): one table read for the length.
+const FRAC_LEN: [u8; 10000] = {
+    let mut t = [0u8; 10000];
+    let mut n = 0;
+    while n < 10000 {
+        let mut len = 5;
+        let mut f = n;
+        while len > 1 && f % 10 == 0 {
+            len -= 1;
+            f /= 10;
+        }
+        t[n] = len;
+        n += 1;
+    }
+    t
+};
+
+/// A batch of pieces' text (ASCII digits and punctuation only) on the stack: `SIZE`
+/// bytes of text and room for the 8-byte stores that write a number's bytes at once
+/// (the bytes past a number are overwritten by the next one).
+type Batch = [u8; PieceText::SIZE + 8];
+
+/// A [`Batch`] and its length. Apart, the array being indexed by the length cannot
+/// be taken to overwrite it: the length stays in a register through the piece loop.
+struct PieceText<'b> {
+    buf: &'b mut Batch,
     len: usize,
 }
 
-impl PieceText {
+impl<'b> PieceText<'b> {
     const SIZE: usize = 1024;
-    /// Flushed before a number once this much is buffered: a bound takes at most 12
-    /// bytes (`,` sign and 10 digits), a fast-path weight 18 (`,` sign, 11 integer
-    /// digits, `.` and 4 decimals).
-    const FLUSH_AT: usize = Self::SIZE - Self::WEIGHT_MAX;
+    /// Most bytes of one bound (`,`, sign, 10 digits).
+    const BOUND_MAX: usize = 12;
     /// Most bytes of one fast-path weight (`,`, sign, 11 integer digits, `.`, 4 decimals).
     const WEIGHT_MAX: usize = 18;
 
-    fn new() -> Self {
-        PieceText {
-            buf: [0; Self::SIZE + 8],
-            len: 0,
-        }
+    fn new(buf: &'b mut Batch) -> Self {
+        PieceText { buf, len: 0 }
+    }
+
+    /// Where the next byte goes. Every write starts below `SIZE` (`make_room`), so the
+    /// mask changes nothing; it shows the compiler that an 8-byte store fits, in place
+    /// of a bounds check per store.
+    #[inline(always)]
+    fn at(&self) -> usize {
+        debug_assert!(self.len < Self::SIZE);
+        self.len & (Self::SIZE - 1)
     }
 
     /// Eight bytes at the end of the text, of which the caller keeps a prefix.
     #[inline(always)]
     fn put8(&mut self, bytes: u64) {
-        self.buf[self.len..self.len + 8].copy_from_slice(&bytes.to_le_bytes());
+        let i = self.at();
+        self.buf[i..i + 8].copy_from_slice(&bytes.to_le_bytes());
     }
 
     /// `,` and a box bound: one store for the usual `0..=999`.
@@ -392,7 +442,8 @@ impl PieceText {
     fn bound(&mut self, b: i32) {
         if (0..1000).contains(&b) {
             let e = SMALL[b as usize];
-            self.put8(u64::from(b',') | (u64::from(e & 0xff_ffff) << 8));
+            // The length byte lands past the text (overwritten by the next number).
+            self.put8(u64::from(b',') | (u64::from(e) << 8));
             self.len += 1 + (e >> 24) as usize;
         } else {
             self.byte(b',');
@@ -400,10 +451,10 @@ impl PieceText {
         }
     }
 
-    /// Room for one more number: the batch so far goes to `out` when near full.
+    /// Room for `need` more bytes of text: the batch so far goes to `out` when near full.
     #[inline(always)]
-    fn make_room(&mut self, out: &mut Utf8Out<'_>) {
-        if self.len > Self::FLUSH_AT {
+    fn make_room(&mut self, need: usize, out: &mut Utf8Out<'_>) {
+        if self.len > Self::SIZE - need {
             out.ascii(self);
         }
     }
@@ -412,8 +463,8 @@ impl PieceText {
     /// into `out` after the batch so far.
     #[inline(always)]
     fn weight_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
-        self.byte(b',');
         if !self.weight(w) {
+            self.byte(b',');
             out.ascii(self);
             out.weight(w);
         }
@@ -429,15 +480,16 @@ impl PieceText {
     /// One ASCII character (masked to 7 bits: the buffer only ever holds ASCII).
     #[inline(always)]
     fn byte(&mut self, b: u8) {
-        self.buf[self.len] = b & 0x7f;
+        let i = self.at();
+        self.buf[i] = b & 0x7f;
         self.len += 1;
     }
 
     /// Two digits of `n < 100`.
     #[inline(always)]
     fn pair(&mut self, n: u32) {
-        let i = 2 * n as usize;
-        self.buf[self.len..self.len + 2].copy_from_slice(&DIGIT_PAIRS[i..i + 2]);
+        let (i, n) = (self.at(), 2 * n as usize);
+        self.buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[n..n + 2]);
         self.len += 2;
     }
 
@@ -481,45 +533,62 @@ impl PieceText {
         self.u64(u64::from(v.unsigned_abs()));
     }
 
-    /// The 4-decimal weight encoding (spec §9.1) for the weights the integer path
-    /// covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
+    /// `,` and the 4-decimal weight encoding (spec §9.1) for the weights the integer
+    /// path covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
     /// infinities, NaN), which [`Utf8Out::weight`] handles.
     #[inline(always)]
     fn weight(&mut self, w: f64) -> bool {
-        let a = w.abs();
-        let x = a * 10000.0 + 0.5;
-        if x.is_nan() || x >= 1e15 {
+        let bits = w.to_bits();
+        let x = f64::from_bits(bits & !(1 << 63)) * 10000.0 + 0.5;
+        // One comparison: NaN fails it too.
+        if !(x < 1e15) {
             return false;
         }
-        // The sign is written always and kept only for a negative weight.
-        self.buf[self.len] = b'-';
-        self.len += usize::from(w < 0.0);
-        if a == 0.0 {
-            self.byte(b'0');
-            return true;
-        }
-        // Below 1e15 (< 2^53) `x as i64` is exactly `x.trunc()` (and one instruction).
-        let n = x as i64 as u64;
+        // Below 1e15 (< 2^53) the conversion is exactly `x.trunc()`; unchecked, it is
+        // one instruction (`as` adds the saturation compares).
+        // SAFETY: 0.5 <= x < 1e15: finite, and its truncation fits an i64.
+        let n = unsafe { x.to_int_unchecked::<i64>() } as u64;
         if n == 0 {
-            self.buf[self.len..self.len + 6].copy_from_slice(b"0.0000");
-            self.len += 6;
+            let (text, len) = zero_weight(w);
+            self.put8(text);
+            self.len += len;
             return true;
         }
+        // `,-` written always, the `-` kept for a negative weight (its sign bit: only a
+        // zero weight, handled above, drops the sign of -0.0).
+        self.put8(u64::from(u16::from_le_bytes(*b",-")));
+        self.len += 1 + (bits >> 63) as usize;
         let whole = n / 10000;
         if whole < 1000 {
+            // The length byte lands where the `.` goes next.
             let e = SMALL[whole as usize];
-            self.put8(u64::from(e & 0xff_ffff));
+            self.put8(u64::from(e));
             self.len += (e >> 24) as usize;
         } else {
             self.u64(whole);
         }
         // `.` and four decimals, trailing zeros removed (the `.` stays).
-        let frac = (n - whole * 10000) as usize;
+        // (`%`, not `n - whole·10000`: the compiler then knows `frac < 10000` and
+        // reads the tables below unchecked.)
+        let frac = (n % 10000) as usize;
         let (hi, lo) = (frac / 100, frac % 100);
-        self.put8(u64::from(b'.') | (u64::from(PAIRS[hi]) << 8) | (u64::from(PAIRS[lo]) << 24));
-        let zeros = usize::from(ZEROS[lo]) + usize::from(lo == 0) * usize::from(ZEROS[hi]);
-        self.len += 5 - zeros;
+        self.put8(u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24));
+        self.len += usize::from(FRAC_LEN[frac]);
         true
+    }
+}
+
+/// `,` and the text of a weight that rounds to 0 (its bytes, first lowest, and how
+/// many): `0` for ±0, `0.0000` with its sign for a tiny one. Rare: out of the loop.
+#[cold]
+#[inline(never)]
+fn zero_weight(w: f64) -> (u64, usize) {
+    if w == 0.0 {
+        (u64::from_le_bytes(*b",0\0\0\0\0\0\0"), 2)
+    } else if w < 0.0 {
+        (u64::from_le_bytes(*b",-0.0000"), 8)
+    } else {
+        (u64::from_le_bytes(*b",0.0000\0"), 7)
     }
 }
 
@@ -752,15 +821,16 @@ mod tests {
     /// takes, and declines (writing nothing) exactly the huge and non-finite ones.
     #[test]
     fn piece_text_weights_match_the_reference() {
+        let mut batch = [0; PieceText::SIZE + 8];
         let mut seed = 19u64;
         let mut want = String::new();
         for _ in 0..300_000 {
             let w = random_weight(&mut seed, false);
             want.clear();
             reference::encode_weight(w, &mut want);
-            let mut text = PieceText::new();
+            let mut text = PieceText::new(&mut batch);
             if text.weight(w) {
-                assert_eq!(text.take(), want.as_bytes(), "weight {w:e}");
+                assert_eq!(text.take(), format!(",{want}").as_bytes(), "weight {w:e}");
             } else {
                 assert_eq!(text.len, 0);
                 let x = w.abs() * 10000.0 + 0.5;
@@ -780,24 +850,24 @@ mod tests {
             123_456_789,
             u32::MAX,
         ] {
-            let mut text = PieceText::new();
+            let mut text = PieceText::new(&mut batch);
             text.u64(u64::from(v));
             assert_eq!(text.take(), v.to_string().as_bytes());
         }
-        let mut text = PieceText::new();
+        let mut text = PieceText::new(&mut batch);
         text.u64(u64::MAX);
         assert_eq!(text.take(), u64::MAX.to_string().as_bytes());
         for v in [i32::MIN, -1, 0, 1, i32::MAX] {
-            let mut text = PieceText::new();
+            let mut text = PieceText::new(&mut batch);
             text.i32(v);
             assert_eq!(text.take(), v.to_string().as_bytes());
         }
-        let mut text = PieceText::new();
+        let mut text = PieceText::new(&mut batch);
         let mut want = String::new();
         for v in (-1100..1100).chain([9999, 10_000, 123_456, i32::MIN, i32::MAX]) {
             text.bound(v);
             want.push_str(&format!(",{v}"));
-            if text.len > PieceText::FLUSH_AT {
+            if text.len > PieceText::SIZE - PieceText::BOUND_MAX {
                 assert_eq!(text.take(), want.as_bytes());
                 want.clear();
             }
@@ -954,6 +1024,40 @@ mod tests {
             }
         }
         assert_eq!(kept.changed, 0, "the held function is kept");
+    }
+
+    /// The bench's 72 x 21 contact-sized tiling (1512 pieces), encoded 100 times, for
+    /// instruction counts: `valgrind --tool=callgrind --toggle-collect='*encode_many*'`
+    /// on `cargo test --release -p ivp-ipf --lib -- --ignored encode_instructions`.
+    #[test]
+    #[ignore]
+    fn encode_instructions() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let mut pieces = Vec::new();
+        let mut seed = 5u64;
+        for i in 0..72 {
+            for j in 0..21 {
+                let r = rng(&mut seed);
+                let lo_s = j * 41 / 21;
+                let hi_s = ((j + 1) * 41 / 21 - 1).max(lo_s);
+                pieces.push((
+                    vec![(i * 5, i * 5 + 4), (lo_s, hi_s)],
+                    vec![r * 3.0 - 1.5, 0.25 - r, r * 100.0],
+                ));
+            }
+        }
+        let mut f = IvpFunction::from_pieces(d, &pieces).unwrap();
+        f.set_context("1234:avd_abe");
+        #[inline(never)]
+        fn encode_many(f: &IvpFunction, s: &mut String) -> usize {
+            (0..100).map(|_| {
+                encode_into(std::hint::black_box(f), s);
+                s.len()
+            }).sum()
+        }
+        let mut s = String::new();
+        assert!(encode_many(&f, &mut s) > 0);
+        assert_eq!(s, reference::encode(&f));
     }
 
     fn enc(w: f64) -> String {
