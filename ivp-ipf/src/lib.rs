@@ -294,13 +294,37 @@ fn pieces_n<const D: usize, const B: usize, const W: usize>(
     debug_assert!(B == 2 * D && W == D + 1);
     let (bounds, _) = bounds.as_chunks::<B>();
     let (weights, _) = weights.as_chunks::<W>();
+    let mut cache: [IntervalCache; D] = std::array::from_fn(|_| IntervalCache::new());
     for (b, w) in bounds.iter().zip(weights) {
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
-        for &b in b {
-            text.bound(b);
+        for (d, cache) in cache.iter_mut().enumerate() {
+            text.interval(b[2 * d], b[2 * d + 1], cache);
         }
         for &w in w {
             text.weight_or_slow(w, out);
+        }
+    }
+}
+
+/// The text (`,lo,hi`) of a dimension's recent intervals. A tiling repeats each
+/// dimension's few intervals from piece to piece: copying their text is cheaper than
+/// printing it. Direct-mapped by `lo`; only intervals of `0..=999` are kept (8 bytes).
+struct IntervalCache {
+    /// `(lo, hi)` as in memory (`lo` low); slot `s` starts with a `lo` not `s` (never
+    /// matched).
+    keys: [u64; IntervalCache::SLOTS],
+    texts: [u64; IntervalCache::SLOTS],
+    lens: [u8; IntervalCache::SLOTS],
+}
+
+impl IntervalCache {
+    const SLOTS: usize = 64;
+
+    fn new() -> Self {
+        IntervalCache {
+            keys: std::array::from_fn(|s| (s ^ 1) as u64),
+            texts: [0; Self::SLOTS],
+            lens: [0; Self::SLOTS],
         }
     }
 }
@@ -433,8 +457,16 @@ impl<'b> PieceText<'b> {
     /// Eight bytes at the end of the text, of which the caller keeps a prefix.
     #[inline(always)]
     fn put8(&mut self, bytes: u64) {
-        let i = self.at();
-        self.buf[i..i + 8].copy_from_slice(&bytes.to_le_bytes());
+        assert!(self.buf.len() == Self::SIZE + 8);
+        debug_assert!(self.len <= Self::SIZE);
+        // Unchecked: two to four stores a number, each checked cost a tenth of the loop.
+        // SAFETY: `len <= SIZE` at every store: a piece's (or number's) stores all start
+        // before the end of its longest text, for which `make_room` left room, and the
+        // buffer has the 8 bytes past `SIZE` that a store there reaches.
+        unsafe {
+            let at = self.buf.as_mut_ptr().add(self.len);
+            at.cast::<[u8; 8]>().write_unaligned(bytes.to_le_bytes());
+        }
     }
 
     /// `,` and a box bound: one store for the usual `0..=999`.
@@ -448,6 +480,31 @@ impl<'b> PieceText<'b> {
         } else {
             self.byte(b',');
             self.i32(b);
+        }
+    }
+
+    /// `,lo,hi`: an interval's bounds, copied from `cache` when it holds them.
+    #[inline(always)]
+    fn interval(&mut self, lo: i32, hi: i32, cache: &mut IntervalCache) {
+        let key = u64::from(lo as u32) | (u64::from(hi as u32) << 32);
+        let slot = lo as usize % IntervalCache::SLOTS;
+        if cache.keys[slot] == key {
+            self.put8(cache.texts[slot]);
+            self.len += usize::from(cache.lens[slot]);
+            return;
+        }
+        let start = self.len;
+        self.bound(lo);
+        self.bound(hi);
+        let len = self.len - start;
+        if len <= 8 {
+            // Both bounds in `0..=999`: the text is the eight bytes just written (past
+            // it, what the stores left, never shown).
+            let mut text = [0; 8];
+            text[..len].copy_from_slice(&self.buf[start..self.len]);
+            cache.keys[slot] = key;
+            cache.texts[slot] = u64::from_le_bytes(text);
+            cache.lens[slot] = len as u8;
         }
     }
 
@@ -570,8 +627,10 @@ impl<'b> PieceText<'b> {
         // `.` and four decimals, trailing zeros removed (the `.` stays).
         // (`%`, not `n - whole·10000`: the compiler then knows `frac < 10000` and
         // reads the tables below unchecked.)
-        let frac = (n % 10000) as usize;
-        let (hi, lo) = (frac / 100, frac % 100);
+        let frac = (n % 10000) as u32;
+        // frac / 100 for frac < 43699, and the rest.
+        let hi = (frac * 5243) >> 19;
+        let (hi, lo, frac) = (hi as usize, (frac - hi * 100) as usize, frac as usize);
         self.put8(u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24));
         self.len += usize::from(FRAC_LEN[frac]);
         true
