@@ -294,33 +294,74 @@ fn pieces_n<const D: usize, const B: usize, const W: usize>(
     debug_assert!(B == 2 * D && W == D + 1);
     let (bounds, _) = bounds.as_chunks::<B>();
     let (weights, _) = weights.as_chunks::<W>();
-    let mut cache: [IntervalCache; D] = std::array::from_fn(|_| IntervalCache::new());
+    // Taken from the thread for the loop (a new one if a panic lost it).
+    let mut caches = INTERVALS.take().unwrap_or_default();
     for (b, w) in bounds.iter().zip(weights) {
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
-        for (d, cache) in cache.iter_mut().enumerate() {
-            text.interval(b[2 * d], b[2 * d + 1], cache);
+        for d in 0..D {
+            text.interval(b[2 * d], b[2 * d + 1], &mut caches.0[d]);
         }
         for &w in w {
             text.weight_or_slow(w, out);
         }
     }
+    INTERVALS.set(Some(caches));
 }
+
+thread_local! {
+    /// The piece loop's interval caches, kept from call to call: a behavior's tiling
+    /// is the same every iteration (and behaviors' tilings share intervals).
+    static INTERVALS: std::cell::Cell<Option<Box<IntervalCaches>>> =
+        const { std::cell::Cell::new(None) };
+}
+
+/// One [`IntervalCache`] per dimension of the unrolled piece loops.
+#[derive(Default)]
+struct IntervalCaches([IntervalCache; 3]);
 
 /// The text (`,lo,hi`) of a dimension's recent intervals. A tiling repeats each
 /// dimension's few intervals from piece to piece: copying their text is cheaper than
-/// printing it. Direct-mapped by `lo`; only intervals of `0..=999` are kept (8 bytes).
+/// printing it. Direct-mapped by `lo` (no two meet below `SLOTS`); only texts of up to
+/// 8 bytes are kept.
 struct IntervalCache {
     /// `(lo, hi)` as in memory (`lo` low); slot `s` starts with a `lo` not `s` (never
     /// matched).
     keys: [u64; IntervalCache::SLOTS],
+    /// The text in the low `lens` bytes (past them, ASCII never shown).
     texts: [u64; IntervalCache::SLOTS],
     lens: [u8; IntervalCache::SLOTS],
 }
 
 impl IntervalCache {
-    const SLOTS: usize = 64;
+    const SLOTS: usize = 512;
 
-    fn new() -> Self {
+    /// The text of an interval not in the cache (24 bytes, first lowest, and how
+    /// many are its), kept if it fits.
+    #[inline(never)]
+    fn insert(&mut self, lo: i32, hi: i32) -> ([u64; 3], usize) {
+        let mut text = [0u8; 24];
+        let mut len = 0;
+        for v in [lo, hi] {
+            let mut digits = itoa::Buffer::new();
+            let digits = digits.format(v).as_bytes();
+            text[len] = b',';
+            text[len + 1..len + 1 + digits.len()].copy_from_slice(digits);
+            len += 1 + digits.len();
+        }
+        let word =
+            |i: usize| u64::from_le_bytes(text[8 * i..8 * i + 8].try_into().unwrap_or([0; 8]));
+        if len <= 8 {
+            let slot = lo as usize % Self::SLOTS;
+            self.keys[slot] = u64::from(lo as u32) | (u64::from(hi as u32) << 32);
+            self.texts[slot] = word(0);
+            self.lens[slot] = len as u8;
+        }
+        ([word(0), word(1), word(2)], len)
+    }
+}
+
+impl Default for IntervalCache {
+    fn default() -> Self {
         IntervalCache {
             keys: std::array::from_fn(|s| (s ^ 1) as u64),
             texts: [0; Self::SLOTS],
@@ -493,19 +534,15 @@ impl<'b> PieceText<'b> {
             self.len += usize::from(cache.lens[slot]);
             return;
         }
+        // Out of line (and by value: the batch's length stays in a register).
+        let ([a, b, c], len) = cache.insert(lo, hi);
         let start = self.len;
-        self.bound(lo);
-        self.bound(hi);
-        let len = self.len - start;
-        if len <= 8 {
-            // Both bounds in `0..=999`: the text is the eight bytes just written (past
-            // it, what the stores left, never shown).
-            let mut text = [0; 8];
-            text[..len].copy_from_slice(&self.buf[start..self.len]);
-            cache.keys[slot] = key;
-            cache.texts[slot] = u64::from_le_bytes(text);
-            cache.lens[slot] = len as u8;
-        }
+        self.put8(a);
+        self.len = start + 8;
+        self.put8(b);
+        self.len = start + 16;
+        self.put8(c);
+        self.len = start + len;
     }
 
     /// Room for `need` more bytes of text: the batch so far goes to `out` when near full.
@@ -596,6 +633,12 @@ impl<'b> PieceText<'b> {
     #[inline(always)]
     fn weight(&mut self, w: f64) -> bool {
         let bits = w.to_bits();
+        // ±0 first: in a tiling, slopes often are (half the weights of a contact's).
+        if bits << 1 == 0 {
+            self.put8(u64::from(u16::from_le_bytes(*b",0")));
+            self.len += 2;
+            return true;
+        }
         let x = f64::from_bits(bits & !(1 << 63)) * 10000.0 + 0.5;
         // One comparison: NaN fails it too.
         if !(x < 1e15) {
@@ -637,14 +680,12 @@ impl<'b> PieceText<'b> {
     }
 }
 
-/// `,` and the text of a weight that rounds to 0 (its bytes, first lowest, and how
-/// many): `0` for ±0, `0.0000` with its sign for a tiny one. Rare: out of the loop.
+/// `,` and the text of a tiny weight, one that rounds to 0 (its bytes, first lowest,
+/// and how many): `0.0000` with its sign. Rare: out of the loop.
 #[cold]
 #[inline(never)]
 fn zero_weight(w: f64) -> (u64, usize) {
-    if w == 0.0 {
-        (u64::from_le_bytes(*b",0\0\0\0\0\0\0"), 2)
-    } else if w < 0.0 {
+    if w < 0.0 {
         (u64::from_le_bytes(*b",-0.0000"), 8)
     } else {
         (u64::from_le_bytes(*b",0.0000\0"), 7)
@@ -1085,6 +1126,128 @@ mod tests {
         assert_eq!(kept.changed, 0, "the held function is kept");
     }
 
+    /// A weight from anywhere in the encoder's cases: any bit pattern (every magnitude,
+    /// subnormals, infinities, NaNs of both signs), the rounding edges of the 4th
+    /// decimal and of the integer part's lengths (9.99995 becomes `10.`), the edge of the
+    /// integer path (|w|·10⁴ + 0.5 near 1e15), zeros and tiny values of both signs.
+    fn any_weight(seed: &mut u64) -> f64 {
+        let r = rng(seed);
+        let sign = if rng(seed) < 0.5 { -1.0 } else { 1.0 };
+        let k = (rng(seed) * 1e6).floor();
+        let nudge = |w: f64, ulps: i64| f64::from_bits((w.to_bits() as i64 + ulps) as u64);
+        let ulps = (rng(seed) * 5.0) as i64 - 2;
+        match (rng(seed) * 12.0) as u32 {
+            0 => f64::from_bits(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)),
+            1 => sign * nudge((k + 0.5) / 10000.0, ulps),
+            2 => sign * nudge(k / 10000.0, ulps),
+            3 => {
+                let edge = [0.99995, 9.99995, 99.99995, 999.99995, 9999.99995];
+                sign * nudge(edge[(r * 5.0) as usize], ulps)
+            }
+            4 => sign * nudge((1e15 - 0.5) / 10000.0, ulps * 8),
+            5 => sign * [0.0, 5e-5, 4.9999e-5, f64::MIN_POSITIVE, 1e-300][(r * 5.0) as usize],
+            6 => sign * 10f64.powf(r * 40.0 - 20.0),
+            7 => sign * r * 10.0,
+            8 => sign * r * 1000.0,
+            9 => sign * [f64::INFINITY, f64::MAX, 1e19, 1.8e19][(r * 4.0) as usize],
+            10 => f64::from_bits(f64::NAN.to_bits() | ((sign < 0.0) as u64) << 63),
+            _ => sign * r * 1e7,
+        }
+    }
+
+    /// The pieces' text as the reference writes it, from raw bounds and weights.
+    fn reference_pieces(dim: usize, bounds: &[i32], weights: &[f64]) -> String {
+        let mut s = String::new();
+        for (b, w) in bounds
+            .chunks_exact(2 * dim)
+            .zip(weights.chunks_exact(dim + 1))
+        {
+            for v in b {
+                s.push_str(&format!(",{v}"));
+            }
+            for &w in w {
+                s.push(',');
+                reference::encode_weight(w, &mut s);
+            }
+        }
+        s
+    }
+
+    /// The piece loop (every dimension count, the unrolled ones and the others) gives
+    /// the reference's text for weights of every kind and for bounds of every kind:
+    /// intervals repeated (the interval cache), sharing `lo` or its slot with another
+    /// `hi`, negative, past 999, `i32::MIN` and `MAX`; many pieces, so batches flush
+    /// between and around the slow weights.
+    #[test]
+    fn piece_loop_matches_the_reference_for_any_numbers() {
+        let mut seed = 23u64;
+        let mut got = String::new();
+        for case in 0..400 {
+            let dim = 1 + case % 5;
+            let mut d = Domain::new();
+            for i in 0..dim {
+                d.add_var(&format!("v{i}"), 0.0, 10.0, 11).unwrap();
+            }
+            let pieces = 1 + (rng(&mut seed) * 400.0) as usize;
+            let mut bounds: Vec<i32> = Vec::with_capacity(pieces * 2 * dim);
+            for p in 0..pieces {
+                for k in 0..dim {
+                    let (lo, hi) = match (rng(&mut seed) * 8.0) as u32 {
+                        // The interval of the piece before (the usual tiling).
+                        0..=2 if p > 0 => {
+                            let at = bounds.len() - 2 * dim;
+                            (bounds[at], bounds[at + 1])
+                        }
+                        // The same `lo` (or `lo` ± 64: the same slot), another `hi`.
+                        3 if p > 0 => {
+                            let lo = bounds[bounds.len() - 2 * dim];
+                            let lo = lo.wrapping_add([0, 64, -64][(rng(&mut seed) * 3.0) as usize]);
+                            (lo, (rng(&mut seed) * 1100.0) as i32 - 50)
+                        }
+                        4 => {
+                            let lo = (rng(&mut seed) * 1000.0) as i32;
+                            (lo, lo + (rng(&mut seed) * 50.0) as i32)
+                        }
+                        5 => ((rng(&mut seed) * 2e9) as i32 - 1_000_000_000, k as i32),
+                        6 => ([i32::MIN, -1, 999, 1000, i32::MAX][p % 5], -(k as i32)),
+                        _ => (
+                            (rng(&mut seed) * 1100.0) as i32 - 50,
+                            (rng(&mut seed) * 1100.0) as i32,
+                        ),
+                    };
+                    bounds.extend([lo, hi]);
+                }
+            }
+            let weights: Vec<f64> = (0..pieces * (dim + 1))
+                .map(|_| any_weight(&mut seed))
+                .collect();
+            let src = IpfSource {
+                context: "x",
+                domain: &d,
+                pwt: 1.0,
+                gelbox: &[],
+                bounds: &bounds,
+                weights: &weights,
+            };
+            got.clear();
+            encode_pieces_into(&src, &mut got);
+            let want = reference_pieces(dim, &bounds, &weights);
+            if got != want {
+                let at = got
+                    .bytes()
+                    .zip(want.bytes())
+                    .take_while(|(a, b)| a == b)
+                    .count();
+                let from = at.saturating_sub(40);
+                panic!(
+                    "case {case} (dim {dim}) differs at byte {at}: got ..{} want ..{}",
+                    &got[from..(at + 40).min(got.len())],
+                    &want[from..(at + 40).min(want.len())]
+                );
+            }
+        }
+    }
+
     /// The bench's 72 x 21 contact-sized tiling (1512 pieces), encoded 100 times, for
     /// instruction counts: `valgrind --tool=callgrind --toggle-collect='*encode_many*'`
     /// on `cargo test --release -p ivp-ipf --lib -- --ignored encode_instructions`.
@@ -1109,10 +1272,12 @@ mod tests {
         f.set_context("1234:avd_abe");
         #[inline(never)]
         fn encode_many(f: &IvpFunction, s: &mut String) -> usize {
-            (0..100).map(|_| {
-                encode_into(std::hint::black_box(f), s);
-                s.len()
-            }).sum()
+            (0..100)
+                .map(|_| {
+                    encode_into(std::hint::black_box(f), s);
+                    s.len()
+                })
+                .sum()
         }
         let mut s = String::new();
         assert!(encode_many(&f, &mut s) > 0);
