@@ -470,6 +470,8 @@ type Batch = [u8; PieceText::SIZE + 8];
 
 /// A [`Batch`] and its length. Apart, the array being indexed by the length cannot
 /// be taken to overwrite it: the length stays in a register through the piece loop.
+/// `len <= SIZE` always: every number is written after `make_room` left room for
+/// its longest text (`put8` relies on it).
 struct PieceText<'b> {
     buf: &'b mut Batch,
     len: usize,
@@ -486,9 +488,8 @@ impl<'b> PieceText<'b> {
         PieceText { buf, len: 0 }
     }
 
-    /// Where the next byte goes. Every write starts below `SIZE` (`make_room`), so the
-    /// mask changes nothing; it shows the compiler that an 8-byte store fits, in place
-    /// of a bounds check per store.
+    /// Where the next byte goes: `len` masked (a no-op, as `len < SIZE` here), which
+    /// shows the compiler that the byte fits, in place of a bounds check.
     #[inline(always)]
     fn at(&self) -> usize {
         debug_assert!(self.len < Self::SIZE);
@@ -498,7 +499,6 @@ impl<'b> PieceText<'b> {
     /// Eight bytes at the end of the text, of which the caller keeps a prefix.
     #[inline(always)]
     fn put8(&mut self, bytes: u64) {
-        assert!(self.buf.len() == Self::SIZE + 8);
         debug_assert!(self.len <= Self::SIZE);
         // Unchecked: two to four stores a number, each checked cost a tenth of the loop.
         // SAFETY: `len <= SIZE` at every store: a piece's (or number's) stores all start
