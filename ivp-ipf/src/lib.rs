@@ -10,7 +10,9 @@
 use ivp::IvpFunction;
 use std::fmt::Write;
 
+mod intervals;
 mod packets;
+use intervals::{IntervalCache, INTERVALS};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
 
 /// Numbers of the BHV_IPF text: compact, at most five decimals (as the domain's).
@@ -306,68 +308,6 @@ fn pieces_n<const D: usize, const B: usize, const W: usize>(
         }
     }
     INTERVALS.set(Some(caches));
-}
-
-thread_local! {
-    /// The piece loop's interval caches, kept from call to call: a behavior's tiling
-    /// is the same every iteration (and behaviors' tilings share intervals).
-    static INTERVALS: std::cell::Cell<Option<Box<IntervalCaches>>> =
-        const { std::cell::Cell::new(None) };
-}
-
-/// One [`IntervalCache`] per dimension of the unrolled piece loops.
-#[derive(Default)]
-struct IntervalCaches([IntervalCache; 3]);
-
-/// The text (`,lo,hi`) of a dimension's recent intervals. A tiling repeats each
-/// dimension's few intervals from piece to piece: copying their text is cheaper than
-/// printing it. Direct-mapped by `lo` (no two meet below `SLOTS`); only texts of up to
-/// 8 bytes are kept.
-struct IntervalCache {
-    /// `(lo, hi)` as in memory (`lo` low); slot `s` starts with a `lo` not `s` (never
-    /// matched).
-    keys: [u64; IntervalCache::SLOTS],
-    /// The text in the low `lens` bytes (past them, ASCII never shown).
-    texts: [u64; IntervalCache::SLOTS],
-    lens: [u8; IntervalCache::SLOTS],
-}
-
-impl IntervalCache {
-    const SLOTS: usize = 512;
-
-    /// The text of an interval not in the cache (24 bytes, first lowest, and how
-    /// many are its), kept if it fits.
-    #[inline(never)]
-    fn insert(&mut self, lo: i32, hi: i32) -> ([u64; 3], usize) {
-        let mut text = [0u8; 24];
-        let mut len = 0;
-        for v in [lo, hi] {
-            let mut digits = itoa::Buffer::new();
-            let digits = digits.format(v).as_bytes();
-            text[len] = b',';
-            text[len + 1..len + 1 + digits.len()].copy_from_slice(digits);
-            len += 1 + digits.len();
-        }
-        let word =
-            |i: usize| u64::from_le_bytes(text[8 * i..8 * i + 8].try_into().unwrap_or([0; 8]));
-        if len <= 8 {
-            let slot = lo as usize % Self::SLOTS;
-            self.keys[slot] = u64::from(lo as u32) | (u64::from(hi as u32) << 32);
-            self.texts[slot] = word(0);
-            self.lens[slot] = len as u8;
-        }
-        ([word(0), word(1), word(2)], len)
-    }
-}
-
-impl Default for IntervalCache {
-    fn default() -> Self {
-        IntervalCache {
-            keys: std::array::from_fn(|s| (s ^ 1) as u64),
-            texts: [0; Self::SLOTS],
-            lens: [0; Self::SLOTS],
-        }
-    }
 }
 
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
