@@ -10,7 +10,9 @@
 use ivp::IvpFunction;
 use std::fmt::Write;
 
+mod intervals;
 mod packets;
+use intervals::{IntervalCache, INTERVALS};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
 
 /// Numbers of the BHV_IPF text: compact, at most five decimals (as the domain's).
@@ -52,7 +54,7 @@ impl<'a> Utf8Out<'a> {
     /// A batch of formatted pieces (inlined: the batch's length then stays in a
     /// register through the piece loop).
     #[inline(always)]
-    fn ascii(&mut self, text: &mut PieceText) {
+    fn ascii(&mut self, text: &mut PieceText<'_>) {
         let b = text.take();
         debug_assert!(b.is_ascii());
         self.bytes.extend_from_slice(b);
@@ -257,23 +259,55 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     // Generous: growing a string of thousands of pieces copies it each time.
     out.reserve(pieces * (dim * 12 + (dim + 1) * 10));
     // Pieces are formatted on the stack and appended a batch at a time: no capacity
-    // check per character, one per number.
-    let mut text = PieceText::new();
-    let pieces = f
-        .bounds
-        .chunks_exact(2 * dim)
-        .zip(f.weights.chunks_exact(dim + 1));
-    for (bounds, weights) in pieces {
-        for &b in bounds {
-            text.make_room(&mut out);
-            text.bound(b);
-        }
-        for &w in weights {
-            text.make_room(&mut out);
-            text.weight_or_slow(w, &mut out);
+    // check per character.
+    let mut batch = [0; PieceText::SIZE + 8];
+    let mut text = PieceText::new(&mut batch);
+    let (b, w) = (f.bounds, f.weights);
+    // The usual dimensions with the piece's size a constant: the per-piece loops
+    // unroll and the room is made once per piece.
+    match dim {
+        1 => pieces_n::<1, 2, 2>(b, w, &mut text, &mut out),
+        2 => pieces_n::<2, 4, 3>(b, w, &mut text, &mut out),
+        3 => pieces_n::<3, 6, 4>(b, w, &mut text, &mut out),
+        _ => {
+            for (bounds, weights) in b.chunks_exact(2 * dim).zip(w.chunks_exact(dim + 1)) {
+                for &b in bounds {
+                    text.make_room(PieceText::BOUND_MAX, &mut out);
+                    text.bound(b);
+                }
+                for &w in weights {
+                    text.make_room(PieceText::WEIGHT_MAX, &mut out);
+                    text.weight_or_slow(w, &mut out);
+                }
+            }
         }
     }
     out.ascii(&mut text);
+}
+
+/// The pieces of `D` dimensions (`B` = 2·D bounds and `W` = D + 1 weights each).
+#[inline(always)]
+fn pieces_n<const D: usize, const B: usize, const W: usize>(
+    bounds: &[i32],
+    weights: &[f64],
+    text: &mut PieceText,
+    out: &mut Utf8Out<'_>,
+) {
+    debug_assert!(B == 2 * D && W == D + 1);
+    let (bounds, _) = bounds.as_chunks::<B>();
+    let (weights, _) = weights.as_chunks::<W>();
+    // Taken from the thread for the loop (a new one if a panic lost it).
+    let mut caches = INTERVALS.take().unwrap_or_default();
+    for (b, w) in bounds.iter().zip(weights) {
+        text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
+        for d in 0..D {
+            text.interval(b[2 * d], b[2 * d + 1], &mut caches.0[d]);
+        }
+        for &w in w {
+            text.weight_or_slow(w, out);
+        }
+    }
+    INTERVALS.set(Some(caches));
 }
 
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
@@ -340,51 +374,80 @@ const PAIRS: [u16; 100] = {
     t
 };
 
-/// Trailing zeros of a two-digit group (`00` has two).
-const ZEROS: [u8; 100] = {
-    let mut t = [0u8; 100];
+/// `.` and the two digits of `0..=99` (first digit in the second byte).
+const DOT_PAIRS: [u32; 100] = {
+    let mut t = [0u32; 100];
     let mut n = 0;
     while n < 100 {
-        t[n] = if n == 0 {
-            2
-        } else if n % 10 == 0 {
-            1
-        } else {
-            0
-        };
+        t[n] = b'.' as u32 | ((PAIRS[n] as u32) << 8);
         n += 1;
     }
     t
 };
 
-/// A batch of pieces' text (ASCII digits and punctuation only) on the stack.
-struct PieceText {
-    /// `SIZE` bytes of text and room for the 8-byte stores that write a number's
-    /// bytes at once (the bytes past a number are overwritten by the next one).
-    buf: [u8; PieceText::SIZE + 8],
+/// Characters of `.` and the four decimals of `0..=9999` with trailing zeros removed
+/// (`.` alone for 0): one table read for the length.
+const FRAC_LEN: [u8; 10000] = {
+    let mut t = [0u8; 10000];
+    let mut n = 0;
+    while n < 10000 {
+        let mut len = 5;
+        let mut f = n;
+        while len > 1 && f % 10 == 0 {
+            len -= 1;
+            f /= 10;
+        }
+        t[n] = len;
+        n += 1;
+    }
+    t
+};
+
+/// A batch of pieces' text (ASCII digits and punctuation only) on the stack: `SIZE`
+/// bytes of text and room for the 8-byte stores that write a number's bytes at once
+/// (the bytes past a number are overwritten by the next one).
+type Batch = [u8; PieceText::SIZE + 8];
+
+/// A [`Batch`] and its length. Apart, the array being indexed by the length cannot
+/// be taken to overwrite it: the length stays in a register through the piece loop.
+/// `len <= SIZE` always: every number is written after `make_room` left room for
+/// its longest text (`put8` relies on it).
+struct PieceText<'b> {
+    buf: &'b mut Batch,
     len: usize,
 }
 
-impl PieceText {
+impl<'b> PieceText<'b> {
     const SIZE: usize = 1024;
-    /// Flushed before a number once this much is buffered: a bound takes at most 12
-    /// bytes (`,` sign and 10 digits), a fast-path weight 18 (`,` sign, 11 integer
-    /// digits, `.` and 4 decimals).
-    const FLUSH_AT: usize = Self::SIZE - Self::WEIGHT_MAX;
+    /// Most bytes of one bound (`,`, sign, 10 digits).
+    const BOUND_MAX: usize = 12;
     /// Most bytes of one fast-path weight (`,`, sign, 11 integer digits, `.`, 4 decimals).
     const WEIGHT_MAX: usize = 18;
 
-    fn new() -> Self {
-        PieceText {
-            buf: [0; Self::SIZE + 8],
-            len: 0,
-        }
+    fn new(buf: &'b mut Batch) -> Self {
+        PieceText { buf, len: 0 }
+    }
+
+    /// Where the next byte goes: `len` masked (a no-op, as `len < SIZE` here), which
+    /// shows the compiler that the byte fits, in place of a bounds check.
+    #[inline(always)]
+    fn at(&self) -> usize {
+        debug_assert!(self.len < Self::SIZE);
+        self.len & (Self::SIZE - 1)
     }
 
     /// Eight bytes at the end of the text, of which the caller keeps a prefix.
     #[inline(always)]
     fn put8(&mut self, bytes: u64) {
-        self.buf[self.len..self.len + 8].copy_from_slice(&bytes.to_le_bytes());
+        debug_assert!(self.len <= Self::SIZE);
+        // Unchecked: two to four stores a number, each checked cost a tenth of the loop.
+        // SAFETY: `len <= SIZE` at every store: a piece's (or number's) stores all start
+        // before the end of its longest text, for which `make_room` left room, and the
+        // buffer has the 8 bytes past `SIZE` that a store there reaches.
+        unsafe {
+            let at = self.buf.as_mut_ptr().add(self.len);
+            at.cast::<[u8; 8]>().write_unaligned(bytes.to_le_bytes());
+        }
     }
 
     /// `,` and a box bound: one store for the usual `0..=999`.
@@ -392,7 +455,8 @@ impl PieceText {
     fn bound(&mut self, b: i32) {
         if (0..1000).contains(&b) {
             let e = SMALL[b as usize];
-            self.put8(u64::from(b',') | (u64::from(e & 0xff_ffff) << 8));
+            // The length byte lands past the text (overwritten by the next number).
+            self.put8(u64::from(b',') | (u64::from(e) << 8));
             self.len += 1 + (e >> 24) as usize;
         } else {
             self.byte(b',');
@@ -400,10 +464,31 @@ impl PieceText {
         }
     }
 
-    /// Room for one more number: the batch so far goes to `out` when near full.
+    /// `,lo,hi`: an interval's bounds, copied from `cache` when it holds them.
     #[inline(always)]
-    fn make_room(&mut self, out: &mut Utf8Out<'_>) {
-        if self.len > Self::FLUSH_AT {
+    fn interval(&mut self, lo: i32, hi: i32, cache: &mut IntervalCache) {
+        let key = u64::from(lo as u32) | (u64::from(hi as u32) << 32);
+        let slot = lo as usize % IntervalCache::SLOTS;
+        if cache.keys[slot] == key {
+            self.put8(cache.texts[slot]);
+            self.len += usize::from(cache.lens[slot]);
+            return;
+        }
+        // Out of line (and by value: the batch's length stays in a register).
+        let ([a, b, c], len) = cache.insert(lo, hi);
+        let start = self.len;
+        self.put8(a);
+        self.len = start + 8;
+        self.put8(b);
+        self.len = start + 16;
+        self.put8(c);
+        self.len = start + len;
+    }
+
+    /// Room for `need` more bytes of text: the batch so far goes to `out` when near full.
+    #[inline(always)]
+    fn make_room(&mut self, need: usize, out: &mut Utf8Out<'_>) {
+        if self.len > Self::SIZE - need {
             out.ascii(self);
         }
     }
@@ -412,8 +497,8 @@ impl PieceText {
     /// into `out` after the batch so far.
     #[inline(always)]
     fn weight_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
-        self.byte(b',');
         if !self.weight(w) {
+            self.byte(b',');
             out.ascii(self);
             out.weight(w);
         }
@@ -429,15 +514,16 @@ impl PieceText {
     /// One ASCII character (masked to 7 bits: the buffer only ever holds ASCII).
     #[inline(always)]
     fn byte(&mut self, b: u8) {
-        self.buf[self.len] = b & 0x7f;
+        let i = self.at();
+        self.buf[i] = b & 0x7f;
         self.len += 1;
     }
 
     /// Two digits of `n < 100`.
     #[inline(always)]
     fn pair(&mut self, n: u32) {
-        let i = 2 * n as usize;
-        self.buf[self.len..self.len + 2].copy_from_slice(&DIGIT_PAIRS[i..i + 2]);
+        let (i, n) = (self.at(), 2 * n as usize);
+        self.buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[n..n + 2]);
         self.len += 2;
     }
 
@@ -481,45 +567,69 @@ impl PieceText {
         self.u64(u64::from(v.unsigned_abs()));
     }
 
-    /// The 4-decimal weight encoding (spec §9.1) for the weights the integer path
-    /// covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
+    /// `,` and the 4-decimal weight encoding (spec §9.1) for the weights the integer
+    /// path covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
     /// infinities, NaN), which [`Utf8Out::weight`] handles.
     #[inline(always)]
     fn weight(&mut self, w: f64) -> bool {
-        let a = w.abs();
-        let x = a * 10000.0 + 0.5;
-        if x.is_nan() || x >= 1e15 {
+        let bits = w.to_bits();
+        // ±0 first: in a tiling, slopes often are (half the weights of a contact's).
+        if bits << 1 == 0 {
+            self.put8(u64::from(u16::from_le_bytes(*b",0")));
+            self.len += 2;
+            return true;
+        }
+        let x = f64::from_bits(bits & !(1 << 63)) * 10000.0 + 0.5;
+        // One comparison (NaN fails it too); `is_nan() ||` would add one.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        if !(x < 1e15) {
             return false;
         }
-        // The sign is written always and kept only for a negative weight.
-        self.buf[self.len] = b'-';
-        self.len += usize::from(w < 0.0);
-        if a == 0.0 {
-            self.byte(b'0');
-            return true;
-        }
-        // Below 1e15 (< 2^53) `x as i64` is exactly `x.trunc()` (and one instruction).
-        let n = x as i64 as u64;
+        // Below 1e15 (< 2^53) the conversion is exactly `x.trunc()`; unchecked, it is
+        // one instruction (`as` adds the saturation compares).
+        // SAFETY: 0.5 <= x < 1e15: finite, and its truncation fits an i64.
+        let n = unsafe { x.to_int_unchecked::<i64>() } as u64;
         if n == 0 {
-            self.buf[self.len..self.len + 6].copy_from_slice(b"0.0000");
-            self.len += 6;
+            let (text, len) = zero_weight(w);
+            self.put8(text);
+            self.len += len;
             return true;
         }
+        // `,-` written always, the `-` kept for a negative weight (its sign bit: only a
+        // zero weight, handled above, drops the sign of -0.0).
+        self.put8(u64::from(u16::from_le_bytes(*b",-")));
+        self.len += 1 + (bits >> 63) as usize;
         let whole = n / 10000;
         if whole < 1000 {
+            // The length byte lands where the `.` goes next.
             let e = SMALL[whole as usize];
-            self.put8(u64::from(e & 0xff_ffff));
+            self.put8(u64::from(e));
             self.len += (e >> 24) as usize;
         } else {
             self.u64(whole);
         }
         // `.` and four decimals, trailing zeros removed (the `.` stays).
-        let frac = (n - whole * 10000) as usize;
-        let (hi, lo) = (frac / 100, frac % 100);
-        self.put8(u64::from(b'.') | (u64::from(PAIRS[hi]) << 8) | (u64::from(PAIRS[lo]) << 24));
-        let zeros = usize::from(ZEROS[lo]) + usize::from(lo == 0) * usize::from(ZEROS[hi]);
-        self.len += 5 - zeros;
+        // (`%`, not `n - whole·10000`: the compiler then knows `frac < 10000` and
+        // reads the tables below unchecked.)
+        let frac = (n % 10000) as u32;
+        // frac / 100 for frac < 43699, and the rest.
+        let hi = (frac * 5243) >> 19;
+        let (hi, lo, frac) = (hi as usize, (frac - hi * 100) as usize, frac as usize);
+        self.put8(u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24));
+        self.len += usize::from(FRAC_LEN[frac]);
         true
+    }
+}
+
+/// `,` and the text of a tiny weight, one that rounds to 0 (its bytes, first lowest,
+/// and how many): `0.0000` with its sign. Rare: out of the loop.
+#[cold]
+#[inline(never)]
+fn zero_weight(w: f64) -> (u64, usize) {
+    if w < 0.0 {
+        (u64::from_le_bytes(*b",-0.0000"), 8)
+    } else {
+        (u64::from_le_bytes(*b",0.0000\0"), 7)
     }
 }
 
@@ -752,15 +862,16 @@ mod tests {
     /// takes, and declines (writing nothing) exactly the huge and non-finite ones.
     #[test]
     fn piece_text_weights_match_the_reference() {
+        let mut batch = [0; PieceText::SIZE + 8];
         let mut seed = 19u64;
         let mut want = String::new();
         for _ in 0..300_000 {
             let w = random_weight(&mut seed, false);
             want.clear();
             reference::encode_weight(w, &mut want);
-            let mut text = PieceText::new();
+            let mut text = PieceText::new(&mut batch);
             if text.weight(w) {
-                assert_eq!(text.take(), want.as_bytes(), "weight {w:e}");
+                assert_eq!(text.take(), format!(",{want}").as_bytes(), "weight {w:e}");
             } else {
                 assert_eq!(text.len, 0);
                 let x = w.abs() * 10000.0 + 0.5;
@@ -780,24 +891,24 @@ mod tests {
             123_456_789,
             u32::MAX,
         ] {
-            let mut text = PieceText::new();
+            let mut text = PieceText::new(&mut batch);
             text.u64(u64::from(v));
             assert_eq!(text.take(), v.to_string().as_bytes());
         }
-        let mut text = PieceText::new();
+        let mut text = PieceText::new(&mut batch);
         text.u64(u64::MAX);
         assert_eq!(text.take(), u64::MAX.to_string().as_bytes());
         for v in [i32::MIN, -1, 0, 1, i32::MAX] {
-            let mut text = PieceText::new();
+            let mut text = PieceText::new(&mut batch);
             text.i32(v);
             assert_eq!(text.take(), v.to_string().as_bytes());
         }
-        let mut text = PieceText::new();
+        let mut text = PieceText::new(&mut batch);
         let mut want = String::new();
         for v in (-1100..1100).chain([9999, 10_000, 123_456, i32::MIN, i32::MAX]) {
             text.bound(v);
             want.push_str(&format!(",{v}"));
-            if text.len > PieceText::FLUSH_AT {
+            if text.len > PieceText::SIZE - PieceText::BOUND_MAX {
                 assert_eq!(text.take(), want.as_bytes());
                 want.clear();
             }
@@ -954,6 +1065,164 @@ mod tests {
             }
         }
         assert_eq!(kept.changed, 0, "the held function is kept");
+    }
+
+    /// A weight from anywhere in the encoder's cases: any bit pattern (every magnitude,
+    /// subnormals, infinities, NaNs of both signs), the rounding edges of the 4th
+    /// decimal and of the integer part's lengths (9.99995 becomes `10.`), the edge of the
+    /// integer path (|w|·10⁴ + 0.5 near 1e15), zeros and tiny values of both signs.
+    fn any_weight(seed: &mut u64) -> f64 {
+        let r = rng(seed);
+        let sign = if rng(seed) < 0.5 { -1.0 } else { 1.0 };
+        let k = (rng(seed) * 1e6).floor();
+        let nudge = |w: f64, ulps: i64| f64::from_bits((w.to_bits() as i64 + ulps) as u64);
+        let ulps = (rng(seed) * 5.0) as i64 - 2;
+        match (rng(seed) * 12.0) as u32 {
+            0 => f64::from_bits(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)),
+            1 => sign * nudge((k + 0.5) / 10000.0, ulps),
+            2 => sign * nudge(k / 10000.0, ulps),
+            3 => {
+                let edge = [0.99995, 9.99995, 99.99995, 999.99995, 9999.99995];
+                sign * nudge(edge[(r * 5.0) as usize], ulps)
+            }
+            4 => sign * nudge((1e15 - 0.5) / 10000.0, ulps * 8),
+            5 => sign * [0.0, 5e-5, 4.9999e-5, f64::MIN_POSITIVE, 1e-300][(r * 5.0) as usize],
+            6 => sign * 10f64.powf(r * 40.0 - 20.0),
+            7 => sign * r * 10.0,
+            8 => sign * r * 1000.0,
+            9 => sign * [f64::INFINITY, f64::MAX, 1e19, 1.8e19][(r * 4.0) as usize],
+            10 => f64::from_bits(f64::NAN.to_bits() | ((sign < 0.0) as u64) << 63),
+            _ => sign * r * 1e7,
+        }
+    }
+
+    /// The pieces' text as the reference writes it, from raw bounds and weights.
+    fn reference_pieces(dim: usize, bounds: &[i32], weights: &[f64]) -> String {
+        let mut s = String::new();
+        for (b, w) in bounds
+            .chunks_exact(2 * dim)
+            .zip(weights.chunks_exact(dim + 1))
+        {
+            for v in b {
+                s.push_str(&format!(",{v}"));
+            }
+            for &w in w {
+                s.push(',');
+                reference::encode_weight(w, &mut s);
+            }
+        }
+        s
+    }
+
+    /// The piece loop (every dimension count, the unrolled ones and the others) gives
+    /// the reference's text for weights of every kind and for bounds of every kind:
+    /// intervals repeated (the interval cache), sharing `lo` or its slot with another
+    /// `hi`, negative, past 999, `i32::MIN` and `MAX`; many pieces, so batches flush
+    /// between and around the slow weights.
+    #[test]
+    fn piece_loop_matches_the_reference_for_any_numbers() {
+        let mut seed = 23u64;
+        let mut got = String::new();
+        for case in 0..400 {
+            let dim = 1 + case % 5;
+            let mut d = Domain::new();
+            for i in 0..dim {
+                d.add_var(&format!("v{i}"), 0.0, 10.0, 11).unwrap();
+            }
+            let pieces = 1 + (rng(&mut seed) * 400.0) as usize;
+            let mut bounds: Vec<i32> = Vec::with_capacity(pieces * 2 * dim);
+            for p in 0..pieces {
+                for k in 0..dim {
+                    let (lo, hi) = match (rng(&mut seed) * 8.0) as u32 {
+                        // The interval of the piece before (the usual tiling).
+                        0..=2 if p > 0 => {
+                            let at = bounds.len() - 2 * dim;
+                            (bounds[at], bounds[at + 1])
+                        }
+                        // The same `lo` (or `lo` ± 64: the same slot), another `hi`.
+                        3 if p > 0 => {
+                            let lo = bounds[bounds.len() - 2 * dim];
+                            let lo = lo.wrapping_add([0, 64, -64][(rng(&mut seed) * 3.0) as usize]);
+                            (lo, (rng(&mut seed) * 1100.0) as i32 - 50)
+                        }
+                        4 => {
+                            let lo = (rng(&mut seed) * 1000.0) as i32;
+                            (lo, lo + (rng(&mut seed) * 50.0) as i32)
+                        }
+                        5 => ((rng(&mut seed) * 2e9) as i32 - 1_000_000_000, k as i32),
+                        6 => ([i32::MIN, -1, 999, 1000, i32::MAX][p % 5], -(k as i32)),
+                        _ => (
+                            (rng(&mut seed) * 1100.0) as i32 - 50,
+                            (rng(&mut seed) * 1100.0) as i32,
+                        ),
+                    };
+                    bounds.extend([lo, hi]);
+                }
+            }
+            let weights: Vec<f64> = (0..pieces * (dim + 1))
+                .map(|_| any_weight(&mut seed))
+                .collect();
+            let src = IpfSource {
+                context: "x",
+                domain: &d,
+                pwt: 1.0,
+                gelbox: &[],
+                bounds: &bounds,
+                weights: &weights,
+            };
+            got.clear();
+            encode_pieces_into(&src, &mut got);
+            let want = reference_pieces(dim, &bounds, &weights);
+            if got != want {
+                let at = got
+                    .bytes()
+                    .zip(want.bytes())
+                    .take_while(|(a, b)| a == b)
+                    .count();
+                let from = at.saturating_sub(40);
+                panic!(
+                    "case {case} (dim {dim}) differs at byte {at}: got ..{} want ..{}",
+                    &got[from..(at + 40).min(got.len())],
+                    &want[from..(at + 40).min(want.len())]
+                );
+            }
+        }
+    }
+
+    /// The bench's 72 x 21 contact-sized tiling (1512 pieces), encoded 100 times, for
+    /// instruction counts: `valgrind --tool=callgrind --toggle-collect='*encode_many*'`
+    /// on `cargo test --release -p ivp-ipf --lib -- --ignored encode_instructions`.
+    #[test]
+    #[ignore]
+    fn encode_instructions() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let mut pieces = Vec::new();
+        let mut seed = 5u64;
+        for i in 0..72 {
+            for j in 0..21 {
+                let r = rng(&mut seed);
+                let lo_s = j * 41 / 21;
+                let hi_s = ((j + 1) * 41 / 21 - 1).max(lo_s);
+                pieces.push((
+                    vec![(i * 5, i * 5 + 4), (lo_s, hi_s)],
+                    vec![r * 3.0 - 1.5, 0.25 - r, r * 100.0],
+                ));
+            }
+        }
+        let mut f = IvpFunction::from_pieces(d, &pieces).unwrap();
+        f.set_context("1234:avd_abe");
+        #[inline(never)]
+        fn encode_many(f: &IvpFunction, s: &mut String) -> usize {
+            (0..100)
+                .map(|_| {
+                    encode_into(std::hint::black_box(f), s);
+                    s.len()
+                })
+                .sum()
+        }
+        let mut s = String::new();
+        assert!(encode_many(&f, &mut s) > 0);
+        assert_eq!(s, reference::encode(&f));
     }
 
     fn enc(w: f64) -> String {
