@@ -1189,42 +1189,6 @@ mod tests {
         }
     }
 
-    /// The bench's 72 x 21 contact-sized tiling (1512 pieces), encoded 100 times, for
-    /// instruction counts: `valgrind --tool=callgrind --toggle-collect='*encode_many*'`
-    /// on `cargo test --release -p ivp-ipf --lib -- --ignored encode_instructions`.
-    #[test]
-    #[ignore]
-    fn encode_instructions() {
-        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
-        let mut pieces = Vec::new();
-        let mut seed = 5u64;
-        for i in 0..72 {
-            for j in 0..21 {
-                let r = rng(&mut seed);
-                let lo_s = j * 41 / 21;
-                let hi_s = ((j + 1) * 41 / 21 - 1).max(lo_s);
-                pieces.push((
-                    vec![(i * 5, i * 5 + 4), (lo_s, hi_s)],
-                    vec![r * 3.0 - 1.5, 0.25 - r, r * 100.0],
-                ));
-            }
-        }
-        let mut f = IvpFunction::from_pieces(d, &pieces).unwrap();
-        f.set_context("1234:avd_abe");
-        #[inline(never)]
-        fn encode_many(f: &IvpFunction, s: &mut String) -> usize {
-            (0..100)
-                .map(|_| {
-                    encode_into(std::hint::black_box(f), s);
-                    s.len()
-                })
-                .sum()
-        }
-        let mut s = String::new();
-        assert!(encode_many(&f, &mut s) > 0);
-        assert_eq!(s, reference::encode(&f));
-    }
-
     fn enc(w: f64) -> String {
         let mut s = String::new();
         encode_weight(w, &mut s);
