@@ -328,7 +328,7 @@ pub fn open(path: &Path) -> Result<Runs, RunsError> {
         .iter()
         .map(|f| read_log(path, f))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut subs = subs
+    let subs = subs
         .iter()
         .map(|(d, fs)| {
             let logs = fs.iter().map(|f| read_log(path, f));
@@ -349,7 +349,10 @@ pub fn open(path: &Path) -> Result<Runs, RunsError> {
                 .map(|l| Run::new(l.name.clone(), vec![l]))
                 .collect()
         }
-        Layout::Folders => subs.drain(..).map(|(d, logs)| Run::new(d, logs)).collect(),
+        Layout::Folders => subs
+            .into_iter()
+            .map(|(d, logs)| Run::new(d, logs))
+            .collect(),
         Layout::OneRun => {
             let name = path
                 .file_name()
