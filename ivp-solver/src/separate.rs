@@ -36,6 +36,11 @@ pub(crate) struct Separate {
     node_b: Vec<i32>,
     node_w: Vec<f64>,
     order: Vec<usize>,
+    /// What `maxes` were made from: the problem's points, then per group its
+    /// functions' (slot, generation) (see [`Prepared::gen`]): kept functions (the
+    /// depth ones, mostly) keep their groups' maxima.
+    key: Vec<u64>,
+    new_key: Vec<u64>,
 }
 
 impl Separate {
@@ -76,11 +81,24 @@ impl Separate {
         if self.groups.is_empty() {
             return None;
         }
-        self.maxes.clear();
-        for gi in 0..self.groups.len() {
-            let members = self.groups[gi].1;
-            let v = self.group_max(funcs, active, boxes, pts, members);
-            self.maxes.push(v.filter(|v| !v.is_nan()));
+        self.new_key.clear();
+        self.new_key.extend(pts.iter().map(|&p| p as u64));
+        for &(_, members) in &self.groups {
+            self.new_key.push(u64::MAX);
+            for (k, &fi) in active.iter().enumerate() {
+                if members & (1 << k) != 0 {
+                    self.new_key.extend([fi as u64, funcs[fi].gen]);
+                }
+            }
+        }
+        if self.new_key != self.key || self.maxes.len() != self.groups.len() {
+            self.maxes.clear();
+            for gi in 0..self.groups.len() {
+                let members = self.groups[gi].1;
+                let v = self.group_max(funcs, active, boxes, pts, members);
+                self.maxes.push(v.filter(|v| !v.is_nan()));
+            }
+            std::mem::swap(&mut self.key, &mut self.new_key);
         }
         self.rest.clear();
         self.rest.resize(m + 1, f64::NAN);
