@@ -519,12 +519,11 @@ impl Search<'_> {
         };
         let cut = |s: &Self, q: usize| ubs.get(q).is_some_and(|&u| mv + u <= s.best - 2.0 * s.tol);
         match (cell, words) {
+            // (The index's cell bound already pruned the node when no piece of the cell
+            // could beat the incumbent: the cut would cost more than it saves.)
             (Some(list), _) => {
                 for &q in list {
                     let q = q as usize;
-                    if cut(self, q) {
-                        continue;
-                    }
                     let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
                     self.last_leaf(nb, nw, qb, qw, dim);
                 }
