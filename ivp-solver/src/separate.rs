@@ -54,7 +54,7 @@ impl Separate {
         pts: &[i32],
     ) -> Option<&[f64]> {
         let (m, dim) = (active.len(), pts.len());
-        if m < 3 || m > 64 || dim > 32 {
+        if !(3..=64).contains(&m) || dim > 32 {
             return None;
         }
         self.groups.clear();
