@@ -175,7 +175,7 @@ impl Search<'_> {
             if !skip {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(&fw[q * wl..(q + 1) * wl]);
-                self.recurse(1);
+                self.recurse(1, mv);
             }
             q += 1;
         }

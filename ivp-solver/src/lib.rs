@@ -34,6 +34,7 @@ mod last_bits;
 mod last_index;
 mod prepared;
 mod search;
+mod separate;
 mod setup;
 mod view;
 mod weigh;
@@ -79,6 +80,8 @@ pub struct Solver {
     bits: LastBits,
     /// The first level's quick bound over the functions between (see `first_level.rs`).
     mid: first_level::Mid,
+    /// The bound terms of independent groups of functions (see `separate.rs`).
+    sep: separate::Separate,
     /// The previous decision point (problem indices), to seed the next search. Any
     /// point of the domain is a valid seed (see [`seed_value`]); a stale one only
     /// prunes less.
@@ -102,6 +105,9 @@ pub struct Solver {
     /// Functions kept from an earlier solve, over the solver's life, for the tests.
     #[cfg(test)]
     kept: usize,
+    /// Solves with the bound of independent groups on, over the solver's life.
+    #[cfg(test)]
+    sep_solves: usize,
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -343,7 +349,15 @@ impl Solver {
             self.mid
                 .refresh(&self.funcs, &self.active, &self.pts, boxes[f0])
         });
+        let sep = self
+            .sep
+            .refresh(&self.funcs, &self.active, &boxes, &self.pts);
+        #[cfg(test)]
+        {
+            self.sep_solves += usize::from(sep.is_some());
+        }
         let mut s = Search {
+            sep,
             funcs: &self.funcs,
             boxes: &boxes,
             active: &self.active,

@@ -15,6 +15,8 @@ pub(crate) struct Prepared {
     /// Bumped whenever the boxes are made anew (kept boxes keep it): equal
     /// generations of one slot mean equal boxes.
     pub(crate) boxes_gen: u64,
+    /// Bumped whenever the slot is prepared afresh (a kept slot keeps it).
+    pub(crate) gen: u64,
     pub(crate) weights: Vec<f64>,
     pub(crate) n: usize,
     pub(crate) map: Vec<usize>,

@@ -223,6 +223,9 @@ pub(crate) struct Search<'a> {
     pub(crate) bits_ready: bool,
     pub(crate) scans: u32,
     pub(crate) pts: &'a [i32],
+    /// Per level, the terms of the functions from there on with independent groups
+    /// counted by their own maximum, NaN for none (see `separate.rs`).
+    pub(crate) sep: Option<&'a [f64]>,
 }
 
 impl Search<'_> {
@@ -271,7 +274,15 @@ impl Search<'_> {
         for t in &self.terms[level..m - 1] {
             prefix += t.ub;
         }
-        prefix + self.last_ub <= self.best
+        prefix + self.last_ub <= self.best || self.sep_prunes(level, acc)
+    }
+
+    /// Whether the bound of `separate.rs` prunes the node at `level` worth `acc` (a
+    /// tighter bound: `prune(rb, tb)` once `rb` does not prune).
+    #[inline(always)]
+    fn sep_prunes(&self, level: usize, acc: f64) -> bool {
+        self.sep
+            .is_some_and(|r| acc + r[level] <= self.best - 2.0 * self.tol)
     }
 
     /// [`Search::skip`] without the index when the functions `level..` are all one
@@ -287,6 +298,9 @@ impl Search<'_> {
         let rb = prefix + self.last_ub;
         if rb <= self.best {
             return self.prune(rb, rb);
+        }
+        if self.sep_prunes(level, acc) {
+            return self.prune(rb, f64::NEG_INFINITY);
         }
         let tb = match &self.clip {
             // Next to the last function its leaves cost about what this bound does.
@@ -447,7 +461,7 @@ impl Search<'_> {
             if !skip {
                 self.node_b[..bl].copy_from_slice(pb);
                 self.node_w[..wl].copy_from_slice(pw);
-                self.recurse(1);
+                self.recurse(1, mv);
             }
         }
     }
@@ -470,8 +484,13 @@ impl Search<'_> {
     /// then dimensions in order); the leaf is only materialized when it becomes the
     /// incumbent. A node inside one cell of the [`LastIndex`] meets only that cell's
     /// pieces (array order, as here).
+    ///
+    /// Once a leaf is found or the search is seeded, a piece `q` with
+    /// `mv + maxVal(q) <= best - 2 tol` (`mv` the node's `maxVal`) is passed over: that
+    /// sum bounds its leaf `node ∩ q`, so the leaf is at most `best` (see
+    /// [`Search::prune`]): never taken and raising no `doubt`, the same answer.
     #[inline(always)]
-    fn last_level_dim(&mut self, level: usize, f: &Prepared, fb: &[i32], dim: usize) {
+    fn last_level_dim(&mut self, level: usize, f: &Prepared, fb: &[i32], dim: usize, mv: f64) {
         let (bl, wl) = (2 * dim, dim + 1);
         let cell = {
             let node_b = &self.node_b[(level - 1) * bl..level * bl];
@@ -491,7 +510,17 @@ impl Search<'_> {
         let nb = &all_b[(level - 1) * bl..level * bl];
         let nw = &all_w[(level - 1) * wl..level * wl];
         let weights = &f.weights;
+        // The pieces' `maxVal`s when the set-up made them (a NaN `mv` passes all).
+        let ubs = &f.piece_ub[..];
+        let (ubs, mv) = if ubs.len() == f.n && (self.found || self.seeded) {
+            (ubs, mv)
+        } else {
+            (&[][..], f64::NAN)
+        };
+        let cut = |s: &Self, q: usize| ubs.get(q).is_some_and(|&u| mv + u <= s.best - 2.0 * s.tol);
         match (cell, words) {
+            // (The index's cell bound already pruned the node when no piece of the cell
+            // could beat the incumbent: the cut would cost more than it saves.)
             (Some(list), _) => {
                 for &q in list {
                     let q = q as usize;
@@ -506,6 +535,9 @@ impl Search<'_> {
                     while word != 0 {
                         let q = w * 64 + word.trailing_zeros() as usize;
                         word &= word - 1;
+                        if cut(self, q) {
+                            continue;
+                        }
                         let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
                         self.last_leaf(nb, nw, qb, qw, dim);
                     }
@@ -513,7 +545,10 @@ impl Search<'_> {
             }
             (None, None) => {
                 let pieces = fb.chunks_exact(bl).zip(weights.chunks_exact(wl));
-                for (qb, qw) in pieces.take(f.n) {
+                for (q, (qb, qw)) in pieces.take(f.n).enumerate() {
+                    if cut(self, q) {
+                        continue;
+                    }
                     self.last_leaf(nb, nw, qb, qw, dim);
                 }
             }
@@ -587,20 +622,21 @@ impl Search<'_> {
         }
     }
 
-    /// `level` = index of the function to intersect with; node is in slot `level-1`.
-    pub(crate) fn recurse(&mut self, level: usize) {
+    /// `level` = index of the function to intersect with; node is in slot `level-1`,
+    /// `mv` its `maxVal`.
+    pub(crate) fn recurse(&mut self, level: usize, mv: f64) {
         // The helm's dimensions made constants: the per-piece loops here and the
         // per-leaf ones of `last_level_dim` unrolled, the slices' lengths known.
         match self.dim {
-            1 => self.recurse_dim::<1>(level),
-            2 => self.recurse_dim::<2>(level),
-            3 => self.recurse_dim::<3>(level),
-            _ => self.recurse_dim::<0>(level),
+            1 => self.recurse_dim::<1>(level, mv),
+            2 => self.recurse_dim::<2>(level, mv),
+            3 => self.recurse_dim::<3>(level, mv),
+            _ => self.recurse_dim::<0>(level, mv),
         }
     }
 
     /// [`Search::recurse`] with `D == self.dim` (`D == 0`: any dimension).
-    fn recurse_dim<const D: usize>(&mut self, level: usize) {
+    fn recurse_dim<const D: usize>(&mut self, level: usize, node_mv: f64) {
         let dim = if D == 0 { self.dim } else { D };
         let (bl, wl) = (2 * dim, dim + 1);
         let funcs = self.funcs;
@@ -608,7 +644,7 @@ impl Search<'_> {
         let fb = self.boxes[self.active[level]];
         let last = level + 1 == self.active.len();
         if last && f.single {
-            self.last_level_dim(level, f, fb, dim);
+            self.last_level_dim(level, f, fb, dim, node_mv);
             return;
         }
         let singles = self.singles_at(level + 1);
@@ -639,7 +675,7 @@ impl Search<'_> {
                     s.skip(level + 1, &s.node_b[level * bl..(level + 1) * bl], mv)
                 };
                 if !skip {
-                    s.recurse_dim::<D>(level + 1);
+                    s.recurse_dim::<D>(level + 1, mv);
                 }
             }
         };

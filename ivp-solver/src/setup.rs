@@ -82,6 +82,7 @@ impl Solver {
         first: bool,
     ) -> Result<(), IvpError> {
         let p = &mut self.funcs[fi];
+        p.gen = p.gen.wrapping_add(1);
         let od = f.dim();
         p.map.clear();
         for v in f.domain().vars() {

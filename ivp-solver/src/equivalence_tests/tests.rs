@@ -865,6 +865,7 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 bits_ready: false,
                 scans: 0,
                 pts: &solver.pts,
+                sep: None,
             };
             for _ in 0..40 {
                 let b = random_box(&solver.pts, &mut seed);
@@ -1109,4 +1110,70 @@ fn search_beyond_three_dimensions_equals_the_straightforward_branch_and_bound() 
         }
     }
     assert_eq!(solves, 800);
+}
+
+/// The helm's depth problems: a waypoint-like course × speed function and two or three
+/// depth functions (ZAIC-like, or small tilings), in a random order, solved in
+/// sequences: the bound of independent groups (`separate.rs`) is on whenever the depth
+/// functions all sit below the first, and the decisions are the straightforward branch
+/// and bound's and a fresh solver's, bit for bit.
+#[test]
+fn depth_group_search_equals_the_straightforward_branch_and_bound() {
+    let mut seed = 9191u64;
+    let (mut solves, mut with_sep) = (0, 0);
+    for round in 0..400 {
+        let spec = format!(
+            "depth:0:{}:{},speed:0:4:{},course:0:{}:{}",
+            10 + pick(&mut seed, 50),
+            11 + pick(&mut seed, 50),
+            5 + pick(&mut seed, 40),
+            40 + pick(&mut seed, 320),
+            41 + pick(&mut seed, 320),
+        );
+        let dom = Domain::parse(&spec).unwrap();
+        let cs = sub_domain(&dom, &[2, 1]);
+        let depth = sub_domain(&dom, &[0]);
+        let mut fs = vec![if pick(&mut seed, 2) == 0 {
+            zaic_like(&cs, false, &mut seed)
+        } else {
+            let size = [
+                10 + pick(&mut seed, 80) as i32,
+                3 + pick(&mut seed, 18) as i32,
+            ];
+            tiling(&cs, &size, false, &mut seed)
+        }];
+        for _ in 0..2 + pick(&mut seed, 2) {
+            fs.push(if pick(&mut seed, 4) == 0 {
+                tiling(&depth, &[1 + pick(&mut seed, 12) as i32], false, &mut seed)
+            } else {
+                zaic_like(&depth, pick(&mut seed, 6) == 0, &mut seed)
+            });
+        }
+        // Mostly the waypoint first (the helm's order by name), now and then not.
+        if pick(&mut seed, 4) == 0 {
+            let k = pick(&mut seed, fs.len() as u64) as usize;
+            fs.swap(0, k);
+        }
+        for f in &mut fs {
+            f.set_pwt(match pick(&mut seed, 6) {
+                0 => 0.37 + pick(&mut seed, 50) as f64 / 3.0,
+                _ => 1.0 + pick(&mut seed, 200) as f64,
+            });
+        }
+        let mut solver = Solver::new();
+        for step in 0..5 {
+            if step > 0 {
+                nudge(&mut fs, &mut seed);
+            }
+            let refs: Vec<&IvpFunction> = fs.iter().collect();
+            let mut got = Decision::default();
+            let found = solver.solve_into(&dom, &refs, &mut got).unwrap();
+            solves += 1;
+            let at = format!("round {round} step {step}");
+            assert_as_reference(&solver, (&dom, &refs), (found, &got), &at);
+        }
+        with_sep += solver.sep_solves;
+    }
+    eprintln!("{solves} solves, {with_sep} with the independent groups' bound");
+    assert!(with_sep * 2 > solves, "{with_sep} of {solves}");
 }
