@@ -122,8 +122,11 @@ impl Shape {
         }
     }
 
-    #[cfg(test)]
-    fn utility(&self, dist: f64) -> f64 {
+    /// [`Shape::at`] with branches for its selects: the same operations on the same
+    /// operands where used, so the same value, computing only the branch taken (for the
+    /// skipping scan, which looks at a few samples one at a time).
+    #[inline(always)]
+    pub(crate) fn utility(&self, dist: f64) -> f64 {
         let val = if dist <= self.pwidth {
             if self.sd <= 0.0 {
                 self.maxutil
