@@ -32,8 +32,8 @@ pub(crate) fn one_var(domain: &Domain, var: &str) -> Result<Domain, IvpError> {
 /// Accumulates 1-D pieces in order.
 #[derive(Default)]
 pub(crate) struct Pieces1 {
-    bounds: Vec<i32>,
-    weights: Vec<f64>,
+    pub(crate) bounds: Vec<i32>,
+    pub(crate) weights: Vec<f64>,
 }
 
 impl Pieces1 {

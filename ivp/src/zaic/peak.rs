@@ -358,6 +358,20 @@ impl ZaicPeak {
 
     /// As [`ZaicPeak::extract`] with the typed reason of a failure.
     pub fn try_extract(&mut self, maxval: bool) -> Result<IvpFunction, IvpError> {
+        let (p, d) = self.pieces(maxval)?;
+        Ok(p.finish(d))
+    }
+
+    /// [`ZaicPeak::try_extract`]'s function without its search grid, for a caller that
+    /// hands it straight to the coupler (which has no use for the grid): the Waypoint's
+    /// course function, every iteration.
+    pub fn try_extract_without_grid(&mut self, maxval: bool) -> Result<IvpFunction, IvpError> {
+        let (p, d) = self.pieces(maxval)?;
+        Ok(IvpFunction::assemble(d, p.bounds, p.weights))
+    }
+
+    /// The pieces of the function and its domain.
+    fn pieces(&mut self, maxval: bool) -> Result<(super::Pieces1, Domain), IvpError> {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
@@ -369,8 +383,9 @@ impl ZaicPeak {
             points: var.points as usize,
             wrap: self.value_wrap,
         };
+        let d = crate::domain::domain_of(self.domain.vars());
         if let Some(p) = super::peak_scan::pieces(&self.comps, grid, maxval) {
-            return Ok(p.finish(crate::domain::domain_of(self.domain.vars())));
+            return Ok((p, d));
         }
         let n = grid.points;
         // Sample buffers reused per thread: this runs for every ZAIC of every behavior
@@ -379,7 +394,7 @@ impl ZaicPeak {
             scratch.resize(2 * n, 0.0);
             let (total, vals) = scratch.split_at_mut(n);
             self.sample_into(maxval, total, vals);
-            Ok(pieces_from_samples(total).finish(crate::domain::domain_of(self.domain.vars())))
+            Ok((pieces_from_samples(total), d))
         })
     }
 
@@ -450,6 +465,30 @@ mod tests {
             a
         } else {
             b
+        }
+    }
+
+    /// Without its grid, the function has the pieces and domain of `try_extract`'s, on
+    /// both paths (the skipping scan, and every point sampled: a max of two components).
+    #[test]
+    fn extract_without_grid_has_the_same_pieces() {
+        let d = Domain::parse("course:0:359:360").unwrap();
+        for (wrap, maxval) in [(true, false), (false, true)] {
+            let mut z = ZaicPeak::new(&d, "course").unwrap();
+            z.set_value_wrap(wrap);
+            z.set_params(120.5, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+            let k = z.add_component();
+            z.set_params(10.0, 30.0, 180.0, 5.0, 0.0, 20.0, k);
+            let (full, bare) = (z.try_extract(maxval), z.try_extract_without_grid(maxval));
+            let (full, bare) = (full.unwrap(), bare.unwrap());
+            assert_eq!(
+                (full.bounds(), full.domain()),
+                (bare.bounds(), bare.domain())
+            );
+            let bits =
+                |f: &IvpFunction| f.weights().iter().map(|w| w.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&full), bits(&bare));
+            assert!(!full.grid_bounds().is_empty() && bare.grid_bounds().is_empty());
         }
     }
 

@@ -23,7 +23,7 @@ use super::Pieces1;
 /// Waypoint's 41-point speed ZAIC is cheaper skipped: measured).
 const MIN_POINTS: usize = 32;
 /// Components handled (kinks on the stack).
-const MAX_COMPS: usize = 8;
+const MAX_COMPS: usize = 4;
 /// Kinks per component: summit, peak and base ends both sides, and with wrap the same
 /// the other way round plus the antipode.
 const KINKS_PER_COMP: usize = 14;
