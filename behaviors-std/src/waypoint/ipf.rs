@@ -85,10 +85,9 @@ impl Builder {
         })?;
         let z = kept::peak(&mut self.course, domain, "course", true, 2).ok_or(CRS_FAIL)?;
         let ok = set_course(z, o);
-        let crs = z.try_extract_without_grid(false).ok();
+        let f = z.try_extract_coupled(false, spd, (o.crs_pct, w2), true);
         kept::drop_on_failure(&mut self.course, ok);
-        ivp::coupler::try_couple_normalized(crs.ok_or(CRS_FAIL)?, spd, o.crs_pct, w2, true)
-            .map_err(|_| COUPLE_FAIL)
+        f.map_err(|_| CRS_FAIL)?.map_err(|_| COUPLE_FAIL)
     }
 }
 

@@ -358,20 +358,33 @@ impl ZaicPeak {
 
     /// As [`ZaicPeak::extract`] with the typed reason of a failure.
     pub fn try_extract(&mut self, maxval: bool) -> Result<IvpFunction, IvpError> {
-        let (p, d) = self.pieces(maxval)?;
-        Ok(p.finish(d))
+        let p = self.pieces(maxval)?;
+        Ok(p.finish(crate::domain::domain_of(self.domain.vars())))
     }
 
-    /// [`ZaicPeak::try_extract`]'s function without its search grid, for a caller that
-    /// hands it straight to the coupler (which has no use for the grid): the Waypoint's
-    /// course function, every iteration.
-    pub fn try_extract_without_grid(&mut self, maxval: bool) -> Result<IvpFunction, IvpError> {
-        let (p, d) = self.pieces(maxval)?;
-        Ok(IvpFunction::assemble(d, p.bounds, p.weights))
+    /// [`ZaicPeak::try_extract`] then [`crate::coupler::try_couple_normalized`] of that
+    /// function (f1, weight `w1`) with `f2` (weight `w2`): the same function, bit for
+    /// bit, without making the pieces a function in between (the Waypoint's course
+    /// function, every iteration). The outer error is the extraction's, the inner one
+    /// the coupler's.
+    pub fn try_extract_coupled(
+        &mut self,
+        maxval: bool,
+        f2: &IvpFunction,
+        weights: (f64, f64),
+        normalize: bool,
+    ) -> Result<Result<IvpFunction, IvpError>, IvpError> {
+        let mut p = self.pieces(maxval)?;
+        let pieces = (&p.bounds[..], &mut p.weights[..]);
+        let out =
+            crate::coupler::try_couple_line(self.domain.var(0), pieces, f2, weights, normalize);
+        mbutil::spare::give_ints(p.bounds);
+        mbutil::spare::give_floats(p.weights);
+        Ok(out)
     }
 
-    /// The pieces of the function and its domain.
-    fn pieces(&mut self, maxval: bool) -> Result<(super::Pieces1, Domain), IvpError> {
+    /// The pieces of the function.
+    fn pieces(&mut self, maxval: bool) -> Result<super::Pieces1, IvpError> {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
@@ -383,9 +396,8 @@ impl ZaicPeak {
             points: var.points as usize,
             wrap: self.value_wrap,
         };
-        let d = crate::domain::domain_of(self.domain.vars());
         if let Some(p) = super::peak_scan::pieces(&self.comps, grid, maxval) {
-            return Ok((p, d));
+            return Ok(p);
         }
         let n = grid.points;
         // Sample buffers reused per thread: this runs for every ZAIC of every behavior
@@ -394,7 +406,7 @@ impl ZaicPeak {
             scratch.resize(2 * n, 0.0);
             let (total, vals) = scratch.split_at_mut(n);
             self.sample_into(maxval, total, vals);
-            Ok((pieces_from_samples(total), d))
+            Ok(pieces_from_samples(total))
         })
     }
 
@@ -468,28 +480,57 @@ mod tests {
         }
     }
 
-    /// Without its grid, the function has the pieces and domain of `try_extract`'s, on
-    /// both paths (the skipping scan, and every point sampled: a max of two components).
+    /// Extracted and coupled at once, the function is the one of extracting then
+    /// coupling, bit for bit, on both paths (the skipping scan, and every point sampled:
+    /// a max of two components), with the coupler's refusals the same.
     #[test]
-    fn extract_without_grid_has_the_same_pieces() {
-        let d = Domain::parse("course:0:359:360").unwrap();
-        for (wrap, maxval) in [(true, false), (false, true)] {
+    fn extract_coupled_is_extract_then_couple() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let mut s = ZaicPeak::new(&d, "speed").unwrap();
+        s.set_params(1.5, 0.75, 1.6, 20.0, 0.0, 100.0, 0);
+        let mut spd = s.extract(true).unwrap();
+        spd.normalize(0.0, 40.0);
+        let bits = |f: &IvpFunction| f.weights().iter().map(|w| w.to_bits()).collect::<Vec<_>>();
+        for (wrap, maxval, summit) in [
+            (true, false, 120.5),
+            (false, true, 33.3),
+            (true, false, 0.0),
+        ] {
             let mut z = ZaicPeak::new(&d, "course").unwrap();
             z.set_value_wrap(wrap);
-            z.set_params(120.5, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+            z.set_params(summit, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
             let k = z.add_component();
             z.set_params(10.0, 30.0, 180.0, 5.0, 0.0, 20.0, k);
-            let (full, bare) = (z.try_extract(maxval), z.try_extract_without_grid(maxval));
-            let (full, bare) = (full.unwrap(), bare.unwrap());
-            assert_eq!(
-                (full.bounds(), full.domain()),
-                (bare.bounds(), bare.domain())
-            );
-            let bits =
-                |f: &IvpFunction| f.weights().iter().map(|w| w.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&full), bits(&bare));
-            assert!(!full.grid_bounds().is_empty() && bare.grid_bounds().is_empty());
+            for (w1, norm) in [(60.0, true), (60.0, false), (0.0, true)] {
+                let want = crate::coupler::try_couple_normalized(
+                    z.try_extract(maxval).unwrap(),
+                    &spd,
+                    w1,
+                    40.0,
+                    norm,
+                );
+                let got = z
+                    .try_extract_coupled(maxval, &spd, (w1, 40.0), norm)
+                    .unwrap();
+                let (Ok(want), Ok(got)) = (&want, &got) else {
+                    assert_eq!(want.err(), got.err());
+                    continue;
+                };
+                assert_eq!((got.bounds(), got.domain()), (want.bounds(), want.domain()));
+                assert_eq!(bits(got), bits(want));
+            }
         }
+        // Its own failure comes first, the coupler's inside.
+        let mut z = ZaicPeak::new(&d, "course").unwrap();
+        z.set_min_max_util(5.0, 1.0, 0);
+        assert!(z
+            .try_extract_coupled(false, &spd, (50.0, 50.0), true)
+            .is_err());
+        let mut z = ZaicPeak::new(&d, "speed").unwrap();
+        assert!(matches!(
+            z.try_extract_coupled(false, &spd, (50.0, 50.0), true),
+            Ok(Err(_))
+        ));
     }
 
     /// The branch-free sampler gives, bit for bit, the utility of the distance.
