@@ -30,7 +30,7 @@ pub(crate) fn one_var(domain: &Domain, var: &str) -> Result<Domain, IvpError> {
 }
 
 /// Accumulates 1-D pieces in order.
-#[derive(Default)]
+#[derive(Default, Clone, Debug)]
 pub(crate) struct Pieces1 {
     pub(crate) bounds: Vec<i32>,
     pub(crate) weights: Vec<f64>,
@@ -44,6 +44,21 @@ impl Pieces1 {
         bounds.reserve(2 * SAMPLE_PIECES);
         weights.reserve(2 * SAMPLE_PIECES);
         Pieces1 { bounds, weights }
+    }
+
+    /// Emptied for new pieces, in spare buffers if it has none.
+    pub(crate) fn reset(&mut self) {
+        if self.bounds.capacity() == 0 {
+            *self = Pieces1::spare();
+        }
+        self.bounds.clear();
+        self.weights.clear();
+    }
+
+    /// Its buffers to the spares.
+    pub(crate) fn give_back(self) {
+        spare::give_ints(self.bounds);
+        spare::give_floats(self.weights);
     }
 
     pub(crate) fn push(&mut self, lo: i32, hi: i32, slope: f64, intercept: f64) {

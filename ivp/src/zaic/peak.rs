@@ -168,6 +168,9 @@ pub struct ZaicPeak {
     summit_insist: bool,
     warnings: String,
     error: Option<IvpError>,
+    /// The pieces' buffers, kept for the next [`ZaicPeak::try_extract_coupled`] of a
+    /// builder kept across iterations.
+    kept: super::Pieces1,
 }
 
 /// A builder's storage goes to the spares when it is dropped (one is made for every
@@ -180,6 +183,7 @@ impl Drop for ZaicPeak {
             let _ = SPARE_COMPS.try_with(|s| super::spare::keep(&mut s.borrow_mut(), comps));
         }
         crate::domain::give_domain(std::mem::take(&mut self.domain));
+        std::mem::take(&mut self.kept).give_back();
     }
 }
 
@@ -198,6 +202,7 @@ impl ZaicPeak {
             summit_insist: true,
             warnings: String::new(),
             error: None,
+            kept: Default::default(),
         })
     }
 
@@ -358,7 +363,8 @@ impl ZaicPeak {
 
     /// As [`ZaicPeak::extract`] with the typed reason of a failure.
     pub fn try_extract(&mut self, maxval: bool) -> Result<IvpFunction, IvpError> {
-        let p = self.pieces(maxval)?;
+        let mut p = super::Pieces1::default();
+        self.pieces(maxval, &mut p)?;
         Ok(p.finish(crate::domain::domain_of(self.domain.vars())))
     }
 
@@ -374,17 +380,18 @@ impl ZaicPeak {
         weights: (f64, f64),
         normalize: bool,
     ) -> Result<Result<IvpFunction, IvpError>, IvpError> {
-        let mut p = self.pieces(maxval)?;
-        let pieces = (&p.bounds[..], &mut p.weights[..]);
-        let out =
-            crate::coupler::try_couple_line(self.domain.var(0), pieces, f2, weights, normalize);
-        mbutil::spare::give_ints(p.bounds);
-        mbutil::spare::give_floats(p.weights);
-        Ok(out)
+        let mut p = std::mem::take(&mut self.kept);
+        let done = self.pieces(maxval, &mut p);
+        let out = done.map(|()| {
+            let pieces = (&p.bounds[..], &mut p.weights[..]);
+            crate::coupler::try_couple_line(self.domain.var(0), pieces, f2, weights, normalize)
+        });
+        self.kept = p;
+        out
     }
 
-    /// The pieces of the function.
-    fn pieces(&mut self, maxval: bool) -> Result<super::Pieces1, IvpError> {
+    /// The pieces of the function, into `out` (its pieces replaced).
+    fn pieces(&self, maxval: bool, out: &mut super::Pieces1) -> Result<(), IvpError> {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
@@ -396,8 +403,8 @@ impl ZaicPeak {
             points: var.points as usize,
             wrap: self.value_wrap,
         };
-        if let Some(p) = super::peak_scan::pieces(&self.comps, grid, maxval) {
-            return Ok(p);
+        if super::peak_scan::pieces(&self.comps, grid, maxval, out).is_some() {
+            return Ok(());
         }
         let n = grid.points;
         // Sample buffers reused per thread: this runs for every ZAIC of every behavior
@@ -406,7 +413,8 @@ impl ZaicPeak {
             scratch.resize(2 * n, 0.0);
             let (total, vals) = scratch.split_at_mut(n);
             self.sample_into(maxval, total, vals);
-            Ok(pieces_from_samples(total))
+            std::mem::replace(out, pieces_from_samples(total)).give_back();
+            Ok(())
         })
     }
 

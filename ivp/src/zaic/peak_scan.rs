@@ -2,7 +2,7 @@
 //!
 //! The sampled peak sum is linear between its kinks (each component's summit, the ends
 //! of its peak and base, and with wrap the points where the distance goes round the
-//! other way). The piece scan (`pieces_by_scan`) does nothing at a sample that lies on
+//! other way). The piece scan (`pieces_from_samples`) does nothing at a sample that lies on
 //! the current piece's line, so once a piece's line is fitted on two samples of one
 //! linear stretch, the scan may jump to the stretch's last sample: every sample in
 //! between is within about 1e-9 of that line (tolerance 0.001), and its step to the
@@ -31,7 +31,7 @@ const KINKS_PER_COMP: usize = 14;
 const NEAR: f64 = 1e-6;
 /// Slopes (utility per grid step) this small are not trusted to keep their sign.
 const MIN_SLOPE: f64 = 1e-6;
-/// The piece scan's tolerance (`pieces_by_scan`).
+/// The piece scan's tolerance (`pieces_from_samples`).
 const TOL: f64 = 0.001;
 /// Utilities up to this size keep rounding far below the scan's 0.001 tolerance.
 const MAX_UTIL: f64 = 1e6;
@@ -46,9 +46,14 @@ pub(crate) struct Grid {
     pub wrap: bool,
 }
 
-/// The pieces of the sum of `comps` on `grid`, or `None` where every point must be
-/// sampled (see the module docs).
-pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pieces1> {
+/// The pieces of the sum of `comps` on `grid` into `out` (emptied first), or `None`
+/// (`out` untouched) where every point must be sampled (see the module docs).
+pub(crate) fn pieces(
+    comps: &[Component],
+    grid: Grid,
+    maxval: bool,
+    out: &mut Pieces1,
+) -> Option<()> {
     let n = grid.points;
     if n < MIN_POINTS || comps.is_empty() || comps.len() > MAX_COMPS {
         return None;
@@ -87,15 +92,21 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     let kinks = &kinks[..nk];
     // Exactly the sampler's arithmetic: the first component, then each next one added
     // (one and two components, the usual counts, unrolled).
-    Some(match comps {
+    match comps {
         [a] => {
             let a = Peak::of(a);
-            scan(n, kinks, |i| a.value(i, &grid), |i| a.flat(i, &grid))
+            scan(n, kinks, |i| a.value(i, &grid), |i| a.flat(i, &grid), out)
         }
         [a, b] => {
             let (a, b) = (Peak::of(a), Peak::of(b));
             let value = |i| a.value(i, &grid) + b.value(i, &grid);
-            scan(n, kinks, value, |i| a.flat(i, &grid) && b.flat(i, &grid))
+            scan(
+                n,
+                kinks,
+                value,
+                |i| a.flat(i, &grid) && b.flat(i, &grid),
+                out,
+            )
         }
         _ => {
             let mut peaks = [Peak::of(&comps[0]); MAX_COMPS];
@@ -108,9 +119,10 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
                     .fold(first.value(i, &grid), |t, p| t + p.value(i, &grid))
             };
             let flat = |i| first.flat(i, &grid) && rest.iter().all(|p| p.flat(i, &grid));
-            scan(n, kinks, value, flat)
+            scan(n, kinks, value, flat, out)
         }
-    })
+    }
+    Some(())
 }
 
 /// One component as the scan evaluates it.
@@ -208,7 +220,7 @@ fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usi
     Some(nk)
 }
 
-/// `pieces_by_scan` over the `n` samples `value(i)`, step for step, except that once a
+/// `pieces_from_samples` over the `n` samples `value(i)`, step for step, except that once a
 /// piece's line is fitted it jumps to the last sample before the next kink when the
 /// samples up to there provably lie on that line (module docs): there the scan would do
 /// nothing. `flat(i)`: every component is constant on the stretch holding sample `i`.
@@ -218,8 +230,9 @@ fn scan(
     kinks: &[f64],
     value: impl Fn(usize) -> f64,
     flat: impl Fn(usize) -> bool,
-) -> Pieces1 {
-    let mut out = Pieces1::spare();
+    out: &mut Pieces1,
+) {
+    out.reset();
     // `u32` to `f64` is one instruction where `usize` takes several (grids are u32-sized).
     let fl = |i: usize| f64::from(i as u32);
     let chord = |first: usize, fv: f64, end: usize, ve: f64| {
@@ -299,7 +312,6 @@ fn scan(
         vp = vi;
         i += 1;
     }
-    out
 }
 
 /// `Some(vj)` when the samples `f1..=j` of one linear stretch provably lie on the
@@ -420,9 +432,12 @@ mod tests {
                     points: v.points as usize,
                     wrap,
                 };
-                let Some(fast) = pieces(&comps_now, grid, maxval) else {
+                // Into a buffer holding other pieces: they are cleared.
+                let mut fast = Pieces1::default();
+                fast.push(1, 2, 3.0, 4.0);
+                if pieces(&comps_now, grid, maxval, &mut fast).is_none() {
                     continue;
-                };
+                }
                 used += 1;
                 let n = v.points as usize;
                 let (mut total, mut vals) = (vec![0.0; n], vec![0.0; n]);
@@ -453,7 +468,8 @@ mod tests {
             points: 360,
             wrap: true,
         };
-        let p = pieces(&z.comps, grid, false).expect("the skipping scan applies");
+        let mut p = Pieces1::default();
+        pieces(&z.comps, grid, false, &mut p).expect("the skipping scan applies");
         assert_eq!(
             p.bounds,
             [0, 70, 71, 100, 101, 123, 124, 130, 131, 280, 281, 303, 304, 359]
