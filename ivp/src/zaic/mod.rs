@@ -7,6 +7,7 @@
 mod heq;
 mod peak;
 mod peak_scan;
+mod shape;
 pub use mbutil::spare;
 mod spd;
 mod vector;

@@ -16,7 +16,7 @@
 //! `minutil` (the summit-insist rule), a wrapped summit outside the domain, utilities
 //! large enough that rounding could approach the tolerance.
 
-use super::peak::{Component, Shape};
+use super::shape::{Component, Shape};
 use super::Pieces1;
 
 /// Below this many points sampling them all is as cheap as finding the kinks (the
