@@ -2,6 +2,7 @@
 
 use std::cell::RefCell;
 
+use crate::domain::{Domain, DomainVar};
 use crate::error::{invalid, IvpError};
 use crate::function::IvpFunction;
 
@@ -57,30 +58,66 @@ pub fn try_couple_normalized(
     w2: f64,
     normalize: bool,
 ) -> Result<IvpFunction, IvpError> {
+    check(f1.domain().vars(), f2, w1, w2)?;
+    f1.normalize(0.0, w1);
+    let d1 = f1.dim();
+    // f1's variables, moved.
+    let dom = f1.take_domain();
+    let out = pair_into(dom, d1, (f1.bounds(), f1.weights()), f2, normalize);
+    // f1's storage goes to the next builds.
+    f1.recycle();
+    Ok(out)
+}
+
+/// [`try_couple_normalized`] with f1 the one-variable function over `var` whose pieces
+/// are `b1`/`w1s` (a builder's, not made a function: its weights are normalized here).
+pub(crate) fn try_couple_line(
+    var: &DomainVar,
+    (b1, w1s): (&[i32], &mut [f64]),
+    f2: &IvpFunction,
+    (w1, w2): (f64, f64),
+    normalize: bool,
+) -> Result<IvpFunction, IvpError> {
+    let var = std::slice::from_ref(var);
+    check(var, f2, w1, w2)?;
+    crate::function::normalize_line_pieces(b1, w1s, 0.0, w1);
+    let dom = crate::domain::domain_of(var);
+    Ok(pair_into(dom, 1, (b1, w1s), f2, normalize))
+}
+
+/// The coupler's refusals: weights not above 0, variables shared.
+fn check(vars1: &[DomainVar], f2: &IvpFunction, w1: f64, w2: f64) -> Result<(), IvpError> {
     if w1.is_nan() || w1 <= 0.0 {
         return Err(invalid("w1", format!("must be > 0 (got {w1})")));
     }
     if w2.is_nan() || w2 <= 0.0 {
         return Err(invalid("w2", format!("must be > 0 (got {w2})")));
     }
-    if f2
-        .domain()
-        .vars()
+    if vars1
         .iter()
-        .any(|v| f1.domain().index_of(&v.name).is_some())
+        .any(|v| f2.domain().index_of(&v.name).is_some())
     {
         return Err(IvpError::Couple("the functions share a variable".into()));
     }
-    f1.normalize(0.0, w1);
+    Ok(())
+}
+
+/// The coupled function of f1 (over `dom`, `d1` variables, its pieces normalized) and f2.
+fn pair_into(
+    mut dom: Domain,
+    d1: usize,
+    (b1, w1s): (&[i32], &[f64]),
+    f2: &IvpFunction,
+    normalize: bool,
+) -> IvpFunction {
     // The two share no variable, so the coupled domain is f1's variables then f2's:
     // each piece of f1 spans f2's dimensions whole and the other way round. A coupled
     // piece is then f1's box beside f2's, with the weights each function's translation
     // would give summed (`+ 0.0` where the other has no slope, as that sum is), without
     // translating both functions first (this runs for every Waypoint every iteration).
-    let (d1, d2) = (f1.dim(), f2.dim());
-    let (n1, n2) = (f1.piece_count(), f2.piece_count());
+    let d2 = f2.dim();
+    let (n1, n2) = (w1s.len() / (d1 + 1), f2.piece_count());
     // The union of two disjoint domains: f1's variables (moved) then f2's.
-    let mut dom = f1.take_domain();
     dom.append_disjoint(crate::domain::domain_of(f2.domain().vars()));
     let td = dom.size();
     debug_assert_eq!(td, d1 + d2);
@@ -89,8 +126,7 @@ pub fn try_couple_normalized(
     let mut weights = mbutil::spare::floats();
     bounds.reserve(n1 * n2 * bl);
     weights.reserve(n1 * n2 * wl);
-    let (b1, b2) = (f1.bounds(), f2.bounds());
-    let (w1s, w2s) = (f1.weights(), f2.weights());
+    let (b2, w2s) = (f2.bounds(), f2.weights());
     let full = |d: usize| (0, dom.var(d).points as i32 - 1);
     // Two one-variable functions (the Waypoint's course and speed) are paired in one
     // pass that also folds the result's least and greatest values.
@@ -102,8 +138,6 @@ pub fn try_couple_normalized(
         pair_pieces(scratch, bw, ws, [d1, d2], full, out);
         None
     });
-    // f1's storage goes to the next builds.
-    f1.recycle();
     let mut out = IvpFunction::assemble(dom, bounds, weights);
     if normalize {
         match min_max {
@@ -111,7 +145,7 @@ pub fn try_couple_normalized(
             None => out.normalize(0.0, 100.0),
         }
     }
-    Ok(out)
+    out
 }
 
 /// [`pair_pieces`] for two one-variable functions, returning what

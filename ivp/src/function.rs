@@ -140,6 +140,39 @@ fn min_max_n<const N: usize>(bounds: &[i32], weights: &[f64]) -> (f64, f64) {
     (mn, mx)
 }
 
+/// [`IvpFunction::normalize_from`] of the weights (`wl` per piece): the intercepts
+/// shifted, then every weight scaled, so `[mn, mx]` becomes `[base, base + range]`; the
+/// shift and scale, `None` (nothing done) for a range that is not positive.
+fn shift_scale(
+    weights: &mut [f64],
+    wl: usize,
+    (mn, mx): (f64, f64),
+    base: f64,
+    range: f64,
+) -> Option<(f64, f64)> {
+    let r = mx - mn;
+    if r.is_nan() || r <= 0.0 {
+        return None;
+    }
+    let (shift, scale) = (base - mn, range / r);
+    // Each weight gets its own operations in the same order (intercepts shifted, then
+    // scaled), in two passes over the weights: the scaling one runs vectorized.
+    for w in weights.chunks_exact_mut(wl) {
+        w[wl - 1] += shift;
+    }
+    for x in weights.iter_mut() {
+        *x *= scale;
+    }
+    Some((shift, scale))
+}
+
+/// [`IvpFunction::normalize`] of a one-variable function's pieces, not yet a function
+/// (it has no grid): the same weights, bit for bit.
+pub(crate) fn normalize_line_pieces(bounds: &[i32], weights: &mut [f64], base: f64, range: f64) {
+    let min_max = min_max_n::<1>(bounds, weights);
+    shift_scale(weights, 2, min_max, base, range);
+}
+
 /// [`IvpFunction::normalize_from`]'s pass over the weights for `N` dimensions (a
 /// constant; at least one piece), each piece then folded as [`min_max_n`] folds it.
 fn normalize_min_max_n<const N: usize>(
@@ -418,24 +451,12 @@ impl IvpFunction {
     /// builder that has it already).
     // Public but hidden: for ivp-reflector only, not part of ivp's API.
     #[doc(hidden)]
-    pub fn normalize_from(&mut self, (mn, mx): (f64, f64), base: f64, range: f64) {
-        let r = mx - mn;
-        if r.is_nan() || r <= 0.0 {
-            return;
-        }
+    pub fn normalize_from(&mut self, min_max: (f64, f64), base: f64, range: f64) {
         let wl = self.dim() + 1;
-        let shift = base - mn;
-        let scale = range / r;
-        // Each weight gets its own operations in the same order (intercepts shifted, then
-        // scaled), in two passes over the weights: the scaling one runs vectorized.
-        for w in self.weights.chunks_exact_mut(wl) {
-            w[wl - 1] += shift;
-        }
-        for x in &mut self.weights {
-            *x *= scale;
-        }
-        for g in &mut self.grid {
-            *g = (*g + shift) * scale;
+        if let Some((shift, scale)) = shift_scale(&mut self.weights, wl, min_max, base, range) {
+            for g in &mut self.grid {
+                *g = (*g + shift) * scale;
+            }
         }
     }
 

@@ -59,6 +59,14 @@ fn set_course(z: &mut ZaicPeak, o: &WptObjective<'_>) -> bool {
     z.set_params(o.heading, 30.0, 180.0, 5.0, 0.0, 20.0, 1) && ok
 }
 
+/// [`set_course`] on a builder it set before without a failure: only the summits
+/// change (the other parameters are constants, and setting one again to the value it
+/// holds changes nothing), so only they are set.
+fn set_summits(z: &mut ZaicPeak, o: &WptObjective<'_>) -> bool {
+    let ok = z.set_summit(o.bearing, 0);
+    z.set_summit(o.heading, 1) && ok
+}
+
 /// What one Waypoint keeps between builds (over its one domain): the speed function,
 /// normalized as the coupler normalizes it, while the ZAIC type, the cruise speed and
 /// the speed weight are the same (they seldom change, the bearing and heading change
@@ -83,12 +91,18 @@ impl Builder {
             f.normalize(0.0, w2);
             Ok::<_, &str>(f)
         })?;
+        // A kept builder was set by `set_course` without a failure (one that failed is
+        // dropped): its summits are all that change.
+        let fresh = self.course.is_none();
         let z = kept::peak(&mut self.course, domain, "course", true, 2).ok_or(CRS_FAIL)?;
-        let ok = set_course(z, o);
-        let crs = z.extract(false);
+        let ok = if fresh {
+            set_course(z, o)
+        } else {
+            set_summits(z, o)
+        };
+        let f = z.try_extract_coupled(false, spd, (o.crs_pct, w2), true);
         kept::drop_on_failure(&mut self.course, ok);
-        ivp::coupler::try_couple_normalized(crs.ok_or(CRS_FAIL)?, spd, o.crs_pct, w2, true)
-            .map_err(|_| COUPLE_FAIL)
+        f.map_err(|_| CRS_FAIL)?.map_err(|_| COUPLE_FAIL)
     }
 }
 

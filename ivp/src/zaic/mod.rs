@@ -7,6 +7,7 @@
 mod heq;
 mod peak;
 mod peak_scan;
+mod shape;
 pub use mbutil::spare;
 mod spd;
 mod vector;
@@ -30,10 +31,10 @@ pub(crate) fn one_var(domain: &Domain, var: &str) -> Result<Domain, IvpError> {
 }
 
 /// Accumulates 1-D pieces in order.
-#[derive(Default)]
+#[derive(Default, Clone, Debug)]
 pub(crate) struct Pieces1 {
-    bounds: Vec<i32>,
-    weights: Vec<f64>,
+    pub(crate) bounds: Vec<i32>,
+    pub(crate) weights: Vec<f64>,
 }
 
 impl Pieces1 {
@@ -44,6 +45,21 @@ impl Pieces1 {
         bounds.reserve(2 * SAMPLE_PIECES);
         weights.reserve(2 * SAMPLE_PIECES);
         Pieces1 { bounds, weights }
+    }
+
+    /// Emptied for new pieces, in spare buffers if it has none.
+    pub(crate) fn reset(&mut self) {
+        if self.bounds.capacity() == 0 {
+            *self = Pieces1::spare();
+        }
+        self.bounds.clear();
+        self.weights.clear();
+    }
+
+    /// Its buffers to the spares.
+    pub(crate) fn give_back(self) {
+        spare::give_ints(self.bounds);
+        spare::give_floats(self.weights);
     }
 
     pub(crate) fn push(&mut self, lo: i32, hi: i32, slope: f64, intercept: f64) {
@@ -75,38 +91,17 @@ impl Pieces1 {
 /// Pieces a sampled ZAIC usually has (a peak with wrap: under a dozen).
 const SAMPLE_PIECES: usize = 16;
 
-/// Piece construction from sampled values (spec §3.1, tolerance 0.001).
+/// Piece construction from sampled values (spec §3.1, tolerance 0.001). The skipping
+/// scan (`peak_scan`) follows it step for step: a change here is a change there.
 pub(crate) fn pieces_from_samples(v: &[f64]) -> Pieces1 {
-    pieces_by_scan(v.len(), |i| v[i], |_, _| None)
-}
-
-/// The line of the piece being scanned: fitted on samples `first` and `first + 1`
-/// (value `v1`), slope `m` and intercept `b` as the scan computes them.
-#[derive(Clone, Copy)]
-pub(crate) struct Line {
-    pub first: usize,
-    pub v1: f64,
-    pub m: f64,
-    pub b: f64,
-}
-
-/// The piece construction of [`pieces_from_samples`] over `n` samples given by `value`
-/// (called in increasing index order, mostly once per index). `skip(line, i)`, asked
-/// while a piece's line is set, may return `(j, value(j))` with `i < j < n - 1`: a
-/// caller that can prove the samples `i..=j` lie on the current piece's line (so the
-/// scan would do nothing there) lets the scan jump over them.
-pub(crate) fn pieces_by_scan(
-    n: usize,
-    mut value: impl FnMut(usize) -> f64,
-    mut skip: impl FnMut(&Line, usize) -> Option<(usize, f64)>,
-) -> Pieces1 {
     let mut out = Pieces1::spare();
+    let n = v.len();
     if n < 2 {
         return out;
     }
     let tol = 0.001;
-    let (mut first, mut fv) = (0usize, value(0));
-    let (mut trend, mut m, mut b, mut v1) = (false, 0.0f64, 0.0f64, 0.0f64);
+    let (mut first, mut fv) = (0usize, v[0]);
+    let (mut trend, mut m, mut b) = (false, 0.0f64, 0.0f64);
     let chord = |first: usize, fv: f64, end: usize, ve: f64| {
         if end == first {
             0.0
@@ -114,31 +109,12 @@ pub(crate) fn pieces_by_scan(
             (ve - fv) / (end - first) as f64
         }
     };
-    // The previous sample, when it was the one just looked at.
-    let mut prev = (0usize, fv);
-    let mut i = 1;
-    while i < n {
-        if trend {
-            let line = Line { first, v1, m, b };
-            if let Some((j, vj)) = skip(&line, i) {
-                // The jump's last sample is the next one's predecessor.
-                prev = (j, vj);
-                i = j + 1;
-                continue;
-            }
-        }
-        let vp = if prev.0 + 1 == i {
-            prev.1
-        } else {
-            value(i - 1)
-        };
-        let vi = value(i);
-        prev = (i, vi);
+    for i in 1..n {
+        let (vp, vi) = (v[i - 1], v[i]);
         let fi = i as f64;
         if !trend {
             m = (vi - fv) / (i - first) as f64;
             b = vi - m * fi;
-            v1 = vi;
             trend = true;
         }
         let mut brk = ((m * fi + b) - vi).abs() > tol;
@@ -161,7 +137,6 @@ pub(crate) fn pieces_by_scan(
             first = i;
             fv = vi;
         }
-        i += 1;
     }
     out
 }

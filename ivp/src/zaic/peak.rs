@@ -1,5 +1,6 @@
 //! ZAIC_PEAK (spec §3.1).
 
+use super::shape::{dist_of, Component, Shape};
 use super::{one_var, pieces_from_samples};
 use crate::domain::Domain;
 use crate::error::IvpError;
@@ -14,148 +15,6 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Component {
-    pub(crate) summit: f64,
-    pub(crate) pwidth: f64,
-    pub(crate) bwidth: f64,
-    pub(crate) delta: f64,
-    pub(crate) minutil: f64,
-    pub(crate) maxutil: f64,
-}
-
-/// A component's utility shape with its loop-invariant quotients computed once: the
-/// same IEEE operations on the same operands as computing them per sample, so the
-/// values are bit-identical, without two divisions per sample.
-#[derive(Clone, Copy)]
-pub(crate) struct Shape {
-    pub(crate) pwidth: f64,
-    pub(crate) reach: f64,
-    pub(crate) sd: f64,
-    peak_slope: f64,
-    edge: f64,
-    base_slope: f64,
-    minutil: f64,
-    maxutil: f64,
-}
-
-/// Distance from the summit to `x` on the grid `[low, high]` step `delta`, the short
-/// way round when `wrap`: every sample and the skipping scan (`peak_scan`) use this one
-/// expression, so their values agree bit for bit.
-#[inline(always)]
-pub(crate) fn dist_of(summit: f64, x: f64, wrap: bool, low: f64, high: f64, delta: f64) -> f64 {
-    if !wrap {
-        return (summit - x).abs();
-    }
-    let above = summit > x;
-    let a = if above { summit - x } else { x - summit };
-    let b = if above {
-        (x - low) + (high - summit) + delta
-    } else {
-        (high - x) + (summit - low) + delta
-    };
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-impl Shape {
-    pub(crate) fn of(c: &Component) -> Shape {
-        let sd = if c.pwidth > 0.0 { c.delta } else { 0.0 };
-        let edge = c.maxutil - sd;
-        Shape {
-            pwidth: c.pwidth,
-            reach: c.pwidth + c.bwidth,
-            sd,
-            peak_slope: sd / c.pwidth,
-            edge,
-            base_slope: (edge - c.minutil) / c.bwidth,
-            minutil: c.minutil,
-            maxutil: c.maxutil,
-        }
-    }
-
-    /// `out[i]` = utility at grid value `i·delta + low`: [`Shape::utility`] of
-    /// [`ZaicPeak::dist`], written without branches on the samples (selects of values
-    /// computed with the very same operations) so the loop runs straight through 360
-    /// headings several times per behavior per iteration.
-    fn sample(&self, summit: f64, wrap: bool, low: f64, high: f64, delta: f64, out: &mut [f64]) {
-        // Two loops without a branch on `wrap` inside, every choice a select: the
-        // compiler vectorizes them (this runs on every grid point of every ZAIC).
-        if wrap {
-            // `i as u32 as f64` is exact (grids are u32-sized) and vectorizes, where
-            // a float counter is a chain the compiler must keep.
-            for (i, v) in out.iter_mut().enumerate() {
-                let x = f64::from(i as u32) * delta + low;
-                *v = self.at(dist_of(summit, x, true, low, high, delta));
-            }
-        } else {
-            for (i, v) in out.iter_mut().enumerate() {
-                let x = f64::from(i as u32) * delta + low;
-                *v = self.at(dist_of(summit, x, false, low, high, delta));
-            }
-        }
-    }
-
-    /// The utility at distance `dist` from the summit, as a chain of selects.
-    #[inline(always)]
-    pub(crate) fn at(&self, dist: f64) -> f64 {
-        let peak = if self.sd <= 0.0 {
-            self.maxutil
-        } else {
-            self.maxutil - self.peak_slope * dist
-        };
-        let base = self.edge - self.base_slope * (dist - self.pwidth);
-        let val = if dist <= self.pwidth {
-            peak
-        } else if dist <= self.reach {
-            base
-        } else {
-            self.minutil
-        };
-        if val > self.maxutil {
-            self.maxutil
-        } else {
-            val
-        }
-    }
-
-    #[cfg(test)]
-    fn utility(&self, dist: f64) -> f64 {
-        let val = if dist <= self.pwidth {
-            if self.sd <= 0.0 {
-                self.maxutil
-            } else {
-                self.maxutil - self.peak_slope * dist
-            }
-        } else if dist <= self.reach {
-            self.edge - self.base_slope * (dist - self.pwidth)
-        } else {
-            self.minutil
-        };
-        if val > self.maxutil {
-            self.maxutil
-        } else {
-            val
-        }
-    }
-}
-
-impl Default for Component {
-    fn default() -> Self {
-        Component {
-            summit: 0.0,
-            pwidth: 0.0,
-            bwidth: 0.0,
-            delta: 0.0,
-            minutil: 0.0,
-            maxutil: 100.0,
-        }
-    }
-}
-
 /// ZAIC_PEAK builder: one or more peak components, combined by max or sum.
 #[derive(Debug, Clone)]
 pub struct ZaicPeak {
@@ -165,6 +24,9 @@ pub struct ZaicPeak {
     summit_insist: bool,
     warnings: String,
     error: Option<IvpError>,
+    /// The pieces' buffers, kept for the next [`ZaicPeak::try_extract_coupled`] of a
+    /// builder kept across iterations.
+    kept: super::Pieces1,
 }
 
 /// A builder's storage goes to the spares when it is dropped (one is made for every
@@ -177,6 +39,7 @@ impl Drop for ZaicPeak {
             let _ = SPARE_COMPS.try_with(|s| super::spare::keep(&mut s.borrow_mut(), comps));
         }
         crate::domain::give_domain(std::mem::take(&mut self.domain));
+        std::mem::take(&mut self.kept).give_back();
     }
 }
 
@@ -195,6 +58,7 @@ impl ZaicPeak {
             summit_insist: true,
             warnings: String::new(),
             error: None,
+            kept: Default::default(),
         })
     }
 
@@ -355,6 +219,35 @@ impl ZaicPeak {
 
     /// As [`ZaicPeak::extract`] with the typed reason of a failure.
     pub fn try_extract(&mut self, maxval: bool) -> Result<IvpFunction, IvpError> {
+        let mut p = super::Pieces1::default();
+        self.pieces(maxval, &mut p)?;
+        Ok(p.finish(crate::domain::domain_of(self.domain.vars())))
+    }
+
+    /// [`ZaicPeak::try_extract`] then [`crate::coupler::try_couple_normalized`] of that
+    /// function (f1, weight `w1`) with `f2` (weight `w2`): the same function, bit for
+    /// bit, without making the pieces a function in between (the Waypoint's course
+    /// function, every iteration). The outer error is the extraction's, the inner one
+    /// the coupler's.
+    pub fn try_extract_coupled(
+        &mut self,
+        maxval: bool,
+        f2: &IvpFunction,
+        weights: (f64, f64),
+        normalize: bool,
+    ) -> Result<Result<IvpFunction, IvpError>, IvpError> {
+        let mut p = std::mem::take(&mut self.kept);
+        let done = self.pieces(maxval, &mut p);
+        let out = done.map(|()| {
+            let pieces = (&p.bounds[..], &mut p.weights[..]);
+            crate::coupler::try_couple_line(self.domain.var(0), pieces, f2, weights, normalize)
+        });
+        self.kept = p;
+        out
+    }
+
+    /// The pieces of the function, into `out` (its pieces replaced).
+    fn pieces(&self, maxval: bool, out: &mut super::Pieces1) -> Result<(), IvpError> {
         if let Some(e) = &self.error {
             return Err(e.clone());
         }
@@ -366,8 +259,8 @@ impl ZaicPeak {
             points: var.points as usize,
             wrap: self.value_wrap,
         };
-        if let Some(p) = super::peak_scan::pieces(&self.comps, grid, maxval) {
-            return Ok(p.finish(crate::domain::domain_of(self.domain.vars())));
+        if super::peak_scan::pieces(&self.comps, grid, maxval, out).is_some() {
+            return Ok(());
         }
         let n = grid.points;
         // Sample buffers reused per thread: this runs for every ZAIC of every behavior
@@ -376,7 +269,8 @@ impl ZaicPeak {
             scratch.resize(2 * n, 0.0);
             let (total, vals) = scratch.split_at_mut(n);
             self.sample_into(maxval, total, vals);
-            Ok(pieces_from_samples(total).finish(crate::domain::domain_of(self.domain.vars())))
+            std::mem::replace(out, pieces_from_samples(total)).give_back();
+            Ok(())
         })
     }
 
@@ -448,6 +342,59 @@ mod tests {
         } else {
             b
         }
+    }
+
+    /// Extracted and coupled at once, the function is the one of extracting then
+    /// coupling, bit for bit, on both paths (the skipping scan, and every point sampled:
+    /// a max of two components), with the coupler's refusals the same.
+    #[test]
+    fn extract_coupled_is_extract_then_couple() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let mut s = ZaicPeak::new(&d, "speed").unwrap();
+        s.set_params(1.5, 0.75, 1.6, 20.0, 0.0, 100.0, 0);
+        let mut spd = s.extract(true).unwrap();
+        spd.normalize(0.0, 40.0);
+        let bits = |f: &IvpFunction| f.weights().iter().map(|w| w.to_bits()).collect::<Vec<_>>();
+        for (wrap, maxval, summit) in [
+            (true, false, 120.5),
+            (false, true, 33.3),
+            (true, false, 0.0),
+        ] {
+            let mut z = ZaicPeak::new(&d, "course").unwrap();
+            z.set_value_wrap(wrap);
+            z.set_params(summit, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+            let k = z.add_component();
+            z.set_params(10.0, 30.0, 180.0, 5.0, 0.0, 20.0, k);
+            for (w1, norm) in [(60.0, true), (60.0, false), (0.0, true)] {
+                let want = crate::coupler::try_couple_normalized(
+                    z.try_extract(maxval).unwrap(),
+                    &spd,
+                    w1,
+                    40.0,
+                    norm,
+                );
+                let got = z
+                    .try_extract_coupled(maxval, &spd, (w1, 40.0), norm)
+                    .unwrap();
+                let (Ok(want), Ok(got)) = (&want, &got) else {
+                    assert_eq!(want.err(), got.err());
+                    continue;
+                };
+                assert_eq!((got.bounds(), got.domain()), (want.bounds(), want.domain()));
+                assert_eq!(bits(got), bits(want));
+            }
+        }
+        // Its own failure comes first, the coupler's inside.
+        let mut z = ZaicPeak::new(&d, "course").unwrap();
+        z.set_min_max_util(5.0, 1.0, 0);
+        assert!(z
+            .try_extract_coupled(false, &spd, (50.0, 50.0), true)
+            .is_err());
+        let mut z = ZaicPeak::new(&d, "speed").unwrap();
+        assert!(matches!(
+            z.try_extract_coupled(false, &spd, (50.0, 50.0), true),
+            Ok(Err(_))
+        ));
     }
 
     /// The branch-free sampler gives, bit for bit, the utility of the distance.

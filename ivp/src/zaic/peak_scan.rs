@@ -2,7 +2,7 @@
 //!
 //! The sampled peak sum is linear between its kinks (each component's summit, the ends
 //! of its peak and base, and with wrap the points where the distance goes round the
-//! other way). The piece scan (`pieces_by_scan`) does nothing at a sample that lies on
+//! other way). The piece scan (`pieces_from_samples`) does nothing at a sample that lies on
 //! the current piece's line, so once a piece's line is fitted on two samples of one
 //! linear stretch, the scan may jump to the stretch's last sample: every sample in
 //! between is within about 1e-9 of that line (tolerance 0.001), and its step to the
@@ -16,14 +16,14 @@
 //! `minutil` (the summit-insist rule), a wrapped summit outside the domain, utilities
 //! large enough that rounding could approach the tolerance.
 
-use super::peak::{dist_of, Component, Shape};
-use super::{pieces_by_scan, Line, Pieces1};
+use super::shape::{Component, Shape};
+use super::Pieces1;
 
 /// Below this many points sampling them all is as cheap as finding the kinks (the
 /// Waypoint's 41-point speed ZAIC is cheaper skipped: measured).
 const MIN_POINTS: usize = 32;
 /// Components handled (kinks on the stack).
-const MAX_COMPS: usize = 8;
+const MAX_COMPS: usize = 4;
 /// Kinks per component: summit, peak and base ends both sides, and with wrap the same
 /// the other way round plus the antipode.
 const KINKS_PER_COMP: usize = 14;
@@ -31,7 +31,7 @@ const KINKS_PER_COMP: usize = 14;
 const NEAR: f64 = 1e-6;
 /// Slopes (utility per grid step) this small are not trusted to keep their sign.
 const MIN_SLOPE: f64 = 1e-6;
-/// The piece scan's tolerance (`pieces_by_scan`).
+/// The piece scan's tolerance (`pieces_from_samples`).
 const TOL: f64 = 0.001;
 /// Utilities up to this size keep rounding far below the scan's 0.001 tolerance.
 const MAX_UTIL: f64 = 1e6;
@@ -46,9 +46,14 @@ pub(crate) struct Grid {
     pub wrap: bool,
 }
 
-/// The pieces of the sum of `comps` on `grid`, or `None` where every point must be
-/// sampled (see the module docs).
-pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pieces1> {
+/// The pieces of the sum of `comps` on `grid` into `out` (emptied first), or `None`
+/// (`out` untouched) where every point must be sampled (see the module docs).
+pub(crate) fn pieces(
+    comps: &[Component],
+    grid: Grid,
+    maxval: bool,
+    out: &mut Pieces1,
+) -> Option<()> {
     let n = grid.points;
     if n < MIN_POINTS || comps.is_empty() || comps.len() > MAX_COMPS {
         return None;
@@ -62,45 +67,119 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     if delta.is_nan() || delta <= 0.0 {
         return None;
     }
-    let mut shapes = [Shape::of(&comps[0]); MAX_COMPS];
     let mut util = 0.0;
-    for (k, c) in comps.iter().enumerate() {
+    for c in comps {
         util += c.maxutil.abs().max(c.minutil.abs());
         if grid.wrap && (c.summit < low - delta || c.summit > high + delta) {
             return None;
         }
-        shapes[k] = Shape::of(c);
     }
     if util > MAX_UTIL {
         return None;
     }
-    let shapes = &shapes[..comps.len()];
-    let one = |k: usize, i: usize| -> f64 {
-        let x = f64::from(i as u32) * delta + low;
-        let d = dist_of(comps[k].summit, x, grid.wrap, low, high, delta);
-        shapes[k].at(d)
-    };
-    // Exactly the sampler's arithmetic: the first component, then each next one added.
-    let value = |i: usize| -> f64 {
-        let mut t = one(0, i);
-        for k in 1..comps.len() {
-            t += one(k, i);
-        }
-        t
-    };
     // The summit-insist rule rewrites a component whose every sample is `minutil`: its
     // sample nearest the summit then is `minutil` too, so that case samples everything.
-    for (k, c) in comps.iter().enumerate() {
+    for c in comps {
         let near = ((c.summit - low) / delta)
             .round()
             .clamp(0.0, (n - 1) as f64) as usize;
-        if one(k, near) == c.minutil {
+        if Peak::of(c).value(near, &grid) == c.minutil {
             return None;
         }
     }
     let mut kinks = [0.0f64; MAX_COMPS * KINKS_PER_COMP];
+    let nk = find_kinks(comps, &grid, &mut kinks)?;
+    let kinks = &kinks[..nk];
+    // Exactly the sampler's arithmetic: the first component, then each next one added
+    // (one and two components, the usual counts, unrolled).
+    match comps {
+        [a] => {
+            let a = Peak::of(a);
+            scan(n, kinks, |i| a.value(i, &grid), |i| a.flat(i, &grid), out)
+        }
+        [a, b] => {
+            let (a, b) = (Peak::of(a), Peak::of(b));
+            let value = |i| a.value(i, &grid) + b.value(i, &grid);
+            scan(
+                n,
+                kinks,
+                value,
+                |i| a.flat(i, &grid) && b.flat(i, &grid),
+                out,
+            )
+        }
+        _ => {
+            let mut peaks = [Peak::of(&comps[0]); MAX_COMPS];
+            for (p, c) in peaks.iter_mut().zip(comps) {
+                *p = Peak::of(c);
+            }
+            let (first, rest) = (peaks[0], &peaks[1..comps.len()]);
+            let value = |i| {
+                rest.iter()
+                    .fold(first.value(i, &grid), |t, p| t + p.value(i, &grid))
+            };
+            let flat = |i| first.flat(i, &grid) && rest.iter().all(|p| p.flat(i, &grid));
+            scan(n, kinks, value, flat, out)
+        }
+    }
+    Some(())
+}
+
+/// One component as the scan evaluates it.
+#[derive(Clone, Copy)]
+struct Peak {
+    summit: f64,
+    shape: Shape,
+}
+
+impl Peak {
+    fn of(c: &Component) -> Peak {
+        Peak {
+            summit: c.summit,
+            shape: Shape::of(c),
+        }
+    }
+
+    /// Its sample `i`: the sampler's arithmetic.
+    #[inline(always)]
+    fn value(&self, i: usize, g: &Grid) -> f64 {
+        let x = f64::from(i as u32) * g.delta + g.low;
+        self.shape.utility(dist_to(self.summit, x, g))
+    }
+
+    /// Constant on the stretch that holds sample `i` (off any kink)?
+    #[inline(always)]
+    fn flat(&self, i: usize, g: &Grid) -> bool {
+        let x = f64::from(i as u32) * g.delta + g.low;
+        let (d, s) = (dist_to(self.summit, x, g), &self.shape);
+        d > s.reach || (d <= s.pwidth && s.sd <= 0.0)
+    }
+}
+
+/// [`dist_of`] with branches for its selects (the same operations where used).
+#[inline(always)]
+fn dist_to(summit: f64, x: f64, g: &Grid) -> f64 {
+    if !g.wrap {
+        return (summit - x).abs();
+    }
+    let (a, b) = if summit > x {
+        (summit - x, (x - g.low) + (g.high - summit) + g.delta)
+    } else {
+        (x - summit, (g.high - x) + (summit - g.low) + g.delta)
+    };
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The components' kinks in grid steps from `low`, sorted, into `kinks`; their count,
+/// `None` if one is not finite.
+fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usize> {
+    let (low, delta, n) = (grid.low, grid.delta, grid.points);
     let mut nk = 0;
-    let span = (high - low) + delta;
+    let span = (grid.high - low) + delta;
     for c in comps {
         let reach = c.pwidth + c.bwidth;
         // Kinks off the grid (by more than a step) cut no stretch, nor does one just added
@@ -138,59 +217,132 @@ pub(crate) fn pieces(comps: &[Component], grid: Grid, maxval: bool) -> Option<Pi
     }
     // All finite: `<` orders them (a -0.0 beside a 0.0 either way compares the same below).
     kinks.sort_unstable_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    let kinks = &*kinks;
-    // Is component k constant on the stretch that holds sample i (off any kink)?
-    let flat_at = |k: usize, i: usize| -> bool {
-        let x = f64::from(i as u32) * delta + low;
-        let d = dist_of(comps[k].summit, x, grid.wrap, low, high, delta);
-        let s = &shapes[k];
-        d > s.reach || (d <= s.pwidth && s.sd <= 0.0)
+    Some(nk)
+}
+
+/// `pieces_from_samples` over the `n` samples `value(i)`, step for step, except that once a
+/// piece's line is fitted it jumps to the last sample before the next kink when the
+/// samples up to there provably lie on that line (module docs): there the scan would do
+/// nothing. `flat(i)`: every component is constant on the stretch holding sample `i`.
+#[inline(always)]
+fn scan(
+    n: usize,
+    kinks: &[f64],
+    value: impl Fn(usize) -> f64,
+    flat: impl Fn(usize) -> bool,
+    out: &mut Pieces1,
+) {
+    out.reset();
+    // `u32` to `f64` is one instruction where `usize` takes several (grids are u32-sized).
+    let fl = |i: usize| f64::from(i as u32);
+    let chord = |first: usize, fv: f64, end: usize, ve: f64| {
+        if end == first {
+            0.0
+        } else {
+            (ve - fv) / fl(end - first)
+        }
     };
+    let (mut first, mut fv) = (0usize, value(0));
+    let (mut trend, mut m, mut b, mut v1) = (false, 0.0f64, 0.0f64, 0.0f64);
+    // The previous sample's value: the scan always looks at it just before.
+    let mut vp = fv;
     let mut cursor = 0usize;
-    let skip = |line: &Line, i: usize| -> Option<(usize, f64)> {
-        let first = line.first;
-        // The piece's line went through samples `first` and `first + 1`; the samples
-        // from `first + 1` on must share one linear stretch (sample `first` may lie
-        // before a kink: the line is then checked against the stretch below).
-        let from = (first + 1) as f64 - NEAR;
-        while cursor < kinks.len() && kinks[cursor] < from {
-            cursor += 1;
-        }
-        let next = kinks.get(cursor).copied().unwrap_or(f64::INFINITY);
-        if next <= i as f64 + NEAR {
-            return None;
-        }
-        // Last sample strictly before the kink (by more than NEAR), and never the last
-        // sample (its step closes the final piece).
-        let before = (next - NEAR).ceil() - 1.0;
-        let j = before.min((n - 2) as f64) as usize;
-        if j <= i {
-            return None;
-        }
-        // The scan's line (fitted on samples `first` and `f1`), and its gap at the
-        // stretch's end: along a straight stretch the gap is affine in the index, about
-        // 0 at `f1`, so if it is small at `j` it is small all the way (no break).
-        let (f1, v1, m, b) = (first + 1, line.v1, line.m, line.b);
-        let vj = value(j);
-        let gap = ((m * j as f64 + b) - vj).abs();
-        if gap.is_nan() || gap > TOL / 2.0 {
-            return None;
-        }
-        // No break by the sign rule either: the stretch is exactly flat (every step 0),
-        // or its steps keep one sign, far from 0, not against the line's slope.
-        let flat = (0..comps.len()).all(|k| flat_at(k, f1));
-        if !flat {
-            let slope = (vj - v1) / (j - f1) as f64;
-            if slope.is_nan() || slope.abs() < MIN_SLOPE {
-                return None;
+    let mut i = 1;
+    while i < n {
+        if trend {
+            // The piece's line went through samples `first` and `f1`; the samples from
+            // `f1` on must share one linear stretch (sample `first` may lie before a
+            // kink: the line is then checked against the stretch below).
+            let f1 = first + 1;
+            let from = fl(f1) - NEAR;
+            while cursor < kinks.len() && kinks[cursor] < from {
+                cursor += 1;
             }
-            if (slope < 0.0 && m > 0.0) || (slope > 0.0 && m < 0.0) {
-                return None;
+            let next = kinks.get(cursor).copied().unwrap_or(f64::INFINITY);
+            if next > fl(i) + NEAR {
+                // Last sample strictly before the kink (by more than NEAR): `ceil(t) - 1`
+                // in integers (here `t > i >= 1`), and never the last sample (its step
+                // closes the final piece).
+                let t = next - NEAR;
+                let j = if t >= fl(n) {
+                    n - 2
+                } else {
+                    let c = t as usize;
+                    let c = if fl(c) < t { c + 1 } else { c };
+                    c.saturating_sub(1).min(n - 2)
+                };
+                if j > i {
+                    if let Some(vj) = on_line(j, value(j), (f1, v1, m, b), &flat) {
+                        // The jump's last sample is the next one's predecessor.
+                        vp = vj;
+                        i = j + 1;
+                        continue;
+                    }
+                }
             }
         }
-        Some((j, vj))
-    };
-    Some(pieces_by_scan(n, value, skip))
+        let vi = value(i);
+        let fi = fl(i);
+        if !trend {
+            m = (vi - fv) / fl(i - first);
+            b = vi - m * fi;
+            v1 = vi;
+            trend = true;
+        }
+        let mut brk = ((m * fi + b) - vi).abs() > TOL;
+        let lm = vi - vp;
+        if (lm < 0.0 && m > 0.0) || (lm > 0.0 && m < 0.0) {
+            brk = true;
+        }
+        if i == n - 1 {
+            if brk {
+                out.push(i as i32, i as i32, 0.0, vi);
+            } else {
+                let s = chord(first, fv, i, vi);
+                out.push(first as i32, i as i32, s, fv - s * fl(first));
+            }
+        }
+        if brk {
+            let s = chord(first, fv, i - 1, vp);
+            out.push(first as i32, (i - 1) as i32, s, fv - s * fl(first));
+            trend = false;
+            first = i;
+            fv = vi;
+        }
+        vp = vi;
+        i += 1;
+    }
+}
+
+/// `Some(vj)` when the samples `f1..=j` of one linear stretch provably lie on the
+/// scan's line (fitted on samples `f1 - 1` and `f1`, value `v1` at `f1`, slope `m`,
+/// intercept `b`) and step with its sign: no break up to `j`. Not inlined: inlined, the
+/// compiler hoists the `flat` test out of it into every step of the scan.
+#[inline(never)]
+fn on_line(
+    j: usize,
+    vj: f64,
+    (f1, v1, m, b): (usize, f64, f64, f64),
+    flat: impl Fn(usize) -> bool,
+) -> Option<f64> {
+    // Along a straight stretch the gap is affine in the index, about 0 at `f1`, so if
+    // it is small at `j` it is small all the way (no break).
+    let gap = ((m * f64::from(j as u32) + b) - vj).abs();
+    if gap.is_nan() || gap > TOL / 2.0 {
+        return None;
+    }
+    // No break by the sign rule either: the stretch is exactly flat (every step 0), or
+    // its steps keep one sign, far from 0, not against the line's slope.
+    if !flat(f1) {
+        let slope = (vj - v1) / f64::from((j - f1) as u32);
+        if slope.is_nan() || slope.abs() < MIN_SLOPE {
+            return None;
+        }
+        if (slope < 0.0 && m > 0.0) || (slope > 0.0 && m < 0.0) {
+            return None;
+        }
+    }
+    Some(vj)
 }
 
 #[cfg(test)]
@@ -280,9 +432,12 @@ mod tests {
                     points: v.points as usize,
                     wrap,
                 };
-                let Some(fast) = pieces(&comps_now, grid, maxval) else {
+                // Into a buffer holding other pieces: they are cleared.
+                let mut fast = Pieces1::default();
+                fast.push(1, 2, 3.0, 4.0);
+                if pieces(&comps_now, grid, maxval, &mut fast).is_none() {
                     continue;
-                };
+                }
                 used += 1;
                 let n = v.points as usize;
                 let (mut total, mut vals) = (vec![0.0; n], vec![0.0; n]);
@@ -313,7 +468,8 @@ mod tests {
             points: 360,
             wrap: true,
         };
-        let p = pieces(&z.comps, grid, false).expect("the skipping scan applies");
+        let mut p = Pieces1::default();
+        pieces(&z.comps, grid, false, &mut p).expect("the skipping scan applies");
         assert_eq!(
             p.bounds,
             [0, 70, 71, 100, 101, 123, 124, 130, 131, 280, 281, 303, 304, 359]
