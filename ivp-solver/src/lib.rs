@@ -108,6 +108,9 @@ pub struct Solver {
     /// Solves with the bound of independent groups on, over the solver's life.
     #[cfg(test)]
     sep_solves: usize,
+    /// Bit sets over the last function however few its pieces (tests).
+    #[cfg(test)]
+    all_bits: bool,
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -223,6 +226,7 @@ impl Solver {
         out.indices.resize(helm.size(), None);
         out.utility = 0.0;
         let dim = self.prob_to_helm.len();
+        let few = self.few_pieces();
         self.pts.clear();
         self.pts
             .extend(self.prob_to_helm.iter().map(|&h| helm.var(h).points as i32));
@@ -334,6 +338,7 @@ impl Solver {
             Clip {
                 boxes: boxes[fl],
                 weights: &f.weights,
+                ubs: &f.piece_ub,
                 n: f.n,
                 dims: dims(fl),
                 from,
@@ -380,6 +385,7 @@ impl Solver {
             last_ub: self.funcs[fl].global_ub,
             bits: bits_on.then_some(&mut self.bits),
             bits_ready: false,
+            few,
             scans: 0,
             pts: &self.pts,
         };
@@ -424,6 +430,17 @@ impl Solver {
         }
         out.utility = best;
         Ok(true)
+    }
+}
+
+impl Solver {
+    /// [`search::FEW_PIECES`], 0 when a test asks for bit sets however few the pieces.
+    fn few_pieces(&self) -> usize {
+        #[cfg(test)]
+        if self.all_bits {
+            return 0;
+        }
+        search::FEW_PIECES
     }
 }
 

@@ -6,6 +6,7 @@ use crate::last_index::{LastIndex, NO_CELL};
 use crate::prepared::{intersects, CellRange, Prepared, BITS_AFTER, ODO_DIMS};
 use ivp::function::max_val;
 use std::cell::Cell;
+use std::cmp::Ordering::{Equal, Less};
 
 /// `acc + Σ_{k >= level} cheapBound(F[k], b)`, accumulated left to right.
 ///
@@ -132,6 +133,8 @@ pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -
 pub(crate) struct Clip<'a> {
     pub(crate) boxes: &'a [i32],
     pub(crate) weights: &'a [f64],
+    /// The pieces' `maxVal`s when the set-up made them (else empty).
+    pub(crate) ubs: &'a [f64],
     pub(crate) n: usize,
     /// Bit `d`: the last function has problem dimension `d` (the others are whole,
     /// slope 0: a box narrow only there leaves the global bound as tight as this one).
@@ -149,6 +152,57 @@ impl Clip<'_> {
             self.dims & 1u32.checked_shl(d as u32).unwrap_or(0) != 0
                 && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1)
         })
+    }
+
+    /// `prefix + bound(b) <= thr` ([`Clip::bound`]), without making the bound: that
+    /// holds iff `prefix + maxVal(q ∩ b) <= thr` for every piece `q` meeting `b` (a
+    /// rounded sum is monotone in each term, so the largest term makes the largest
+    /// sum), and a NaN term (the bound's, kept) fails it. A piece with
+    /// `prefix + maxVal(q) <= thr` passes unlooked at: `maxVal(q ∩ b) <= maxVal(q)`
+    /// exactly (the same operations on a corner no farther out: each rounded product
+    /// and sum monotone); a NaN `maxVal(q)` never passes so.
+    #[inline]
+    pub(crate) fn within(&self, b: &[i32], prefix: f64, thr: f64, dim: usize) -> bool {
+        match dim {
+            1 => self.within_dim::<1>(b, prefix, thr),
+            2 => self.within_dim::<2>(b, prefix, thr),
+            3 => self.within_dim::<3>(b, prefix, thr),
+            _ => prefix + self.bound(b, dim) <= thr,
+        }
+    }
+
+    /// [`Clip::within`] for `D` dimensions.
+    #[inline(always)]
+    fn within_dim<const D: usize>(&self, b: &[i32], prefix: f64, thr: f64) -> bool {
+        let (bl, wl) = (2 * D, D + 1);
+        let b = &b[..bl];
+        let ubs = (self.ubs.len() == self.n).then_some(self.ubs);
+        let mut any = false;
+        for q in 0..self.n {
+            if ubs.is_some_and(|u| prefix + u[q] <= thr) {
+                continue;
+            }
+            let (qb, qw) = (&self.boxes[q * bl..][..bl], &self.weights[q * wl..][..wl]);
+            if !intersects(b, qb, D) {
+                continue;
+            }
+            let mut v = qw[D];
+            for d in 0..D {
+                let c = if qw[d] < 0.0 {
+                    b[2 * d].max(qb[2 * d])
+                } else {
+                    b[2 * d + 1].min(qb[2 * d + 1])
+                };
+                v += qw[d] * f64::from(c);
+            }
+            // Not `<=` (NaN fails).
+            if !matches!((prefix + v).partial_cmp(&thr), Some(Less | Equal)) {
+                return false;
+            }
+            any = true;
+        }
+        // No piece meets `b`: the bound is `-inf`.
+        any || prefix + f64::NEG_INFINITY <= thr
     }
 
     /// `max maxVal(q ∩ b)` over the pieces meeting `b` (`-inf` for none, NaN kept).
@@ -180,6 +234,10 @@ impl Clip<'_> {
         best
     }
 }
+
+/// Last functions of at most this many pieces are scanned whole at the last level
+/// (when their `maxVal`s cut), without bit sets (see [`Search::last_level_dim`]).
+pub(crate) const FEW_PIECES: usize = 16;
 
 pub(crate) struct Search<'a> {
     pub(crate) funcs: &'a [Prepared],
@@ -221,6 +279,8 @@ pub(crate) struct Search<'a> {
     /// [`BITS_AFTER`] (`bits_ready`).
     pub(crate) bits: Option<&'a mut LastBits>,
     pub(crate) bits_ready: bool,
+    /// [`FEW_PIECES`] (0 in tests of the bit sets).
+    pub(crate) few: usize,
     pub(crate) scans: u32,
     pub(crate) pts: &'a [i32],
     /// Per level, the terms of the functions from there on with independent groups
@@ -302,14 +362,14 @@ impl Search<'_> {
         if self.sep_prunes(level, acc) {
             return self.prune(rb, f64::NEG_INFINITY);
         }
-        let tb = match &self.clip {
+        match &self.clip {
             // Next to the last function its leaves cost about what this bound does.
+            // (`prune(rb, tb)` with `rb > best` is `tb <= best - 2 tol`.)
             Some(clip) if clip.from <= level && level + 1 < m && clip.narrows(b, self.pts) => {
-                prefix + clip.bound(b, self.dim)
+                clip.within(b, prefix, self.best - 2.0 * self.tol, self.dim)
             }
-            _ => rb,
-        };
-        self.prune(rb, tb)
+            _ => self.prune(rb, rb),
+        }
     }
 
     /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
@@ -497,9 +557,18 @@ impl Search<'_> {
             self.last
                 .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
         };
+        // The pieces' `maxVal`s when the set-up made them (a NaN `mv` passes all).
+        let ubs = &f.piece_ub[..];
+        let (ubs, mv) = if ubs.len() == f.n && (self.found || self.seeded) {
+            (ubs, mv)
+        } else {
+            (&[][..], f64::NAN)
+        };
         let mut meet = [0u64; 4];
         let words = match cell {
             Some(_) => None,
+            // A few pieces are passed over by their `maxVal` for less than the sets cost.
+            None if f.n <= self.few && !ubs.is_empty() => None,
             None => self.bits_meeting(level, f, fb, &mut meet),
         };
         // The node held apart from `self` while the leaves update the incumbent.
@@ -510,13 +579,6 @@ impl Search<'_> {
         let nb = &all_b[(level - 1) * bl..level * bl];
         let nw = &all_w[(level - 1) * wl..level * wl];
         let weights = &f.weights;
-        // The pieces' `maxVal`s when the set-up made them (a NaN `mv` passes all).
-        let ubs = &f.piece_ub[..];
-        let (ubs, mv) = if ubs.len() == f.n && (self.found || self.seeded) {
-            (ubs, mv)
-        } else {
-            (&[][..], f64::NAN)
-        };
         let cut = |s: &Self, q: usize| ubs.get(q).is_some_and(|&u| mv + u <= s.best - 2.0 * s.tol);
         match (cell, words) {
             // (The index's cell bound already pruned the node when no piece of the cell
