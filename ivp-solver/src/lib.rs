@@ -478,9 +478,27 @@ fn seed_value(
     pts: &[i32],
     x: &[i32],
     boxes: &[&[i32]],
+    seed: (&mut Vec<i32>, &mut Vec<f64>),
+) -> Option<f64> {
+    // The helm's dimensions made constants: the point tests unrolled.
+    match pts.len() {
+        1 => seed_value_dim::<1>(funcs, active, pts, x, boxes, seed),
+        2 => seed_value_dim::<2>(funcs, active, pts, x, boxes, seed),
+        3 => seed_value_dim::<3>(funcs, active, pts, x, boxes, seed),
+        _ => seed_value_dim::<0>(funcs, active, pts, x, boxes, seed),
+    }
+}
+
+/// [`seed_value`] with `D == pts.len()` (`D == 0`: any dimension).
+fn seed_value_dim<const D: usize>(
+    funcs: &[Prepared],
+    active: &[usize],
+    pts: &[i32],
+    x: &[i32],
+    boxes: &[&[i32]],
     (seed_b, seed_w): (&mut Vec<i32>, &mut Vec<f64>),
 ) -> Option<f64> {
-    let dim = pts.len();
+    let dim = if D == 0 { pts.len() } else { D };
     if x.len() != dim || (0..dim).any(|d| x[d] < 0 || x[d] >= pts[d]) {
         return None;
     }
@@ -490,6 +508,7 @@ fn seed_value(
     for (k, &fi) in active.iter().enumerate() {
         let f = &funcs[fi];
         let fb = boxes[fi];
+        let x = &x[..dim];
         let holds = |q: usize| {
             let b = &fb[q * bl..(q + 1) * bl];
             (0..dim).all(|d| b[2 * d] <= x[d] && x[d] <= b[2 * d + 1])
