@@ -28,6 +28,7 @@ use prepared::{Prepared, NO_BOUND};
 use search::{Clip, Search, Term};
 use std::cell::Cell;
 
+mod clip;
 mod coords;
 mod first_level;
 mod last_bits;
