@@ -202,11 +202,13 @@ impl Search<'_> {
     }
 
     /// Whether [`Search::skip`] at `level` reduces, once a leaf is found, to the
-    /// reference bound of one-cell functions: no index, no clipped bound, the
+    /// reference bound of one-cell functions: no index, no clipped bound (or the last
+    /// function's level, where [`Search::skip_singles`] does not clip), the
     /// functions `level..` all one cell (see [`Search::skip_found_singles`]).
     #[inline(always)]
     fn singles_at(&self, level: usize) -> bool {
-        self.last.is_none() && self.clip.is_none() && level >= self.singles_from
+        let unclipped = self.clip.is_none() || level + 1 >= self.active.len();
+        self.last.is_none() && unclipped && level >= self.singles_from
     }
 
     /// [`Search::skip`] at a `level` where [`Search::singles_at`] holds, once `found`,
