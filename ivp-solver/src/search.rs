@@ -475,7 +475,7 @@ impl Search<'_> {
                 for &q in list {
                     let q = q as usize;
                     let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                    self.last_leaf(nb, nw, qb, qw, dim);
+                    self.last_leaf(nb, nw, qb, qw, dim, false);
                 }
             }
             (None, Some(words)) => {
@@ -489,7 +489,7 @@ impl Search<'_> {
                             continue;
                         }
                         let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                        self.last_leaf(nb, nw, qb, qw, dim);
+                        self.last_leaf(nb, nw, qb, qw, dim, true);
                     }
                 }
             }
@@ -499,7 +499,7 @@ impl Search<'_> {
                     if cut(self, q) {
                         continue;
                     }
-                    self.last_leaf(nb, nw, qb, qw, dim);
+                    self.last_leaf(nb, nw, qb, qw, dim, false);
                 }
             }
         }
@@ -535,7 +535,8 @@ impl Search<'_> {
     }
 
     /// The leaf `node ∩ q` of [`Search::last_level_dim`] (the node's box and weights
-    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet.
+    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet (`met`:
+    /// known to, from the bit sets, which give exactly the pieces meeting the node).
     #[inline(always)]
     pub(crate) fn last_leaf(
         &mut self,
@@ -544,10 +545,11 @@ impl Search<'_> {
         qb: &[i32],
         qw: &[f64],
         dim: usize,
+        met: bool,
     ) {
         let (bl, wl) = (2 * dim, dim + 1);
         let (node_b, node_w, qb, qw) = (&node_b[..bl], &node_w[..wl], &qb[..bl], &qw[..wl]);
-        if !intersects(node_b, qb, dim) {
+        if !met && !intersects(node_b, qb, dim) {
             return;
         }
         let mut acc = node_w[dim] + qw[dim];
