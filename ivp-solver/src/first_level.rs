@@ -99,8 +99,7 @@ impl Search<'_> {
     /// The first level of [`Search::run`] with the index on, `mvs` the first
     /// function's `maxVal`s and `cells` their index cells: [`Search::skip_first`]
     /// inlined, with the pieces it prunes passed over in a tight loop when there are
-    /// two functions (before the first leaf only those whose pruning cannot raise
-    /// `doubt`): the same prunes, the same flag.
+    /// two functions (raising `doubt` as it does): the same prunes, the same flag.
     // Once per solve: kept out of `Search::run`, whose other loops it would crowd.
     #[inline(never)]
     pub(crate) fn run_indexed(&mut self, ix: &LastIndex, cells: &[u32], mvs: &[f64]) {
@@ -115,37 +114,41 @@ impl Search<'_> {
         let mut q = 0;
         while q < n {
             if two && (self.found || self.seeded) {
-                // `rb = mv + last_ub` at most `lim`: pruned by `prune(rb, rb)`, which
-                // raises `doubt` only above `best - 2 tol` before the first leaf.
-                if self.found {
-                    // `skip_indexed` once a leaf is found (no `doubt` then): the
-                    // reference bound, then the index's.
-                    let (best, floor) = (self.best, self.best - 2.0 * self.tol);
-                    while q < n {
-                        let rb = mvs[q] + last_ub;
-                        let c = cells[q];
-                        let pruned = rb <= best
-                            || (if c != NO_CELL {
-                                mvs[q] + ix.bound(c as usize)
-                            } else {
-                                rb
-                            }) <= floor;
-                        if !pruned {
-                            break;
+                // `skip_indexed`: the reference bound `rb = mv + last_ub` (pruning, and
+                // before the first leaf raising `doubt` above `best - 2 tol`, as
+                // `prune(rb, rb)` does), then the index's.
+                let (best, floor) = (self.best, self.best - 2.0 * self.tol);
+                while q < n {
+                    let rb = mvs[q] + last_ub;
+                    if rb <= best {
+                        if !self.found && rb > floor {
+                            self.doubt.set(true);
                         }
                         q += 1;
+                        continue;
                     }
-                } else {
-                    let lim = self.best - 2.0 * self.tol;
-                    while q < n && mvs[q] + last_ub <= lim {
+                    let c = cells[q];
+                    let tb = if c != NO_CELL {
+                        mvs[q] + ix.bound(c as usize)
+                    } else {
+                        rb
+                    };
+                    // (A NaN bound prunes nothing, as in `prune`.)
+                    if tb <= floor {
                         q += 1;
+                        continue;
                     }
+                    break;
                 }
                 if q == n {
                     return;
                 }
             }
-            if let (Some((tops, sums)), true) = (mid, self.found) {
+            // Seeded, `best` is the floor `B`: a piece the quick bound puts at most
+            // `B - 2 tol` holds no leaf above `B` (the first the reference takes there
+            // is not under it), so it is passed over with no `doubt`, as `prune` passes
+            // over a tighter bound's prunes.
+            if let (Some((tops, sums)), true) = (mid, self.found || self.seeded) {
                 // The quick bound (see the module docs), the rest exactly as below.
                 let lim = self.best - 2.0 * self.tol;
                 while q < n && tops[q] != NO_CELL {

@@ -28,6 +28,7 @@ use prepared::{Prepared, NO_BOUND};
 use search::{Clip, Search, Term};
 use std::cell::Cell;
 
+mod clip;
 mod coords;
 mod first_level;
 mod last_bits;
@@ -108,6 +109,9 @@ pub struct Solver {
     /// Solves with the bound of independent groups on, over the solver's life.
     #[cfg(test)]
     sep_solves: usize,
+    /// Bit sets over the last function however few its pieces (tests).
+    #[cfg(test)]
+    all_bits: bool,
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -223,6 +227,7 @@ impl Solver {
         out.indices.resize(helm.size(), None);
         out.utility = 0.0;
         let dim = self.prob_to_helm.len();
+        let few = self.few_pieces();
         self.pts.clear();
         self.pts
             .extend(self.prob_to_helm.iter().map(|&h| helm.var(h).points as i32));
@@ -334,6 +339,7 @@ impl Solver {
             Clip {
                 boxes: boxes[fl],
                 weights: &f.weights,
+                ubs: &f.piece_ub,
                 n: f.n,
                 dims: dims(fl),
                 from,
@@ -380,6 +386,7 @@ impl Solver {
             last_ub: self.funcs[fl].global_ub,
             bits: bits_on.then_some(&mut self.bits),
             bits_ready: false,
+            few,
             scans: 0,
             pts: &self.pts,
         };
@@ -427,6 +434,17 @@ impl Solver {
     }
 }
 
+impl Solver {
+    /// [`search::FEW_PIECES`], 0 when a test asks for bit sets however few the pieces.
+    fn few_pieces(&self) -> usize {
+        #[cfg(test)]
+        if self.all_bits {
+            return 0;
+        }
+        search::FEW_PIECES
+    }
+}
+
 /// Build the [`LastIndex`] when the last function has a one-cell grid and several
 /// pieces, on the cell size of the function above it (see `last_index.rs`).
 fn index_last(
@@ -461,9 +479,27 @@ fn seed_value(
     pts: &[i32],
     x: &[i32],
     boxes: &[&[i32]],
+    seed: (&mut Vec<i32>, &mut Vec<f64>),
+) -> Option<f64> {
+    // The helm's dimensions made constants: the point tests unrolled.
+    match pts.len() {
+        1 => seed_value_dim::<1>(funcs, active, pts, x, boxes, seed),
+        2 => seed_value_dim::<2>(funcs, active, pts, x, boxes, seed),
+        3 => seed_value_dim::<3>(funcs, active, pts, x, boxes, seed),
+        _ => seed_value_dim::<0>(funcs, active, pts, x, boxes, seed),
+    }
+}
+
+/// [`seed_value`] with `D == pts.len()` (`D == 0`: any dimension).
+fn seed_value_dim<const D: usize>(
+    funcs: &[Prepared],
+    active: &[usize],
+    pts: &[i32],
+    x: &[i32],
+    boxes: &[&[i32]],
     (seed_b, seed_w): (&mut Vec<i32>, &mut Vec<f64>),
 ) -> Option<f64> {
-    let dim = pts.len();
+    let dim = if D == 0 { pts.len() } else { D };
     if x.len() != dim || (0..dim).any(|d| x[d] < 0 || x[d] >= pts[d]) {
         return None;
     }
@@ -473,6 +509,7 @@ fn seed_value(
     for (k, &fi) in active.iter().enumerate() {
         let f = &funcs[fi];
         let fb = boxes[fi];
+        let x = &x[..dim];
         let holds = |q: usize| {
             let b = &fb[q * bl..(q + 1) * bl];
             (0..dim).all(|d| b[2 * d] <= x[d] && x[d] <= b[2 * d + 1])

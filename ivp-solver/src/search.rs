@@ -1,6 +1,7 @@
 //! The branch and bound (spec §6): the cheap bounds of a box over the functions not
 //! yet fixed, and the depth-first search over the functions' pieces.
 
+pub(crate) use crate::clip::Clip;
 use crate::last_bits::LastBits;
 use crate::last_index::{LastIndex, NO_CELL};
 use crate::prepared::{intersects, CellRange, Prepared, BITS_AFTER, ODO_DIMS};
@@ -120,66 +121,9 @@ pub(crate) fn bound_terms(terms: &[Term], dim: usize, b: &[i32], mut acc: f64) -
     acc
 }
 
-/// The last function's pieces, for a tighter bound of nodes two or more levels above
-/// it when it is one cell and has no [`LastIndex`] (a waypoint's course × speed, or a
-/// speed × depth function, below 1-D functions: their global bound is loose).
-///
-/// `max_q maxVal(q ∩ b)` over the pieces `q` meeting box `b` bounds the last
-/// function over `b`: a leaf below `b` lies in `b ∩ q` for its piece `q`, so its value
-/// is at most `maxVal(b) + Σ cheap bounds of the functions between + maxVal(q ∩ b)`
-/// (up to rounding, which the search's slack covers, as for [`LastIndex`] bounds).
-#[derive(Clone, Copy)]
-pub(crate) struct Clip<'a> {
-    pub(crate) boxes: &'a [i32],
-    pub(crate) weights: &'a [f64],
-    pub(crate) n: usize,
-    /// Bit `d`: the last function has problem dimension `d` (the others are whole,
-    /// slope 0: a box narrow only there leaves the global bound as tight as this one).
-    pub(crate) dims: u32,
-    /// The first level (functions `from..` not yet fixed) whose nodes may be narrower
-    /// in one of those dimensions: above it the bound is the global one.
-    pub(crate) from: usize,
-}
-
-impl Clip<'_> {
-    /// Whether box `b` is narrower than the domain in a dimension of the function.
-    #[inline(always)]
-    pub(crate) fn narrows(&self, b: &[i32], pts: &[i32]) -> bool {
-        (0..pts.len()).any(|d| {
-            self.dims & 1u32.checked_shl(d as u32).unwrap_or(0) != 0
-                && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1)
-        })
-    }
-
-    /// `max maxVal(q ∩ b)` over the pieces meeting `b` (`-inf` for none, NaN kept).
-    #[inline]
-    pub(crate) fn bound(&self, b: &[i32], dim: usize) -> f64 {
-        let (bl, wl) = (2 * dim, dim + 1);
-        let mut best = f64::NEG_INFINITY;
-        let pieces = self
-            .boxes
-            .chunks_exact(bl)
-            .zip(self.weights.chunks_exact(wl));
-        for (qb, qw) in pieces.take(self.n) {
-            if !intersects(b, qb, dim) {
-                continue;
-            }
-            let mut v = qw[dim];
-            for d in 0..dim {
-                let c = if qw[d] < 0.0 {
-                    b[2 * d].max(qb[2 * d])
-                } else {
-                    b[2 * d + 1].min(qb[2 * d + 1])
-                };
-                v += qw[d] * f64::from(c);
-            }
-            if v > best || v.is_nan() {
-                best = v;
-            }
-        }
-        best
-    }
-}
+/// Last functions of at most this many pieces are scanned whole at the last level
+/// (when their `maxVal`s cut), without bit sets (see [`Search::last_level_dim`]).
+pub(crate) const FEW_PIECES: usize = 16;
 
 pub(crate) struct Search<'a> {
     pub(crate) funcs: &'a [Prepared],
@@ -221,6 +165,8 @@ pub(crate) struct Search<'a> {
     /// [`BITS_AFTER`] (`bits_ready`).
     pub(crate) bits: Option<&'a mut LastBits>,
     pub(crate) bits_ready: bool,
+    /// [`FEW_PIECES`] (0 in tests of the bit sets).
+    pub(crate) few: usize,
     pub(crate) scans: u32,
     pub(crate) pts: &'a [i32],
     /// Per level, the terms of the functions from there on with independent groups
@@ -256,11 +202,13 @@ impl Search<'_> {
     }
 
     /// Whether [`Search::skip`] at `level` reduces, once a leaf is found, to the
-    /// reference bound of one-cell functions: no index, no clipped bound, the
+    /// reference bound of one-cell functions: no index, no clipped bound (or the last
+    /// function's level, where [`Search::skip_singles`] does not clip), the
     /// functions `level..` all one cell (see [`Search::skip_found_singles`]).
     #[inline(always)]
     fn singles_at(&self, level: usize) -> bool {
-        self.last.is_none() && self.clip.is_none() && level >= self.singles_from
+        let unclipped = self.clip.is_none() || level + 1 >= self.active.len();
+        self.last.is_none() && unclipped && level >= self.singles_from
     }
 
     /// [`Search::skip`] at a `level` where [`Search::singles_at`] holds, once `found`,
@@ -302,14 +250,14 @@ impl Search<'_> {
         if self.sep_prunes(level, acc) {
             return self.prune(rb, f64::NEG_INFINITY);
         }
-        let tb = match &self.clip {
+        match &self.clip {
             // Next to the last function its leaves cost about what this bound does.
+            // (`prune(rb, tb)` with `rb > best` is `tb <= best - 2 tol`.)
             Some(clip) if clip.from <= level && level + 1 < m && clip.narrows(b, self.pts) => {
-                prefix + clip.bound(b, self.dim)
+                clip.within(b, prefix, self.best - 2.0 * self.tol, self.dim)
             }
-            _ => rb,
-        };
-        self.prune(rb, tb)
+            _ => self.prune(rb, rb),
+        }
     }
 
     /// [`Search::skip`] with the index on (`found || seeded`), `cell` giving the
@@ -497,9 +445,18 @@ impl Search<'_> {
             self.last
                 .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
         };
+        // The pieces' `maxVal`s when the set-up made them (a NaN `mv` passes all).
+        let ubs = &f.piece_ub[..];
+        let (ubs, mv) = if ubs.len() == f.n && (self.found || self.seeded) {
+            (ubs, mv)
+        } else {
+            (&[][..], f64::NAN)
+        };
         let mut meet = [0u64; 4];
         let words = match cell {
             Some(_) => None,
+            // A few pieces are passed over by their `maxVal` for less than the sets cost.
+            None if f.n <= self.few && !ubs.is_empty() => None,
             None => self.bits_meeting(level, f, fb, &mut meet),
         };
         // The node held apart from `self` while the leaves update the incumbent.
@@ -510,13 +467,6 @@ impl Search<'_> {
         let nb = &all_b[(level - 1) * bl..level * bl];
         let nw = &all_w[(level - 1) * wl..level * wl];
         let weights = &f.weights;
-        // The pieces' `maxVal`s when the set-up made them (a NaN `mv` passes all).
-        let ubs = &f.piece_ub[..];
-        let (ubs, mv) = if ubs.len() == f.n && (self.found || self.seeded) {
-            (ubs, mv)
-        } else {
-            (&[][..], f64::NAN)
-        };
         let cut = |s: &Self, q: usize| ubs.get(q).is_some_and(|&u| mv + u <= s.best - 2.0 * s.tol);
         match (cell, words) {
             // (The index's cell bound already pruned the node when no piece of the cell
@@ -525,7 +475,7 @@ impl Search<'_> {
                 for &q in list {
                     let q = q as usize;
                     let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                    self.last_leaf(nb, nw, qb, qw, dim);
+                    self.last_leaf(nb, nw, qb, qw, dim, false);
                 }
             }
             (None, Some(words)) => {
@@ -539,7 +489,7 @@ impl Search<'_> {
                             continue;
                         }
                         let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                        self.last_leaf(nb, nw, qb, qw, dim);
+                        self.last_leaf(nb, nw, qb, qw, dim, true);
                     }
                 }
             }
@@ -549,7 +499,7 @@ impl Search<'_> {
                     if cut(self, q) {
                         continue;
                     }
-                    self.last_leaf(nb, nw, qb, qw, dim);
+                    self.last_leaf(nb, nw, qb, qw, dim, false);
                 }
             }
         }
@@ -585,7 +535,8 @@ impl Search<'_> {
     }
 
     /// The leaf `node ∩ q` of [`Search::last_level_dim`] (the node's box and weights
-    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet.
+    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet (`met`:
+    /// known to, from the bit sets, which give exactly the pieces meeting the node).
     #[inline(always)]
     pub(crate) fn last_leaf(
         &mut self,
@@ -594,10 +545,11 @@ impl Search<'_> {
         qb: &[i32],
         qw: &[f64],
         dim: usize,
+        met: bool,
     ) {
         let (bl, wl) = (2 * dim, dim + 1);
         let (node_b, node_w, qb, qw) = (&node_b[..bl], &node_w[..wl], &qb[..bl], &qw[..wl]);
-        if !intersects(node_b, qb, dim) {
+        if !met && !intersects(node_b, qb, dim) {
             return;
         }
         let mut acc = node_w[dim] + qw[dim];

@@ -123,17 +123,25 @@ fn weigh_dims(
 ) -> f64 {
     let (bl, wl) = (2 * dim, dim + 1);
     let mut most = most;
+    // The terms' spans, converted once (up to 4 dimensions, else per piece).
+    let mut span = [0.0; 4];
+    let spans = (dim <= span.len()).then(|| {
+        for d in 0..dim {
+            span[d] = f64::from((wg.pts[d] - 1).max(0));
+        }
+        &span[..dim]
+    });
     match boxes {
         Some(b) => {
             let pieces = weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1));
             for (((w, s), b), ub) in pieces.zip(b.chunks_exact(bl)).zip(piece_ub.iter_mut()) {
-                most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
+                most = most_of(most, piece_weights(wg, w, s, od, dim, identity, spans));
                 *ub = max_val(&b[..bl], &w[..wl]);
             }
         }
         None => {
             for (w, s) in weights.chunks_exact_mut(wl).zip(src.chunks_exact(od + 1)) {
-                most = most_of(most, piece_weights(wg, w, s, od, dim, identity));
+                most = most_of(most, piece_weights(wg, w, s, od, dim, identity, spans));
             }
         }
     }
@@ -150,7 +158,8 @@ fn most_of(most: f64, t: f64) -> f64 {
     }
 }
 
-/// One piece's weights `w` (problem order) from the function's `s`; its term scale.
+/// One piece's weights `w` (problem order) from the function's `s`; its term scale
+/// (with the spans of [`term_spans`] when given).
 #[inline(always)]
 fn piece_weights(
     wg: &Weighing,
@@ -159,6 +168,7 @@ fn piece_weights(
     od: usize,
     dim: usize,
     identity: bool,
+    spans: Option<&[f64]>,
 ) -> f64 {
     let (shift, scale, pwt) = (wg.shift, wg.scale, wg.pwt);
     let (w, s) = (&mut w[..dim + 1], &s[..od + 1]);
@@ -186,7 +196,21 @@ fn piece_weights(
             }
         }
     }
-    term(w, &wg.pts[..dim])
+    match spans {
+        Some(spans) => term_spans(w, &spans[..dim]),
+        None => term(w, &wg.pts[..dim]),
+    }
+}
+
+/// [`term`] with the spans `f64::from((pts_d - 1).max(0))` given: the same value.
+#[inline(always)]
+fn term_spans(w: &[f64], spans: &[f64]) -> f64 {
+    let dim = spans.len();
+    let mut t = w[dim].abs();
+    for d in 0..dim {
+        t += w[d].abs() * spans[d];
+    }
+    t
 }
 
 /// `|intercept| + Σ_d |slope_d|·(pts_d - 1)` of one piece's weights (problem order).

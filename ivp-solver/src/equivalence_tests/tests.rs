@@ -368,6 +368,9 @@ fn search_equals_the_straightforward_branch_and_bound() {
         let dom = random_domain(&mut seed);
         let mut fs = random_problem(&dom, &mut seed);
         let mut solver = Solver::new();
+        // Mostly bit sets over last functions of few pieces too (the solves that
+        // reach them are rare), now and then the plain scan.
+        solver.all_bits = round % 4 != 0;
         for step in 0..6 {
             if step > 0 {
                 nudge(&mut fs, &mut seed);
@@ -612,7 +615,8 @@ fn kept_setup_follows_the_problem() {
 }
 
 /// The clipped bound is `max maxVal(q ∩ b)` over the pieces meeting `b`, and bounds
-/// the last function at every point of `b`.
+/// the last function at every point of `b`; `within` answers `prefix + bound <= thr`
+/// with or without the pieces' `maxVal`s, at and around the threshold.
 #[test]
 fn clip_bound_is_the_clipped_max_val_fold() {
     let mut seed = 99u64;
@@ -627,6 +631,7 @@ fn clip_bound_is_the_clipped_max_val_fold() {
         let clip = Clip {
             boxes,
             weights: &p.weights,
+            ubs: &[],
             n: p.n,
             dims: u32::MAX,
             from: 0,
@@ -655,6 +660,20 @@ fn clip_bound_is_the_clipped_max_val_fold() {
             }
             let got = clip.bound(&b, dim);
             assert_eq!(got.to_bits(), want.to_bits(), "round {round} {b:?}");
+            assert_eq!(p.piece_ub.len(), p.n);
+            for ubs in [&p.piece_ub[..], &[]] {
+                let clip = Clip { ubs, ..clip };
+                for prefix in [0.0, 13.7, -5.25, pick(&mut seed, 1000) as f64 / 7.0] {
+                    let t = prefix + want;
+                    let up = f64::from_bits(t.to_bits().wrapping_add(1));
+                    let down = f64::from_bits(t.to_bits().wrapping_sub(1));
+                    for thr in [t, up, down, t + 1.0, t - 1.0, t + 1e-9, t - 1e-9] {
+                        let reference = prefix + clip.bound(&b, dim) <= thr;
+                        let fast = clip.within(&b, prefix, thr, dim);
+                        assert_eq!(fast, reference, "round {round} {b:?} {prefix} {thr}");
+                    }
+                }
+            }
         }
     }
 }
@@ -863,6 +882,7 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
                 last_ub: solver.funcs[fl].global_ub,
                 bits: None,
                 bits_ready: false,
+                few: 0,
                 scans: 0,
                 pts: &solver.pts,
                 sep: None,
