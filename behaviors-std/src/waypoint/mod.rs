@@ -22,8 +22,9 @@ use params::WptHints;
 /// The BHV_Waypoint behavior.
 pub struct BhvWaypoint {
     domain: String,
-    /// The path spec, formatted again only when the path or its look changes.
-    view_cache: geometry::SeglistSpecCache,
+    /// The path spec and the points version it shows: formatted again only when the
+    /// points change (parameters, which set its look and tags, clear it).
+    seg_view: Option<(u64, String)>,
     /// Edge tags of the loaded path (a lawnmower's lanes), posted in VIEW_SEGLIST.
     path_tags: Vec<geometry::EdgeTag>,
     /// The next-point spec and the trackpt erase spec, by the point they show: both stay
@@ -32,12 +33,15 @@ pub struct BhvWaypoint {
     trk_erase_spec: Option<String>,
     /// Ownship and this behavior's name, read once per configuration (they do not
     /// change while the behavior runs), and what is built from them every iteration:
-    /// the path's attributes, the trackpt's attribute fields, and a text buffer.
+    /// the trackpt's attribute fields, and a text buffer.
     own: String,
     me: String,
-    seg_attrs: Option<Attrs>,
     trk_attrs: String,
     text: String,
+    /// The status report, its text up to `dist=` kept with the counters it shows and
+    /// its length (only the distance and the eta change every iteration).
+    stat: String,
+    stat_head: Option<((usize, u32, u32, u32), usize)>,
     ivp_domain: Option<ivp::Domain>,
     ipf: ipf::Builder,
     speed_high: Option<f64>,
@@ -99,15 +103,16 @@ struct Efficiency {
 impl BhvWaypoint {
     pub fn new(helm: &HelmDomain) -> Self {
         BhvWaypoint {
-            view_cache: Default::default(),
+            seg_view: None,
             path_tags: Vec::new(),
             nextpt_spec: None,
             trk_erase_spec: None,
             own: String::new(),
             me: String::new(),
-            seg_attrs: None,
             trk_attrs: String::new(),
             text: String::new(),
+            stat: String::new(),
+            stat_head: None,
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
             ipf: ipf::Builder::default(),
@@ -168,7 +173,8 @@ impl BhvWaypoint {
     fn refresh_names(&mut self, ctx: &Ctx<'_>) {
         self.own = ctx.ownship();
         self.me = ctx.name();
-        self.seg_attrs = None;
+        self.seg_view = None;
+        self.stat_head = None;
         self.trk_attrs.clear();
     }
 
@@ -320,7 +326,9 @@ impl BhvWaypoint {
                 let v = format!("behavior-name={},{word}", ctx.name());
                 ctx.post_message(&self.sfx(&self.var_report), &v);
             }
-            self.post_flags(ctx, &self.cycleflags.clone(), true);
+            let flags = std::mem::take(&mut self.cycleflags);
+            self.post_flags(ctx, &flags, true);
+            self.cycleflags = flags;
         }
         if res == Advance::Completed {
             ctx.set_complete();
@@ -373,27 +381,32 @@ impl BhvWaypoint {
             let d = dist(self.plat.x, self.plat.y, nx, ny);
             let cap = self.engine.capture_hits();
             let tot = cap + self.engine.slip_hits();
-            // Written into the kept text buffer: this posting changes every iteration.
-            let mut v = std::mem::take(&mut self.text);
-            v.clear();
-            v.push_str("vname=");
-            v.push_str(&self.own);
-            v.push_str(",behavior-name=");
-            v.push_str(&self.me);
-            v.push_str(",index=");
-            behavior_api::push_u64(&mut v, ix as u64);
-            v.push_str(",hits=");
-            behavior_api::push_u64(&mut v, cap as u64);
-            v.push('/');
-            behavior_api::push_u64(&mut v, tot as u64);
-            v.push_str(",cycles=");
-            behavior_api::push_u64(&mut v, self.engine.cycles() as u64);
-            v.push_str(",dist=");
-            push_f0(&mut v, d);
+            let key = (ix, cap, tot, self.engine.cycles());
+            let v = &mut self.stat;
+            match self.stat_head {
+                Some((k, head)) if k == key => v.truncate(head),
+                _ => {
+                    v.clear();
+                    v.push_str("vname=");
+                    v.push_str(&self.own);
+                    v.push_str(",behavior-name=");
+                    v.push_str(&self.me);
+                    v.push_str(",index=");
+                    behavior_api::push_u64(v, ix as u64);
+                    v.push_str(",hits=");
+                    behavior_api::push_u64(v, cap as u64);
+                    v.push('/');
+                    behavior_api::push_u64(v, tot as u64);
+                    v.push_str(",cycles=");
+                    behavior_api::push_u64(v, key.3 as u64);
+                    v.push_str(",dist=");
+                    self.stat_head = Some((key, v.len()));
+                }
+            }
+            push_f0(v, d);
             v.push_str(",eta=");
-            push_f0(&mut v, d / self.plat.speed);
-            ctx.post_message(&self.sfx(&self.var_report), &v);
-            self.text = v;
+            push_f0(v, d / self.plat.speed);
+            ctx.post_message(&self.sfx(&self.var_report), &self.stat);
         }
         if !Self::silent(&self.var_index) && ix as i64 != self.prev_waypt_index {
             ctx.post_message_num(&self.sfx(&self.var_index), ix as f64);
@@ -410,21 +423,29 @@ impl BhvWaypoint {
             let seg = geometry::seglist_erase_spec(&format!("{own}_{name}"));
             ctx.post_message("VIEW_SEGLIST", &seg);
         } else {
-            // The attributes are built once per configuration, the spec once per path.
-            let hints = &self.hints;
-            let attrs = self.seg_attrs.get_or_insert_with(|| Attrs {
-                label: format!("{own}_{name}"),
-                label_color: hints.label_color.clone(),
-                edge_color: hints.edge_color.clone(),
-                vertex_color: hints.vertex_color.clone(),
-                vertex_size: Some(hints.vertex_size),
-                edge_size: Some(hints.edge_size),
-                ..Attrs::default()
-            });
-            let seg = self
-                .view_cache
-                .get_tagged(self.engine.points(), &self.path_tags, 3, attrs);
-            ctx.post_message("VIEW_SEGLIST", seg);
+            let version = self.engine.points_version();
+            if self.seg_view.as_ref().is_none_or(|(v, _)| *v != version) {
+                let hints = &self.hints;
+                let attrs = Attrs {
+                    label: format!("{own}_{name}"),
+                    label_color: hints.label_color.clone(),
+                    edge_color: hints.edge_color.clone(),
+                    vertex_color: hints.vertex_color.clone(),
+                    vertex_size: Some(hints.vertex_size),
+                    edge_size: Some(hints.edge_size),
+                    ..Attrs::default()
+                };
+                let (pts, tags) = (self.engine.points(), &self.path_tags);
+                let spec = if tags.is_empty() || pts.is_empty() {
+                    seglist_spec(pts, 3, &attrs)
+                } else {
+                    geometry::object_spec(pts, &[], tags, &attrs, 3)
+                };
+                self.seg_view = Some((version, spec));
+            }
+            if let Some((_, seg)) = &self.seg_view {
+                ctx.post_message("VIEW_SEGLIST", seg);
+            }
         }
         if self.draw_path_loop {
             let mut poly = Polygon::new(self.engine.points().to_vec());
@@ -556,7 +577,7 @@ impl IvpBehavior for BhvWaypoint {
         // Hints and names may change what the cached point specs say.
         self.nextpt_spec = None;
         self.trk_erase_spec = None;
-        self.seg_attrs = None;
+        self.seg_view = None;
         self.trk_attrs.clear();
         self.set_wpt_param(ctx, param, value)
     }
@@ -666,7 +687,9 @@ impl IvpBehavior for BhvWaypoint {
             if self.eager_prev_index {
                 self.prev_waypt_index = this_ix as i64;
             }
-            self.post_flags(ctx, &self.wptflags.clone(), false);
+            let flags = std::mem::take(&mut self.wptflags);
+            self.post_flags(ctx, &flags, false);
+            self.wptflags = flags;
             self.wptflag_on_start_posted = true;
         }
         if !Self::silent(&self.var_cyindex) && self.engine.cycles() != self.prev_cycle_index {
