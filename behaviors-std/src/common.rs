@@ -67,8 +67,8 @@ fn find_open(text: &str, from: usize, open: u8) -> Option<usize> {
     (from..b.len().saturating_sub(1)).find(|&i| b[i] == b'$' && b[i + 1] == open)
 }
 
-/// Whether `$`, `open`, `name`, `close` stand at byte `at`.
-fn macro_at(text: &str, at: usize, name: &str, close: u8) -> bool {
+/// Whether `name` and `close` follow the macro opening (`$` and a bracket) at byte `at`.
+pub fn macro_at(text: &str, at: usize, name: &str, close: u8) -> bool {
     let rest = &text.as_bytes()[at + 2..];
     rest.starts_with(name.as_bytes()) && rest.get(name.len()) == Some(&close)
 }

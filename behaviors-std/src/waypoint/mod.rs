@@ -469,7 +469,8 @@ impl BhvWaypoint {
             ctx.post_message_key("VIEW_POINT", PostValue::from(np.as_str()), "wpt");
         }
         let (tx, ty) = self.trackpt;
-        if dist(tx, ty, nx, ny) > 5.0 {
+        // Without a lead the trackpt is the next point (distance 0: no hypot).
+        if (tx, ty) != (nx, ny) && dist(tx, ty, nx, ny) > 5.0 {
             // `point_spec` written into the kept text buffer (the point moves every
             // iteration), its attribute fields formatted once.
             if self.trk_attrs.is_empty() {
