@@ -12,7 +12,7 @@ impl BhvWaypoint {
         // Only the macros the text names are worked out (this runs for every flag
         // posted at a waypoint), in the order of KEYS; the names are looked for again
         // after each substitution, as a value put in may name a later macro.
-        let mut named = named_in(&s);
+        let mut named = if s.contains('$') { named_in(&s) } else { 0 };
         for (k, key) in KEYS.iter().enumerate() {
             if named & (1 << k) != 0 {
                 subst(&mut s, key, &self.macro_value(key));
