@@ -60,7 +60,47 @@ pub fn platform_update(ctx: &mut Ctx<'_>) -> Option<Platform> {
     })
 }
 
-pub use behavior_api::flag::{has_macro_named, subst};
+/// The next `$` + `open` at or after byte `from`: a byte scan (flag texts are short, and
+/// building a substring searcher per macro name cost ~20K instructions per expansion).
+fn find_open(text: &str, from: usize, open: u8) -> Option<usize> {
+    let b = text.as_bytes();
+    (from..b.len().saturating_sub(1)).find(|&i| b[i] == b'$' && b[i + 1] == open)
+}
+
+/// Whether `name` and `close` follow the macro opening (`$` and a bracket) at byte `at`.
+pub fn macro_at(text: &str, at: usize, name: &str, close: u8) -> bool {
+    let rest = &text.as_bytes()[at + 2..];
+    rest.starts_with(name.as_bytes()) && rest.get(name.len()) == Some(&close)
+}
+
+/// Replace `$[NAME]` and `$(NAME)` by `value` everywhere in `text`, in place: all
+/// `$[NAME]` first, then all `$(NAME)`, left to right, not rescanning what was put in.
+pub fn subst(text: &mut String, name: &str, value: &str) {
+    for (open, close) in [(b'[', b']'), (b'(', b')')] {
+        let mut from = 0;
+        while let Some(at) = find_open(text, from, open) {
+            if macro_at(text, at, name, close) {
+                text.replace_range(at..at + name.len() + 3, value);
+                from = at + value.len();
+            } else {
+                from = at + 1;
+            }
+        }
+    }
+}
+
+/// True when `text` holds `$[NAME]` or `$(NAME)`.
+pub fn has_macro_named(text: &str, name: &str) -> bool {
+    let b = text.as_bytes();
+    (0..b.len().saturating_sub(1)).any(|i| {
+        b[i] == b'$'
+            && match b[i + 1] {
+                b'[' => macro_at(text, i, name, b']'),
+                b'(' => macro_at(text, i, name, b')'),
+                _ => false,
+            }
+    })
+}
 
 /// Variables appearing as the left operand of a comparison in a logic condition.
 pub fn condition_vars(cond: &str) -> Vec<String> {
@@ -100,12 +140,19 @@ pub fn condition_vars(cond: &str) -> Vec<String> {
     out
 }
 
-/// [`fmt_f0`] appended to `out`.
+/// [`fmt_f0`] appended to `out`. Below 2^52 the value is rounded here (to the nearest
+/// integer, ties to even, as `{:.0}` rounds a binary value) and printed as an integer:
+/// the status reports print two such numbers every iteration.
 pub fn push_f0(out: &mut String, v: f64) {
     if v.is_nan() {
         out.push_str("nan");
     } else if v.is_infinite() {
         out.push_str(if v > 0.0 { "inf" } else { "-inf" });
+    } else if v.abs() < 4_503_599_627_370_496.0 {
+        if v.is_sign_negative() {
+            out.push('-');
+        }
+        behavior_api::push_u64(out, v.abs().round_ties_even() as u64);
     } else {
         behavior_api::push_fixed(out, v, 0);
     }
@@ -158,7 +205,22 @@ mod tests {
         assert_eq!(fmt_f0(f64::INFINITY), "inf");
         assert_eq!(fmt_f0(f64::NAN), "nan");
         assert_eq!(fmt_f0(2.5), "2");
-        for v in [
+        let halves = (-40..40).map(|k| f64::from(k) + 0.5);
+        let near = [0.49999999999999994, 1.5000000000000002, 2.4999999999999996];
+        let mut seed = 11u64;
+        // 53 random bits scaled by 2^0 .. 2^-62: integers, halves and fractions of all sizes.
+        let random = std::iter::repeat_with(move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            let sign = if seed & 1 == 0 { 1.0 } else { -1.0 };
+            sign * (seed >> 11) as f64 * 2f64.powi(-(((seed >> 3) % 63) as i32))
+        });
+        let big = [
+            4503599627370495.5,
+            4503599627370496.0,
+            9007199254740993.0,
+            1e300,
+        ];
+        let special = [
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::NAN,
@@ -166,10 +228,18 @@ mod tests {
             -0.4,
             1e20,
             3.0,
-        ] {
+        ];
+        for v in special
+            .into_iter()
+            .chain(halves)
+            .chain(near)
+            .chain(big)
+            .chain([0.0, -0.0, 5e-324, -5e-324])
+            .chain(random.take(20000))
+        {
             let mut s = String::from("d=");
             push_f0(&mut s, v);
-            assert_eq!(s, format!("d={}", fmt_f0(v)));
+            assert_eq!(s, format!("d={}", fmt_f0(v)), "{v:e}");
         }
     }
 

@@ -35,6 +35,8 @@ pub struct WaypointEngine {
     slip_radius: f64,
     capture_line: bool,
     prev: Option<(f64, f64)>,
+    /// Bumped whenever the points change (views built from them are kept until then).
+    version: u64,
 }
 
 impl Default for WaypointEngine {
@@ -57,6 +59,7 @@ impl Default for WaypointEngine {
             slip_radius: 15.0,
             capture_line: false,
             prev: None,
+            version: 0,
         }
     }
 }
@@ -67,6 +70,7 @@ impl WaypointEngine {
     }
 
     fn rebuild(&mut self) {
+        self.version += 1;
         self.pts = self.raw.clone();
         if self.reverse {
             self.pts.reverse();
@@ -121,6 +125,10 @@ impl WaypointEngine {
     }
     pub fn points(&self) -> &[Vertex] {
         &self.pts
+    }
+    /// Changes whenever [`WaypointEngine::points`] may have changed.
+    pub fn points_version(&self) -> u64 {
+        self.version
     }
     pub fn size(&self) -> usize {
         self.pts.len()

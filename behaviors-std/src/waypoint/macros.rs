@@ -3,20 +3,20 @@
 use geometry::{fmt_x, pts_spec};
 
 use super::BhvWaypoint;
-use crate::common::{has_macro_named, subst};
+use crate::common::{macro_at, subst};
 
 impl BhvWaypoint {
     /// Expand this type's macros (§2.6) in `text`.
     pub fn expand_type_macros(&self, text: &str) -> String {
         let mut s = text.to_string();
-        if !s.contains("$[") && !s.contains("$(") {
-            return s;
-        }
         // Only the macros the text names are worked out (this runs for every flag
-        // posted at a waypoint).
-        for key in KEYS {
-            if has_macro_named(&s, key) {
+        // posted at a waypoint), in the order of KEYS; the names are looked for again
+        // after each substitution, as a value put in may name a later macro.
+        let mut named = if s.contains('$') { named_in(&s) } else { 0 };
+        for (k, key) in KEYS.iter().enumerate() {
+            if named & (1 << k) != 0 {
                 subst(&mut s, key, &self.macro_value(key));
+                named = named_in(&s);
             }
         }
         s
@@ -67,6 +67,25 @@ impl BhvWaypoint {
     }
 }
 
+/// The [`KEYS`] that `s` names as `$[KEY]` or `$(KEY)`, as bits: one pass over the text.
+fn named_in(s: &str) -> u32 {
+    let b = s.as_bytes();
+    let mut named = 0;
+    for at in 0..b.len().saturating_sub(1) {
+        let close = match (b[at], b[at + 1]) {
+            (b'$', b'[') => b']',
+            (b'$', b'(') => b')',
+            _ => continue,
+        };
+        for (k, key) in KEYS.iter().enumerate() {
+            if macro_at(s, at, key, close) {
+                named |= 1 << k;
+            }
+        }
+    }
+    named
+}
+
 /// The macros of §2.6, in the order they are expanded.
 const KEYS: [&str; 25] = [
     "POINTS",
@@ -95,3 +114,47 @@ const KEYS: [&str; 25] = [
     "CYC_DIST_TOGO",
     "ALL_DIST_TOGO",
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::common::has_macro_named;
+    use behavior_api::sdk::{HelmDomain, IvpBehavior};
+    use behavior_api::testing::MockHelm;
+
+    /// The one-pass scan expands as the search per macro name it replaced.
+    #[test]
+    fn named_scan_expands_as_the_search_per_name() {
+        let mut b = BhvWaypoint::new(&HelmDomain::new("course,0,359,360:speed,0,2,21"));
+        let mut h = MockHelm::new("wpt");
+        for (p, v) in [
+            ("points", "0,0:10,-5:10,10"),
+            ("speed", "1.5"),
+            ("lead", "4"),
+        ] {
+            assert!(h.with(|c| b.set_param(c, p, v)));
+        }
+        let atoms = [
+            "$[", "$(", "]", ")", "$", "[", "NI", "NX", "X", "Y", "PX", "WPTS", "_HIT", "ORDER",
+            "SPEED", "_ALT", "POINTS", "é", " ",
+        ];
+        let mut seed = 3u64;
+        let mut next = |n: usize| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as usize % n
+        };
+        for _ in 0..5000 {
+            let len = next(10);
+            let text: String = (0..len).map(|_| atoms[next(atoms.len())]).collect();
+            let mut plain = text.clone();
+            for key in KEYS {
+                if has_macro_named(&plain, key) {
+                    subst(&mut plain, key, &b.macro_value(key));
+                }
+            }
+            assert_eq!(b.expand_type_macros(&text), plain, "{text:?}");
+        }
+    }
+}

@@ -5,25 +5,22 @@ pub mod engine;
 pub mod ipf;
 mod macros;
 pub mod params;
+mod report;
 
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{FunctionData, PostValue};
-use geometry::{
-    dist, fmt_x, perp_seg_int_pt, point_spec, project_point, rel_ang, seglist_spec, Attrs, Polygon,
-    Vertex,
-};
+use geometry::{dist, fmt_x, perp_seg_int_pt, project_point, rel_ang, Vertex};
 
-use behavior_api::push_compact;
-
-use crate::common::{platform_update, push_f0, Platform};
+use crate::common::{platform_update, Platform};
 use engine::{Advance, WaypointEngine};
 use params::WptHints;
 
 /// The BHV_Waypoint behavior.
 pub struct BhvWaypoint {
     domain: String,
-    /// The path spec, formatted again only when the path or its look changes.
-    view_cache: geometry::SeglistSpecCache,
+    /// The path spec and the points version it shows: formatted again only when the
+    /// points change (parameters, which set its look and tags, clear it).
+    seg_view: Option<(u64, String)>,
     /// Edge tags of the loaded path (a lawnmower's lanes), posted in VIEW_SEGLIST.
     path_tags: Vec<geometry::EdgeTag>,
     /// The next-point spec and the trackpt erase spec, by the point they show: both stay
@@ -32,12 +29,15 @@ pub struct BhvWaypoint {
     trk_erase_spec: Option<String>,
     /// Ownship and this behavior's name, read once per configuration (they do not
     /// change while the behavior runs), and what is built from them every iteration:
-    /// the path's attributes, the trackpt's attribute fields, and a text buffer.
+    /// the trackpt's attribute fields, and a text buffer.
     own: String,
     me: String,
-    seg_attrs: Option<Attrs>,
     trk_attrs: String,
     text: String,
+    /// The status report, its text up to `dist=` kept with the counters it shows and
+    /// its length (only the distance and the eta change every iteration).
+    stat: String,
+    stat_head: Option<((usize, u32, u32, u32), usize)>,
     ivp_domain: Option<ivp::Domain>,
     ipf: ipf::Builder,
     speed_high: Option<f64>,
@@ -99,15 +99,16 @@ struct Efficiency {
 impl BhvWaypoint {
     pub fn new(helm: &HelmDomain) -> Self {
         BhvWaypoint {
-            view_cache: Default::default(),
+            seg_view: None,
             path_tags: Vec::new(),
             nextpt_spec: None,
             trk_erase_spec: None,
             own: String::new(),
             me: String::new(),
-            seg_attrs: None,
             trk_attrs: String::new(),
             text: String::new(),
+            stat: String::new(),
+            stat_head: None,
             domain: helm.sub_domain(&["course", "speed"]),
             ivp_domain: helm.ivp_domain(&["course", "speed"]),
             ipf: ipf::Builder::default(),
@@ -168,7 +169,8 @@ impl BhvWaypoint {
     fn refresh_names(&mut self, ctx: &Ctx<'_>) {
         self.own = ctx.ownship();
         self.me = ctx.name();
-        self.seg_attrs = None;
+        self.seg_view = None;
+        self.stat_head = None;
         self.trk_attrs.clear();
     }
 
@@ -182,37 +184,6 @@ impl BhvWaypoint {
         } else {
             self.cruise_speed
         }
-    }
-
-    fn nextpt_attrs(&self, ownship: &str, active: bool) -> Attrs {
-        Attrs {
-            active: Some(active),
-            label: format!("{ownship}'s nextpt"),
-            label_color: self.hints.nextpt_label_color.clone(),
-            vertex_color: self.hints.nextpt_color.clone(),
-            vertex_size: Some(self.hints.nextpt_vertex_size),
-            ..Attrs::default()
-        }
-    }
-
-    fn post_nextpt_inactive(&self, ctx: &mut Ctx<'_>) {
-        let label = format!("{}'s nextpt", ctx.ownship());
-        let spec = geometry::point_erase_spec(&label);
-        ctx.post_message_key("VIEW_POINT", PostValue::from(spec.as_str()), "wpt");
-    }
-
-    fn erase_visuals(&self, ctx: &mut Ctx<'_>) {
-        let own = ctx.ownship();
-        let trk = geometry::point_erase_spec(&format!("{own}'s trackpt"));
-        ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
-        self.post_nextpt_inactive(ctx);
-        let attrs = Attrs {
-            active: Some(false),
-            label: format!("{own}_{}", ctx.name()),
-            ..Attrs::default()
-        };
-        let seg = seglist_spec(self.engine.points(), 1, &attrs);
-        ctx.post_message("VIEW_SEGLIST", &seg);
     }
 
     fn post_flags(&self, ctx: &mut Ctx<'_>, flags: &[String], repeatable: bool) {
@@ -320,7 +291,9 @@ impl BhvWaypoint {
                 let v = format!("behavior-name={},{word}", ctx.name());
                 ctx.post_message(&self.sfx(&self.var_report), &v);
             }
-            self.post_flags(ctx, &self.cycleflags.clone(), true);
+            let flags = std::mem::take(&mut self.cycleflags);
+            self.post_flags(ctx, &flags, true);
+            self.cycleflags = flags;
         }
         if res == Advance::Completed {
             ctx.set_complete();
@@ -364,141 +337,6 @@ impl BhvWaypoint {
             }
         }
         (true, res)
-    }
-
-    fn post_status_report(&mut self, ctx: &mut Ctx<'_>) {
-        let ix = self.engine.index();
-        if !Self::silent(&self.var_report) {
-            let (nx, ny) = self.nextpt.unwrap_or((0.0, 0.0));
-            let d = dist(self.plat.x, self.plat.y, nx, ny);
-            let cap = self.engine.capture_hits();
-            let tot = cap + self.engine.slip_hits();
-            // Written into the kept text buffer: this posting changes every iteration.
-            let mut v = std::mem::take(&mut self.text);
-            v.clear();
-            v.push_str("vname=");
-            v.push_str(&self.own);
-            v.push_str(",behavior-name=");
-            v.push_str(&self.me);
-            v.push_str(",index=");
-            behavior_api::push_u64(&mut v, ix as u64);
-            v.push_str(",hits=");
-            behavior_api::push_u64(&mut v, cap as u64);
-            v.push('/');
-            behavior_api::push_u64(&mut v, tot as u64);
-            v.push_str(",cycles=");
-            behavior_api::push_u64(&mut v, self.engine.cycles() as u64);
-            v.push_str(",dist=");
-            push_f0(&mut v, d);
-            v.push_str(",eta=");
-            push_f0(&mut v, d / self.plat.speed);
-            ctx.post_message(&self.sfx(&self.var_report), &v);
-            self.text = v;
-        }
-        if !Self::silent(&self.var_index) && ix as i64 != self.prev_waypt_index {
-            ctx.post_message_num(&self.sfx(&self.var_index), ix as f64);
-        }
-        if !self.eager_prev_index {
-            self.prev_waypt_index = ix as i64;
-        }
-    }
-
-    fn post_views(&mut self, ctx: &mut Ctx<'_>) {
-        let (own, name) = (&self.own, &self.me);
-        let edge = &self.hints.edge_color;
-        if edge.eq_ignore_ascii_case("off") || edge.eq_ignore_ascii_case("inactive") {
-            let seg = geometry::seglist_erase_spec(&format!("{own}_{name}"));
-            ctx.post_message("VIEW_SEGLIST", &seg);
-        } else {
-            // The attributes are built once per configuration, the spec once per path.
-            let hints = &self.hints;
-            let attrs = self.seg_attrs.get_or_insert_with(|| Attrs {
-                label: format!("{own}_{name}"),
-                label_color: hints.label_color.clone(),
-                edge_color: hints.edge_color.clone(),
-                vertex_color: hints.vertex_color.clone(),
-                vertex_size: Some(hints.vertex_size),
-                edge_size: Some(hints.edge_size),
-                ..Attrs::default()
-            });
-            let seg = self
-                .view_cache
-                .get_tagged(self.engine.points(), &self.path_tags, 3, attrs);
-            ctx.post_message("VIEW_SEGLIST", seg);
-        }
-        if self.draw_path_loop {
-            let mut poly = Polygon::new(self.engine.points().to_vec());
-            if poly.is_convex() {
-                poly.attrs = Attrs {
-                    label: format!("{own}_{name}_loop"),
-                    edge_color: self.hints.edge_color.clone(),
-                    vertex_color: self.hints.vertex_color.clone(),
-                    ..Attrs::default()
-                };
-                ctx.post_message("VIEW_POLYGON", &poly.spec(1));
-            }
-        }
-        let (nx, ny) = self.nextpt.unwrap_or((0.0, 0.0));
-        let key = (nx.to_bits(), ny.to_bits());
-        if self.nextpt_spec.as_ref().is_none_or(|(k, _)| *k != key) {
-            let spec = point_spec(nx, ny, None, &self.nextpt_attrs(&self.own, true));
-            self.nextpt_spec = Some((key, spec));
-        }
-        if let Some((_, np)) = &self.nextpt_spec {
-            ctx.post_message_key("VIEW_POINT", PostValue::from(np.as_str()), "wpt");
-        }
-        let (tx, ty) = self.trackpt;
-        if dist(tx, ty, nx, ny) > 5.0 {
-            // `point_spec` written into the kept text buffer (the point moves every
-            // iteration), its attribute fields formatted once.
-            if self.trk_attrs.is_empty() {
-                let attrs = Attrs {
-                    active: Some(true),
-                    label: format!("{}'s trackpt", self.own),
-                    label_color: self.hints.nextpt_color.clone(),
-                    vertex_color: self.hints.nextpt_color.clone(),
-                    vertex_size: Some(4.0),
-                    ..Attrs::default()
-                };
-                self.trk_attrs = attrs.spec();
-            }
-            let mut trk = std::mem::take(&mut self.text);
-            trk.clear();
-            trk.push_str("x=");
-            push_compact(&mut trk, tx, 2);
-            trk.push_str(",y=");
-            push_compact(&mut trk, ty, 2);
-            trk.push_str(&self.trk_attrs);
-            ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
-            self.text = trk;
-        } else {
-            let own = &self.own;
-            let trk = self
-                .trk_erase_spec
-                .get_or_insert_with(|| geometry::point_erase_spec(&format!("{own}'s trackpt")));
-            ctx.post_message_key("VIEW_POINT", PostValue::from(trk.as_str()), "trk");
-        }
-    }
-
-    fn post_distances(&self, ctx: &mut Ctx<'_>) {
-        let (x, y) = (self.plat.x, self.plat.y);
-        if !self.var_dist_to_prev.is_empty() {
-            let ix = self.engine.index();
-            let d = if let Some((px, py)) = self.engine.prev_point() {
-                dist(x, y, px, py)
-            } else if ix > 0 {
-                self.engine
-                    .point(ix - 1)
-                    .map_or(-1.0, |p| dist(x, y, p.x, p.y))
-            } else {
-                -1.0
-            };
-            ctx.post_message_num(&self.var_dist_to_prev, d);
-        }
-        if !self.var_dist_to_next.is_empty() {
-            let d = self.engine.current().map_or(-1.0, |p| dist(x, y, p.x, p.y));
-            ctx.post_message_num(&self.var_dist_to_next, d);
-        }
     }
 
     /// Cruise speed after the `end_spd` ramp.
@@ -556,7 +394,7 @@ impl IvpBehavior for BhvWaypoint {
         // Hints and names may change what the cached point specs say.
         self.nextpt_spec = None;
         self.trk_erase_spec = None;
-        self.seg_attrs = None;
+        self.seg_view = None;
         self.trk_attrs.clear();
         self.set_wpt_param(ctx, param, value)
     }
@@ -666,7 +504,9 @@ impl IvpBehavior for BhvWaypoint {
             if self.eager_prev_index {
                 self.prev_waypt_index = this_ix as i64;
             }
-            self.post_flags(ctx, &self.wptflags.clone(), false);
+            let flags = std::mem::take(&mut self.wptflags);
+            self.post_flags(ctx, &flags, false);
+            self.wptflags = flags;
             self.wptflag_on_start_posted = true;
         }
         if !Self::silent(&self.var_cyindex) && self.engine.cycles() != self.prev_cycle_index {
