@@ -24,6 +24,7 @@
 pub mod aof;
 mod avoid_collision;
 mod cutrange;
+mod peaks;
 mod shadow;
 mod trail;
 

@@ -5,6 +5,8 @@ use behavior_api::ivp::{couple, Domain, ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{parse_number, FunctionData};
 
+use crate::peaks::{CoupledPeaks, Peak};
+
 pub struct Shadow {
     base: ContactBase,
     domain: Option<Domain>,
@@ -14,6 +16,8 @@ pub struct Shadow {
     hdg_base: f64,
     spd_peak: f64,
     spd_base: f64,
+    /// The coupled function's kept parts.
+    peaks: CoupledPeaks,
 }
 
 impl Shadow {
@@ -27,6 +31,7 @@ impl Shadow {
             hdg_base: 160.0,
             spd_peak: 0.1,
             spd_base: 2.0,
+            peaks: CoupledPeaks::default(),
         }
     }
 
@@ -46,6 +51,36 @@ impl Shadow {
         }
         let w = z.warnings().to_string();
         z.extract(true).ok_or(w)
+    }
+
+    /// The function as the reference builds it (both peaks afresh, then coupled),
+    /// posting what fails; run when the kept path fails.
+    fn reference(
+        &self,
+        ctx: &mut Ctx<'_>,
+        (hdg, spd): (f64, f64),
+    ) -> Option<behavior_api::ivp::IvpFunction> {
+        let fh = match self.peak("course", hdg, (self.hdg_peak, self.hdg_base), 50.0, true) {
+            Ok(f) => f,
+            Err(w) => {
+                ctx.post_emessage("Unable to generate hdg component of IvP function");
+                ctx.post_wmessage(&w);
+                return None;
+            }
+        };
+        let fs = match self.peak("speed", spd, (self.spd_peak, self.spd_base), 10.0, false) {
+            Ok(f) => f,
+            Err(w) => {
+                ctx.post_emessage("Unable to generate spd component of IvP function");
+                ctx.post_wmessage(&w);
+                return None;
+            }
+        };
+        let f = couple(fh, fs, 50.0, 50.0, true);
+        if f.is_none() {
+            ctx.post_emessage("Unable to generate coupled IvP function");
+        }
+        f
     }
 }
 
@@ -116,26 +151,24 @@ impl IvpBehavior for Shadow {
         if relevance <= 0.0 {
             return None;
         }
-        let hdg = match self.peak("course", cn.hdg, (self.hdg_peak, self.hdg_base), 50.0, true) {
-            Ok(f) => f,
-            Err(w) => {
-                ctx.post_emessage("Unable to generate hdg component of IvP function");
-                ctx.post_wmessage(&w);
-                return None;
-            }
+        let crs = Peak {
+            summit: cn.hdg,
+            pwidth: self.hdg_peak,
+            bwidth: self.hdg_base,
+            delta: 50.0,
         };
-        let spd = match self.peak("speed", cn.spd, (self.spd_peak, self.spd_base), 10.0, false) {
-            Ok(f) => f,
-            Err(w) => {
-                ctx.post_emessage("Unable to generate spd component of IvP function");
-                ctx.post_wmessage(&w);
-                return None;
-            }
+        let spd = Peak {
+            summit: cn.spd,
+            pwidth: self.spd_peak,
+            bwidth: self.spd_base,
+            delta: 10.0,
         };
-        let Some(mut f) = couple(hdg, spd, 50.0, 50.0, true) else {
-            ctx.post_emessage("Unable to generate coupled IvP function");
-            return None;
+        let built = match self.domain.as_ref() {
+            Some(d) => self.peaks.build(d, crs, spd),
+            None => None,
         };
+        // A failure takes the reference's path, which posts what failed.
+        let mut f = built.or_else(|| self.reference(ctx, (cn.hdg, cn.spd)))?;
         f.normalize(0.0, 100.0);
         f.set_pwt(relevance * ctx.priority());
         Some(function_data(f))

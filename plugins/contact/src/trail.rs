@@ -6,12 +6,13 @@ use std::f64::consts::PI;
 
 use behavior_api::contact::ContactBase;
 use behavior_api::geometry::{angle180, angle360, project_point};
-use behavior_api::ivp::{couple, Domain, IvpFunction, Reflector, ZaicPeak};
+use behavior_api::ivp::{Domain, IvpFunction, Reflector};
 use behavior_api::params::parse_bool;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{atof, parse_number, push_compact, FunctionData, PostValue};
 
 use crate::aof::CutRangeAof;
+use crate::peaks::{CoupledPeaks, Peak};
 
 pub struct Trail {
     base: ContactBase,
@@ -29,6 +30,8 @@ pub struct Trail {
     own_read: bool,
     /// The trail point's VIEW_POINT text, kept between iterations.
     view: String,
+    /// The near function's kept parts.
+    peaks: CoupledPeaks,
 }
 
 /// Degrees clockwise from north to radians counter-clockwise from east, in [−π, π].
@@ -61,6 +64,7 @@ impl Trail {
             own: String::new(),
             own_read: false,
             view: String::with_capacity(128),
+            peaks: CoupledPeaks::default(),
         }
     }
 
@@ -83,14 +87,21 @@ impl Trail {
     }
 
     /// The coupled course and speed peaks, normalized to [0, 100].
-    fn peaks(&self, hdg: f64, spd: f64) -> Option<IvpFunction> {
+    fn peaks(&mut self, hdg: f64, spd: f64) -> Option<IvpFunction> {
         let domain = self.domain.as_ref()?;
-        let mut zc = ZaicPeak::new(domain, "course").ok()?;
-        zc.set_params(hdg, 30.0, 150.0, 50.0, 0.0, 100.0, 0);
-        zc.set_value_wrap(true);
-        let mut zs = ZaicPeak::new(domain, "speed").ok()?;
-        zs.set_params(spd, 0.1, 2.0, 50.0, 0.0, 100.0, 0);
-        let mut f = couple(zc.extract(true)?, zs.extract(true)?, 50.0, 50.0, true)?;
+        let crs = Peak {
+            summit: hdg,
+            pwidth: 30.0,
+            bwidth: 150.0,
+            delta: 50.0,
+        };
+        let spd = Peak {
+            summit: spd,
+            pwidth: 0.1,
+            bwidth: 2.0,
+            delta: 50.0,
+        };
+        let mut f = self.peaks.build(domain, crs, spd)?;
         f.normalize(0.0, 100.0);
         Some(f)
     }

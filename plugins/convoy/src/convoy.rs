@@ -5,7 +5,7 @@ use std::collections::VecDeque;
 
 use behavior_api::contact::ContactBase;
 use behavior_api::geometry::{angle360, dist, rel_ang};
-use behavior_api::ivp::{couple, Domain, ZaicPeak};
+use behavior_api::ivp::{Domain, ZaicPeak};
 use behavior_api::params::parse_bool;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{compact, parse_number, FunctionData};
@@ -158,7 +158,13 @@ impl Convoy {
         zc.set_params(course, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
         let i = zc.add_component();
         zc.set_params(angle360(heading), 30.0, 180.0, 5.0, 0.0, 20.0, i);
-        couple(zc.extract(false)?, zs.extract(true)?, 0.5, 0.5, true)
+        // couple(course, speed, 0.5, 0.5, true) bit for bit, the course pieces coupled
+        // straight from the builder (both extractions fail or not on their own).
+        let mut fs = zs.extract(true)?;
+        fs.normalize(0.0, 0.5);
+        let f = zc.try_extract_coupled(false, &fs, (0.5, 0.5), true);
+        fs.recycle();
+        f.ok()?.ok()
     }
 }
 
@@ -344,6 +350,31 @@ mod tests {
     fn step(b: &mut Convoy, helm: &mut MockHelm) -> Option<FunctionData> {
         helm.with(|ctx| b.on_every_state(ctx));
         helm.with(|ctx| b.on_run(ctx))
+    }
+
+    /// The function is the reference's (both peaks made into functions, then
+    /// coupled) bit for bit, over courses, headings and speeds.
+    #[test]
+    fn function_equals_extract_then_couple() {
+        let (mut b, _) = convoy();
+        let bits = behavior_api::testing::function_bits;
+        for (k, speed) in [1.0, 0.0, 2.5, 4.0, 7.0].into_iter().enumerate() {
+            b.set_speed = speed;
+            for (course, heading) in [(0.0, 0.0), (45.5, 300.0), (359.0, -20.0), (180.0, 720.5)] {
+                let dom = b.domain.as_ref().unwrap();
+                let mut zs = ZaicPeak::new(dom, "speed").unwrap();
+                zs.set_params(speed, speed / 2.0, 1.6, 20.0, 0.0, 100.0, 0);
+                let mut zc = ZaicPeak::new(dom, "course").unwrap();
+                zc.set_value_wrap(true);
+                zc.set_params(course, 0.0, 180.0, 50.0, 0.0, 100.0, 0);
+                let i = zc.add_component();
+                zc.set_params(angle360(heading), 30.0, 180.0, 5.0, 0.0, 20.0, i);
+                let (fc, fs) = (zc.extract(false).unwrap(), zs.extract(true).unwrap());
+                let want = behavior_api::ivp::couple(fc, fs, 0.5, 0.5, true).unwrap();
+                let got = b.function(course, heading).unwrap();
+                assert_eq!(bits(&got), bits(&want), "{k} {course} {heading}");
+            }
+        }
     }
 
     #[test]
