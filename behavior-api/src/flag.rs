@@ -75,17 +75,28 @@ pub fn expand_macros(text: &str, subs: &[(&str, String)]) -> String {
     s
 }
 
+/// The next `$` + `open` at or after byte `from`: a byte scan (flag texts are short; a
+/// substring searcher per macro name cost ~20K instructions per expansion).
+fn find_open(text: &str, from: usize, open: u8) -> Option<usize> {
+    let b = text.as_bytes();
+    (from..b.len().saturating_sub(1)).find(|&i| b[i] == b'$' && b[i + 1] == open)
+}
+
+/// Whether `name` and `close` follow the macro opening (`$` and a bracket) at byte `at`.
+pub fn macro_at(text: &str, at: usize, name: &str, close: u8) -> bool {
+    let rest = text.as_bytes().get(at + 2..).unwrap_or_default();
+    rest.starts_with(name.as_bytes()) && rest.get(name.len()) == Some(&close)
+}
+
 /// Replace `$[NAME]` and `$(NAME)` by `value` everywhere in `text`, in place: all
 /// `$[NAME]` first, then all `$(NAME)`, left to right, not rescanning what was put in.
 /// Nothing is allocated unless the text must grow.
 pub fn subst(text: &mut String, name: &str, value: &str) {
-    for (open, close) in [("$[", ']'), ("$(", ')')] {
+    for (open, close) in [(b'[', b']'), (b'(', b')')] {
         let mut from = 0;
-        while let Some(at) = text[from..].find(open).map(|i| from + i) {
-            let start = at + open.len();
-            let end = start + name.len();
-            if text[start..].starts_with(name) && text[end..].starts_with(close) {
-                text.replace_range(at..end + 1, value);
+        while let Some(at) = find_open(text, from, open) {
+            if macro_at(text, at, name, close) {
+                text.replace_range(at..at + name.len() + 3, value);
                 from = at + value.len();
             } else {
                 from = at + 1;
@@ -97,11 +108,14 @@ pub fn subst(text: &mut String, name: &str, value: &str) {
 /// True when `text` holds `$[NAME]` or `$(NAME)` (so that macro's value need not be
 /// worked out otherwise).
 pub fn has_macro_named(text: &str, name: &str) -> bool {
-    [("$[", ']'), ("$(", ')')].iter().any(|(open, close)| {
-        text.match_indices(open).any(|(at, _)| {
-            let rest = &text[at + open.len()..];
-            rest.starts_with(name) && rest[name.len()..].starts_with(*close)
-        })
+    let b = text.as_bytes();
+    (0..b.len().saturating_sub(1)).any(|i| {
+        b[i] == b'$'
+            && match b[i + 1] {
+                b'[' => macro_at(text, i, name, b']'),
+                b'(' => macro_at(text, i, name, b')'),
+                _ => false,
+            }
     })
 }
 

@@ -60,47 +60,7 @@ pub fn platform_update(ctx: &mut Ctx<'_>) -> Option<Platform> {
     })
 }
 
-/// The next `$` + `open` at or after byte `from`: a byte scan (flag texts are short, and
-/// building a substring searcher per macro name cost ~20K instructions per expansion).
-fn find_open(text: &str, from: usize, open: u8) -> Option<usize> {
-    let b = text.as_bytes();
-    (from..b.len().saturating_sub(1)).find(|&i| b[i] == b'$' && b[i + 1] == open)
-}
-
-/// Whether `name` and `close` follow the macro opening (`$` and a bracket) at byte `at`.
-pub fn macro_at(text: &str, at: usize, name: &str, close: u8) -> bool {
-    let rest = &text.as_bytes()[at + 2..];
-    rest.starts_with(name.as_bytes()) && rest.get(name.len()) == Some(&close)
-}
-
-/// Replace `$[NAME]` and `$(NAME)` by `value` everywhere in `text`, in place: all
-/// `$[NAME]` first, then all `$(NAME)`, left to right, not rescanning what was put in.
-pub fn subst(text: &mut String, name: &str, value: &str) {
-    for (open, close) in [(b'[', b']'), (b'(', b')')] {
-        let mut from = 0;
-        while let Some(at) = find_open(text, from, open) {
-            if macro_at(text, at, name, close) {
-                text.replace_range(at..at + name.len() + 3, value);
-                from = at + value.len();
-            } else {
-                from = at + 1;
-            }
-        }
-    }
-}
-
-/// True when `text` holds `$[NAME]` or `$(NAME)`.
-pub fn has_macro_named(text: &str, name: &str) -> bool {
-    let b = text.as_bytes();
-    (0..b.len().saturating_sub(1)).any(|i| {
-        b[i] == b'$'
-            && match b[i + 1] {
-                b'[' => macro_at(text, i, name, b']'),
-                b'(' => macro_at(text, i, name, b')'),
-                _ => false,
-            }
-    })
-}
+pub use behavior_api::flag::{has_macro_named, macro_at, subst};
 
 /// Variables appearing as the left operand of a comparison in a logic condition.
 pub fn condition_vars(cond: &str) -> Vec<String> {
