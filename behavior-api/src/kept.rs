@@ -1,9 +1,10 @@
 //! A behavior's last IvP function kept between builds: while the inputs it was built
 //! from are the same (by their exact bits), it is lent again instead of built. Built-in
 //! and plugin behaviors whose function seldom changes (a constant depth, a cruise speed)
-//! share this one mechanism.
+//! share this one mechanism, and the ZAIC builders they set up again every iteration.
 
-use ivp::IvpFunction;
+use ivp::zaic::ZaicPeak;
+use ivp::{Domain, IvpFunction};
 
 /// The last function built, with the key of the inputs it was built from.
 pub struct Kept<K> {
@@ -35,6 +36,38 @@ impl<K: PartialEq> Kept<K> {
             }
         };
         Ok(&self.last.insert(kept).1)
+    }
+}
+
+/// The ZAIC_PEAK builder over `var` kept in `slot` (made, with value wrap `wrap` and
+/// `comps` components, when there is none), its parameters to be set again by the
+/// caller: every parameter the caller sets is overwritten, so it builds what a fresh
+/// builder would. A builder whose setter failed carries that failure: the caller drops
+/// it ([`drop_on_failure`]).
+pub fn peak<'a>(
+    slot: &'a mut Option<ZaicPeak>,
+    domain: &Domain,
+    var: &str,
+    wrap: bool,
+    comps: usize,
+) -> Option<&'a mut ZaicPeak> {
+    if slot.is_none() {
+        let mut z = ZaicPeak::new(domain, var).ok()?;
+        z.set_value_wrap(wrap);
+        while z.components() < comps {
+            z.add_component();
+        }
+        *slot = Some(z);
+    }
+    slot.as_mut()
+}
+
+/// Drop the kept builder unless `ok` (its setters succeeded; a caller may also ask for
+/// no warnings): the next build starts from a fresh one, as the reference does every
+/// iteration.
+pub fn drop_on_failure(slot: &mut Option<ZaicPeak>, ok: bool) {
+    if !ok {
+        *slot = None;
     }
 }
 

@@ -4,7 +4,7 @@
 //! the same (a steady contact speed) and the course builder.
 
 use behavior_api::ivp::{Domain, IvpFunction, ZaicPeak};
-use behavior_api::kept::Kept;
+use behavior_api::kept::{self, Kept};
 
 /// One ZAIC_PEAK component: summit, peak width, base width, summit delta (utilities
 /// 0 to 100).
@@ -64,19 +64,13 @@ impl CoupledPeaks {
                 Ok::<_, ()>(f)
             })
             .ok()?;
-        if self.course.is_none() {
-            let mut z = ZaicPeak::new(domain, "course").ok()?;
-            z.set_value_wrap(true);
-            self.course = Some(z);
-        }
-        let z = self.course.as_mut()?;
+        let z = kept::peak(&mut self.course, domain, "course", true, 1)?;
         let ok = z.set_params(crs.summit, crs.pwidth, crs.bwidth, crs.delta, 0.0, 100.0, 0);
         let f = z.try_extract_coupled(true, f2, (50.0, 50.0), true);
         // A builder that failed or warned carries that state: the next build starts
         // from a fresh one.
-        if !ok || !z.warnings().is_empty() {
-            self.course = None;
-        }
+        let keep = ok && z.warnings().is_empty();
+        kept::drop_on_failure(&mut self.course, keep);
         f.ok()?.ok()
     }
 }

@@ -251,15 +251,11 @@ fn build_kept(
             Ok::<_, ()>(f)
         })
         .ok()?;
-    if zs.is_none() {
-        *zs = Some(ZaicPeak::new(dom, "speed").ok()?);
-    }
-    let z = zs.as_mut()?;
+    let z = behavior_api::kept::peak(zs, dom, "speed", false, 1)?;
     let ok = set_speed(z, speed);
     let f = z.try_extract_coupled(true, fd, (50.0, 50.0), true);
-    if !ok || !z.warnings().is_empty() {
-        *zs = None;
-    }
+    let keep = ok && z.warnings().is_empty();
+    behavior_api::kept::drop_on_failure(zs, keep);
     f.ok()?.ok()
 }
 
