@@ -1,7 +1,8 @@
 //! A behavior's last IvP function kept between builds: while the inputs it was built
 //! from are the same (by their exact bits), it is lent again instead of built. Built-in
 //! and plugin behaviors whose function seldom changes (a constant depth, a cruise speed)
-//! share this one mechanism, and the ZAIC builders they set up again every iteration.
+//! share this one mechanism, and the ZAIC builders they set up again every iteration;
+//! [`CoupledPeaks`] is both at once for a course peak coupled with a speed peak.
 
 use ivp::zaic::ZaicPeak;
 use ivp::{Domain, IvpFunction};
@@ -71,9 +72,75 @@ pub fn drop_on_failure(slot: &mut Option<ZaicPeak>, ok: bool) {
     }
 }
 
+/// The key of a [`crate::zaic::Peak`]: its numbers by their bits, and its wrap.
+fn peak_key(p: &crate::zaic::Peak) -> [u64; 7] {
+    let b = f64::to_bits;
+    [
+        b(p.summit),
+        b(p.peak_width),
+        b(p.base_width),
+        b(p.summit_delta),
+        b(p.min_util),
+        b(p.max_util),
+        u64::from(p.value_wrap),
+    ]
+}
+
+/// What a behavior keeps between its builds of a course peak coupled 50/50 with a
+/// speed peak (Trail, Shadow, StationKeep): the speed function while its peak is the
+/// same (a steady speed), and the course builder.
+#[derive(Default)]
+pub struct CoupledPeaks {
+    /// The speed function, normalized to [0, 50] as the coupler normalizes it.
+    speed: Kept<[u64; 7]>,
+    /// The course builder; every parameter is set again each build.
+    course: Option<ZaicPeak>,
+}
+
+impl CoupledPeaks {
+    /// `couple(crs over "course", spd over "speed", 50, 50, true)` of two freshly built
+    /// peaks, bit for bit, with the course pieces coupled straight from the builder.
+    /// `None` when a builder or the coupler fails (a caller that reports failures then
+    /// builds afresh for the messages).
+    pub fn build(
+        &mut self,
+        domain: &Domain,
+        crs: &crate::zaic::Peak,
+        spd: &crate::zaic::Peak,
+    ) -> Option<IvpFunction> {
+        let f2 = self
+            .speed
+            .get(peak_key(spd), || {
+                let mut f = spd.build(domain, "speed")?;
+                f.normalize(0.0, 50.0);
+                Ok::<_, ivp::IvpError>(f)
+            })
+            .ok()?;
+        let z = peak(&mut self.course, domain, "course", crs.value_wrap, 1)?;
+        z.set_value_wrap(crs.value_wrap);
+        let ok = z.set_params(
+            crs.summit,
+            crs.peak_width,
+            crs.base_width,
+            crs.summit_delta,
+            crs.min_util,
+            crs.max_util,
+            0,
+        );
+        let f = z.try_extract_coupled(true, f2, (50.0, 50.0), true);
+        // A builder that failed or warned carries that state: the next build starts
+        // from a fresh one.
+        let keep = ok && z.warnings().is_empty();
+        drop_on_failure(&mut self.course, keep);
+        f.ok()?.ok()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::function_bits;
+    use crate::zaic::Peak;
 
     fn one_piece(v: f64) -> IvpFunction {
         let d = ivp::Domain::parse("x:0:9:10").unwrap();
@@ -108,5 +175,61 @@ mod tests {
                 .weights()[1],
             1.0
         );
+    }
+
+    /// The reference: both peaks built afresh, then coupled.
+    fn coupled_fresh(d: &Domain, crs: &Peak, spd: &Peak) -> Option<IvpFunction> {
+        let fc = crs.build(d, "course").ok()?;
+        let fs = spd.build(d, "speed").ok()?;
+        ivp::coupler::couple(fc, fs, 50.0, 50.0, true)
+    }
+
+    /// Over random peaks (some repeated, some refused, utilities 0-100 and 0-25), the
+    /// kept path gives the fresh function bit for bit, or fails where it fails.
+    #[test]
+    fn coupled_peaks_equal_fresh_ones() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let mut kept = CoupledPeaks::default();
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |n: u64| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) % n
+        };
+        let pick = |k: u64, of: &[f64]| of[k as usize % of.len()];
+        let (mut same, mut failed) = (0, 0);
+        for _ in 0..500 {
+            let crs = Peak {
+                summit: pick(next(7), &[0.0, 45.5, 180.0, 359.0, 370.0, -10.0, f64::NAN]),
+                peak_width: pick(next(3), &[20.0, 30.0, 0.0]),
+                base_width: pick(next(3), &[160.0, 180.0, 10.0]),
+                summit_delta: pick(next(3), &[50.0, 0.0, 150.0]),
+                value_wrap: next(5) != 0,
+                ..Peak::default()
+            };
+            let spd = Peak {
+                summit: pick(
+                    next(8),
+                    &[1.5, 1.5, 1.5, 0.0, 2.25, 4.0, 6.0, f64::INFINITY],
+                ),
+                peak_width: pick(next(2), &[0.1, 0.0]),
+                base_width: pick(next(2), &[2.0, 0.4]),
+                summit_delta: pick(next(3), &[10.0, 50.0, 0.0]),
+                max_util: pick(next(3), &[100.0, 25.0, 100.0]),
+                ..Peak::default()
+            };
+            let want = coupled_fresh(&d, &crs, &spd);
+            let got = kept.build(&d, &crs, &spd);
+            match (&want, &got) {
+                (Some(w), Some(g)) => {
+                    assert_eq!(function_bits(w), function_bits(g), "{crs:?} {spd:?}");
+                    same += 1;
+                }
+                (None, None) => failed += 1,
+                _ => panic!("{crs:?} {spd:?}: {} vs {}", want.is_some(), got.is_some()),
+            }
+        }
+        assert!(same > 250 && failed > 20, "{same} {failed}");
     }
 }

@@ -24,7 +24,6 @@
 pub mod aof;
 mod avoid_collision;
 mod cutrange;
-mod peaks;
 mod shadow;
 mod trail;
 

@@ -5,7 +5,8 @@ use behavior_api::ivp::{couple, Domain, ZaicPeak};
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{parse_number, FunctionData};
 
-use crate::peaks::{CoupledPeaks, Peak};
+use behavior_api::kept::CoupledPeaks;
+use behavior_api::zaic::Peak;
 
 pub struct Shadow {
     base: ContactBase,
@@ -153,18 +154,21 @@ impl IvpBehavior for Shadow {
         }
         let crs = Peak {
             summit: cn.hdg,
-            pwidth: self.hdg_peak,
-            bwidth: self.hdg_base,
-            delta: 50.0,
+            peak_width: self.hdg_peak,
+            base_width: self.hdg_base,
+            summit_delta: 50.0,
+            value_wrap: true,
+            ..Peak::default()
         };
         let spd = Peak {
             summit: cn.spd,
-            pwidth: self.spd_peak,
-            bwidth: self.spd_base,
-            delta: 10.0,
+            peak_width: self.spd_peak,
+            base_width: self.spd_base,
+            summit_delta: 10.0,
+            ..Peak::default()
         };
         let built = match self.domain.as_ref() {
-            Some(d) => self.peaks.build(d, crs, spd),
+            Some(d) => self.peaks.build(d, &crs, &spd),
             None => None,
         };
         // A failure takes the reference's path, which posts what failed.

@@ -12,7 +12,8 @@ use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::{atof, parse_number, push_compact, FunctionData, PostValue};
 
 use crate::aof::CutRangeAof;
-use crate::peaks::{CoupledPeaks, Peak};
+use behavior_api::kept::CoupledPeaks;
+use behavior_api::zaic::Peak;
 
 pub struct Trail {
     base: ContactBase,
@@ -91,17 +92,20 @@ impl Trail {
         let domain = self.domain.as_ref()?;
         let crs = Peak {
             summit: hdg,
-            pwidth: 30.0,
-            bwidth: 150.0,
-            delta: 50.0,
+            peak_width: 30.0,
+            base_width: 150.0,
+            summit_delta: 50.0,
+            value_wrap: true,
+            ..Peak::default()
         };
         let spd = Peak {
             summit: spd,
-            pwidth: 0.1,
-            bwidth: 2.0,
-            delta: 50.0,
+            peak_width: 0.1,
+            base_width: 2.0,
+            summit_delta: 50.0,
+            ..Peak::default()
         };
-        let mut f = self.peaks.build(domain, crs, spd)?;
+        let mut f = self.peaks.build(domain, &crs, &spd)?;
         f.normalize(0.0, 100.0);
         Some(f)
     }

@@ -6,8 +6,10 @@ use std::collections::VecDeque;
 
 use behavior_api::geometry::angles::{angle360, rel_ang};
 use behavior_api::geometry::spec::{fmt_x, is_color};
-use behavior_api::ivp::{self, coupler::couple, zaic::ZaicPeak};
+use behavior_api::ivp;
+use behavior_api::kept::CoupledPeaks;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::zaic::Peak;
 use behavior_api::{parse_number, FunctionData, PostValue};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,6 +76,8 @@ pub struct StationKeep {
     edge_size: f64,
     /// Course and speed summits of the last function (for tests and logs).
     last_summits: (f64, f64),
+    /// The speed function and course builder kept between iterations.
+    peaks: CoupledPeaks,
 }
 
 impl StationKeep {
@@ -105,6 +109,7 @@ impl StationKeep {
             vertex_size: 1.0,
             edge_size: 1.0,
             last_summits: (0.0, 0.0),
+            peaks: CoupledPeaks::default(),
         }
     }
 
@@ -288,24 +293,23 @@ impl StationKeep {
         }
     }
 
-    /// The coupled course × speed function (§5.6), without pwt.
-    fn build(&self, course: f64, speed: f64) -> Option<ivp::IvpFunction> {
+    /// The coupled course × speed function (§5.6), without pwt: a course peak 180°
+    /// wide and a speed peak 0.4 wide of utility 0 to 25, coupled 50/50.
+    fn build(&mut self, course: f64, speed: f64) -> Option<ivp::IvpFunction> {
         let dom = self.ivp_domain.as_ref()?;
-        let mut zs = ZaicPeak::new(dom, "speed").ok()?;
-        zs.set_summit(speed, 0);
-        zs.set_base_width(0.4, 0);
-        zs.set_peak_width(0.0, 0);
-        zs.set_summit_delta(0.0, 0);
-        zs.set_min_max_util(0.0, 25.0, 0);
-        let mut zc = ZaicPeak::new(dom, "course").ok()?;
-        zc.set_summit(course, 0);
-        zc.set_base_width(180.0, 0);
-        zc.set_peak_width(0.0, 0);
-        zc.set_summit_delta(0.0, 0);
-        zc.set_value_wrap(true);
-        let fs = zs.extract(true)?;
-        let fc = zc.extract(true)?;
-        couple(fc, fs, 50.0, 50.0, true)
+        let crs = Peak {
+            summit: course,
+            base_width: 180.0,
+            value_wrap: true,
+            ..Peak::default()
+        };
+        let spd = Peak {
+            summit: speed,
+            base_width: 0.4,
+            max_util: 25.0,
+            ..Peak::default()
+        };
+        self.peaks.build(dom, &crs, &spd)
     }
 }
 

@@ -355,3 +355,38 @@ impl StationKeep {
         assert!(host.with(|ctx| self.set_param(ctx, p, v)));
     }
 }
+
+/// The function §5.6 describes, built afresh with the separate ZAIC setters and the
+/// coupler, every time.
+fn fresh(dom: &ivp::Domain, course: f64, speed: f64) -> Option<ivp::IvpFunction> {
+    use behavior_api::ivp::{coupler::couple, zaic::ZaicPeak};
+    let mut zs = ZaicPeak::new(dom, "speed").ok()?;
+    zs.set_summit(speed, 0);
+    zs.set_base_width(0.4, 0);
+    zs.set_peak_width(0.0, 0);
+    zs.set_summit_delta(0.0, 0);
+    zs.set_min_max_util(0.0, 25.0, 0);
+    let mut zc = ZaicPeak::new(dom, "course").ok()?;
+    zc.set_summit(course, 0);
+    zc.set_base_width(180.0, 0);
+    zc.set_peak_width(0.0, 0);
+    zc.set_summit_delta(0.0, 0);
+    zc.set_value_wrap(true);
+    couple(zc.extract(true)?, zs.extract(true)?, 50.0, 50.0, true)
+}
+
+/// The kept speed function and course builder give the fresh function bit for bit,
+/// over summits that repeat (a vehicle inside the inner radius) and change.
+#[test]
+fn kept_build_is_the_fresh_build() {
+    use behavior_api::testing::function_bits;
+    let (mut b, _) = bhv(&[("station_pt", "0,0")]);
+    let dom = b.ivp_domain.clone().unwrap();
+    let speeds = [0.0, 0.0, 0.7, 1.2, 1.2, 2.5, 0.0, f64::NAN, 0.35];
+    for (i, &speed) in speeds.iter().cycle().take(60).enumerate() {
+        let course = (i as f64 * 37.3) % 400.0 - 20.0;
+        let want = fresh(&dom, course, speed).map(|f| function_bits(&f));
+        let got = b.build(course, speed).map(|f| function_bits(&f));
+        assert_eq!(want, got, "course {course} speed {speed}");
+    }
+}
