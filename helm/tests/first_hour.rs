@@ -722,7 +722,7 @@ fn a_helm_copied_alone_says_its_bundled_libraries_are_missing() {
     let built = common::build_plugins(&four);
     for p in four {
         let name = common::lib_name(p);
-        std::fs::copy(built.join(&name), bin.join(&name)).expect("copy a library");
+        common::place(&built.join(&name), &bin.join(&name)).expect("place a library");
     }
     let o = Command::new(&helm)
         .args(["check", mission.to_str().expect("utf-8")])

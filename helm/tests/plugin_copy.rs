@@ -51,6 +51,8 @@ fn cargo(dir: &Path, args: &[&str]) -> Option<Output> {
         .args(args)
         .args(["--offline", "--quiet"])
         .env("CARGO_TARGET_DIR", common::plugins_target())
+        // As the workspace's dev profile: file:line only (disk).
+        .env("CARGO_PROFILE_DEV_DEBUG", "line-tables-only")
         .output()
         .expect("run cargo");
     if !o.status.success() {

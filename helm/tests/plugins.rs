@@ -163,7 +163,7 @@ fn each_library_alone_offers_its_own_type() {
     for p in ["bhv-constant-heading", "bhv-constant-speed"] {
         let d = scratch(format!("alone-{p}"));
         let name = common::lib_name(p);
-        std::fs::copy(lib.join(&name), d.join(&name)).unwrap();
+        common::place(&lib.join(&name), &d.join(&name)).unwrap();
         dirs.push(d.to_str().unwrap().to_string());
     }
     let case = workspace().join("conformance/helm/plugin_constant_heading.toml");
@@ -223,7 +223,7 @@ fn bad_library_files_are_skipped() {
     // Bad files next to good ones do not stop the good ones from loading.
     for entry in std::fs::read_dir(plugin_dir()).unwrap() {
         let p = entry.unwrap().path();
-        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+        common::place(&p, &d.join(p.file_name().unwrap())).unwrap();
     }
     let out = helm_conform(&case, Some(d.to_str().unwrap()));
     let t = text(&out);
@@ -709,6 +709,8 @@ fn build_future_abi_library() -> Option<PathBuf> {
         .current_dir(&plugin)
         .args(["build", "--quiet", "--offline"])
         .env("CARGO_TARGET_DIR", &target)
+        // As the workspace's dev profile: file:line only (disk).
+        .env("CARGO_PROFILE_DEV_DEBUG", "line-tables-only")
         .output();
     match out {
         Ok(o) if o.status.success() => {}
@@ -743,7 +745,7 @@ fn library_built_against_another_api_version_is_refused() {
     let bad = d.join("libbhv_abi_future.so");
     std::fs::copy(&future, &bad).unwrap();
     let good = "libbhv_template.so";
-    std::fs::copy(plugin_dir().join(good), d.join(good)).unwrap();
+    common::place(&plugin_dir().join(good), &d.join(good)).unwrap();
 
     let (factory, report) = helm_mission::factory_for(std::slice::from_ref(&d));
     let report = report.join("\n");
@@ -874,6 +876,8 @@ fn build_released_plugin(commit: &str, api_version: &str, package: &str) -> Path
         .current_dir(&tree)
         .args(["build", "--quiet", "--offline", "-p", package])
         .env("CARGO_TARGET_DIR", &target)
+        // As the workspace's dev profile: file:line only (disk).
+        .env("CARGO_PROFILE_DEV_DEBUG", "line-tables-only")
         .output()
         .expect("run cargo");
     assert!(
@@ -883,7 +887,7 @@ fn build_released_plugin(commit: &str, api_version: &str, package: &str) -> Path
     );
     let lib = common::lib_name(package);
     let lib_dir = scratch(format!("release-{commit}-lib"));
-    std::fs::copy(target.join("debug").join(&lib), lib_dir.join(&lib)).unwrap();
+    common::place(&target.join("debug").join(&lib), &lib_dir.join(&lib)).unwrap();
     lib_dir
 }
 
@@ -998,9 +1002,9 @@ fn installed_helm(root: &Path, lib_sub: &str, libs: &[&str]) -> PathBuf {
     std::fs::create_dir_all(&bin).unwrap();
     std::fs::create_dir_all(&lib).unwrap();
     let helm = bin.join("helm");
-    std::fs::copy(env!("CARGO_BIN_EXE_helm"), &helm).unwrap();
+    common::place(Path::new(env!("CARGO_BIN_EXE_helm")), &helm).unwrap();
     for name in libs {
-        std::fs::copy(plugin_dir().join(name), lib.join(name)).unwrap();
+        common::place(&plugin_dir().join(name), &lib.join(name)).unwrap();
     }
     helm
 }
@@ -1058,7 +1062,7 @@ fn configured_folders_come_before_the_bundled_ones() {
     let root = scratch("bundled-order");
     let helm = installed_helm(&root, "bin", &ALL_FOUR);
     let mine = scratch("bundled-order-mine");
-    std::fs::copy(plugin_dir().join(ALL_FOUR[0]), mine.join(ALL_FOUR[0])).unwrap();
+    common::place(&plugin_dir().join(ALL_FOUR[0]), &mine.join(ALL_FOUR[0])).unwrap();
     let out = check_plugins_mission(&helm, Some(mine.to_str().unwrap()));
     let t = text(&out);
     assert!(out.status.success(), "{t}");

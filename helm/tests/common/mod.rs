@@ -105,6 +105,19 @@ pub fn outside_dir(prefix: &str) -> PathBuf {
     )
 }
 
+/// `src` at `dst`, as a hard link where the file system allows it, else as a copy;
+/// `dst` is replaced. The tests place the same 25 MB libraries and the helm binary in
+/// many folders: copies of them filled the disk. A replaced `dst` that a running helm
+/// has loaded stays loaded (only its name goes), and cargo and the linker replace their
+/// outputs instead of writing into them, so a link never changes under a test.
+pub fn place(src: &Path, dst: &Path) -> std::io::Result<()> {
+    match std::fs::remove_file(dst) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+        _ => {}
+    }
+    std::fs::hard_link(src, dst).or_else(|_| std::fs::copy(src, dst).map(|_| ()))
+}
+
 /// A port of 127.0.0.1 nobody listens on right now.
 pub fn free_port() -> u16 {
     let l = TcpListener::bind("127.0.0.1:0").expect("bind an ephemeral port");
@@ -209,7 +222,7 @@ pub fn lib_folder(built: &Path, packages: &[&str], folder: &str) -> PathBuf {
     std::fs::create_dir_all(&only).expect("create the library folder");
     for p in packages {
         let name = lib_name(p);
-        std::fs::copy(built.join(&name), only.join(&name)).expect("copy the library");
+        place(&built.join(&name), &only.join(&name)).expect("place the library");
     }
     only
 }
