@@ -101,17 +101,34 @@ impl LastBits {
     /// false when `b` leaves the domain (then `out` means nothing).
     #[inline]
     pub(super) fn meeting(&self, b: &[i32], out: &mut [u64; WORDS]) -> bool {
-        let words = self.words;
-        out[..words].fill(u64::MAX);
-        for (d, &p) in self.key_pts.iter().enumerate() {
-            let (lo, hi) = (b[2 * d], b[2 * d + 1]);
+        // The word count made a constant: each set read as one array (one check).
+        match self.words {
+            1 => self.meeting_w::<1>(b, out),
+            2 => self.meeting_w::<2>(b, out),
+            3 => self.meeting_w::<3>(b, out),
+            _ => self.meeting_w::<WORDS>(b, out),
+        }
+    }
+
+    /// [`LastBits::meeting`] with `W == self.words`.
+    #[inline(always)]
+    fn meeting_w<const W: usize>(&self, b: &[i32], out: &mut [u64; WORDS]) -> bool {
+        let set = |i: usize| -> Option<&[u64; W]> { self.sets.get(i * W..)?.first_chunk() };
+        // (A constant length: stores, no call to fill a slice. The other words are
+        // left as they are.)
+        out[..W].fill(u64::MAX);
+        for ((bd, &p), &base) in b.chunks_exact(2).zip(&self.key_pts).zip(&self.off) {
+            let (lo, hi) = (bd[0], bd[1]);
             if lo < 0 || hi >= p || lo > hi {
                 return false;
             }
-            let base = self.off[d];
-            let low_ok = &self.sets[(base + hi as usize) * words..][..words];
-            let high_ok = &self.sets[(base + p as usize + lo as usize) * words..][..words];
-            for w in 0..words {
+            let (Some(low_ok), Some(high_ok)) = (
+                set(base + hi as usize),
+                set(base + p as usize + lo as usize),
+            ) else {
+                return false;
+            };
+            for w in 0..W {
                 out[w] &= low_ok[w] & high_ok[w];
             }
         }

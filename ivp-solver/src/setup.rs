@@ -196,11 +196,11 @@ impl Solver {
             self.make_lists(fi, identity.then_some(fb), dim, total);
         }
         let p = &mut self.funcs[fi];
-        p.cell_ub.clear();
-        p.cell_ub.resize(total, NO_BOUND);
-        p.cell_filled.clear();
-        p.cell_filled.resize(total, false);
         if keep_grid {
+            p.cell_ub.clear();
+            p.cell_ub.resize(total, NO_BOUND);
+            p.cell_filled.clear();
+            p.cell_filled.resize(total, false);
             for (c, &x) in g.iter().enumerate() {
                 let v = tg(x);
                 p.cell_filled[c] = v != f64::NEG_INFINITY && !v.is_nan();
@@ -295,24 +295,34 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     }
 }
 
-/// Cell bounds (cells reset) from the pieces' `maxVal`s: per cell over its list,
-/// which holds the cell's pieces in array order, so every cell sees the comparisons
-/// of the piece-by-piece build in the same order.
+/// Cell bounds from the pieces' `maxVal`s: per cell over its list, which holds the
+/// cell's pieces in array order, so every cell sees the comparisons of the
+/// piece-by-piece build in the same order (the first piece taken as it is, each next
+/// one if greater); an empty cell is `NO_BOUND`, not filled.
 fn cell_bounds(p: &mut Prepared, total: usize) {
-    let (start, items, piece_ub) = (&p.cell_start, &p.cell_items, &p.piece_ub);
-    for c in 0..total {
-        let list = &items[start[c] as usize..start[c + 1] as usize];
-        // The cell's bound and flag held in registers over its list.
-        let (mut ub, mut filled) = (p.cell_ub[c], p.cell_filled[c]);
+    let (start, items, piece_ub) = (&p.cell_start[..=total], &p.cell_items, &p.piece_ub);
+    // The lists lie one after the other in `items` (`start` their prefix sums): each
+    // split off the front of what remains, no index checks per cell.
+    let mut rest = &items[start[0] as usize..];
+    let bound = |w: &[u32]| {
+        let (list, tail) = rest.split_at(w[1].saturating_sub(w[0]) as usize);
+        rest = tail;
+        let Some((&k0, list)) = list.split_first() else {
+            return NO_BOUND;
+        };
+        let mut ub = piece_ub[k0 as usize];
         for &k in list {
             let v = piece_ub[k as usize];
-            if !filled || v > ub {
+            if v > ub {
                 ub = v;
             }
-            filled = true;
         }
-        (p.cell_ub[c], p.cell_filled[c]) = (ub, filled);
-    }
+        ub
+    };
+    p.cell_ub.clear();
+    p.cell_ub.extend(start.windows(2).map(bound));
+    p.cell_filled.clear();
+    p.cell_filled.extend(start.windows(2).map(|w| w[1] > w[0]));
 }
 
 /// Cell lists of a multi-cell grid: every cell's pieces in array order.

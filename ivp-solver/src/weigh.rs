@@ -62,11 +62,17 @@ fn weigh_with(
     piece_ub: &mut Vec<f64>,
     simd: bool,
 ) -> f64 {
-    piece_ub.clear();
     let id = wg.identity;
-    if boxes.is_some() {
+    if let Some(b) = boxes {
+        // Every entry is written below, but for pieces without a box (none, in a
+        // checked function): no zeroing pass over the rest.
         let wl = wg.pts.len() + 1;
-        piece_ub.resize((weights.len() / wl).min(src.len() / (od + 1)), 0.0);
+        let n = (weights.len() / wl).min(src.len() / (od + 1));
+        piece_ub.resize(n, 0.0);
+        let boxed = b.len() / (2 * wg.pts.len()).max(1);
+        piece_ub[boxed.min(n)..].fill(0.0);
+    } else {
+        piece_ub.clear();
     }
     #[cfg(target_arch = "x86_64")]
     // Two dimensions, the function's in problem order or the other way round.
