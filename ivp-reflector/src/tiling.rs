@@ -49,8 +49,19 @@ pub(crate) fn fit_uniform(
 ) {
     let out = (bounds, weights, summary);
     let shape = (size, counts, gelbox);
-    // The axes in the buffers of an earlier fit on this thread.
-    let mut axes: [Axis; FIT_DIMS] = pop(&SPARE_AXES).unwrap_or_default();
+    // The axes in the buffers of an earlier fit on this thread, of this shape if kept
+    // (then they need no recomputing).
+    let keys: [AxisKey; FIT_DIMS] = std::array::from_fn(|d| axis_key(domain, shape, d));
+    let n = size.len().min(FIT_DIMS);
+    let same = |a: &[Axis; FIT_DIMS]| (0..n).all(|d| a[d].key == Some(keys[d]));
+    let mut axes: [Axis; FIT_DIMS] = pop_where(&SPARE_AXES, same).unwrap_or_default();
+    if !same(&axes) {
+        let mut stride = 1;
+        for (d, a) in axes.iter_mut().enumerate().take(n) {
+            a.set(keys[d], d, stride);
+            stride *= keys[d][5];
+        }
+    }
     let a = &mut axes;
     match size.len() {
         1 => fit_uniform_n::<1>(aof, domain, shape, strict, a, out),
@@ -61,10 +72,35 @@ pub(crate) fn fit_uniform(
     push(&SPARE_AXES, axes);
 }
 
+/// What an [`Axis`] is computed from: the number of dimensions, then the dimension's
+/// tile size, tile count, points, and search grid cell size and count (all 0 past the
+/// domain's dimensions).
+type AxisKey = [usize; 6];
+
+/// The [`AxisKey`] of dimension `d` of a tiling.
+fn axis_key(
+    domain: &Domain,
+    (size, counts, gelbox): (&[u32], &[u32], &[u32]),
+    d: usize,
+) -> AxisKey {
+    if d >= size.len() {
+        return [size.len(), 0, 0, 0, 0, 0];
+    }
+    let (ppg, ncells) = grid_dim(domain.var(d), gelbox.get(d));
+    let at = |x: u32| x as usize;
+    let (pts, edge, count) = (at(domain.var(d).points), at(size[d]), at(counts[d]));
+    [size.len(), edge, count, pts, ppg as usize, ncells as usize]
+}
+
 /// Tiles of the tiling per dimension: their edges, where they lie in the search grid,
 /// and the coordinates of the two grids the AOF is evaluated on.
 #[derive(Default)]
 struct Axis {
+    /// What the lists below were computed from (`None`: nothing yet).
+    key: Option<AxisKey>,
+    /// Dimension 0 of a 2-dimensional tiling: the tiles' bounds as the reflector lists
+    /// them, kept for the next fit of the same shape (empty: not computed).
+    bounds: Vec<i32>,
     /// (low, high) edge of each tile.
     edges: Vec<(u32, u32)>,
     /// Per tile: its first grid cell's offset in the grid (cell × stride) and how many
@@ -83,50 +119,67 @@ struct Axis {
     runs: Vec<(usize, usize, u32)>,
 }
 
+impl Axis {
+    /// The lists of dimension `d` of the tiling of `key`, whose search grid stride is
+    /// `stride` (cells, dimension 0 fastest); the kept bounds let go.
+    fn set(&mut self, key: AxisKey, d: usize, stride: usize) {
+        let [n, size, count, pts, ppg, _] = key.map(|x| x as u32);
+        self.key = Some(key);
+        self.bounds.clear();
+        let edges = (0..count).map(|c| (c * size, ((c + 1) * size).min(pts) - 1));
+        self.edges.clear();
+        self.edges.extend(edges);
+        let ppg = ppg as i32;
+        self.cells.clear();
+        self.cells.extend(self.edges.iter().map(|&(lo, hi)| {
+            let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
+            (a * stride, b - a + 1)
+        }));
+        self.stride = stride;
+        self.corners.clear();
+        if n == 2 && d == 0 {
+            self.corners.extend(self.edges.iter().map(|&(lo, _)| lo));
+            self.corners.extend(self.edges.iter().map(|&(_, hi)| hi));
+        } else {
+            self.corners
+                .extend(self.edges.iter().flat_map(|&(lo, hi)| [lo, hi]));
+        }
+        self.mids.clear();
+        self.mids
+            .extend(self.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2));
+        self.runs.clear();
+        for (k, &(lo, hi)) in self.edges.iter().enumerate() {
+            match self.runs.last_mut() {
+                Some((_, end, width)) if *width == hi - lo => *end = k + 1,
+                _ => self.runs.push((k, k + 1, hi - lo)),
+            }
+        }
+    }
+}
+
 /// [`fit_uniform`] for `N` dimensions (a constant, so the per-tile loops unroll).
 fn fit_uniform_n<const N: usize>(
     aof: &dyn Aof,
     domain: &Domain,
-    (size, counts, gelbox): (&[u32], &[u32], &[u32]),
+    (size, counts, _): (&[u32], &[u32], &[u32]),
     strict: bool,
     axes: &mut [Axis],
     (bounds, weights, summary): (&mut Vec<i32>, &mut Vec<f64>, &mut Summary),
 ) {
     // Arrays, not vectors, where the length is N (a build runs every iteration).
     let pts: [u32; N] = std::array::from_fn(|d| domain.var(d).points);
-    // The search grid's geometry, as build_grid finds it: cells of `ppg` points, cell
-    // of index i = i / ppg.
-    let mut grid_stride = 1usize;
-    for (d, a) in axes.iter_mut().enumerate().take(N) {
-        let (ppg, ncells) = grid_dim(domain.var(d), gelbox.get(d));
-        let edges = (0..counts[d]).map(|c| (c * size[d], ((c + 1) * size[d]).min(pts[d]) - 1));
-        a.edges.clear();
-        a.edges.extend(edges);
-        a.cells.clear();
-        a.cells.extend(a.edges.iter().map(|&(lo, hi)| {
-            let (a, b) = ((lo as i32 / ppg) as usize, (hi as i32 / ppg) as usize);
-            (a * grid_stride, b - a + 1)
-        }));
-        a.stride = grid_stride;
-        grid_stride *= ncells as usize;
-        a.corners.clear();
-        if N == 2 && d == 0 {
-            a.corners.extend(a.edges.iter().map(|&(lo, _)| lo));
-            a.corners.extend(a.edges.iter().map(|&(_, hi)| hi));
-        } else {
-            a.corners
-                .extend(a.edges.iter().flat_map(|&(lo, hi)| [lo, hi]));
+    let grid_stride: usize = axes[..N]
+        .iter()
+        .map(|a| a.key.map_or(1, |k| k[5]))
+        .product();
+    if N == 2 {
+        // The bounds depend on the shape alone: written once, then copied.
+        let mut kept = std::mem::take(&mut axes[0].bounds);
+        if kept.is_empty() {
+            write_bounds_2(&axes[0].edges, &axes[1].edges, &mut kept);
         }
-        a.mids.clear();
-        a.mids
-            .extend(a.edges.iter().map(|&(lo, hi)| lo + (hi - lo) / 2));
-        a.runs.clear();
-        for (k, &(lo, hi)) in a.edges.iter().enumerate() {
-            match a.runs.last_mut() {
-                Some((_, end, width)) if *width == hi - lo => *end = k + 1,
-                _ => a.runs.push((k, k + 1, hi - lo)),
-            }
-        }
+        bounds.extend_from_slice(&kept);
+        axes[0].bounds = kept;
     }
     let axes = &axes[..N];
     let grid_strides: [usize; N] = std::array::from_fn(|d| axes[d].stride);
@@ -165,7 +218,7 @@ fn fit_uniform_n<const N: usize>(
     if N == 2 {
         // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
         let mids = if any_centre { &mids.0[..] } else { &[] };
-        let (pieces, min_max) = fit_rows_2(axes, (&corners.0, mids), strict, bounds, grid);
+        let (pieces, min_max) = fit_rows_2(axes, (&corners.0, mids), strict, grid);
         (summary.min_max, summary.pieces) = (min_max, Some(pieces));
         summary.weights_pending = min_max.is_some();
         return;
@@ -256,7 +309,6 @@ fn fit_rows_2(
     axes: &[Axis],
     (corners, mids): (&[f64], &[f64]),
     strict: bool,
-    bounds: &mut Vec<i32>,
     grid: &mut [f64],
 ) -> (rows::Pieces, Option<(f64, f64)>) {
     let (xs, ys) = (&axes[0], &axes[1]);
@@ -310,21 +362,9 @@ fn fit_rows_2(
     let [_, _, _, lo, hi] = &lists.pieces;
     let (lo, hi) = (&lo[..total], &hi[..total]);
     // In the reflector's order (the last tile first), each in a pass of its own (tight
-    // loops): ranges folded, bounds written (the weights stay in the lists:
-    // Summary::weights_pending), grid cells raised.
+    // loops): ranges folded, grid cells raised (the weights stay in the lists:
+    // Summary::weights_pending; the bounds are fit_uniform_n's).
     let min_max = (total > 0).then(|| rows::fold_range(lo, hi));
-    // Written in place, not zeroed first: every new slot is written below.
-    bounds.reserve(4 * total);
-    let bs = &mut bounds.spare_capacity_mut()[..4 * total];
-    for (brow, &(ylo, yhi)) in bs.chunks_exact_mut(4 * nx).zip(ys.edges.iter().rev()) {
-        for (b, &(xlo, xhi)) in brow.chunks_exact_mut(4).zip(xs.edges.iter().rev()) {
-            for (slot, x) in b.iter_mut().zip([xlo, xhi, ylo, yhi]) {
-                slot.write(x as i32);
-            }
-        }
-    }
-    // SAFETY: the ny rows of 4·nx slots above wrote each of the first 4·total ones.
-    unsafe { bounds.set_len(bounds.len() + 4 * total) };
     let one_cell = xs.cells.iter().all(|c| c.1 == 1);
     for (cy, &(ycell, yspan)) in ys.cells.iter().enumerate().rev() {
         let row = &hi[cy * nx..][..nx];
@@ -337,10 +377,21 @@ fn fit_rows_2(
             let g = &mut grid[xcell + ycell];
             if *g == f64::NEG_INFINITY || v > *g {
                 *g = v;
-            }
+            };
         }
     }
     (pieces, min_max)
+}
+
+/// The bounds of the tiles of a 2-dimensional tiling with edges `xs` × `ys`, appended
+/// to `bounds` in the reflector's order (the last tile first, dimension 0 fastest).
+fn write_bounds_2(xs: &[(u32, u32)], ys: &[(u32, u32)], bounds: &mut Vec<i32>) {
+    bounds.reserve(4 * xs.len() * ys.len());
+    for &(ylo, yhi) in ys.iter().rev() {
+        for &(xlo, xhi) in xs.iter().rev() {
+            bounds.extend([xlo, xhi, ylo, yhi].map(|x| x as i32));
+        }
+    }
 }
 
 #[path = "tiling_rows.rs"]
@@ -399,6 +450,18 @@ thread_local! {
 /// The last value kept in `pool`, if any (none once the thread is ending).
 fn pop<T>(pool: &'static Pool<T>) -> Option<T> {
     pool.try_with(|p| p.borrow_mut().pop()).ok().flatten()
+}
+
+/// The last value kept in `pool` that is `wanted`, else the last one, if any.
+fn pop_where<T>(pool: &'static Pool<T>, wanted: impl Fn(&T) -> bool) -> Option<T> {
+    let take = |p: &std::cell::RefCell<Vec<T>>| {
+        let mut kept = p.borrow_mut();
+        match kept.iter().rposition(wanted) {
+            Some(i) => Some(kept.remove(i)),
+            None => kept.pop(),
+        }
+    };
+    pool.try_with(take).ok().flatten()
 }
 
 /// Keep `v` in `pool` (up to 8 values) for a later [`pop`].
@@ -544,10 +607,11 @@ mod tests {
         }
     }
 
-    /// A build in the buffers of earlier ones (the reflector's, the fit's axes and grid
-    /// values, recycled functions' buffers, all kept per thread) gives what a build on a
-    /// fresh thread, with no spares, gives: bit for bit, over rounds of builds of
-    /// different shapes, through every way out of the reflector, created twice or once.
+    /// A build in the buffers of earlier ones (the reflector's, the fit's axes, bounds
+    /// and grid values, recycled functions' buffers, all kept per thread) gives what a
+    /// build on a fresh thread, with no spares, gives: bit for bit, over rounds of builds
+    /// of different shapes and of one shape, through every way out of the reflector,
+    /// created twice or once.
     #[test]
     fn builds_in_reused_buffers_equal_fresh_ones() {
         let cases = [
@@ -561,6 +625,10 @@ mod tests {
             ),
             ("x:0:359:360,y:0:4:41", "x:5,y:2", "x:5,y:2", 3),
             ("x:0:20:21,y:0:30:31", "x:4,y:6", "x:3,y:3", 4),
+            // Case 0's shape on other values: its kept axes and bounds serve.
+            ("x:-10:349:360,y:0:8:41", "x:3,y:3", "x:9,y:6", 5),
+            // Case 0's tiles under another search grid: the axes are made again.
+            ("x:0:359:360,y:0:4:41", "x:3,y:3", "x:6,y:9", 6),
         ];
         let build = |(spec, piece, grid, k): (&str, &str, &str, usize), twice: bool| {
             let domain = Domain::parse(spec).expect("domain");

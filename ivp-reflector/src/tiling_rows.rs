@@ -81,13 +81,14 @@ fn fit_run_body(run: &Run<'_>, out: &mut RunOut<'_>) {
         w0,
         w1,
         vals: [v0, v1, v2, v3],
-        strict: run.strict,
     };
     let out = (&mut w2[..n], &mut out.min[..n], &mut out.max[..n]);
-    if run.centre {
-        intercepts::<true>(&planes, &v4[..n], out);
-    } else {
-        intercepts::<false>(&planes, &[], out);
+    // Each case compiled on its own: no test of `strict` mixed into the lanes.
+    match (run.centre, run.strict) {
+        (true, true) => intercepts::<true, true>(&planes, &v4[..n], out),
+        (true, false) => intercepts::<true, false>(&planes, &v4[..n], out),
+        (false, true) => intercepts::<false, true>(&planes, &[], out),
+        (false, false) => intercepts::<false, false>(&planes, &[], out),
     }
 }
 
@@ -118,13 +119,12 @@ struct Planes<'a> {
     w0: &'a [f64],
     w1: &'a [f64],
     vals: [&'a [f64]; 4],
-    strict: bool,
 }
 
 /// Intercepts (the mean residual, shifted into the values' range when strict) and the
 /// pieces' least and greatest values, with fit_box's and the fold's operations.
 #[inline(always)]
-fn intercepts<const CENTRE: bool>(
+fn intercepts<const CENTRE: bool, const STRICT: bool>(
     p: &Planes<'_>,
     centres: &[f64],
     (w2, min, max): (&mut [f64], &mut [f64], &mut [f64]),
@@ -139,10 +139,12 @@ fn intercepts<const CENTRE: bool>(
     let m = if CENTRE { 5.0 } else { 4.0 };
     for k in 0..n {
         let (a, b) = (w0[k], w1[k]);
-        let plane = |x: f64, y: f64| {
+        // The products once, for the planes and the range.
+        let (axl, axh, byl, byh) = (a * xl[k], a * xh[k], b * yl, b * yh);
+        let plane = |ax: f64, by: f64| {
             let mut acc = 0.0;
-            acc += a * x;
-            acc += b * y;
+            acc += ax;
+            acc += by;
             acc
         };
         let vals = [
@@ -153,11 +155,15 @@ fn intercepts<const CENTRE: bool>(
             if CENTRE { centres[k] } else { 0.0 },
         ];
         let planes = [
-            plane(xl[k], yl),
-            plane(xh[k], yl),
-            plane(xl[k], yh),
-            plane(xh[k], yh),
-            if CENTRE { plane(xm[k], ym) } else { 0.0 },
+            plane(axl, byl),
+            plane(axh, byl),
+            plane(axl, byh),
+            plane(axh, byh),
+            if CENTRE {
+                plane(a * xm[k], b * ym)
+            } else {
+                0.0
+            },
         ];
         let cnt = if CENTRE { 5 } else { 4 };
         let mut isum = 0.0;
@@ -176,20 +182,21 @@ fn intercepts<const CENTRE: bool>(
         }
         let down = icpt - (pmax - vmax);
         let up = icpt + (vmin - pmin);
-        let icpt = if p.strict & (pmax > vmax) {
+        let icpt = if STRICT & (pmax > vmax) {
             down
-        } else if p.strict & (pmin < vmin) {
+        } else if STRICT & (pmin < vmin) {
             up
         } else {
             icpt
         };
         w2[k] = icpt;
-        // The piece's range over its box (the tiling's Folds::add).
+        // The piece's range over its box (the tiling's Folds::add: `a · x` picked is the
+        // pick of the products).
         let (mut lo, mut hi) = (icpt, icpt);
-        hi += a * if a < 0.0 { xl[k] } else { xh[k] };
-        lo += a * if a < 0.0 { xh[k] } else { xl[k] };
-        hi += b * if b < 0.0 { yl } else { yh };
-        lo += b * if b < 0.0 { yh } else { yl };
+        hi += if a < 0.0 { axl } else { axh };
+        lo += if a < 0.0 { axh } else { axl };
+        hi += if b < 0.0 { byl } else { byh };
+        lo += if b < 0.0 { byh } else { byl };
         min[k] = lo;
         max[k] = hi;
     }
@@ -323,15 +330,84 @@ impl Pieces {
 }
 
 /// The least of `lo` and the greatest of `hi` (not empty) as min_max_wt folds them: in
-/// the reflector's order (the last piece first), from the last piece's.
+/// the reflector's order (the last piece first), from the last piece's, each replaced
+/// only by a strictly lesser (greater) value. So: the last piece's when it is NaN, else
+/// the extreme of the values that are not NaN, and of equal extremes the first in that
+/// order, which only zeros (+0 and −0) tell apart. Found four lanes at a time, with the
+/// fold in order only for an extreme of zeros of both signs.
 pub(super) fn fold_range(lo: &[f64], hi: &[f64]) -> (f64, f64) {
-    let n = lo.len().min(hi.len());
-    let (mut mn, mut mx) = (lo[n - 1], hi[n - 1]);
-    for (&l, &h) in lo[..n].iter().zip(&hi[..n]).rev() {
-        mn = if l < mn { l } else { mn };
-        mx = if h > mx { h } else { mx };
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { fold_range_avx2(lo, hi) };
     }
-    (mn, mx)
+    fold_range_lanes(lo, hi)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn fold_range_avx2(lo: &[f64], hi: &[f64]) -> (f64, f64) {
+    fold_range_lanes(lo, hi)
+}
+
+#[inline(always)]
+fn fold_range_lanes(lo: &[f64], hi: &[f64]) -> (f64, f64) {
+    let n = lo.len().min(hi.len());
+    let (lo, hi) = (&lo[..n], &hi[..n]);
+    // Lanes from ±inf: a NaN never replaces (as in the fold), and the last piece's value
+    // (not NaN) is among those folded, so the lanes' extreme is the fold's value.
+    let (mut mn, mut mx) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
+    let (lc, hc) = (lo.chunks_exact(4), hi.chunks_exact(4));
+    let (lr, hr) = (lc.remainder(), hc.remainder());
+    for (l, h) in lc.zip(hc) {
+        for j in 0..4 {
+            mn[j] = if l[j] < mn[j] { l[j] } else { mn[j] };
+            mx[j] = if h[j] > mx[j] { h[j] } else { mx[j] };
+        }
+    }
+    for (j, (&l, &h)) in lr.iter().zip(hr).enumerate() {
+        mn[j] = if l < mn[j] { l } else { mn[j] };
+        mx[j] = if h > mx[j] { h } else { mx[j] };
+    }
+    let mn = mn
+        .into_iter()
+        .fold(f64::INFINITY, |a, x| if x < a { x } else { a });
+    let mx = mx
+        .into_iter()
+        .fold(f64::NEG_INFINITY, |a, x| if x > a { x } else { a });
+    let first = (lo[n - 1], hi[n - 1]);
+    let pick = |first: f64, ext: f64, list: &[f64], less: bool| {
+        if first.is_nan() {
+            return first;
+        }
+        if ext != 0.0 {
+            // Values equal to a non-zero one have its bits.
+            return ext;
+        }
+        // Zeros: the sign of the first in order, one sign only unless both occur.
+        let (pos, neg) = zero_signs(list);
+        if pos != neg {
+            return if pos { 0.0 } else { -0.0 };
+        }
+        let mut e = first;
+        for &x in list.iter().rev() {
+            let better = if less { x < e } else { x > e };
+            e = if better { x } else { e };
+        }
+        e
+    };
+    (pick(first.0, mn, lo, true), pick(first.1, mx, hi, false))
+}
+
+/// Whether `list` holds a +0 and whether it holds a −0.
+#[inline(always)]
+fn zero_signs(list: &[f64]) -> (bool, bool) {
+    let (mut pos, mut neg) = (false, false);
+    for &x in list {
+        pos |= x.to_bits() == 0;
+        neg |= x.to_bits() == 1 << 63;
+    }
+    (pos, neg)
 }
 
 /// One row of pieces to normalize: the tiles' edges and the pieces' lists.
@@ -420,10 +496,12 @@ unsafe fn write_reversed_avx2(
     let n = w0.len().min(w1.len()).min(w2.len()).min(out.len() / 3);
     let (scaled, (shift, scale)) = (scale.is_some(), scale.unwrap_or((0.0, 1.0)));
     let (shift, s) = (_mm256_set1_pd(shift), _mm256_set1_pd(scale));
+    let o = out.as_mut_ptr().cast::<f64>();
     for done in (0..n / 4).map(|q| 4 * q) {
         // Pieces j..j+4 (in bounds: j + 4 <= n), written j+3 first; scaled if asked.
         let j = n - done - 4;
-        let [mut x, mut y, mut z] = [w0, w1, w2].map(|w| _mm256_loadu_pd(w[j..j + 4].as_ptr()));
+        // SAFETY: j + 4 <= n, at most each list's length (no bounds checks in the loop).
+        let [mut x, mut y, mut z] = [w0, w1, w2].map(|w| _mm256_loadu_pd(w.as_ptr().add(j)));
         if scaled {
             (x, y) = (_mm256_mul_pd(x, s), _mm256_mul_pd(y, s));
             z = _mm256_mul_pd(_mm256_add_pd(z, shift), s);
@@ -433,7 +511,8 @@ unsafe fn write_reversed_avx2(
         let t = _mm256_unpacklo_pd(x, y); // x0 y0 x2 y2
         let u = _mm256_shuffle_pd::<0b1010>(z, x); // z0 x1 z2 x3
         let v = _mm256_unpackhi_pd(y, z); // y1 z1 y3 z3
-        let o = out[3 * done..3 * done + 12].as_mut_ptr().cast::<f64>();
+                                          // SAFETY: 3·done + 12 <= 3·n, at most out's length.
+        let o = o.add(3 * done);
         _mm256_storeu_pd(o, _mm256_permute2f128_pd::<0x20>(t, u));
         _mm256_storeu_pd(o.add(4), _mm256_blend_pd::<0b1100>(v, t));
         _mm256_storeu_pd(o.add(8), _mm256_permute2f128_pd::<0x31>(u, v));

@@ -181,16 +181,23 @@ fn normalize_row_equals_the_pick_of_edges() {
     }
 }
 
-/// [`fold_range`] is the reflector's fold as it was written (the oracle: min_max_wt's
-/// comparisons, the last piece first), on awkward values with ties of signed zeros.
+/// [`fold_range`] (four lanes, the fold in order only for zeros of both signs) is the
+/// reflector's fold as it was written (the oracle: min_max_wt's comparisons, the last
+/// piece first), on awkward values with ties of signed zeros, a NaN last piece, and
+/// lists of zeros of one sign or both with values above or below them.
 #[test]
 fn fold_range_equals_the_fold_in_order() {
     let mut seed = 31u64;
-    for case in 1..6000 {
-        let n = 1 + case % 37;
+    for case in 1..12000 {
+        let n = 1 + case % 75;
         let zeros = [0.0, -0.0];
+        let zeros_of = [&zeros[..], &zeros[..1], &zeros[1..]][(case / 7) % 3];
         let pick = |seed: &mut u64| {
-            if case % 3 == 0 && rng(seed) < 0.5 {
+            if case % 5 == 1 && rng(seed) < 0.8 {
+                // Zeros (of one sign or both) the extreme, or not.
+                let z = zeros_of[(rng(seed) * 2.0) as usize % zeros_of.len()];
+                [z, z, z, 5.0, -5.0][(case / 3) % 5]
+            } else if case % 3 == 0 && rng(seed) < 0.5 {
                 zeros[(rng(seed) * 2.0) as usize % 2]
             } else {
                 value(seed)

@@ -67,6 +67,11 @@ pub(crate) struct CourseUnits {
     pub coss: Vec<f64>,
     /// Empty unless the caller fills it.
     pub cosines: Vec<f64>,
+    /// The courses of `sins` and `coss`: the first variable's low value and step (bits),
+    /// and the indices. The unit vectors depend on these alone (the engine's table), and
+    /// a build asks for the same courses every iteration: kept lists of the same courses
+    /// are used as they are.
+    courses: (u64, u64, Vec<u32>),
 }
 
 /// More kept course lists than grids evaluated at once on a thread are let go.
@@ -81,20 +86,39 @@ impl CourseUnits {
     /// The unit vectors of the courses `xs` (indices of the domain's first variable),
     /// in kept lists (empty, with the room of earlier grids) or new ones.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
-        let mut c: Self = spare::take_kept(&KEPT);
         // domain.value(0, i), its step computed once.
         let var = domain.var(0);
         let (low, delta) = (var.low, var.delta());
+        let key = (low.to_bits(), delta.to_bits());
+        let same = |c: &Self| (c.courses.0, c.courses.1) == key && c.courses.2 == xs;
+        let take = |k: &RefCell<Vec<Self>>| {
+            let mut k = k.try_borrow_mut().ok()?;
+            // Else new lists until MAX_KEPT are kept (each grid's courses keep their
+            // own), then the least lately used ones (the first) made again.
+            match k.iter().rposition(same) {
+                Some(i) => Some(k.remove(i)),
+                None if k.len() >= MAX_KEPT => Some(k.remove(0)),
+                None => None,
+            }
+        };
+        let mut c: Self = KEPT.try_with(take).ok().flatten().unwrap_or_default();
+        if same(&c) {
+            return c;
+        }
+        c.sins.clear();
+        c.coss.clear();
         let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
         engine.units_into(courses, (&mut c.sins, &mut c.coss));
+        c.courses.2.clear();
+        c.courses.2.extend_from_slice(xs);
+        (c.courses.0, c.courses.1) = key;
         c
     }
 
-    /// The lists, emptied, kept for the thread's next grids.
+    /// The lists kept for the thread's next grids (the unit vectors with their courses;
+    /// the cosines, the caller's, emptied).
     pub fn give_back(mut self) {
-        for v in [&mut self.sins, &mut self.coss, &mut self.cosines] {
-            v.clear();
-        }
+        self.cosines.clear();
         spare::keep_in(&KEPT, self, MAX_KEPT);
     }
 }
@@ -419,9 +443,10 @@ mod tests {
     }
 
     /// The row evaluation keeps its course lists on the thread from one grid to the
-    /// next: grids of other sizes and orders, one after the other, give what the
-    /// pointwise evaluation gives, bit for bit (a kept list longer or shorter than the
-    /// next grid's courses must not show through).
+    /// next: grids of other sizes and orders, one after the other, and the same grid
+    /// again (its unit vectors kept) or on other courses, give what the pointwise
+    /// evaluation gives, bit for bit (a kept list longer or shorter than the next grid's
+    /// courses, or of other courses, must not show through).
     #[test]
     fn kept_lists_serve_grids_of_any_size() {
         let mut seed = 77u64;
@@ -432,6 +457,7 @@ mod tests {
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let d2 = Domain::parse("course:-90:628:360,speed:0:4:41").unwrap();
         for case in 0..60 {
             let cn = (
                 ((rng() - 0.5) * 300.0).round(),
@@ -454,13 +480,18 @@ mod tests {
             let cut = CutRangeAof::new(cn, (0.0, 0.0), 60.0, rng() * 100.0, 4.0);
             let mut aofs: Vec<&dyn Aof> = vec![&avoid];
             aofs.extend(cut.as_ref().map(|c| c as &dyn Aof));
-            for aof in aofs {
+            // Each grid twice (the second from the kept lists of its courses), on the
+            // domain and on one of the same points with other courses.
+            for (aof, d) in aofs
+                .iter()
+                .flat_map(|a| [(a, &d), (a, &d2), (a, &d), (a, &d2)])
+            {
                 let mut grid = vec![-1234.5678; xs.len() * ys.len()];
-                aof.eval_grid(&d, &[&xs, &ys], &mut grid);
+                aof.eval_grid(d, &[&xs, &ys], &mut grid);
                 for (j, &y) in ys.iter().enumerate() {
                     for (k, &x) in xs.iter().enumerate() {
                         let got = grid[k + xs.len() * j];
-                        let want = aof.eval(&d, &[x, y]);
+                        let want = aof.eval(d, &[x, y]);
                         assert_eq!(got.to_bits(), want.to_bits(), "case {case} at ({x}, {y})");
                     }
                 }
