@@ -41,8 +41,11 @@ const TIE_MARGIN: f64 = 1e-3;
 /// assert_eq!(s, "-2.346");
 /// ```
 pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
-    if !fast_fixed(out, v, decimals) {
-        let _ = write!(out, "{v:.decimals$}");
+    match scaled(v, decimals) {
+        Some(n) => push_scaled(out, v.is_sign_negative(), n, decimals, false),
+        None => {
+            let _ = write!(out, "{v:.decimals$}");
+        }
     }
 }
 
@@ -59,38 +62,62 @@ pub fn push_i64(out: &mut String, n: i64) {
     push_u64(out, n.unsigned_abs());
 }
 
-/// The rounded digits when the rounding direction is certain; false otherwise.
-fn fast_fixed(out: &mut String, v: f64, decimals: usize) -> bool {
+/// `|v| * 10^decimals` rounded to the nearest integer, when the rounding direction is
+/// certain; `None` otherwise.
+pub(crate) fn scaled(v: f64, decimals: usize) -> Option<u64> {
     if !v.is_finite() || decimals >= POW10.len() {
-        return false;
+        return None;
     }
-    let scale = POW10[decimals];
-    let y = v.abs() * scale as f64;
+    let y = v.abs() * POW10[decimals] as f64;
     if y >= SCALED_MAX {
-        return false;
+        return None;
     }
     let whole = y.floor();
     let frac = y - whole;
     // Rounding to the nearest integer only jumps at .5: away from it, the computed and
     // the exact product round alike.
     if (frac - 0.5).abs() <= TIE_MARGIN {
-        return false;
+        return None;
     }
-    let n = whole as u64 + u64::from(frac > 0.5);
-    if v.is_sign_negative() {
-        out.push('-');
+    Some(whole as u64 + u64::from(frac > 0.5))
+}
+
+/// `n / 10^decimals` with `decimals` digits after the dot (with `trim`, trailing zeros
+/// and a bare dot left out), `-` first when `neg`: written backwards into one buffer
+/// and appended at once (one length check, not one per character).
+pub(crate) fn push_scaled(out: &mut String, neg: bool, mut n: u64, decimals: usize, trim: bool) {
+    let mut decimals = decimals;
+    while trim && decimals > 0 && n.is_multiple_of(10) {
+        n /= 10;
+        decimals -= 1;
     }
-    push_u64(out, n / scale);
+    // n < 2^40 (13 digits), up to 15 decimals: at most 16 digits, a dot and a sign.
+    let mut buf = [b'0'; 24];
+    let mut i = buf.len();
+    for _ in 0..decimals {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+    }
     if decimals > 0 {
-        out.push('.');
-        let mut digits = itoa::Buffer::new();
-        let digits = digits.format(n % scale);
-        for _ in digits.len()..decimals {
-            out.push('0');
-        }
-        out.push_str(digits);
+        i -= 1;
+        buf[i] = b'.';
     }
-    true
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    if neg {
+        i -= 1;
+        buf[i] = b'-';
+    }
+    // SAFETY: `buf` holds ASCII only (digits, `.`, `-`), so `out` stays UTF-8; the
+    // check `from_utf8` would make costs more than the digits.
+    unsafe { out.as_mut_vec() }.extend_from_slice(&buf[i..]);
 }
 
 #[cfg(test)]

@@ -289,6 +289,9 @@ pub fn push_compact(out: &mut String, v: f64, decimals: usize) {
         // Whole numbers print the same at any precision (flag macros, mode values);
         // -0 prints as 0.
         crate::fixed::push_i64(out, v as i64);
+    } else if let Some(n) = crate::fixed::scaled(v, decimals) {
+        // What the general path below makes of `push_fixed`'s text, written directly.
+        crate::fixed::push_scaled(out, v.is_sign_negative() && n != 0, n, decimals, true);
     } else {
         let start = out.len();
         crate::fixed::push_fixed(out, v, decimals);

@@ -61,11 +61,13 @@ impl StringPool {
     /// next one up, else the largest spare one grown (or a new one) to the class's room.
     pub fn take_for(&mut self, len: usize) -> String {
         let c0 = class_of_len(len);
-        let fits =
-            (c0..CLASSES).find(|&c| self.stacks[c].last().is_some_and(|s| s.capacity() >= len));
-        if let Some(c) = fits {
-            self.count -= 1;
-            return self.stacks[c].pop().unwrap_or_default();
+        for stack in self.stacks.iter_mut().skip(c0) {
+            if stack.last().is_some_and(|s| s.capacity() >= len) {
+                if let Some(s) = stack.pop() {
+                    self.count -= 1;
+                    return s;
+                }
+            }
         }
         let mut s = match (0..=c0).rev().find(|&c| !self.stacks[c].is_empty()) {
             Some(c) => {

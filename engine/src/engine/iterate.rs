@@ -276,8 +276,7 @@ impl Helm {
         let created = std::time::Instant::now();
         let mut t = created; // a behavior's end is the next one's start
         for i in 0..self.behaviors.len() {
-            let outcome = step(&mut self.behaviors[i], &self.env, &self.ib);
-            if let Some(fd) = outcome.function {
+            if let Some(fd) = step(&mut self.behaviors[i], &self.env, &self.ib) {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
                 match place(&mut self.behaviors[i].core, fd, &self.config.domain) {
                     Ok(f) => {

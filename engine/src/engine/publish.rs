@@ -33,6 +33,7 @@ impl Helm {
 
         let mut name = self.pool.take_for(64);
         let mut aux = self.pool.take_for(96);
+        let mut default_key = self.pool.take_for(64);
         for i in 0..self.behaviors.len() {
             let mut messages = std::mem::take(&mut self.behaviors[i].core.messages);
             self.refill.clear();
@@ -65,12 +66,21 @@ impl Helm {
                 // The behavior's own strings (BHV_IPF's are the helm's): it gets
                 // strings of these sizes back for its next messages.
                 self.refill.push(m.var.len());
-                self.refill.push(m.key.len());
+                self.refill
+                    .extend((!m.key.is_empty()).then_some(m.key.len()));
                 if let Value::Str(s) = &m.value {
                     self.refill.push(s.len());
                 }
                 self.ib.set_value(&m.var, &m.value, now);
-                if self.filter.allow(&m.key, &m.value) {
+                let key = if m.key.is_empty() {
+                    default_key.clear();
+                    default_key.push_str(&name);
+                    default_key.push_str(&m.var);
+                    &default_key
+                } else {
+                    &m.key
+                };
+                if self.filter.allow(key, &m.value) {
                     self.report
                         .posted(&m.var, &name, now - self.start_time, iter, &m.value);
                     self.post_message(m, &aux);
@@ -91,6 +101,7 @@ impl Helm {
         }
         self.pool.give(name);
         self.pool.give(aux);
+        self.pool.give(default_key);
 
         // The state-space variables change only with the behavior set's conditions and
         // flags (tracked by the subscription signature), not every iteration.

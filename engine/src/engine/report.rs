@@ -231,7 +231,8 @@ impl Helm {
         );
         for b in group(RunState::Active) {
             let pcs = self.pieces_of(&b.core.name);
-            let upd = b.core.update_counts();
+            let mut upd = String::new();
+            b.core.push_update_counts(&mut upd);
             let _ = writeln!(
                 s,
                 "  {} [{:.2}] (pwt={}) (pcs={pcs}) (cpu={:.5}) (upd={upd})",

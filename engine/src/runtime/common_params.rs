@@ -58,6 +58,10 @@ fn set_name(core: &mut BehaviorCore, value: &str) -> bool {
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || "_-[]()#@+".contains(c));
     if valid {
+        // A default key names the behavior as it was when the message was queued.
+        for m in core.messages.iter_mut().filter(|m| m.key.is_empty()) {
+            m.key = format!("{}{}", core.name, m.var);
+        }
         core.name = value.to_string();
     }
     valid

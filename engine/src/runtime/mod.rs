@@ -23,7 +23,6 @@ use crate::posting::Value;
 pub use behavior_api::push_compact;
 pub use common_params::apply_config_line;
 pub use macros::fmt3;
-pub use step::StepOutcome;
 
 /// Run states as reported in BHV_STATUS and the behavior lists.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -55,7 +54,8 @@ impl RunState {
 pub struct Message {
     pub var: String,
     pub value: Value,
-    /// The duplicate-filter key: `repeatable` or `<name><VAR><given key>`.
+    /// The duplicate-filter key: `repeatable` or `<name><VAR><given key>`; empty for
+    /// the default `<name><VAR>`, written where it is read (most messages have it).
     pub key: String,
 }
 
@@ -164,15 +164,8 @@ pub struct BehaviorCore {
 }
 
 impl BehaviorCore {
-    /// Good updates over all updates (`3/4`), or `n/a` without an updates variable: the
-    /// form of the appcast report and IVPHELM_SUMMARY.
-    pub fn update_counts(&self) -> String {
-        let mut out = String::new();
-        self.push_update_counts(&mut out);
-        out
-    }
-
-    /// [`BehaviorCore::update_counts`] appended to `out`.
+    /// Good updates over all updates (`3/4`), or `n/a` without an updates variable,
+    /// appended to `out`: the form of the appcast report and IVPHELM_SUMMARY.
     pub fn push_update_counts(&self, out: &mut String) {
         use std::fmt::Write as _;
         if self.updates_var.is_empty() {
@@ -252,7 +245,9 @@ impl BehaviorCore {
             Some(to) => self.pool.copy_of(to),
             None => self.pool.copy_of(var),
         };
-        let key = if given_key.eq_ignore_ascii_case("repeatable") {
+        let key = if given_key.is_empty() {
+            String::new()
+        } else if given_key.eq_ignore_ascii_case("repeatable") {
             self.pool.copy_of("repeatable")
         } else {
             let len = self.name.len() + var.len() + given_key.len();
@@ -327,14 +322,8 @@ impl BehaviorCore {
         for c in &self.conditions {
             out.extend(c.vars().iter().cloned());
         }
-        for list in [
-            &self.flags.run,
-            &self.flags.runx,
-            &self.flags.idle,
-            &self.flags.end,
-            &self.flags.active,
-            &self.flags.inactive,
-        ] {
+        // Run, runx, active, inactive, idle and end flags (the reader sorts them).
+        for list in &self.flags.all()[..6] {
             out.extend(list.iter().map(|f| f.var.clone()));
         }
         out

@@ -10,13 +10,6 @@ use super::{fault, BehaviorCore, BehaviorInstance, HostEnv, RunState};
 use crate::info_buffer::InfoBuffer;
 use crate::posting::Value;
 
-/// What a behavior's step hands to the engine.
-#[derive(Debug, Default)]
-pub struct StepOutcome {
-    /// The objective function, validated (no NaN, positive weight, consistent buffers).
-    pub function: Option<FunctionData>,
-}
-
 /// Call a behavior hook; a panic disables the behavior and posts BHV_ERROR. A completion
 /// requested inside the hook posts the endflags where it was requested.
 fn call<R: Default>(
@@ -38,17 +31,19 @@ fn call<R: Default>(
             R::default()
         }
     };
-    finish_completion(inst, env, ib);
+    // Checked here, the rare completion out of line: this follows every hook call.
+    if let Some(pos) = inst.core.complete_requested.take() {
+        finish_completion(inst, env, ib, pos);
+    }
     out
 }
 
-fn finish_completion(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) {
-    if let Some(pos) = inst.core.complete_requested.take() {
-        let pos = pos.min(inst.core.messages.len());
-        let tail = inst.core.messages.split_off(pos);
-        set_complete(inst, env, ib);
-        inst.core.messages.extend(tail);
-    }
+#[cold]
+fn finish_completion(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer, pos: usize) {
+    let pos = pos.min(inst.core.messages.len());
+    let tail = inst.core.messages.split_off(pos);
+    set_complete(inst, env, ib);
+    inst.core.messages.extend(tail);
 }
 
 /// `setComplete`: endflags (repeatable); completed unless perpetual.
@@ -205,8 +200,9 @@ fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<(FunctionData, u
     Some((f, pieces))
 }
 
-/// Run one behavior for one iteration.
-pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> StepOutcome {
+/// Run one behavior for one iteration: its objective function, validated (no NaN,
+/// positive weight, consistent buffers).
+pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Option<FunctionData> {
     let old = inst.core.state;
     let now = ib.curr_time();
     inst.core.iteration += 1;
@@ -231,7 +227,7 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
         post_flags(inst, env, ib, FlagKind::Config, false);
         inst.core.config_posted = true;
     }
-    let mut outcome = StepOutcome::default();
+    let mut outcome = None;
     match new {
         RunState::Idle => {
             if old != RunState::Idle {
@@ -272,7 +268,7 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
                 mbutil::push_fixed(info, f.pwt, 5);
                 info.push_str(",pcs=");
                 mbutil::push_u64(info, pcs as u64);
-                outcome.function = Some(f);
+                outcome = Some(f);
             } else {
                 if old == RunState::Active {
                     post_flags(inst, env, ib, FlagKind::Inactive, true);
@@ -294,7 +290,7 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Step
     }
     if inst.core.faulted {
         new = RunState::Disabled;
-        outcome.function = None;
+        outcome = None;
     }
 
     let core = &mut inst.core;
