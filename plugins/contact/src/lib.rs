@@ -8,6 +8,15 @@
 //! Depends on `behavior-api` alone (the SDK), like a third party's plugin; nothing of
 //! the helm.
 //!
+//! Parameters are those of the specs' tables. Where the spec is silent we chose to
+//! refuse, as an unknown parameter with file and line: the blocks of the
+//! distribution's current example missions that we could read pass unchanged, but
+//! older example files kept in its history (`missions_multi`, `missions_misc2`,
+//! `bhv_colregs`) set parameters of an older interface (`them`, `max_range`,
+//! `active_distance`, `collision_distance`, `all_clear_distance`, `unifbox`,
+//! `dist_priority_interval`, `cpa_utility_interval`) that the documented parameters of
+//! today's behaviors do not have, and whose meaning we would have to guess.
+//!
 //! ```
 //! use behavior_api::sdk::{HelmDomain, IvpBehavior};
 //! use behavior_api::testing::MockHelm;
