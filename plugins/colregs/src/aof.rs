@@ -162,14 +162,26 @@ impl Aof for CpaAof {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
     }
+    /// The courses' unit vectors once, then per speed a row of CPA distances with the
+    /// metric taken inside the row's loop ([`CpaEngine::cpa_dists_map`]: no pass of its
+    /// own over the row).
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_rows(
-            self,
-            (&self.engine, self.tol),
-            (domain, axes, out),
-            (&mut Vec::new(), |_| ()),
-            |_, _, cpa| self.metric.eval_jumpless(cpa),
-        );
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let c = Courses::units(&self.engine, domain, xs);
+        let metric = self.metric;
+        for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+            let v = domain.value(1, j);
+            let units = (&c.sins[..], &c.coss[..]);
+            let utility = |d| metric.eval_jumpless(d);
+            self.engine
+                .cpa_dists_map(units, (v, self.tol), row, utility);
+        }
+        c.give_back();
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {

@@ -52,13 +52,12 @@ impl Courses {
     /// domain's first variable), the other lists empty.
     pub fn units(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
         let mut c = Self::taken();
-        c.sins.reserve(xs.len());
-        c.coss.reserve(xs.len());
-        for &i in xs {
-            let (s, k) = engine.unit(domain.value(0, i));
-            c.sins.push(s);
-            c.coss.push(k);
-        }
+        // domain.value(0, i), its step computed once; the engine's unit table looked up
+        // once for the whole list ([`CpaEngine::units_into`]).
+        let var = domain.var(0);
+        let (low, delta) = (var.low, var.delta());
+        let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
+        engine.units_into(courses, (&mut c.sins, &mut c.coss));
         c
     }
 
@@ -66,35 +65,27 @@ impl Courses {
     /// tables), and their turns from ownship's heading `osh` when given: starboard for
     /// `angle360(c − osh)` in (0, 180), port above 180.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32], osh: Option<f64>) -> Self {
-        let mut c = Self::taken();
+        let mut c = Self::units(engine, domain, xs);
+        let var = domain.var(0);
+        let (low, delta) = (var.low, var.delta());
+        let course = |i: u32| low + delta * f64::from(i);
+        // Written in place (a push checks the capacity per course).
         let n = xs.len();
-        for v in [
-            &mut c.sins,
-            &mut c.coss,
-            &mut c.gams,
-            &mut c.cnhs,
-            &mut c.tans,
-        ] {
-            v.reserve(n);
+        for v in [&mut c.gams, &mut c.cnhs, &mut c.tans] {
+            v.resize(n, 0.0);
         }
-        if osh.is_some() {
-            c.star_turns.reserve(n);
-            c.port_turns.reserve(n);
+        let lists = c.gams.iter_mut().zip(&mut c.cnhs).zip(&mut c.tans);
+        for (((gam, cnh), tan), &i) in lists.zip(xs) {
+            (*gam, *cnh, *tan) = engine.heading(course(i)).cosines();
         }
-        for &i in xs {
-            let course = domain.value(0, i);
-            let (s, k) = engine.unit(course);
-            c.sins.push(s);
-            c.coss.push(k);
-            let (gam, cnh, tan) = engine.heading(course).cosines();
-            c.gams.push(gam);
-            c.cnhs.push(cnh);
-            c.tans.push(tan);
-            if let Some(osh) = osh {
-                let delta = angle360(course - osh);
-                let (star, port) = (delta > 0.0 && delta < 180.0, delta > 180.0);
-                c.star_turns.push(f64::from(u8::from(star)));
-                c.port_turns.push(f64::from(u8::from(port)));
+        if let Some(osh) = osh {
+            c.star_turns.resize(n, 0.0);
+            c.port_turns.resize(n, 0.0);
+            let turns = c.star_turns.iter_mut().zip(&mut c.port_turns);
+            for ((star, port), &i) in turns.zip(xs) {
+                let delta = angle360(course(i) - osh);
+                *star = f64::from(u8::from(delta > 0.0 && delta < 180.0));
+                *port = f64::from(u8::from(delta > 180.0));
             }
         }
         c
