@@ -65,22 +65,29 @@ impl Metric {
     }
 
     /// [`Metric::eval`] with every case computed and the answer picked (no jumps, for
-    /// rows of candidates): the same comparisons and the same formula.
+    /// rows of candidates): the same comparisons and the same formula. `EQUAL` must be
+    /// [`Metric::equal`], which a row decides once (else every candidate tests it).
     #[inline(always)]
-    pub fn eval_jumpless(&self, p: f64) -> f64 {
-        let formula = self.floor + (100.0 - self.floor) * (p - self.mu) / (self.big - self.mu);
-        let equal = if self.zero_when_equal {
+    pub fn eval_row<const EQUAL: bool>(&self, p: f64) -> f64 {
+        let between = if !EQUAL {
+            self.floor + (100.0 - self.floor) * (p - self.mu) / (self.big - self.mu)
+        } else if self.zero_when_equal {
             0.0
         } else {
             self.floor
         };
-        let between = if self.big == self.mu { equal } else { formula };
         let above_low = if p > self.big { 100.0 } else { between };
         if p < self.mu {
             0.0
         } else {
             above_low
         }
+    }
+
+    /// `big == mu`: [`Metric::eval`] between them is a constant, not the formula.
+    #[inline]
+    pub fn equal(&self) -> bool {
+        self.big == self.mu
     }
 }
 
@@ -155,6 +162,25 @@ impl CpaAof {
     fn utility_of_unit(&self, u: (f64, f64), v: f64) -> f64 {
         self.metric.eval(self.engine.cpa_unit(u, v, self.tol).dist)
     }
+
+    /// Per (row, speed index) the row's CPA distances at that speed with the metric
+    /// taken inside the row's loop ([`CpaEngine::cpa_dists_map`]: no pass of its own
+    /// over the row); `EQUAL` is [`Metric::equal`].
+    fn cpa_rows<'r, const EQUAL: bool>(
+        &self,
+        c: &Courses,
+        domain: &Domain,
+        rows: impl Iterator<Item = (&'r mut [f64], &'r u32)>,
+    ) {
+        let metric = self.metric;
+        let units = (&c.sins[..], &c.coss[..]);
+        for (row, &j) in rows {
+            let v = domain.value(1, j);
+            let utility = |d| metric.eval_row::<EQUAL>(d);
+            self.engine
+                .cpa_dists_map(units, (v, self.tol), row, utility);
+        }
+    }
 }
 
 impl Aof for CpaAof {
@@ -162,14 +188,24 @@ impl Aof for CpaAof {
         let (c, v) = grid(domain, index);
         self.utility(c, v)
     }
+    /// The courses' unit vectors once, then per speed a row of CPA distances with the
+    /// metric taken inside the row's loop ([`CpaEngine::cpa_dists_map`]: no pass of its
+    /// own over the row).
     fn eval_grid(&self, domain: &Domain, axes: &[&[u32]], out: &mut [f64]) {
-        eval_rows(
-            self,
-            (&self.engine, self.tol),
-            (domain, axes, out),
-            (&mut Vec::new(), |_| ()),
-            |_, _, cpa| self.metric.eval_jumpless(cpa),
-        );
+        let [xs, ys] = axes else {
+            return eval_grid_pointwise(self, domain, axes, out);
+        };
+        if xs.is_empty() {
+            return;
+        }
+        let c = Courses::units(&self.engine, domain, xs);
+        let rows = out.chunks_exact_mut(xs.len()).zip(ys.iter());
+        if self.metric.equal() {
+            self.cpa_rows::<true>(&c, domain, rows);
+        } else {
+            self.cpa_rows::<false>(&c, domain, rows);
+        }
+        c.give_back();
     }
     /// Every slot of every row is written.
     fn eval_grid_fills(&self) -> bool {

@@ -52,13 +52,12 @@ impl Courses {
     /// domain's first variable), the other lists empty.
     pub fn units(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
         let mut c = Self::taken();
-        c.sins.reserve(xs.len());
-        c.coss.reserve(xs.len());
-        for &i in xs {
-            let (s, k) = engine.unit(domain.value(0, i));
-            c.sins.push(s);
-            c.coss.push(k);
-        }
+        // domain.value(0, i), its step computed once; the engine's unit table looked up
+        // once for the whole list ([`CpaEngine::units_into`]).
+        let var = domain.var(0);
+        let (low, delta) = (var.low, var.delta());
+        let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
+        engine.units_into(courses, (&mut c.sins, &mut c.coss));
         c
     }
 
@@ -66,35 +65,27 @@ impl Courses {
     /// tables), and their turns from ownship's heading `osh` when given: starboard for
     /// `angle360(c − osh)` in (0, 180), port above 180.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32], osh: Option<f64>) -> Self {
-        let mut c = Self::taken();
+        let mut c = Self::units(engine, domain, xs);
+        let var = domain.var(0);
+        let (low, delta) = (var.low, var.delta());
+        let course = |i: u32| low + delta * f64::from(i);
+        // Written in place (a push checks the capacity per course).
         let n = xs.len();
-        for v in [
-            &mut c.sins,
-            &mut c.coss,
-            &mut c.gams,
-            &mut c.cnhs,
-            &mut c.tans,
-        ] {
-            v.reserve(n);
+        for v in [&mut c.gams, &mut c.cnhs, &mut c.tans] {
+            v.resize(n, 0.0);
         }
-        if osh.is_some() {
-            c.star_turns.reserve(n);
-            c.port_turns.reserve(n);
+        let lists = c.gams.iter_mut().zip(&mut c.cnhs).zip(&mut c.tans);
+        for (((gam, cnh), tan), &i) in lists.zip(xs) {
+            (*gam, *cnh, *tan) = engine.heading(course(i)).cosines();
         }
-        for &i in xs {
-            let course = domain.value(0, i);
-            let (s, k) = engine.unit(course);
-            c.sins.push(s);
-            c.coss.push(k);
-            let (gam, cnh, tan) = engine.heading(course).cosines();
-            c.gams.push(gam);
-            c.cnhs.push(cnh);
-            c.tans.push(tan);
-            if let Some(osh) = osh {
-                let delta = angle360(course - osh);
-                let (star, port) = (delta > 0.0 && delta < 180.0, delta > 180.0);
-                c.star_turns.push(f64::from(u8::from(star)));
-                c.port_turns.push(f64::from(u8::from(port)));
+        if let Some(osh) = osh {
+            c.star_turns.resize(n, 0.0);
+            c.port_turns.resize(n, 0.0);
+            let turns = c.star_turns.iter_mut().zip(&mut c.port_turns);
+            for ((star, port), &i) in turns.zip(xs) {
+                let delta = angle360(course(i) - osh);
+                *star = f64::from(u8::from(delta > 0.0 && delta < 180.0));
+                *port = f64::from(u8::from(delta > 180.0));
             }
         }
         c
@@ -169,19 +160,20 @@ fn r16_row_plain(
     row: &mut [f64],
     refused: impl Fn(bool, bool, bool, bool) -> bool,
 ) {
-    let sides = r.sides;
-    // Ownship's side of the contact decided once per row (no choice per candidate).
-    if sides.port_of_cn {
-        r16_row_sides::<true>(r, c, row, refused);
-    } else {
-        r16_row_sides::<false>(r, c, row, refused);
+    // Ownship's side of the contact and the metric's kind decided once per row (no
+    // choice per candidate).
+    match (r.sides.port_of_cn, r.metric.equal()) {
+        (false, false) => r16_row_sides::<false, false>(r, c, row, refused),
+        (false, true) => r16_row_sides::<false, true>(r, c, row, refused),
+        (true, false) => r16_row_sides::<true, false>(r, c, row, refused),
+        (true, true) => r16_row_sides::<true, true>(r, c, row, refused),
     }
 }
 
 /// [`r16_row_plain`] for ownship to port of the contact or not (`PORT`): `BowStern::of`
-/// with that fact put in.
+/// with that fact put in; `EQUAL` is [`Metric::equal`].
 #[inline(always)]
-fn r16_row_sides<const PORT: bool>(
+fn r16_row_sides<const PORT: bool, const EQUAL: bool>(
     r: &R16Row,
     c: &Courses,
     row: &mut [f64],
@@ -205,7 +197,7 @@ fn r16_row_sides<const PORT: bool>(
         let bs = BowStern::of(&sides, &consts, (gams[k], tans[k]), v);
         let turns = (stars[k] != 0.0, ports[k] != 0.0);
         let no = refused(bs.crosses_bow, bs.crosses_stern, turns.0, turns.1);
-        let m = metric.eval_jumpless(row[k]);
+        let m = metric.eval_row::<EQUAL>(row[k]);
         row[k] = if no { 0.0 } else { m };
     }
 }
@@ -245,16 +237,26 @@ unsafe fn r14_row_avx2(r: &R14Row, c: &Courses, row: &mut [f64]) {
 /// rules' choices between comparisons are made once per row, not per candidate.
 #[inline(always)]
 fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
+    if r.metric.equal() {
+        r14_row_metric::<true>(r, c, row);
+    } else {
+        r14_row_metric::<false>(r, c, row);
+    }
+}
+
+/// [`r14_row_plain`] with the metric's kind decided (`EQUAL`: [`Metric::equal`]).
+#[inline(always)]
+fn r14_row_metric<const EQUAL: bool>(r: &R14Row, c: &Courses, row: &mut [f64]) {
     let s = &r.sides;
     match (s.port_of_cn, s.aft_of_cn, s.on_beam) {
-        (false, false, false) => r14_row_sides::<false, false, false>(r, c, row),
-        (false, false, true) => r14_row_sides::<false, false, true>(r, c, row),
-        (false, true, false) => r14_row_sides::<false, true, false>(r, c, row),
-        (false, true, true) => r14_row_sides::<false, true, true>(r, c, row),
-        (true, false, false) => r14_row_sides::<true, false, false>(r, c, row),
-        (true, false, true) => r14_row_sides::<true, false, true>(r, c, row),
-        (true, true, false) => r14_row_sides::<true, true, false>(r, c, row),
-        (true, true, true) => r14_row_sides::<true, true, true>(r, c, row),
+        (false, false, false) => r14_row_sides::<EQUAL, false, false, false>(r, c, row),
+        (false, false, true) => r14_row_sides::<EQUAL, false, false, true>(r, c, row),
+        (false, true, false) => r14_row_sides::<EQUAL, false, true, false>(r, c, row),
+        (false, true, true) => r14_row_sides::<EQUAL, false, true, true>(r, c, row),
+        (true, false, false) => r14_row_sides::<EQUAL, true, false, false>(r, c, row),
+        (true, false, true) => r14_row_sides::<EQUAL, true, false, true>(r, c, row),
+        (true, true, false) => r14_row_sides::<EQUAL, true, true, false>(r, c, row),
+        (true, true, true) => r14_row_sides::<EQUAL, true, true, true>(r, c, row),
     }
 }
 
@@ -263,7 +265,7 @@ fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
 /// [`BowStarRate::of`] (inlined), so its choices fold away. Refused (utility 0) is
 /// `on_contact | (PORT & crosses_bow) | passes_star`.
 #[inline(always)]
-fn r14_row_sides<const PORT: bool, const AFT: bool, const BEAM: bool>(
+fn r14_row_sides<const EQUAL: bool, const PORT: bool, const AFT: bool, const BEAM: bool>(
     r: &R14Row,
     c: &Courses,
     row: &mut [f64],
@@ -298,7 +300,7 @@ fn r14_row_sides<const PORT: bool, const AFT: bool, const BEAM: bool>(
         let r = BowStarRate::of(&sides, &consts, (gams[k], cnhs[k], tans[k]), v);
         let refused = (PORT & r.crosses_bow) | r.passes_star;
         let br = r.bearing_rate;
-        let m1 = metric.eval_jumpless(row[k]);
+        let m1 = metric.eval_row::<EQUAL>(row[k]);
         let scaled = 100.0 * br / b0;
         let beyond = if br <= b0 { 100.0 } else { scaled };
         let opening = if br >= 0.0 { 0.0 } else { beyond };
