@@ -2,7 +2,7 @@
 
 use rustc_hash::FxHashMap;
 
-use bhv::logic::VarSource;
+use bhv::logic::{Stamps, VarSource};
 
 #[derive(Debug, Default, Clone)]
 struct Entry {
@@ -19,12 +19,6 @@ struct Entry {
     dbl_deltas: Vec<f64>,
 }
 
-impl Entry {
-    fn has_deltas(&self) -> bool {
-        self.str_count > 0 || !self.dbl_deltas.is_empty()
-    }
-}
-
 /// Latest values per variable, their times, and this iteration's values.
 #[derive(Debug, Default)]
 pub struct InfoBuffer {
@@ -37,6 +31,8 @@ pub struct InfoBuffer {
     /// Places of the variables with deltas this iteration, so clearing touches only
     /// those.
     touched: Vec<usize>,
+    /// Lets conditions skip the variables not written since they last read them.
+    stamps: Stamps,
     curr_time: f64,
     start_time: f64,
 }
@@ -60,8 +56,9 @@ impl InfoBuffer {
         self.curr_time - self.start_time
     }
 
-    /// `var`'s entry, made on first sight, and its place.
-    fn entry(&mut self, var: &str) -> (&mut Entry, usize) {
+    /// `var`'s entry, made on first sight, for a write with a delta: stamped, and listed
+    /// for clearing at its first delta of the iteration.
+    fn entry(&mut self, var: &str) -> &mut Entry {
         let i = match self.index.get(var) {
             Some(&i) => i,
             None => {
@@ -70,23 +67,21 @@ impl InfoBuffer {
                 self.entries.len() - 1
             }
         };
-        (&mut self.entries[i], i)
+        self.stamps.write(i);
+        let e = &mut self.entries[i];
+        if e.str_count == 0 && e.dbl_deltas.is_empty() {
+            self.touched.push(i);
+        }
+        e
     }
 
     fn get(&self, var: &str) -> Option<&Entry> {
         self.index.get(var).map(|&i| &self.entries[i])
     }
 
-    fn touch(&mut self, place: usize, first_delta: bool) {
-        if first_delta {
-            self.touched.push(place);
-        }
-    }
-
     pub fn set_string(&mut self, var: &str, val: &str, msg_time: f64) {
         let now = self.curr_time;
-        let (e, place) = self.entry(var);
-        let first = !e.has_deltas();
+        let e = self.entry(var);
         match &mut e.sval {
             Some(s) => {
                 s.clear();
@@ -97,18 +92,15 @@ impl InfoBuffer {
         e.time = now;
         e.msg_time = msg_time;
         push_reused(&mut e.str_deltas, &mut e.str_count, val);
-        self.touch(place, first);
     }
 
     pub fn set_double(&mut self, var: &str, val: f64, msg_time: f64) {
         let now = self.curr_time;
-        let (e, place) = self.entry(var);
-        let first = !e.has_deltas();
+        let e = self.entry(var);
         e.dval = Some(val);
         e.time = now;
         e.msg_time = msg_time;
         e.dbl_deltas.push(val);
-        self.touch(place, first);
     }
 
     pub fn set_value(&mut self, var: &str, val: &crate::posting::Value, msg_time: f64) {
@@ -200,6 +192,12 @@ impl VarSource for InfoBuffer {
     }
     fn double_val(&self, var: &str) -> Option<f64> {
         self.dval(var)
+    }
+    fn stamps(&self) -> Option<&Stamps> {
+        Some(&self.stamps)
+    }
+    fn place(&self, var: &str) -> Option<usize> {
+        self.index.get(var).copied()
     }
 }
 

@@ -9,9 +9,11 @@
 
 mod eval;
 mod parse;
+mod stamps;
 
 pub use crate::error::LogicError;
 pub use eval::field_match;
+pub use stamps::Stamps;
 
 use crate::number::Value;
 use std::collections::{BTreeMap, HashMap};
@@ -22,6 +24,15 @@ pub trait VarSource {
     fn string_val(&self, var: &str) -> Option<&str>;
     /// The variable's numeric value, if it has one.
     fn double_val(&self, var: &str) -> Option<f64>;
+    /// The write stamps of a source that keeps them: every variable with a value then
+    /// has a [`place`](VarSource::place), and every write of a value stamps it.
+    fn stamps(&self) -> Option<&Stamps> {
+        None
+    }
+    /// The variable's place in [`stamps`](VarSource::stamps), if the source has it.
+    fn place(&self, _var: &str) -> Option<usize> {
+        None
+    }
 }
 
 impl VarSource for HashMap<String, Value> {
@@ -105,6 +116,7 @@ pub struct LogicCondition {
     vars: Vec<String>,
     slots: Vec<Slot>,
     root: Node,
+    follow: stamps::Follow,
 }
 
 impl LogicCondition {
@@ -118,6 +130,7 @@ impl LogicCondition {
             vars,
             slots,
             root,
+            follow: stamps::Follow::default(),
         })
     }
 
@@ -155,33 +168,27 @@ impl LogicCondition {
     /// Assigns, for every variable of the expression that `src` knows,
     /// first its string value and then its numeric value (§8.5; a slot keeps
     /// the type it first received).
+    /// A source with [`Stamps`] is asked only for the variables written since.
     pub fn update(&mut self, src: &dyn VarSource) {
-        let (vars, slots) = (&self.vars, &mut self.slots);
-        // A typed slot ignores values of the other type, so only its own type is looked
-        // up (one look-up per variable, not two: this runs for every condition of every
-        // behavior every iteration).
-        for (var, slot) in vars.iter().zip(slots.iter_mut()) {
-            match slot {
-                Slot::Str(s) => {
-                    if let Some(v) = src.string_val(var) {
-                        s.clear();
-                        s.push_str(v);
-                    }
-                }
-                Slot::Num(n) => {
-                    if let Some(d) = src.double_val(var) {
-                        *n = d;
-                    }
-                }
-                Slot::Unset => {
-                    if let Some(v) = src.string_val(var) {
-                        *slot = Slot::Str(v.to_string());
-                    } else if let Some(d) = src.double_val(var) {
-                        *slot = Slot::Num(d);
-                    }
-                }
-            }
+        if let Some(st) = src.stamps() {
+            return stamps::update_stamped(self, src, st);
         }
+        self.follow.forget();
+        for (var, slot) in self.vars.iter().zip(self.slots.iter_mut()) {
+            read_slot(slot, var, src);
+        }
+    }
+
+    /// [`update`](LogicCondition::update), then [`eval`](LogicCondition::eval); the
+    /// evaluation is skipped while no slot has changed since the last one.
+    pub fn update_eval(&mut self, src: &dyn VarSource) -> bool {
+        self.update(src);
+        if let Some(r) = self.follow.result {
+            return r;
+        }
+        let r = self.eval();
+        self.follow.result = Some(r);
+        r
     }
 
     /// Assigns a string value to `var`'s slot (ignored if the slot is
@@ -189,6 +196,7 @@ impl LogicCondition {
     pub fn set_string(&mut self, var: &str, v: &str) {
         if let Some(i) = self.slot_of(var) {
             assign_str(&mut self.slots[i], v);
+            self.follow.unread(i);
         }
     }
 
@@ -197,6 +205,7 @@ impl LogicCondition {
     pub fn set_double(&mut self, var: &str, v: f64) {
         if let Some(i) = self.slot_of(var) {
             assign_num(&mut self.slots[i], v);
+            self.follow.unread(i);
         }
     }
 
@@ -235,6 +244,40 @@ impl LogicCondition {
 /// Free-function form of [`LogicCondition::parse_condition_param`].
 pub fn parse_condition_param(text: &str) -> Result<LogicCondition, LogicError> {
     LogicCondition::parse_condition_param(text)
+}
+
+/// Assigns `var`'s value from `src` to its slot; whether the slot changed. A typed slot
+/// ignores values of the other type, so only its own type is looked up (one look-up per
+/// variable, not two: this runs for every condition of every behavior every iteration).
+fn read_slot(slot: &mut Slot, var: &str, src: &dyn VarSource) -> bool {
+    match slot {
+        Slot::Str(s) => match src.string_val(var) {
+            Some(v) if v != s => {
+                s.clear();
+                s.push_str(v);
+                true
+            }
+            _ => false,
+        },
+        // Compared by bits: an assignment of the same number changes nothing.
+        Slot::Num(n) => match src.double_val(var) {
+            Some(d) if d.to_bits() != n.to_bits() => {
+                *n = d;
+                true
+            }
+            _ => false,
+        },
+        Slot::Unset => {
+            if let Some(v) = src.string_val(var) {
+                *slot = Slot::Str(v.to_string());
+            } else if let Some(d) = src.double_val(var) {
+                *slot = Slot::Num(d);
+            } else {
+                return false;
+            }
+            true
+        }
+    }
 }
 
 fn assign_str(slot: &mut Slot, v: &str) {

@@ -355,3 +355,115 @@ fn update_looks_up_once_per_typed_slot() {
     c.update(&src(None, Some(2.0)));
     assert!(c.eval(), "the string slot kept its value");
 }
+
+/// A source keeping write stamps, like the helm's info buffer.
+#[derive(Default)]
+struct Stamped {
+    names: Vec<String>,
+    vals: Vec<(Option<String>, Option<f64>)>,
+    stamps: Stamps,
+}
+
+impl Stamped {
+    fn write(&mut self, var: &str, v: &Value) {
+        let i = match self.names.iter().position(|n| n == var) {
+            Some(i) => i,
+            None => {
+                self.names.push(var.to_string());
+                self.vals.push((None, None));
+                self.names.len() - 1
+            }
+        };
+        match v {
+            Value::Str(s) => self.vals[i].0 = Some(s.clone()),
+            Value::Num(d) => self.vals[i].1 = Some(*d),
+        }
+        self.stamps.write(i);
+    }
+}
+
+impl VarSource for Stamped {
+    fn string_val(&self, var: &str) -> Option<&str> {
+        let i = self.place(var)?;
+        self.vals[i].0.as_deref()
+    }
+    fn double_val(&self, var: &str) -> Option<f64> {
+        self.vals[self.place(var)?].1
+    }
+    fn stamps(&self) -> Option<&Stamps> {
+        Some(&self.stamps)
+    }
+    fn place(&self, var: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == var)
+    }
+}
+
+/// The same values without stamps: every update reads every variable.
+struct Plain<'a>(&'a Stamped);
+
+impl VarSource for Plain<'_> {
+    fn string_val(&self, var: &str) -> Option<&str> {
+        self.0.string_val(var)
+    }
+    fn double_val(&self, var: &str) -> Option<f64> {
+        self.0.double_val(var)
+    }
+}
+
+#[test]
+fn stamped_update_skips_unwritten_and_rereads_set_slots() {
+    let mut src = Stamped::default();
+    let mut c = LogicCondition::parse("(A = x) and (B < 3)").unwrap();
+    assert!(!c.update_eval(&src), "nothing known");
+    src.write("A", &s("x"));
+    src.write("B", &n(2.0));
+    assert!(c.update_eval(&src), "new variables are found");
+    c.set_string("A", "y");
+    assert!(!c.eval());
+    assert!(c.update_eval(&src), "a slot set directly is read again");
+    src.write("B", &n(2.0)); // the same value again
+    assert!(c.update_eval(&src));
+    // A condition read from two sources follows the one it read last.
+    let mut other = Stamped::default();
+    other.write("B", &n(5.0));
+    assert!(!c.update_eval(&other));
+    assert!(c.update_eval(&src));
+    c.update(&Plain(&other));
+    assert!(!c.eval());
+    assert!(
+        c.update_eval(&src),
+        "after a plain source, all is read again"
+    );
+}
+
+proptest::proptest! {
+    /// Stamped updates leave exactly the slots and result full updates leave, whatever
+    /// the writes (new, repeated, either type), direct slot sets and source switches.
+    #[test]
+    fn stamped_update_equals_full_update(
+        steps in proptest::collection::vec((0u8..6, 0usize..4, 0u8..4), 1..40)
+    ) {
+        let names = ["A", "B", "C", "D"];
+        let text = "((A = x) or (B < 2)) and ((!(C = $(D))) or (D == x:y))";
+        let (mut fast, mut full) = (LogicCondition::parse(text).unwrap(), LogicCondition::parse(text).unwrap());
+        let (mut one, mut two) = (Stamped::default(), Stamped::default());
+        let mut use_two = false;
+        for (kind, var, val) in steps {
+            let var = names[var];
+            let sv = ["x", "y", "x:y", "1"][usize::from(val)];
+            match kind {
+                0 => one.write(var, &s(sv)),
+                1 => one.write(var, &n(f64::from(val))),
+                2 => two.write(var, &s(sv)),
+                3 => { fast.set_string(var, sv); full.set_string(var, sv); }
+                4 => { fast.set_double(var, f64::from(val)); full.set_double(var, f64::from(val)); }
+                _ => use_two = !use_two,
+            }
+            let src = if use_two { &two } else { &one };
+            let got = fast.update_eval(src);
+            full.update(&Plain(src));
+            proptest::prop_assert_eq!(got, full.eval());
+            proptest::prop_assert_eq!(&fast.slots, &full.slots);
+        }
+    }
+}

@@ -108,10 +108,7 @@ fn runnable(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> RunS
     let failed = match core.conditions_checked {
         Some((iteration, failed)) if iteration == core.iteration => failed,
         _ => {
-            let failed = core.conditions.iter_mut().position(|c| {
-                c.update(ib);
-                !c.eval()
-            });
+            let failed = core.conditions.iter_mut().position(|c| !c.update_eval(ib));
             core.conditions_checked = Some((core.iteration, failed));
             failed
         }
