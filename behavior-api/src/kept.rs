@@ -2,7 +2,7 @@
 //! from are the same (by their exact bits), it is lent again instead of built. Built-in
 //! and plugin behaviors whose function seldom changes (a constant depth, a cruise speed)
 //! share this one mechanism, and the ZAIC builders they set up again every iteration;
-//! [`CoupledPeaks`] is both at once for a course peak coupled with a speed peak.
+//! [`CoupledPeaks`] is both at once for two peaks coupled 50/50.
 
 use ivp::zaic::ZaicPeak;
 use ivp::{Domain, IvpFunction};
@@ -86,52 +86,71 @@ fn peak_key(p: &crate::zaic::Peak) -> [u64; 7] {
     ]
 }
 
-/// What a behavior keeps between its builds of a course peak coupled 50/50 with a
-/// speed peak (Trail, Shadow, StationKeep): the speed function while its peak is the
-/// same (a steady speed), and the course builder.
-#[derive(Default)]
+/// What a behavior keeps between its builds of two peaks coupled 50/50 (a course peak
+/// with a speed peak in Trail, Shadow and StationKeep; speed with depth in
+/// PeriodicSurface): the second peak's function while that peak is the same (a steady
+/// speed, a fixed depth), and the first peak's builder.
 pub struct CoupledPeaks {
-    /// The speed function, normalized to [0, 50] as the coupler normalizes it.
-    speed: Kept<[u64; 7]>,
-    /// The course builder; every parameter is set again each build.
-    course: Option<ZaicPeak>,
+    /// The variables of the first and the second peak.
+    vars: (&'static str, &'static str),
+    /// The second peak's function, normalized to [0, 50] as the coupler normalizes it.
+    second: Kept<[u64; 7]>,
+    /// The first peak's builder; every parameter is set again each build.
+    first: Option<ZaicPeak>,
+}
+
+impl Default for CoupledPeaks {
+    /// A course peak coupled with a speed peak.
+    fn default() -> Self {
+        CoupledPeaks::over("course", "speed")
+    }
 }
 
 impl CoupledPeaks {
-    /// `couple(crs over "course", spd over "speed", 50, 50, true)` of two freshly built
-    /// peaks, bit for bit, with the course pieces coupled straight from the builder.
-    /// `None` when a builder or the coupler fails (a caller that reports failures then
-    /// builds afresh for the messages).
+    /// A peak over `first` coupled with a peak over `second`.
+    pub fn over(first: &'static str, second: &'static str) -> Self {
+        CoupledPeaks {
+            vars: (first, second),
+            second: Kept::default(),
+            first: None,
+        }
+    }
+
+    /// `couple(p1 over the first variable, p2 over the second, 50, 50, true)` of two
+    /// freshly built peaks, bit for bit, with the first one's pieces coupled straight
+    /// from its builder. `None` when a builder or the coupler fails (a caller that
+    /// reports failures then builds afresh for the messages).
     pub fn build(
         &mut self,
         domain: &Domain,
-        crs: &crate::zaic::Peak,
-        spd: &crate::zaic::Peak,
+        p1: &crate::zaic::Peak,
+        p2: &crate::zaic::Peak,
     ) -> Option<IvpFunction> {
+        let (v1, v2) = self.vars;
         let f2 = self
-            .speed
-            .get(peak_key(spd), || {
-                let mut f = spd.build(domain, "speed")?;
+            .second
+            .get(peak_key(p2), || {
+                let mut f = p2.build(domain, v2)?;
                 f.normalize(0.0, 50.0);
                 Ok::<_, ivp::IvpError>(f)
             })
             .ok()?;
-        let z = peak(&mut self.course, domain, "course", crs.value_wrap, 1)?;
-        z.set_value_wrap(crs.value_wrap);
+        let z = peak(&mut self.first, domain, v1, p1.value_wrap, 1)?;
+        z.set_value_wrap(p1.value_wrap);
         let ok = z.set_params(
-            crs.summit,
-            crs.peak_width,
-            crs.base_width,
-            crs.summit_delta,
-            crs.min_util,
-            crs.max_util,
+            p1.summit,
+            p1.peak_width,
+            p1.base_width,
+            p1.summit_delta,
+            p1.min_util,
+            p1.max_util,
             0,
         );
         let f = z.try_extract_coupled(true, f2, (50.0, 50.0), true);
         // A builder that failed or warned carries that state: the next build starts
         // from a fresh one.
         let keep = ok && z.warnings().is_empty();
-        drop_on_failure(&mut self.course, keep);
+        drop_on_failure(&mut self.first, keep);
         f.ok()?.ok()
     }
 }

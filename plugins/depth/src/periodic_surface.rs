@@ -2,11 +2,12 @@
 //! (e.g. a GPS fix), ascend to the surface, stay up to `max_time_at_surface`, resume.
 //! A coupled speed × depth function only while ascending or at the surface.
 
-use behavior_api::ivp::{self, ZaicPeak};
-use behavior_api::kept::Kept;
+use behavior_api::ivp;
+use behavior_api::kept::{CoupledPeaks, Kept};
 use behavior_api::params::non_negative;
 use behavior_api::parse_number;
 use behavior_api::sdk::{copy_function_data, Ctx, HelmDomain, IvpBehavior};
+use behavior_api::zaic::Peak;
 use behavior_api::FunctionData;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,11 +66,9 @@ pub struct PeriodicSurface {
     /// The function of the last desired speed (by its bits), without pwt: it depends on
     /// nothing else, so at the surface (speed 0 every iteration) it is copied, not built.
     last: Kept<u64>,
-    /// The depth function (it never changes), normalized to [0, 50] as the coupler
-    /// normalizes it, and the speed builder: kept for the ascent, whose speed changes
-    /// every iteration.
-    depth_fn: Kept<()>,
-    speed_zaic: Option<ZaicPeak>,
+    /// The depth function (it never changes) and the speed builder, kept for the
+    /// ascent, whose speed changes every iteration.
+    peaks: CoupledPeaks,
 }
 
 /// The C `(int)` conversion of x86: out-of-range values become `INT_MIN`.
@@ -109,8 +108,7 @@ impl PeriodicSurface {
             speed_at_ascent: 0.0,
             surface_time: 0.0,
             last: Kept::default(),
-            depth_fn: Kept::default(),
-            speed_zaic: None,
+            peaks: CoupledPeaks::over("speed", "depth"),
         }
     }
 
@@ -196,67 +194,28 @@ impl PeriodicSurface {
     }
 
     fn function(&mut self, ctx: &mut Ctx<'_>, speed: f64) -> Option<FunctionData> {
-        let (dom, depth_fn, zs) = (&self.ivp_domain, &mut self.depth_fn, &mut self.speed_zaic);
-        let kept = self.last.get(speed.to_bits(), || {
-            build_kept(dom, depth_fn, zs, speed).ok_or(())
-        });
+        let (dom, peaks) = (&self.ivp_domain, &mut self.peaks);
+        let kept = self
+            .last
+            .get(speed.to_bits(), || build(dom, peaks, speed).ok_or(()));
         Some(copy_function_data(kept.ok()?, ctx.priority()))
     }
 }
 
-/// The speed peak of ascending at `speed`, as the reference sets it up.
-fn set_speed(zs: &mut ZaicPeak, speed: f64) -> bool {
-    let mut ok = zs.set_summit(speed, 0);
-    ok = zs.set_base_width(if speed == 0.0 { 0.0 } else { 0.5 }, 0) && ok;
-    ok = zs.set_peak_width(0.0, 0) && ok;
-    zs.set_min_max_util(0.0, 100.0, 0) && ok
-}
-
-/// The depth peak at the surface, as the reference sets it up.
-fn depth_peak(dom: &ivp::Domain) -> Option<ivp::IvpFunction> {
-    let mut zd = ZaicPeak::new(dom, "depth").ok()?;
-    zd.set_summit(0.0, 0);
-    zd.set_base_width(0.0, 0);
-    zd.set_peak_width(0.0, 0);
-    zd.set_min_max_util(0.0, 100.0, 0);
-    zd.extract(true)
-}
-
-/// The reference's coupled speed × depth function of ascending at `speed`, without pwt:
-/// both peaks afresh, then coupled.
-#[cfg(test)]
-fn build(dom: &Option<ivp::Domain>, speed: f64) -> Option<ivp::IvpFunction> {
-    let dom = dom.as_ref()?;
-    let mut zs = ZaicPeak::new(dom, "speed").ok()?;
-    set_speed(&mut zs, speed);
-    let fs = zs.extract(true)?;
-    behavior_api::ivp::couple(fs, depth_peak(dom)?, 50.0, 50.0, true)
-}
-
-/// [`build`], bit for bit, from the kept depth function (normalized as the coupler
-/// does) and speed builder, the speed pieces coupled straight from the builder. Every
-/// parameter the builder holds is set again (its summit delta stays 0), so it builds
-/// what a fresh one would; one that failed or warned is dropped.
-fn build_kept(
+/// The coupled speed × depth function of ascending at `speed`, without pwt: a speed
+/// peak at `speed`, 0.5 wide (a point at 0), and a depth peak at the surface, coupled
+/// 50/50.
+fn build(
     dom: &Option<ivp::Domain>,
-    depth_fn: &mut Kept<()>,
-    zs: &mut Option<ZaicPeak>,
+    peaks: &mut CoupledPeaks,
     speed: f64,
 ) -> Option<ivp::IvpFunction> {
-    let dom = dom.as_ref()?;
-    let fd = depth_fn
-        .get((), || {
-            let mut f = depth_peak(dom).ok_or(())?;
-            f.normalize(0.0, 50.0);
-            Ok::<_, ()>(f)
-        })
-        .ok()?;
-    let z = behavior_api::kept::peak(zs, dom, "speed", false, 1)?;
-    let ok = set_speed(z, speed);
-    let f = z.try_extract_coupled(true, fd, (50.0, 50.0), true);
-    let keep = ok && z.warnings().is_empty();
-    behavior_api::kept::drop_on_failure(zs, keep);
-    f.ok()?.ok()
+    let spd = Peak {
+        summit: speed,
+        base_width: if speed == 0.0 { 0.0 } else { 0.5 },
+        ..Peak::default()
+    };
+    peaks.build(dom.as_ref()?, &spd, &Peak::default())
 }
 
 impl IvpBehavior for PeriodicSurface {
@@ -427,6 +386,7 @@ impl IvpBehavior for PeriodicSurface {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use behavior_api::ivp::ZaicPeak;
     use behavior_api::testing::MockHelm;
 
     /// The function handed out (copied from the kept one while the speed repeats) is bit
@@ -437,7 +397,7 @@ mod tests {
         let speeds = [0.0, 0.0, 1.25, 1.25, 0.7, 0.0, -0.0, 1.25, 3.9, 0.0];
         for (round, &speed) in speeds.iter().cycle().take(100).enumerate() {
             let got = helm.with(|ctx| b.function(ctx, speed)).unwrap();
-            let mut want = build(&b.ivp_domain, speed).unwrap();
+            let mut want = reference(&b.ivp_domain, speed).unwrap();
             want.set_pwt(helm.with(|ctx| ctx.priority()));
             let want = behavior_api::sdk::function_data(want);
             let parts = behavior_api::testing::function_data_bits;
@@ -445,12 +405,29 @@ mod tests {
         }
     }
 
+    /// The reference: the speed and depth peaks set up as the spec describes, each
+    /// made into a function afresh, then coupled.
+    fn reference(dom: &Option<ivp::Domain>, speed: f64) -> Option<ivp::IvpFunction> {
+        let dom = dom.as_ref()?;
+        let mut zs = ZaicPeak::new(dom, "speed").ok()?;
+        zs.set_summit(speed, 0);
+        zs.set_base_width(if speed == 0.0 { 0.0 } else { 0.5 }, 0);
+        zs.set_peak_width(0.0, 0);
+        zs.set_min_max_util(0.0, 100.0, 0);
+        let mut zd = ZaicPeak::new(dom, "depth").ok()?;
+        zd.set_summit(0.0, 0);
+        zd.set_base_width(0.0, 0);
+        zd.set_peak_width(0.0, 0);
+        zd.set_min_max_util(0.0, 100.0, 0);
+        behavior_api::ivp::couple(zs.extract(true)?, zd.extract(true)?, 50.0, 50.0, true)
+    }
+
     /// The kept depth function and speed builder give the fresh build bit for bit, or
     /// fail where it fails, over speeds in and out of range (a refused one included).
     #[test]
     fn kept_parts_equal_a_fresh_build() {
         let (b, _) = psurf(&[]);
-        let (mut depth_fn, mut zs) = (Kept::default(), None);
+        let mut peaks = CoupledPeaks::over("speed", "depth");
         let speeds = [
             0.7,
             0.0,
@@ -464,8 +441,8 @@ mod tests {
             0.7,
         ];
         for (round, &speed) in speeds.iter().cycle().take(60).enumerate() {
-            let want = build(&b.ivp_domain, speed);
-            let got = build_kept(&b.ivp_domain, &mut depth_fn, &mut zs, speed);
+            let want = reference(&b.ivp_domain, speed);
+            let got = build(&b.ivp_domain, &mut peaks, speed);
             let bits = behavior_api::testing::function_bits;
             assert_eq!(
                 want.as_ref().map(bits),
