@@ -61,22 +61,16 @@ impl Shadow {
         ctx: &mut Ctx<'_>,
         (hdg, spd): (f64, f64),
     ) -> Option<behavior_api::ivp::IvpFunction> {
-        let fh = match self.peak("course", hdg, (self.hdg_peak, self.hdg_base), 50.0, true) {
-            Ok(f) => f,
-            Err(w) => {
-                ctx.post_emessage("Unable to generate hdg component of IvP function");
-                ctx.post_wmessage(&w);
-                return None;
-            }
+        let mut failed = |part: &str, warnings: String| {
+            ctx.post_emessage(&format!(
+                "Unable to generate {part} component of IvP function"
+            ));
+            ctx.post_wmessage(&warnings);
         };
-        let fs = match self.peak("speed", spd, (self.spd_peak, self.spd_base), 10.0, false) {
-            Ok(f) => f,
-            Err(w) => {
-                ctx.post_emessage("Unable to generate spd component of IvP function");
-                ctx.post_wmessage(&w);
-                return None;
-            }
-        };
+        let fh = self.peak("course", hdg, (self.hdg_peak, self.hdg_base), 50.0, true);
+        let fh = fh.map_err(|w| failed("hdg", w)).ok()?;
+        let fs = self.peak("speed", spd, (self.spd_peak, self.spd_base), 10.0, false);
+        let fs = fs.map_err(|w| failed("spd", w)).ok()?;
         let f = couple(fh, fs, 50.0, 50.0, true);
         if f.is_none() {
             ctx.post_emessage("Unable to generate coupled IvP function");
@@ -208,5 +202,31 @@ mod tests {
         helm.with(|ctx| b.on_every_state(ctx));
         assert!(helm.with(|ctx| b.on_run(ctx)).is_none());
         assert_eq!(helm.last("SHADOW_RELEVANCE").as_deref(), Some("0"));
+    }
+
+    /// Where a peak cannot be built, the reference path names the part that failed and
+    /// posts the builder's warnings.
+    #[test]
+    fn a_failed_part_is_named_with_its_warnings() {
+        let b = Shadow::new(&HelmDomain::new("course,0,359,360:speed,0,4,41"));
+        let mut helm = MockHelm::new("shadow_ben");
+        assert!(helm.with(|ctx| b.reference(ctx, (f64::NAN, 1.0))).is_none());
+        let err = helm.posted("BHV_ERROR").concat();
+        assert!(
+            err.contains("Unable to generate hdg component of IvP function"),
+            "{err}"
+        );
+        let warn = helm.posted("BHV_WARNING").concat();
+        assert!(warn.contains("summit:not a finite number"), "{warn}");
+        helm.clear();
+        assert!(helm
+            .with(|ctx| b.reference(ctx, (90.0, f64::NAN)))
+            .is_none());
+        let err = helm.posted("BHV_ERROR").concat();
+        assert!(
+            err.contains("Unable to generate spd component of IvP function"),
+            "{err}"
+        );
+        assert!(helm.with(|ctx| b.reference(ctx, (90.0, 1.0))).is_some());
     }
 }
