@@ -180,6 +180,22 @@ impl LastIndex {
                 }));
             }
             let (ub, terms) = (&mut self.ub, &self.terms);
+            if dim == 2 {
+                // Two dimensions (the helm's course × speed): rows of a few cells,
+                // whose walk would cost more than the cells themselves.
+                let (row, col) = terms.split_at(hi[0] - lo[0] + 1);
+                let mut c0 = lo[0] + lo[1] * self.stride[1];
+                for &t in col {
+                    for (u, &a) in ub[c0..c0 + row.len()].iter_mut().zip(row) {
+                        let v = a + t;
+                        if v > *u || v.is_nan() {
+                            *u = v;
+                        }
+                    }
+                    c0 += self.stride[1];
+                }
+                continue;
+            }
             // Rows along dimension 0 (stride 1): the other dimensions' terms per row.
             let row = &terms[..=hi[0] - lo[0]];
             walk_rows(&lo, &hi, &self.stride, dim, |c0, cur| {
@@ -336,8 +352,18 @@ fn walk(
     dim: usize,
     mut f: impl FnMut(usize),
 ) {
-    let mut cur = *lo;
     let mut c: usize = (0..dim).map(|d| lo[d] * stride[d]).sum();
+    if dim == 2 {
+        // Two dimensions: rows along dimension 0 (stride 1), no odometer.
+        for _ in lo[1]..=hi[1] {
+            for x in 0..=hi[0] - lo[0] {
+                f(c + x);
+            }
+            c += stride[1];
+        }
+        return;
+    }
+    let mut cur = *lo;
     loop {
         f(c);
         let mut d = 0;

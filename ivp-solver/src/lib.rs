@@ -514,8 +514,9 @@ fn seed_value_dim<const D: usize>(
             let b = &fb[q * bl..(q + 1) * bl];
             (0..dim).all(|d| b[2 * d] <= x[d] && x[d] <= b[2 * d + 1])
         };
-        // Functions below the first have cell lists: only the point's cell's.
-        let q = if k > 0 && !f.single {
+        // Functions below the first have cell lists, a large first one may have them
+        // (see `Solver::prepare_fresh`): only the point's cell's.
+        let q = if !f.single && (k > 0 || f.lists_ppg == f.ppg) {
             let c: usize = (0..dim).map(|d| f.coord(d, x[d]) * f.stride[d]).sum();
             f.cell_items[f.cell_start[c] as usize..f.cell_start[c + 1] as usize]
                 .iter()

@@ -104,7 +104,9 @@ impl Solver {
         let (fb, fw) = (f.bounds(), f.weights());
         let identity = od == dim && p.map.iter().enumerate().all(|(d, &t)| d == t);
         p.borrowed = identity;
+        let boxes_gen = p.boxes_gen;
         translate_boxes(p, fb, &self.pts);
+        let boxes_kept = p.boxes_gen == boxes_gen;
         // Grid (its shape depends on the boxes' domain only).
         p.ppg.clear();
         p.ncells.clear();
@@ -167,7 +169,15 @@ impl Solver {
         p.term_scale = most;
         if first {
             // Its cell size is still known (`ppg`), for the geometry sharing and the
-            // last index.
+            // last index. A large tiling whose boxes stay gets its cell lists too (on
+            // the second solve with the same boxes, kept while they stay): the seed
+            // looks the previous decision up there instead of scanning every piece.
+            if !p.single && n >= SEED_LISTS_MIN && (boxes_kept || p.lists_ppg == p.ppg) {
+                p.make_coord_table(&self.pts);
+                if p.lists_ppg != p.ppg {
+                    self.make_lists(fi, identity.then_some(fb), dim, total);
+                }
+            }
             return Ok(());
         }
         let tg = |x: f64| {
@@ -356,6 +366,9 @@ fn build_lists(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize) {
     }
     (p.cell_items, p.cursor) = (items, cursor);
 }
+
+/// Smallest first function given cell lists for the seed (see `Solver::prepare_fresh`).
+const SEED_LISTS_MIN: usize = 64;
 
 /// Largest function kept from one solve to the next (see [`Solver::prepare`]).
 const KEEP_MAX_PIECES: usize = 128;
