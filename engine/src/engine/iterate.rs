@@ -276,9 +276,10 @@ impl Helm {
             self.pool.give(name);
             f.recycle();
         }
-        let mut t = started; // a behavior's end is the next one's start
+        let (mut t, mut fd) = (started, None); // a behavior's end is the next one's start
         for i in 0..self.behaviors.len() {
-            if let Some(fd) = step(&mut self.behaviors[i], &self.env, &self.ib) {
+            step(&mut self.behaviors[i], &self.env, &self.ib, &mut fd);
+            if let Some(fd) = fd.take() {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
                 match place(&mut self.behaviors[i].core, fd, &self.config.domain) {
                     Ok(f) => {

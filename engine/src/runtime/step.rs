@@ -1,6 +1,6 @@
 //! One behavior's part in one helm iteration (behavior-common.md §4 and §6).
 
-use behavior_api::{CallResult, FunctionData, HelmCtx};
+use behavior_api::{CallResult, FunctionData as Function, HelmCtx};
 use bhv::number::atof;
 
 use super::context::with_ctx;
@@ -174,9 +174,9 @@ fn accumulate(core: &mut BehaviorCore, now: f64, running: bool) {
     core.dur_last_call = Some(now);
 }
 
-/// Checks a function from a behavior before the helm trusts it.
-/// The function and its piece count, or `None` when it is dropped.
-fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<(FunctionData, usize)> {
+/// Checks a function from a behavior, read where it lies, before the helm trusts it:
+/// its weight and piece count, or `None` when it is to be dropped.
+fn validate(core: &mut BehaviorCore, f: &Function) -> Option<(f64, usize)> {
     // Not short-circuited: the whole scan vectorizes (thousands of weights a function).
     let nan = f.weights.iter().fold(false, |nan, w| nan | w.is_nan());
     if nan || f.pwt.is_nan() {
@@ -191,15 +191,12 @@ fn validate(core: &mut BehaviorCore, f: FunctionData) -> Option<(FunctionData, u
         );
         return None;
     };
-    if f.pwt <= 0.0 {
-        return None;
-    }
-    Some((f, pieces))
+    (f.pwt > 0.0).then_some((f.pwt, pieces))
 }
 
-/// Run one behavior for one iteration: its objective function, validated (no NaN,
-/// positive weight, consistent buffers).
-pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Option<FunctionData> {
+/// Run one behavior for one iteration: its objective function, validated (no NaN, positive
+/// weight, consistent buffers), in `f` (written once, not moved through every result).
+pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer, f: &mut Option<Function>) {
     let old = inst.core.state;
     let now = ib.curr_time();
     inst.core.iteration += 1;
@@ -224,7 +221,7 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Opti
         post_flags(inst, env, ib, FlagKind::Config, false);
         inst.core.config_posted = true;
     }
-    let mut outcome = None;
+    *f = None;
     match new {
         RunState::Idle => {
             if old != RunState::Idle {
@@ -249,24 +246,24 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Opti
             if old == RunState::Idle {
                 call(inst, env, ib, |b, c| b.on_idle_to_run(c));
             }
-            let f = call(inst, env, ib, |b, c| b.on_run(c).map(|o| o.into_option()));
+            call(inst, env, ib, |b, c| b.on_run(c).map(|o| *f = o.into()));
             if matches!(old, RunState::Idle | RunState::Fresh) {
                 post_flags(inst, env, ib, FlagKind::Run, true);
             }
             post_flags(inst, env, ib, FlagKind::Runx, true);
-            let kept = f.and_then(|f| validate(&mut inst.core, f));
-            if let Some((f, pcs)) = kept {
+            let kept = f.as_ref().and_then(|f| validate(&mut inst.core, f));
+            if let Some((pwt, pcs)) = kept {
                 if old != RunState::Active {
                     post_flags(inst, env, ib, FlagKind::Active, true);
                 }
                 new = RunState::Active;
                 let info = &mut inst.core.status_info;
                 info.push_str(",pwt=");
-                mbutil::push_fixed(info, f.pwt, 5);
+                mbutil::push_fixed(info, pwt, 5);
                 info.push_str(",pcs=");
                 mbutil::push_u64(info, pcs as u64);
-                outcome = Some(f);
             } else {
+                *f = None;
                 if old == RunState::Active {
                     post_flags(inst, env, ib, FlagKind::Inactive, true);
                 }
@@ -287,15 +284,15 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Opti
     }
     if inst.core.faulted {
         new = RunState::Disabled;
-        outcome = None;
+        *f = None;
     }
 
     let core = &mut inst.core;
-    // `<status info>,state=<state>,updates=<good>/<total> or n/a`, written into a
-    // spare string (this runs for every behavior every iteration).
-    // Room for the status info and `,state=...,updates=.../...`.
-    let mut status = core.pool.take_for(core.status_info.len() + 40);
-    status.push_str(&core.status_info);
+    // `<status info>,state=<state>,updates=<good>/<total> or n/a`: the status info itself
+    // becomes the message (not copied), a spare string taking its place.
+    let room = core.status_info.len() + 40;
+    let mut status = std::mem::replace(&mut core.status_info, core.pool.take_for(room));
+    status.reserve(40);
     status.push_str(",state=");
     status.push_str(new.as_str());
     status.push_str(",updates=");
@@ -315,7 +312,6 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer) -> Opti
     if core.iteration == 1 {
         post_flags(inst, env, ib, FlagKind::Spawnx, true);
     }
-    outcome
 }
 
 /// A behavior just spawned from a template: its hooks, then its spawnflags.
