@@ -631,15 +631,33 @@ fn write_reversed(w: [&[f64]; 3], scales: [Option<(f64, f64)>; 2], weights: &mut
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn write_reversed_avx2(
+    w: [&[f64]; 3],
+    scales: [Option<(f64, f64)>; 2],
+    out: &mut [std::mem::MaybeUninit<f64>],
+) -> usize {
+    // Each case compiled on its own: no test of the scalings inside the loop.
+    match scales.map(|s| s.is_some()) {
+        [false, false] => write_reversed_lanes::<false, false>(w, scales, out),
+        [true, false] => write_reversed_lanes::<true, false>(w, scales, out),
+        [false, true] => write_reversed_lanes::<false, true>(w, scales, out),
+        [true, true] => write_reversed_lanes::<true, true>(w, scales, out),
+    }
+}
+
+/// [`write_reversed_avx2`] with the first (second) scaling applied if `S1` (`S2`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn write_reversed_lanes<const S1: bool, const S2: bool>(
     [w0, w1, w2]: [&[f64]; 3],
     scales: [Option<(f64, f64)>; 2],
     out: &mut [std::mem::MaybeUninit<f64>],
 ) -> usize {
     use std::arch::x86_64::*;
     let n = w0.len().min(w1.len()).min(w2.len()).min(out.len() / 3);
-    let [(scaled, shift, s), (scaled2, shift2, s2)] = scales.map(|scale| {
+    let [(shift, s), (shift2, s2)] = scales.map(|scale| {
         let (shift, s) = scale.unwrap_or((0.0, 1.0));
-        (scale.is_some(), _mm256_set1_pd(shift), _mm256_set1_pd(s))
+        (_mm256_set1_pd(shift), _mm256_set1_pd(s))
     });
     let o = out.as_mut_ptr().cast::<f64>();
     for done in (0..n / 4).map(|q| 4 * q) {
@@ -647,11 +665,11 @@ unsafe fn write_reversed_avx2(
         let j = n - done - 4;
         // SAFETY: j + 4 <= n, at most each list's length (no bounds checks in the loop).
         let [mut x, mut y, mut z] = [w0, w1, w2].map(|w| _mm256_loadu_pd(w.as_ptr().add(j)));
-        if scaled {
+        if S1 {
             (x, y) = (_mm256_mul_pd(x, s), _mm256_mul_pd(y, s));
             z = _mm256_mul_pd(_mm256_add_pd(z, shift), s);
         }
-        if scaled2 {
+        if S2 {
             (x, y) = (_mm256_mul_pd(x, s2), _mm256_mul_pd(y, s2));
             z = _mm256_mul_pd(_mm256_add_pd(z, shift2), s2);
         }
