@@ -241,7 +241,94 @@ fn write_reversed_is_the_reversed_write() {
             });
         }
         let mut got = prefix;
-        write_reversed([&w[0], &w[1], &w[2]], scale, &mut got);
+        write_reversed([&w[0], &w[1], &w[2]], [scale, None], &mut got);
+        assert_eq!(bits(&got), bits(&want), "case {case}");
+    }
+}
+
+/// [`normalized_range`] (the range of the normalized pieces without writing them) is
+/// [`fold_range`] of the ranges [`normalize_row`] writes, bit for bit, or `None` only for
+/// an extreme of zeros; over grids of 1 to 9 rows of 0 to 40 pieces of awkward weights,
+/// some all zero (zeros of both signs at the extremes).
+#[test]
+fn normalized_range_is_the_fold_of_normalized_rows() {
+    let mut seed = 53u64;
+    let mut answered = 0;
+    for case in 0..4000 {
+        let (nx, ny) = (case % 41, 1 + case % 9);
+        let n = nx * ny;
+        let xl: Vec<f64> = (0..nx).map(|k| (3 * k) as f64).collect();
+        let xh: Vec<f64> = xl.iter().map(|x| x + (case % 3) as f64).collect();
+        let yl: Vec<f64> = (0..ny).map(|k| (2 * k) as f64).collect();
+        let yh: Vec<f64> = yl.iter().map(|y| y + 1.0).collect();
+        let zero = case % 7 == 0;
+        let w: Vec<Vec<f64>> = (0..3)
+            .map(|_| {
+                (0..n)
+                    .map(|_| if zero { 0.0 } else { value(&mut seed) })
+                    .collect()
+            })
+            .collect();
+        let (shift, scale) = if zero {
+            ([0.0, -0.0][case % 2], 1.0)
+        } else {
+            (value(&mut seed), value(&mut seed))
+        };
+        let got = normalized_range((&xl, &xh, &yl, &yh, [&w[0], &w[1], &w[2]]), shift, scale);
+        if n == 0 {
+            assert!(got.is_none(), "case {case}");
+            continue;
+        }
+        let (mut w0, mut w1, mut w2) = (w[0].clone(), w[1].clone(), w[2].clone());
+        let (mut lo, mut hi) = (vec![0.0; n], vec![0.0; n]);
+        for cy in 0..ny {
+            let (i, j) = (cy * nx, (cy + 1) * nx);
+            let row = NormRow {
+                x: [&xl, &xh],
+                y: [yl[cy], yh[cy]],
+                w: [&mut w0[i..j], &mut w1[i..j], &mut w2[i..j]],
+                min: &mut lo[i..j],
+                max: &mut hi[i..j],
+            };
+            normalize_row(row, shift, scale);
+        }
+        let want = fold_range(&lo, &hi);
+        match got {
+            Some(got) => {
+                answered += 1;
+                assert_eq!(
+                    bits(&[got.0, got.1]),
+                    bits(&[want.0, want.1]),
+                    "case {case}"
+                );
+            }
+            None => assert!(want.0 == 0.0 || want.1 == 0.0, "case {case}"),
+        }
+    }
+    assert!(answered > 2000, "{answered}");
+}
+
+/// Two scalings written at once are the first written then the second applied to it.
+#[test]
+fn write_reversed_twice_is_once_then_again() {
+    let mut seed = 61u64;
+    for case in 0..2000 {
+        let n = case % 41;
+        let w: Vec<Vec<f64>> = (0..3)
+            .map(|_| (0..n).map(|_| value(&mut seed)).collect())
+            .collect();
+        let s1 = Some((value(&mut seed), value(&mut seed)));
+        let s2 = (case % 4 != 0).then(|| (value(&mut seed), value(&mut seed)));
+        let mut once = vec![];
+        write_reversed([&w[0], &w[1], &w[2]], [s1, None], &mut once);
+        // Back in the lists' order, then written again with the second scaling.
+        let back: Vec<Vec<f64>> = (0..3)
+            .map(|d| (0..n).map(|k| once[3 * (n - 1 - k) + d]).collect())
+            .collect();
+        let mut want = vec![];
+        write_reversed([&back[0], &back[1], &back[2]], [s2, None], &mut want);
+        let mut got = vec![];
+        write_reversed([&w[0], &w[1], &w[2]], [s1, s2], &mut got);
         assert_eq!(bits(&got), bits(&want), "case {case}");
     }
 }
