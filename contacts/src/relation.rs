@@ -72,6 +72,10 @@ impl ContactRelation {
         let r = CpaEngine::new(os.x, os.y, os.hdg, os.spd, cn.x, cn.y);
         let (osh, osv) = (os.hdg, os.spd);
         let (cnh, cnv) = (cn.hdg, cn.spd.max(0.0));
+        // Each engine's per-degree cosines at its vessel's heading, looked up once for
+        // the queries that have an `*_at` form (the same numbers, bit for bit, as the
+        // plain queries, each of which would compute them again).
+        let (eh, rh) = (e.heading(osh), r.heading(cnh));
         ContactRelation {
             range: e.rng,
             os_fore_of_cn: e.os_fore_of_cn(),
@@ -87,25 +91,25 @@ impl ContactRelation {
             os_cn_abs_bng: e.abs_os_cn,
             cn_spd_in_os_pos: e.cn_to_os,
             rate_of_closure: e.roc(osh, osv),
-            bearing_rate: e.bearing_rate(osh, osv),
-            contact_rate: r.bearing_rate(cnh, cnv),
+            bearing_rate: e.bearing_rate_at(&eh, osv),
+            contact_rate: r.bearing_rate_at(&rh, cnv),
             range_gamma: e.range_gamma,
             range_epsilon: e.range_epsilon,
-            os_passes_cn: e.passes_port_or_star(osh, osv),
-            os_passes_cn_port: e.passes_port(osh, osv),
-            os_passes_cn_star: e.passes_star(osh, osv),
-            cn_passes_os: r.passes_port_or_star(cnh, cnv),
-            cn_passes_os_port: r.passes_port(cnh, cnv),
-            cn_passes_os_star: r.passes_star(cnh, cnv),
+            os_passes_cn: e.passes_port_or_star_at(&eh, osv),
+            os_passes_cn_port: e.passes_port_at(&eh, osv),
+            os_passes_cn_star: e.passes_star_at(&eh, osv),
+            cn_passes_os: r.passes_port_or_star_at(&rh, cnv),
+            cn_passes_os_port: r.passes_port_at(&rh, cnv),
+            cn_passes_os_star: r.passes_star_at(&rh, cnv),
             os_crosses_cn: e.crosses_bow_or_stern(osh, osv),
-            os_crosses_cn_stern: e.crosses_stern(osh, osv),
-            os_crosses_cn_bow: e.crosses_bow(osh, osv),
+            os_crosses_cn_stern: e.crosses_stern_at(&eh, osv),
+            os_crosses_cn_bow: e.crosses_bow_at(&eh, osv),
             os_crosses_cn_bow_dist: e.crosses_bow_dist(osh, osv),
             cn_crosses_os: r.crosses_bow_or_stern(cnh, cnv),
-            cn_crosses_os_stern: r.crosses_stern(cnh, cnv),
-            cn_crosses_os_bow: r.crosses_bow(cnh, cnv),
+            cn_crosses_os_stern: r.crosses_stern_at(&rh, cnv),
+            cn_crosses_os_bow: r.crosses_bow_at(&rh, cnv),
             cn_crosses_os_bow_dist: r.crosses_bow_dist(cnh, cnv),
-            os_curr_cpa_dist: e.cpa(osh, osv, CURR_CPA_HORIZON),
+            os_curr_cpa_dist: e.cpa_at(&eh, osv, CURR_CPA_HORIZON).dist,
         }
     }
 }
