@@ -1,7 +1,5 @@
 //! The info buffer: the behaviors' view of MOOS data (behavior-common.md §7).
 
-use rustc_hash::FxHashMap;
-
 use bhv::logic::{Stamps, VarSource};
 
 #[derive(Debug, Default, Clone)]
@@ -22,11 +20,11 @@ struct Entry {
 /// Latest values per variable, their times, and this iteration's values.
 #[derive(Debug, Default)]
 pub struct InfoBuffer {
-    /// Each variable's place in `entries`. Looked up many times per iteration by name;
-    /// never iterated, so the hasher's order cannot show. Fx: SipHash's DoS resistance
-    /// buys nothing here. (A place rather than the entry: a write finds an existing
-    /// variable with one look-up, and a new one is added without a second.)
-    index: FxHashMap<String, usize>,
+    /// Each variable's place in `entries`, looked up many times per iteration by name
+    /// (short names without hashing their bytes). A place rather than the entry: a write
+    /// finds an existing variable with one look-up, and a new one is added without a
+    /// second.
+    index: mbutil::NameIndex,
     entries: Vec<Entry>,
     /// Places of the variables with deltas this iteration, so clearing touches only
     /// those.
@@ -60,10 +58,10 @@ impl InfoBuffer {
     /// for clearing at its first delta of the iteration.
     fn entry(&mut self, var: &str) -> &mut Entry {
         let i = match self.index.get(var) {
-            Some(&i) => i,
+            Some(i) => i,
             None => {
                 self.entries.push(Entry::default());
-                self.index.insert(var.to_string(), self.entries.len() - 1);
+                self.index.insert(var, self.entries.len() - 1);
                 self.entries.len() - 1
             }
         };
@@ -76,7 +74,7 @@ impl InfoBuffer {
     }
 
     fn get(&self, var: &str) -> Option<&Entry> {
-        self.index.get(var).map(|&i| &self.entries[i])
+        self.index.get(var).map(|i| &self.entries[i])
     }
 
     pub fn set_string(&mut self, var: &str, val: &str, msg_time: f64) {
@@ -111,7 +109,7 @@ impl InfoBuffer {
     }
 
     pub fn is_known(&self, var: &str) -> bool {
-        self.index.contains_key(var)
+        self.index.get(var).is_some()
     }
     pub fn dval(&self, var: &str) -> Option<f64> {
         self.get(var).and_then(|e| e.dval)
@@ -197,7 +195,7 @@ impl VarSource for InfoBuffer {
         Some(&self.stamps)
     }
     fn place(&self, var: &str) -> Option<usize> {
-        self.index.get(var).copied()
+        self.index.get(var)
     }
 }
 

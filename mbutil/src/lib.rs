@@ -15,11 +15,13 @@
 pub mod color;
 pub mod file;
 pub mod fixed;
+pub mod name_index;
 pub mod number;
 pub mod spare;
 pub mod string_pool;
 
 pub use color::{is_color, parse_color, Color};
 pub use fixed::{push_fixed, push_i64, push_u64};
+pub use name_index::NameIndex;
 pub use number::{atof, compact, is_number, parse_bool, parse_number, push_compact, strip_quotes};
 pub use string_pool::StringPool;

@@ -144,6 +144,9 @@ pub struct BehaviorCore {
 
     /// `name=<name>[,pc=..][,pwt=..,pcs=..]` built during the step.
     pub status_info: String,
+    /// `,pwt=..,pcs=..` of the last active step with its weight's bits and piece count,
+    /// written again only when they change (the weight is positive: never bits 0).
+    pub pwt_pcs: (u64, usize, String),
     /// Messages queued this iteration, in order.
     pub messages: Vec<Message>,
     /// Position in `messages` where the behavior asked to complete.
@@ -167,13 +170,12 @@ impl BehaviorCore {
     /// Good updates over all updates (`3/4`), or `n/a` without an updates variable,
     /// appended to `out`: the form of the appcast report and IVPHELM_SUMMARY.
     pub fn push_update_counts(&self, out: &mut String) {
-        use std::fmt::Write as _;
         if self.updates_var.is_empty() {
-            out.push_str("n/a");
-        } else {
-            let (good, all) = (self.good_updates, self.good_updates + self.bad_updates);
-            let _ = write!(out, "{good}/{all}");
+            return out.push_str("n/a");
         }
+        mbutil::push_u64(out, self.good_updates.into());
+        out.push('/');
+        mbutil::push_u64(out, (self.good_updates + self.bad_updates).into());
     }
 
     pub fn new(type_name: &str, default_name: &str, ownship: &str) -> Self {
@@ -223,6 +225,7 @@ impl BehaviorCore {
             step_secs: 0.0,
             update_results: Vec::new(),
             status_info: String::new(),
+            pwt_pcs: (0, 0, String::new()),
             messages: Vec::new(),
             complete_requested: None,
             info_vars: Vec::new(),

@@ -257,11 +257,17 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer, f: &mut
                     post_flags(inst, env, ib, FlagKind::Active, true);
                 }
                 new = RunState::Active;
-                let info = &mut inst.core.status_info;
-                info.push_str(",pwt=");
-                mbutil::push_fixed(info, pwt, 5);
-                info.push_str(",pcs=");
-                mbutil::push_u64(info, pcs as u64);
+                let core = &mut inst.core;
+                let (bits, count, text) = &mut core.pwt_pcs;
+                if (*bits, *count) != (pwt.to_bits(), pcs) {
+                    (*bits, *count) = (pwt.to_bits(), pcs);
+                    text.clear();
+                    text.push_str(",pwt=");
+                    mbutil::push_fixed(text, pwt, 5);
+                    text.push_str(",pcs=");
+                    mbutil::push_u64(text, pcs as u64);
+                }
+                core.status_info.push_str(text);
             } else {
                 *f = None;
                 if old == RunState::Active {
@@ -296,14 +302,7 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer, f: &mut
     status.push_str(",state=");
     status.push_str(new.as_str());
     status.push_str(",updates=");
-    if core.updates_var.is_empty() {
-        status.push_str("n/a");
-    } else {
-        let mut digits = itoa::Buffer::new();
-        status.push_str(digits.format(core.good_updates));
-        status.push('/');
-        status.push_str(digits.format(core.good_updates + core.bad_updates));
-    }
+    core.push_update_counts(&mut status);
     core.post("BHV_STATUS", Value::Str(status), "");
     if new != old {
         core.state_entry_time = now;
