@@ -95,12 +95,12 @@ impl Builder {
         };
         let z = kept::peak(&mut self.course, domain, "course", true, 1).ok_or(None)?;
         let ok = z.set_params(o.bearing, 0.0, 180.0, 0.0, 0.0, 100.0, 0);
-        let crs = z.extract(true);
+        // The course pieces coupled as they are, not made a function first.
+        let coupled = spd.map(|spd| z.try_extract_coupled(true, spd, (o.patience, w2), true));
         kept::drop_on_failure(&mut self.course, ok);
-        let (Some(crs), Some(spd)) = (crs, spd) else {
+        let Some(Ok(coupled)) = coupled else {
             return Err(ZAIC_FAIL);
         };
-        let coupled = ivp::coupler::try_couple_normalized(crs, spd, o.patience, w2, true);
         let mut f = coupled.map_err(|_| None)?;
         f.normalize(0.0, 100.0);
         Ok(f)

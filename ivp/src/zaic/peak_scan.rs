@@ -16,7 +16,7 @@
 //! `minutil` (the summit-insist rule), a wrapped summit outside the domain, utilities
 //! large enough that rounding could approach the tolerance.
 
-use super::shape::{Component, Shape};
+use super::shape::{dist_of, Component, Shape};
 use super::Pieces1;
 
 /// Below this many points sampling them all is as cheap as finding the kinks (the
@@ -156,22 +156,11 @@ impl Peak {
     }
 }
 
-/// [`dist_of`] with branches for its selects (the same operations where used).
+/// [`dist_of`] on the grid: the sampler's own expression (so the same value), whose
+/// selects the compiler may keep free of branches (the side of the summit is data).
 #[inline(always)]
 fn dist_to(summit: f64, x: f64, g: &Grid) -> f64 {
-    if !g.wrap {
-        return (summit - x).abs();
-    }
-    let (a, b) = if summit > x {
-        (summit - x, (x - g.low) + (g.high - summit) + g.delta)
-    } else {
-        (x - summit, (g.high - x) + (summit - g.low) + g.delta)
-    };
-    if a < b {
-        a
-    } else {
-        b
-    }
+    dist_of(summit, x, g.wrap, g.low, g.high, g.delta)
 }
 
 /// The components' kinks in grid steps from `low`, sorted, into `kinks`; their count,
@@ -180,6 +169,8 @@ fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usi
     let (low, delta, n) = (grid.low, grid.delta, grid.points);
     let mut nk = 0;
     let span = (grid.high - low) + delta;
+    // The last kink kept, converted once (`usize` to `f64` takes several instructions).
+    let top = (n + 1) as f64;
     for c in comps {
         let reach = c.pwidth + c.bwidth;
         // Kinks off the grid (by more than a step) cut no stretch, nor does one just added
@@ -187,7 +178,7 @@ fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usi
         let mut add = |x: f64| {
             let k = (x - low) / delta;
             let again = nk > 0 && kinks[nk - 1] == k;
-            if again || (!(-2.0..=(n + 1) as f64).contains(&k) && k.is_finite()) {
+            if again || (!(-2.0..=top).contains(&k) && k.is_finite()) {
                 return;
             }
             kinks[nk] = k;
@@ -215,8 +206,16 @@ fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usi
     if kinks.iter().any(|k| !k.is_finite()) {
         return None;
     }
-    // All finite: `<` orders them (a -0.0 beside a 0.0 either way compares the same below).
-    kinks.sort_unstable_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    // All finite: `<` orders them (a -0.0 beside a 0.0 either way compares the same
+    // below). Insertion: a dozen kinks, mostly in order already.
+    for i in 1..nk {
+        let (k, mut j) = (kinks[i], i);
+        while j > 0 && k < kinks[j - 1] {
+            kinks[j] = kinks[j - 1];
+            j -= 1;
+        }
+        kinks[j] = k;
+    }
     Some(nk)
 }
 

@@ -35,7 +35,8 @@ pub(crate) fn dist_of(summit: f64, x: f64, wrap: bool, low: f64, high: f64, delt
         return (summit - x).abs();
     }
     let above = summit > x;
-    let a = if above { summit - x } else { x - summit };
+    // `x - summit` is exactly `-(summit - x)` (and both +0.0 when equal): no select.
+    let a = (summit - x).abs();
     let b = if above {
         (x - low) + (high - summit) + delta
     } else {
