@@ -3,8 +3,7 @@
 //! of up to 16 bytes is its own key, two words read in place: no hash over its bytes and
 //! no `memcmp` to confirm a hit. Longer names go to an ordinary map.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use rustc_hash::FxHashMap;
 
 /// A name of at most 16 bytes, exactly: with its length, the first and last 8 bytes
 /// (overlapping below 16) or the first and last 4 (below 8) or three bytes (below 4)
@@ -63,23 +62,6 @@ impl Short {
     }
 }
 
-/// Hashes a long name's bytes, eight at a time.
-#[derive(Default)]
-struct WordHasher(u64);
-
-impl Hasher for WordHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut w = [0u8; 8];
-            w[..chunk.len()].copy_from_slice(chunk);
-            self.0 = mix(self.0 ^ u64::from_le_bytes(w), K);
-        }
-    }
-}
-
 /// Names to places (`usize`), never iterated: the order of the slots cannot show.
 ///
 /// ```
@@ -96,7 +78,7 @@ pub struct NameIndex {
     /// two long): a hit is mostly the first slot looked at.
     slots: Vec<(Short, usize)>,
     shorts: usize,
-    long: HashMap<String, usize, BuildHasherDefault<WordHasher>>,
+    long: FxHashMap<String, usize>,
 }
 
 impl NameIndex {
