@@ -61,8 +61,9 @@ pub fn try_couple_normalized(
     check(f1.domain().vars(), f2, w1, w2)?;
     f1.normalize(0.0, w1);
     let d1 = f1.dim();
-    // f1's variables, moved.
-    let dom = f1.take_domain();
+    // f1's variables, moved, then f2's.
+    let mut dom = f1.take_domain();
+    dom.append_disjoint(crate::domain::domain_of(f2.domain().vars()));
     let out = pair_into(dom, d1, (f1.bounds(), f1.weights()), f2, normalize);
     // f1's storage goes to the next builds.
     f1.recycle();
@@ -81,7 +82,9 @@ pub(crate) fn try_couple_line(
     let var = std::slice::from_ref(var);
     check(var, f2, w1, w2)?;
     crate::function::normalize_line_pieces(b1, w1s, 0.0, w1);
-    let dom = crate::domain::domain_of(var);
+    // The variables of both, copied at once into one spare domain (the previous
+    // coupled function's, its names reused).
+    let dom = crate::domain::domain_of(var.iter().chain(f2.domain().vars()));
     Ok(pair_into(dom, 1, (b1, w1s), f2, normalize))
 }
 
@@ -102,9 +105,10 @@ fn check(vars1: &[DomainVar], f2: &IvpFunction, w1: f64, w2: f64) -> Result<(), 
     Ok(())
 }
 
-/// The coupled function of f1 (over `dom`, `d1` variables, its pieces normalized) and f2.
+/// The coupled function, over `dom` (f1's `d1` variables then f2's), of f1 (its pieces
+/// normalized) and f2.
 fn pair_into(
-    mut dom: Domain,
+    dom: Domain,
     d1: usize,
     (b1, w1s): (&[i32], &[f64]),
     f2: &IvpFunction,
@@ -117,8 +121,6 @@ fn pair_into(
     // translating both functions first (this runs for every Waypoint every iteration).
     let d2 = f2.dim();
     let (n1, n2) = (w1s.len() / (d1 + 1), f2.piece_count());
-    // The union of two disjoint domains: f1's variables (moved) then f2's.
-    dom.append_disjoint(crate::domain::domain_of(f2.domain().vars()));
     let td = dom.size();
     debug_assert_eq!(td, d1 + d2);
     let (bl, wl) = (2 * td, td + 1);
@@ -190,32 +192,31 @@ fn pair_lines(
     let most = (b1.len() / 2) * (q_boxes.len() / 2);
     bounds.resize(4 * most, 0);
     weights.resize(3 * most, 0.0);
-    let mut slots = bounds.chunks_exact_mut(4).zip(weights.chunks_exact_mut(3));
+    // As arrays: the loops below index nothing (no bounds checks).
+    let (qs, vs) = (q_boxes.as_chunks::<2>().0, q_vals.as_chunks::<4>().0);
+    let nq = qs.len();
     let (mut mn, mut mx, mut used) = (0.0, 0.0, 0);
-    for (pb, pw) in b1.chunks_exact(2).zip(w1s.chunks_exact(2)) {
+    for (pb, pw) in b1.as_chunks::<2>().0.iter().zip(w1s.as_chunks::<2>().0) {
         let Some((plo, phi)) = clip(pb, tops[0]) else {
             continue;
         };
         let ps = pw[0] + 0.0;
         let (p_min, p_max) = ends(plo, phi, ps);
-        let qs = q_boxes.chunks_exact(2).zip(q_vals.chunks_exact(4));
-        // `slots` holds one for every pair: the zip ends with the q's.
-        for ((q, v), (bs, ws)) in qs.zip(slots.by_ref()) {
+        // This p's pairs go to the next `nq` slots.
+        let bs = bounds[4 * used..4 * (used + nq)].as_chunks_mut::<4>().0;
+        let ws = weights[3 * used..3 * (used + nq)].as_chunks_mut::<3>().0;
+        for (((q, v), b), w) in qs.iter().zip(vs).zip(bs).zip(ws) {
             let c = pw[1] + v[3];
-            bs.copy_from_slice(&[plo, phi, q[0], q[1]]);
-            ws.copy_from_slice(&[ps, v[0], c]);
+            *b = [plo, phi, q[0], q[1]];
+            *w = [ps, v[0], c];
             let (lo, hi) = ((c + p_min) + v[1], (c + p_max) + v[2]);
-            used += 1;
-            if used == 1 {
+            if used == 0 {
                 (mn, mx) = (lo, hi);
-                continue;
+            } else {
+                mn = if lo < mn { lo } else { mn };
+                mx = if hi > mx { hi } else { mx };
             }
-            if lo < mn {
-                mn = lo;
-            }
-            if hi > mx {
-                mx = hi;
-            }
+            used += 1;
         }
     }
     bounds.truncate(4 * used);

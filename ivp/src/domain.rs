@@ -97,7 +97,7 @@ thread_local! {
 /// into one does not grow it.
 // Public but hidden: for ivp-reflector only, not part of ivp's API.
 #[doc(hidden)]
-pub fn domain_of(vars: &[DomainVar]) -> Domain {
+pub fn domain_of<'a>(vars: impl IntoIterator<Item = &'a DomainVar>) -> Domain {
     let spare = SPARE_DOMAINS.try_with(|s| s.borrow_mut().pop());
     let mut d = spare.ok().flatten().unwrap_or_default();
     d.assign_from(vars);
@@ -303,15 +303,11 @@ impl Domain {
     /// Become a copy of `vars`, reusing this domain's variables and names (room for a
     /// few variables is kept). Names of variables dropped or added go through the spare
     /// strings of [`mbutil::spare`].
-    pub(crate) fn assign_from(&mut self, vars: &[DomainVar]) {
-        self.vars.reserve(vars.len().max(4));
-        while self.vars.len() > vars.len() {
-            if let Some(v) = self.vars.pop() {
-                mbutil::spare::give_string(v.name);
-            }
-        }
-        for (k, v) in vars.iter().enumerate() {
-            if let Some(slot) = self.vars.get_mut(k) {
+    pub(crate) fn assign_from<'a>(&mut self, vars: impl IntoIterator<Item = &'a DomainVar>) {
+        self.vars.reserve(4);
+        let mut n = 0;
+        for v in vars {
+            if let Some(slot) = self.vars.get_mut(n) {
                 slot.name.clear();
                 slot.name.push_str(&v.name);
                 (slot.low, slot.high, slot.points) = (v.low, v.high, v.points);
@@ -320,6 +316,10 @@ impl Domain {
                 name.push_str(&v.name);
                 self.vars.push(DomainVar { name, ..*v });
             }
+            n += 1;
+        }
+        for v in self.vars.drain(n..) {
+            mbutil::spare::give_string(v.name);
         }
     }
 

@@ -176,8 +176,7 @@ impl Helm {
         self.publish_behavior_output(now);
         self.post_summary(now, &summary);
         self.post_num("IVPHELM_IPF_CNT", summary.functions as f64);
-        let pieces: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
-        self.post_num("IVPHELM_TOTAL_PCS_FORMED", pieces as f64);
+        self.post_num("IVPHELM_TOTAL_PCS_FORMED", self.pieces_total() as f64);
         self.post_num("IVPHELM_TOTAL_PCS_CACHED", 0.0);
         self.post_num("IVPHELM_CREATE_CPU", summary.create_secs);
         self.post_num("IVPHELM_LOOP_CPU", self.last_decide_secs);
@@ -274,19 +273,17 @@ impl Helm {
         // Last iteration's functions: their storage goes to this iteration's builders.
         for (name, f) in self.functions.drain(..) {
             self.pool.give(name);
-            f.recycle();
+            recycle(f);
         }
         let (mut t, mut fd) = (started, None); // a behavior's end is the next one's start
         for i in 0..self.behaviors.len() {
             step(&mut self.behaviors[i], &self.env, &self.ib, &mut fd);
             if let Some(fd) = fd.take() {
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
-                match place(&mut self.behaviors[i].core, fd, &self.config.domain) {
-                    Ok(f) => {
-                        // BHV_IPF shows the function before normalization, pwt apart.
-                        self.post_ipf(i, f.view(), &name, iter);
-                        self.functions.push((name, f));
-                    }
+                let core = &mut self.behaviors[i].core;
+                match place(core, fd, &self.config.domain, name, &mut self.functions) {
+                    // BHV_IPF shows the function before normalization, pwt apart.
+                    Ok(()) => self.post_ipf(i, iter),
                     Err(msg) => {
                         summary.halted = Some(msg.clone());
                         crate::runtime::fault(&mut self.behaviors[i].core, &msg);
@@ -346,12 +343,13 @@ impl Helm {
         summary
     }
 
-    /// BHV_IPF (behavior-common.md §4 step 10.7): the function serialised into packets,
-    /// queued as the behavior's messages; every string is a reused one.
-    fn post_ipf(&mut self, i: usize, f: FunctionView<'_>, name: &str, iter: u64) {
-        if self.ipf_off {
+    /// BHV_IPF (behavior-common.md §4 step 10.7): the last function placed, serialised
+    /// into packets, queued as behavior `i`'s messages; every string is a reused one.
+    fn post_ipf(&mut self, i: usize, iter: u64) {
+        let (Some((name, f)), false) = (self.functions.last(), self.ipf_off) else {
             return;
-        }
+        };
+        let f = f.view();
         // The function's context, `iteration:behavior`, is written by the writer.
         let source = ivp_ipf::IpfSource {
             context: "",
@@ -490,14 +488,11 @@ fn copy_pairs(to: &mut Vec<(String, String)>, from: &[(String, String)]) {
 /// A behavior's function of this iteration, read in place where its behavior built it
 /// (copying it would cost more than the solve of a big one) until the next decision
 /// hands it back.
-pub(crate) struct HelmFunction(
-    CheckedFunction<AbiFunction>,
-    Option<behavior_api::FunctionRecycler>,
-);
+pub(crate) type HelmFunction = CheckedFunction<AbiFunction>;
 
-/// A behavior's function as it crossed the ABI, read in place.
+/// A behavior's function as it crossed the ABI, read in place, and its recycler.
 #[derive(Debug)]
-pub(crate) struct AbiFunction(FunctionData);
+pub(crate) struct AbiFunction(FunctionData, Option<behavior_api::FunctionRecycler>);
 
 impl PieceBuffers for AbiFunction {
     fn bounds(&self) -> &[i32] {
@@ -517,21 +512,11 @@ impl PieceBuffers for AbiFunction {
     }
 }
 
-impl HelmFunction {
-    pub(crate) fn view(&self) -> FunctionView<'_> {
-        self.0.view()
-    }
-
-    pub(crate) fn piece_count(&self) -> usize {
-        self.view().piece_count()
-    }
-
-    /// Storage back to whoever made it: the host's spares or the library's, for the
-    /// next build (a library older than the recycler frees it here, through its own
-    /// allocator).
-    fn recycle(self) {
-        hand_back(self.0.into_parts().0, self.1);
-    }
+/// Storage back to whoever made it: the host's spares or the library's, for the next
+/// build (a library older than the recycler frees it here, through its own allocator).
+fn recycle(f: HelmFunction) {
+    let AbiFunction(fd, give_back) = f.into_parts();
+    hand_back(fd, give_back);
 }
 
 fn hand_back(fd: FunctionData, give_back: Option<behavior_api::FunctionRecycler>) {
@@ -540,14 +525,16 @@ fn hand_back(fd: FunctionData, give_back: Option<behavior_api::FunctionRecycler>
     }
 }
 
-/// A behavior's function on the helm domain. Its domain text is parsed and checked
-/// against the helm's grid only when it differs from the behavior's previous one (a
-/// behavior's domain rarely changes, and the text's numbers are slow to read).
+/// A behavior's function on the helm domain, pushed to `out` (not moved through results).
+/// Its domain text is parsed and checked against the helm's grid only when it differs
+/// from the behavior's previous one (rare; the text's numbers are slow to read).
 fn place(
     core: &mut crate::runtime::BehaviorCore,
     fd: FunctionData,
     helm: &ivp::Domain,
-) -> Result<HelmFunction, String> {
+    name: String,
+    out: &mut Vec<(String, HelmFunction)>,
+) -> Result<(), String> {
     if core.placed_domain != fd.domain.as_str() {
         core.placed_domain.clear();
         core.placed = None;
@@ -567,9 +554,12 @@ fn place(
             }
         },
     };
-    match CheckedFunction::new(AbiFunction(fd), domain) {
-        Ok(f) => Ok(HelmFunction(f, give_back)),
-        Err((AbiFunction(fd), e)) => {
+    match CheckedFunction::new(AbiFunction(fd, give_back), domain) {
+        Ok(f) => {
+            out.push((name, f));
+            Ok(())
+        }
+        Err((AbiFunction(fd, _), e)) => {
             hand_back(fd, give_back);
             Err(FunctionData::rejection(e))
         }

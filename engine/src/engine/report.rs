@@ -156,7 +156,7 @@ impl Helm {
         }
         let f = &self.report;
         let mut s = String::with_capacity(2048);
-        let pcs: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
+        let pcs = self.pieces_total();
         let modes = if self.modes.is_empty() {
             String::new()
         } else {

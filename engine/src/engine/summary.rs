@@ -34,7 +34,15 @@ impl Helm {
         self.functions
             .iter()
             .find(|(n, _)| n == name)
-            .map_or(0, |(_, f)| f.piece_count())
+            .map_or(0, |(_, f)| f.view().piece_count())
+    }
+
+    /// Pieces of all this iteration's functions.
+    pub(crate) fn pieces_total(&self) -> usize {
+        self.functions
+            .iter()
+            .map(|(_, f)| f.view().piece_count())
+            .sum()
     }
 
     fn push_bhv_list(&self, out: &mut String, state: RunState, active: bool) {
@@ -89,7 +97,7 @@ impl Helm {
         match k {
             0 => out.push_str(digits.format(s.functions)),
             1 => {
-                let pcs: usize = self.functions.iter().map(|(_, f)| f.piece_count()).sum();
+                let pcs = self.pieces_total();
                 out.push_str(digits.format(pcs));
             }
             2 => out.push('0'),

@@ -14,9 +14,10 @@ pub struct HsLine {
     max_seen: f64,
     /// The last line drawn (empty before the first run).
     line: Vec<Vertex>,
-    /// The line's attributes, its label `<ownship>_<name>` asked of the helm once: both
-    /// are fixed for a behavior's life (each costs a string across the ABI).
-    attrs: Option<Attrs>,
+    /// The line's attributes' text (`,active=...,label=<ownship>_<name>`), inactive and
+    /// active, made once: the label is fixed for a behavior's life (asking for it costs
+    /// strings across the ABI) and the line is posted every iteration.
+    attrs: Option<[String; 2]>,
     /// The posted text, kept: the line is posted every iteration.
     text: String,
 }
@@ -36,14 +37,21 @@ impl HsLine {
 
     /// Post the line as `VIEW_SEGLIST`, active or not (`seglist_spec`'s text).
     fn post(&mut self, ctx: &mut Ctx<'_>, active: bool) {
-        let attrs = self.attrs.get_or_insert_with(|| Attrs {
-            label: format!("{}_{}", ctx.ownship(), ctx.name()),
-            ..Attrs::default()
+        let attrs = self.attrs.get_or_insert_with(|| {
+            let mut attrs = Attrs {
+                label: format!("{}_{}", ctx.ownship(), ctx.name()),
+                ..Attrs::default()
+            };
+            [false, true].map(|a| {
+                attrs.active = Some(a);
+                let mut text = String::new();
+                attrs.push_spec(&mut text);
+                text
+            })
         });
-        attrs.active = Some(active);
         self.text.clear();
         push_pts_props_spec(&mut self.text, &self.line, &[], 1);
-        attrs.push_spec(&mut self.text);
+        self.text.push_str(&attrs[usize::from(active)]);
         ctx.post_message("VIEW_SEGLIST", &self.text);
     }
 
