@@ -226,8 +226,6 @@ impl<'a> Reflector<'a> {
         // behavior per iteration).
         self.bounds.clear();
         self.weights.clear();
-        self.bounds.reserve(total * 2 * n);
-        self.weights.reserve(total * (n + 1));
         // Fits shared by tiles equal in every dimension the AOF uses (and in whether the
         // fit takes the centre point), when it ignores some dimension: slot = the tile's
         // coordinates in the used dimensions (mixed radix) × 2 + centre.
@@ -253,6 +251,8 @@ impl<'a> Reflector<'a> {
             return total;
         }
         // Tile by tile (allocated only here: the grid fit above needs none of these).
+        self.bounds.reserve(total * 2 * n);
+        self.weights.reserve(total * (n + 1));
         let mut tile = vec![(0u32, 0u32); n];
         let mut w = vec![0.0; n + 1];
         let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();
