@@ -714,6 +714,53 @@ mod tests {
         f.recycle();
     }
 
+    /// The boxes given as pairs are those of the same boxes given as text, and a box
+    /// with an unknown variable or a size 0 is refused and left as it was, as there.
+    #[test]
+    fn uniform_boxes_as_pairs_equal_them_as_text() {
+        let domain = Domain::parse("course:0:359:360,speed:0:4:41").expect("domain");
+        let aof = Bumps {
+            k: vec![0.3, -0.7, 0.11, 0.5, -0.2, 0.9],
+            clip: 35.0,
+        };
+        let build = |pairs: bool, piece: &'static str, grid: &'static str| {
+            let mut r = Reflector::new(&domain, &aof);
+            let ok = if pairs {
+                let box_of = |t: &'static str| -> Vec<(&'static str, u32)> {
+                    let parts = t.split(',').filter_map(|p| p.split_once(':'));
+                    parts.map(|(n, v)| (n, v.parse().expect("size"))).collect()
+                };
+                r.set_uniform(&box_of(piece), &box_of(grid))
+            } else {
+                let a = r.set_param("uniform_piece", &format!("discrete @ {piece}"));
+                let b = r.set_param("uniform_grid", &format!("discrete @ {grid}"));
+                a && b
+            };
+            r.create(None, None);
+            let f = r.into_function_normalized_twice().expect("pieces");
+            let bits = |v: &[f64]| v.iter().map(|&w| bits_of(w)).collect::<Vec<u64>>();
+            let got = (
+                ok,
+                f.bounds().to_vec(),
+                bits(f.weights()),
+                bits(f.grid_bounds()),
+            );
+            (got, f.gelbox().to_vec())
+        };
+        for (piece, grid) in [
+            ("course:3,speed:3", "course:9,speed:6"),
+            ("speed:2", "course:8"),
+            ("course:3,heading:3", "course:9,speed:6"),
+            ("course:3,speed:0", "course:0,speed:6"),
+        ] {
+            assert_eq!(
+                build(true, piece, grid),
+                build(false, piece, grid),
+                "{piece} {grid}"
+            );
+        }
+    }
+
     /// Values with ties, signed zeros, NaNs and infinities, from a hash of the point.
     struct Awkward(u64);
 
