@@ -90,18 +90,40 @@ impl<'a> Reflector<'a> {
             .map(str::trim_start)
             .and_then(|b| b.strip_prefix('@'))
             .unwrap_or(body);
+        let parts = body.split(',').map(str::trim).filter(|p| !p.is_empty());
+        self.box_of(parts.map(|part| {
+            let (name, val) = part.split_once(':')?;
+            Some((name.trim(), val.trim().parse().ok()?))
+        }))
+    }
+
+    /// Box sizes from (variable, size) pairs (unnamed variables: 1); `None` for a pair
+    /// that is `None`, names no variable or has size 0.
+    fn box_of<'s>(&self, parts: impl Iterator<Item = Option<(&'s str, u32)>>) -> Option<Vec<u32>> {
         let mut sizes = spare::uints();
         sizes.resize(self.domain.size(), 1);
-        for part in body.split(',').map(str::trim).filter(|p| !p.is_empty()) {
-            let (name, val) = part.split_once(':')?;
-            let d = self.domain.index_of(name.trim())?;
-            let v: u32 = val.trim().parse().ok()?;
+        for part in parts {
+            let (name, v) = part?;
+            let d = self.domain.index_of(name)?;
             if v == 0 {
                 return None;
             }
             sizes[d] = v;
         }
         Some(sizes)
+    }
+
+    /// `uniform_piece` and `uniform_grid` from (variable, size) pairs, as
+    /// [`Reflector::set_param`] takes `"discrete @ course:3,speed:3"` but without reading
+    /// the text (a behavior sets them every build). False, and that one left unset,
+    /// for a box with an unknown variable or a size 0.
+    pub fn set_uniform(&mut self, piece: &[(&str, u32)], grid: &[(&str, u32)]) -> bool {
+        let piece = self.box_of(piece.iter().map(|&p| Some(p)));
+        let grid = self.box_of(grid.iter().map(|&p| Some(p)));
+        let ok = piece.is_some() && grid.is_some();
+        self.uniform_piece = piece.or(self.uniform_piece.take());
+        self.uniform_grid = grid.or(self.uniform_grid.take());
+        ok
     }
 
     /// Parameters: `uniform_piece`, `uniform_grid` (box strings), `uniform_amount`
@@ -226,8 +248,6 @@ impl<'a> Reflector<'a> {
         // behavior per iteration).
         self.bounds.clear();
         self.weights.clear();
-        self.bounds.reserve(total * 2 * n);
-        self.weights.reserve(total * (n + 1));
         // Fits shared by tiles equal in every dimension the AOF uses (and in whether the
         // fit takes the centre point), when it ignores some dimension: slot = the tile's
         // coordinates in the used dimensions (mixed radix) × 2 + centre.
@@ -253,6 +273,8 @@ impl<'a> Reflector<'a> {
             return total;
         }
         // Tile by tile (allocated only here: the grid fit above needs none of these).
+        self.bounds.reserve(total * 2 * n);
+        self.weights.reserve(total * (n + 1));
         let mut tile = vec![(0u32, 0u32); n];
         let mut w = vec![0.0; n + 1];
         let used: Vec<bool> = (0..n).map(|d| !self.aof.ignores(d)).collect();

@@ -11,6 +11,7 @@ use crate::aof::Aof;
 use crate::fit::{fit_box, FIT_DIMS};
 use ivp::domain::Domain;
 use ivp::function::grid_dim;
+use mbutil::spare;
 
 /// What the fitting pass gives besides the pieces: what the function's
 /// [`IvpFunction::build_grid`](ivp::IvpFunction::build_grid) and
@@ -173,12 +174,14 @@ fn fit_uniform_n<const N: usize>(
         .map(|a| a.key.map_or(1, |k| k[5]))
         .product();
     if N == 2 {
-        // The bounds depend on the shape alone: written once, then copied.
+        // The bounds depend on the shape alone: written once, then copied, or found in
+        // a buffer of an earlier function of this shape that came back holding them.
         let mut kept = std::mem::take(&mut axes[0].bounds);
         if kept.is_empty() {
             write_bounds_2(&axes[0].edges, &axes[1].edges, &mut kept);
         }
-        bounds.extend_from_slice(&kept);
+        debug_assert!(bounds.is_empty());
+        spare::give_ints(std::mem::replace(bounds, spare::ints_holding(&kept)));
         axes[0].bounds = kept;
     }
     let axes = &axes[..N];
@@ -212,9 +215,6 @@ fn fit_uniform_n<const N: usize>(
             .map(|d| corner_stride[d])
             .sum()
     });
-    let total: usize = counts.iter().map(|&c| c as usize).product();
-    bounds.reserve(total * 2 * N);
-    weights.reserve(total * (N + 1));
     if N == 2 {
         // The contact behaviors' course × speed: rows of tiles, no per-corner offsets.
         let mids = if any_centre { &mids.0[..] } else { &[] };
@@ -223,6 +223,9 @@ fn fit_uniform_n<const N: usize>(
         summary.weights_pending = min_max.is_some();
         return;
     }
+    let total: usize = counts.iter().map(|&c| c as usize).product();
+    bounds.reserve(total * 2 * N);
+    weights.reserve(total * (N + 1));
     let mut folds = Folds {
         grid,
         min_max: None,
@@ -676,6 +679,85 @@ mod tests {
             for (k, (&c, want)) in cases.iter().zip(&fresh).enumerate().rev() {
                 assert_eq!(&build(c, k == 3), want, "round {round} case {k}");
             }
+        }
+    }
+
+    /// A function's bounds buffer that comes back holding its shape's bounds serves the
+    /// next build of that shape as it is; one changed while out is written again.
+    #[test]
+    fn a_returned_bounds_buffer_serves_only_while_it_holds_the_bounds() {
+        let domain = Domain::parse("x:0:359:360,y:0:4:41").expect("domain");
+        let aof = Bumps {
+            k: vec![0.3, -0.7, 0.11, 0.5, -0.2, 0.9],
+            clip: 35.0,
+        };
+        let build = || {
+            let mut r = Reflector::new(&domain, &aof);
+            r.set_param("uniform_piece", "discrete@x:3,y:3");
+            r.create(None, None);
+            r.into_function(true).expect("pieces")
+        };
+        let want = std::thread::scope(|s| s.spawn(|| build().bounds().to_vec()).join());
+        let want = want.expect("build");
+        let mut f = build();
+        assert_eq!(f.bounds(), want);
+        let at = f.bounds().as_ptr();
+        f.recycle();
+        f = build();
+        assert!(f.bounds().as_ptr() == at && f.bounds() == want);
+        // Changed in place while out (its weights and all): the bounds are written again.
+        let (mut bounds, weights, gelbox, grid) = f.take_buffers();
+        bounds[5] += 1;
+        mbutil::spare::give_function_buffers(bounds, weights, gelbox, grid);
+        f = build();
+        assert!(f.bounds().as_ptr() == at && f.bounds() == want);
+        f.recycle();
+    }
+
+    /// The boxes given as pairs are those of the same boxes given as text, and a box
+    /// with an unknown variable or a size 0 is refused and left as it was, as there.
+    #[test]
+    fn uniform_boxes_as_pairs_equal_them_as_text() {
+        let domain = Domain::parse("course:0:359:360,speed:0:4:41").expect("domain");
+        let aof = Bumps {
+            k: vec![0.3, -0.7, 0.11, 0.5, -0.2, 0.9],
+            clip: 35.0,
+        };
+        let build = |pairs: bool, piece: &'static str, grid: &'static str| {
+            let mut r = Reflector::new(&domain, &aof);
+            let ok = if pairs {
+                let box_of = |t: &'static str| -> Vec<(&'static str, u32)> {
+                    let parts = t.split(',').filter_map(|p| p.split_once(':'));
+                    parts.map(|(n, v)| (n, v.parse().expect("size"))).collect()
+                };
+                r.set_uniform(&box_of(piece), &box_of(grid))
+            } else {
+                let a = r.set_param("uniform_piece", &format!("discrete @ {piece}"));
+                let b = r.set_param("uniform_grid", &format!("discrete @ {grid}"));
+                a && b
+            };
+            r.create(None, None);
+            let f = r.into_function_normalized_twice().expect("pieces");
+            let bits = |v: &[f64]| v.iter().map(|&w| bits_of(w)).collect::<Vec<u64>>();
+            let got = (
+                ok,
+                f.bounds().to_vec(),
+                bits(f.weights()),
+                bits(f.grid_bounds()),
+            );
+            (got, f.gelbox().to_vec())
+        };
+        for (piece, grid) in [
+            ("course:3,speed:3", "course:9,speed:6"),
+            ("speed:2", "course:8"),
+            ("course:3,heading:3", "course:9,speed:6"),
+            ("course:3,speed:0", "course:0,speed:6"),
+        ] {
+            assert_eq!(
+                build(true, piece, grid),
+                build(false, piece, grid),
+                "{piece} {grid}"
+            );
         }
     }
 

@@ -21,6 +21,10 @@ struct Spare {
     floats: Vec<Vec<f64>>,
     uints: Vec<Vec<u32>>,
     strings: Vec<String>,
+    /// Bounds buffers handed out by [`ints_holding`] and not back yet (their addresses).
+    marked: Vec<usize>,
+    /// Such buffers back from [`give_function_buffers`], their contents kept.
+    held: Vec<Vec<i32>>,
 }
 
 thread_local! {
@@ -121,6 +125,37 @@ pub fn uints_from(items: &[u32]) -> Vec<u32> {
     v.extend_from_slice(items);
     v
 }
+/// A copy of `items` for a function's bounds that many builds share (a reflector's
+/// tiling): a buffer that came back through [`give_function_buffers`] already holding
+/// them is reused without copying. It is only taken after comparing its contents with
+/// `items` (cheaper than the copy), so a holder having changed them, or an address
+/// reused by another buffer, costs the copy, never a wrong result.
+pub fn ints_holding(items: &[i32]) -> Vec<i32> {
+    let picked = SPARE.try_with(|s| {
+        let mut s = s.try_borrow_mut().ok()?;
+        // One of the same length, else the oldest held (a shape no longer built).
+        let k = s.held.iter().rposition(|v| v.len() == items.len());
+        let mut v = match k.or(if s.held.is_empty() { None } else { Some(0) }) {
+            Some(k) => s.held.swap_remove(k),
+            None => fitting(&mut s.ints, items.len()).unwrap_or_default(),
+        };
+        if v[..] != *items {
+            v.clear();
+            v.extend_from_slice(items);
+        }
+        if v.capacity() == 0 {
+            return Some(v);
+        }
+        if s.marked.len() >= MAX_SPARE {
+            // Marks of buffers that never came back (dropped) let go.
+            s.marked.remove(0);
+        }
+        s.marked.push(v.as_ptr() as usize);
+        Some(v)
+    });
+    picked.ok().flatten().unwrap_or_else(|| items.to_vec())
+}
+
 /// An empty string, in a spare allocation when one is kept.
 pub fn string() -> String {
     take(|s| s.strings.pop())
@@ -154,14 +189,23 @@ pub fn give_function_buffers(
     mut gelbox: Vec<u32>,
     mut grid: Vec<f64>,
 ) {
-    bounds.clear();
     weights.clear();
     gelbox.clear();
     grid.clear();
     give(|s| {
-        // In the order of the four `give_*` calls, an empty one not kept.
-        if bounds.capacity() > 0 {
-            keep(&mut s.ints, bounds);
+        // A buffer from `ints_holding` keeps its contents for the next one.
+        let at = bounds.as_ptr() as usize;
+        match s.marked.iter().rposition(|&p| p == at) {
+            Some(k) => {
+                s.marked.swap_remove(k);
+                keep(&mut s.held, bounds);
+            }
+            // In the order of the four `give_*` calls, an empty one not kept.
+            None if bounds.capacity() > 0 => {
+                bounds.clear();
+                keep(&mut s.ints, bounds);
+            }
+            None => {}
         }
         if weights.capacity() > 0 {
             keep(&mut s.floats, weights);
@@ -218,6 +262,28 @@ mod tests {
         assert_eq!(floats().capacity(), 0);
         assert_eq!(ints().capacity(), 3);
         assert_eq!(uints().capacity(), 0);
+    }
+
+    #[test]
+    fn a_held_buffer_serves_only_while_it_holds_the_items() {
+        let items = [4, 5, 6, 7];
+        let first = ints_holding(&items);
+        assert_eq!(first, items);
+        let at = first.as_ptr();
+        // Back as a function's bounds: the next one is that buffer, not copied again.
+        give_function_buffers(first, Vec::new(), Vec::new(), Vec::new());
+        let again = ints_holding(&items);
+        assert_eq!((again.as_ptr(), &again[..]), (at, &items[..]));
+        // Changed while out: the same buffer, written again.
+        let mut changed = again;
+        changed[2] = -1;
+        give_function_buffers(changed, Vec::new(), Vec::new(), Vec::new());
+        let fixed = ints_holding(&items);
+        assert_eq!((fixed.as_ptr(), &fixed[..]), (at, &items[..]));
+        // Items of another length: the held buffer (of a shape no longer built) serves.
+        give_function_buffers(fixed, Vec::new(), Vec::new(), Vec::new());
+        let other = ints_holding(&[1, 2]);
+        assert_eq!((other.as_ptr(), &other[..]), (at, &[1, 2][..]));
     }
 
     #[test]

@@ -93,8 +93,10 @@ impl AvoidCollision {
             acd: self.max_util_cpa_dist,
         };
         let mut refl = Reflector::new(domain, &aof);
-        refl.set_param("uniform_piece", "discrete @ course:3,speed:3");
-        refl.set_param("uniform_grid", "discrete @ course:9,speed:6");
+        refl.set_uniform(
+            &[("course", 3), ("speed", 3)],
+            &[("course", 9), ("speed", 6)],
+        );
         refl.create(None, None);
         if !refl.warnings().is_empty() {
             ctx.post_message("AVD_DEBUG", refl.warnings());

@@ -87,8 +87,10 @@ impl CutRange {
             return None;
         };
         let mut refl = Reflector::new(domain, &aof);
-        refl.set_param("uniform_piece", "discrete@course:2,speed:3");
-        refl.set_param("uniform_grid", "discrete@course:8,speed:6");
+        refl.set_uniform(
+            &[("course", 2), ("speed", 3)],
+            &[("course", 8), ("speed", 6)],
+        );
         refl.create(None, None);
         if !refl.warnings().is_empty() {
             let w = refl.warnings().to_string();

@@ -127,8 +127,10 @@ impl Trail {
             return None;
         };
         let mut refl = Reflector::new(domain, &aof);
-        refl.set_param("uniform_piece", "discrete@course:3,speed:2");
-        refl.set_param("uniform_grid", "discrete@course:9,speed:6");
+        refl.set_uniform(
+            &[("course", 3), ("speed", 2)],
+            &[("course", 9), ("speed", 6)],
+        );
         refl.create(None, None);
         refl.into_function_normalized_twice()
     }
