@@ -31,7 +31,8 @@ impl<'a> Utf8Out<'a> {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
         // as they were written, or copied from the ASCII tables `SMALL`, `PAIRS`,
-        // `DIGIT_PAIRS` and literals), so they are valid UTF-8 after every call, as a
+        // `DIGIT_PAIRS`, literals, and the interval and slope caches, whose shown bytes
+        // are digits and punctuation), so they are valid UTF-8 after every call, as a
         // `String` requires, whenever `s` can be seen again.
         let bytes = unsafe { s.as_mut_vec() };
         Utf8Out { bytes }
