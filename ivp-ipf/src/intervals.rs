@@ -1,16 +1,74 @@
-//! The text of boxes' intervals, kept: the piece loop copies an interval's text
-//! (`,lo,hi`) where it would print it (see `PieceText::interval`).
+//! The text of boxes' intervals and of slopes, kept: the piece loop copies an
+//! interval's text (`,lo,hi`) or a slope's (`,w`) where it would print it (see
+//! `PieceText::interval` and `PieceText::slope`).
+
+use super::Batch;
 
 thread_local! {
-    /// The piece loop's interval caches, kept from call to call: a behavior's tiling
+    /// The piece loop's caches and batch, kept from call to call: a behavior's tiling
     /// is the same every iteration (and behaviors' tilings share intervals).
-    pub(crate) static INTERVALS: std::cell::Cell<Option<Box<IntervalCaches>>> =
+    pub(crate) static CACHES: std::cell::Cell<Option<Box<Caches>>> =
         const { std::cell::Cell::new(None) };
 }
 
-/// One [`IntervalCache`] per dimension of the unrolled piece loops.
-#[derive(Default)]
-pub(crate) struct IntervalCaches(pub(crate) [IntervalCache; 3]);
+/// One [`IntervalCache`] and one [`SlopeCache`] per dimension of the unrolled piece
+/// loops, and the batch the pieces are formatted in (kept: not cleared per call).
+pub(crate) struct Caches {
+    pub(crate) intervals: [IntervalCache; 3],
+    pub(crate) slopes: [SlopeCache; 3],
+    pub(crate) batch: Batch,
+}
+
+impl Caches {
+    /// Taken from the thread for a call (a new one the first time, or if a panic lost
+    /// it); give it back with [`Caches::put`].
+    pub(crate) fn take() -> Box<Caches> {
+        CACHES.take().unwrap_or_else(Caches::new_boxed)
+    }
+
+    pub(crate) fn put(caches: Box<Caches>) {
+        CACHES.set(Some(caches));
+    }
+
+    /// Made in place on the heap: built on the stack, its 27 KB would be copied.
+    #[cold]
+    fn new_boxed() -> Box<Caches> {
+        // SAFETY: `Caches` is integers and arrays of them: all zero bits is a value.
+        let mut c = unsafe { Box::<Caches>::new_zeroed().assume_init() };
+        for cache in &mut c.intervals {
+            for (s, key) in cache.keys.iter_mut().enumerate() {
+                *key = (s ^ 1) as u64;
+            }
+        }
+        // Every slot holds `0.0`, whose text is `,0` (a true entry in any slot).
+        for cache in &mut c.slopes {
+            cache.texts = [[u64::from(u16::from_le_bytes(*b",0")), 0]; SlopeCache::SLOTS];
+            cache.lens = [2; SlopeCache::SLOTS];
+        }
+        c
+    }
+}
+
+/// The text (`,w`, up to 16 bytes) of a dimension's recent slopes, by their bits.
+/// A tiling's pieces repeat a few slopes (one per interval of each dimension) where
+/// the intercepts differ: copying their text is cheaper than printing it.
+/// Direct-mapped by a hash of the bits; every slot holds a true entry.
+pub(crate) struct SlopeCache {
+    pub(crate) keys: [u64; SlopeCache::SLOTS],
+    /// The text in the low `lens` bytes (past them, ASCII never shown).
+    pub(crate) texts: [[u64; 2]; SlopeCache::SLOTS],
+    pub(crate) lens: [u8; SlopeCache::SLOTS],
+}
+
+impl SlopeCache {
+    pub(crate) const SLOTS: usize = 64;
+
+    /// The slot of a weight's bits.
+    #[inline(always)]
+    pub(crate) fn slot(bits: u64) -> usize {
+        (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 58) as usize
+    }
+}
 
 /// The text (`,lo,hi`) of a dimension's recent intervals. A tiling repeats each
 /// dimension's few intervals from piece to piece: copying their text is cheaper than
@@ -53,29 +111,22 @@ impl IntervalCache {
     }
 }
 
-impl Default for IntervalCache {
-    fn default() -> Self {
-        IntervalCache {
-            keys: std::array::from_fn(|s| (s ^ 1) as u64),
-            texts: [0; Self::SLOTS],
-            lens: [0; Self::SLOTS],
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     /// `insert` gives an interval's text, keeps it when it fits 8 bytes (under its key,
-    /// in `lo`'s slot) and leaves the cache alone otherwise; a new cache's keys match
-    /// no interval of their slot.
+    /// in `lo`'s slot) and leaves the cache alone otherwise; a new interval cache's keys
+    /// match no interval of their slot.
     #[test]
     fn insert_gives_and_keeps_the_text() {
-        let mut cache = IntervalCache::default();
-        for s in 0..IntervalCache::SLOTS {
-            assert_ne!(cache.keys[s] as usize % IntervalCache::SLOTS, s);
+        let mut caches = Caches::new_boxed();
+        for cache in &caches.intervals {
+            for s in 0..IntervalCache::SLOTS {
+                assert_ne!(cache.keys[s] as usize % IntervalCache::SLOTS, s);
+            }
         }
+        let cache = &mut caches.intervals[0];
         let pairs = [(0, 0), (5, 9), (999, 999), (-1, 3), (517, 520), (1000, 7)];
         let long = [(-1_000_000, 12), (i32::MIN, i32::MAX), (12345, 67890)];
         for (lo, hi) in pairs.into_iter().chain(long) {
@@ -89,6 +140,19 @@ mod tests {
             if len <= 8 {
                 let text = cache.texts[slot].to_le_bytes();
                 assert_eq!(&text[..usize::from(cache.lens[slot])], want.as_bytes());
+            }
+        }
+    }
+
+    /// A new slope cache holds `0.0` (text `,0`) in every slot.
+    #[test]
+    fn new_slope_caches_hold_zero() {
+        let caches = Caches::new_boxed();
+        for cache in &caches.slopes {
+            for s in 0..SlopeCache::SLOTS {
+                assert_eq!(cache.keys[s], 0.0f64.to_bits());
+                let text = cache.texts[s][0].to_le_bytes();
+                assert_eq!(&text[..usize::from(cache.lens[s])], b",0");
             }
         }
     }

@@ -12,7 +12,7 @@ use std::fmt::Write;
 
 mod intervals;
 mod packets;
-use intervals::{IntervalCache, INTERVALS};
+use intervals::{Caches, IntervalCache, SlopeCache};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
 
 /// Numbers of the BHV_IPF text: compact, at most five decimals (as the domain's).
@@ -31,7 +31,8 @@ impl<'a> Utf8Out<'a> {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
         // as they were written, or copied from the ASCII tables `SMALL`, `PAIRS`,
-        // `DIGIT_PAIRS` and literals), so they are valid UTF-8 after every call, as a
+        // `DIGIT_PAIRS`, literals, and the interval and slope caches, whose shown bytes
+        // are digits and punctuation), so they are valid UTF-8 after every call, as a
         // `String` requires, whenever `s` can be seen again.
         let bytes = unsafe { s.as_mut_vec() };
         Utf8Out { bytes }
@@ -258,17 +259,23 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     let mut out = Utf8Out::new(s);
     // Generous: growing a string of thousands of pieces copies it each time.
     out.reserve(pieces * (dim * 12 + (dim + 1) * 10));
-    // Pieces are formatted on the stack and appended a batch at a time: no capacity
-    // check per character.
-    let mut batch = [0; PieceText::SIZE + 8];
-    let mut text = PieceText::new(&mut batch);
+    // Pieces are formatted in a batch and appended a batch at a time: no capacity
+    // check per character. The batch and the caches are the thread's, taken for the
+    // call (the batch is not cleared: only what is written in it is read).
+    let mut caches = Caches::take();
+    let Caches {
+        intervals,
+        slopes,
+        batch,
+    } = &mut *caches;
+    let mut text = PieceText::new(batch);
     let (b, w) = (f.bounds, f.weights);
     // The usual dimensions with the piece's size a constant: the per-piece loops
     // unroll and the room is made once per piece.
     match dim {
-        1 => pieces_n::<1, 2, 2>(b, w, &mut text, &mut out),
-        2 => pieces_n::<2, 4, 3>(b, w, &mut text, &mut out),
-        3 => pieces_n::<3, 6, 4>(b, w, &mut text, &mut out),
+        1 => pieces_n::<1, 2, 2>(b, w, &mut text, &mut out, intervals, slopes),
+        2 => pieces_n::<2, 4, 3>(b, w, &mut text, &mut out, intervals, slopes),
+        3 => pieces_n::<3, 6, 4>(b, w, &mut text, &mut out, intervals, slopes),
         _ => {
             for (bounds, weights) in b.chunks_exact(2 * dim).zip(w.chunks_exact(dim + 1)) {
                 for &b in bounds {
@@ -283,6 +290,7 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
         }
     }
     out.ascii(&mut text);
+    Caches::put(caches);
 }
 
 /// The pieces of `D` dimensions (`B` = 2·D bounds and `W` = D + 1 weights each).
@@ -292,22 +300,22 @@ fn pieces_n<const D: usize, const B: usize, const W: usize>(
     weights: &[f64],
     text: &mut PieceText,
     out: &mut Utf8Out<'_>,
+    intervals: &mut [IntervalCache; 3],
+    slopes: &mut [SlopeCache; 3],
 ) {
     debug_assert!(B == 2 * D && W == D + 1);
     let (bounds, _) = bounds.as_chunks::<B>();
     let (weights, _) = weights.as_chunks::<W>();
-    // Taken from the thread for the loop (a new one if a panic lost it).
-    let mut caches = INTERVALS.take().unwrap_or_default();
     for (b, w) in bounds.iter().zip(weights) {
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
         for d in 0..D {
-            text.interval(b[2 * d], b[2 * d + 1], &mut caches.0[d]);
+            text.interval(b[2 * d], b[2 * d + 1], &mut intervals[d]);
         }
-        for &w in w {
-            text.weight_or_slow(w, out);
+        for d in 0..D {
+            text.slope(w[d], &mut slopes[d], out);
         }
+        text.weight_or_slow(w[D], out);
     }
-    INTERVALS.set(Some(caches));
 }
 
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
@@ -406,7 +414,7 @@ const FRAC_LEN: [u8; 10000] = {
 /// A batch of pieces' text (ASCII digits and punctuation only) on the stack: `SIZE`
 /// bytes of text and room for the 8-byte stores that write a number's bytes at once
 /// (the bytes past a number are overwritten by the next one).
-type Batch = [u8; PieceText::SIZE + 8];
+pub(crate) type Batch = [u8; PieceText::SIZE + 8];
 
 /// A [`Batch`] and its length. Apart, the array being indexed by the length cannot
 /// be taken to overwrite it: the length stays in a register through the piece loop.
@@ -483,6 +491,49 @@ impl<'b> PieceText<'b> {
         self.len = start + 16;
         self.put8(c);
         self.len = start + len;
+    }
+
+    /// `,` and a slope, copied from `cache` when it holds its bits (weights as
+    /// [`PieceText::weight_or_slow`] writes them; a fast-path text is kept).
+    #[inline(always)]
+    fn slope(&mut self, w: f64, cache: &mut SlopeCache, out: &mut Utf8Out<'_>) {
+        let bits = w.to_bits();
+        let slot = SlopeCache::slot(bits);
+        if cache.keys[slot] == bits {
+            let [a, b] = cache.texts[slot];
+            let start = self.len;
+            self.put8(a);
+            self.len = start + 8;
+            self.put8(b);
+            self.len = start + usize::from(cache.lens[slot]);
+            return;
+        }
+        self.new_slope(w, cache, slot, out);
+    }
+
+    /// [`PieceText::slope`] for bits not in the cache: written, and kept if it took
+    /// the fast path.
+    #[inline(always)]
+    fn new_slope(&mut self, w: f64, cache: &mut SlopeCache, slot: usize, out: &mut Utf8Out<'_>) {
+        let start = self.len;
+        if !self.weight(w) {
+            self.byte(b',');
+            out.ascii(self);
+            out.weight(w);
+            return;
+        }
+        // At most `WEIGHT_MAX` (18) bytes were written from `start`, which `make_room`
+        // left room for: the 16 read here are in the batch.
+        let len = self.len - start;
+        if len <= 16 {
+            let word = |i: usize| {
+                let at = start + 8 * i;
+                u64::from_le_bytes(self.buf[at..at + 8].try_into().unwrap_or([0; 8]))
+            };
+            cache.keys[slot] = w.to_bits();
+            cache.texts[slot] = [word(0), word(1)];
+            cache.lens[slot] = len as u8;
+        }
     }
 
     /// Room for `need` more bytes of text: the batch so far goes to `out` when near full.
@@ -1115,7 +1166,8 @@ mod tests {
     }
 
     /// The piece loop (every dimension count, the unrolled ones and the others) gives
-    /// the reference's text for weights of every kind and for bounds of every kind:
+    /// the reference's text for weights of every kind, repeated (the slope cache, kept
+    /// from case to case) or not, and for bounds of every kind:
     /// intervals repeated (the interval cache), sharing `lo` or its slot with another
     /// `hi`, negative, past 999, `i32::MIN` and `MAX`; many pieces, so batches flush
     /// between and around the slow weights.
@@ -1159,9 +1211,18 @@ mod tests {
                     bounds.extend([lo, hi]);
                 }
             }
-            let weights: Vec<f64> = (0..pieces * (dim + 1))
-                .map(|_| any_weight(&mut seed))
-                .collect();
+            // Weights of the pieces 1 to 4 before, often (the slope cache), or any.
+            let wl = dim + 1;
+            let mut weights: Vec<f64> = Vec::with_capacity(pieces * wl);
+            for i in 0..pieces * wl {
+                let back = wl * (1 + (rng(&mut seed) * 4.0) as usize);
+                let w = if i >= back && rng(&mut seed) < 0.5 {
+                    weights[i - back]
+                } else {
+                    any_weight(&mut seed)
+                };
+                weights.push(w);
+            }
             let src = IpfSource {
                 context: "x",
                 domain: &d,
