@@ -399,10 +399,15 @@ impl Search<'_> {
             return;
         }
         let singles = self.singles_at(1);
+        // Without the index, the functions below all one cell: `skip`'s own path
+        // (`skip_singles`, the clipped bound's), inlined here.
+        let direct = self.last.is_none() && self.singles_from <= 1;
         for (q, (pb, pw)) in pieces.enumerate() {
             let mv = mv_of(q, pb, pw);
             let skip = if singles && self.found {
                 self.skip_found_singles(1, mv)
+            } else if direct {
+                (self.found || self.seeded) && self.skip_singles(1, pb, mv)
             } else {
                 self.skip_first(q, pb, mv)
             };
