@@ -606,6 +606,10 @@ impl Search<'_> {
         }
         let singles = self.singles_at(level + 1);
         let visit = |s: &mut Self, q: usize| {
+            // The sizes made again here, constants when `D` is (captured, they are read
+            // from the closure's state: the loops below were not unrolled).
+            let dim = if D == 0 { s.dim } else { D };
+            let (bl, wl) = (2 * dim, dim + 1);
             let (nb, cb) = s.node_b.split_at_mut(level * bl);
             let (nw, cw) = s.node_w.split_at_mut(level * wl);
             let node_b = &nb[(level - 1) * bl..];
