@@ -595,7 +595,7 @@ impl Search<'_> {
     /// [`Search::recurse`] with `D == self.dim` (`D == 0`: any dimension).
     fn recurse_dim<const D: usize>(&mut self, level: usize, node_mv: f64) {
         let dim = if D == 0 { self.dim } else { D };
-        let (bl, wl) = (2 * dim, dim + 1);
+        let bl = 2 * dim;
         let funcs = self.funcs;
         let f = &funcs[self.active[level]];
         let fb = self.boxes[self.active[level]];
