@@ -31,12 +31,18 @@ pub(crate) struct Clip<'a> {
 
 impl Clip<'_> {
     /// Whether box `b` is narrower than the domain in a dimension of the function.
+    /// (Only the set bits of `dims` are looked at: every one is below `pts.len()`.)
     #[inline(always)]
     pub(crate) fn narrows(&self, b: &[i32], pts: &[i32]) -> bool {
-        (0..pts.len()).any(|d| {
-            self.dims & 1u32.checked_shl(d as u32).unwrap_or(0) != 0
-                && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1)
-        })
+        let mut m = self.dims;
+        while m != 0 {
+            let d = m.trailing_zeros() as usize;
+            m &= m - 1;
+            if d < pts.len() && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1) {
+                return true;
+            }
+        }
+        false
     }
 
     /// `prefix + bound(b) <= thr` ([`Clip::bound`]), without making the bound: that
@@ -56,18 +62,32 @@ impl Clip<'_> {
         }
     }
 
-    /// [`Clip::within`] for `D` dimensions.
+    /// [`Clip::within`] for `D` dimensions, the pieces' `maxVal`s read when made.
     #[inline(always)]
     fn within_dim<const D: usize>(&self, b: &[i32], prefix: f64, thr: f64) -> bool {
+        if self.ubs.len() == self.n {
+            self.within_ubs::<D, true>(b, prefix, thr)
+        } else {
+            self.within_ubs::<D, false>(b, prefix, thr)
+        }
+    }
+
+    /// [`Clip::within`] for `D` dimensions, with (`U`) or without the pieces' `maxVal`s
+    /// (chosen once, not per piece).
+    #[inline(always)]
+    fn within_ubs<const D: usize, const U: bool>(&self, b: &[i32], prefix: f64, thr: f64) -> bool {
         let (bl, wl) = (2 * D, D + 1);
         let b = &b[..bl];
-        let ubs = (self.ubs.len() == self.n).then_some(self.ubs);
+        let pieces = self
+            .boxes
+            .chunks_exact(bl)
+            .zip(self.weights.chunks_exact(wl))
+            .take(self.n);
         let mut any = false;
-        for q in 0..self.n {
-            if ubs.is_some_and(|u| prefix + u[q] <= thr) {
+        for (q, (qb, qw)) in pieces.enumerate() {
+            if U && prefix + self.ubs[q] <= thr {
                 continue;
             }
-            let (qb, qw) = (&self.boxes[q * bl..][..bl], &self.weights[q * wl..][..wl]);
             if !intersects(b, qb, D) {
                 continue;
             }

@@ -399,10 +399,15 @@ impl Search<'_> {
             return;
         }
         let singles = self.singles_at(1);
+        // Without the index, the functions below all one cell: `skip`'s own path
+        // (`skip_singles`, the clipped bound's), inlined here.
+        let direct = self.last.is_none() && self.singles_from <= 1;
         for (q, (pb, pw)) in pieces.enumerate() {
             let mv = mv_of(q, pb, pw);
             let skip = if singles && self.found {
                 self.skip_found_singles(1, mv)
+            } else if direct {
+                (self.found || self.seeded) && self.skip_singles(1, pb, mv)
             } else {
                 self.skip_first(q, pb, mv)
             };
@@ -590,7 +595,7 @@ impl Search<'_> {
     /// [`Search::recurse`] with `D == self.dim` (`D == 0`: any dimension).
     fn recurse_dim<const D: usize>(&mut self, level: usize, node_mv: f64) {
         let dim = if D == 0 { self.dim } else { D };
-        let (bl, wl) = (2 * dim, dim + 1);
+        let bl = 2 * dim;
         let funcs = self.funcs;
         let f = &funcs[self.active[level]];
         let fb = self.boxes[self.active[level]];
@@ -601,6 +606,10 @@ impl Search<'_> {
         }
         let singles = self.singles_at(level + 1);
         let visit = |s: &mut Self, q: usize| {
+            // The sizes made again here, constants when `D` is (captured, they are read
+            // from the closure's state: the loops below were not unrolled).
+            let dim = if D == 0 { s.dim } else { D };
+            let (bl, wl) = (2 * dim, dim + 1);
             let (nb, cb) = s.node_b.split_at_mut(level * bl);
             let (nw, cw) = s.node_w.split_at_mut(level * wl);
             let node_b = &nb[(level - 1) * bl..];

@@ -450,3 +450,40 @@ fn checked_functions_reject_what_owned_functions_reject() {
         }
     }
 }
+
+/// `Clip::narrows`, looking at the set bits of `dims` only, answers as the test of
+/// every dimension with a checked shift did (every set bit is below the dimension).
+#[test]
+fn clip_narrows_equals_the_test_of_every_dimension() {
+    let mut x = 0x853c_49e6_748f_ea9bu64;
+    let mut next = |n: u64| {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x % n
+    };
+    for _ in 0..20_000 {
+        let dim = 1 + next(3) as usize;
+        let pts: Vec<i32> = (0..dim).map(|_| 1 + next(5) as i32).collect();
+        let b: Vec<i32> = (0..dim)
+            .flat_map(|d| {
+                let lo = next(pts[d] as u64) as i32;
+                [lo, lo + next((pts[d] - lo) as u64) as i32]
+            })
+            .collect();
+        let dims = next(1 << dim) as u32;
+        let clip = Clip {
+            boxes: &[],
+            weights: &[],
+            ubs: &[],
+            n: 0,
+            dims,
+            from: 0,
+        };
+        let old = (0..pts.len()).any(|d| {
+            dims & 1u32.checked_shl(d as u32).unwrap_or(0) != 0
+                && (b[2 * d] > 0 || b[2 * d + 1] < pts[d] - 1)
+        });
+        assert_eq!(clip.narrows(&b, &pts), old, "{dims:b} {b:?} {pts:?}");
+    }
+}
