@@ -112,33 +112,45 @@ fn in_range_with(domain: &Domain, bounds: &[i32], simd: bool) -> bool {
             })
         });
     }
+    let tops = &tops[..n];
+    if bounds.len() < RUN {
+        // Most functions are a few pieces.
+        return signs_of(bounds, tops) >= 0;
+    }
     // Each bound's top, for a run of bounds starting on a piece.
-    let tops: [i32; RUN] = std::array::from_fn(|k| tops[(k / 2) % n]);
+    let mut pattern = [0i32; RUN];
+    let mut d = 0;
+    for pair in pattern.chunks_exact_mut(2) {
+        pair.fill(tops[d]);
+        d = if d + 1 == n { 0 } else { d + 1 };
+    }
     let mut runs = bounds.chunks_exact(RUN);
     let mut signs = 0;
     #[cfg(target_arch = "x86_64")]
     if simd {
         // SAFETY: the caller found AVX2.
-        signs = unsafe { signs_avx2(&mut runs, &tops) };
+        signs = unsafe { signs_avx2(&mut runs, &pattern) };
     }
     for run in runs.by_ref() {
-        signs |= signs_of(run, &tops);
+        signs |= signs_of(run, tops);
     }
-    signs |= signs_of(runs.remainder(), &tops);
+    signs |= signs_of(runs.remainder(), tops);
     signs >= 0
 }
 
 /// The or of `lo`, `hi - lo`, `top - lo` and `top - hi` (wrapping) over the pairs of
-/// `run` (its bounds' tops in `tops`): its sign is clear exactly when every pair has
-/// `0 <= lo <= hi <= top` (for `0 <= top <= i32::MAX`). A `lo` in `0..=top` leaves no
-/// wrap in the others except `hi - lo` for a very negative `hi`, and then `top - hi`
-/// wraps negative. One rule for every bound, without a branch: it vectorizes.
-fn signs_of(run: &[i32], tops: &[i32; RUN]) -> i32 {
-    let pairs = run.chunks_exact(2).zip(tops.chunks_exact(2));
-    pairs.fold(0, |acc, (b, t)| {
-        let (lo, hi, top) = (b[0], b[1], t[0]);
-        acc | lo | hi.wrapping_sub(lo) | top.wrapping_sub(lo) | top.wrapping_sub(hi)
-    })
+/// `bounds` (whole pieces, `tops` per dimension): its sign is clear exactly when every
+/// pair has `0 <= lo <= hi <= top` (for `0 <= top <= i32::MAX`). A `lo` in `0..=top`
+/// leaves no wrap in the others except `hi - lo` for a very negative `hi`, and then
+/// `top - hi` wraps negative. One rule for every bound, without a branch: it vectorizes.
+fn signs_of(bounds: &[i32], tops: &[i32]) -> i32 {
+    let (mut acc, mut d) = (0, 0);
+    for b in bounds.chunks_exact(2) {
+        let (lo, hi, top) = (b[0], b[1], tops[d]);
+        acc |= lo | hi.wrapping_sub(lo) | top.wrapping_sub(lo) | top.wrapping_sub(hi);
+        d = if d + 1 == tops.len() { 0 } else { d + 1 };
+    }
+    acc
 }
 
 /// [`signs_of`] over the whole runs left in `runs`, eight bounds a register: a bound
