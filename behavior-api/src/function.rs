@@ -41,7 +41,7 @@ pub(crate) fn domain_text(domain: &ivp::Domain) -> RString {
         let mut text = t.spare.pop().unwrap_or_default();
         text.clear();
         text.reserve(32 * domain.size());
-        if let Some((_, known)) = t.known.iter().find(|(d, _)| d == domain) {
+        if let Some((_, known)) = t.known.iter().find(|(d, _)| same(d, domain)) {
             text.push_str(known);
         } else {
             t.scratch.clear();
@@ -59,6 +59,15 @@ pub(crate) fn domain_text(domain: &ivp::Domain) -> RString {
         let _ = std::fmt::Write::write_fmt(&mut text, format_args!("{domain}"));
         text
     })
+}
+
+/// `a == b`, the numbers compared before the names (a name compare is a call).
+fn same(a: &ivp::Domain, b: &ivp::Domain) -> bool {
+    let (a, b) = (a.vars(), b.vars());
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(a, b)| {
+            a.points == b.points && a.low == b.low && a.high == b.high && a.name == b.name
+        })
 }
 
 /// An IvP function of degree 1 as plain data.
@@ -287,22 +296,9 @@ pub(crate) fn copied_function(
     grid: &[f64],
     pwt: f64,
 ) -> Result<ivp::IvpFunction, ivp::IvpError> {
-    use ivp::zaic::spare;
-    // An empty grid stays without a buffer: taking a spare for it would leave a larger
-    // function without one.
-    let grid = if grid.is_empty() {
-        Vec::new()
-    } else {
-        spare::floats_from(grid)
-    };
-    ivp::IvpFunction::from_buffers(
-        domain,
-        spare::ints_from(bounds),
-        spare::floats_from(weights),
-        spare::uints_from(gelbox),
-        grid,
-        pwt,
-    )
+    let (bounds, weights, gelbox, grid) =
+        ivp::zaic::spare::function_buffers_from(bounds, weights, gelbox, grid);
+    ivp::IvpFunction::from_buffers(domain, bounds, weights, gelbox, grid, pwt)
 }
 
 fn rejected(e: ivp::IvpError) -> String {

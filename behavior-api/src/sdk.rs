@@ -492,19 +492,18 @@ pub fn copy_function(f: &ivp::IvpFunction) -> Result<ivp::IvpFunction, ivp::IvpE
 /// and no domain (with its name strings) or context is made only to be dropped again.
 /// The result is the same, bit for bit; `pwt` replaces the function's own.
 pub fn copy_function_data(f: &ivp::IvpFunction, pwt: f64) -> FunctionData {
-    use ivp::zaic::spare;
-    // An empty grid stays without a buffer, as in `copy_function`.
-    let grid = if f.grid_bounds().is_empty() {
-        Vec::new()
-    } else {
-        spare::floats_from(f.grid_bounds())
-    };
+    let (bounds, weights, gelbox, grid) = ivp::zaic::spare::function_buffers_from(
+        f.bounds(),
+        f.weights(),
+        f.gelbox(),
+        f.grid_bounds(),
+    );
     FunctionData {
         domain: crate::function::domain_text(f.domain()),
-        bounds: spare::ints_from(f.bounds()).into(),
-        weights: spare::floats_from(f.weights()).into(),
+        bounds: bounds.into(),
+        weights: weights.into(),
         pwt,
-        gelbox: spare::uints_from(f.gelbox()).into(),
+        gelbox: gelbox.into(),
         grid: grid.into(),
     }
 }

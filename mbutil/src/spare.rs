@@ -106,25 +106,37 @@ fn fitting<T>(list: &mut Vec<Vec<T>>, n: usize) -> Option<Vec<T>> {
     }
 }
 
-/// A copy of `items`, in a spare allocation when one is kept: the host copies a loaded
-/// library's function buffers this way (moving them in would allocate anew each time).
-pub fn ints_from(items: &[i32]) -> Vec<i32> {
-    let mut v = take(|s| fitting(&mut s.ints, items.len()));
-    v.extend_from_slice(items);
-    v
+/// Copies of a function's four buffers (bounds, weights, gel box, grid) in spare
+/// allocations, with one visit to the thread's storage instead of four: the host copies
+/// every function a loaded library makes, and the Constant* plugins their kept one,
+/// every iteration. An empty grid stays without a buffer (taking a spare for it would
+/// leave a larger function without one).
+pub fn function_buffers_from(
+    bounds: &[i32],
+    weights: &[f64],
+    gelbox: &[u32],
+    grid: &[f64],
+) -> (Vec<i32>, Vec<f64>, Vec<u32>, Vec<f64>) {
+    let (mut b, mut w, mut g, mut c) = <(Vec<i32>, Vec<f64>, Vec<u32>, Vec<f64>)>::default();
+    let _ = SPARE.try_with(|s| {
+        let Ok(mut s) = s.try_borrow_mut() else {
+            return;
+        };
+        // The grid's spare first, as when it was taken on its own before the others.
+        if !grid.is_empty() {
+            c = fitting(&mut s.floats, grid.len()).unwrap_or_default();
+        }
+        b = fitting(&mut s.ints, bounds.len()).unwrap_or_default();
+        w = fitting(&mut s.floats, weights.len()).unwrap_or_default();
+        g = fitting(&mut s.uints, gelbox.len()).unwrap_or_default();
+    });
+    b.extend_from_slice(bounds);
+    w.extend_from_slice(weights);
+    g.extend_from_slice(gelbox);
+    c.extend_from_slice(grid);
+    (b, w, g, c)
 }
-/// See [`ints_from`].
-pub fn floats_from(items: &[f64]) -> Vec<f64> {
-    let mut v = take(|s| fitting(&mut s.floats, items.len()));
-    v.extend_from_slice(items);
-    v
-}
-/// See [`ints_from`].
-pub fn uints_from(items: &[u32]) -> Vec<u32> {
-    let mut v = take(|s| fitting(&mut s.uints, items.len()));
-    v.extend_from_slice(items);
-    v
-}
+
 /// A copy of `items` for a function's bounds that many builds share (a reflector's
 /// tiling): a buffer that came back through [`give_function_buffers`] already holding
 /// them is reused without copying. It is only taken after comparing its contents with
@@ -262,6 +274,27 @@ mod tests {
         assert_eq!(floats().capacity(), 0);
         assert_eq!(ints().capacity(), 3);
         assert_eq!(uints().capacity(), 0);
+    }
+
+    #[test]
+    fn function_buffers_are_copied_into_the_spares_that_fit() {
+        give_function_buffers(
+            Vec::with_capacity(8),
+            Vec::with_capacity(2),
+            Vec::with_capacity(1),
+            Vec::with_capacity(9),
+        );
+        let (b, w, g, c) = function_buffers_from(&[1, 2], &[0.5, -0.0, 3.0], &[7], &[]);
+        assert_eq!(
+            (&b[..], &w[..], &g[..]),
+            (&[1, 2][..], &[0.5, -0.0, 3.0][..], &[7][..])
+        );
+        assert_eq!(w[1].to_bits(), (-0.0f64).to_bits());
+        // The weights took the spare with room for them; an empty grid takes none.
+        assert_eq!((b.capacity(), w.capacity(), c.capacity()), (8, 9, 0));
+        assert_eq!(floats().capacity(), 2);
+        let (.., c) = function_buffers_from(&[], &[], &[], &[4.0]);
+        assert_eq!(c, [4.0]);
     }
 
     #[test]
