@@ -306,13 +306,30 @@ fn pieces_n<const D: usize, const B: usize, const W: usize>(
     debug_assert!(B == 2 * D && W == D + 1);
     let (bounds, _) = bounds.as_chunks::<B>();
     let (weights, _) = weights.as_chunks::<W>();
-    for (b, w) in bounds.iter().zip(weights) {
+    // The slope cache pays where slopes repeat (a Waypoint's few); where they rarely
+    // do (a contact function's), filling it costs more than it saves. Once PROBE
+    // nonzero slopes were looked up, it stays in use only while at least a third of
+    // them were found (checked every PROBE pieces). The text is the same either way.
+    const PROBE: u32 = 32;
+    let (mut found, mut missed, mut cached) = (0u32, 0u32, true);
+    for (i, (b, w)) in bounds.iter().zip(weights).enumerate() {
+        if cached && i % PROBE as usize == 0 && found + missed >= PROBE {
+            cached = 2 * found >= missed;
+        }
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
         for d in 0..D {
             text.interval(b[2 * d], b[2 * d + 1], &mut intervals[d]);
         }
         for d in 0..D {
-            text.slope(w[d], &mut slopes[d], out);
+            if !cached {
+                text.weight_or_slow(w[d], out);
+            } else if let Some(hit) = text.slope(w[d], &mut slopes[d], out) {
+                (found, missed) = if hit {
+                    (found + 1, missed)
+                } else {
+                    (found, missed + 1)
+                };
+            }
         }
         text.weight_or_slow(w[D], out);
     }
@@ -494,10 +511,15 @@ impl<'b> PieceText<'b> {
     }
 
     /// `,` and a slope, copied from `cache` when it holds its bits (weights as
-    /// [`PieceText::weight_or_slow`] writes them; a fast-path text is kept).
+    /// [`PieceText::weight_or_slow`] writes them; a fast-path text is kept). Whether
+    /// it was found; `None` for ±0, written directly (as cheap as a copy).
     #[inline(always)]
-    fn slope(&mut self, w: f64, cache: &mut SlopeCache, out: &mut Utf8Out<'_>) {
+    fn slope(&mut self, w: f64, cache: &mut SlopeCache, out: &mut Utf8Out<'_>) -> Option<bool> {
         let bits = w.to_bits();
+        if bits << 1 == 0 {
+            self.weight(w);
+            return None;
+        }
         let slot = SlopeCache::slot(bits);
         if cache.keys[slot] == bits {
             let [a, b] = cache.texts[slot];
@@ -506,9 +528,10 @@ impl<'b> PieceText<'b> {
             self.len = start + 8;
             self.put8(b);
             self.len = start + usize::from(cache.lens[slot]);
-            return;
+            return Some(true);
         }
         self.new_slope(w, cache, slot, out);
+        Some(false)
     }
 
     /// [`PieceText::slope`] for bits not in the cache: written, and kept if it took
@@ -1211,12 +1234,13 @@ mod tests {
                     bounds.extend([lo, hi]);
                 }
             }
-            // Weights of the pieces 1 to 4 before, often (the slope cache), or any.
-            let wl = dim + 1;
+            // Weights of the pieces 1 to 4 before, often (the slope cache), or any; in
+            // a third of the cases never repeated (the loop stops using the cache).
+            let (wl, repeat) = (dim + 1, if case % 3 == 0 { 0.0 } else { 0.5 });
             let mut weights: Vec<f64> = Vec::with_capacity(pieces * wl);
             for i in 0..pieces * wl {
                 let back = wl * (1 + (rng(&mut seed) * 4.0) as usize);
-                let w = if i >= back && rng(&mut seed) < 0.5 {
+                let w = if i >= back && rng(&mut seed) < repeat {
                     weights[i - back]
                 } else {
                     any_weight(&mut seed)
