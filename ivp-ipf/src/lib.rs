@@ -12,8 +12,10 @@ use std::fmt::Write;
 
 mod intervals;
 mod packets;
+mod piece_loop;
 use intervals::{Caches, IntervalCache, SlopeCache};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
+use piece_loop::pieces_n;
 
 /// Numbers of the BHV_IPF text: compact, at most five decimals (as the domain's).
 fn push_compact(out: &mut String, v: f64) {
@@ -291,48 +293,6 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     }
     out.ascii(&mut text);
     Caches::put(caches);
-}
-
-/// The pieces of `D` dimensions (`B` = 2·D bounds and `W` = D + 1 weights each).
-#[inline(always)]
-fn pieces_n<const D: usize, const B: usize, const W: usize>(
-    bounds: &[i32],
-    weights: &[f64],
-    text: &mut PieceText,
-    out: &mut Utf8Out<'_>,
-    intervals: &mut [IntervalCache; 3],
-    slopes: &mut [SlopeCache; 3],
-) {
-    debug_assert!(B == 2 * D && W == D + 1);
-    let (bounds, _) = bounds.as_chunks::<B>();
-    let (weights, _) = weights.as_chunks::<W>();
-    // The slope cache pays where slopes repeat (a Waypoint's few); where they rarely
-    // do (a contact function's), filling it costs more than it saves. Once PROBE
-    // nonzero slopes were looked up, it stays in use only while at least a third of
-    // them were found (checked every PROBE pieces). The text is the same either way.
-    const PROBE: u32 = 32;
-    let (mut found, mut missed, mut cached) = (0u32, 0u32, true);
-    for (i, (b, w)) in bounds.iter().zip(weights).enumerate() {
-        if cached && i % PROBE as usize == 0 && found + missed >= PROBE {
-            cached = 2 * found >= missed;
-        }
-        text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
-        for d in 0..D {
-            text.interval(b[2 * d], b[2 * d + 1], &mut intervals[d]);
-        }
-        for d in 0..D {
-            if !cached {
-                text.weight_or_slow(w[d], out);
-            } else if let Some(hit) = text.slope(w[d], &mut slopes[d], out) {
-                (found, missed) = if hit {
-                    (found + 1, missed)
-                } else {
-                    (found, missed + 1)
-                };
-            }
-        }
-        text.weight_or_slow(w[D], out);
-    }
 }
 
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
