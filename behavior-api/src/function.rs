@@ -41,7 +41,7 @@ pub(crate) fn domain_text(domain: &ivp::Domain) -> RString {
         let mut text = t.spare.pop().unwrap_or_default();
         text.clear();
         text.reserve(32 * domain.size());
-        if let Some((_, known)) = t.known.iter().find(|(d, _)| same(d, domain)) {
+        if let Some((_, known)) = t.known.iter().find(|(d, _)| d == domain) {
             text.push_str(known);
         } else {
             t.scratch.clear();
@@ -59,15 +59,6 @@ pub(crate) fn domain_text(domain: &ivp::Domain) -> RString {
         let _ = std::fmt::Write::write_fmt(&mut text, format_args!("{domain}"));
         text
     })
-}
-
-/// `a == b`, the numbers compared before the names (a name compare is a call).
-fn same(a: &ivp::Domain, b: &ivp::Domain) -> bool {
-    let (a, b) = (a.vars(), b.vars());
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(a, b)| {
-            a.points == b.points && a.low == b.low && a.high == b.high && a.name == b.name
-        })
 }
 
 /// An IvP function of degree 1 as plain data.

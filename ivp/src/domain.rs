@@ -4,12 +4,21 @@ use crate::error::{finite, IvpError};
 use std::fmt;
 
 /// One decision variable: `points` values `low + delta*j`, `j = 0..points-1`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct DomainVar {
     pub name: String,
     pub low: f64,
     pub high: f64,
     pub points: u32,
+}
+
+/// Every field equal (as derived), the numbers compared before the name: domains are
+/// compared every iteration (a library's known domain texts), and a name compare is a
+/// call.
+impl PartialEq for DomainVar {
+    fn eq(&self, o: &Self) -> bool {
+        self.points == o.points && self.low == o.low && self.high == o.high && self.name == o.name
+    }
 }
 
 impl DomainVar {
@@ -425,6 +434,28 @@ impl Domain {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Variables are equal exactly when every field is (names, bounds, points).
+    #[test]
+    fn variables_equal_only_in_every_field() {
+        let v = |name: &str, low, high, points| DomainVar {
+            name: name.into(),
+            low,
+            high,
+            points,
+        };
+        let a = v("course", 0.0, 359.0, 360);
+        assert_eq!(a, a.clone());
+        for b in [
+            v("coarse", 0.0, 359.0, 360),
+            v("course", -0.5, 359.0, 360),
+            v("course", 0.0, 358.0, 360),
+            v("course", 0.0, 359.0, 359),
+            v("course", f64::NAN, 359.0, 360),
+        ] {
+            assert_ne!(a, b);
+        }
+    }
 
     #[test]
     fn value_and_display() {
