@@ -401,12 +401,14 @@ impl BowStern {
 
 impl CpaEngine {
     /// [`CpaEngine::cpa_unit`]'s distance for a row of courses at one speed: `out[k]` is
-    /// `cpa_unit((sins[k], coss[k]), v, tol).dist`. Each candidate's every branch is
-    /// computed and the answer picked, with the same operations in the same order, so
-    /// the row has no jumps and the compiler can do several candidates at once (an
-    /// objective function asks this for every corner of every tile of the grid). On a
-    /// CPU with AVX2 the same loop runs compiled for it (four candidates per
-    /// instruction instead of two; IEEE operations give the same bits at any width).
+    /// `cpa_unit((sins[k], coss[k]), v, tol).dist`. The row goes by chunks of a few
+    /// candidates: a chunk none of which is closing is the range now throughout (about
+    /// half of an avoidance grid's), the others have each candidate's every branch
+    /// computed and the answer picked, with the same operations in the same order, so a
+    /// chunk has no jumps and the CPU does several candidates at once (an objective
+    /// function asks this for every corner of every tile of the grid). On a CPU with
+    /// AVX2 the chunks are written in its instructions (four candidates per instruction
+    /// instead of two; IEEE operations give the same bits at any width).
     pub fn cpa_dists(&self, units: (&[f64], &[f64]), v: f64, tol: f64, out: &mut [f64]) {
         self.cpa_dists_map(units, (v, tol), out, |d| d);
     }
@@ -415,7 +417,8 @@ impl CpaEngine {
     /// as `f(d)`: `f` runs inside the row's loop (for an objective function's utility of
     /// the distance: no pass of its own over the row), so it should have no jumps either.
     /// `f` must be a function of its argument only: a row at speed 0 (all one value) is
-    /// computed once and `f`'s answer copied.
+    /// computed once and `f`'s answer copied, and so is `f` of the range now for the
+    /// chunks that are not closing.
     #[inline]
     pub fn cpa_dists_map<F: Fn(f64) -> f64>(
         &self,
@@ -459,7 +462,11 @@ pub(super) struct CpaRow {
     pub tol: f64,
 }
 
-/// [`CpaEngine::cpa_dists`]'s loop compiled for AVX2.
+/// [`CpaEngine::cpa_dists`]'s loop compiled for AVX2: [`cpa_row`]'s chunks, with
+/// [`cpa_entry`]'s operations written as AVX2 instructions on four candidates at a time
+/// (left to itself, the compiler does a chunk's candidates two at a time or one by one).
+/// Each instruction is the IEEE operation of the scalar formula on each lane, so the
+/// bits are the same (engine_tests.rs checks it).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 pub(super) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
@@ -468,18 +475,132 @@ pub(super) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
     out: &mut [f64],
     f: F,
 ) {
-    cpa_row(row, units, out, f);
+    use std::arch::x86_64::*;
+    let ((sins, coss), out) = row_slices(units, out);
+    if still_row(row, (sins, coss), out, &f) {
+        return;
+    }
+    let set = _mm256_set1_pd;
+    let (v, px, py, cn_vx, cn_vy) = (
+        set(row.v),
+        set(row.px),
+        set(row.py),
+        set(row.cn_vx),
+        set(row.cn_vy),
+    );
+    let (now, tol, zero) = (set(row.now), set(row.tol), _mm256_setzero_pd());
+    let far = set(f(row.now));
+    let (sc, s_rest) = sins.as_chunks::<WIDE>();
+    let (cc, c_rest) = coss.as_chunks::<WIDE>();
+    let (oc, o_rest) = out.as_chunks_mut::<WIDE>();
+    for ((o, s), c) in oc.iter_mut().zip(sc).zip(cc) {
+        // cpa_closing_num per vector, and whether any lane's p·u is above 0.
+        let mut u = [(zero, zero, zero); VECS];
+        let mut any = zero;
+        for (h, u) in u.iter_mut().enumerate() {
+            // SAFETY: a chunk holds VECS vectors of 4.
+            let (s, c) = unsafe {
+                let at = |x: &[f64; WIDE]| _mm256_loadu_pd(x.as_ptr().add(4 * h));
+                (at(s), at(c))
+            };
+            let ux = _mm256_sub_pd(cn_vx, _mm256_mul_pd(v, s));
+            let uy = _mm256_sub_pd(cn_vy, _mm256_mul_pd(v, c));
+            let num = _mm256_add_pd(_mm256_mul_pd(px, ux), _mm256_mul_pd(py, uy));
+            any = _mm256_or_pd(any, _mm256_cmp_pd::<_CMP_GT_OQ>(num, zero));
+            *u = (ux, uy, num);
+        }
+        if _mm256_testz_pd(any, any) == 1 {
+            // SAFETY: a chunk holds VECS vectors of 4.
+            unsafe {
+                for h in 0..VECS {
+                    _mm256_storeu_pd(o.as_mut_ptr().add(4 * h), far);
+                }
+            }
+            continue;
+        }
+        // cpa_finish per vector: `closing` is `!(ww == 0) & (t > 0)`; min(tol, t) is
+        // `tol` when `tol < t`, else `t`; max(r, 0) is `r` when `r > 0`, else 0.
+        let mut d = [0.0; WIDE];
+        for (h, &(ux, uy, num)) in u.iter().enumerate() {
+            let ww = _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy));
+            let t = _mm256_div_pd(num, ww);
+            let closing = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_NEQ_UQ>(ww, zero),
+                _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
+            );
+            let t = _mm256_min_pd(tol, t);
+            let dx = _mm256_sub_pd(px, _mm256_mul_pd(ux, t));
+            let dy = _mm256_sub_pd(py, _mm256_mul_pd(uy, t));
+            let r = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+            let dist = _mm256_blendv_pd(now, _mm256_max_pd(r, zero), closing);
+            // SAFETY: `d` holds VECS vectors of 4.
+            unsafe { _mm256_storeu_pd(d.as_mut_ptr().add(4 * h), dist) };
+        }
+        // `f` per lane: the compiler does these at vector width too.
+        for (o, &d) in o.iter_mut().zip(&d) {
+            *o = f(d);
+        }
+    }
+    for ((o, &s), &c) in o_rest.iter_mut().zip(s_rest).zip(c_rest) {
+        *o = cpa_entry(row, (s, c), &f);
+    }
 }
 
-/// [`CpaEngine::cpa_dists`]'s loop, for the target's baseline instructions (and inlined
-/// into [`cpa_row_avx2`]).
+/// [`CpaEngine::cpa_dists`]'s loop, for the target's baseline instructions: by chunks of
+/// [`LANES`] candidates, a chunk none of whose candidates is closing (about half of an
+/// avoidance grid's) written as `f` of the range now without the rest of the formula
+/// (the division and the square root).
 #[inline(always)]
 pub(super) fn cpa_row<F: Fn(f64) -> f64>(
     row: &CpaRow,
-    (sins, coss): (&[f64], &[f64]),
+    units: (&[f64], &[f64]),
     out: &mut [f64],
     f: F,
 ) {
+    let ((sins, coss), out) = row_slices(units, out);
+    if still_row(row, (sins, coss), out, &f) {
+        return;
+    }
+    let far = f(row.now);
+    let (sc, s_rest) = sins.as_chunks::<LANES>();
+    let (cc, c_rest) = coss.as_chunks::<LANES>();
+    let (oc, o_rest) = out.as_chunks_mut::<LANES>();
+    for ((o, s), c) in oc.iter_mut().zip(sc).zip(cc) {
+        let u: [[f64; 3]; LANES] = std::array::from_fn(|i| cpa_closing_num(row, (s[i], c[i])));
+        if u.iter().any(|u| u[2] > 0.0) {
+            for (o, &u) in o.iter_mut().zip(&u) {
+                *o = cpa_finish(row, u, &f);
+            }
+        } else {
+            *o = [far; LANES];
+        }
+    }
+    for ((o, &s), &c) in o_rest.iter_mut().zip(s_rest).zip(c_rest) {
+        *o = cpa_entry(row, (s, c), &f);
+    }
+}
+
+/// The units and `out` cut to their common length.
+#[inline(always)]
+fn row_slices<'a>(
+    (sins, coss): (&'a [f64], &'a [f64]),
+    out: &'a mut [f64],
+) -> ((&'a [f64], &'a [f64]), &'a mut [f64]) {
+    let n = out.len().min(sins.len()).min(coss.len());
+    ((&sins[..n], &coss[..n]), &mut out[..n])
+}
+
+/// Writes the row and says true if ownship is still and every number finite: v·sin is
+/// then ±0 for every unit, so the candidates differ at most in the sign of zeros, which
+/// no result shows (a zero closing speed or time is "not closing", a zero offset is
+/// squared): the row is its first entry.
+#[inline(always)]
+fn still_row<F: Fn(f64) -> f64>(
+    row: &CpaRow,
+    (sins, coss): (&[f64], &[f64]),
+    out: &mut [f64],
+    f: &F,
+) -> bool {
     let &CpaRow {
         v,
         px,
@@ -488,22 +609,24 @@ pub(super) fn cpa_row<F: Fn(f64) -> f64>(
         cn_vy,
         ..
     } = row;
-    let n = out.len().min(sins.len()).min(coss.len());
-    let (sins, coss, out) = (&sins[..n], &coss[..n], &mut out[..n]);
-    if v == 0.0 && all_finite(&[sins, coss, &[px, py, cn_vx, cn_vy]]) {
-        // Still: v·sin is ±0 for every finite unit, so the candidates differ at most in
-        // the sign of zeros, which no result shows (a zero closing speed or time is
-        // "not closing", a zero offset is squared): the row is its first entry.
-        if let Some((first, rest)) = out.split_first_mut() {
-            *first = cpa_entry(row, (sins[0], coss[0]), &f);
-            rest.fill(*first);
-        }
-        return;
+    if !(v == 0.0 && all_finite(&[sins, coss, &[px, py, cn_vx, cn_vy]])) {
+        return false;
     }
-    for k in 0..n {
-        out[k] = cpa_entry(row, (sins[k], coss[k]), &f);
+    if let Some((first, rest)) = out.split_first_mut() {
+        *first = cpa_entry(row, (sins[0], coss[0]), f);
+        rest.fill(*first);
     }
+    true
 }
+
+/// Candidates per chunk of [`cpa_row`]: a chunk is skipped only when none of its
+/// candidates is closing, so smaller chunks skip more candidates and larger ones test
+/// fewer times (the sizes here took the fewest instructions on avoidance grids).
+const LANES: usize = 4;
+
+/// AVX2 vectors (of four candidates) per chunk of [`cpa_row_avx2`], and its candidates.
+const VECS: usize = 2;
+const WIDE: usize = 4 * VECS;
 
 /// One entry of [`cpa_row`]: `cpa_of_ranged`'s formula with the relative velocity
 /// negated, `u = contact − ownship` (so `t = p·u / |u|²` needs no sign flip and
@@ -511,19 +634,27 @@ pub(super) fn cpa_row<F: Fn(f64) -> f64>(
 /// changes only zero or non-closing values (`t` ≤ 0 or NaN: the range now) and the sign
 /// of a zero offset (squared). The branches are all computed and the answer picked.
 #[inline(always)]
-fn cpa_entry<F: Fn(f64) -> f64>(row: &CpaRow, (s, c): (f64, f64), f: &F) -> f64 {
+pub(super) fn cpa_entry<F: Fn(f64) -> f64>(row: &CpaRow, unit: (f64, f64), f: &F) -> f64 {
+    cpa_finish(row, cpa_closing_num(row, unit), f)
+}
+
+/// The first half of [`cpa_entry`]: `[ux, uy, p·u]`. The candidate is not closing when
+/// `p·u` is not above 0: `t = p·u / |u|²` with `|u|²` ≥ 0 or NaN is then ≤ 0 (±0 / +inf
+/// included) or NaN, and [`cpa_finish`] gives `f(now)`.
+#[inline(always)]
+fn cpa_closing_num(row: &CpaRow, (s, c): (f64, f64)) -> [f64; 3] {
+    let (ux, uy) = (row.cn_vx - row.v * s, row.cn_vy - row.v * c);
+    [ux, uy, row.px * ux + row.py * uy]
+}
+
+/// The rest of [`cpa_entry`] from [`cpa_closing_num`]'s numbers.
+#[inline(always)]
+fn cpa_finish<F: Fn(f64) -> f64>(row: &CpaRow, [ux, uy, num]: [f64; 3], f: &F) -> f64 {
     let CpaRow {
-        v,
-        px,
-        py,
-        cn_vx,
-        cn_vy,
-        now,
-        tol,
+        px, py, now, tol, ..
     } = *row;
-    let (ux, uy) = (cn_vx - v * s, cn_vy - v * c);
     let ww = ux * ux + uy * uy;
-    let t = (px * ux + py * uy) / ww;
+    let t = num / ww;
     let closing = !(ww == 0.0) & !(t.is_nan() | (t <= 0.0));
     let t = if t > tol { tol } else { t };
     let (dx, dy) = (px - ux * t, py - uy * t);

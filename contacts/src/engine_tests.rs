@@ -448,6 +448,104 @@ fn cpa_row_avx2_is_the_plain_row() {
     }
 }
 
+/// The chunked row (chunks none of whose candidates closes written as `f(now)`) is
+/// `cpa_entry` per candidate, bit for bit, baseline and AVX2 compilations alike: over
+/// rows of every length 0..=41 with random and awkward numbers (zeros of both signs,
+/// NaN, infinities, subnormals, numbers whose squares overflow or underflow), ownship
+/// still or matching the contact's velocity exactly, ownship on the contact (p = 0), and
+/// whole grids of courses (long runs of closing and of not closing candidates, and
+/// chunks mixing both), with an identity `f` and one whose answer is not its argument.
+#[test]
+fn cpa_row_chunks_are_cpa_entry() {
+    use super::heading::{cpa_entry, cpa_row, CpaRow};
+    let mut seed = 2024u64;
+    let odd = [
+        0.0,
+        -0.0,
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        1e-310,
+        -1e-160,
+        1e160,
+        -1e300,
+        f64::MAX,
+    ];
+    let pick = |seed: &mut u64, scale: f64| {
+        if rng(seed) < 0.15 {
+            odd[(rng(seed) * odd.len() as f64) as usize % odd.len()]
+        } else {
+            (rng(seed) - 0.5) * scale
+        }
+    };
+    let grid: Vec<(f64, f64)> = (0..360).map(|h| unit(f64::from(h))).collect();
+    let metric = |d: f64| {
+        let mid = 25.0 + 75.0 * (d - 10.0) / 30.0;
+        let high = if d > 40.0 { 100.0 } else { mid };
+        if d < 10.0 {
+            0.0
+        } else {
+            high
+        }
+    };
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    for case in 0..6000 {
+        // Odd cases: a grid row of consecutive courses (from a random one, any length
+        // up to a full circle); even ones: random units.
+        let units: Vec<(f64, f64)> = if case % 2 == 1 {
+            let (from, n) = ((rng(&mut seed) * 360.0) as usize, case % 361);
+            (0..n).map(|k| grid[(from + k) % 360]).collect()
+        } else {
+            (0..case % 42)
+                .map(|_| (pick(&mut seed, 2.0), pick(&mut seed, 2.0)))
+                .collect()
+        };
+        let (sins, coss): (Vec<f64>, Vec<f64>) = units.iter().copied().unzip();
+        let mut row = CpaRow {
+            v: pick(&mut seed, 8.0).max(0.0),
+            px: pick(&mut seed, 400.0),
+            py: pick(&mut seed, 400.0),
+            cn_vx: pick(&mut seed, 6.0),
+            cn_vy: pick(&mut seed, 6.0),
+            now: pick(&mut seed, 400.0),
+            tol: pick(&mut seed, 300.0),
+        };
+        match case % 7 {
+            // Ownship on the contact.
+            0 => (row.px, row.py) = (0.0, 0.0),
+            // Still.
+            1 => row.v = 0.0,
+            // The contact's velocity is ownship's on one of the row's courses.
+            2 if !units.is_empty() => {
+                let (s, c) = units[(rng(&mut seed) * units.len() as f64) as usize];
+                (row.cn_vx, row.cn_vy) = (row.v * s, row.v * c);
+            }
+            _ => {}
+        }
+        let n = units.len();
+        for (k, f) in [&(|d| d) as &dyn Fn(f64) -> f64, &metric]
+            .into_iter()
+            .enumerate()
+        {
+            let want: Vec<f64> = units.iter().map(|&u| cpa_entry(&row, u, &f)).collect();
+            let mut plain = vec![1.5; n];
+            cpa_row(&row, (&sins, &coss), &mut plain, f);
+            for (i, (a, b)) in want.iter().zip(&plain).enumerate() {
+                assert!(same(*a, *b), "case {case} f{k} [{i}] plain: {a} {b}");
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let mut wide = vec![-2.5; n];
+                // SAFETY: AVX2 is present (checked just above).
+                unsafe { super::heading::cpa_row_avx2(&row, (&sins, &coss), &mut wide, f) };
+                for (i, (a, b)) in want.iter().zip(&wide).enumerate() {
+                    assert!(same(*a, *b), "case {case} f{k} [{i}] avx2: {a} {b}");
+                }
+            }
+        }
+    }
+}
+
 /// A table from the thread's kept ones is the table built afresh, bit for bit, over a
 /// random run of angles that repeat (as a contact's heading does) and do not, awkward
 /// ones included; and an engine's tables are its own angles' tables.
