@@ -42,11 +42,44 @@ pub(super) fn fit_run(run: &Run<'_>, out: &mut RunOut<'_>) {
     fit_run_plain(run, out);
 }
 
-/// [`fit_run`] compiled for AVX2.
+/// [`fit_run`] compiled for AVX2: four tiles per step written out when the widths allow
+/// ([`avx2::fit_steps`]), the rest (or all) by the loops compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 pub(super) unsafe fn fit_run_avx2(run: &Run<'_>, out: &mut RunOut<'_>) {
-    fit_run_body(run, out);
+    let done = avx2::fit_steps(run, out);
+    if done < out.min.len() {
+        fit_run_body(&run.from(done), &mut out.from(done));
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[path = "tiling_rows_avx2.rs"]
+mod avx2;
+
+impl<'a> Run<'a> {
+    /// The run's tiles from the `k`-th on (an empty list, the centres when not read,
+    /// stays empty).
+    fn from(&self, k: usize) -> Run<'a> {
+        let tail = |s: &'a [f64]| s.get(k..).unwrap_or(&[]);
+        Run {
+            x: self.x.map(tail),
+            vals: self.vals.map(tail),
+            ..*self
+        }
+    }
+}
+
+impl RunOut<'_> {
+    /// The outputs of the tiles from the `k`-th on (`k` at most each list's length).
+    fn from(&mut self, k: usize) -> RunOut<'_> {
+        let [w0, w1, w2] = &mut self.w;
+        RunOut {
+            w: [&mut w0[k..], &mut w1[k..], &mut w2[k..]],
+            min: &mut self.min[k..],
+            max: &mut self.max[k..],
+        }
+    }
 }
 
 /// [`fit_run`] for the target's baseline instructions.

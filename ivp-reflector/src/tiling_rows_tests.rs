@@ -41,9 +41,53 @@ fn bits(v: &[f64]) -> Vec<u64> {
         .collect()
 }
 
+/// Most tiles of `vals` (per tile `k`, the values `vals[j][k]`) given one value at all
+/// their points, or all but one, or zeros of either sign: ordinary values, zeros, values
+/// about the filled steps' limit 2^1020, the greatest, subnormals, infinities, NaN.
+fn flatten(vals: &mut [Vec<f64>], seed: &mut u64) {
+    let limit = f64::from_bits(0x7fb0_0000_0000_0000);
+    let below = f64::from_bits(limit.to_bits() - 1);
+    let flat = [
+        100.0,
+        -100.0,
+        0.1,
+        1.0 / 3.0,
+        0.0,
+        limit,
+        -limit,
+        below,
+        -below,
+        f64::MAX,
+        1e-310,
+        -5e-324,
+        f64::INFINITY,
+        -f64::INFINITY,
+        f64::NAN,
+    ];
+    for k in 0..vals[0].len() {
+        if rng(seed) < 0.3 {
+            continue;
+        }
+        let v = if rng(seed) < 0.2 {
+            (rng(seed) - 0.5) * 1e3
+        } else {
+            flat[(rng(seed) * flat.len() as f64) as usize % flat.len()]
+        };
+        for list in vals.iter_mut() {
+            // Zeros of either sign.
+            list[k] = if v == 0.0 && rng(seed) < 0.5 { -v } else { v };
+        }
+        if rng(seed) < 0.1 {
+            let j = (rng(seed) * 5.0) as usize % 5;
+            vals[j][k] = value(seed);
+        }
+    }
+}
+
 /// [`fit_run_avx2`] is [`fit_run_plain`] bit for bit, over runs of 0 to 40 tiles (the
 /// vector loops' tails), every kind of width (0, powers of two, others), with and
-/// without centre, strict or not, on awkward values.
+/// without centre, strict or not, on awkward values and on tiles of one value (the
+/// filled steps).
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn fit_run_avx2_is_the_plain_fit() {
@@ -51,10 +95,21 @@ fn fit_run_avx2_is_the_plain_fit() {
         return;
     }
     let mut seed = 11u64;
-    for case in 0..4000 {
+    for case in 0..16000 {
         let n = case % 41;
         let list = |seed: &mut u64| (0..n).map(|_| value(seed)).collect::<Vec<f64>>();
-        let vals: Vec<Vec<f64>> = (0..5).map(|_| list(&mut seed)).collect();
+        let mut vals: Vec<Vec<f64>> = (0..5).map(|_| list(&mut seed)).collect();
+        if case % 4 != 3 {
+            flatten(&mut vals, &mut seed);
+        }
+        if case % 5 == 4 {
+            // Zeros and the least subnormals only: zero planes and intercepts of either
+            // sign, residual sums rounding to zero.
+            let tiny = [0.0, -0.0, 5e-324, -5e-324, 1e-323, -1.5e-323, 3e-323];
+            for v in vals.iter_mut().flat_map(|l| l.iter_mut()) {
+                *v = tiny[(rng(&mut seed) * tiny.len() as f64) as usize % tiny.len()];
+            }
+        }
         let widths = (
             [0, 1, 2, 3, 4, 5, 8][case % 7],
             [0, 1, 2, 6, 16][(case / 7) % 5],
