@@ -57,6 +57,33 @@ pub(super) unsafe fn fit_run_avx2(run: &Run<'_>, out: &mut RunOut<'_>) {
 #[path = "tiling_rows_avx2.rs"]
 mod avx2;
 
+/// Raise the search grid's `cells` of a row of tiles to the tiles' greatest values
+/// `row`, as build_grid does (a cell still at -inf takes the value whatever it is):
+/// tiles `per_cell·c ..` (`per_cell` of them, the last cell maybe fewer) lie in cell `c`,
+/// each cell's from the last to the first (the reflector's order).
+pub(super) fn raise_cells_of_row(cells: &mut [f64], row: &[f64], per_cell: usize) {
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        done = unsafe { avx2::raise_cells(cells, row, per_cell) };
+    }
+    for (c, g) in cells.iter_mut().enumerate().skip(done) {
+        let tiles = row.get(c * per_cell..).unwrap_or(&[]);
+        *g = tiles.iter().take(per_cell).rev().fold(*g, raise);
+    }
+}
+
+/// A grid cell at `g` raised by a piece of greatest value `v` (build_grid's step).
+#[inline(always)]
+fn raise(g: f64, &v: &f64) -> f64 {
+    if g == f64::NEG_INFINITY || v > g {
+        v
+    } else {
+        g
+    }
+}
+
 impl<'a> Run<'a> {
     /// The run's tiles from the `k`-th on (an empty list, the centres when not read,
     /// stays empty).

@@ -192,3 +192,41 @@ unsafe fn steps<const CENTRE: bool, const STRICT: bool>(
     }
     n / 4 * 4
 }
+
+/// [`super::raise_cells_of_row`] four cells at a time while four cells' tiles remain, each
+/// lane a cell raised by its tiles in its order (gathered from the row, `per_cell` apart);
+/// returns how many cells it raised (from the first).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn raise_cells(cells: &mut [f64], row: &[f64], per_cell: usize) -> usize {
+    let k = per_cell as i64;
+    if k == 0 {
+        return 0;
+    }
+    let blocks = (row.len() / per_cell).min(cells.len()) / 4;
+    let ninf = _mm256_set1_pd(f64::NEG_INFINITY);
+    let (one, step) = (_mm256_set1_epi64x(1), _mm256_set1_epi64x(4 * k));
+    // The last tile of each of the block's cells.
+    let mut last = _mm256_setr_epi64x(k - 1, 2 * k - 1, 3 * k - 1, 4 * k - 1);
+    let (g, v) = (cells.as_mut_ptr(), row.as_ptr());
+    for at in (0..blocks).map(|b| 4 * b) {
+        // SAFETY: at + 4 <= cells.len(), and every index gathered is below
+        // 4·blocks·per_cell <= row.len().
+        let mut x = _mm256_loadu_pd(g.add(at));
+        let mut tile = last;
+        for _ in 0..per_cell {
+            let y = _mm256_i64gather_pd::<8>(v, tile);
+            let take = _mm256_or_pd(
+                _mm256_cmp_pd::<_CMP_EQ_OQ>(x, ninf),
+                _mm256_cmp_pd::<_CMP_GT_OQ>(y, x),
+            );
+            x = _mm256_blendv_pd(x, y, take);
+            tile = _mm256_sub_epi64(tile, one);
+        }
+        _mm256_storeu_pd(g.add(at), x);
+        last = _mm256_add_epi64(last, step);
+    }
+    4 * blocks
+}

@@ -387,3 +387,38 @@ fn write_reversed_twice_is_once_then_again() {
         assert_eq!(bits(&got), bits(&want), "case {case}");
     }
 }
+
+/// Raising a row's cells four at a time ([`avx2::raise_cells`]) is raising them tile by
+/// tile in the reflector's order (build_grid's step), bit for bit: rows of 0 to 40 tiles,
+/// 1 to 5 tiles a cell, cells starting at -inf or not, awkward values (NaN, infinities,
+/// zeros of both signs: the bits tell them apart).
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn raise_cells_of_row_is_the_raise_tile_by_tile() {
+    if !std::arch::is_x86_feature_detected!("avx2") {
+        return;
+    }
+    let mut seed = 23u64;
+    for case in 0..6000usize {
+        let (n, per_cell) = (case % 41, 1 + (case / 41) % 5);
+        let row: Vec<f64> = (0..n).map(|_| value(&mut seed)).collect();
+        let ncells = n.div_ceil(per_cell);
+        let start: Vec<f64> = (0..ncells)
+            .map(|_| match case % 3 {
+                0 => f64::NEG_INFINITY,
+                1 if rng(&mut seed) < 0.5 => f64::NEG_INFINITY,
+                _ => value(&mut seed),
+            })
+            .collect();
+        let mut want = start.clone();
+        for cx in (0..n).rev() {
+            let g = &mut want[cx / per_cell];
+            if *g == f64::NEG_INFINITY || row[cx] > *g {
+                *g = row[cx];
+            }
+        }
+        let mut got = start.clone();
+        raise_cells_of_row(&mut got, &row, per_cell);
+        assert_eq!(bits(&got), bits(&want), "case {case}");
+    }
+}
