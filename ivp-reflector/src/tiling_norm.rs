@@ -93,8 +93,9 @@ pub(super) fn normalized_range(
     let (mut mn, mut mx) = (f64::INFINITY, f64::NEG_INFINITY);
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
+        let flat = scale.is_finite() && scale.is_sign_positive();
         // SAFETY: the CPU has AVX2 (checked just above).
-        (mn, mx) = unsafe { normalized_range_avx2(lists, (shift, scale)) };
+        (mn, mx) = unsafe { normalized_range_avx2(lists, (shift, scale), flat) };
         done = true;
     }
     if !done {
@@ -127,9 +128,30 @@ pub(super) fn piece_of(lists: RangeLists<'_>, k: usize, s: (f64, f64)) -> ([f64;
 /// operations on four lanes; the minimum and maximum instructions pick as its
 /// comparisons do), the rows' last n mod 4 pieces one at a time. Every list holds its
 /// pieces (checked by the caller).
+///
+/// If `flat` (the scale finite and not negative), four pieces of slopes +0 (the fit's
+/// flat pieces) take a shorter way to the same values: their slopes normalize to +0,
+/// the products of +0 and the edges (finite, not negative) are +0, so each range is
+/// the normalized intercept `(c + shift)·scale` plus +0 (twice, which is once).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 pub(super) unsafe fn normalized_range_avx2(
+    lists: RangeLists<'_>,
+    s: (f64, f64),
+    flat: bool,
+) -> (f64, f64) {
+    if flat {
+        normalized_range_lanes::<true>(lists, s)
+    } else {
+        normalized_range_lanes::<false>(lists, s)
+    }
+}
+
+/// [`normalized_range_avx2`] for a case of `flat`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn normalized_range_lanes<const FLAT: bool>(
     lists: RangeLists<'_>,
     (shift, scale): (f64, f64),
 ) -> (f64, f64) {
@@ -150,8 +172,15 @@ pub(super) unsafe fn normalized_range_avx2(
             // SAFETY: k + 4 <= nx, within xl and xh, and at + k + 4 <= n, within the
             // weight lists (checked by the caller).
             let ld = |l: &[f64], i: usize| _mm256_loadu_pd(l.as_ptr().add(i));
-            let a = _mm256_mul_pd(ld(w0, at + k), sc);
-            let b = _mm256_mul_pd(ld(w1, at + k), sc);
+            let (a, b) = (ld(w0, at + k), ld(w1, at + k));
+            let zeros = _mm256_castpd_si256(_mm256_or_pd(a, b));
+            if FLAT && _mm256_testz_si256(zeros, zeros) != 0 {
+                let c = _mm256_mul_pd(_mm256_add_pd(ld(w2, at + k), sh), sc);
+                let c = _mm256_add_pd(c, zero);
+                (vmn, vmx) = (_mm256_min_pd(c, vmn), _mm256_max_pd(c, vmx));
+                continue;
+            }
+            let (a, b) = (_mm256_mul_pd(a, sc), _mm256_mul_pd(b, sc));
             let c = _mm256_mul_pd(_mm256_add_pd(ld(w2, at + k), sh), sc);
             let (l, h) = (ld(xl, k), ld(xh, k));
             // up = if a < 0 { 0 } else { h − l }.

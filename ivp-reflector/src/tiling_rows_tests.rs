@@ -304,12 +304,14 @@ fn write_reversed_is_the_reversed_write() {
 /// [`normalized_range`] (the range of the normalized pieces without writing them) is
 /// [`fold_range`] of the ranges [`normalize_row`] writes, bit for bit, or `None` only for
 /// an extreme of zeros; over grids of 1 to 9 rows of 0 to 40 pieces of awkward weights,
-/// some all zero (zeros of both signs at the extremes).
+/// some all zero (zeros of both signs at the extremes), many flat (slopes +0, taken the
+/// shorter way) with ordinary, zero, huge and awkward intercepts, under ordinary and
+/// awkward shifts and scales (infinite, NaN, zero, negative, tiny, huge).
 #[test]
 fn normalized_range_is_the_fold_of_normalized_rows() {
     let mut seed = 53u64;
     let mut answered = 0;
-    for case in 0..4000 {
+    for case in 0..12000 {
         let (nx, ny) = (case % 41, 1 + case % 9);
         let n = nx * ny;
         let xl: Vec<f64> = (0..nx).map(|k| (3 * k) as f64).collect();
@@ -317,17 +319,46 @@ fn normalized_range_is_the_fold_of_normalized_rows() {
         let yl: Vec<f64> = (0..ny).map(|k| (2 * k) as f64).collect();
         let yh: Vec<f64> = yl.iter().map(|y| y + 1.0).collect();
         let zero = case % 7 == 0;
-        let w: Vec<Vec<f64>> = (0..3)
+        let mut w: Vec<Vec<f64>> = (0..3)
             .map(|_| {
                 (0..n)
                     .map(|_| if zero { 0.0 } else { value(&mut seed) })
                     .collect()
             })
             .collect();
+        // Flat pieces (slopes +0; or −0, not flat) of any intercept, most of the time.
+        let share = [0.0, 0.5, 0.95][case % 3];
+        for k in 0..n {
+            if !zero && rng(&mut seed) < share {
+                let slope = |seed: &mut u64| if rng(seed) < 0.9 { 0.0 } else { -0.0 };
+                (w[0][k], w[1][k]) = (slope(&mut seed), slope(&mut seed));
+                let c = [100.0, 0.0, -0.0, 1e300, -1e300, 5e-324][case / 3 % 6];
+                w[2][k] = if rng(&mut seed) < 0.7 {
+                    c
+                } else {
+                    value(&mut seed)
+                };
+            }
+        }
+        let odd = [
+            f64::INFINITY,
+            -f64::INFINITY,
+            f64::NAN,
+            0.0,
+            -0.0,
+            -2.5,
+            1e-300,
+            1e300,
+        ];
         let (shift, scale) = if zero {
             ([0.0, -0.0][case % 2], 1.0)
-        } else {
+        } else if case % 5 < 2 {
             (value(&mut seed), value(&mut seed))
+        } else if case % 5 == 2 {
+            let s = odd[(rng(&mut seed) * 8.0) as usize % 8];
+            ((rng(&mut seed) - 0.5) * 300.0, s)
+        } else {
+            ((rng(&mut seed) - 0.5) * 300.0, rng(&mut seed) * 3.0)
         };
         let got = normalized_range((&xl, &xh, &yl, &yh, [&w[0], &w[1], &w[2]]), shift, scale);
         if n == 0 {
@@ -360,7 +391,7 @@ fn normalized_range_is_the_fold_of_normalized_rows() {
             None => assert!(want.0 == 0.0 || want.1 == 0.0, "case {case}"),
         }
     }
-    assert!(answered > 2000, "{answered}");
+    assert!(answered > 6000, "{answered}");
 }
 
 /// Two scalings written at once are the first written then the second applied to it.
