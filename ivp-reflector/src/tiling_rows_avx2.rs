@@ -32,6 +32,14 @@
 //! that is not zero (giving exactly that extreme), or from a zero extreme only in a shift
 //! it never picks (`±0 > ±0` is false).
 
+//!
+//! The strict range's plane extremes are taken before the intercept is added, once
+//! (`min(q) + c`, not `min(q + c)`): rounding never reverses an order, so the two are
+//! equal but for the sign of a zero or where `q + c` is NaN for some `q` (an infinite
+//! `c`, or a NaN one), and there both sides compare false with the values' extremes
+//! (then neither shift is taken), or the shift taken subtracts them from a value that
+//! is not zero, which the zero's sign does not change.
+
 use super::{Run, RunOut};
 use std::arch::x86_64::*;
 
@@ -70,17 +78,16 @@ unsafe fn slope_factors(w: u32) -> (__m256d, __m256d) {
     }
 }
 
-/// Whether tiles of the one value `v` (per lane) are all filled in: `|v| < 2^1020` if
+/// Per lane, whether tiles of the one value `v` are filled in: `|v| < 2^1020` if
 /// strict, else `v` zero (see the module docs).
 #[inline(always)]
-unsafe fn fills<const STRICT: bool>(v: __m256d) -> bool {
-    let ok = if STRICT {
+unsafe fn fills<const STRICT: bool>(v: __m256d) -> __m256d {
+    if STRICT {
         let magnitude = _mm256_and_pd(v, _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX)));
         _mm256_cmp_pd::<_CMP_LT_OQ>(magnitude, _mm256_set1_pd(FLAT_LIMIT))
     } else {
         _mm256_cmp_pd::<_CMP_EQ_OQ>(v, _mm256_setzero_pd())
-    };
-    _mm256_movemask_pd(ok) == 0xF
+    }
 }
 
 /// [`fit_steps`] for the run's case of centre and strict range.
@@ -125,7 +132,8 @@ unsafe fn steps<const CENTRE: bool, const STRICT: bool>(
         if CENTRE {
             flat = _mm256_and_pd(flat, _mm256_cmp_pd::<_CMP_EQ_OQ>(v4, v0));
         }
-        if _mm256_testc_pd(flat, ones) != 0 && fills::<STRICT>(v0) {
+        flat = _mm256_and_pd(flat, fills::<STRICT>(v0));
+        if _mm256_testc_pd(flat, ones) != 0 {
             let c = _mm256_add_pd(v0, zero);
             _mm256_storeu_pd(o0.add(k), zero);
             _mm256_storeu_pd(o1.add(k), zero);
@@ -163,15 +171,16 @@ unsafe fn steps<const CENTRE: bool, const STRICT: bool>(
         let mut icpt = _mm256_div_pd(isum, count);
         if STRICT {
             // min(x, m) is `x < m ? x : m`, max(x, m) `x > m ? x : m`: the fit's picks.
-            let (mut vmin, mut vmax, mut pmin, mut pmax) = (inf, ninf, inf, ninf);
+            // The plane's extremes shifted once, not each value (module docs).
+            let (mut vmin, mut vmax, mut qmin, mut qmax) = (inf, ninf, inf, ninf);
             let pairs = [(v0, q0), (v1, q1), (v2, q2), (v3, q3), (v4, q4)];
             for &(v, q) in &pairs[..cnt] {
-                let q = _mm256_add_pd(q, icpt);
                 vmin = _mm256_min_pd(v, vmin);
                 vmax = _mm256_max_pd(v, vmax);
-                pmin = _mm256_min_pd(q, pmin);
-                pmax = _mm256_max_pd(q, pmax);
+                qmin = _mm256_min_pd(q, qmin);
+                qmax = _mm256_max_pd(q, qmax);
             }
+            let (pmin, pmax) = (_mm256_add_pd(qmin, icpt), _mm256_add_pd(qmax, icpt));
             let down = _mm256_sub_pd(icpt, _mm256_sub_pd(pmax, vmax));
             let up = _mm256_add_pd(icpt, _mm256_sub_pd(vmin, pmin));
             icpt = _mm256_blendv_pd(icpt, up, _mm256_cmp_pd::<_CMP_LT_OQ>(pmin, vmin));
