@@ -118,6 +118,9 @@ struct Axis {
     mids: Vec<u32>,
     /// Runs of consecutive tiles of equal width: (first tile, end, width `hi − lo`).
     runs: Vec<(usize, usize, u32)>,
+    /// How many tiles lie in each grid cell when each cell holds that many consecutive
+    /// tiles (the last maybe fewer) and no tile spans two cells; else 0.
+    per_cell: usize,
 }
 
 impl Axis {
@@ -155,6 +158,13 @@ impl Axis {
                 _ => self.runs.push((k, k + 1, hi - lo)),
             }
         }
+        // Tile k in cell k / per_cell, for the per_cell that the first cell's tiles give.
+        let per_cell = self.cells.iter().take_while(|c| c.0 == 0).count();
+        let in_cells = |(k, &(cell, span)): (usize, &(usize, usize))| {
+            span == 1 && cell == k / per_cell * stride
+        };
+        let uniform = per_cell > 0 && self.cells.iter().enumerate().all(in_cells);
+        self.per_cell = if uniform { per_cell } else { 0 };
     }
 }
 
@@ -368,20 +378,16 @@ fn fit_rows_2(
     // loops): ranges folded, grid cells raised (the weights stay in the lists:
     // Summary::weights_pending; the bounds are fit_uniform_n's).
     let min_max = (total > 0).then(|| rows::fold_range(lo, hi));
-    let one_cell = xs.cells.iter().all(|c| c.1 == 1);
     for (cy, &(ycell, yspan)) in ys.cells.iter().enumerate().rev() {
         let row = &hi[cy * nx..][..nx];
-        if !(one_cell && yspan == 1) {
+        if xs.per_cell == 0 || yspan != 1 {
             let raise = |cx| raise_cells::<2>(grid, axes, &[1, ys.stride], &[cx, cy], row[cx]);
             (0..nx).rev().for_each(raise);
             continue;
         }
-        for (&(xcell, _), &v) in xs.cells.iter().zip(row).rev() {
-            let g = &mut grid[xcell + ycell];
-            if *g == f64::NEG_INFINITY || v > *g {
-                *g = v;
-            };
-        }
+        // The row's tiles in consecutive cells, xs.per_cell to a cell.
+        let cells = &mut grid[ycell..][..nx.div_ceil(xs.per_cell)];
+        rows::raise_cells_of_row(cells, row, xs.per_cell);
     }
     (pieces, min_max)
 }

@@ -41,9 +41,53 @@ fn bits(v: &[f64]) -> Vec<u64> {
         .collect()
 }
 
+/// Most tiles of `vals` (per tile `k`, the values `vals[j][k]`) given one value at all
+/// their points, or all but one, or zeros of either sign: ordinary values, zeros, values
+/// about the filled steps' limit 2^1020, the greatest, subnormals, infinities, NaN.
+fn flatten(vals: &mut [Vec<f64>], seed: &mut u64) {
+    let limit = f64::from_bits(0x7fb0_0000_0000_0000);
+    let below = f64::from_bits(limit.to_bits() - 1);
+    let flat = [
+        100.0,
+        -100.0,
+        0.1,
+        1.0 / 3.0,
+        0.0,
+        limit,
+        -limit,
+        below,
+        -below,
+        f64::MAX,
+        1e-310,
+        -5e-324,
+        f64::INFINITY,
+        -f64::INFINITY,
+        f64::NAN,
+    ];
+    for k in 0..vals[0].len() {
+        if rng(seed) < 0.3 {
+            continue;
+        }
+        let v = if rng(seed) < 0.2 {
+            (rng(seed) - 0.5) * 1e3
+        } else {
+            flat[(rng(seed) * flat.len() as f64) as usize % flat.len()]
+        };
+        for list in vals.iter_mut() {
+            // Zeros of either sign.
+            list[k] = if v == 0.0 && rng(seed) < 0.5 { -v } else { v };
+        }
+        if rng(seed) < 0.1 {
+            let j = (rng(seed) * 5.0) as usize % 5;
+            vals[j][k] = value(seed);
+        }
+    }
+}
+
 /// [`fit_run_avx2`] is [`fit_run_plain`] bit for bit, over runs of 0 to 40 tiles (the
 /// vector loops' tails), every kind of width (0, powers of two, others), with and
-/// without centre, strict or not, on awkward values.
+/// without centre, strict or not, on awkward values and on tiles of one value (the
+/// filled steps).
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn fit_run_avx2_is_the_plain_fit() {
@@ -51,10 +95,21 @@ fn fit_run_avx2_is_the_plain_fit() {
         return;
     }
     let mut seed = 11u64;
-    for case in 0..4000 {
+    for case in 0..16000 {
         let n = case % 41;
         let list = |seed: &mut u64| (0..n).map(|_| value(seed)).collect::<Vec<f64>>();
-        let vals: Vec<Vec<f64>> = (0..5).map(|_| list(&mut seed)).collect();
+        let mut vals: Vec<Vec<f64>> = (0..5).map(|_| list(&mut seed)).collect();
+        if case % 4 != 3 {
+            flatten(&mut vals, &mut seed);
+        }
+        if case % 5 == 4 {
+            // Zeros and the least subnormals only: zero planes and intercepts of either
+            // sign, residual sums rounding to zero.
+            let tiny = [0.0, -0.0, 5e-324, -5e-324, 1e-323, -1.5e-323, 3e-323];
+            for v in vals.iter_mut().flat_map(|l| l.iter_mut()) {
+                *v = tiny[(rng(&mut seed) * tiny.len() as f64) as usize % tiny.len()];
+            }
+        }
         let widths = (
             [0, 1, 2, 3, 4, 5, 8][case % 7],
             [0, 1, 2, 6, 16][(case / 7) % 5],
@@ -249,12 +304,14 @@ fn write_reversed_is_the_reversed_write() {
 /// [`normalized_range`] (the range of the normalized pieces without writing them) is
 /// [`fold_range`] of the ranges [`normalize_row`] writes, bit for bit, or `None` only for
 /// an extreme of zeros; over grids of 1 to 9 rows of 0 to 40 pieces of awkward weights,
-/// some all zero (zeros of both signs at the extremes).
+/// some all zero (zeros of both signs at the extremes), many flat (slopes +0, taken the
+/// shorter way) with ordinary, zero, huge and awkward intercepts, under ordinary and
+/// awkward shifts and scales (infinite, NaN, zero, negative, tiny, huge).
 #[test]
 fn normalized_range_is_the_fold_of_normalized_rows() {
     let mut seed = 53u64;
     let mut answered = 0;
-    for case in 0..4000 {
+    for case in 0..12000 {
         let (nx, ny) = (case % 41, 1 + case % 9);
         let n = nx * ny;
         let xl: Vec<f64> = (0..nx).map(|k| (3 * k) as f64).collect();
@@ -262,17 +319,46 @@ fn normalized_range_is_the_fold_of_normalized_rows() {
         let yl: Vec<f64> = (0..ny).map(|k| (2 * k) as f64).collect();
         let yh: Vec<f64> = yl.iter().map(|y| y + 1.0).collect();
         let zero = case % 7 == 0;
-        let w: Vec<Vec<f64>> = (0..3)
+        let mut w: Vec<Vec<f64>> = (0..3)
             .map(|_| {
                 (0..n)
                     .map(|_| if zero { 0.0 } else { value(&mut seed) })
                     .collect()
             })
             .collect();
+        // Flat pieces (slopes +0; or −0, not flat) of any intercept, most of the time.
+        let share = [0.0, 0.5, 0.95][case % 3];
+        for k in 0..n {
+            if !zero && rng(&mut seed) < share {
+                let slope = |seed: &mut u64| if rng(seed) < 0.9 { 0.0 } else { -0.0 };
+                (w[0][k], w[1][k]) = (slope(&mut seed), slope(&mut seed));
+                let c = [100.0, 0.0, -0.0, 1e300, -1e300, 5e-324][case / 3 % 6];
+                w[2][k] = if rng(&mut seed) < 0.7 {
+                    c
+                } else {
+                    value(&mut seed)
+                };
+            }
+        }
+        let odd = [
+            f64::INFINITY,
+            -f64::INFINITY,
+            f64::NAN,
+            0.0,
+            -0.0,
+            -2.5,
+            1e-300,
+            1e300,
+        ];
         let (shift, scale) = if zero {
             ([0.0, -0.0][case % 2], 1.0)
-        } else {
+        } else if case % 5 < 2 {
             (value(&mut seed), value(&mut seed))
+        } else if case % 5 == 2 {
+            let s = odd[(rng(&mut seed) * 8.0) as usize % 8];
+            ((rng(&mut seed) - 0.5) * 300.0, s)
+        } else {
+            ((rng(&mut seed) - 0.5) * 300.0, rng(&mut seed) * 3.0)
         };
         let got = normalized_range((&xl, &xh, &yl, &yh, [&w[0], &w[1], &w[2]]), shift, scale);
         if n == 0 {
@@ -305,7 +391,7 @@ fn normalized_range_is_the_fold_of_normalized_rows() {
             None => assert!(want.0 == 0.0 || want.1 == 0.0, "case {case}"),
         }
     }
-    assert!(answered > 2000, "{answered}");
+    assert!(answered > 6000, "{answered}");
 }
 
 /// Two scalings written at once are the first written then the second applied to it.
@@ -329,6 +415,41 @@ fn write_reversed_twice_is_once_then_again() {
         write_reversed([&back[0], &back[1], &back[2]], [s2, None], &mut want);
         let mut got = vec![];
         write_reversed([&w[0], &w[1], &w[2]], [s1, s2], &mut got);
+        assert_eq!(bits(&got), bits(&want), "case {case}");
+    }
+}
+
+/// Raising a row's cells four at a time ([`avx2::raise_cells`]) is raising them tile by
+/// tile in the reflector's order (build_grid's step), bit for bit: rows of 0 to 40 tiles,
+/// 1 to 5 tiles a cell, cells starting at -inf or not, awkward values (NaN, infinities,
+/// zeros of both signs: the bits tell them apart).
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn raise_cells_of_row_is_the_raise_tile_by_tile() {
+    if !std::arch::is_x86_feature_detected!("avx2") {
+        return;
+    }
+    let mut seed = 23u64;
+    for case in 0..6000usize {
+        let (n, per_cell) = (case % 41, 1 + (case / 41) % 5);
+        let row: Vec<f64> = (0..n).map(|_| value(&mut seed)).collect();
+        let ncells = n.div_ceil(per_cell);
+        let start: Vec<f64> = (0..ncells)
+            .map(|_| match case % 3 {
+                0 => f64::NEG_INFINITY,
+                1 if rng(&mut seed) < 0.5 => f64::NEG_INFINITY,
+                _ => value(&mut seed),
+            })
+            .collect();
+        let mut want = start.clone();
+        for cx in (0..n).rev() {
+            let g = &mut want[cx / per_cell];
+            if *g == f64::NEG_INFINITY || row[cx] > *g {
+                *g = row[cx];
+            }
+        }
+        let mut got = start.clone();
+        raise_cells_of_row(&mut got, &row, per_cell);
         assert_eq!(bits(&got), bits(&want), "case {case}");
     }
 }
