@@ -69,10 +69,12 @@ fn by_sign(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
 
 /// The extremes of the first `4·k` pieces (as many whole groups as both slices hold):
 /// `(k·4, least lo, greatest hi)`, each the value of the FIRST piece reaching it, as
-/// the scalar `if lo < mn` keeps (lanes keep their own first; the group index of it
-/// is tracked, so ties between -0.0 and +0.0 resolve as in piece order). NaN values
-/// are skipped, as the scalar loop does once it holds a number: the caller must not
-/// come here when the first piece's extremes are NaN.
+/// the scalar `if lo < mn` keeps. Each lane keeps its own first (`min`/`max` keep the
+/// held value on a tie or a NaN, as the scalar test does); equal values have equal bits
+/// but for -0.0 and +0.0, so only when lanes hold zeros of both signs is the first
+/// piece at zero looked up (see [`first_zero`]). NaN values are skipped, as the scalar
+/// loop does once it holds a number: the caller must not come here when the first
+/// piece's extremes are NaN.
 #[target_feature(enable = "avx2")]
 pub(crate) fn extremes2(bounds: &[i32], weights: &[f64]) -> (usize, f64, f64) {
     let groups = (bounds.len() / 16).min(weights.len() / 12);
@@ -80,59 +82,89 @@ pub(crate) fn extremes2(bounds: &[i32], weights: &[f64]) -> (usize, f64, f64) {
         _mm256_set1_pd(f64::INFINITY),
         _mm256_set1_pd(f64::NEG_INFINITY),
     );
-    let (mut mn_at, mut mx_at) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-    let mut at = _mm256_setzero_pd();
-    let one = _mm256_set1_pd(1.0);
     for g in 0..groups {
         // SAFETY: group g < groups reads bounds[16g..16g+16] and weights[12g..12g+12].
-        let ([l0, h0, l1, h1], (a, b, c)) = unsafe {
-            let w = weights.as_ptr().add(12 * g);
-            (
-                bounds4(bounds.as_ptr().add(16 * g)),
-                (
-                    _mm256_loadu_pd(w),
-                    _mm256_loadu_pd(w.add(4)),
-                    _mm256_loadu_pd(w.add(8)),
-                ),
-            )
-        };
-        let [w0, w1, cc] = spread3(a, b, c);
-        let hi = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
-        let lo = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, h0, l0)));
-        let hi = _mm256_add_pd(hi, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
-        let lo = _mm256_add_pd(lo, _mm256_mul_pd(w1, by_sign(w1, h1, l1)));
-        let less = _mm256_cmp_pd::<_CMP_LT_OQ>(lo, mn);
-        mn = _mm256_blendv_pd(mn, lo, less);
-        mn_at = _mm256_blendv_pd(mn_at, at, less);
-        let more = _mm256_cmp_pd::<_CMP_GT_OQ>(hi, mx);
-        mx = _mm256_blendv_pd(mx, hi, more);
-        mx_at = _mm256_blendv_pd(mx_at, at, more);
-        at = _mm256_add_pd(at, one);
+        let (lo, hi) = unsafe { lo_hi(bounds.as_ptr().add(16 * g), weights.as_ptr().add(12 * g)) };
+        // `lo < mn ? lo : mn`, `hi > mx ? hi : mx`.
+        mn = _mm256_min_pd(lo, mn);
+        mx = _mm256_max_pd(hi, mx);
     }
-    let lo = first_best(mn, mn_at, |a, b| a < b);
-    let hi = first_best(mx, mx_at, |a, b| a > b);
+    let lo = first_best(mn, |a, b| a < b);
+    let hi = first_best(mx, |a, b| a > b);
+    let (lo, hi) = match (lo, hi) {
+        (Some(lo), Some(hi)) => (lo, hi),
+        // SAFETY: as the loop above, over the same groups.
+        _ => unsafe {
+            (
+                lo.unwrap_or_else(|| first_zero(bounds, weights, groups, false)),
+                hi.unwrap_or_else(|| first_zero(bounds, weights, groups, true)),
+            )
+        },
+    };
     (4 * groups, lo, hi)
 }
 
-/// The best of the 4 lanes `v` by `better`, among equals the one of the first piece
-/// (lane j's value came from piece `4·at_j + j`).
+/// The lo and hi extremes of the 4 pieces at `b` (16 `i32`s) and `w` (12 `f64`s), by
+/// the scalar loop's operations: `(c + w0·x0) + w1·x1`, `x_d` the corner by `w_d`'s sign.
 #[target_feature(enable = "avx2")]
 #[inline]
-fn first_best(v: __m256d, at: __m256d, better: fn(f64, f64) -> bool) -> f64 {
-    let (mut x, mut group) = ([0.0f64; 4], [0.0f64; 4]);
-    // SAFETY: 4 doubles each into arrays of 4.
-    unsafe {
-        _mm256_storeu_pd(x.as_mut_ptr(), v);
-        _mm256_storeu_pd(group.as_mut_ptr(), at);
-    }
-    let piece = |j: usize| 4.0 * group[j] + j as f64;
-    let mut best = 0;
-    for j in 1..4 {
-        if better(x[j], x[best]) || (x[j] == x[best] && piece(j) < piece(best)) {
-            best = j;
+unsafe fn lo_hi(b: *const i32, w: *const f64) -> (__m256d, __m256d) {
+    // SAFETY: the caller has 16 `i32`s at `b` and 12 `f64`s at `w`.
+    let ([l0, h0, l1, h1], (a, b, c)) = unsafe {
+        (
+            bounds4(b),
+            (
+                _mm256_loadu_pd(w),
+                _mm256_loadu_pd(w.add(4)),
+                _mm256_loadu_pd(w.add(8)),
+            ),
+        )
+    };
+    let [w0, w1, cc] = spread3(a, b, c);
+    let hi = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
+    let lo = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, h0, l0)));
+    let hi = _mm256_add_pd(hi, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
+    let lo = _mm256_add_pd(lo, _mm256_mul_pd(w1, by_sign(w1, h1, l1)));
+    (lo, hi)
+}
+
+/// The best of the 4 lanes `v` by `better`, `None` when the lanes at the best value
+/// differ in their bits (zeros of both signs: which came first is not known).
+#[target_feature(enable = "avx2")]
+#[inline]
+fn first_best(v: __m256d, better: fn(f64, f64) -> bool) -> Option<f64> {
+    let mut x = [0.0f64; 4];
+    // SAFETY: 4 doubles into an array of 4.
+    unsafe { _mm256_storeu_pd(x.as_mut_ptr(), v) };
+    let best = x[1..]
+        .iter()
+        .fold(x[0], |b, &y| if better(y, b) { y } else { b });
+    let at_best = x.iter().filter(|&&y| y == best);
+    at_best
+        .clone()
+        .all(|y| y.to_bits() == best.to_bits())
+        .then_some(best)
+}
+
+/// The lo (`hi`: hi) extreme of the first of the `4·groups` pieces whose is zero: the
+/// first to reach the best value when it is a zero of either sign.
+#[target_feature(enable = "avx2")]
+unsafe fn first_zero(bounds: &[i32], weights: &[f64], groups: usize, hi: bool) -> f64 {
+    let zero = _mm256_setzero_pd();
+    for g in 0..groups {
+        // SAFETY: the caller's groups: bounds[16g..16g+16] and weights[12g..12g+12].
+        let (lo, h) = unsafe { lo_hi(bounds.as_ptr().add(16 * g), weights.as_ptr().add(12 * g)) };
+        let v = if hi { h } else { lo };
+        let at = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(v, zero));
+        if at != 0 {
+            let mut x = [0.0f64; 4];
+            // SAFETY: 4 doubles into an array of 4.
+            unsafe { _mm256_storeu_pd(x.as_mut_ptr(), v) };
+            return x[at.trailing_zeros() as usize];
         }
     }
-    x[best]
+    // Not reached: the lanes held a zero.
+    0.0
 }
 
 /// How [`weigh2`] makes the weights: `Some((shift, scale))` normalizes.
@@ -143,18 +175,17 @@ pub(crate) struct Scale2 {
     pub(crate) span: [f64; 2],
 }
 
-/// Inverse of [`spread3`]: `[w0, w1, c]` (4 lanes each) as 3 vectors in memory order.
+/// 4 pieces' weights in memory order (`[a0 b0 c0 a1]`, `[b1 c1 a2 b2]`, `[c2 a3 b3 c3]`,
+/// slopes `a`, `b`, intercept `c`) with each piece's two slopes swapped.
 #[target_feature(enable = "avx2")]
 #[inline]
-fn gather3(w0: __m256d, w1: __m256d, c: __m256d) -> [__m256d; 3] {
-    // The same permutations as `spread3` (each its own inverse): a d c b, b a d c, c b a d.
-    let w0 = _mm256_permute4x64_pd::<0b01_10_11_00>(w0);
-    let w1 = _mm256_permute_pd::<0b0101>(w1);
-    let c = _mm256_permute4x64_pd::<0b11_00_01_10>(c);
+fn swap_slopes(v: [__m256d; 3]) -> [__m256d; 3] {
+    let low = _mm256_permute2f128_pd::<0x20>(v[0], v[1]); // a0 b0 b1 c1
+    let high = _mm256_permute2f128_pd::<0x31>(v[0], v[1]); // c0 a1 a2 b2
     [
-        _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(w0, w1), c),
-        _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(w1, c), w0),
-        _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(c, w0), w1),
+        _mm256_shuffle_pd::<0b0001>(v[0], low),       // b0 a0 c0 b1
+        _mm256_shuffle_pd::<0b0111>(high, v[1]),      // a1 c1 b2 a2
+        _mm256_permute4x64_pd::<0b11_01_10_00>(v[2]), // c2 b3 a3 c3
     ]
 }
 
@@ -173,16 +204,18 @@ pub(crate) fn weigh2(
     boxes: Option<&[i32]>,
     ub: &mut [f64],
 ) -> (usize, f64, bool) {
-    match swap {
-        false => weigh2_body::<false>(sc, src, weights, boxes, ub),
-        true => weigh2_body::<true>(sc, src, weights, boxes, ub),
+    match (swap, sc.norm.is_some()) {
+        (false, false) => weigh2_body::<false, false>(sc, src, weights, boxes, ub),
+        (false, true) => weigh2_body::<false, true>(sc, src, weights, boxes, ub),
+        (true, false) => weigh2_body::<true, false>(sc, src, weights, boxes, ub),
+        (true, true) => weigh2_body::<true, true>(sc, src, weights, boxes, ub),
     }
 }
 
-/// [`weigh2`] for a constant `SWAP`.
+/// [`weigh2`] for a constant `SWAP` and `NORM` (`sc.norm` is some).
 #[target_feature(enable = "avx2")]
 #[inline]
-fn weigh2_body<const SWAP: bool>(
+fn weigh2_body<const SWAP: bool, const NORM: bool>(
     sc: &Scale2,
     src: &[f64],
     weights: &mut [f64],
@@ -205,38 +238,25 @@ fn weigh2_body<const SWAP: bool>(
         _mm256_setr_pd(z, shift, z, z),
         _mm256_setr_pd(shift, z, z, shift),
     ];
-    let (shift, scale) = (_mm256_set1_pd(shift), _mm256_set1_pd(scale));
-    let slope = |x: __m256d| match sc.norm {
-        Some(_) => _mm256_mul_pd(_mm256_mul_pd(x, scale), pwt),
-        None => _mm256_mul_pd(x, pwt),
-    };
-    let (mut most, mut nan) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    let scale = _mm256_set1_pd(scale);
+    // The terms added up: NaN if and only if one is (they are sums of magnitudes).
+    let (mut most, mut sum) = (_mm256_setzero_pd(), _mm256_setzero_pd());
     for g in 0..groups {
         let mut v = [_mm256_setzero_pd(); 3];
         for (k, v) in v.iter_mut().enumerate() {
             // SAFETY: group g < groups reads src[12g..12g+12].
             *v = unsafe { _mm256_loadu_pd(src.as_ptr().add(12 * g + 4 * k)) };
-            if !SWAP {
-                *v = match sc.norm {
-                    Some(_) => {
-                        _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(*v, shifts[k]), scale), pwt)
-                    }
-                    None => _mm256_mul_pd(*v, pwt),
-                };
-            }
-        }
-        let [w0, w1, c] = if SWAP {
-            let [s0, s1, sc_] = spread3(v[0], v[1], v[2]);
-            let c = match sc.norm {
-                Some(_) => _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(sc_, shift), scale), pwt),
-                None => _mm256_mul_pd(sc_, pwt),
+            *v = match NORM {
+                true => _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(*v, shifts[k]), scale), pwt),
+                false => _mm256_mul_pd(*v, pwt),
             };
-            let w = [slope(s1), slope(s0), c];
-            v = gather3(w[0], w[1], w[2]);
-            w
-        } else {
-            spread3(v[0], v[1], v[2])
-        };
+        }
+        // The function's order; the problem's is the other way round with `SWAP`.
+        let [s0, s1, c] = spread3(v[0], v[1], v[2]);
+        let (w0, w1) = if SWAP { (s1, s0) } else { (s0, s1) };
+        if SWAP {
+            v = swap_slopes(v);
+        }
         for (k, v) in v.iter().enumerate() {
             // SAFETY: group g < groups writes weights[12g..12g+12].
             unsafe { _mm256_storeu_pd(weights.as_mut_ptr().add(12 * g + 4 * k), *v) };
@@ -245,7 +265,7 @@ fn weigh2_body<const SWAP: bool>(
         let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w0), k0));
         let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w1), k1));
         most = _mm256_max_pd(t, most);
-        nan = _mm256_or_pd(nan, _mm256_cmp_pd::<_CMP_UNORD_Q>(t, t));
+        sum = _mm256_add_pd(sum, t);
         if let Some(b) = boxes {
             // SAFETY: group g < groups reads b[16g..16g+16], writes ub[4g..4g+4].
             let [l0, h0, l1, h1] = unsafe { bounds4(b.as_ptr().add(16 * g)) };
@@ -254,6 +274,7 @@ fn weigh2_body<const SWAP: bool>(
             unsafe { _mm256_storeu_pd(ub.as_mut_ptr().add(4 * g), top) };
         }
     }
+    let nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(sum, sum);
     let mut x = [0.0f64; 4];
     // SAFETY: 4 doubles into an array of 4.
     unsafe { _mm256_storeu_pd(x.as_mut_ptr(), most) };
