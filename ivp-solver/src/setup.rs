@@ -2,7 +2,7 @@
 //! translated into the problem domain, with its grid of cell lists and cell bounds.
 
 use super::*;
-use crate::weigh::{min_max_wt, weigh, Weighing};
+use crate::weigh::{min_max_wt_with, weigh, Weighing};
 
 impl Solver {
     /// addOF (normalize if range > 100, apply pwt), alignment and grid build.
@@ -93,10 +93,6 @@ impl Solver {
             p.map
                 .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
-        let (mn, mx) = min_max_wt(f);
-        let norm = mx - mn > 100.0;
-        let r = mx - mn;
-        let (shift, scale) = (0.0 - mn, 100.0 / r);
         let pwt = f.pwt();
         let n = f.piece_count();
         p.n = n;
@@ -107,6 +103,13 @@ impl Solver {
         let boxes_gen = p.boxes_gen;
         translate_boxes(p, fb, &self.pts);
         let boxes_kept = p.boxes_gen == boxes_gen;
+        let boxes: &[i32] = if identity { fb } else { &p.bounds };
+        let corners = p.corners.of(boxes, (od, dim, &p.map), p.boxes_gen);
+        let swapped = p.map.first() == Some(&1);
+        let (mn, mx) = min_max_wt_with(f, corners.map(|c| (c, swapped)));
+        let norm = mx - mn > 100.0;
+        let r = mx - mn;
+        let (shift, scale) = (0.0 - mn, 100.0 / r);
         // Grid (its shape depends on the boxes' domain only).
         p.ppg.clear();
         p.ncells.clear();
@@ -148,7 +151,6 @@ impl Solver {
         }
         p.weights.resize(n * wl, 0.0);
         p.weights.truncate(n * wl);
-        let boxes: &[i32] = if identity { fb } else { &p.bounds };
         let wg = Weighing {
             map: &p.map,
             identity,
@@ -163,7 +165,7 @@ impl Solver {
             fw,
             od,
             &mut p.weights,
-            piece_bounds.then_some(boxes),
+            (piece_bounds.then_some(boxes), corners),
             &mut p.piece_ub,
         );
         p.term_scale = most;
@@ -286,6 +288,15 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     }
     let (dim, od) = (pts.len(), p.map.len());
     p.bounds.resize(p.n * 2 * dim, 0);
+    if dim == 2 && p.map == [1, 0] {
+        // Two dimensions the other way round (a function over speed × course): each
+        // box's halves swapped, no loop over a map.
+        let (out, _) = p.bounds.as_chunks_mut::<4>();
+        for (b, &[l1, h1, l0, h0]) in out.iter_mut().zip(fb.as_chunks::<4>().0) {
+            *b = [l0, h0, l1, h1];
+        }
+        return;
+    }
     let whole = od < dim;
     for (b, src) in p
         .bounds
