@@ -271,10 +271,18 @@ impl Solver {
 /// The problem-order boxes of `p` from the function's boxes `fb` (`p.map` and the
 /// problem's points `pts` set), unless made from the same boxes the same way last
 /// time: then they, and the cell lists made from them, are kept.
+#[inline(always)]
 fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     if p.src_map == p.map && p.src_pts == pts && p.src_bounds == fb {
         return;
     }
+    remake_boxes(p, fb, pts);
+}
+
+/// [`translate_boxes`] when they are new: kept out of line, the set-up's common path
+/// keeps its registers.
+#[inline(never)]
+fn remake_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     p.boxes_gen = p.boxes_gen.wrapping_add(1);
     p.src_map.clone_from(&p.map);
     p.src_pts.clear();
@@ -288,28 +296,64 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     }
     let (dim, od) = (pts.len(), p.map.len());
     p.bounds.resize(p.n * 2 * dim, 0);
-    if dim == 2 && p.map == [1, 0] {
+    // The helm's shapes with the dimensions constants (boxes as `[lo, hi]` pairs, the
+    // map's indices checked once per box): the same boxes as the loop for any.
+    let (out, fb, map) = (&mut p.bounds[..], fb, &p.map[..]);
+    if dim == 2 && matches!(map, [1, 0]) {
         // Two dimensions the other way round (a function over speed × course): each
-        // box's halves swapped, no loop over a map.
-        let (out, _) = p.bounds.as_chunks_mut::<4>();
+        // box's halves swapped.
+        let (out, _) = out.as_chunks_mut::<4>();
         for (b, &[l1, h1, l0, h0]) in out.iter_mut().zip(fb.as_chunks::<4>().0) {
             *b = [l0, h0, l1, h1];
         }
         return;
     }
+    match (od, dim) {
+        (1, 1) => translate_dims::<1, 1>(out, fb, map, pts),
+        (2, 2) => translate_dims::<2, 2>(out, fb, map, pts),
+        (3, 3) => translate_dims::<3, 3>(out, fb, map, pts),
+        (1, 2) => translate_dims::<1, 2>(out, fb, map, pts),
+        (1, 3) => translate_dims::<1, 3>(out, fb, map, pts),
+        (2, 3) => translate_dims::<2, 3>(out, fb, map, pts),
+        _ => translate_any(out, fb, map, pts),
+    }
+}
+
+/// The problem-order boxes `out` of the function's `fb` (`OD` dimensions, mapped by
+/// `map` into the problem's `DIM`), whole in the dimensions the function lacks.
+#[inline(always)]
+fn translate_dims<const OD: usize, const DIM: usize>(
+    out: &mut [i32],
+    fb: &[i32],
+    map: &[usize],
+    pts: &[i32],
+) {
+    let (Ok(map), Ok(pts)) = (<&[usize; OD]>::try_from(map), <&[i32; DIM]>::try_from(pts)) else {
+        return translate_any(out, fb, map, pts);
+    };
+    let whole: [[i32; 2]; DIM] = std::array::from_fn(|d| [0, pts[d] - 1]);
+    let (out, _) = out.as_chunks_mut::<2>();
+    let (src, _) = fb.as_chunks::<2>();
+    for (b, s) in out.chunks_exact_mut(DIM).zip(src.chunks_exact(OD)) {
+        b.copy_from_slice(&whole);
+        for i in 0..OD {
+            b[map[i]] = s[i];
+        }
+    }
+}
+
+/// [`translate_dims`] for any dimensions.
+fn translate_any(out: &mut [i32], fb: &[i32], map: &[usize], pts: &[i32]) {
+    let (dim, od) = (pts.len(), map.len());
     let whole = od < dim;
-    for (b, src) in p
-        .bounds
-        .chunks_exact_mut(2 * dim)
-        .zip(fb.chunks_exact(2 * od))
-    {
+    for (b, src) in out.chunks_exact_mut(2 * dim).zip(fb.chunks_exact(2 * od)) {
         if whole {
             for d in 0..dim {
                 b[2 * d] = 0;
                 b[2 * d + 1] = pts[d] - 1;
             }
         }
-        for (s, &t) in src.chunks_exact(2).zip(&p.map) {
+        for (s, &t) in src.chunks_exact(2).zip(map) {
             b[2 * t] = s[0];
             b[2 * t + 1] = s[1];
         }
