@@ -13,6 +13,8 @@
 //! skipping the piece skips no leaf the reference would take). A middle cell no piece
 //! meets holds `NO_BOUND`: no leaf lies under such a piece at all.
 
+#[cfg(target_arch = "x86_64")]
+use crate::first_simd;
 use crate::last_index::{LastIndex, NO_CELL};
 use crate::prepared::{Prepared, ODO_DIMS};
 use crate::search::Search;
@@ -111,6 +113,10 @@ impl Search<'_> {
         let last_ub = self.last_ub;
         // Held in locals: the loop tests them once per piece the tight loops stop at.
         let (two, mid) = (m == 2, self.mid.filter(|_| m > 2));
+        // The tight loops four pieces a step when the CPU has AVX2 (`first_simd.rs`),
+        // the scalar loops then going on from where they stop.
+        #[cfg(target_arch = "x86_64")]
+        let simd = std::arch::is_x86_feature_detected!("avx2");
         let mut q = 0;
         while q < n {
             if two && (self.found || self.seeded) {
@@ -118,6 +124,23 @@ impl Search<'_> {
                 // before the first leaf raising `doubt` above `best - 2 tol`, as
                 // `prune(rb, rb)` does), then the index's.
                 let (best, floor) = (self.best, self.best - 2.0 * self.tol);
+                #[cfg(target_arch = "x86_64")]
+                if simd {
+                    let t = first_simd::Two {
+                        mvs,
+                        cells,
+                        ub: ix.bounds(),
+                        last_ub,
+                        best,
+                        floor,
+                    };
+                    // SAFETY: `simd` only when the CPU has AVX2.
+                    let (at, doubt) = unsafe { first_simd::pass_two(&t, q, n, !self.found) };
+                    if doubt {
+                        self.doubt.set(true);
+                    }
+                    q = at;
+                }
                 while q < n {
                     let rb = mvs[q] + last_ub;
                     if rb <= best {
@@ -151,6 +174,20 @@ impl Search<'_> {
             if let (Some((tops, sums)), true) = (mid, self.found || self.seeded) {
                 // The quick bound (see the module docs), the rest exactly as below.
                 let lim = self.best - 2.0 * self.tol;
+                #[cfg(target_arch = "x86_64")]
+                if simd {
+                    let t = first_simd::Mid {
+                        mvs,
+                        cells,
+                        ub: ix.bounds(),
+                        last_ub,
+                        tops,
+                        sums,
+                        lim,
+                    };
+                    // SAFETY: `simd` only when the CPU has AVX2.
+                    q = unsafe { first_simd::pass_mid(&t, q, n) };
+                }
                 while q < n && tops[q] != NO_CELL {
                     let c = cells[q];
                     let lb = if c != NO_CELL {

@@ -267,6 +267,12 @@ impl LastIndex {
         self.ub[c]
     }
 
+    /// Every cell's bound (see [`LastIndex::bound`]).
+    #[inline]
+    pub(super) fn bounds(&self) -> &[f64] {
+        &self.ub
+    }
+
     /// [`LastIndex::cell_of`] of every one of `n` boxes into `out` ([`NO_CELL`] for
     /// none).
     pub(super) fn cells_of(&self, boxes: &[i32], n: usize, out: &mut Vec<u32>) {

@@ -31,6 +31,8 @@ use std::cell::Cell;
 mod clip;
 mod coords;
 mod first_level;
+#[cfg(target_arch = "x86_64")]
+mod first_simd;
 mod last_bits;
 mod last_index;
 mod prepared;

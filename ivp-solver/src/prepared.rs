@@ -52,6 +52,8 @@ pub(crate) struct Prepared {
     /// The cell size the cell lists were made for (from the boxes of `src_*`), empty
     /// for none.
     pub(crate) lists_ppg: Vec<i32>,
+    /// The boxes as the set-up's AVX2 passes read them (see `weigh.rs`).
+    pub(crate) corners: crate::weigh::Corners,
     /// What the slot was last prepared from (see `setup.rs`).
     pub(crate) key: crate::setup::MadeFrom,
 }

@@ -2,7 +2,7 @@
 //! translated into the problem domain, with its grid of cell lists and cell bounds.
 
 use super::*;
-use crate::weigh::{min_max_wt, weigh, Weighing};
+use crate::weigh::{min_max_wt_with, weigh, Weighing};
 
 impl Solver {
     /// addOF (normalize if range > 100, apply pwt), alignment and grid build.
@@ -93,10 +93,6 @@ impl Solver {
             p.map
                 .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
-        let (mn, mx) = min_max_wt(f);
-        let norm = mx - mn > 100.0;
-        let r = mx - mn;
-        let (shift, scale) = (0.0 - mn, 100.0 / r);
         let pwt = f.pwt();
         let n = f.piece_count();
         p.n = n;
@@ -107,6 +103,13 @@ impl Solver {
         let boxes_gen = p.boxes_gen;
         translate_boxes(p, fb, &self.pts);
         let boxes_kept = p.boxes_gen == boxes_gen;
+        let boxes: &[i32] = if identity { fb } else { &p.bounds };
+        let corners = p.corners.of(boxes, (od, dim, &p.map), p.boxes_gen);
+        let swapped = p.map.first() == Some(&1);
+        let (mn, mx) = min_max_wt_with(f, corners.map(|c| (c, swapped)));
+        let norm = mx - mn > 100.0;
+        let r = mx - mn;
+        let (shift, scale) = (0.0 - mn, 100.0 / r);
         // Grid (its shape depends on the boxes' domain only).
         p.ppg.clear();
         p.ncells.clear();
@@ -148,7 +151,6 @@ impl Solver {
         }
         p.weights.resize(n * wl, 0.0);
         p.weights.truncate(n * wl);
-        let boxes: &[i32] = if identity { fb } else { &p.bounds };
         let wg = Weighing {
             map: &p.map,
             identity,
@@ -163,7 +165,7 @@ impl Solver {
             fw,
             od,
             &mut p.weights,
-            piece_bounds.then_some(boxes),
+            (piece_bounds.then_some(boxes), corners),
             &mut p.piece_ub,
         );
         p.term_scale = most;
@@ -269,10 +271,18 @@ impl Solver {
 /// The problem-order boxes of `p` from the function's boxes `fb` (`p.map` and the
 /// problem's points `pts` set), unless made from the same boxes the same way last
 /// time: then they, and the cell lists made from them, are kept.
+#[inline(always)]
 fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     if p.src_map == p.map && p.src_pts == pts && p.src_bounds == fb {
         return;
     }
+    remake_boxes(p, fb, pts);
+}
+
+/// [`translate_boxes`] when they are new: kept out of line, the set-up's common path
+/// keeps its registers.
+#[inline(never)]
+fn remake_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     p.boxes_gen = p.boxes_gen.wrapping_add(1);
     p.src_map.clone_from(&p.map);
     p.src_pts.clear();
@@ -286,19 +296,64 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
     }
     let (dim, od) = (pts.len(), p.map.len());
     p.bounds.resize(p.n * 2 * dim, 0);
+    // The helm's shapes with the dimensions constants (boxes as `[lo, hi]` pairs, the
+    // map's indices checked once per box): the same boxes as the loop for any.
+    let (out, fb, map) = (&mut p.bounds[..], fb, &p.map[..]);
+    if dim == 2 && matches!(map, [1, 0]) {
+        // Two dimensions the other way round (a function over speed × course): each
+        // box's halves swapped.
+        let (out, _) = out.as_chunks_mut::<4>();
+        for (b, &[l1, h1, l0, h0]) in out.iter_mut().zip(fb.as_chunks::<4>().0) {
+            *b = [l0, h0, l1, h1];
+        }
+        return;
+    }
+    match (od, dim) {
+        (1, 1) => translate_dims::<1, 1>(out, fb, map, pts),
+        (2, 2) => translate_dims::<2, 2>(out, fb, map, pts),
+        (3, 3) => translate_dims::<3, 3>(out, fb, map, pts),
+        (1, 2) => translate_dims::<1, 2>(out, fb, map, pts),
+        (1, 3) => translate_dims::<1, 3>(out, fb, map, pts),
+        (2, 3) => translate_dims::<2, 3>(out, fb, map, pts),
+        _ => translate_any(out, fb, map, pts),
+    }
+}
+
+/// The problem-order boxes `out` of the function's `fb` (`OD` dimensions, mapped by
+/// `map` into the problem's `DIM`), whole in the dimensions the function lacks.
+#[inline(always)]
+fn translate_dims<const OD: usize, const DIM: usize>(
+    out: &mut [i32],
+    fb: &[i32],
+    map: &[usize],
+    pts: &[i32],
+) {
+    let (Ok(map), Ok(pts)) = (<&[usize; OD]>::try_from(map), <&[i32; DIM]>::try_from(pts)) else {
+        return translate_any(out, fb, map, pts);
+    };
+    let whole: [[i32; 2]; DIM] = std::array::from_fn(|d| [0, pts[d] - 1]);
+    let (out, _) = out.as_chunks_mut::<2>();
+    let (src, _) = fb.as_chunks::<2>();
+    for (b, s) in out.chunks_exact_mut(DIM).zip(src.chunks_exact(OD)) {
+        b.copy_from_slice(&whole);
+        for i in 0..OD {
+            b[map[i]] = s[i];
+        }
+    }
+}
+
+/// [`translate_dims`] for any dimensions.
+fn translate_any(out: &mut [i32], fb: &[i32], map: &[usize], pts: &[i32]) {
+    let (dim, od) = (pts.len(), map.len());
     let whole = od < dim;
-    for (b, src) in p
-        .bounds
-        .chunks_exact_mut(2 * dim)
-        .zip(fb.chunks_exact(2 * od))
-    {
+    for (b, src) in out.chunks_exact_mut(2 * dim).zip(fb.chunks_exact(2 * od)) {
         if whole {
             for d in 0..dim {
                 b[2 * d] = 0;
                 b[2 * d + 1] = pts[d] - 1;
             }
         }
-        for (s, &t) in src.chunks_exact(2).zip(&p.map) {
+        for (s, &t) in src.chunks_exact(2).zip(map) {
             b[2 * t] = s[0];
             b[2 * t + 1] = s[1];
         }

@@ -487,3 +487,129 @@ fn clip_narrows_equals_the_test_of_every_dimension() {
         assert_eq!(clip.narrows(&b, &pts), old, "{dims:b} {b:?} {pts:?}");
     }
 }
+
+/// The first level's tight loops four pieces a step (`first_simd.rs`), the scalar loop
+/// going on from where they stop, pass over the same pieces and raise the same doubt
+/// as the scalar loops alone, over values full of NaN, infinities and signed zeros.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn first_level_simd_loops_stop_where_the_scalar_ones_do() {
+    if !std::arch::is_x86_feature_detected!("avx2") {
+        return;
+    }
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let odd = [
+        0.0,
+        -0.0,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1.0,
+        -1.0,
+    ];
+    let value = |seed: &mut u64| match rng(seed) % 10 {
+        0 => odd[rng(seed) as usize % odd.len()],
+        // Few distinct values: many sums land exactly on the limits.
+        1..=4 => (rng(seed) % 9) as f64 - 4.0,
+        _ => (rng(seed) % 20001) as f64 / 100.0 - 100.0,
+    };
+    for round in 0..20_000 {
+        let n = rng(&mut seed) as usize % 40;
+        let (nub, nsum) = (
+            1 + rng(&mut seed) as usize % 9,
+            1 + rng(&mut seed) as usize % 9,
+        );
+        let cell = |seed: &mut u64, len: usize| match rng(seed) % 4 {
+            0 => NO_CELL,
+            _ => (rng(seed) as usize % len) as u32,
+        };
+        let mvs: Vec<f64> = (0..n).map(|_| value(&mut seed)).collect();
+        let cells: Vec<u32> = (0..n).map(|_| cell(&mut seed, nub)).collect();
+        let tops: Vec<u32> = (0..n).map(|_| cell(&mut seed, nsum)).collect();
+        let ub: Vec<f64> = (0..nub).map(|_| value(&mut seed)).collect();
+        let sums: Vec<f64> = (0..nsum).map(|_| value(&mut seed)).collect();
+        let (last_ub, best) = (value(&mut seed), value(&mut seed));
+        let floor = if rng(&mut seed).is_multiple_of(2) {
+            best - 2.0
+        } else {
+            value(&mut seed)
+        };
+        let watch = rng(&mut seed).is_multiple_of(2);
+        let start = if n == 0 {
+            0
+        } else {
+            rng(&mut seed) as usize % n
+        };
+        // The scalar loops as `Search::run_indexed` has them.
+        let two = |mut q: usize, doubt: &mut bool| {
+            while q < n {
+                let rb = mvs[q] + last_ub;
+                if rb <= best {
+                    if watch && rb > floor {
+                        *doubt = true;
+                    }
+                    q += 1;
+                    continue;
+                }
+                let c = cells[q];
+                let tb = if c != NO_CELL {
+                    mvs[q] + ub[c as usize]
+                } else {
+                    rb
+                };
+                if tb <= floor {
+                    q += 1;
+                    continue;
+                }
+                break;
+            }
+            q
+        };
+        let mid = |mut q: usize| {
+            while q < n && tops[q] != NO_CELL {
+                let c = cells[q];
+                let lb = if c != NO_CELL {
+                    ub[c as usize]
+                } else {
+                    last_ub
+                };
+                if (mvs[q] + sums[tops[q] as usize]) + lb <= floor {
+                    q += 1;
+                } else {
+                    break;
+                }
+            }
+            q
+        };
+        let t = first_simd::Two {
+            mvs: &mvs,
+            cells: &cells,
+            ub: &ub,
+            last_ub,
+            best,
+            floor,
+        };
+        let (mut plain, mut fast) = (false, false);
+        let want = two(start, &mut plain);
+        // SAFETY: AVX2 checked above.
+        let (at, d) = unsafe { first_simd::pass_two(&t, start, n, watch) };
+        // Where the scalar loop stops, or with fewer than four pieces left.
+        assert!(at == want || (at < want && n - at < 4), "round {round}");
+        fast |= d;
+        assert_eq!((two(at, &mut fast), fast), (want, plain), "round {round}");
+        let t = first_simd::Mid {
+            mvs: &mvs,
+            cells: &cells,
+            ub: &ub,
+            last_ub,
+            tops: &tops,
+            sums: &sums,
+            lim: floor,
+        };
+        // SAFETY: AVX2 checked above.
+        let at = unsafe { first_simd::pass_mid(&t, start, n) };
+        let want = mid(start);
+        assert!(at == want || (at < want && n - at < 4), "round {round}");
+        assert_eq!(mid(at), want, "round {round}");
+    }
+}

@@ -9,7 +9,7 @@
 //! bits; the scalar loops finish the last pieces and do everything else.
 
 #[cfg(target_arch = "x86_64")]
-use crate::weigh_simd::{extremes2, weigh2, Scale2};
+use crate::weigh_simd::{corners2, extremes2, weigh2, Boxes2, Scale2};
 use crate::FunctionView;
 use ivp::function::max_val;
 
@@ -32,16 +32,56 @@ pub(crate) struct Weighing<'a> {
 /// Every piece's weights from the function's `src` (`od` dimensions) into `weights`
 /// (problem order; the slopes of dimensions the function lacks are left as they are),
 /// and, with the pieces' problem-order `boxes`, each piece's `maxVal` into `piece_ub`
-/// (cleared first). Returns the largest term scale (`term`), NaN kept.
+/// (cleared first). Returns the largest term scale (`term`), NaN kept. `corners`: the
+/// boxes' [`Corners`], when made.
 pub(crate) fn weigh(
     wg: &Weighing,
     src: &[f64],
     od: usize,
     weights: &mut [f64],
-    boxes: Option<&[i32]>,
+    (boxes, corners): (Option<&[i32]>, Option<&[f64]>),
     piece_ub: &mut Vec<f64>,
 ) -> f64 {
-    weigh_with(wg, src, od, weights, boxes, piece_ub, avx2())
+    weigh_with(wg, src, od, weights, (boxes, corners), piece_ub, avx2())
+}
+
+/// Fewest pieces given [`Corners`]: a small function's boxes (a waypoint's) change more
+/// often than not, and making its corners costs about what they save.
+const CORNERS_MIN: usize = 64;
+
+/// The problem-order boxes of a two-dimensional function (both dimensions the
+/// problem's, either way round) as the AVX2 passes read them (see
+/// `weigh_simd::corners2`), kept while the boxes stay (a tiling's do, solve after
+/// solve): made for one slot's boxes generation (see `Prepared::boxes_gen`).
+#[derive(Debug, Default)]
+pub(crate) struct Corners {
+    data: Vec<f64>,
+    of: Option<u64>,
+}
+
+impl Corners {
+    /// The corners of the boxes `boxes` (problem order) of generation `gen` of a
+    /// function with `od` dimensions mapped by `map` into the problem's `dim`, made
+    /// unless they are these; `None` when the AVX2 passes would not read them.
+    pub(crate) fn of(
+        &mut self,
+        boxes: &[i32],
+        (od, dim, map): (usize, usize, &[usize]),
+        gen: u64,
+    ) -> Option<&[f64]> {
+        let n = boxes.len() / 4;
+        if !(od == 2 && dim == 2 && n >= CORNERS_MIN && matches!(map, [0, 1] | [1, 0]) && avx2()) {
+            return None;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.of != Some(gen) {
+            // SAFETY: `avx2()` said the CPU has AVX2.
+            unsafe { corners2(boxes, &mut self.data) };
+            self.of = Some(gen);
+        }
+        let _ = (boxes, gen);
+        Some(&self.data)
+    }
 }
 
 /// Whether the AVX2 bodies of `weigh_simd` may run.
@@ -52,13 +92,14 @@ fn avx2() -> bool {
     return false;
 }
 
-/// [`weigh`], with the AVX2 body for two dimensions (either order) if `simd`.
+/// [`weigh`], with the AVX2 body for two dimensions (either order) if `simd` (reading
+/// the boxes' corners when given).
 fn weigh_with(
     wg: &Weighing,
     src: &[f64],
     od: usize,
     weights: &mut [f64],
-    boxes: Option<&[i32]>,
+    (boxes, corners): (Option<&[i32]>, Option<&[f64]>),
     piece_ub: &mut Vec<f64>,
     simd: bool,
 ) -> f64 {
@@ -84,7 +125,11 @@ fn weigh_with(
         };
         let swap = wg.map[0] == 1;
         // SAFETY: `simd` is only true when the CPU has AVX2 (see `avx2`).
-        let (done, most, nan) = unsafe { weigh2(&sc, swap, src, weights, boxes, piece_ub) };
+        let read = boxes.map(|b| match corners {
+            Some(c) => Boxes2::Corners(c, false),
+            None => Boxes2::Ints(b),
+        });
+        let (done, most, nan) = unsafe { weigh2(&sc, swap, src, weights, read, piece_ub) };
         let most = if nan {
             // The scalar keeps the last NaN: its terms again, from the weights made.
             let made = weights[..3 * done].chunks_exact(3);
@@ -233,7 +278,15 @@ pub(crate) fn term(w: &[f64], pts: &[i32]) -> f64 {
 /// [`ivp::IvpFunction::min_max_wt`] with both extremes of a piece in one loop over its
 /// dimensions: each accumulates the same terms in the same order, and the pieces are
 /// compared in the same order, so the values are the same bit for bit.
+#[cfg(test)]
 pub(crate) fn min_max_wt(f: &FunctionView<'_>) -> (f64, f64) {
+    min_max_wt_with(f, None)
+}
+
+/// [`min_max_wt`], the AVX2 pass reading the function's boxes from their
+/// [`Corners`] (problem order; `swap`: the function's two dimensions the other way
+/// round) when given.
+pub(crate) fn min_max_wt_with(f: &FunctionView<'_>, corners: Option<(&[f64], bool)>) -> (f64, f64) {
     let (od, b, w) = (f.dim(), f.bounds(), f.weights());
     if od == 0 || f.piece_count() == 0 || b.len() < 2 * od || w.len() < od + 1 {
         // No piece (a checked function over no variable has none): what
@@ -242,17 +295,24 @@ pub(crate) fn min_max_wt(f: &FunctionView<'_>) -> (f64, f64) {
     }
     let simd = avx2();
     match od {
-        1 => extremes(b, w, 1, simd),
-        2 => extremes(b, w, 2, simd),
-        3 => extremes(b, w, 3, simd),
-        _ => extremes(b, w, od, simd),
+        1 => extremes(b, w, 1, simd, None),
+        2 => extremes(b, w, 2, simd, corners),
+        3 => extremes(b, w, 3, simd, None),
+        _ => extremes(b, w, od, simd, None),
     }
 }
 
 /// The least and greatest piece extremes over boxes `bounds` and weights `weights` of
-/// `od` dimensions (at least one piece); the AVX2 body for two dimensions if `simd`.
+/// `od` dimensions (at least one piece); the AVX2 body for two dimensions if `simd`
+/// (reading the boxes' `corners` when given, see [`min_max_wt_with`]).
 #[inline(always)]
-fn extremes(bounds: &[i32], weights: &[f64], od: usize, simd: bool) -> (f64, f64) {
+fn extremes(
+    bounds: &[i32],
+    weights: &[f64],
+    od: usize,
+    simd: bool,
+    corners: Option<(&[f64], bool)>,
+) -> (f64, f64) {
     let piece = |b: &[i32], w: &[f64]| {
         let (b, w) = (&b[..2 * od], &w[..od + 1]);
         let (mut lo, mut hi) = (w[od], w[od]);
@@ -276,12 +336,16 @@ fn extremes(bounds: &[i32], weights: &[f64], od: usize, simd: bool) -> (f64, f64
     #[cfg(target_arch = "x86_64")]
     if simd && od == 2 && !mn.is_nan() && !mx.is_nan() {
         // SAFETY: `simd` is only true when the CPU has AVX2 (see `avx2`).
-        let (n, lo, hi) = unsafe { extremes2(bounds, weights) };
+        let boxes = match corners {
+            Some((c, swap)) => Boxes2::Corners(c, swap),
+            None => Boxes2::Ints(bounds),
+        };
+        let (n, lo, hi) = unsafe { extremes2(boxes, weights) };
         if n > 0 {
             (done, mn, mx) = (n, lo, hi);
         }
     }
-    let _ = simd;
+    let _ = (simd, corners);
     let rest = (&bounds[2 * od * done..], &weights[(od + 1) * done..]);
     for (b, w) in rest.0.chunks_exact(2 * od).zip(rest.1.chunks_exact(od + 1)) {
         let (lo, hi) = piece(b, w);

@@ -179,8 +179,21 @@ fn extremes_equal_the_plain_loop_bit_for_bit() {
             }
         }
         let want = plain_extremes(&b, &w, od);
-        for simd in [false, avx2()] {
-            let got = extremes(&b, &w, od, simd);
+        // The AVX2 pass also reading the boxes from their corners, made from the boxes
+        // in the problem's order: the function's, or its two dimensions swapped.
+        let mut made = vec![];
+        let swap = round % 2 == 0;
+        if od == 2 && avx2() {
+            let mut problem = b.clone();
+            if swap {
+                problem.chunks_exact_mut(4).for_each(|x| x.rotate_left(2));
+            }
+            // SAFETY: the CPU has AVX2.
+            unsafe { corners2(&problem, &mut made) };
+        }
+        let corners = (!made.is_empty()).then_some((&made[..], swap));
+        for (simd, corners) in [(false, None), (avx2(), None), (avx2(), corners)] {
+            let got = extremes(&b, &w, od, simd, corners);
             assert_eq!(
                 bits(&[got.0, got.1]),
                 bits(&[want.0, want.1]),
@@ -236,9 +249,14 @@ fn weigh_equals_the_plain_loop_bit_for_bit() {
         let b = with_boxes.then_some(&boxes[..]);
         let (mut want_w, mut want_ub) = (old.clone(), vec![7.0]);
         let want = plain_weigh(&wg, &src, od, &mut want_w, b, &mut want_ub);
-        for simd in [false, avx2()] {
+        let mut made = vec![];
+        if dim == 2 && avx2() {
+            // SAFETY: the CPU has AVX2.
+            unsafe { corners2(&boxes, &mut made) };
+        }
+        for (simd, corners) in [(false, None), (avx2(), None), (avx2(), Some(&made[..]))] {
             let (mut w, mut ub) = (old.clone(), vec![7.0]);
-            let got = weigh_with(&wg, &src, od, &mut w, b, &mut ub, simd);
+            let got = weigh_with(&wg, &src, od, &mut w, (b, corners), &mut ub, simd);
             let what = format!("round {round} od {od} dim {dim} n {n} simd {simd}");
             assert_eq!(bits(&[got]), bits(&[want]), "{what}: {got} vs {want}");
             assert_eq!(bits(&w), bits(&want_w), "{what}: weights");

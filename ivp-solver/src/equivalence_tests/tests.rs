@@ -959,7 +959,7 @@ fn lazy_skip_equals_prune_of_the_bound_pair() {
 /// normalization, with non-integer priorities.
 #[test]
 fn weigh_equals_the_plain_loop() {
-    use crate::weigh::{term, weigh, Weighing};
+    use crate::weigh::{term, weigh, Corners, Weighing};
     let mut seed = 99u64;
     let mut seen = [0usize; 4];
     for round in 0..400 {
@@ -1029,14 +1029,16 @@ fn weigh_equals_the_plain_loop() {
                 pts: &pts,
             };
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            for with_ub in [false, true] {
+            let mut corners = Corners::default();
+            let made = corners.of(&boxes, (od, dim, &map), 1);
+            for (with_ub, made) in [(false, None), (true, None), (false, made), (true, made)] {
                 let (mut got_w, mut got_ub) = (junk.clone(), vec![1.0; 3]);
                 let most = weigh(
                     &wg,
                     f.weights(),
                     od,
                     &mut got_w,
-                    with_ub.then_some(&boxes[..]),
+                    (with_ub.then_some(&boxes[..]), made),
                     &mut got_ub,
                 );
                 assert_eq!(bits(&got_w), bits(&want_w), "round {round}");

@@ -1,0 +1,147 @@
+//! AVX2 bodies of the first level's two tight loops (see `first_level.rs`), four
+//! pieces a step: each lane makes the scalar loop's sums (the same additions in the
+//! same order) and tests (ordered compares: a NaN passes none, as `<=` and `>` do), and
+//! the step stops at the first lane the scalar loop stops at. Only whole groups of four
+//! are done here; the caller's scalar loop goes on from the piece returned (the one it
+//! stops at, or the last few).
+//!
+//! Cell numbers are clamped below the length of the table they index before the
+//! gather (a list made for another table would read a wrong bound, never outside).
+
+use std::arch::x86_64::*;
+
+/// What the two-function loop reads (see [`pass_two`]).
+pub(crate) struct Two<'a> {
+    /// The first function's `maxVal`s and last-index cells ([`NO_CELL`] for none).
+    pub(crate) mvs: &'a [f64],
+    pub(crate) cells: &'a [u32],
+    /// The last index's cell bounds.
+    pub(crate) ub: &'a [f64],
+    pub(crate) last_ub: f64,
+    pub(crate) best: f64,
+    pub(crate) floor: f64,
+}
+
+/// [`NO_CELL`](crate::last_index::NO_CELL) as the lanes hold it.
+const NONE: i32 = -1;
+
+/// 4 cell numbers at `p` clamped below `len` (at least 1), and the lanes holding a
+/// cell (not [`NONE`]) as a 64-bit mask.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn cells4(p: *const u32, len: usize) -> (__m128i, __m256d) {
+    // SAFETY: the caller has 4 readable `u32`s at `p`.
+    let c = unsafe { _mm_loadu_si128(p.cast()) };
+    let top = _mm_set1_epi32(len.min(i32::MAX as usize) as i32 - 1);
+    let none = _mm_set1_epi32(NONE);
+    let has = _mm_xor_si128(_mm_cmpeq_epi32(c, none), none);
+    (
+        _mm_min_epu32(c, top),
+        _mm256_castsi256_pd(_mm256_cvtepi32_epi64(has)),
+    )
+}
+
+/// `ub[c]` for the lanes of `has`, 0 in the others (`c` clamped below `ub.len()`).
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn gather(ub: &[f64], c: __m128i, has: __m256d) -> __m256d {
+    // SAFETY: every lane's index is below `ub.len()` (see `cells4`).
+    unsafe { _mm256_mask_i32gather_pd::<8>(_mm256_setzero_pd(), ub.as_ptr(), c, has) }
+}
+
+/// The first lane of 4 whose bit in `pass` is clear (4 for none).
+#[inline(always)]
+fn first_fail(pass: i32) -> usize {
+    (!pass | 0x10).trailing_zeros() as usize
+}
+
+/// The two-function loop of `Search::run_indexed` over whole groups of four from piece
+/// `q` (at most `n`, no more than `t.mvs` and `t.cells` hold): per piece `rb = mv +
+/// last_ub` passes at `rb <= best` (raising the returned doubt when `watch` and
+/// `rb > floor`), else `tb = mv + ub[cell]` (`rb` without a cell) passes at
+/// `tb <= floor`. Returns the first piece not passed (or where fewer than 4 remain) and
+/// whether a piece before it raised doubt.
+#[target_feature(enable = "avx2")]
+pub(crate) fn pass_two(t: &Two, mut q: usize, n: usize, watch: bool) -> (usize, bool) {
+    let n = n.min(t.mvs.len()).min(t.cells.len());
+    if t.ub.is_empty() {
+        return (q, false);
+    }
+    let (lu, best, floor) = (
+        _mm256_set1_pd(t.last_ub),
+        _mm256_set1_pd(t.best),
+        _mm256_set1_pd(t.floor),
+    );
+    let mut doubt = false;
+    while q + 4 <= n {
+        // SAFETY: q + 4 <= n reads mvs[q..q+4] and cells[q..q+4].
+        let (mv, (c, has)) = unsafe {
+            (
+                _mm256_loadu_pd(t.mvs.as_ptr().add(q)),
+                cells4(t.cells.as_ptr().add(q), t.ub.len()),
+            )
+        };
+        let rb = _mm256_add_pd(mv, lu);
+        let low = _mm256_cmp_pd::<_CMP_LE_OQ>(rb, best);
+        // SAFETY: indices clamped by `cells4`.
+        let tb = _mm256_add_pd(mv, unsafe { gather(t.ub, c, has) });
+        let tb = _mm256_blendv_pd(rb, tb, has);
+        let under = _mm256_cmp_pd::<_CMP_LE_OQ>(tb, floor);
+        let k = first_fail(_mm256_movemask_pd(_mm256_or_pd(low, under)));
+        if watch {
+            let near = _mm256_and_pd(low, _mm256_cmp_pd::<_CMP_GT_OQ>(rb, floor));
+            doubt |= _mm256_movemask_pd(near) & ((1 << k) - 1) != 0;
+        }
+        q += k;
+        if k < 4 {
+            break;
+        }
+    }
+    (q, doubt)
+}
+
+/// What the quick-bound loop reads (see [`pass_mid`]).
+pub(crate) struct Mid<'a> {
+    pub(crate) mvs: &'a [f64],
+    pub(crate) cells: &'a [u32],
+    pub(crate) ub: &'a [f64],
+    pub(crate) last_ub: f64,
+    /// The first pieces' middle cells ([`NONE`] for none) and the cells' sums.
+    pub(crate) tops: &'a [u32],
+    pub(crate) sums: &'a [f64],
+    pub(crate) lim: f64,
+}
+
+/// The quick-bound loop of `Search::run_indexed` over whole groups of four from piece
+/// `q` (at most `n`): a piece with a middle cell passes at
+/// `(mv + sums[top]) + lb <= lim`, `lb` its index cell's bound (`last_ub` without one).
+/// Returns the first piece not passed (or where fewer than 4 remain).
+#[target_feature(enable = "avx2")]
+pub(crate) fn pass_mid(t: &Mid, mut q: usize, n: usize) -> usize {
+    let n = n.min(t.mvs.len()).min(t.cells.len()).min(t.tops.len());
+    if t.ub.is_empty() || t.sums.is_empty() {
+        return q;
+    }
+    let (lu, lim) = (_mm256_set1_pd(t.last_ub), _mm256_set1_pd(t.lim));
+    while q + 4 <= n {
+        // SAFETY: q + 4 <= n reads mvs, cells and tops at q..q+4.
+        let (mv, (c, has), (top, mid)) = unsafe {
+            (
+                _mm256_loadu_pd(t.mvs.as_ptr().add(q)),
+                cells4(t.cells.as_ptr().add(q), t.ub.len()),
+                cells4(t.tops.as_ptr().add(q), t.sums.len()),
+            )
+        };
+        // SAFETY: indices clamped by `cells4`.
+        let (lb, s) = unsafe { (gather(t.ub, c, has), gather(t.sums, top, mid)) };
+        let lb = _mm256_blendv_pd(lu, lb, has);
+        let v = _mm256_add_pd(_mm256_add_pd(mv, s), lb);
+        let pass = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(v, lim), mid);
+        let k = first_fail(_mm256_movemask_pd(pass));
+        q += k;
+        if k < 4 {
+            break;
+        }
+    }
+    q
+}
