@@ -539,9 +539,11 @@ fn place(
 ) -> Result<(), String> {
     if core.placed_domain != fd.domain.as_str() {
         core.placed_domain.clear();
+        core.placed_dim = 0;
         core.placed = None;
         fd.helm_vars_into(helm, &mut core.placed_vars)?;
         core.placed_domain.push_str(fd.domain.as_str());
+        core.placed_dim = fd.dim();
     }
     // The buffers are read where they are, then handed back for the next build (moving
     // them in would free a library's here and make it allocate anew).

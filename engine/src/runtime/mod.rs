@@ -107,6 +107,9 @@ pub struct BehaviorCore {
     /// helm domain, and (for a library's function) that domain as the solver reads it
     /// (see `Helm::decide`): made again only when the text changes.
     pub placed_domain: String,
+    /// Dimensions of `placed_domain` as `FunctionData::dim` counts them (colons + 1; 0
+    /// for none).
+    pub placed_dim: usize,
     pub placed_vars: Vec<usize>,
     pub placed: Option<std::sync::Arc<ivp::Domain>>,
     /// The text of this behavior's last BHV_IPF function, reused while it does not change.
@@ -201,6 +204,7 @@ impl BehaviorCore {
             empty_domain: false,
             recycler: None,
             placed_domain: String::new(),
+            placed_dim: 0,
             placed_vars: Vec::new(),
             placed: None,
             ipf_kept: ivp_ipf::KeptIpf::default(),

@@ -184,7 +184,7 @@ fn validate(core: &mut BehaviorCore, f: &Function) -> Option<(f64, usize)> {
         fault(core, "NaN detected in IvP Function");
         return None;
     }
-    let Some(pieces) = f.piece_count() else {
+    let Some(pieces) = piece_count(core, f) else {
         fault(
             core,
             "IvP function rejected: its buffers do not match its domain",
@@ -192,6 +192,21 @@ fn validate(core: &mut BehaviorCore, f: &Function) -> Option<(f64, usize)> {
         return None;
     };
     (f.pwt > 0.0).then_some((f.pwt, pieces))
+}
+
+/// `FunctionData::piece_count`, with the dimensions of the domain text last placed
+/// (the usual case: the same text every iteration) instead of counting its colons.
+fn piece_count(core: &BehaviorCore, f: &Function) -> Option<usize> {
+    let dim = if core.placed_domain == f.domain.as_str() {
+        core.placed_dim
+    } else {
+        f.dim()
+    };
+    if dim == 0 || !f.bounds.len().is_multiple_of(2 * dim) {
+        return None;
+    }
+    let n = f.bounds.len() / (2 * dim);
+    (f.weights.len() == n * (dim + 1)).then_some(n)
 }
 
 /// Run one behavior for one iteration: its objective function, validated (no NaN, positive
