@@ -107,8 +107,7 @@ pub struct BehaviorCore {
     /// helm domain, and (for a library's function) that domain as the solver reads it
     /// (see `Helm::decide`): made again only when the text changes.
     pub placed_domain: String,
-    /// Dimensions of `placed_domain` as `FunctionData::dim` counts them (colons + 1; 0
-    /// for none).
+    /// `placed_domain`'s dimensions as `FunctionData::dim` counts them.
     pub placed_dim: usize,
     pub placed_vars: Vec<usize>,
     pub placed: Option<std::sync::Arc<ivp::Domain>>,
