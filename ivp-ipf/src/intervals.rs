@@ -116,6 +116,21 @@ impl IntervalCache {
     /// many are its), kept if it fits.
     #[inline(never)]
     pub(crate) fn insert(&mut self, lo: i32, hi: i32) -> ([u64; 3], usize) {
+        let key = u64::from(lo as u32) | (u64::from(hi as u32) << 32);
+        if (0..1000).contains(&lo) && (0..1000).contains(&hi) {
+            // The usual bounds: their digits from `SMALL` (low three bytes, their
+            // number in the top one), no formatting; `,lo,hi` fits 8 bytes.
+            let (a, b) = (super::SMALL[lo as usize], super::SMALL[hi as usize]);
+            let la = (a >> 24) as usize;
+            let len = 2 + la + (b >> 24) as usize;
+            let text = u64::from(b',')
+                | (u64::from(a & 0xFF_FFFF) << 8)
+                | (u64::from(b',') << (8 * (1 + la)))
+                | (u64::from(b & 0xFF_FFFF) << (8 * (2 + la)));
+            let slot = &mut self.slots[lo as usize % Self::SLOTS];
+            (slot.key, slot.text, slot.len) = (key, text, len as u64);
+            return ([text, 0, 0], len);
+        }
         let mut text = [0u8; 24];
         let mut len = 0;
         for v in [lo, hi] {
@@ -129,7 +144,7 @@ impl IntervalCache {
             |i: usize| u64::from_le_bytes(text[8 * i..8 * i + 8].try_into().unwrap_or([0; 8]));
         if len <= 8 {
             self.slots[lo as usize % Self::SLOTS] = IntervalSlot {
-                key: u64::from(lo as u32) | (u64::from(hi as u32) << 32),
+                key,
                 text: word(0),
                 len: len as u64,
             };
@@ -151,7 +166,17 @@ mod tests {
         for s in 0..IntervalCache::SLOTS {
             assert_ne!(cache.slots[s].key as usize % IntervalCache::SLOTS, s);
         }
-        let pairs = [(0, 0), (5, 9), (999, 999), (-1, 3), (517, 520), (1000, 7)];
+        let pairs = [
+            (0, 0),
+            (5, 9),
+            (999, 999),
+            (10, 5),
+            (99, 100),
+            (-1, 3),
+            (517, 520),
+            (1000, 7),
+            (7, 1000),
+        ];
         let long = [(-1_000_000, 12), (i32::MIN, i32::MAX), (12345, 67890)];
         for (lo, hi) in pairs.into_iter().chain(long) {
             let want = format!(",{lo},{hi}");
