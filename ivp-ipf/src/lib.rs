@@ -13,7 +13,7 @@ use std::fmt::Write;
 mod intervals;
 mod packets;
 mod piece_loop;
-use intervals::{Caches, IntervalCache, SlopeCache};
+use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
 use piece_loop::pieces_n;
 
@@ -275,9 +275,20 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     // The usual dimensions with the piece's size a constant: the per-piece loops
     // unroll and the room is made once per piece.
     match dim {
-        1 => pieces_n::<1, 2, 2>(b, w, &mut text, &mut out, intervals, slopes),
-        2 => pieces_n::<2, 4, 3>(b, w, &mut text, &mut out, intervals, slopes),
-        3 => pieces_n::<3, 6, 4>(b, w, &mut text, &mut out, intervals, slopes),
+        1 => {
+            let i = [interval_cache(&mut intervals[0])];
+            pieces_n::<1, 2, 2>(b, w, &mut text, &mut out, i, slopes)
+        }
+        2 => {
+            let [i0, i1, _] = intervals;
+            let i = [interval_cache(i0), interval_cache(i1)];
+            pieces_n::<2, 4, 3>(b, w, &mut text, &mut out, i, slopes)
+        }
+        3 => {
+            let [i0, i1, i2] = intervals;
+            let i = [interval_cache(i0), interval_cache(i1), interval_cache(i2)];
+            pieces_n::<3, 6, 4>(b, w, &mut text, &mut out, i, slopes)
+        }
         _ => {
             for (bounds, weights) in b.chunks_exact(2 * dim).zip(w.chunks_exact(dim + 1)) {
                 for &b in bounds {
@@ -370,24 +381,6 @@ const DOT_PAIRS: [u32; 100] = {
     t
 };
 
-/// Characters of `.` and the four decimals of `0..=9999` with trailing zeros removed
-/// (`.` alone for 0): one table read for the length.
-const FRAC_LEN: [u8; 10000] = {
-    let mut t = [0u8; 10000];
-    let mut n = 0;
-    while n < 10000 {
-        let mut len = 5;
-        let mut f = n;
-        while len > 1 && f % 10 == 0 {
-            len -= 1;
-            f /= 10;
-        }
-        t[n] = len;
-        n += 1;
-    }
-    t
-};
-
 /// A batch of pieces' text (ASCII digits and punctuation only) on the stack: `SIZE`
 /// bytes of text and room for the 8-byte stores that write a number's bytes at once
 /// (the bytes past a number are overwritten by the next one).
@@ -453,10 +446,10 @@ impl<'b> PieceText<'b> {
     #[inline(always)]
     fn interval(&mut self, lo: i32, hi: i32, cache: &mut IntervalCache) {
         let key = u64::from(lo as u32) | (u64::from(hi as u32) << 32);
-        let slot = lo as usize % IntervalCache::SLOTS;
-        if cache.keys[slot] == key {
-            self.put8(cache.texts[slot]);
-            self.len += usize::from(cache.lens[slot]);
+        let slot = &cache.slots[lo as usize % IntervalCache::SLOTS];
+        if slot.key == key {
+            self.put8(slot.text);
+            self.len += slot.len as usize;
             return;
         }
         // Out of line (and by value: the batch's length stays in a register).
@@ -481,13 +474,14 @@ impl<'b> PieceText<'b> {
             return None;
         }
         let slot = SlopeCache::slot(bits);
-        if cache.keys[slot] == bits {
-            let [a, b] = cache.texts[slot];
+        let kept = &cache.slots[slot];
+        if kept.key == bits {
+            let [a, b] = kept.text;
             let start = self.len;
             self.put8(a);
             self.len = start + 8;
             self.put8(b);
-            self.len = start + usize::from(cache.lens[slot]);
+            self.len = start + kept.len as usize;
             return Some(true);
         }
         self.new_slope(w, cache, slot, out);
@@ -513,9 +507,11 @@ impl<'b> PieceText<'b> {
                 let at = start + 8 * i;
                 u64::from_le_bytes(self.buf[at..at + 8].try_into().unwrap_or([0; 8]))
             };
-            cache.keys[slot] = w.to_bits();
-            cache.texts[slot] = [word(0), word(1)];
-            cache.lens[slot] = len as u8;
+            cache.slots[slot] = SlopeSlot {
+                key: w.to_bits(),
+                text: [word(0), word(1)],
+                len: len as u64,
+            };
         }
     }
 
@@ -644,13 +640,16 @@ impl<'b> PieceText<'b> {
         }
         // `.` and four decimals, trailing zeros removed (the `.` stays).
         // (`%`, not `n - whole·10000`: the compiler then knows `frac < 10000` and
-        // reads the tables below unchecked.)
+        // reads the pair tables below unchecked.)
         let frac = (n % 10000) as u32;
         // frac / 100 for frac < 43699, and the rest.
         let hi = (frac * 5243) >> 19;
-        let (hi, lo, frac) = (hi as usize, (frac - hi * 100) as usize, frac as usize);
-        self.put8(u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24));
-        self.len += usize::from(FRAC_LEN[frac]);
+        let (hi, lo) = (hi as usize, (frac - hi * 100) as usize);
+        let text = u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24);
+        self.put8(text);
+        // Trailing zeros dropped: with the digits as values (`.` stays nonzero), the
+        // text ends at its last nonzero byte (no table: it would be cold at each call).
+        self.len += ((text - 0x30_3030_3000) | 1).ilog2() as usize / 8 + 1;
         true
     }
 }
@@ -1230,6 +1229,65 @@ mod tests {
                     &got[from..(at + 40).min(got.len())],
                     &want[from..(at + 40).min(want.len())]
                 );
+            }
+        }
+    }
+
+    /// A function whose intercepts change from call to call (all, or one), then a slope,
+    /// then a bound, of any numbers and sizes, in every dimension count: the kept
+    /// packets are always the whole string's.
+    #[test]
+    fn kept_text_of_changing_intercepts_matches_the_whole_string() {
+        let mut seed = 41u64;
+        let (mut whole, mut a, mut b) = (String::new(), String::new(), String::new());
+        for case in 0..240 {
+            let dim = 1 + case % 4;
+            let mut d = Domain::new();
+            for i in 0..dim {
+                d.add_var(&format!("v{i}"), 0.0, 10.0, 11).unwrap();
+            }
+            let pieces = match case % 8 {
+                0 => 250 + (rng(&mut seed) * 20.0) as usize,
+                _ => 1 + (rng(&mut seed) * 30.0) as usize,
+            };
+            let mut bounds: Vec<i32> = (0..pieces * 2 * dim)
+                .map(|_| (rng(&mut seed) * 1200.0) as i32 - 100)
+                .collect();
+            let wl = dim + 1;
+            let mut weights: Vec<f64> = (0..pieces * wl).map(|_| any_weight(&mut seed)).collect();
+            let (mut kept, mut writer) = (KeptIpf::default(), IpfWriter::default());
+            for round in 0..10 {
+                let k = (rng(&mut seed) * pieces as f64) as usize;
+                match round {
+                    1..=6 => {
+                        // Intercepts: all of them, or one (repeats in between).
+                        for p in 0..pieces {
+                            if round % 2 == 1 || p == k {
+                                weights[p * wl + dim] = any_weight(&mut seed);
+                            }
+                        }
+                    }
+                    7 => weights[k * wl] = any_weight(&mut seed),
+                    8 => bounds[k * 2 * dim] ^= 1,
+                    _ => {}
+                }
+                let src = IpfSource {
+                    context: "c",
+                    domain: &d,
+                    pwt: 1.0,
+                    gelbox: &[],
+                    bounds: &bounds,
+                    weights: &weights,
+                };
+                encode_source_into(src, &mut whole);
+                let want = Packets::new("t^1", &whole);
+                let got = writer.kept_packets(src, &mut kept, "t", 1);
+                assert_eq!(got.count(), want.count(), "case {case} round {round}");
+                for p in 1..=want.count() {
+                    want.write(p, &mut a);
+                    got.write(p, &mut b);
+                    assert_eq!(a, b, "case {case} (dim {dim}) round {round} packet {p}");
+                }
             }
         }
     }

@@ -32,13 +32,14 @@ impl<'a> Packets<'a> {
 
     /// The packets of the string made of `parts` one after the other.
     pub fn of_parts(id: &'a str, parts: [&'a str; 3]) -> Self {
-        Self::with_ascii(id, parts, parts.iter().all(|p| p.is_ascii()))
+        let ascii = parts.iter().all(|p| p.is_ascii());
+        Self::with_ascii(id, parts, ascii, chars(id, id.is_ascii()))
     }
 
     /// [`Packets::of_parts`] told whether the parts are ASCII (kept text is scanned
-    /// once, when it is formatted, not at every sending).
-    fn with_ascii(id: &'a str, parts: [&'a str; 3], ascii: bool) -> Self {
-        let header = id.chars().count() + 50;
+    /// once, when it is formatted, not at every sending) and the id's characters.
+    fn with_ascii(id: &'a str, parts: [&'a str; 3], ascii: bool, id_chars: usize) -> Self {
+        let header = id_chars + 50;
         let body = 2000usize.saturating_sub(header).max(MIN_BODY);
         let chars: usize = if ascii {
             parts.iter().map(|p| p.len()).sum()
@@ -64,11 +65,16 @@ impl<'a> Packets<'a> {
         out.clear();
         out.push_str("P,");
         out.push_str(self.id);
-        out.push(',');
-        out.push_str(itoa::Buffer::new().format(self.count));
-        out.push(',');
-        out.push_str(itoa::Buffer::new().format(k));
-        out.push(',');
+        if (self.count, k) == (1, 1) {
+            // The usual single packet: its numbers without formatting them.
+            out.push_str(",1,1,");
+        } else {
+            out.push(',');
+            out.push_str(itoa::Buffer::new().format(self.count));
+            out.push(',');
+            out.push_str(itoa::Buffer::new().format(k));
+            out.push(',');
+        }
         let first = k.saturating_sub(1) * self.body;
         if self.ascii {
             // The byte range [first, first + body) of the parts laid end to end.
@@ -107,7 +113,7 @@ impl IpfWriter {
     /// [`IpfWriter::packets`] from borrowed parts.
     pub fn source_packets(&mut self, f: IpfSource<'_>, name: &str, iter: u64) -> Packets<'_> {
         encode_source_into(f, &mut self.whole);
-        self.set_id(name, iter);
+        self.set_id(name, itoa::Buffer::new().format(iter));
         Packets::new(&self.id, &self.whole)
     }
 
@@ -122,7 +128,9 @@ impl IpfWriter {
         iter: u64,
     ) -> Packets<'s> {
         encode_context_into(&f, &mut self.whole);
-        self.kept_rest(f, kept, name, iter)
+        self.set_id(name, itoa::Buffer::new().format(iter));
+        let (whole_ascii, id_ascii) = (self.whole.is_ascii(), name.is_ascii());
+        self.kept_rest(f, kept, whole_ascii, id_ascii)
     }
 
     /// [`IpfWriter::kept_packets`] with the helm's context, `iter:name`, written here
@@ -136,41 +144,55 @@ impl IpfWriter {
     ) -> Packets<'s> {
         let mut digits = itoa::Buffer::new();
         let iter_text = digits.format(iter);
+        // The context and the id are digits, punctuation and the name: ASCII with it.
+        let ascii = name.is_ascii();
         // `H,<characters of the context>,<context>,` as `encode_context_into` writes it.
         let w = &mut self.whole;
         w.clear();
         w.push_str("H,");
-        w.push_str(itoa::Buffer::new().format(iter_text.len() + 1 + name.chars().count()));
+        w.push_str(itoa::Buffer::new().format(iter_text.len() + 1 + chars(name, ascii)));
         w.push(',');
         w.push_str(iter_text);
         w.push(':');
         w.push_str(name);
         w.push(',');
-        self.kept_rest(f, kept, name, iter)
+        self.set_id(name, iter_text);
+        self.kept_rest(f, kept, ascii, ascii)
     }
 
-    /// The packets once the context is in `whole`: the rest from `kept`.
+    /// The packets once the context is in `whole` and the id set (told whether they
+    /// are ASCII): the rest from `kept`.
     fn kept_rest<'s>(
         &'s mut self,
         f: IpfSource<'_>,
         kept: &'s mut KeptIpf,
-        name: &str,
-        iter: u64,
+        whole_ascii: bool,
+        id_ascii: bool,
     ) -> Packets<'s> {
         kept.update(&f);
-        self.set_id(name, iter);
         // The pieces are numbers and commas only, ASCII by construction.
         debug_assert!(kept.pieces.is_ascii());
-        let ascii = kept.shape_ascii && self.whole.is_ascii();
+        let ascii = kept.shape_ascii && whole_ascii;
         let parts = [self.whole.as_str(), &kept.shape, &kept.pieces];
-        Packets::with_ascii(&self.id, parts, ascii)
+        Packets::with_ascii(&self.id, parts, ascii, chars(&self.id, id_ascii))
     }
 
-    fn set_id(&mut self, name: &str, iter: u64) {
+    /// The packet id, `name^iter` (`iter` in digits).
+    fn set_id(&mut self, name: &str, iter: &str) {
         self.id.clear();
         self.id.push_str(name);
         self.id.push('^');
-        self.id.push_str(itoa::Buffer::new().format(iter));
+        self.id.push_str(iter);
+    }
+}
+
+/// Characters of `text`: its bytes when ASCII (as a behavior's name is), told so by
+/// the caller, else counted.
+fn chars(text: &str, ascii: bool) -> usize {
+    if ascii {
+        text.len()
+    } else {
+        text.chars().count()
     }
 }
 

@@ -11,7 +11,7 @@ pub(crate) fn pieces_n<const D: usize, const B: usize, const W: usize>(
     weights: &[f64],
     text: &mut PieceText,
     out: &mut Utf8Out<'_>,
-    intervals: &mut [IntervalCache; 3],
+    intervals: [&mut IntervalCache; D],
     slopes: &mut [SlopeCache; 3],
 ) {
     debug_assert!(B == 2 * D && W == D + 1);
@@ -29,7 +29,7 @@ pub(crate) fn pieces_n<const D: usize, const B: usize, const W: usize>(
         }
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
         for d in 0..D {
-            text.interval(b[2 * d], b[2 * d + 1], &mut intervals[d]);
+            text.interval(b[2 * d], b[2 * d + 1], intervals[d]);
         }
         for d in 0..D {
             if !cached {

@@ -204,29 +204,31 @@ pub fn give_function_buffers(
     weights.clear();
     gelbox.clear();
     grid.clear();
+    // The buffers are taken where they lie (the closure borrows them; moved into it,
+    // the four vectors were copied for every function handed back).
     give(|s| {
         // A buffer from `ints_holding` keeps its contents for the next one.
         let at = bounds.as_ptr() as usize;
         match s.marked.iter().rposition(|&p| p == at) {
             Some(k) => {
                 s.marked.swap_remove(k);
-                keep(&mut s.held, bounds);
+                keep(&mut s.held, std::mem::take(&mut bounds));
             }
             // In the order of the four `give_*` calls, an empty one not kept.
             None if bounds.capacity() > 0 => {
                 bounds.clear();
-                keep(&mut s.ints, bounds);
+                keep(&mut s.ints, std::mem::take(&mut bounds));
             }
             None => {}
         }
         if weights.capacity() > 0 {
-            keep(&mut s.floats, weights);
+            keep(&mut s.floats, std::mem::take(&mut weights));
         }
         if gelbox.capacity() > 0 {
-            keep(&mut s.uints, gelbox);
+            keep(&mut s.uints, std::mem::take(&mut gelbox));
         }
         if grid.capacity() > 0 {
-            keep(&mut s.floats, grid);
+            keep(&mut s.floats, std::mem::take(&mut grid));
         }
     });
 }

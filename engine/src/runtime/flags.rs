@@ -43,7 +43,11 @@ pub fn post_flags(
     kind: FlagKind,
     repeatable: bool,
 ) {
-    let list = std::mem::take(list_mut(&mut inst.core.flags, kind));
+    // Most kinds have no flags: then nothing is lent out and put back.
+    let list = match list_mut(&mut inst.core.flags, kind) {
+        list if list.is_empty() => return,
+        list => std::mem::take(list),
+    };
     let bhv = &inst.bhv;
     for flag in &list {
         let expand_type = |s: &str| -> String {

@@ -107,6 +107,8 @@ pub struct BehaviorCore {
     /// helm domain, and (for a library's function) that domain as the solver reads it
     /// (see `Helm::decide`): made again only when the text changes.
     pub placed_domain: String,
+    /// `placed_domain`'s dimensions as `FunctionData::dim` counts them.
+    pub placed_dim: usize,
     pub placed_vars: Vec<usize>,
     pub placed: Option<std::sync::Arc<ivp::Domain>>,
     /// The text of this behavior's last BHV_IPF function, reused while it does not change.
@@ -201,6 +203,7 @@ impl BehaviorCore {
             empty_domain: false,
             recycler: None,
             placed_domain: String::new(),
+            placed_dim: 0,
             placed_vars: Vec::new(),
             placed: None,
             ipf_kept: ivp_ipf::KeptIpf::default(),

@@ -24,13 +24,10 @@ fn call<R: Default>(
     }
     let (bhv, core) = (&mut inst.bhv, &mut inst.core);
     let result = with_ctx(core, env, ib, |ctx| f(bhv, ctx));
-    let out = match result.into_result() {
-        Ok(v) => v,
-        Err(panic) => {
-            fault(&mut inst.core, &format!("behavior panicked: {panic}"));
-            R::default()
-        }
-    };
+    let out = result.into_result().unwrap_or_else(|panic| {
+        fault(&mut inst.core, &format!("behavior panicked: {panic}"));
+        R::default()
+    });
     // Checked here, the rare completion out of line: this follows every hook call.
     if let Some(pos) = inst.core.complete_requested.take() {
         finish_completion(inst, env, ib, pos);
@@ -184,15 +181,19 @@ fn validate(core: &mut BehaviorCore, f: &Function) -> Option<(f64, usize)> {
         fault(core, "NaN detected in IvP Function");
         return None;
     }
-    let Some(pieces) = f.piece_count() else {
-        fault(
-            core,
-            "IvP function rejected: its buffers do not match its domain",
-        );
+    // `FunctionData::piece_count`, with the dimensions of the domain text placed last
+    // (the same text every iteration) instead of counting its colons again.
+    let same = core.placed_domain == f.domain.as_str();
+    let dim = if same { core.placed_dim } else { f.dim() };
+    let n = f.bounds.len().checked_div(2 * dim).unwrap_or(0);
+    if n * 2 * dim != f.bounds.len() || f.weights.len() != n * (dim + 1) || dim == 0 {
+        fault(core, MISMATCH);
         return None;
-    };
-    (f.pwt > 0.0).then_some((f.pwt, pieces))
+    }
+    (f.pwt > 0.0).then_some((f.pwt, n))
 }
+
+const MISMATCH: &str = "IvP function rejected: its buffers do not match its domain";
 
 /// Run one behavior for one iteration: its objective function, validated (no NaN, positive
 /// weight, consistent buffers), in `f` (written once, not moved through every result).

@@ -62,11 +62,10 @@ impl Pieces1 {
         spare::give_floats(self.weights);
     }
 
+    /// One piece (a capacity check per buffer, not per number).
     pub(crate) fn push(&mut self, lo: i32, hi: i32, slope: f64, intercept: f64) {
-        self.bounds.push(lo);
-        self.bounds.push(hi);
-        self.weights.push(slope);
-        self.weights.push(intercept);
+        self.bounds.extend_from_slice(&[lo, hi]);
+        self.weights.extend_from_slice(&[slope, intercept]);
     }
 
     /// "Box(a, ra, b, rb)": slope `(rb-ra)/(b-a)` (0 if a == b), intercept `ra - slope*a`;

@@ -77,28 +77,25 @@ pub(crate) fn pieces(
     if util > MAX_UTIL {
         return None;
     }
-    // The summit-insist rule rewrites a component whose every sample is `minutil`: its
-    // sample nearest the summit then is `minutil` too, so that case samples everything.
-    for c in comps {
-        let near = ((c.summit - low) / delta)
-            .round()
-            .clamp(0.0, (n - 1) as f64) as usize;
-        if Peak::of(c).value(near, &grid) == c.minutil {
-            return None;
-        }
-    }
     let mut kinks = [0.0f64; MAX_COMPS * KINKS_PER_COMP];
     let nk = find_kinks(comps, &grid, &mut kinks)?;
     let kinks = &kinks[..nk];
     // Exactly the sampler's arithmetic: the first component, then each next one added
-    // (one and two components, the usual counts, unrolled).
+    // (one and two components, the usual counts, unrolled). Each component's shape is
+    // made once, the summit-insist rule checked on it before `out` is touched.
     match comps {
-        [a] => {
-            let a = Peak::of(a);
+        [ca] => {
+            let a = Peak::of(ca);
+            if insists(&a, ca, &grid) {
+                return None;
+            }
             scan(n, kinks, |i| a.value(i, &grid), |i| a.flat(i, &grid), out)
         }
-        [a, b] => {
-            let (a, b) = (Peak::of(a), Peak::of(b));
+        [ca, cb] => {
+            let (a, b) = (Peak::of(ca), Peak::of(cb));
+            if insists(&a, ca, &grid) || insists(&b, cb, &grid) {
+                return None;
+            }
             let value = |i| a.value(i, &grid) + b.value(i, &grid);
             scan(
                 n,
@@ -112,6 +109,9 @@ pub(crate) fn pieces(
             let mut peaks = [Peak::of(&comps[0]); MAX_COMPS];
             for (p, c) in peaks.iter_mut().zip(comps) {
                 *p = Peak::of(c);
+                if insists(p, c, &grid) {
+                    return None;
+                }
             }
             let (first, rest) = (peaks[0], &peaks[1..comps.len()]);
             let value = |i| {
@@ -123,6 +123,22 @@ pub(crate) fn pieces(
         }
     }
     Some(())
+}
+
+/// The summit-insist rule rewrites a component whose every sample is `minutil`: its
+/// sample nearest the summit then is `minutil` too, so that case samples everything.
+#[inline(always)]
+fn insists(p: &Peak, c: &Component, g: &Grid) -> bool {
+    let near = ((c.summit - g.low) / g.delta).round();
+    p.value(near.clamp(0.0, (g.points - 1) as f64) as usize, g) == c.minutil
+}
+
+/// Sample index `i` as a float: the sampler's `f64::from(i as u32)` (grids are
+/// u32-sized), converted as a signed integer, one instruction where `u32` and `usize`
+/// take several.
+#[inline(always)]
+fn fl(i: usize) -> f64 {
+    i as i64 as f64
 }
 
 /// One component as the scan evaluates it.
@@ -143,14 +159,14 @@ impl Peak {
     /// Its sample `i`: the sampler's arithmetic.
     #[inline(always)]
     fn value(&self, i: usize, g: &Grid) -> f64 {
-        let x = f64::from(i as u32) * g.delta + g.low;
+        let x = fl(i) * g.delta + g.low;
         self.shape.utility(dist_to(self.summit, x, g))
     }
 
     /// Constant on the stretch that holds sample `i` (off any kink)?
     #[inline(always)]
     fn flat(&self, i: usize, g: &Grid) -> bool {
-        let x = f64::from(i as u32) * g.delta + g.low;
+        let x = fl(i) * g.delta + g.low;
         let (d, s) = (dist_to(self.summit, x, g), &self.shape);
         d > s.reach || (d <= s.pwidth && s.sd <= 0.0)
     }
@@ -172,34 +188,42 @@ fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usi
     // The last kink kept, converted once (`usize` to `f64` takes several instructions).
     let top = (n + 1) as f64;
     for c in comps {
+        // A component's kink values listed first, then converted in one loop: the
+        // conversion's code once, not once per kink (it runs once per build).
+        let mut xs = [0.0f64; KINKS_PER_COMP];
+        let mut m = 0;
         let reach = c.pwidth + c.bwidth;
-        // Kinks off the grid (by more than a step) cut no stretch, nor does one just added
-        // again (a peak of no width, half the span round both ways): left out.
-        let mut add = |x: f64| {
-            let k = (x - low) / delta;
-            let again = nk > 0 && kinks[nk - 1] == k;
-            if again || (!(-2.0..=top).contains(&k) && k.is_finite()) {
-                return;
-            }
-            kinks[nk] = k;
-            nk += 1;
-        };
         for w in [0.0, c.pwidth, reach] {
             if !grid.wrap {
-                add(c.summit - w);
-                add(c.summit + w);
+                xs[m..m + 2].copy_from_slice(&[c.summit - w, c.summit + w]);
+                m += 2;
             } else if w <= span / 2.0 + 1e-9 * span {
                 // Going round, the distance never exceeds half the span: a width past
                 // it is no kink (a stretch wrongly cut there is scanned to its end).
-                add(c.summit - w);
-                add(c.summit + w);
-                add(c.summit - (span - w));
-                add(c.summit + (span - w));
+                let far = span - w;
+                xs[m..m + 4].copy_from_slice(&[
+                    c.summit - w,
+                    c.summit + w,
+                    c.summit - far,
+                    c.summit + far,
+                ]);
+                m += 4;
             }
         }
         if grid.wrap {
-            add(c.summit - span / 2.0);
-            add(c.summit + span / 2.0);
+            xs[m..m + 2].copy_from_slice(&[c.summit - span / 2.0, c.summit + span / 2.0]);
+            m += 2;
+        }
+        // Kinks off the grid (by more than a step) cut no stretch, nor does one just
+        // added again (a peak of no width, half the span round both ways): left out.
+        for &x in &xs[..m] {
+            let k = (x - low) / delta;
+            let again = nk > 0 && kinks[nk - 1] == k;
+            if again || (!(-2.0..=top).contains(&k) && k.is_finite()) {
+                continue;
+            }
+            kinks[nk] = k;
+            nk += 1;
         }
     }
     let kinks = &mut kinks[..nk];
@@ -232,8 +256,6 @@ fn scan(
     out: &mut Pieces1,
 ) {
     out.reset();
-    // `u32` to `f64` is one instruction where `usize` takes several (grids are u32-sized).
-    let fl = |i: usize| f64::from(i as u32);
     let chord = |first: usize, fv: f64, end: usize, ve: f64| {
         if end == first {
             0.0
@@ -326,14 +348,14 @@ fn on_line(
 ) -> Option<f64> {
     // Along a straight stretch the gap is affine in the index, about 0 at `f1`, so if
     // it is small at `j` it is small all the way (no break).
-    let gap = ((m * f64::from(j as u32) + b) - vj).abs();
+    let gap = ((m * fl(j) + b) - vj).abs();
     if gap.is_nan() || gap > TOL / 2.0 {
         return None;
     }
     // No break by the sign rule either: the stretch is exactly flat (every step 0), or
     // its steps keep one sign, far from 0, not against the line's slope.
     if !flat(f1) {
-        let slope = (vj - v1) / f64::from((j - f1) as u32);
+        let slope = (vj - v1) / fl(j - f1);
         if slope.is_nan() || slope.abs() < MIN_SLOPE {
             return None;
         }
