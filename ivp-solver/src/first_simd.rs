@@ -62,7 +62,17 @@ fn first_fail(pass: i32) -> usize {
 /// `tb <= floor`. Returns the first piece not passed (or where fewer than 4 remain) and
 /// whether a piece before it raised doubt.
 #[target_feature(enable = "avx2")]
-pub(crate) fn pass_two(t: &Two, mut q: usize, n: usize, watch: bool) -> (usize, bool) {
+pub(crate) fn pass_two(t: &Two, q: usize, n: usize, watch: bool) -> (usize, bool) {
+    match watch {
+        true => pass_two_body::<true>(t, q, n),
+        false => pass_two_body::<false>(t, q, n),
+    }
+}
+
+/// [`pass_two`] with `WATCH` for `watch`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn pass_two_body<const WATCH: bool>(t: &Two, mut q: usize, n: usize) -> (usize, bool) {
     let n = n.min(t.mvs.len()).min(t.cells.len());
     if t.ub.is_empty() {
         return (q, false);
@@ -72,7 +82,9 @@ pub(crate) fn pass_two(t: &Two, mut q: usize, n: usize, watch: bool) -> (usize, 
         _mm256_set1_pd(t.best),
         _mm256_set1_pd(t.floor),
     );
-    let mut doubt = false;
+    // The lanes raising doubt in the groups passed whole, and the first lanes of the
+    // group stopped in.
+    let (mut near, mut doubt) = (_mm256_setzero_pd(), false);
     while q + 4 <= n {
         // SAFETY: q + 4 <= n reads mvs[q..q+4] and cells[q..q+4].
         let (mv, (c, has)) = unsafe {
@@ -87,17 +99,20 @@ pub(crate) fn pass_two(t: &Two, mut q: usize, n: usize, watch: bool) -> (usize, 
         let tb = _mm256_add_pd(mv, unsafe { gather(t.ub, c, has) });
         let tb = _mm256_blendv_pd(rb, tb, has);
         let under = _mm256_cmp_pd::<_CMP_LE_OQ>(tb, floor);
-        let k = first_fail(_mm256_movemask_pd(_mm256_or_pd(low, under)));
-        if watch {
-            let near = _mm256_and_pd(low, _mm256_cmp_pd::<_CMP_GT_OQ>(rb, floor));
-            doubt |= _mm256_movemask_pd(near) & ((1 << k) - 1) != 0;
-        }
-        q += k;
-        if k < 4 {
+        let pass = _mm256_movemask_pd(_mm256_or_pd(low, under));
+        let close = _mm256_and_pd(low, _mm256_cmp_pd::<_CMP_GT_OQ>(rb, floor));
+        if pass != 0b1111 {
+            let k = first_fail(pass);
+            doubt = WATCH && _mm256_movemask_pd(close) & ((1 << k) - 1) != 0;
+            q += k;
             break;
         }
+        if WATCH {
+            near = _mm256_or_pd(near, close);
+        }
+        q += 4;
     }
-    (q, doubt)
+    (q, doubt || (WATCH && _mm256_movemask_pd(near) != 0))
 }
 
 /// What the quick-bound loop reads (see [`pass_mid`]).

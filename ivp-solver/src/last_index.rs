@@ -123,22 +123,26 @@ impl LastIndex {
         }
         self.start.clear();
         self.start.resize(total + 1, 0);
+        // (The passes over plain slices: the vectors' fields are not read per cell.)
+        let (start, stride) = (&mut self.start[..], &self.stride[..]);
         // Pass 1: count the pieces per cell.
         for (lo, hi) in &self.spans {
-            let start = &mut self.start;
-            walk(lo, hi, &self.stride, dim, |c| start[c + 1] += 1);
+            walk(lo, hi, stride, dim, |c| start[c + 1] += 1);
         }
-        for c in 0..total {
-            self.start[c + 1] += self.start[c];
+        // The counts summed into the lists' starts (`start[0]` is 0).
+        let mut at = 0;
+        for s in start.iter_mut() {
+            at += *s;
+            *s = at;
         }
         self.items.clear();
         self.items.resize(self.start[total] as usize, 0);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.start[..total]);
         // Pass 2: pieces in array order into every cell they meet.
+        let (items, cursor) = (&mut self.items[..], &mut self.cursor[..]);
         for (k, (lo, hi)) in self.spans.iter().enumerate() {
-            let (items, cursor) = (&mut self.items, &mut self.cursor);
-            walk(lo, hi, &self.stride, dim, |c| {
+            walk(lo, hi, stride, dim, |c| {
                 items[cursor[c] as usize] = k as u32;
                 cursor[c] += 1;
             });
@@ -153,6 +157,9 @@ impl LastIndex {
         let (bl, wl) = (2 * dim, dim + 1);
         self.ub.clear();
         self.ub.resize(self.start.len() - 1, f64::NEG_INFINITY);
+        if dim == 2 {
+            return self.make_bounds2(boxes, weights, n);
+        }
         for k in 0..n {
             let b = &boxes[k * bl..(k + 1) * bl];
             let w = &weights[k * wl..(k + 1) * wl];
@@ -180,22 +187,6 @@ impl LastIndex {
                 }));
             }
             let (ub, terms) = (&mut self.ub, &self.terms);
-            if dim == 2 {
-                // Two dimensions (the helm's course × speed): rows of a few cells,
-                // whose walk would cost more than the cells themselves.
-                let (row, col) = terms.split_at(hi[0] - lo[0] + 1);
-                let mut c0 = lo[0] + lo[1] * self.stride[1];
-                for &t in col {
-                    for (u, &a) in ub[c0..c0 + row.len()].iter_mut().zip(row) {
-                        let v = a + t;
-                        if v > *u || v.is_nan() {
-                            *u = v;
-                        }
-                    }
-                    c0 += self.stride[1];
-                }
-                continue;
-            }
             // Rows along dimension 0 (stride 1): the other dimensions' terms per row.
             let row = &terms[..=hi[0] - lo[0]];
             walk_rows(&lo, &hi, &self.stride, dim, |c0, cur| {
@@ -214,6 +205,45 @@ impl LastIndex {
                     }
                 }
             });
+        }
+    }
+
+    /// [`LastIndex::make_bounds`] in two dimensions (the helm's course × speed): the
+    /// same terms and sums, by rows of a few cells (a walk would cost more than the
+    /// cells), the cell sizes and strides held in locals.
+    fn make_bounds2(&mut self, boxes: &[i32], weights: &[f64], n: usize) {
+        let (p0, p1, s1) = (self.ppg[0], self.ppg[1], self.stride[1]);
+        let (ub, terms) = (&mut self.ub[..], &mut self.terms);
+        let pieces = boxes.chunks_exact(4).zip(weights.chunks_exact(3));
+        for ((b, w), (lo, hi)) in pieces.zip(&self.spans).take(n) {
+            // `(w_2 + w_0·c_0) + w_1·c_1`, each corner by its weight's sign.
+            let corner = |x: usize, p: i32, (l, h): (i32, i32), w: f64| {
+                let cell_lo = x as i32 * p;
+                if w < 0.0 {
+                    l.max(cell_lo)
+                } else {
+                    h.min(cell_lo + p - 1)
+                }
+            };
+            terms.clear();
+            terms.extend(
+                (lo[0]..=hi[0]).map(|x| w[2] + w[0] * f64::from(corner(x, p0, (b[0], b[1]), w[0]))),
+            );
+            let len = terms.len();
+            terms.extend(
+                (lo[1]..=hi[1]).map(|y| w[1] * f64::from(corner(y, p1, (b[2], b[3]), w[1]))),
+            );
+            let (row, col) = terms.split_at(len);
+            let mut c0 = lo[0] + lo[1] * s1;
+            for &t in col {
+                for (u, &a) in ub[c0..c0 + len].iter_mut().zip(row) {
+                    let v = a + t;
+                    if v > *u || v.is_nan() {
+                        *u = v;
+                    }
+                }
+                c0 += s1;
+            }
         }
     }
 
