@@ -209,8 +209,8 @@ impl LastIndex {
     }
 
     /// [`LastIndex::make_bounds`] in two dimensions (the helm's course × speed): the
-    /// same terms and sums, by rows of a few cells (a walk would cost more than the
-    /// cells), the cell sizes and strides held in locals.
+    /// same terms and sums over a piece's cells without the walk, the cell sizes and
+    /// strides held in locals.
     fn make_bounds2(&mut self, boxes: &[i32], weights: &[f64], n: usize) {
         let (p0, p1, s1) = (self.ppg[0], self.ppg[1], self.stride[1]);
         let (ub, terms) = (&mut self.ub[..], &mut self.terms);
@@ -233,16 +233,20 @@ impl LastIndex {
             terms.extend(
                 (lo[1]..=hi[1]).map(|y| w[1] * f64::from(corner(y, p1, (b[2], b[3]), w[1]))),
             );
+            // Column by column: a piece spans a cell or two along dimension 0 and many
+            // along dimension 1 (each cell's value is the same sum either way).
             let (row, col) = terms.split_at(len);
-            let mut c0 = lo[0] + lo[1] * s1;
-            for &t in col {
-                for (u, &a) in ub[c0..c0 + len].iter_mut().zip(row) {
+            let c0 = lo[0] + lo[1] * s1;
+            for (x, &a) in row.iter().enumerate() {
+                let mut c = c0 + x;
+                for &t in col {
                     let v = a + t;
+                    let u = &mut ub[c];
                     if v > *u || v.is_nan() {
                         *u = v;
                     }
+                    c += s1;
                 }
-                c0 += s1;
             }
         }
     }
