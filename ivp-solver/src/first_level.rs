@@ -29,7 +29,8 @@ pub(crate) struct Mid {
     key: Option<(usize, u64)>,
     key_ppg: Vec<i32>,
     key_pts: Vec<i32>,
-    /// Per cell of the middle grid: the sum of the middle functions' bounds there.
+    /// Per cell of the middle grid: the sum of the middle functions' bounds there; then
+    /// NaN, for `first_simd.rs`.
     sums: Vec<f64>,
 }
 
@@ -93,6 +94,8 @@ impl Mid {
                 }
             }
         }
+        // (Read past the cells by the AVX2 loop for a piece without one: no bound.)
+        self.sums.push(f64::NAN);
         Some((&self.tops, &self.sums))
     }
 }
@@ -180,7 +183,6 @@ impl Search<'_> {
                         mvs,
                         cells,
                         ub: ix.bounds(),
-                        last_ub,
                         tops,
                         sums,
                         lim,

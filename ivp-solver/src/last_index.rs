@@ -37,7 +37,8 @@ pub(super) struct LastIndex {
     start: Vec<u32>,
     items: Vec<u32>,
     cursor: Vec<u32>,
-    /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets.
+    /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets;
+    /// then the bound outside every cell (see [`LastIndex::set_outside`]).
     ub: Vec<f64>,
     /// Scratch of the build: one piece's `w_d·c_d` per dimension and cell coordinate.
     terms: Vec<f64>,
@@ -156,7 +157,8 @@ impl LastIndex {
         let dim = self.dim;
         let (bl, wl) = (2 * dim, dim + 1);
         self.ub.clear();
-        self.ub.resize(self.start.len() - 1, f64::NEG_INFINITY);
+        // One more: the bound outside every cell (see `LastIndex::set_outside`).
+        self.ub.resize(self.start.len(), f64::NEG_INFINITY);
         if dim == 2 {
             return self.make_bounds2(boxes, weights, n);
         }
@@ -301,10 +303,19 @@ impl LastIndex {
         self.ub[c]
     }
 
-    /// Every cell's bound (see [`LastIndex::bound`]).
+    /// Every cell's bound (see [`LastIndex::bound`]), then the one outside every cell
+    /// (see [`LastIndex::set_outside`]).
     #[inline]
     pub(super) fn bounds(&self) -> &[f64] {
         &self.ub
+    }
+
+    /// Set the bound after the cells' (see [`LastIndex::bounds`]): the last function's
+    /// global bound, the term of a node no cell holds.
+    pub(super) fn set_outside(&mut self, v: f64) {
+        if let Some(u) = self.ub.last_mut() {
+            *u = v;
+        }
     }
 
     /// [`LastIndex::cell_of`] of every one of `n` boxes into `out` ([`NO_CELL`] for
