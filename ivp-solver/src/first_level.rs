@@ -67,16 +67,21 @@ impl Mid {
             || self.key_pts != pts
             || self.tops.len() != f.n
         {
+            let top = |b: &[i32], dim: usize| {
+                let r = grid.range(b, dim);
+                if r.one && r.top < total {
+                    r.top as u32
+                } else {
+                    NO_CELL
+                }
+            };
+            let boxes = boxes.chunks_exact(2 * dim).take(f.n);
             self.tops.clear();
-            self.tops
-                .extend(boxes.chunks_exact(2 * dim).take(f.n).map(|b| {
-                    let r = grid.range(b, dim);
-                    if r.one && r.top < total {
-                        r.top as u32
-                    } else {
-                        NO_CELL
-                    }
-                }));
+            // (Two dimensions, the helm's course × speed, a constant: unrolled.)
+            match dim {
+                2 => self.tops.extend(boxes.map(|b| top(b, 2))),
+                _ => self.tops.extend(boxes.map(|b| top(b, dim))),
+            }
             self.key = key;
             self.key_ppg.clone_from(&grid.ppg);
             self.key_pts.clear();
