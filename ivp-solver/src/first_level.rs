@@ -29,7 +29,8 @@ pub(crate) struct Mid {
     key: Option<(usize, u64)>,
     key_ppg: Vec<i32>,
     key_pts: Vec<i32>,
-    /// Per cell of the middle grid: the sum of the middle functions' bounds there.
+    /// Per cell of the middle grid: the sum of the middle functions' bounds there; then
+    /// NaN, for `first_simd.rs`.
     sums: Vec<f64>,
 }
 
@@ -66,16 +67,21 @@ impl Mid {
             || self.key_pts != pts
             || self.tops.len() != f.n
         {
+            let top = |b: &[i32], dim: usize| {
+                let r = grid.range(b, dim);
+                if r.one && r.top < total {
+                    r.top as u32
+                } else {
+                    NO_CELL
+                }
+            };
+            let boxes = boxes.chunks_exact(2 * dim).take(f.n);
             self.tops.clear();
-            self.tops
-                .extend(boxes.chunks_exact(2 * dim).take(f.n).map(|b| {
-                    let r = grid.range(b, dim);
-                    if r.one && r.top < total {
-                        r.top as u32
-                    } else {
-                        NO_CELL
-                    }
-                }));
+            // (Two dimensions, the helm's course × speed, a constant: unrolled.)
+            match dim {
+                2 => self.tops.extend(boxes.map(|b| top(b, 2))),
+                _ => self.tops.extend(boxes.map(|b| top(b, dim))),
+            }
             self.key = key;
             self.key_ppg.clone_from(&grid.ppg);
             self.key_pts.clear();
@@ -93,6 +99,8 @@ impl Mid {
                 }
             }
         }
+        // (Read past the cells by the AVX2 loop for a piece without one: no bound.)
+        self.sums.push(f64::NAN);
         Some((&self.tops, &self.sums))
     }
 }
@@ -180,7 +188,6 @@ impl Search<'_> {
                         mvs,
                         cells,
                         ub: ix.bounds(),
-                        last_ub,
                         tops,
                         sums,
                         lim,

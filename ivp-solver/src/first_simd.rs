@@ -5,48 +5,42 @@
 //! are done here; the caller's scalar loop goes on from the piece returned (the one it
 //! stops at, or the last few).
 //!
-//! Cell numbers are clamped below the length of the table they index before the
-//! gather (a list made for another table would read a wrong bound, never outside).
+//! Each table read ends with one more entry, for the lanes without a cell: the cell
+//! numbers are clamped below the table's length, so [`NO_CELL`] (and a number a list
+//! made for another table might hold) reads that last entry, never outside: the last
+//! index's bounds end with the last function's global bound (the scalar loops' bound
+//! without a cell), the middle sums with NaN (no bound passes a test).
+//!
+//! [`NO_CELL`]: crate::last_index::NO_CELL
 
 use std::arch::x86_64::*;
 
 /// What the two-function loop reads (see [`pass_two`]).
 pub(crate) struct Two<'a> {
     /// The first function's `maxVal`s and last-index cells ([`NO_CELL`] for none).
+    ///
+    /// [`NO_CELL`]: crate::last_index::NO_CELL
     pub(crate) mvs: &'a [f64],
     pub(crate) cells: &'a [u32],
-    /// The last index's cell bounds.
+    /// The last index's cell bounds, then `last_ub`.
     pub(crate) ub: &'a [f64],
     pub(crate) last_ub: f64,
     pub(crate) best: f64,
     pub(crate) floor: f64,
 }
 
-/// [`NO_CELL`](crate::last_index::NO_CELL) as the lanes hold it.
-const NONE: i32 = -1;
-
-/// 4 cell numbers at `p` clamped below `len` (at least 1), and the lanes holding a
-/// cell (not [`NONE`]) as a 64-bit mask.
+/// `table[c]` of the 4 cell numbers `c` at `p`, each clamped below `table.len()` (at
+/// least 1).
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn cells4(p: *const u32, len: usize) -> (__m128i, __m256d) {
-    // SAFETY: the caller has 4 readable `u32`s at `p`.
-    let c = unsafe { _mm_loadu_si128(p.cast()) };
-    let top = _mm_set1_epi32(len.min(i32::MAX as usize) as i32 - 1);
-    let none = _mm_set1_epi32(NONE);
-    let has = _mm_xor_si128(_mm_cmpeq_epi32(c, none), none);
-    (
-        _mm_min_epu32(c, top),
-        _mm256_castsi256_pd(_mm256_cvtepi32_epi64(has)),
-    )
-}
-
-/// `ub[c]` for the lanes of `has`, 0 in the others (`c` clamped below `ub.len()`).
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn gather(ub: &[f64], c: __m128i, has: __m256d) -> __m256d {
-    // SAFETY: every lane's index is below `ub.len()` (see `cells4`).
-    unsafe { _mm256_mask_i32gather_pd::<8>(_mm256_setzero_pd(), ub.as_ptr(), c, has) }
+unsafe fn gather(table: &[f64], p: *const u32) -> __m256d {
+    let top = _mm_set1_epi32(table.len().min(i32::MAX as usize) as i32 - 1);
+    // SAFETY: the caller has 4 readable `u32`s at `p`; every index is clamped below
+    // `table.len()`.
+    unsafe {
+        let c = _mm_min_epu32(_mm_loadu_si128(p.cast()), top);
+        _mm256_i32gather_pd::<8>(table.as_ptr(), c)
+    }
 }
 
 /// The first lane of 4 whose bit in `pass` is clear (4 for none).
@@ -62,7 +56,17 @@ fn first_fail(pass: i32) -> usize {
 /// `tb <= floor`. Returns the first piece not passed (or where fewer than 4 remain) and
 /// whether a piece before it raised doubt.
 #[target_feature(enable = "avx2")]
-pub(crate) fn pass_two(t: &Two, mut q: usize, n: usize, watch: bool) -> (usize, bool) {
+pub(crate) fn pass_two(t: &Two, q: usize, n: usize, watch: bool) -> (usize, bool) {
+    match watch {
+        true => pass_two_body::<true>(t, q, n),
+        false => pass_two_body::<false>(t, q, n),
+    }
+}
+
+/// [`pass_two`] with `WATCH` for `watch`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn pass_two_body<const WATCH: bool>(t: &Two, mut q: usize, n: usize) -> (usize, bool) {
     let n = n.min(t.mvs.len()).min(t.cells.len());
     if t.ub.is_empty() {
         return (q, false);
@@ -72,41 +76,48 @@ pub(crate) fn pass_two(t: &Two, mut q: usize, n: usize, watch: bool) -> (usize, 
         _mm256_set1_pd(t.best),
         _mm256_set1_pd(t.floor),
     );
-    let mut doubt = false;
+    // The lanes raising doubt in the groups passed whole, and the first lanes of the
+    // group stopped in.
+    let (mut near, mut doubt) = (_mm256_setzero_pd(), false);
     while q + 4 <= n {
         // SAFETY: q + 4 <= n reads mvs[q..q+4] and cells[q..q+4].
-        let (mv, (c, has)) = unsafe {
+        let (mv, ub) = unsafe {
             (
                 _mm256_loadu_pd(t.mvs.as_ptr().add(q)),
-                cells4(t.cells.as_ptr().add(q), t.ub.len()),
+                gather(t.ub, t.cells.as_ptr().add(q)),
             )
         };
         let rb = _mm256_add_pd(mv, lu);
         let low = _mm256_cmp_pd::<_CMP_LE_OQ>(rb, best);
-        // SAFETY: indices clamped by `cells4`.
-        let tb = _mm256_add_pd(mv, unsafe { gather(t.ub, c, has) });
-        let tb = _mm256_blendv_pd(rb, tb, has);
+        // Without a cell `ub` is `last_ub`: `tb` is `rb`, bit for bit.
+        let tb = _mm256_add_pd(mv, ub);
         let under = _mm256_cmp_pd::<_CMP_LE_OQ>(tb, floor);
-        let k = first_fail(_mm256_movemask_pd(_mm256_or_pd(low, under)));
-        if watch {
-            let near = _mm256_and_pd(low, _mm256_cmp_pd::<_CMP_GT_OQ>(rb, floor));
-            doubt |= _mm256_movemask_pd(near) & ((1 << k) - 1) != 0;
-        }
-        q += k;
-        if k < 4 {
+        let pass = _mm256_movemask_pd(_mm256_or_pd(low, under));
+        let close = _mm256_and_pd(low, _mm256_cmp_pd::<_CMP_GT_OQ>(rb, floor));
+        if pass != 0b1111 {
+            let k = first_fail(pass);
+            doubt = WATCH && _mm256_movemask_pd(close) & ((1 << k) - 1) != 0;
+            q += k;
             break;
         }
+        if WATCH {
+            near = _mm256_or_pd(near, close);
+        }
+        q += 4;
     }
-    (q, doubt)
+    (q, doubt || (WATCH && _mm256_movemask_pd(near) != 0))
 }
 
 /// What the quick-bound loop reads (see [`pass_mid`]).
 pub(crate) struct Mid<'a> {
     pub(crate) mvs: &'a [f64],
     pub(crate) cells: &'a [u32],
+    /// The last index's cell bounds, then the last function's global bound.
     pub(crate) ub: &'a [f64],
-    pub(crate) last_ub: f64,
-    /// The first pieces' middle cells ([`NONE`] for none) and the cells' sums.
+    /// The first pieces' middle cells ([`NO_CELL`] for none) and the cells' sums, then
+    /// NaN.
+    ///
+    /// [`NO_CELL`]: crate::last_index::NO_CELL
     pub(crate) tops: &'a [u32],
     pub(crate) sums: &'a [f64],
     pub(crate) lim: f64,
@@ -122,22 +133,19 @@ pub(crate) fn pass_mid(t: &Mid, mut q: usize, n: usize) -> usize {
     if t.ub.is_empty() || t.sums.is_empty() {
         return q;
     }
-    let (lu, lim) = (_mm256_set1_pd(t.last_ub), _mm256_set1_pd(t.lim));
+    let lim = _mm256_set1_pd(t.lim);
     while q + 4 <= n {
         // SAFETY: q + 4 <= n reads mvs, cells and tops at q..q+4.
-        let (mv, (c, has), (top, mid)) = unsafe {
+        let (mv, lb, s) = unsafe {
             (
                 _mm256_loadu_pd(t.mvs.as_ptr().add(q)),
-                cells4(t.cells.as_ptr().add(q), t.ub.len()),
-                cells4(t.tops.as_ptr().add(q), t.sums.len()),
+                gather(t.ub, t.cells.as_ptr().add(q)),
+                gather(t.sums, t.tops.as_ptr().add(q)),
             )
         };
-        // SAFETY: indices clamped by `cells4`.
-        let (lb, s) = unsafe { (gather(t.ub, c, has), gather(t.sums, top, mid)) };
-        let lb = _mm256_blendv_pd(lu, lb, has);
+        // Without a middle cell `s` is NaN: the lane fails, where the scalar loop stops.
         let v = _mm256_add_pd(_mm256_add_pd(mv, s), lb);
-        let pass = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(v, lim), mid);
-        let k = first_fail(_mm256_movemask_pd(pass));
+        let k = first_fail(_mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(v, lim)));
         q += k;
         if k < 4 {
             break;

@@ -37,7 +37,8 @@ pub(super) struct LastIndex {
     start: Vec<u32>,
     items: Vec<u32>,
     cursor: Vec<u32>,
-    /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets.
+    /// Per cell: the largest `maxVal(piece ∩ cell)`, `-inf` for a cell no piece meets;
+    /// then the bound outside every cell (see [`LastIndex::set_outside`]).
     ub: Vec<f64>,
     /// Scratch of the build: one piece's `w_d·c_d` per dimension and cell coordinate.
     terms: Vec<f64>,
@@ -123,22 +124,26 @@ impl LastIndex {
         }
         self.start.clear();
         self.start.resize(total + 1, 0);
+        // (The passes over plain slices: the vectors' fields are not read per cell.)
+        let (start, stride) = (&mut self.start[..], &self.stride[..]);
         // Pass 1: count the pieces per cell.
         for (lo, hi) in &self.spans {
-            let start = &mut self.start;
-            walk(lo, hi, &self.stride, dim, |c| start[c + 1] += 1);
+            walk(lo, hi, stride, dim, |c| start[c + 1] += 1);
         }
-        for c in 0..total {
-            self.start[c + 1] += self.start[c];
+        // The counts summed into the lists' starts (`start[0]` is 0).
+        let mut at = 0;
+        for s in start.iter_mut() {
+            at += *s;
+            *s = at;
         }
         self.items.clear();
         self.items.resize(self.start[total] as usize, 0);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.start[..total]);
         // Pass 2: pieces in array order into every cell they meet.
+        let (items, cursor) = (&mut self.items[..], &mut self.cursor[..]);
         for (k, (lo, hi)) in self.spans.iter().enumerate() {
-            let (items, cursor) = (&mut self.items, &mut self.cursor);
-            walk(lo, hi, &self.stride, dim, |c| {
+            walk(lo, hi, stride, dim, |c| {
                 items[cursor[c] as usize] = k as u32;
                 cursor[c] += 1;
             });
@@ -152,7 +157,11 @@ impl LastIndex {
         let dim = self.dim;
         let (bl, wl) = (2 * dim, dim + 1);
         self.ub.clear();
-        self.ub.resize(self.start.len() - 1, f64::NEG_INFINITY);
+        // One more: the bound outside every cell (see `LastIndex::set_outside`).
+        self.ub.resize(self.start.len(), f64::NEG_INFINITY);
+        if dim == 2 {
+            return self.make_bounds2(boxes, weights, n);
+        }
         for k in 0..n {
             let b = &boxes[k * bl..(k + 1) * bl];
             let w = &weights[k * wl..(k + 1) * wl];
@@ -180,22 +189,6 @@ impl LastIndex {
                 }));
             }
             let (ub, terms) = (&mut self.ub, &self.terms);
-            if dim == 2 {
-                // Two dimensions (the helm's course × speed): rows of a few cells,
-                // whose walk would cost more than the cells themselves.
-                let (row, col) = terms.split_at(hi[0] - lo[0] + 1);
-                let mut c0 = lo[0] + lo[1] * self.stride[1];
-                for &t in col {
-                    for (u, &a) in ub[c0..c0 + row.len()].iter_mut().zip(row) {
-                        let v = a + t;
-                        if v > *u || v.is_nan() {
-                            *u = v;
-                        }
-                    }
-                    c0 += self.stride[1];
-                }
-                continue;
-            }
             // Rows along dimension 0 (stride 1): the other dimensions' terms per row.
             let row = &terms[..=hi[0] - lo[0]];
             walk_rows(&lo, &hi, &self.stride, dim, |c0, cur| {
@@ -214,6 +207,49 @@ impl LastIndex {
                     }
                 }
             });
+        }
+    }
+
+    /// [`LastIndex::make_bounds`] in two dimensions (the helm's course × speed): the
+    /// same terms and sums over a piece's cells without the walk, the cell sizes and
+    /// strides held in locals.
+    fn make_bounds2(&mut self, boxes: &[i32], weights: &[f64], n: usize) {
+        let (p0, p1, s1) = (self.ppg[0], self.ppg[1], self.stride[1]);
+        let (ub, terms) = (&mut self.ub[..], &mut self.terms);
+        let pieces = boxes.chunks_exact(4).zip(weights.chunks_exact(3));
+        for ((b, w), (lo, hi)) in pieces.zip(&self.spans).take(n) {
+            // `(w_2 + w_0·c_0) + w_1·c_1`, each corner by its weight's sign.
+            let corner = |x: usize, p: i32, (l, h): (i32, i32), w: f64| {
+                let cell_lo = x as i32 * p;
+                if w < 0.0 {
+                    l.max(cell_lo)
+                } else {
+                    h.min(cell_lo + p - 1)
+                }
+            };
+            terms.clear();
+            terms.extend(
+                (lo[0]..=hi[0]).map(|x| w[2] + w[0] * f64::from(corner(x, p0, (b[0], b[1]), w[0]))),
+            );
+            let len = terms.len();
+            terms.extend(
+                (lo[1]..=hi[1]).map(|y| w[1] * f64::from(corner(y, p1, (b[2], b[3]), w[1]))),
+            );
+            // Column by column: a piece spans a cell or two along dimension 0 and many
+            // along dimension 1 (each cell's value is the same sum either way).
+            let (row, col) = terms.split_at(len);
+            let c0 = lo[0] + lo[1] * s1;
+            for (x, &a) in row.iter().enumerate() {
+                let mut c = c0 + x;
+                for &t in col {
+                    let v = a + t;
+                    let u = &mut ub[c];
+                    if v > *u || v.is_nan() {
+                        *u = v;
+                    }
+                    c += s1;
+                }
+            }
         }
     }
 
@@ -267,10 +303,19 @@ impl LastIndex {
         self.ub[c]
     }
 
-    /// Every cell's bound (see [`LastIndex::bound`]).
+    /// Every cell's bound (see [`LastIndex::bound`]), then the one outside every cell
+    /// (see [`LastIndex::set_outside`]).
     #[inline]
     pub(super) fn bounds(&self) -> &[f64] {
         &self.ub
+    }
+
+    /// Set the bound after the cells' (see [`LastIndex::bounds`]): the last function's
+    /// global bound, the term of a node no cell holds.
+    pub(super) fn set_outside(&mut self, v: f64) {
+        if let Some(u) = self.ub.last_mut() {
+            *u = v;
+        }
     }
 
     /// [`LastIndex::cell_of`] of every one of `n` boxes into `out` ([`NO_CELL`] for

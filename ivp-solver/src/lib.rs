@@ -467,6 +467,9 @@ fn index_last(
         return;
     }
     last.build(&funcs[above].ppg, pts, boxes[fl], &f.weights, f.n);
+    if last.on {
+        last.set_outside(f.global_ub);
+    }
 }
 
 /// The seed for the search: the value of a leaf holding the previous decision

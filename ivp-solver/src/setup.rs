@@ -2,6 +2,7 @@
 //! translated into the problem domain, with its grid of cell lists and cell bounds.
 
 use super::*;
+use crate::prepared::{walk_cells, ODO_DIMS};
 use crate::weigh::{min_max_wt_with, weigh, Weighing};
 
 impl Solver {
@@ -392,18 +393,30 @@ fn cell_bounds(p: &mut Prepared, total: usize) {
 
 /// Cell lists of a multi-cell grid: every cell's pieces in array order.
 fn build_lists(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize) {
+    // The helm's dimensions made constants (a tiling's thousands of pieces, most in one
+    // cell each, are placed without the odometer's loops).
+    match dim {
+        1 => build_lists_dim::<1>(p, boxes, dim, total),
+        2 => build_lists_dim::<2>(p, boxes, dim, total),
+        3 => build_lists_dim::<3>(p, boxes, dim, total),
+        _ => build_lists_dim::<0>(p, boxes, dim, total),
+    }
+}
+
+/// [`build_lists`] with `D == dim` (0: any dimension).
+fn build_lists_dim<const D: usize>(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize) {
+    let dim = if D == 0 { dim } else { D };
     let bl = 2 * dim;
     p.cell_start.clear();
     p.cell_start.resize(total + 1, 0);
     let mut cell_start = std::mem::take(&mut p.cell_start);
-    for k in 0..p.n {
-        p.for_each_cell(&boxes[k * bl..(k + 1) * bl], dim, |c| {
-            cell_start[c + 1] += 1;
-            true
-        });
+    for b in boxes.chunks_exact(bl).take(p.n) {
+        piece_cells::<D>(p, b, dim, |c| cell_start[c + 1] += 1);
     }
-    for c in 0..total {
-        cell_start[c + 1] += cell_start[c];
+    let mut at = 0;
+    for s in cell_start.iter_mut() {
+        at += *s;
+        *s = at;
     }
     p.cell_items.clear();
     p.cell_items.resize(cell_start[total] as usize, 0);
@@ -412,14 +425,33 @@ fn build_lists(p: &mut Prepared, boxes: &[i32], dim: usize, total: usize) {
     p.cell_start = cell_start;
     let mut items = std::mem::take(&mut p.cell_items);
     let mut cursor = std::mem::take(&mut p.cursor);
-    for k in 0..p.n {
-        p.for_each_cell(&boxes[k * bl..(k + 1) * bl], dim, |c| {
+    for (k, b) in boxes.chunks_exact(bl).take(p.n).enumerate() {
+        piece_cells::<D>(p, b, dim, |c| {
             items[cursor[c] as usize] = k as u32;
             cursor[c] += 1;
-            true
         });
     }
     (p.cell_items, p.cursor) = (items, cursor);
+}
+
+/// Every cell of piece `b` (`dim` dimensions, `D` when not 0), in the odometer's order
+/// (any order would do for the lists: each cell's gets the piece once).
+#[inline(always)]
+fn piece_cells<const D: usize>(p: &Prepared, b: &[i32], dim: usize, mut f: impl FnMut(usize)) {
+    if D == 0 && dim > ODO_DIMS {
+        return p.for_each_cell(b, dim, |c| {
+            f(c);
+            true
+        });
+    }
+    let r = p.range(b, dim);
+    if r.one {
+        return f(r.top);
+    }
+    walk_cells(&r, &p.stride, dim, |c| {
+        f(c);
+        true
+    });
 }
 
 /// Smallest first function given cell lists for the seed (see `Solver::prepare_fresh`).

@@ -581,10 +581,13 @@ fn first_level_simd_loops_stop_where_the_scalar_ones_do() {
             }
             q
         };
+        // The tables as the AVX2 loops read them: one more entry, for no cell.
+        let ub_out: Vec<f64> = ub.iter().copied().chain([last_ub]).collect();
+        let sums_nan: Vec<f64> = sums.iter().copied().chain([f64::NAN]).collect();
         let t = first_simd::Two {
             mvs: &mvs,
             cells: &cells,
-            ub: &ub,
+            ub: &ub_out,
             last_ub,
             best,
             floor,
@@ -600,10 +603,9 @@ fn first_level_simd_loops_stop_where_the_scalar_ones_do() {
         let t = first_simd::Mid {
             mvs: &mvs,
             cells: &cells,
-            ub: &ub,
-            last_ub,
+            ub: &ub_out,
             tops: &tops,
-            sums: &sums,
+            sums: &sums_nan,
             lim: floor,
         };
         // SAFETY: AVX2 checked above.
