@@ -19,6 +19,7 @@
 //! pieces, as before.
 
 use super::coords::CoordTable;
+use crate::made_from::same_bits;
 use crate::prepared::ODO_DIMS;
 #[cfg(test)]
 use ivp::function::max_val;
@@ -463,9 +464,4 @@ fn walk_rows(
             d += 1;
         }
     }
-}
-
-/// The bits of `x` equal `key`, element by element.
-fn same_bits(key: &[u64], x: &[f64]) -> bool {
-    key.len() == x.len() && key.iter().zip(x).all(|(&k, w)| k == w.to_bits())
 }

@@ -55,7 +55,7 @@ pub(crate) struct Prepared {
     /// The boxes as the set-up's AVX2 passes read them (see `weigh.rs`).
     pub(crate) corners: crate::weigh::Corners,
     /// What the slot was last prepared from (see `setup.rs`).
-    pub(crate) key: crate::setup::MadeFrom,
+    pub(crate) key: crate::made_from::MadeFrom,
 }
 
 pub(crate) const NO_BOUND: f64 = -99999.0;

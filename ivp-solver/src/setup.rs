@@ -30,7 +30,9 @@ impl Solver {
     ) -> Result<(), IvpError> {
         if self.funcs[fi].key.on
             && self.same_problem(helm, same)
-            && self.funcs[fi].made_from(f, first)
+            && self.funcs[fi]
+                .key
+                .matches(&self.funcs[fi].src_bounds, f, first)
         {
             self.funcs[fi].key.misses = 0;
             #[cfg(test)]
@@ -459,57 +461,3 @@ const SEED_LISTS_MIN: usize = 64;
 
 /// Largest function kept from one solve to the next (see [`Solver::prepare`]).
 const KEEP_MAX_PIECES: usize = 128;
-
-/// What a slot was last prepared from (see [`Solver::prepare`]); `bounds` are the
-/// slot's `src_bounds`.
-#[derive(Debug, Default)]
-pub(crate) struct MadeFrom {
-    pub(crate) on: bool,
-    domain: Domain,
-    weights: Vec<u64>,
-    gelbox: Vec<u32>,
-    grid: Vec<u64>,
-    pwt: u64,
-    first: bool,
-    /// Fresh preparations of the slot in a row.
-    misses: u32,
-}
-
-/// The bits of `x` equal `key`, element by element (NaN and signed zeros told apart).
-fn same_bits(key: &[u64], x: &[f64]) -> bool {
-    key.len() == x.len() && key.iter().zip(x).all(|(&k, v)| k == v.to_bits())
-}
-
-impl MadeFrom {
-    fn set(&mut self, f: &FunctionView<'_>, first: bool) {
-        // (A domain's names would be allocated anew by `clone_from`.)
-        if self.domain != *f.domain() {
-            self.domain.clone_from(f.domain());
-        }
-        self.weights.clear();
-        self.weights.extend(f.weights().iter().map(|w| w.to_bits()));
-        self.gelbox.clear();
-        self.gelbox.extend_from_slice(f.gelbox());
-        self.grid.clear();
-        self.grid
-            .extend(f.grid_bounds().iter().map(|w| w.to_bits()));
-        self.pwt = f.pwt().to_bits();
-        self.first = first;
-        self.on = true;
-    }
-}
-
-impl Prepared {
-    /// Whether the slot was last prepared from `f` at the same level (`first`).
-    fn made_from(&self, f: &FunctionView<'_>, first: bool) -> bool {
-        let k = &self.key;
-        // The weights first: what changes when anything does.
-        k.on && same_bits(&k.weights, f.weights())
-            && k.first == first
-            && k.pwt == f.pwt().to_bits()
-            && self.src_bounds == f.bounds()
-            && k.gelbox == f.gelbox()
-            && same_bits(&k.grid, f.grid_bounds())
-            && k.domain == *f.domain()
-    }
-}
