@@ -11,6 +11,7 @@ use crate::runtime::step;
 
 /// The run warning while NAV_* are missing after `nav_grace` (retracted once they come).
 const NAV_WAIT: &str = "Waiting for Helm Nav Solution";
+const BEHAVIOR_TIMING_EVERY: u64 = 8; // one iteration in this many times each behavior
 
 /// What the decision step produced, for the all-stop evaluation.
 #[derive(Debug, Default)]
@@ -251,17 +252,15 @@ impl Helm {
         self.post_num("TURN_RATE", rate);
     }
 
-    /// The engine iteration (§7): modes, behaviors, solve. Its times come from one clock
-    /// reading per behavior and one at each end: a reading costs tens of nanoseconds on
-    /// a virtual machine, a few percent of a small mission's whole step.
+    /// The engine iteration (§7): modes, behaviors, solve. A clock reading at each end
+    /// and one after creation (tens of nanoseconds each on a virtual machine).
     fn decide(&mut self, now: f64, started: std::time::Instant) -> DecisionSummary {
         self.env.helm_iteration += 1;
         let iter = self.env.helm_iteration;
         let mut summary = DecisionSummary::default();
         self.process_spawns(now);
 
-        // Modes, before any behavior runs: copied into the kept pairs (their strings
-        // reused), each set as a number if it reads as one, else as a string.
+        // Modes first, into the kept pairs: set as a number if one, else as a string.
         copy_pairs(&mut self.mode_pairs, self.modes.evaluate(&self.ib));
         for (var, val) in &self.mode_pairs {
             match mbutil::parse_number(val) {
@@ -276,6 +275,8 @@ impl Helm {
             recycle(f);
         }
         let (mut t, mut fd) = (started, None); // a behavior's end is the next one's start
+                                               // Each behavior's time (the appcast's `cpu=`) on one iteration in eight only.
+        let each = iter % BEHAVIOR_TIMING_EVERY == 1;
         for i in 0..self.behaviors.len() {
             step(&mut self.behaviors[i], &self.env, &self.ib, &mut fd);
             if let Some(fd) = fd.take() {
@@ -291,8 +292,10 @@ impl Helm {
                     }
                 }
             }
-            let start = std::mem::replace(&mut t, std::time::Instant::now());
-            self.behaviors[i].core.step_secs = (t - start).as_secs_f64();
+            if each {
+                let start = std::mem::replace(&mut t, std::time::Instant::now());
+                self.behaviors[i].core.step_secs = (t - start).as_secs_f64();
+            }
             if !self.behaviors[i].core.ok {
                 let last = self.behaviors[i]
                     .core
@@ -315,7 +318,7 @@ impl Helm {
             }
         }
         summary.functions = self.functions.len();
-        if summary.halted.is_some() {
+        if summary.halted.is_some() || !each {
             t = std::time::Instant::now(); // a placement error leaves its behavior untimed
         }
         summary.took = t - started;
