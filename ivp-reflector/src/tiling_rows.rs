@@ -423,10 +423,26 @@ pub(super) fn fold_range(lo: &[f64], hi: &[f64]) -> (f64, f64) {
     fold_range_lanes(lo, hi)
 }
 
+/// [`fold_range_lanes`] with its lanes' loop written in AVX2 instructions (the
+/// compiler's own loop reverses every vector twice per step).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn fold_range_avx2(lo: &[f64], hi: &[f64]) -> (f64, f64) {
-    fold_range_lanes(lo, hi)
+    use std::arch::x86_64::*;
+    let n = lo.len().min(hi.len());
+    let (lo, hi) = (&lo[..n], &hi[..n]);
+    let (lc, hc) = (lo.as_chunks::<4>().0, hi.as_chunks::<4>().0);
+    let mut mn = _mm256_set1_pd(f64::INFINITY);
+    let mut mx = _mm256_set1_pd(f64::NEG_INFINITY);
+    for (l, h) in lc.iter().zip(hc) {
+        // min(x, m) is `x < m ? x : m`, max(x, m) `x > m ? x : m`: the lanes' picks.
+        mn = _mm256_min_pd(_mm256_loadu_pd(l.as_ptr()), mn);
+        mx = _mm256_max_pd(_mm256_loadu_pd(h.as_ptr()), mx);
+    }
+    let (mut lmn, mut lmx) = ([0.0; 4], [0.0; 4]);
+    _mm256_storeu_pd(lmn.as_mut_ptr(), mn);
+    _mm256_storeu_pd(lmx.as_mut_ptr(), mx);
+    fold_range_from(lo, hi, n / 4 * 4, (lmn, lmx))
 }
 
 #[inline(always)]
@@ -437,13 +453,27 @@ fn fold_range_lanes(lo: &[f64], hi: &[f64]) -> (f64, f64) {
     // (not NaN) is among those folded, so the lanes' extreme is the fold's value.
     let (mut mn, mut mx) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
     let (lc, hc) = (lo.chunks_exact(4), hi.chunks_exact(4));
-    let (lr, hr) = (lc.remainder(), hc.remainder());
     for (l, h) in lc.zip(hc) {
         for j in 0..4 {
             mn[j] = if l[j] < mn[j] { l[j] } else { mn[j] };
             mx[j] = if h[j] > mx[j] { h[j] } else { mx[j] };
         }
     }
+    fold_range_from(lo, hi, n / 4 * 4, (mn, mx))
+}
+
+/// [`fold_range`] given the lanes' extremes `(mn, mx)` of the first `done` pieces (a
+/// multiple of 4): the rest folded in, then the answer picked.
+#[inline(always)]
+fn fold_range_from(
+    lo: &[f64],
+    hi: &[f64],
+    done: usize,
+    (mut mn, mut mx): ([f64; 4], [f64; 4]),
+) -> (f64, f64) {
+    let n = lo.len().min(hi.len());
+    let (lo, hi) = (&lo[..n], &hi[..n]);
+    let (lr, hr) = (&lo[done..], &hi[done..]);
     for (j, (&l, &h)) in lr.iter().zip(hr).enumerate() {
         mn[j] = if l < mn[j] { l } else { mn[j] };
         mx[j] = if h > mx[j] { h } else { mx[j] };
