@@ -36,6 +36,7 @@ mod first_simd;
 mod last_bits;
 mod last_index;
 mod made_from;
+mod nan_scan;
 mod prepared;
 mod search;
 mod separate;
@@ -45,6 +46,7 @@ mod weigh;
 #[cfg(target_arch = "x86_64")]
 mod weigh_simd;
 
+pub use nan_scan::any_nan;
 pub use view::{CheckedFunction, FunctionView, PieceBuffers};
 #[cfg(test)]
 use {

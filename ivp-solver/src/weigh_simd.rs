@@ -151,7 +151,7 @@ fn extremes2_from<const FROM: u8>(
     for g in 0..groups {
         // SAFETY: group g < groups is whole in the bounds and in `weights`.
         let (lo, hi) = unsafe {
-            lo_hi(
+            lo_hi::<FROM>(
                 group_bounds::<FROM>(ints, corners, g),
                 weights.as_ptr().add(12 * g),
             )
@@ -178,9 +178,20 @@ fn extremes2_from<const FROM: u8>(
 /// The lo and hi extremes of 4 pieces with bounds `[l0, h0, l1, h1]` and weights at
 /// `w` (12 `f64`s), by the scalar loop's operations: `(c + w0·x0) + w1·x1`, `x_d` the
 /// corner by `w_d`'s sign.
+///
+/// From the corners (`FROM` not 0: boxes of a checked function, `0 <= lo <= hi`) the
+/// corner products are ordered by the weight's sign (`w·lo <= w·hi` for `w >= 0`, the
+/// other way below, each product rounded monotonely; zeros of one sign), so the hi
+/// one is the greater product and the lo one the lesser: `max`/`min` of the two
+/// instead of a test and two blends. Only where a product is NaN (an infinite weight
+/// on a zero bound) can a lane differ from the test's, and then it holds an infinity
+/// no extreme takes, where the test's holds a NaN none takes either.
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn lo_hi([l0, h0, l1, h1]: [__m256d; 4], w: *const f64) -> (__m256d, __m256d) {
+unsafe fn lo_hi<const FROM: u8>(
+    [l0, h0, l1, h1]: [__m256d; 4],
+    w: *const f64,
+) -> (__m256d, __m256d) {
     // SAFETY: the caller has 12 `f64`s at `w`.
     let (a, b, c) = unsafe {
         (
@@ -190,6 +201,17 @@ unsafe fn lo_hi([l0, h0, l1, h1]: [__m256d; 4], w: *const f64) -> (__m256d, __m2
         )
     };
     let [w0, w1, cc] = spread3(a, b, c);
+    if FROM != 0 {
+        // `max(a, b)` is `a > b ? a : b`: a NaN `w·lo` gives `w·hi`, as the test would
+        // for a weight that is not negative.
+        let (p0, q0) = (_mm256_mul_pd(w0, l0), _mm256_mul_pd(w0, h0));
+        let (p1, q1) = (_mm256_mul_pd(w1, l1), _mm256_mul_pd(w1, h1));
+        let hi = _mm256_add_pd(cc, _mm256_max_pd(p0, q0));
+        let lo = _mm256_add_pd(cc, _mm256_min_pd(p0, q0));
+        let hi = _mm256_add_pd(hi, _mm256_max_pd(p1, q1));
+        let lo = _mm256_add_pd(lo, _mm256_min_pd(p1, q1));
+        return (lo, hi);
+    }
     let hi = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
     let lo = _mm256_add_pd(cc, _mm256_mul_pd(w0, by_sign(w0, h0, l0)));
     let hi = _mm256_add_pd(hi, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
@@ -229,7 +251,7 @@ unsafe fn first_zero<const FROM: u8>(
     for g in 0..groups {
         // SAFETY: the caller's groups, whole in the bounds and in `weights`.
         let (lo, h) = unsafe {
-            lo_hi(
+            lo_hi::<FROM>(
                 group_bounds::<FROM>(ints, corners, g),
                 weights.as_ptr().add(12 * g),
             )

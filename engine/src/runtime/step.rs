@@ -174,8 +174,8 @@ fn accumulate(core: &mut BehaviorCore, now: f64, running: bool) {
 /// Checks a function from a behavior, read where it lies, before the helm trusts it:
 /// its weight and piece count, or `None` when it is to be dropped.
 fn validate(core: &mut BehaviorCore, f: &Function) -> Option<(f64, usize)> {
-    // Not short-circuited: the whole scan vectorizes (thousands of weights a function).
-    let nan = f.weights.iter().fold(false, |nan, w| nan | w.is_nan());
+    // Thousands of weights a function: the solver's SIMD scan.
+    let nan = ivp_solver::any_nan(&f.weights);
     if nan || f.pwt.is_nan() {
         // Never trusted again: disabled, like a panic (the C++ helm only discards it).
         fault(core, "NaN detected in IvP Function");
