@@ -455,6 +455,21 @@ fn set_str(dst: &mut String, src: &str) {
     }
 }
 
+/// `<NAME>_NAV_<SUFFIX>` with the name upper-cased, into `out` (a kept string: reports
+/// arrive every iteration): where a helm keeps a contact's, or ownship's, report fields.
+pub fn nav_var(out: &mut String, name: &str, suffix: &str) {
+    out.clear();
+    // ASCII (every real name): the same as per char, without the char iteration.
+    if name.is_ascii() {
+        out.push_str(name);
+        out.make_ascii_uppercase();
+    } else {
+        out.extend(name.chars().flat_map(char::to_uppercase));
+    }
+    out.push_str("_NAV_");
+    out.push_str(suffix);
+}
+
 #[cfg(test)]
 #[path = "ledger_tests.rs"]
 mod tests;

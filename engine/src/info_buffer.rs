@@ -31,6 +31,8 @@ pub struct InfoBuffer {
     touched: Vec<usize>,
     /// Lets conditions skip the variables not written since they last read them.
     stamps: Stamps,
+    /// Places of `<NAME>_NAV_GROUP` and `_NAV_TYPE` by contact name.
+    nav_places: Vec<(String, [usize; 2])>,
     curr_time: f64,
     start_time: f64,
 }
@@ -54,17 +56,19 @@ impl InfoBuffer {
         self.curr_time - self.start_time
     }
 
-    /// `var`'s entry, made on first sight, for a write with a delta: stamped, and listed
-    /// for clearing at its first delta of the iteration.
-    fn entry(&mut self, var: &str) -> &mut Entry {
-        let i = match self.index.get(var) {
-            Some(i) => i,
-            None => {
-                self.entries.push(Entry::default());
-                self.index.insert(var, self.entries.len() - 1);
-                self.entries.len() - 1
-            }
-        };
+    /// `var`'s place in `entries`, made on first sight.
+    fn place(&mut self, var: &str) -> usize {
+        if let Some(i) = self.index.get(var) {
+            return i;
+        }
+        self.entries.push(Entry::default());
+        self.index.insert(var, self.entries.len() - 1);
+        self.entries.len() - 1
+    }
+
+    /// The entry at `i`, for a write with a delta: stamped, and listed for clearing at
+    /// its first delta of the iteration.
+    fn entry_at(&mut self, i: usize) -> &mut Entry {
         self.stamps.write(i);
         let e = &mut self.entries[i];
         if e.str_count == 0 && e.dbl_deltas.is_empty() {
@@ -78,8 +82,30 @@ impl InfoBuffer {
     }
 
     pub fn set_string(&mut self, var: &str, val: &str, msg_time: f64) {
+        let i = self.place(var);
+        self.set_string_at(i, val, msg_time);
+    }
+
+    /// A contact's group and type, as `<NAME>_NAV_GROUP` and `<NAME>_NAV_TYPE` (from
+    /// every contact every second: each contact's two places are found once).
+    pub fn set_contact_nav(&mut self, name: &str, group: &str, vtype: &str, msg_time: f64) {
+        let found = self.nav_places.iter().find(|(n, _)| n == name).map(|e| e.1);
+        let [g, t] = found.unwrap_or_else(|| {
+            let mut var = String::new();
+            let places = ["GROUP", "TYPE"].map(|suffix| {
+                contacts::ledger::nav_var(&mut var, name, suffix);
+                self.place(&var)
+            });
+            self.nav_places.push((name.to_string(), places));
+            places
+        });
+        self.set_string_at(g, group, msg_time);
+        self.set_string_at(t, vtype, msg_time);
+    }
+
+    fn set_string_at(&mut self, i: usize, val: &str, msg_time: f64) {
         let now = self.curr_time;
-        let e = self.entry(var);
+        let e = self.entry_at(i);
         match &mut e.sval {
             Some(s) => {
                 s.clear();
@@ -94,7 +120,8 @@ impl InfoBuffer {
 
     pub fn set_double(&mut self, var: &str, val: f64, msg_time: f64) {
         let now = self.curr_time;
-        let e = self.entry(var);
+        let i = self.place(var);
+        let e = self.entry_at(i);
         e.dval = Some(val);
         e.time = now;
         e.msg_time = msg_time;

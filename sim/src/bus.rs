@@ -202,8 +202,29 @@ impl SimBus {
             || self.observer.when.iter().any(|w| w.var == var)
     }
 
+    /// `var`'s place on the bus, for [`SimBus::post_at`]: an app that posts the same
+    /// variables every step (the simulator's navigation) looks them up once.
+    pub fn place(&mut self, var: &str) -> usize {
+        self.slot_of(var)
+    }
+
     /// Post `var = value` from `source` (`aux` its source-aux) at `now`.
     pub fn post(&mut self, source: &str, var: &str, value: &Value, aux: &str, now: f64) {
+        let i = self.slot_of(var);
+        self.post_at(i, source, var, value, aux, now);
+    }
+
+    /// [`SimBus::post`] of `var`, whose place `i` is known ([`SimBus::place`]).
+    pub fn post_at(
+        &mut self,
+        i: usize,
+        source: &str,
+        var: &str,
+        value: &Value,
+        aux: &str,
+        now: f64,
+    ) {
+        debug_assert_eq!(self.index.get(var), Some(&i));
         let zero = Value::Num(0.0);
         let value = if HOST_MEASUREMENTS.contains(&var) {
             &zero
@@ -211,7 +232,6 @@ impl SimBus {
             value
         };
         self.observer.on_posting(var, value, now);
-        let i = self.slot_of(var);
         let parts = (source, var, value, aux, now);
         // Keep `var`'s latest value, reusing the previous one's storage.
         let slot = &mut self.slots[i];

@@ -2,6 +2,7 @@
 
 use super::{Helm, HelmState};
 use crate::posting::Value;
+use contacts::ledger::nav_var;
 
 /// One incoming MOOS message.
 #[derive(Clone, Debug, PartialEq)]
@@ -168,20 +169,12 @@ impl Helm {
             return;
         };
         let now = self.ib.curr_time();
-        // `<NAME>_NAV_GROUP` and `<NAME>_NAV_TYPE` written into a kept string (a report
-        // comes from every contact every second).
-        let mut var = std::mem::take(&mut self.report_var);
         let got = match parsed {
             Some(r) => self.env.ledger.ingest_parsed(r, now),
             None => self.env.ledger.ingest(report, now),
         };
         match got {
-            Ok(a) => {
-                for (suffix, value) in [("GROUP", &a.group), ("TYPE", &a.vtype)] {
-                    nav_var(&mut var, a.name, suffix);
-                    self.ib.set_string(&var, value, m.time);
-                }
-            }
+            Ok(a) => self.ib.set_contact_nav(a.name, a.group, a.vtype, m.time),
             Err(e) => {
                 for w in e.run_warnings(report) {
                     self.run_warning(&w);
@@ -190,7 +183,6 @@ impl Helm {
                 self.ib.set_string("_NAV_TYPE", "", m.time);
             }
         }
-        self.report_var = var;
     }
 
     /// Ownship's own report (pNodeReporter): not a contact, only its group, type, colour
@@ -214,19 +206,4 @@ impl Helm {
             self.run_warning("Unhandled NODE_REPORT_LOCAL");
         }
     }
-}
-
-/// `<NAME>_NAV_<SUFFIX>` with the name upper-cased, into `out` (a kept string: reports
-/// arrive every iteration).
-fn nav_var(out: &mut String, name: &str, suffix: &str) {
-    out.clear();
-    // ASCII (every real name): the same as per char, without the char iteration.
-    if name.is_ascii() {
-        out.push_str(name);
-        out.make_ascii_uppercase();
-    } else {
-        out.extend(name.chars().flat_map(char::to_uppercase));
-    }
-    out.push_str("_NAV_");
-    out.push_str(suffix);
 }

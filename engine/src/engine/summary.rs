@@ -4,8 +4,6 @@
 //! Every field is written into a string kept from the last iteration and compared with
 //! the field last reported, so a steady summary allocates nothing.
 
-use std::fmt::Write as _;
-
 use super::iterate::DecisionSummary;
 use super::Helm;
 use crate::runtime::{push_compact, RunState};
@@ -51,20 +49,21 @@ impl Helm {
             if out.len() > start {
                 out.push(':');
             }
+            // `name$entry:.2$` then, if active, `pwt:.5$pieces$0.00000$`: push_fixed
+            // writes what `{:.N}` writes, without core::fmt.
             let c = &b.core;
+            out.push_str(&c.name);
+            out.push('$');
+            mbutil::push_fixed(out, c.state_entry_time, 2);
+            out.push('$');
             if active {
-                let pcs = self.pieces_of(&c.name);
-                let _ = write!(
-                    out,
-                    "{}${:.2}${:.5}${}${:.5}$",
-                    c.name, c.state_entry_time, c.pwt, pcs, 0.0
-                );
-                c.push_update_counts(out);
-                out.push_str("$1$$");
-            } else {
-                let _ = write!(out, "{}${:.2}$", c.name, c.state_entry_time);
-                c.push_update_counts(out);
+                mbutil::push_fixed(out, c.pwt, 5);
+                out.push('$');
+                mbutil::push_u64(out, self.pieces_of(&c.name) as u64);
+                out.push_str("$0.00000$");
             }
+            c.push_update_counts(out);
+            out.push_str(if active { "$1$$" } else { "" });
         }
         if out.len() == start {
             out.push_str("none");

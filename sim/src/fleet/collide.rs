@@ -40,6 +40,46 @@ impl PairRecord {
     }
 }
 
+/// The distance between every two vehicles (the `hypot` of their offset), worked out
+/// once a step for the detector, the COLREGS tracker and the comms model. `hypot`
+/// ignores the signs of the offset, so (i, j) and (j, i) are the same number.
+#[derive(Debug, Default)]
+pub struct Distances {
+    n: usize,
+    d: Vec<f64>,
+}
+
+impl Distances {
+    pub fn of(pos: &[(f64, f64)]) -> Distances {
+        let mut d = Distances::default();
+        d.update(pos);
+        d
+    }
+
+    pub fn update(&mut self, pos: &[(f64, f64)]) {
+        let n = pos.len();
+        self.n = n;
+        self.d.clear();
+        self.d.resize(n * n, 0.0);
+        for i in 0..n {
+            for j in i + 1..n {
+                let d = (pos[i].0 - pos[j].0).hypot(pos[i].1 - pos[j].1);
+                self.d[i * n + j] = d;
+                self.d[j * n + i] = d;
+            }
+        }
+    }
+
+    /// From vehicle `i` to each vehicle (0 to itself).
+    pub fn row(&self, i: usize) -> &[f64] {
+        &self.d[i * self.n..(i + 1) * self.n]
+    }
+
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.d[i * self.n + j]
+    }
+}
+
 /// Watches every pair.
 pub struct Detector {
     pub ranges: Ranges,
@@ -69,14 +109,14 @@ impl Detector {
         Detector { ranges, pairs }
     }
 
-    /// The vehicles are at `pos` at `t` (s from the start).
-    pub fn update(&mut self, t: f64, pos: &[(f64, f64)]) {
+    /// The vehicles are at `pos` at `t` (s from the start), `dist` apart.
+    pub fn update(&mut self, t: f64, pos: &[(f64, f64)], dist: &Distances) {
         let mut k = 0;
         for i in 0..pos.len() {
             for j in i + 1..pos.len() {
                 let p = &mut self.pairs[k];
                 k += 1;
-                let d = (pos[i].0 - pos[j].0).hypot(pos[i].1 - pos[j].1);
+                let d = dist.get(i, j);
                 if d < p.closest_m {
                     p.closest_m = d;
                     p.closest_time_s = t;
@@ -119,7 +159,8 @@ mod tests {
         // b passes a at 5 m (near miss), leaves, comes back to 2 m (collision); c stays far.
         let path = [30.0, 15.0, 5.0, 12.0, 40.0, 10.0, 2.0, 8.0];
         for (k, dist) in path.iter().enumerate() {
-            d.update(k as f64, &[(0.0, 0.0), (*dist, 0.0), (0.0, 500.0)]);
+            let pos = [(0.0, 0.0), (*dist, 0.0), (0.0, 500.0)];
+            d.update(k as f64, &pos, &Distances::of(&pos));
         }
         d.finish();
         let ab = &d.pairs[0];

@@ -154,14 +154,20 @@ impl Tracker {
 
     /// The vessels at `t` (s from the start); `alerted(i, j)`: vessel i's contact
     /// manager has an alert on vessel j.
-    pub fn update(&mut self, t: f64, v: &[Vessel], alerted: &dyn Fn(usize, usize) -> bool) {
+    pub fn update(
+        &mut self,
+        t: f64,
+        v: &[Vessel],
+        dist: &super::collide::Distances,
+        alerted: &dyn Fn(usize, usize) -> bool,
+    ) {
         for i in 0..self.n {
             for j in 0..self.n {
                 if i == j {
                     continue;
                 }
                 let (os, cn) = (&v[i], &v[j]);
-                let d = (os.x - cn.x).hypot(os.y - cn.y);
+                let d = dist.get(i, j);
                 let slot = &mut self.pairs[i * self.n + j];
                 let p = match slot {
                     Some(p) => p,
@@ -399,6 +405,11 @@ pub fn terminal(
 mod tests {
     use super::*;
 
+    fn dists(vs: &[Vessel]) -> super::super::collide::Distances {
+        let pos: Vec<(f64, f64)> = vs.iter().map(|v| (v.x, v.y)).collect();
+        super::super::collide::Distances::of(&pos)
+    }
+
     fn v(x: f64, y: f64, heading: f64, speed: f64) -> Vessel {
         Vessel {
             x,
@@ -440,7 +451,7 @@ mod tests {
         for k in 0..=40 {
             let y = k as f64 * 5.0;
             let vs = [v(0., y, 0., 2.), v(10., 200. - y, 180., 2.)];
-            t.update(k as f64, &vs, &|_, _| k >= 10);
+            t.update(k as f64, &vs, &dists(&vs), &|_, _| k >= 10);
         }
         let r = t.finish(&names);
         assert_eq!(r[0].situation, "headon");
@@ -450,7 +461,7 @@ mod tests {
         for k in 0..=40 {
             let y = k as f64 * 5.0;
             let vs = [v(0., y, 0., 2.), v(-10., 200. - y, 180., 2.)];
-            t.update(k as f64, &vs, &|_, _| k >= 10);
+            t.update(k as f64, &vs, &dists(&vs), &|_, _| k >= 10);
         }
         assert_eq!(t.finish(&names)[0].passed, Some(true));
 
@@ -464,7 +475,7 @@ mod tests {
                     v(0., -60. + a_speed * tt, 0., a_speed),
                     v(60. - 2. * tt, 0., 270., 2.),
                 ];
-                t.update(tt, &vs, &|_, _| k >= 5);
+                t.update(tt, &vs, &dists(&vs), &|_, _| k >= 5);
             }
             let r = t.finish(&names);
             assert_eq!(r[0].situation, "giveway", "{r:?}");

@@ -43,16 +43,15 @@ impl<T: Clone> CommsModel<T> {
         }
     }
 
-    /// Vehicle `from` posted `report` at `t` (s from the start); `pos` are all vehicles'
-    /// positions now.
-    pub fn send(&mut self, t: f64, from: usize, report: T, pos: &[(f64, f64)]) {
+    /// Vehicle `from` posted `report` at `t` (s from the start); `range[to]` is how far
+    /// each vehicle is from it now.
+    pub fn send(&mut self, t: f64, from: usize, report: T, range: &[f64]) {
         self.stats.reports += 1;
-        let (fx, fy) = pos[from];
-        for (to, &(x, y)) in pos.iter().enumerate() {
+        for (to, &d) in range.iter().enumerate() {
             if to == from {
                 continue;
             }
-            if (x - fx).hypot(y - fy) > self.cfg.range {
+            if d > self.cfg.range {
                 self.stats.out_of_range += 1;
                 continue;
             }
@@ -94,7 +93,9 @@ mod tests {
         };
         let mut c = CommsModel::new(cfg, 0);
         let pos = [(0.0, 0.0), (50.0, 0.0), (150.0, 0.0)];
-        c.send(1.0, 0, "NAME=a", &pos);
+        let dist = crate::fleet::collide::Distances::of(&pos);
+        let (all, two) = (dist.row(0), &dist.row(0)[..2]);
+        c.send(1.0, 0, "NAME=a", all);
         assert_eq!((c.stats.delivered, c.stats.out_of_range), (1, 1));
         assert!(c.due(2.9).is_none(), "latency 2 s");
         assert_eq!(c.due(3.0), Some((1, "NAME=a")));
@@ -108,7 +109,7 @@ mod tests {
             7,
         );
         for i in 0..1000 {
-            lossy.send(i as f64, 0, "r", &pos[..2]);
+            lossy.send(i as f64, 0, "r", two);
         }
         let d = lossy.stats.dropped;
         assert!((200..400).contains(&d), "dropped {d} of 1000 at 30%");
@@ -120,7 +121,7 @@ mod tests {
             7,
         );
         for i in 0..1000 {
-            again.send(i as f64, 0, "r", &pos[..2]);
+            again.send(i as f64, 0, "r", two);
         }
         assert_eq!(again.stats, lossy.stats, "seeded");
     }

@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::collide::{Detector, PairRecord};
+use super::collide::{Detector, Distances, PairRecord};
 use super::comms::{CommsModel, CommsStats};
 use super::relay::Relayed;
 use super::spec::{FleetScenario, Ranges};
@@ -120,7 +120,8 @@ impl FleetPlan {
         let mut detector = Detector::new(&names, sc.ranges);
         let mut comms = CommsModel::new(sc.comms, opts.seed);
         let mut pos: Vec<(f64, f64)> = live.iter().map(|l| (l.nav().x, l.nav().y)).collect();
-        detector.update(0.0, &pos);
+        let mut dist = Distances::of(&pos);
+        detector.update(0.0, &pos, &dist);
         let mut rules =
             super::colregs::Tracker::new(live.len(), sc.ranges.encounter, sc.ranges.collision);
         let mut world = sc
@@ -201,7 +202,8 @@ impl FleetPlan {
                     let n = l.nav();
                     *p = (n.x, n.y);
                 }
-                detector.update(off, &pos);
+                dist.update(&pos);
+                detector.update(off, &pos, &dist);
                 if let Some(w) = &mut world {
                     w.collide(off, &names, &pos);
                 }
@@ -224,7 +226,7 @@ impl FleetPlan {
                             .alerted()
                             .any(|(c, _)| c.eq_ignore_ascii_case(&names[j]))
                     };
-                    rules.update(off, &vs, &alerted);
+                    rules.update(off, &vs, &dist, &alerted);
                 }
                 let due = ktick as f64 * sc.tick;
                 if off >= due {
@@ -239,7 +241,7 @@ impl FleetPlan {
                 l.take_reports(&mut reports);
                 for m in &reports {
                     if let Value::Str(s) = &m.value {
-                        comms.send(off, i, Relayed::new(s.clone()), &pos);
+                        comms.send(off, i, Relayed::new(s.clone()), dist.row(i));
                     }
                 }
             }

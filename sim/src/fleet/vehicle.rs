@@ -7,7 +7,6 @@
 //! up for the comms model. Each app ticks at its mission `AppTick` (pNodeReporter and
 //! the contact manager default to 4 Hz, as their MOOS defaults).
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::rc::Rc;
 
@@ -177,6 +176,10 @@ pub struct Live {
     relay_text: Value,
     report: String,
     report_index: u64,
+    /// `,LENGTH={length}` of the report, written once (the length never changes).
+    length_field: String,
+    /// The bus places of the simulator's `NAV_*` variables, in `Nav::vars` order.
+    nav_places: [usize; 5],
     pub obm: Option<super::obstacles::ObmLive>,
 }
 
@@ -232,7 +235,9 @@ impl Live {
         helm.set_ipf_posting(bus.is_read("BHV_IPF"));
         bus.deliver();
         let drove = helm.state() == HelmState::Drive;
+        let nav_places = model.nav().vars().map(|(var, _)| bus.place(var));
         Ok(Live {
+            nav_places,
             start: model.nav(),
             bus,
             helm,
@@ -258,6 +263,7 @@ impl Live {
             relay_text: Value::Str(String::new()),
             report: String::new(),
             report_index: 0,
+            length_field: format!(",LENGTH={}", plan.length),
             obm,
         })
     }
@@ -315,8 +321,9 @@ impl Live {
             self.last_sim = off;
             let nav = self.model.nav();
             self.bus.observer.track.push(nav.x, nav.y);
-            for (var, value) in nav.vars() {
-                self.bus.post(SIM_NAME, var, &Value::Num(value), "", now);
+            for ((var, value), &i) in nav.vars().into_iter().zip(&self.nav_places) {
+                self.bus
+                    .post_at(i, SIM_NAME, var, &Value::Num(value), "", now);
             }
             self.ks += 1;
         }
@@ -371,17 +378,21 @@ impl Live {
             field(&mut r, ",LON=", lon, 8);
         }
         let yaw = (90.0 - nav.heading).to_radians();
-        let _ = write!(
-            r,
-            ",TYPE={},COLOR={},MODE={},INDEX={}",
-            p.vtype,
-            p.spec.moos_color,
-            self.helm.state().as_str(),
-            self.report_index,
-        );
+        // As `write!(",TYPE={},COLOR={},MODE={},INDEX={}")`, without core::fmt.
+        let state = self.helm.state().as_str();
+        for (key, text) in [
+            (",TYPE=", &*p.vtype),
+            (",COLOR=", &p.spec.moos_color),
+            (",MODE=", state),
+        ] {
+            r.push_str(key);
+            r.push_str(text);
+        }
+        r.push_str(",INDEX=");
+        mbutil::push_u64(&mut r, self.report_index);
         field(&mut r, ",YAW=", yaw, 7);
         field(&mut r, ",TIME=", now, 2);
-        let _ = write!(r, ",LENGTH={}", p.length);
+        r.push_str(&self.length_field);
         self.report_index += 1;
         let v = Value::Str(r);
         self.bus
