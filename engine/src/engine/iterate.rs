@@ -11,8 +11,6 @@ use crate::runtime::step;
 
 /// The run warning while NAV_* are missing after `nav_grace` (retracted once they come).
 const NAV_WAIT: &str = "Waiting for Helm Nav Solution";
-const BEHAVIOR_TIMING_EVERY: u64 = 8; // one iteration in this many times each behavior
-
 /// What the decision step produced, for the all-stop evaluation.
 #[derive(Debug, Default)]
 pub(crate) struct DecisionSummary {
@@ -212,8 +210,7 @@ impl Helm {
     /// `IVPHELM_CONTACT_SUMMARY` (while a behavior has a contact) and
     /// `IVPHELM_LEDGER_SUMMARY`.
     fn maintain_ledger(&mut self, now: f64) {
-        // Field by field, so the summaries go straight from the ledger into the posting
-        // (no extra copy each iteration).
+        // Field by field: the summaries go straight from the ledger into the posting.
         let (ledger, outbox, pool) = (&mut self.env.ledger, &mut self.outbox, &mut self.pool);
         let mut post = |outbox: &mut Vec<Posting>, var: &str, text: &str| {
             outbox.push(Posting {
@@ -276,7 +273,7 @@ impl Helm {
         }
         let (mut t, mut fd) = (started, None); // a behavior's end is the next one's start
                                                // Each behavior's time (the appcast's `cpu=`) on one iteration in eight only.
-        let each = iter % BEHAVIOR_TIMING_EVERY == 1;
+        let each = iter % 8 == 1;
         for i in 0..self.behaviors.len() {
             step(&mut self.behaviors[i], &self.env, &self.ib, &mut fd);
             if let Some(fd) = fd.take() {
