@@ -16,7 +16,8 @@
 //!   behavior libraries) in the `helm-mission` crate; a `.bhv` line in the `bhv` crate;
 //! - the contact ledger (from the `contacts` crate) is fed in `engine::mail` and
 //!   maintained once per iteration in `engine::iterate`;
-//! - behaviors come from [`factory`] (built-in) and [`loader`] (shared libraries);
+//! - behaviors come from [`factory`] (built-in) and [`loader`] (shared libraries, the
+//!   `behavior-loader` crate);
 //! - a behavior is called in [`runtime`] (`runtime::step`, one behavior's part in one
 //!   iteration), built-in and plugin alike through `behavior-api`;
 //! - a decision is made in [`engine`]: `Helm::handle_mail` → `Helm::iterate` (modes,
@@ -61,7 +62,7 @@ pub use helm_config as config;
 pub mod engine;
 pub mod factory;
 pub mod info_buffer;
-pub mod loader;
+pub use behavior_loader as loader;
 pub mod posting;
 pub mod run_warnings;
 pub mod runtime;

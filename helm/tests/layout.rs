@@ -12,6 +12,7 @@ mod common;
 const HELM_CRATES: &[&str] = &[
     "helm",
     "helm-engine",
+    "behavior-loader",
     "helm-config",
     "helm-cycle",
     "helm-mission",
@@ -148,6 +149,18 @@ fn crates_depend_only_downward() {
         &["helm-app", "helm-conform", "helm", "moosdb"],
     );
     forbid("vehicle-model", &["moos", "helm-engine"]);
+    // The loader knows the SDK, not the engine that uses it.
+    forbid(
+        "behavior-loader",
+        &[
+            "helm-engine",
+            "helm-cycle",
+            "moos",
+            "moosdb",
+            "helm-sim",
+            "helm",
+        ],
+    );
     forbid("behavior-api", HELM_CRATES);
     // Behaviors, built in or plugins, know the SDK and nothing of the helm.
     let mut behaviors = 0;

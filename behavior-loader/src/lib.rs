@@ -1,4 +1,11 @@
-//! Behavior libraries (`cdylib`) loaded through the stable ABI.
+//! `behavior-loader`: behavior libraries (`cdylib`) found in the behavior folders and
+//! loaded through the stable ABI, each file opened and its layout checked once per
+//! process, and the behaviors they offer created by type name. Libraries built against
+//! an earlier `behavior-api` release are adapted here (see `Module`).
+//!
+//! It depends on the SDK (`behavior-api`) and `abi_stable` only: it must not depend on
+//! the helm's engine, its drivers, MOOS or the simulator (the engine's factory holds the
+//! libraries it loads).
 
 use std::path::{Path, PathBuf};
 
