@@ -11,6 +11,10 @@ use crate::runtime::step;
 
 /// The run warning while NAV_* are missing after `nav_grace` (retracted once they come).
 const NAV_WAIT: &str = "Waiting for Helm Nav Solution";
+
+/// One iteration in this many times each behavior (see `Helm::decide`).
+const BEHAVIOR_TIMING_EVERY: u64 = 8;
+
 /// What the decision step produced, for the all-stop evaluation.
 #[derive(Debug, Default)]
 pub(crate) struct DecisionSummary {
@@ -210,7 +214,8 @@ impl Helm {
     /// `IVPHELM_CONTACT_SUMMARY` (while a behavior has a contact) and
     /// `IVPHELM_LEDGER_SUMMARY`.
     fn maintain_ledger(&mut self, now: f64) {
-        // Field by field: the summaries go straight from the ledger into the posting.
+        // Field by field, so the summaries go straight from the ledger into the posting
+        // (no extra copy each iteration).
         let (ledger, outbox, pool) = (&mut self.env.ledger, &mut self.outbox, &mut self.pool);
         let mut post = |outbox: &mut Vec<Posting>, var: &str, text: &str| {
             outbox.push(Posting {
@@ -257,7 +262,8 @@ impl Helm {
         let mut summary = DecisionSummary::default();
         self.process_spawns(now);
 
-        // Modes first, into the kept pairs: set as a number if one, else as a string.
+        // Modes, before any behavior runs: copied into the kept pairs (their strings
+        // reused), each set as a number if it reads as one, else as a string.
         copy_pairs(&mut self.mode_pairs, self.modes.evaluate(&self.ib));
         for (var, val) in &self.mode_pairs {
             match mbutil::parse_number(val) {
@@ -272,8 +278,11 @@ impl Helm {
             recycle(f);
         }
         let (mut t, mut fd) = (started, None); // a behavior's end is the next one's start
-                                               // Each behavior's time (the appcast's `cpu=`) on one iteration in eight only.
-        let each = iter % 8 == 1;
+
+        // Each behavior's own time (the appcast's `cpu=`, a display value) is taken on
+        // one iteration in eight (the first included): on the others the creation costs
+        // one clock reading instead of one per behavior.
+        let each = iter % BEHAVIOR_TIMING_EVERY == 1;
         for i in 0..self.behaviors.len() {
             step(&mut self.behaviors[i], &self.env, &self.ib, &mut fd);
             if let Some(fd) = fd.take() {
@@ -316,7 +325,9 @@ impl Helm {
         }
         summary.functions = self.functions.len();
         if summary.halted.is_some() || !each {
-            t = std::time::Instant::now(); // a placement error leaves its behavior untimed
+            // The creation ends now: behaviors not timed one by one on this iteration,
+            // or a placement error that left its behavior untimed.
+            t = std::time::Instant::now();
         }
         summary.took = t - started;
         summary.create_secs = summary.took.as_secs_f64();
