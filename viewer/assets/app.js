@@ -130,9 +130,23 @@ function pts(list) {
   return list.map((p) => toScreen(p[0], p[1]).map((v) => v.toFixed(1)).join(",")).join(" ");
 }
 
+// Shape labels placed so far in this picture, as [left, top, right, bottom] in pixels.
+let placed = [];
+
+// A label beside its spot, moved down a line at a time while it would cover one already
+// placed: the points of several vehicles often share a spot (each one's next waypoint).
+// The width is estimated (11 px text) rather than measured, to keep a frame cheap.
 function label(g, x, y, text, c) {
   if (!text) return;
-  const t = el("text", { x: x + 6, y: y - 6, fill: color(c, "#ffffff"), class: "label" }, g);
+  const w = text.length * 6.5, h = 15;
+  let top = y - 18;
+  for (let i = 0; i < 8; i++) {
+    const hit = placed.some((r) => x + 6 < r[2] && r[0] < x + 6 + w && top < r[3] && r[1] < top + h);
+    if (!hit) break;
+    top += h;
+  }
+  placed.push([x + 6, top, x + 6 + w, top + h]);
+  const t = el("text", { x: x + 6, y: top + 12, fill: color(c, "#ffffff"), class: "label" }, g);
   t.textContent = text;
 }
 
@@ -209,6 +223,7 @@ function render() {
   });
   const sh = $("shapes");
   clear(sh);
+  placed = [];
   for (const o of S.objects.values()) drawShape(o, sh);
   const tr = $("trails");
   clear(tr);
