@@ -13,6 +13,7 @@ use std::fmt::Write;
 mod intervals;
 mod packets;
 mod piece_loop;
+pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
 use piece_loop::pieces_n;

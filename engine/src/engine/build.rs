@@ -46,6 +46,8 @@ impl Helm {
             ledger,
         };
         let ib = InfoBuffer::new(0.0);
+        // The BHV_IPF writer's caches made now, not in the first decision.
+        ivp_ipf::prepare_thread(config.domain.size());
         let mut behaviors: Vec<BehaviorInstance> = Vec::new();
         let mut startup_messages = Vec::new();
         if config.domain.size() == 0 {

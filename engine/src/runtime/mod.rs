@@ -149,6 +149,10 @@ pub struct BehaviorCore {
     /// `,pwt=..,pcs=..` of the last active step with its weight's bits and piece count,
     /// written again only when they change (the weight is positive: never bits 0).
     pub pwt_pcs: (u64, usize, String),
+    /// BHV_STATUS's `,state=..,updates=..` with what it shows (the state, the update
+    /// counts, whether there is an updates variable), written again only when that
+    /// changes.
+    pub status_tail: (Option<(RunState, u32, u32, bool)>, String),
     /// Messages queued this iteration, in order.
     pub messages: Vec<Message>,
     /// Position in `messages` where the behavior asked to complete.
@@ -229,6 +233,7 @@ impl BehaviorCore {
             update_results: Vec::new(),
             status_info: String::new(),
             pwt_pcs: (0, 0, String::new()),
+            status_tail: (None, String::new()),
             messages: Vec::new(),
             complete_requested: None,
             info_vars: Vec::new(),

@@ -297,13 +297,26 @@ pub fn step(inst: &mut BehaviorInstance, env: &HostEnv, ib: &InfoBuffer, f: &mut
     let core = &mut inst.core;
     // `<status info>,state=<state>,updates=<good>/<total> or n/a`: the status info itself
     // becomes the message (not copied), a spare string taking its place.
+    // The tail is the same text while the state and the counts hold: copied, not
+    // written again.
+    let shown = (
+        new,
+        core.good_updates,
+        core.bad_updates,
+        core.updates_var.is_empty(),
+    );
+    if core.status_tail.0 != Some(shown) {
+        let mut tail = std::mem::take(&mut core.status_tail.1);
+        tail.clear();
+        tail.push_str(",state=");
+        tail.push_str(new.as_str());
+        tail.push_str(",updates=");
+        core.push_update_counts(&mut tail);
+        core.status_tail = (Some(shown), tail);
+    }
     let room = core.status_info.len() + 40;
     let mut status = std::mem::replace(&mut core.status_info, core.pool.take_for(room));
-    status.reserve(40);
-    status.push_str(",state=");
-    status.push_str(new.as_str());
-    status.push_str(",updates=");
-    core.push_update_counts(&mut status);
+    status.push_str(&core.status_tail.1);
     core.post("BHV_STATUS", Value::Str(status), "");
     if new != old {
         core.state_entry_time = now;

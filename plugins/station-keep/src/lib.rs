@@ -8,6 +8,7 @@ use behavior_api::geometry::angles::{angle360, rel_ang};
 use behavior_api::geometry::spec::{fmt_x, is_color};
 use behavior_api::ivp;
 use behavior_api::kept::CoupledPeaks;
+use behavior_api::mbutil::push_fixed;
 use behavior_api::sdk::{function_data, Ctx, HelmDomain, IvpBehavior};
 use behavior_api::zaic::Peak;
 use behavior_api::{parse_number, FunctionData, PostValue};
@@ -161,25 +162,43 @@ impl StationKeep {
         }
     }
 
-    /// One `VIEW_POLYGON` radial spec (§5.7).
+    /// One `VIEW_POLYGON` radial spec (§5.7), written piece by piece: `{:.1}`'s text
+    /// by `push_fixed` (the same text) instead of `format!` (the first decision, and
+    /// each new station, formats these).
     fn circle(&self, ctx: &Ctx<'_>, label: &str, radius: f64, active: bool) -> String {
         let own = ctx.ownship();
-        let mut s = format!(
-            "radial:: x={:.1},y={:.1},source={own}:{},pts=32",
-            self.station.0,
-            self.station.1,
-            ctx.name()
-        );
+        let mut s = String::with_capacity(256);
+        s.push_str("radial:: x=");
+        push_fixed(&mut s, self.station.0, 1);
+        s.push_str(",y=");
+        push_fixed(&mut s, self.station.1, 1);
+        s.push_str(",source=");
+        s.push_str(&own);
+        s.push(':');
+        s.push_str(&ctx.name());
+        s.push_str(",pts=32");
         if self.edge_size >= 0.0 {
-            s.push_str(&format!(",edge_size={}", fmt_x(self.edge_size, 5)));
+            s.push_str(",edge_size=");
+            s.push_str(&fmt_x(self.edge_size, 5));
         }
         if self.vertex_size >= 0.0 {
-            s.push_str(&format!(",vertex_size={}", fmt_x(self.vertex_size, 5)));
+            s.push_str(",vertex_size=");
+            s.push_str(&fmt_x(self.vertex_size, 5));
         }
-        s.push_str(&format!(
-            ",edge_color={},label_color={},vertex_color={},label={own}:station-keep-{label},radius={radius:.1}",
-            self.edge_color, self.label_color, self.vertex_color
-        ));
+        for (key, value) in [
+            (",edge_color=", &self.edge_color),
+            (",label_color=", &self.label_color),
+            (",vertex_color=", &self.vertex_color),
+        ] {
+            s.push_str(key);
+            s.push_str(value);
+        }
+        s.push_str(",label=");
+        s.push_str(&own);
+        s.push_str(":station-keep-");
+        s.push_str(label);
+        s.push_str(",radius=");
+        push_fixed(&mut s, radius, 1);
         if !active {
             s.push_str(",active=false");
         }
@@ -203,7 +222,9 @@ impl StationKeep {
             self.station.1.to_bits(),
         );
         let mut cache = self.circle_cache.borrow_mut();
-        let idx = match cache.iter().position(|(k, _)| *k == ck) {
+        // The numbers first: the label's text is compared only where they all match.
+        let same = |k: &CircleKey| (k.1, k.3, k.4, k.2) == (ck.1, ck.3, ck.4, ck.2) && k.0 == ck.0;
+        let idx = match cache.iter().position(|(k, _)| same(k)) {
             Some(i) => i,
             None => {
                 let spec = self.circle(ctx, label, radius, active);
