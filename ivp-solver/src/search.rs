@@ -387,14 +387,19 @@ impl Search<'_> {
             }
         };
         if m == 1 {
-            // The pieces are the leaves: copied only when one becomes the incumbent.
+            // The pieces are the leaves: the last to become the incumbent is copied,
+            // once, at the end.
+            let mut at = None;
             for (q, (pb, pw)) in pieces.enumerate() {
                 let mv = mv_of(q, pb, pw);
                 if self.takes(mv) {
                     self.set_best(mv);
-                    self.best_b.copy_from_slice(pb);
-                    self.best_w.copy_from_slice(pw);
+                    at = Some((pb, pw));
                 }
+            }
+            if let Some((pb, pw)) = at {
+                self.best_b.copy_from_slice(pb);
+                self.best_w.copy_from_slice(pw);
             }
             return;
         }
