@@ -98,6 +98,10 @@ pub struct Solver {
     /// `setup.rs`).
     key_helm: Domain,
     key_prob: Vec<usize>,
+    /// Per function of this solve, where its variables' helm indices start in
+    /// `var_helm` (found by name once, in `solve_views_into`); empty when not found so.
+    var_at: Vec<usize>,
+    var_helm: Vec<usize>,
     /// The allocation of each solve's list of box slices, kept empty between solves.
     boxes_buf: Vec<&'static [i32]>,
     /// The allocation of each solve's list of bound terms, kept empty between solves.
@@ -183,11 +187,15 @@ impl Solver {
         out: &mut Decision,
     ) -> Result<bool, IvpError> {
         self.used.clear();
+        self.var_at.clear();
+        self.var_helm.clear();
         for f in functions {
+            self.var_at.push(self.var_helm.len());
             for v in f.domain().vars() {
                 let i = helm_domain
                     .index_of(&v.name)
                     .ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?;
+                self.var_helm.push(i);
                 if !self.used.contains(&i) {
                     self.used.push(i);
                 }
@@ -211,6 +219,8 @@ impl Solver {
     ) -> Result<Option<Decision>, IvpError> {
         self.prob_to_helm.clear();
         self.prob_to_helm.extend(0..problem.size());
+        // The functions' variables are found by name in the set-up.
+        self.var_at.clear();
         let mut d = Decision::default();
         let views: Vec<FunctionView<'_>> = functions.iter().map(|&f| f.into()).collect();
         Ok(if self.run(problem, &views, &mut d)? {

@@ -387,14 +387,23 @@ impl Search<'_> {
             }
         };
         if m == 1 {
-            // The pieces are the leaves: copied only when one becomes the incumbent.
-            for (q, (pb, pw)) in pieces.enumerate() {
-                let mv = mv_of(q, pb, pw);
+            // The pieces are the leaves (as many as the zip holds): with their
+            // `maxVal`s known only those read, the incumbent's copied once, at the end.
+            let (f0b, mut at) = (self.boxes[self.active[0]], None);
+            for q in 0..pieces.len() {
+                let mv = match known {
+                    true => mvs[q],
+                    false => max_val(&f0b[q * bl..][..bl], &f0.weights[q * wl..][..wl]),
+                };
                 if self.takes(mv) {
                     self.set_best(mv);
-                    self.best_b.copy_from_slice(pb);
-                    self.best_w.copy_from_slice(pw);
+                    at = Some(q);
                 }
+            }
+            if let Some(q) = at {
+                self.best_b.copy_from_slice(&f0b[q * bl..(q + 1) * bl]);
+                self.best_w
+                    .copy_from_slice(&f0.weights[q * wl..(q + 1) * wl]);
             }
             return;
         }

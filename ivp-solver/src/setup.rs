@@ -87,12 +87,23 @@ impl Solver {
         let p = &mut self.funcs[fi];
         p.gen = p.gen.wrapping_add(1);
         let od = f.dim();
+        // The variables' helm indices when `solve_views_into` found them by name: a
+        // variable's problem dimension is where its index is (the same one as found by
+        // name: the indices are the first of each name, the only ones `prob_to_helm`
+        // holds of it), without comparing names again.
+        let helm_of = self
+            .var_at
+            .get(fi)
+            .and_then(|&a| self.var_helm.get(a..a + od));
         p.map.clear();
-        for v in f.domain().vars() {
-            let pos = self
-                .prob_to_helm
-                .iter()
-                .position(|&h| helm.var(h).name == v.name);
+        for (i, v) in f.domain().vars().iter().enumerate() {
+            let pos = match helm_of {
+                Some(h) => self.prob_to_helm.iter().position(|&x| x == h[i]),
+                None => self
+                    .prob_to_helm
+                    .iter()
+                    .position(|&h| helm.var(h).name == v.name),
+            };
             p.map
                 .push(pos.ok_or_else(|| IvpError::UnknownVar(v.name.clone()))?);
         }
@@ -137,8 +148,15 @@ impl Solver {
         // when no translation is needed; otherwise the bounds come from the pieces.
         // The first function's pieces are enumerated in array order and never
         // bounded (bounds start at level 1): it needs neither.
-        let same =
-            identity && (0..dim).all(|d| *f.domain().var(d) == *helm.var(self.prob_to_helm[d]));
+        // (With the helm indices, `identity` already says the names are the same.)
+        let same = identity
+            && (0..dim).all(|d| {
+                let (a, b) = (f.domain().var(d), helm.var(self.prob_to_helm[d]));
+                a.points == b.points
+                    && a.low == b.low
+                    && a.high == b.high
+                    && (helm_of.is_some() || a.name == b.name)
+            });
         let g = f.grid_bounds();
         let keep_grid = same && g.len() == total;
         // The first function's `maxVal`s are its first-level node values (see
@@ -276,10 +294,17 @@ impl Solver {
 /// time: then they, and the cell lists made from them, are kept.
 #[inline(always)]
 fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
-    if p.src_map == p.map && p.src_pts == pts && p.src_bounds == fb {
+    if same_small(&p.src_map, &p.map) && same_small(&p.src_pts, pts) && p.src_bounds == fb {
         return;
     }
     remake_boxes(p, fb, pts);
+}
+
+/// `a == b` for the few entries of a map or the problem's points, element by element
+/// (no call to compare a couple of words).
+#[inline(always)]
+fn same_small<T: PartialEq>(a: &[T], b: &[T]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
 }
 
 /// [`translate_boxes`] when they are new: kept out of line, the set-up's common path

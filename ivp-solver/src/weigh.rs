@@ -295,41 +295,46 @@ pub(crate) fn min_max_wt_with(f: &FunctionView<'_>, corners: Option<(&[f64], boo
     }
     let simd = avx2();
     match od {
-        1 => extremes(b, w, 1, simd, None),
-        2 => extremes(b, w, 2, simd, corners),
-        3 => extremes(b, w, 3, simd, None),
-        _ => extremes(b, w, od, simd, None),
+        1 => extremes::<1>(b, w, 1, simd, None),
+        2 => extremes::<2>(b, w, 2, simd, corners),
+        3 => extremes::<3>(b, w, 3, simd, None),
+        _ => extremes::<0>(b, w, od, simd, None),
     }
+}
+
+/// One piece's `(lo, hi)` extremes over its box `b` (weights `w`, `od` dimensions,
+/// `OD` when not 0): inlined with the dimension a constant, the loop unrolled.
+#[inline(always)]
+fn piece_extremes<const OD: usize>(b: &[i32], w: &[f64], od: usize) -> (f64, f64) {
+    let od = if OD == 0 { od } else { OD };
+    let (b, w) = (&b[..2 * od], &w[..od + 1]);
+    let (mut lo, mut hi) = (w[od], w[od]);
+    for d in 0..od {
+        let x = w[d];
+        let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
+        if x < 0.0 {
+            hi += x * l;
+            lo += x * h;
+        } else {
+            hi += x * h;
+            lo += x * l;
+        }
+    }
+    (lo, hi)
 }
 
 /// The least and greatest piece extremes over boxes `bounds` and weights `weights` of
 /// `od` dimensions (at least one piece); the AVX2 body for two dimensions if `simd`
 /// (reading the boxes' `corners` when given, see [`min_max_wt_with`]).
 #[inline(always)]
-fn extremes(
+fn extremes<const OD: usize>(
     bounds: &[i32],
     weights: &[f64],
     od: usize,
     simd: bool,
     corners: Option<(&[f64], bool)>,
 ) -> (f64, f64) {
-    let piece = |b: &[i32], w: &[f64]| {
-        let (b, w) = (&b[..2 * od], &w[..od + 1]);
-        let (mut lo, mut hi) = (w[od], w[od]);
-        for d in 0..od {
-            let x = w[d];
-            let (l, h) = (f64::from(b[2 * d]), f64::from(b[2 * d + 1]));
-            if x < 0.0 {
-                hi += x * l;
-                lo += x * h;
-            } else {
-                hi += x * h;
-                lo += x * l;
-            }
-        }
-        (lo, hi)
-    };
-    let (mut mn, mut mx) = piece(bounds, weights);
+    let (mut mn, mut mx) = piece_extremes::<OD>(bounds, weights, od);
     let mut done = 1;
     // Once the first piece's values are numbers, NaN pieces change nothing (`<` is
     // false), which the lanes do too; a NaN first value is kept: scalar then.
@@ -348,7 +353,7 @@ fn extremes(
     let _ = (simd, corners);
     let rest = (&bounds[2 * od * done..], &weights[(od + 1) * done..]);
     for (b, w) in rest.0.chunks_exact(2 * od).zip(rest.1.chunks_exact(od + 1)) {
-        let (lo, hi) = piece(b, w);
+        let (lo, hi) = piece_extremes::<OD>(b, w, od);
         if lo < mn {
             mn = lo;
         }

@@ -205,7 +205,7 @@ fn extremes_equal_the_plain_loop_bit_for_bit() {
         }
         let corners = (!made.is_empty()).then_some((&made[..], swap));
         for (simd, corners) in [(false, None), (avx2(), None), (avx2(), corners)] {
-            let got = extremes(&b, &w, od, simd, corners);
+            let got = extremes::<0>(&b, &w, od, simd, corners);
             assert_eq!(
                 bits(&[got.0, got.1]),
                 bits(&[want.0, want.1]),

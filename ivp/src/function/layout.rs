@@ -153,9 +153,11 @@ fn signs_of(bounds: &[i32], tops: &[i32]) -> i32 {
     acc
 }
 
-/// [`signs_of`] over the whole runs left in `runs`, eight bounds a register: a bound
-/// minus the one before it in its 64-bit lane gives `lo` and `hi - lo` in one
-/// subtraction.
+/// [`signs_of`]'s answer over the whole runs left in `runs`, eight bounds a register:
+/// a bound minus the one before it in its 64-bit lane gives `lo` and `hi - lo` in one
+/// subtraction (their signs or-ed), and each lane's unsigned maximum, compared with its
+/// top once at the end, holds every bound in `0..=top` (for `top <= i32::MAX`): then
+/// `hi - lo` cannot wrap and its sign is `hi < lo`.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn signs_avx2(runs: &mut std::slice::ChunksExact<'_, i32>, tops: &[i32; RUN]) -> i32 {
@@ -163,16 +165,24 @@ fn signs_avx2(runs: &mut std::slice::ChunksExact<'_, i32>, tops: &[i32; RUN]) ->
     // SAFETY (all loads here): `tops` and every run hold 24 readable `i32`s.
     let (tp, mut acc) = (tops.as_ptr(), _mm256_setzero_si256());
     let t = unsafe { [0, 8, 16].map(|k| _mm256_loadu_si256(tp.add(k).cast())) };
+    let mut most = [_mm256_setzero_si256(); 3];
     for run in runs.by_ref() {
-        for (k, &top) in t.iter().enumerate() {
+        for (k, most) in most.iter_mut().enumerate() {
             let b = unsafe { _mm256_loadu_si256(run.as_ptr().add(8 * k).cast()) };
             let pairs = _mm256_sub_epi32(b, _mm256_slli_epi64::<32>(b));
-            let room = _mm256_sub_epi32(top, b);
-            acc = _mm256_or_si256(acc, _mm256_or_si256(pairs, room));
+            acc = _mm256_or_si256(acc, pairs);
+            *most = _mm256_max_epu32(*most, b);
         }
     }
+    // A lane above its top: `max(most, top) != top`.
+    let mut over = _mm256_setzero_si256();
+    for (most, &top) in most.iter().zip(&t) {
+        let within = _mm256_cmpeq_epi32(_mm256_max_epu32(*most, top), top);
+        over = _mm256_or_si256(over, _mm256_xor_si256(within, _mm256_set1_epi32(-1)));
+    }
     // Any lane's sign set: a negative result.
-    -i32::from(_mm256_movemask_ps(_mm256_castsi256_ps(acc)) != 0)
+    let any = _mm256_or_si256(acc, over);
+    -i32::from(_mm256_movemask_ps(_mm256_castsi256_ps(any)) != 0)
 }
 
 #[cfg(test)]
