@@ -673,6 +673,8 @@ impl CpaEngine {
 
 #[path = "engine_heading.rs"]
 mod heading;
+#[path = "engine_zip.rs"]
+mod zip;
 pub use heading::{BowStarRate, BowStern, Heading, RowConsts, Sides};
 
 #[cfg(test)]

@@ -235,35 +235,6 @@ impl CutRangeAof {
     }
 }
 
-impl CutRangeAof {
-    /// [`Self::blend`] of each CPA distance in `row` with the course's cosine in
-    /// `cosines`, at speed `s`, in place (compiled for AVX2 on a CPU that has it: four
-    /// entries per instruction, the same bits).
-    fn blend_row(&self, row: &mut [f64], cosines: &[f64], s: f64) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { blend_row_avx2(self, row, cosines, s) };
-        }
-        blend_row(self, row, cosines, s);
-    }
-}
-
-/// [`blend_row`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn blend_row_avx2(aof: &CutRangeAof, row: &mut [f64], cosines: &[f64], s: f64) {
-    blend_row(aof, row, cosines, s);
-}
-
-/// [`CutRangeAof::blend_row`]'s loop.
-#[inline(always)]
-fn blend_row(aof: &CutRangeAof, row: &mut [f64], cosines: &[f64], s: f64) {
-    for (o, &cosine) in row.iter_mut().zip(cosines) {
-        *o = aof.blend(*o, cosine, s);
-    }
-}
-
 impl Aof for CutRangeAof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         self.utility(domain.value(0, index[0]), domain.value(1, index[1]))
@@ -285,8 +256,11 @@ impl Aof for CutRangeAof {
             .extend(c.cos_at.iter().map(|&k| cos[usize::from(k)]));
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let s = domain.value(1, j);
-            self.engine.cpa_dists((&c.sins, &c.coss), s, self.tol, row);
-            self.blend_row(row, &c.cosines, s);
+            // Each CPA blended with its course's cosine as the row is done.
+            let blend = |cpa, cosine| self.blend(cpa, cosine, s);
+            let units = (&c.sins[..], &c.coss[..]);
+            self.engine
+                .cpa_dists_zip(units, (s, self.tol), &c.cosines, row, blend);
         }
         c.give_back();
     }
