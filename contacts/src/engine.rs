@@ -176,12 +176,19 @@ fn unit_table() -> &'static [(f64, f64); 360] {
 /// heading `h`.
 #[inline]
 pub fn roc_cosine(cos: &[f64; 360], h: f64) -> f64 {
+    cos[roc_index(h)]
+}
+
+/// Where [`roc_cosine`] reads heading `h` in a table (below 360): a function of `h`
+/// alone, so a grid's courses keep theirs from one table to the next.
+#[inline]
+pub fn roc_index(h: f64) -> usize {
     let i = if (0.0..360.0).contains(&h) {
         h as usize
     } else {
         deg_index(h) as usize
     };
-    cos[i.min(359)]
+    i.min(359)
 }
 
 fn deg_index(h: f64) -> f64 {
@@ -666,6 +673,8 @@ impl CpaEngine {
 
 #[path = "engine_heading.rs"]
 mod heading;
+#[path = "engine_zip.rs"]
+mod zip;
 pub use heading::{BowStarRate, BowStern, Heading, RowConsts, Sides};
 
 #[cfg(test)]

@@ -595,7 +595,7 @@ fn row_slices<'a>(
 /// no result shows (a zero closing speed or time is "not closing", a zero offset is
 /// squared): the row is its first entry.
 #[inline(always)]
-fn still_row<F: Fn(f64) -> f64>(
+pub(super) fn still_row<F: Fn(f64) -> f64>(
     row: &CpaRow,
     (sins, coss): (&[f64], &[f64]),
     out: &mut [f64],

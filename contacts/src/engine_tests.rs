@@ -373,6 +373,10 @@ fn row_kernel_is_cpa_unit(
 ) {
     let (sins, coss): (Vec<f64>, Vec<f64>) = units.iter().copied().unzip();
     let mut row = vec![0.0; units.len()];
+    // A second number per course for cpa_dists_zip, and its answers.
+    let col: Vec<f64> = (0..units.len()).map(|i| i as f64 * 0.37 - 20.0).collect();
+    let mut zipped = vec![0.0; units.len()];
+    let blend = |d: f64, c: f64| d * c - d / 3.0;
     for (k, &(cx, cy, ch, cv, ox, oy)) in scenes.iter().enumerate() {
         let e = CpaEngine::new(cx, cy, ch, cv, ox, oy);
         // The contact's velocity matched exactly by ownship at grid speed cv.
@@ -388,6 +392,16 @@ fn row_kernel_is_cpa_unit(
                     assert!(
                         got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
                         "{cx},{cy},{ch},{cv} os {ox},{oy} u={u:?} v={v} tol={tol}: {got} {want}"
+                    );
+                }
+                // The distances through `blend` in the row's pass: blend of each, bit
+                // for bit.
+                e.cpa_dists_zip((&sins, &coss), (v, tol), &col, &mut zipped, blend);
+                for ((&z, &d), &c) in zipped.iter().zip(&row).zip(&col) {
+                    let want = blend(d, c);
+                    assert!(
+                        z.to_bits() == want.to_bits() || (z.is_nan() && want.is_nan()),
+                        "zip {cx},{cy},{ch},{cv} os {ox},{oy} v={v} tol={tol}: {z} {want}"
                     );
                 }
             }

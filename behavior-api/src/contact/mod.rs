@@ -34,9 +34,11 @@
 //! ```
 
 mod able;
+mod lazy;
 mod macros;
 
 use contacts::{CnFlag, CnTag, ContactFilter, ContactRelation, Decay, Pose};
+use lazy::LazyRelation;
 
 use crate::geometry::angle360;
 use crate::params::parse_bool;
@@ -93,14 +95,15 @@ pub struct ContactBase {
     pub cn_group: String,
     pub cn_vsource: String,
     pub cn_utc: f64,
-    rel: Option<ContactRelation>,
-    prev: Option<ContactRelation>,
+    /// The relations of the last and the previous refresh (computed when asked).
+    rel: Option<LazyRelation>,
+    prev: Option<LazyRelation>,
     /// The refresh of this iteration succeeded.
     pub update_ok: bool,
     warned: bool,
     /// The picture before this iteration's refresh, and whether the behavior itself
     /// asked to complete (see [`ContactBase::on_complete`]).
-    before: Option<(Platform, Pose, Option<ContactRelation>)>,
+    before: Option<(Platform, Pose, Option<LazyRelation>)>,
     self_completed: bool,
     /// `<ownship>_<name>`, the bearing lines' label: neither changes once the behavior
     /// exists (an update may not rename it), so it is asked of the helm once.
@@ -281,12 +284,18 @@ impl ContactBase {
 
     /// Range to the contact at the last refresh (0 before the first).
     pub fn range(&self) -> f64 {
-        self.rel.as_ref().map_or(0.0, |r| r.range)
+        self.rel.as_ref().map_or(0.0, LazyRelation::range)
     }
 
     /// The contact-state quantities of the last successful refresh.
     pub fn relation(&self) -> Option<&ContactRelation> {
-        self.rel.as_ref()
+        self.rel.as_ref().map(LazyRelation::get)
+    }
+
+    /// Whether a refresh has succeeded (so [`ContactBase::relation`] is `Some`), without
+    /// computing the relation.
+    pub fn has_relation(&self) -> bool {
+        self.rel.is_some()
     }
 
     /// Whether the contact passes the filters whose `exit_on_filter_*` is set.
@@ -391,7 +400,7 @@ impl ContactBase {
             hdg: os.heading,
             spd: os.speed,
         };
-        let rel = ContactRelation::new(os_pose, self.cn);
+        let rel = LazyRelation::new(os_pose, self.cn);
         self.prev = self.rel.replace(rel);
         if self.post_per_contact_info {
             self.post_per_contact(ctx);
@@ -400,7 +409,10 @@ impl ContactBase {
     }
 
     fn post_per_contact(&mut self, ctx: &mut Ctx<'_>) {
-        let Some(r) = &self.rel else { return };
+        // The field, not relation(): per_contact_vars is borrowed mutably beside it.
+        let Some(r) = self.rel.as_ref().map(LazyRelation::get) else {
+            return;
+        };
         let (made_for, [clsg_var, range_var]) = &mut self.per_contact_vars;
         if *made_for != self.contact || clsg_var.is_empty() {
             made_for.clone_from(&self.contact);
@@ -421,8 +433,12 @@ impl ContactBase {
     /// Contact flags (`cnflag`) of the running state, decided from the previous and
     /// current refresh (contacts-appcast.md §3.7); posted repeatable.
     pub fn handle_cnflags(&self, ctx: &mut Ctx<'_>) {
-        let Some(cur) = &self.rel else { return };
-        let prev = self.prev.as_ref();
+        // Without flags neither relation is asked for (nor computed).
+        if self.cnflags.is_empty() {
+            return;
+        }
+        let Some(cur) = self.relation() else { return };
+        let prev = self.prev.as_ref().map(LazyRelation::get);
         for f in &self.cnflags {
             let fire = match f.tag {
                 CnTag::Cpa => {
@@ -463,7 +479,7 @@ impl ContactBase {
 
     /// A cnflag value that is exactly one of the numeric macros.
     fn numeric_macro(&self, v: &str) -> Option<f64> {
-        let r = self.rel.as_ref()?;
+        let r = self.relation()?;
         Some(match v {
             // No CPA macro exists: the reference posts 0 (quirk).
             "$[CPA]" => 0.0,

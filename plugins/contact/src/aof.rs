@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use behavior_api::contacts::engine::roc_cosine;
+use behavior_api::contacts::engine::{roc_cosine, roc_index};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain};
@@ -67,6 +67,9 @@ pub(crate) struct CourseUnits {
     pub coss: Vec<f64>,
     /// Empty unless the caller fills it.
     pub cosines: Vec<f64>,
+    /// Per course, its entry of a rate-of-closure cosine table ([`roc_index`]): they
+    /// depend on the courses alone, so they are kept with them.
+    pub cos_at: Vec<u16>,
     /// The courses of `sins` and `coss`: the first variable's low value and step (bits),
     /// and the indices. The unit vectors depend on these alone (the engine's table), and
     /// a build asks for the same courses every iteration: kept lists of the same courses
@@ -108,7 +111,10 @@ impl CourseUnits {
         c.sins.clear();
         c.coss.clear();
         let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
-        engine.units_into(courses, (&mut c.sins, &mut c.coss));
+        engine.units_into(courses.clone(), (&mut c.sins, &mut c.coss));
+        c.cos_at.clear();
+        // Below 360: fits.
+        c.cos_at.extend(courses.map(|h| roc_index(h) as u16));
         c.courses.2.clear();
         c.courses.2.extend_from_slice(xs);
         (c.courses.0, c.courses.1) = key;
@@ -229,35 +235,6 @@ impl CutRangeAof {
     }
 }
 
-impl CutRangeAof {
-    /// [`Self::blend`] of each CPA distance in `row` with the course's cosine in
-    /// `cosines`, at speed `s`, in place (compiled for AVX2 on a CPU that has it: four
-    /// entries per instruction, the same bits).
-    fn blend_row(&self, row: &mut [f64], cosines: &[f64], s: f64) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { blend_row_avx2(self, row, cosines, s) };
-        }
-        blend_row(self, row, cosines, s);
-    }
-}
-
-/// [`blend_row`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn blend_row_avx2(aof: &CutRangeAof, row: &mut [f64], cosines: &[f64], s: f64) {
-    blend_row(aof, row, cosines, s);
-}
-
-/// [`CutRangeAof::blend_row`]'s loop.
-#[inline(always)]
-fn blend_row(aof: &CutRangeAof, row: &mut [f64], cosines: &[f64], s: f64) {
-    for (o, &cosine) in row.iter_mut().zip(cosines) {
-        *o = aof.blend(*o, cosine, s);
-    }
-}
-
 impl Aof for CutRangeAof {
     fn eval(&self, domain: &Domain, index: &[u32]) -> f64 {
         self.utility(domain.value(0, index[0]), domain.value(1, index[1]))
@@ -273,14 +250,17 @@ impl Aof for CutRangeAof {
         }
         let mut c = CourseUnits::of(&self.engine, domain, xs);
         c.cosines.reserve(xs.len());
-        c.cosines.extend(
-            xs.iter()
-                .map(|&i| roc_cosine(&self.cos, domain.value(0, i))),
-        );
+        // The table read where each course reads it (roc_cosine), the places kept.
+        let cos = &self.cos;
+        c.cosines
+            .extend(c.cos_at.iter().map(|&k| cos[usize::from(k)]));
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let s = domain.value(1, j);
-            self.engine.cpa_dists((&c.sins, &c.coss), s, self.tol, row);
-            self.blend_row(row, &c.cosines, s);
+            // Each CPA blended with its course's cosine as the row is done.
+            let blend = |cpa, cosine| self.blend(cpa, cosine, s);
+            let units = (&c.sins[..], &c.coss[..]);
+            self.engine
+                .cpa_dists_zip(units, (s, self.tol), &c.cosines, row, blend);
         }
         c.give_back();
     }

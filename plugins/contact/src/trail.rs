@@ -264,7 +264,7 @@ impl IvpBehavior for Trail {
     }
 
     fn on_idle_state(&mut self, ctx: &mut Ctx<'_>) {
-        if self.post_trail_dist_on_idle && self.base.relation().is_some() {
+        if self.post_trail_dist_on_idle && self.base.has_relation() {
             let d = self.trail_distance(self.trail_point());
             ctx.post_int_message("TRAIL_DISTANCE", d);
         }

@@ -1,0 +1,125 @@
+//! CPA rows whose distances go straight into a function of the distance and a second
+//! number per course (an objective function's blend of the CPA with the course's own
+//! term): one pass over the row instead of a row of distances written, then read again
+//! by a pass of its own.
+
+use super::heading::{cpa_entry, cpa_row, still_row, CpaRow};
+use super::CpaEngine;
+
+impl CpaEngine {
+    /// [`CpaEngine::cpa_dists`] at speed `v` and horizon `tol`, the distance `d` of
+    /// course `k` written as `f(d, col[k])` (as far as `out`, the units and `col` all
+    /// reach): the values of the distances written first and `f` applied to them after,
+    /// bit for bit. `f` should have no jumps (it runs several courses at once).
+    pub fn cpa_dists_zip<F: Fn(f64, f64) -> f64>(
+        &self,
+        (sins, coss): (&[f64], &[f64]),
+        (v, tol): (f64, f64),
+        col: &[f64],
+        out: &mut [f64],
+        f: F,
+    ) {
+        let row = CpaRow {
+            v: v.max(0.0),
+            px: self.osx - self.cnx,
+            py: self.osy - self.cny,
+            cn_vx: self.cn_vx,
+            cn_vy: self.cn_vy,
+            now: self.range_now,
+            tol,
+        };
+        let n = out.len().min(sins.len()).min(coss.len()).min(col.len());
+        let (units, col, out) = ((&sins[..n], &coss[..n]), &col[..n], &mut out[..n]);
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { cpa_zip_avx2(&row, units, col, out, f) };
+        }
+        cpa_row(&row, units, out, |d| d);
+        for (o, &c) in out.iter_mut().zip(col) {
+            *o = f(*o, c);
+        }
+    }
+}
+
+/// [`CpaEngine::cpa_dists_zip`] for AVX2 (all lists of one length): the chunks of
+/// [`super::heading::cpa_row_avx2`] (its operations, in its order: the same distances),
+/// each distance put through `f` with its course's number as the chunk is done. A chunk
+/// none of whose courses is closing is the range now throughout.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn cpa_zip_avx2<F: Fn(f64, f64) -> f64>(
+    row: &CpaRow,
+    (sins, coss): (&[f64], &[f64]),
+    col: &[f64],
+    out: &mut [f64],
+    f: F,
+) {
+    use std::arch::x86_64::*;
+    /// Vectors of four per chunk, and courses per chunk (cpa_row_avx2's).
+    const VECS: usize = 2;
+    const WIDE: usize = 4 * VECS;
+    if still_row(row, (sins, coss), out, &|d| d) {
+        for (o, &c) in out.iter_mut().zip(col) {
+            *o = f(*o, c);
+        }
+        return;
+    }
+    let set = _mm256_set1_pd;
+    let (v, px, py, cn_vx, cn_vy) = (
+        set(row.v),
+        set(row.px),
+        set(row.py),
+        set(row.cn_vx),
+        set(row.cn_vy),
+    );
+    let (now, tol, zero) = (set(row.now), set(row.tol), _mm256_setzero_pd());
+    let (sc, s_rest) = sins.as_chunks::<WIDE>();
+    let (cc, c_rest) = coss.as_chunks::<WIDE>();
+    let (kc, k_rest) = col.as_chunks::<WIDE>();
+    let (oc, o_rest) = out.as_chunks_mut::<WIDE>();
+    for (((o, s), c), k) in oc.iter_mut().zip(sc).zip(cc).zip(kc) {
+        let mut u = [(zero, zero, zero); VECS];
+        let mut any = zero;
+        for (h, u) in u.iter_mut().enumerate() {
+            // SAFETY: a chunk holds VECS vectors of 4.
+            let (s, c) = unsafe {
+                let at = |x: &[f64; WIDE]| _mm256_loadu_pd(x.as_ptr().add(4 * h));
+                (at(s), at(c))
+            };
+            let ux = _mm256_sub_pd(cn_vx, _mm256_mul_pd(v, s));
+            let uy = _mm256_sub_pd(cn_vy, _mm256_mul_pd(v, c));
+            let num = _mm256_add_pd(_mm256_mul_pd(px, ux), _mm256_mul_pd(py, uy));
+            any = _mm256_or_pd(any, _mm256_cmp_pd::<_CMP_GT_OQ>(num, zero));
+            *u = (ux, uy, num);
+        }
+        if _mm256_testz_pd(any, any) == 1 {
+            for (o, &k) in o.iter_mut().zip(k) {
+                *o = f(row.now, k);
+            }
+            continue;
+        }
+        let mut d = [0.0; WIDE];
+        for (h, &(ux, uy, num)) in u.iter().enumerate() {
+            let ww = _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy));
+            let t = _mm256_div_pd(num, ww);
+            let closing = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_NEQ_UQ>(ww, zero),
+                _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
+            );
+            let t = _mm256_min_pd(tol, t);
+            let dx = _mm256_sub_pd(px, _mm256_mul_pd(ux, t));
+            let dy = _mm256_sub_pd(py, _mm256_mul_pd(uy, t));
+            let r = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+            let dist = _mm256_blendv_pd(now, _mm256_max_pd(r, zero), closing);
+            // SAFETY: `d` holds VECS vectors of 4.
+            unsafe { _mm256_storeu_pd(d.as_mut_ptr().add(4 * h), dist) };
+        }
+        for ((o, &d), &k) in o.iter_mut().zip(&d).zip(k) {
+            *o = f(d, k);
+        }
+    }
+    for (((o, &s), &c), &k) in o_rest.iter_mut().zip(s_rest).zip(c_rest).zip(k_rest) {
+        *o = f(cpa_entry(row, (s, c), &|d| d), k);
+    }
+}
