@@ -221,18 +221,20 @@ impl ContactManager {
         self.handle_mail_parsed(now, mail, &[]);
     }
 
-    /// [`Self::handle_mail`] with some `NODE_REPORT`s already read: `parsed[k]`, when
-    /// given, is `NodeReport::parse` of `mail[k]`'s text (a fleet simulator reads each
-    /// report once for all its receivers); the others are read here.
+    /// [`Self::handle_mail`] with some `NODE_REPORT`s already read: `(k, r)` of `parsed`,
+    /// in ascending `k`, says `r` is `NodeReport::parse` of `mail[k]`'s text (a fleet
+    /// simulator reads each report once for all its receivers); the others are read here.
     pub fn handle_mail_parsed(
         &mut self,
         now: f64,
         mail: &[(&str, MailValue<'_>)],
-        parsed: &[Option<NodeReport<'_>>],
+        parsed: &[(usize, NodeReport<'_>)],
     ) {
         self.fresh_postings();
+        let mut parsed = parsed.iter().peekable();
         for (k, (var, val)) in mail.iter().enumerate() {
-            self.one_mail(now, var, val, parsed.get(k).and_then(Option::as_ref));
+            let r = parsed.next_if(|(i, _)| *i == k).map(|(_, r)| r);
+            self.one_mail(now, var, val, r);
         }
     }
 

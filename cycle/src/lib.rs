@@ -112,7 +112,7 @@ impl HelmCycle {
         helm: &mut Helm,
         now: f64,
         mail: &[Mail],
-        parsed: &[Option<contacts::NodeReport<'_>>],
+        parsed: &[(usize, contacts::NodeReport<'_>)],
     ) {
         for m in mail {
             self.status.on_mail(m);

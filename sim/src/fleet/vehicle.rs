@@ -19,12 +19,12 @@ use helm_mission::HelmRecipe;
 use vehicle_model::{Drift, Kinematics, Nav, Severity, SimBlock, VehicleModel, SIM_NAME};
 
 use super::relay::{Pending, Relayed};
+use super::reporter::Ownship;
 use super::spec::VehicleSpec;
 use crate::bus::{SimBus, HELM};
 use crate::observe::Observer;
 use crate::run::{SimError, StartShift, HELM_NAME};
 use crate::scenario::When;
-use mbutil::push_fixed;
 
 pub const CMGR_NAME: &str = "pContactMgrV20";
 pub const REPORTER_NAME: &str = "pNodeReporter";
@@ -170,6 +170,10 @@ pub struct Live {
     /// The helm, the contact manager subscribed to `NODE_REPORT` (known once true:
     /// subscriptions are never dropped).
     hears_reports: [bool; 2],
+    /// The helm subscribed to `NODE_REPORT_LOCAL` (known once true).
+    hears_local: bool,
+    /// The reporter's last report.
+    local: Option<Rc<Relayed>>,
     /// Always a `Value::Str`: the contact manager's text postings, one after another.
     mgr_text: Value,
     /// Always a `Value::Str`: the node report being delivered.
@@ -259,6 +263,8 @@ impl Live {
             helm_reports: Pending::default(),
             mgr_reports: Pending::default(),
             hears_reports: [false; 2],
+            hears_local: false,
+            local: None,
             mgr_text: Value::Str(String::new()),
             relay_text: Value::Str(String::new()),
             report: String::new(),
@@ -355,44 +361,28 @@ impl Live {
         ts == off
     }
 
-    /// pNodeReporter's `NODE_REPORT_LOCAL` (contacts-appcast.md §2.2).
+    /// pNodeReporter's `NODE_REPORT_LOCAL` (contacts-appcast.md §2.2), kept read for
+    /// its readers (see [`Ownship`]).
     fn node_report(&mut self, p: &VehiclePlan, now: f64) {
         let nav = self.model.nav();
-        let mut r = std::mem::take(&mut self.report);
-        r.clear();
-        // As `format!("NAME={},X={:.2},...")` writes it (see `mbutil::push_fixed`).
-        let field = |r: &mut String, key: &str, x: f64, decimals: usize| {
-            r.push_str(key);
-            push_fixed(r, x, decimals);
+        let own = Ownship {
+            name: &p.spec.name,
+            x: nav.x,
+            y: nav.y,
+            spd: nav.speed,
+            hdg: nav.heading,
+            dep: nav.depth,
+            latlon: self.geo.as_ref().map(|g| g.to_latlon(nav.x, nav.y)),
+            vtype: &p.vtype,
+            color: &p.spec.moos_color,
+            mode: self.helm.state().as_str(),
+            index: self.report_index,
+            yaw: (90.0 - nav.heading).to_radians(),
+            time: now,
+            length_field: &self.length_field,
         };
-        r.push_str("NAME=");
-        r.push_str(&p.spec.name);
-        field(&mut r, ",X=", nav.x, 2);
-        field(&mut r, ",Y=", nav.y, 2);
-        field(&mut r, ",SPD=", nav.speed, 2);
-        field(&mut r, ",HDG=", nav.heading, 2);
-        field(&mut r, ",DEP=", nav.depth, 2);
-        if let Some(g) = &self.geo {
-            let (lat, lon) = g.to_latlon(nav.x, nav.y);
-            field(&mut r, ",LAT=", lat, 8);
-            field(&mut r, ",LON=", lon, 8);
-        }
-        let yaw = (90.0 - nav.heading).to_radians();
-        // As `write!(",TYPE={},COLOR={},MODE={},INDEX={}")`, without core::fmt.
-        let state = self.helm.state().as_str();
-        for (key, text) in [
-            (",TYPE=", &*p.vtype),
-            (",COLOR=", &p.spec.moos_color),
-            (",MODE=", state),
-        ] {
-            r.push_str(key);
-            r.push_str(text);
-        }
-        r.push_str(",INDEX=");
-        mbutil::push_u64(&mut r, self.report_index);
-        field(&mut r, ",YAW=", yaw, 7);
-        field(&mut r, ",TIME=", now, 2);
-        r.push_str(&self.length_field);
+        let mut r = std::mem::take(&mut self.report);
+        let local = own.relayed(&mut r);
         self.report_index += 1;
         let v = Value::Str(r);
         self.bus
@@ -400,6 +390,12 @@ impl Live {
         if let Value::Str(r) = v {
             self.report = r;
         }
+        // The helm reads it next (the shoreside's copy is taken from `local`).
+        self.hears_local = self.hears_local || self.bus.subscribes(HELM, "NODE_REPORT_LOCAL");
+        if !self.over && self.hears_local {
+            self.helm_reports.push(local.clone());
+        }
+        self.local = Some(local);
     }
 
     fn contact_manager(&mut self, now: f64) {
@@ -458,6 +454,12 @@ impl Live {
     /// The shoreside's pick-up: the node reports posted in the last step.
     pub fn take_reports(&mut self, out: &mut Vec<Mail>) {
         self.bus.fetch(SHORE, out);
+    }
+
+    /// The report this vehicle's reporter last wrote, read, if its text is `text` (the
+    /// shoreside relays it rather than a copy to read again).
+    pub fn written(&self, text: &str) -> Option<Rc<Relayed>> {
+        self.local.as_ref().filter(|r| r.text == text).cloned()
     }
 
     /// Flush the `.alog` (an error is kept on the bus and reported by the caller).
