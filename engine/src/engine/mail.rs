@@ -21,18 +21,17 @@ pub(crate) const HOLD_WAIT: &str = "Not all HoldOnApps have been detected";
 impl Helm {
     /// Take one batch of mail into the info buffer.
     pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
-        self.handle_mail_parsed(now, batch, &[]);
+        self.handle_mail_parsed(now, batch, &());
     }
 
-    /// [`Helm::handle_mail`] with some reports already read: `(k, r)` of `parsed`, in
-    /// ascending `k`, says `r` is `NodeReport::parse` of `batch[k]`'s text (a fleet
-    /// simulator reads each report once for all its receivers); the others are read
-    /// here.
+    /// [`Helm::handle_mail`] with some reports already read: `parsed.read(k)`, when
+    /// given, is `NodeReport::parse` of `batch[k]`'s text (a fleet simulator reads each
+    /// report once for all its receivers); the others are read here.
     pub fn handle_mail_parsed(
         &mut self,
         now: f64,
         batch: &[Mail],
-        parsed: &[(usize, contacts::NodeReport<'_>)],
+        parsed: &dyn contacts::report::ReadReports,
     ) {
         self.fresh_outbox();
         if self.state == HelmState::Disabled {
@@ -40,10 +39,8 @@ impl Helm {
         }
         self.ib.set_curr_time(now);
         self.mail_this_cycle = true;
-        let mut parsed = parsed.iter().peekable();
         for (k, m) in batch.iter().enumerate() {
-            let r = parsed.next_if(|(i, _)| *i == k).map(|(_, r)| r);
-            self.handle_one(now, m, r);
+            self.handle_one(now, m, || parsed.read(k));
         }
         self.ib.set_string("COMMS_POLICY", "open", now);
         if self.state == HelmState::Standby {
@@ -72,7 +69,14 @@ impl Helm {
         m.source == self.app_name
     }
 
-    fn handle_one(&mut self, now: f64, m: &Mail, parsed: Option<&contacts::NodeReport<'_>>) {
+    /// One message; `parsed` reads it when it is a report (see
+    /// [`Helm::handle_mail_parsed`]).
+    fn handle_one<'r>(
+        &mut self,
+        now: f64,
+        m: &Mail,
+        parsed: impl FnOnce() -> Option<contacts::NodeReport<'r>>,
+    ) {
         if let Some(ok_skew) = self.config.ok_skew {
             let skew = (now - m.time).abs();
             if skew > ok_skew && !self.is_own_posting(m) && m.var != "HELM_MAP_CLEAR" {
@@ -147,9 +151,9 @@ impl Helm {
                 }
             }
             "BHV_ABLE_FILTER" => {}
-            "NODE_REPORT_LOCAL" => self.note_local_report(m, parsed),
+            "NODE_REPORT_LOCAL" => self.note_local_report(m, parsed().as_ref()),
             _ if contacts::feeds_ledger(var) => {
-                self.ingest_report(m, parsed);
+                self.ingest_report(m, parsed().as_ref());
                 self.ib.set_value(var, &m.value, m.time);
             }
             "HELM_MAP_CLEAR" => self.refresh_pending = true,

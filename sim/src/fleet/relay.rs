@@ -139,7 +139,8 @@ impl Pending {
     }
 
     /// Match a fetched batch: for each `NODE_REPORT` (or ownship's `NODE_REPORT_LOCAL`)
-    /// whose text is the front report's, that report. Call [`Pending::reports`] next.
+    /// whose text is the front report's, that report; then read them as
+    /// `contacts::report::ReadReports`.
     pub fn take(&mut self, batch: &[Mail]) {
         self.matched.clear();
         for (k, m) in batch.iter().enumerate() {
@@ -152,20 +153,20 @@ impl Pending {
             }
         }
     }
+}
 
-    /// The batch's reports read, as (index of the message, its reading), in message
-    /// order; a message not listed the app reads itself.
-    pub fn reports(&self) -> Vec<(usize, NodeReport<'_>)> {
-        self.matched
-            .iter()
-            .filter_map(|(k, r)| Some((*k, r.report()?)))
-            .collect()
+/// The batch last taken: message `k`'s reading, if it is a matched report.
+impl contacts::report::ReadReports for Pending {
+    fn read(&self, k: usize) -> Option<NodeReport<'_>> {
+        let i = self.matched.binary_search_by_key(&k, |(i, _)| *i).ok()?;
+        self.matched[i].1.report()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use contacts::report::ReadReports;
 
     fn mail(var: &str, text: &str) -> Mail {
         Mail {
@@ -217,21 +218,20 @@ mod tests {
             mail("NODE_REPORT_LOCAL", "NAME=c"),
         ];
         p.take(&batch);
-        let got = p.reports();
+        let got: Vec<_> = (0..batch.len()).map(|k| p.read(k)).collect();
         assert_eq!(
             got,
             [
-                (1, NodeReport::parse("NAME=a,X=1")),
-                (3, NodeReport::parse("NAME=b")),
-                (4, NodeReport::parse("NAME=c"))
+                None,
+                Some(NodeReport::parse("NAME=a,X=1")),
+                None,
+                Some(NodeReport::parse("NAME=b")),
+                Some(NodeReport::parse("NAME=c"))
             ]
         );
         drop(got);
         p.take(&batch[2..3]);
-        assert!(
-            p.reports().is_empty(),
-            "nothing matched: nothing handed over"
-        );
+        assert!(p.read(0).is_none(), "nothing matched: nothing handed over");
     }
 
     /// A queue that never matches (its app stopped fetching) stays bounded, and after
@@ -247,6 +247,6 @@ mod tests {
         assert_eq!(p.queue.len(), MAX_PENDING);
         let next = format!("NAME=v{}", 2 * MAX_PENDING);
         p.take(&[mail("NODE_REPORT", &next)]);
-        assert_eq!(p.reports(), [(0, NodeReport::parse(&next))]);
+        assert_eq!(p.read(0), Some(NodeReport::parse(&next)));
     }
 }

@@ -184,6 +184,8 @@ pub struct Live {
     length_field: String,
     /// The bus places of the simulator's `NAV_*` variables, in `Nav::vars` order.
     nav_places: [usize; 5],
+    /// The bus places of `NODE_REPORT` and `NODE_REPORT_LOCAL`.
+    report_places: [usize; 2],
     pub obm: Option<super::obstacles::ObmLive>,
 }
 
@@ -240,8 +242,10 @@ impl Live {
         bus.deliver();
         let drove = helm.state() == HelmState::Drive;
         let nav_places = model.nav().vars().map(|(var, _)| bus.place(var));
+        let report_places = ["NODE_REPORT", "NODE_REPORT_LOCAL"].map(|var| bus.place(var));
         Ok(Live {
             nav_places,
+            report_places,
             start: model.nav(),
             bus,
             helm,
@@ -350,9 +354,8 @@ impl Live {
             } else {
                 self.bus.fetch(HELM, &mut self.helm_in);
                 self.helm_reports.take(&self.helm_in);
-                let read = self.helm_reports.reports();
                 self.cycle
-                    .mail_parsed(&mut self.helm, now, &self.helm_in, &read);
+                    .mail_parsed(&mut self.helm, now, &self.helm_in, &self.helm_reports);
                 self.cycle.iterate(&mut self.helm, &mut self.bus, now);
                 self.drove |= self.helm.state() == HelmState::Drive;
                 self.kh += 1;
@@ -385,8 +388,9 @@ impl Live {
         let local = own.relayed(&mut r);
         self.report_index += 1;
         let v = Value::Str(r);
+        let [_, own] = self.report_places;
         self.bus
-            .post(REPORTER_NAME, "NODE_REPORT_LOCAL", &v, "", now);
+            .post_at(own, REPORTER_NAME, "NODE_REPORT_LOCAL", &v, "", now);
         if let Value::Str(r) = v {
             self.report = r;
         }
@@ -409,9 +413,8 @@ impl Live {
             batch.push((m.var.as_str(), v));
         }
         self.mgr_reports.take(&self.mgr_in);
-        let read = self.mgr_reports.reports();
-        self.mgr.handle_mail_parsed(now, &batch, &read);
-        drop((batch, read));
+        self.mgr.handle_mail_parsed(now, &batch, &self.mgr_reports);
+        drop(batch);
         for post in self.mgr.iterate(now) {
             match &post.val {
                 contact_manager::Value::Str(s) => {
@@ -437,8 +440,15 @@ impl Live {
             text.clear();
             text.push_str(&r.text);
         }
-        self.bus
-            .post(COMMS_NAME, "NODE_REPORT", &self.relay_text, "", now);
+        let [relayed, _] = self.report_places;
+        self.bus.post_at(
+            relayed,
+            COMMS_NAME,
+            "NODE_REPORT",
+            &self.relay_text,
+            "",
+            now,
+        );
         // Only for an app that will fetch it (a helm that is over fetches no more).
         for (hears, app) in self.hears_reports.iter_mut().zip([HELM, CMGR]) {
             *hears = *hears || self.bus.subscribes(app, "NODE_REPORT");
