@@ -218,30 +218,30 @@ impl ContactManager {
 
     /// Take one batch of mail received by time `now`.
     pub fn handle_mail(&mut self, now: f64, mail: &[(&str, MailValue<'_>)]) {
-        self.handle_mail_parsed(now, mail, &[]);
+        self.handle_mail_parsed(now, mail, &());
     }
 
-    /// [`Self::handle_mail`] with some `NODE_REPORT`s already read: `parsed[k]`, when
-    /// given, is `NodeReport::parse` of `mail[k]`'s text (a fleet simulator reads each
-    /// report once for all its receivers); the others are read here.
+    /// [`Self::handle_mail`] with some `NODE_REPORT`s already read: `parsed.read(k)`,
+    /// when given, is `NodeReport::parse` of `mail[k]`'s text (a fleet simulator reads
+    /// each report once for all its receivers); the others are read here.
     pub fn handle_mail_parsed(
         &mut self,
         now: f64,
         mail: &[(&str, MailValue<'_>)],
-        parsed: &[Option<NodeReport<'_>>],
+        parsed: &dyn contacts::report::ReadReports,
     ) {
         self.fresh_postings();
         for (k, (var, val)) in mail.iter().enumerate() {
-            self.one_mail(now, var, val, parsed.get(k).and_then(Option::as_ref));
+            self.one_mail(now, var, val, || parsed.read(k));
         }
     }
 
-    fn one_mail(
+    fn one_mail<'r>(
         &mut self,
         now: f64,
         var: &str,
         val: &MailValue<'_>,
-        parsed: Option<&NodeReport<'_>>,
+        parsed: impl FnOnce() -> Option<NodeReport<'r>>,
     ) {
         let num = |slot: &mut f64| {
             if let Some(v) = val.num().filter(|v| v.is_finite()) {
@@ -254,7 +254,7 @@ impl ContactManager {
             "NAV_HEADING" => num(&mut self.os.hdg),
             "NAV_SPEED" => num(&mut self.os.spd),
             "NODE_REPORT" => match val {
-                MailValue::Str(s) => self.node_report(s, true, parsed),
+                MailValue::Str(s) => self.node_report(s, true, parsed().as_ref()),
                 MailValue::Num(_) => self.node_report(&val.text(), false, None),
             },
             "BCM_ALERT_REQUEST" => {

@@ -373,10 +373,11 @@ fn parsed_reports_act_as_their_text() {
     ];
     let mut mail: Vec<(&str, MailValue<'_>)> = vec![("NAV_X", Num(0.0)), ("NODE_REPORT", Num(7.0))];
     mail.extend(texts.iter().map(|t| ("NODE_REPORT", Str(t))));
-    let parsed: Vec<Option<NodeReport<'_>>> = mail
+    let parsed: Vec<(usize, NodeReport<'_>)> = mail
         .iter()
-        .map(|(_, v)| match v {
-            Str(t) => Some(NodeReport::parse(t)),
+        .enumerate()
+        .filter_map(|(k, (_, v))| match v {
+            Str(t) => Some((k, NodeReport::parse(t))),
             Num(_) => None,
         })
         .collect();

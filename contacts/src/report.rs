@@ -90,6 +90,30 @@ impl<'a> NodeReport<'a> {
     }
 }
 
+/// Reports of one batch of mail already read, by their message's place in the batch
+/// (a fleet simulator reads each report once for all its receivers, and hands each
+/// receiver its reading when asked, without a copy per receiver).
+pub trait ReadReports {
+    /// `NodeReport::parse` of the text of message `k`, if read already; `None`: the
+    /// receiver reads the text itself.
+    fn read(&self, k: usize) -> Option<NodeReport<'_>>;
+}
+
+/// Nothing read.
+impl ReadReports for () {
+    fn read(&self, _k: usize) -> Option<NodeReport<'_>> {
+        None
+    }
+}
+
+/// Readings as (message index, reading), in ascending index.
+impl ReadReports for Vec<(usize, NodeReport<'_>)> {
+    fn read(&self, k: usize) -> Option<NodeReport<'_>> {
+        let i = self.binary_search_by_key(&k, |(i, _)| *i).ok()?;
+        Some(self[i].1.clone())
+    }
+}
+
 /// Each field of `text` (either form) in order: its key and its value, trimmed (and
 /// unquoted in the JSON-ish form). What [`NodeReport::parse`] reads; a reader that needs
 /// only a few fields uses it to skip the number parsing of the others.

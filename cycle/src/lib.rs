@@ -102,7 +102,7 @@ impl HelmCycle {
 
     /// One batch of mail (already in time order), before the iteration.
     pub fn mail(&mut self, helm: &mut Helm, now: f64, mail: &[Mail]) {
-        self.mail_parsed(helm, now, mail, &[]);
+        self.mail_parsed(helm, now, mail, &());
     }
 
     /// [`HelmCycle::mail`] with some contact reports already read (see
@@ -112,7 +112,7 @@ impl HelmCycle {
         helm: &mut Helm,
         now: f64,
         mail: &[Mail],
-        parsed: &[Option<contacts::NodeReport<'_>>],
+        parsed: &dyn contacts::report::ReadReports,
     ) {
         for m in mail {
             self.status.on_mail(m);

@@ -67,7 +67,16 @@ pub struct SimBus {
     spare_text: Vec<String>,
     /// The list the helm last subscribed to (all of it subscribed).
     helm_subs: Vec<String>,
+    /// The slots of the helm's postings in one iteration, in posting order, and the
+    /// place of the next posting: the helm posts much the same variables in the same
+    /// order every iteration, so [`SimBus::publish`] tries the slot of the same place
+    /// last time before looking the variable up.
+    helm_posts: Vec<usize>,
+    helm_post_at: usize,
 }
+
+/// Postings per helm iteration whose slots are remembered (the others are looked up).
+const HELM_POSTS_KEPT: usize = 1024;
 
 pub const HELM: usize = 0;
 
@@ -142,6 +151,8 @@ impl SimBus {
             spare: Vec::new(),
             spare_text: Vec::new(),
             helm_subs: Vec::new(),
+            helm_posts: Vec::new(),
+            helm_post_at: 0,
         }
     }
 
@@ -321,6 +332,8 @@ impl SimBus {
 
 impl cycle::Bus for SimBus {
     fn subscribe_new(&mut self, subs: &[String]) -> Vec<String> {
+        // Called at the end of every iteration: the next posting is the next one's first.
+        self.helm_post_at = 0;
         // The helm hands over its whole list every iteration. Every variable of the
         // list handled last is subscribed (and stays so): the same list again has
         // nothing new, and comparing it costs less than looking each one up.
@@ -339,9 +352,24 @@ impl cycle::Bus for SimBus {
     }
 
     fn publish(&mut self, p: &Posting, now: f64) {
+        let j = self.helm_post_at;
+        self.helm_post_at += 1;
+        // A remembered slot is one posted to, so it has a latest value naming its variable.
+        let i = match self.helm_posts.get(j) {
+            Some(&i) if self.slots[i].last.as_ref().is_some_and(|m| m.var == p.var) => i,
+            _ => {
+                let i = self.slot_of(&p.var);
+                if let Some(kept) = self.helm_posts.get_mut(j) {
+                    *kept = i;
+                } else if j < HELM_POSTS_KEPT {
+                    self.helm_posts.push(i);
+                }
+                i
+            }
+        };
         // The source is the helm's app name; taken out and back to satisfy the borrow.
         let name = std::mem::take(&mut self.clients[self.helm].name);
-        self.post(&name, &p.var, &p.value, &p.source_aux, now);
+        self.post_at(i, &name, &p.var, &p.value, &p.source_aux, now);
         self.clients[self.helm].name = name;
     }
 }

@@ -21,17 +21,17 @@ pub(crate) const HOLD_WAIT: &str = "Not all HoldOnApps have been detected";
 impl Helm {
     /// Take one batch of mail into the info buffer.
     pub fn handle_mail(&mut self, now: f64, batch: &[Mail]) {
-        self.handle_mail_parsed(now, batch, &[]);
+        self.handle_mail_parsed(now, batch, &());
     }
 
-    /// [`Helm::handle_mail`] with the contact reports already read: `parsed[k]`, when
+    /// [`Helm::handle_mail`] with some reports already read: `parsed.read(k)`, when
     /// given, is `NodeReport::parse` of `batch[k]`'s text (a fleet simulator reads each
     /// report once for all its receivers); the others are read here.
     pub fn handle_mail_parsed(
         &mut self,
         now: f64,
         batch: &[Mail],
-        parsed: &[Option<contacts::NodeReport<'_>>],
+        parsed: &dyn contacts::report::ReadReports,
     ) {
         self.fresh_outbox();
         if self.state == HelmState::Disabled {
@@ -40,7 +40,7 @@ impl Helm {
         self.ib.set_curr_time(now);
         self.mail_this_cycle = true;
         for (k, m) in batch.iter().enumerate() {
-            self.handle_one(now, m, parsed.get(k).and_then(Option::as_ref));
+            self.handle_one(now, m, || parsed.read(k));
         }
         self.ib.set_string("COMMS_POLICY", "open", now);
         if self.state == HelmState::Standby {
@@ -69,7 +69,14 @@ impl Helm {
         m.source == self.app_name
     }
 
-    fn handle_one(&mut self, now: f64, m: &Mail, parsed: Option<&contacts::NodeReport<'_>>) {
+    /// One message; `parsed` reads it when it is a report (see
+    /// [`Helm::handle_mail_parsed`]).
+    fn handle_one<'r>(
+        &mut self,
+        now: f64,
+        m: &Mail,
+        parsed: impl FnOnce() -> Option<contacts::NodeReport<'r>>,
+    ) {
         if let Some(ok_skew) = self.config.ok_skew {
             let skew = (now - m.time).abs();
             if skew > ok_skew && !self.is_own_posting(m) && m.var != "HELM_MAP_CLEAR" {
@@ -144,9 +151,9 @@ impl Helm {
                 }
             }
             "BHV_ABLE_FILTER" => {}
-            "NODE_REPORT_LOCAL" => self.note_local_report(m),
+            "NODE_REPORT_LOCAL" => self.note_local_report(m, parsed().as_ref()),
             _ if contacts::feeds_ledger(var) => {
-                self.ingest_report(m, parsed);
+                self.ingest_report(m, parsed().as_ref());
                 self.ib.set_value(var, &m.value, m.time);
             }
             "HELM_MAP_CLEAR" => self.refresh_pending = true,
@@ -186,24 +193,74 @@ impl Helm {
     }
 
     /// Ownship's own report (pNodeReporter): not a contact, only its group, type, colour
-    /// and length go to the info buffer.
-    fn note_local_report(&mut self, m: &Mail) {
+    /// and length go to the info buffer (`contacts::for_each_local_nav`; from `parsed`,
+    /// its full reading, when given).
+    fn note_local_report(&mut self, m: &Mail, parsed: Option<&contacts::NodeReport<'_>>) {
         let Value::Str(report) = &m.value else {
             return;
         };
         // The variable written into a kept string: the report comes every iteration.
         let mut var = std::mem::take(&mut self.report_var);
         let ib = &mut self.ib;
-        let posted = contacts::for_each_local_nav(report, |name, suffix, value| {
+        let post = |name: &str, suffix, value| {
             nav_var(&mut var, name, suffix);
             match value {
                 contacts::LocalValue::Text(s) => ib.set_string(&var, s, m.time),
                 contacts::LocalValue::Num(n) => ib.set_value(&var, &Value::Num(n), m.time),
             }
-        });
+        };
+        let posted = match parsed {
+            Some(r) => local_nav_of(r, post),
+            None => contacts::for_each_local_nav(report, post).is_ok(),
+        };
         self.report_var = var;
-        if posted.is_err() {
+        if !posted {
             self.run_warning("Unhandled NODE_REPORT_LOCAL");
+        }
+    }
+}
+
+/// `contacts::for_each_local_nav` of a report already read (it reads the same five
+/// fields as the full reading); false for a report without a name.
+fn local_nav_of<'a>(
+    r: &contacts::NodeReport<'a>,
+    mut post: impl FnMut(&'a str, &'static str, contacts::LocalValue<'a>),
+) -> bool {
+    if r.name.is_empty() {
+        return false;
+    }
+    for (suffix, s) in [("GROUP", r.group), ("TYPE", r.vtype), ("COLOR", r.color)] {
+        if !s.is_empty() {
+            post(r.name, suffix, contacts::LocalValue::Text(s));
+        }
+    }
+    if let Some(l) = r.length.filter(|&l| l != 0.0) {
+        post(r.name, "LENGTH", contacts::LocalValue::Num(l));
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use contacts::{LocalValue, NodeReport};
+
+    /// The same postings, in the same order, as the text's own reading.
+    #[test]
+    fn local_nav_of_a_reading_is_the_texts() {
+        for text in [
+            "NAME=alpha,X=1,Y=2,TYPE=kayak,COLOR=yellow,LENGTH=4,TIME=5",
+            " name = Bob , group=red, len=2.5, LENGTH=nan, type= UUV ,color=",
+            r#"{"NAME":"a","GROUP":"{x,y}","LENGTH":"3","LEN":"x"}"#,
+            "NAME=a,LENGTH=0,GROUP=g",
+            "",
+            "X=1,Y=2",
+        ] {
+            let mut by_text: Vec<(String, &str, LocalValue)> = Vec::new();
+            let ok = contacts::for_each_local_nav(text, |n, s, v| by_text.push((n.into(), s, v)));
+            let mut by_read: Vec<(String, &str, LocalValue)> = Vec::new();
+            let r = NodeReport::parse(text);
+            let posted = super::local_nav_of(&r, |n, s, v| by_read.push((n.into(), s, v)));
+            assert_eq!((ok.is_ok(), by_text), (posted, by_read), "{text}");
         }
     }
 }

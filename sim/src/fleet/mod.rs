@@ -13,6 +13,7 @@ pub mod colregs;
 pub mod comms;
 pub mod obstacles;
 pub mod relay;
+pub mod reporter;
 pub mod run;
 pub mod spec;
 pub mod vehicle;

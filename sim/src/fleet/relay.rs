@@ -28,9 +28,10 @@ pub struct Relayed {
 /// `NodeReport::parse(text)`: its numbers, and its text fields as byte ranges of
 /// `text` (name, type, group, color, vsource, mode, allstop).
 #[derive(Debug)]
-struct Read {
-    numbers: NodeReport<'static>,
-    spans: [(usize, usize); 7],
+pub struct Read {
+    /// The reading with every text field empty.
+    pub numbers: NodeReport<'static>,
+    pub spans: [(usize, usize); 7],
 }
 
 impl Relayed {
@@ -39,6 +40,16 @@ impl Relayed {
             text,
             read: OnceCell::new(),
         })
+    }
+
+    /// A report whose reading is known: `read`, when given, must be what
+    /// `NodeReport::parse(&text)` gives (its writer's, see `super::reporter`).
+    pub fn read_as(text: String, read: Option<Read>) -> Rc<Relayed> {
+        let r = Relayed::new(text);
+        if let Some(read) = read {
+            let _ = r.read.set(Some(read));
+        }
+        r
     }
 
     /// `NodeReport::parse(&self.text)`, read on the first call. `None` only if a field
@@ -109,8 +120,8 @@ fn span_in(text: &str, field: &str) -> Option<(usize, usize)> {
 #[derive(Debug, Default)]
 pub struct Pending {
     queue: VecDeque<Rc<Relayed>>,
-    /// The last batch's matches, one per message (kept for the storage).
-    matched: Vec<Option<Rc<Relayed>>>,
+    /// The last batch's matches: (index of the message, its report).
+    matched: Vec<(usize, Rc<Relayed>)>,
 }
 
 /// Reports kept per app at most. Between two fetches an app gets one per other vehicle
@@ -127,38 +138,35 @@ impl Pending {
         self.queue.push_back(r);
     }
 
-    /// Match a fetched batch: for each `NODE_REPORT` whose text is the front report's,
-    /// that report. Call [`Pending::reports`] next.
+    /// Match a fetched batch: for each `NODE_REPORT` (or ownship's `NODE_REPORT_LOCAL`)
+    /// whose text is the front report's, that report; then read them as
+    /// `contacts::report::ReadReports`.
     pub fn take(&mut self, batch: &[Mail]) {
         self.matched.clear();
-        for m in batch {
-            let hit = match &m.value {
-                Value::Str(s) if m.var == "NODE_REPORT" => match self.queue.front() {
-                    Some(r) if r.text == *s => self.queue.pop_front(),
-                    _ => None,
-                },
-                _ => None,
-            };
-            self.matched.push(hit);
+        for (k, m) in batch.iter().enumerate() {
+            let Value::Str(s) = &m.value else { continue };
+            if !matches!(m.var.as_str(), "NODE_REPORT" | "NODE_REPORT_LOCAL") {
+                continue;
+            }
+            if self.queue.front().is_some_and(|r| r.text == *s) {
+                self.matched.extend(self.queue.pop_front().map(|r| (k, r)));
+            }
         }
     }
+}
 
-    /// The batch's reports read, one per message (`None`: the app reads it); empty when
-    /// the batch had none.
-    pub fn reports(&self) -> Vec<Option<NodeReport<'_>>> {
-        if self.matched.iter().all(Option::is_none) {
-            return Vec::new();
-        }
-        self.matched
-            .iter()
-            .map(|r| r.as_ref().and_then(|r| r.report()))
-            .collect()
+/// The batch last taken: message `k`'s reading, if it is a matched report.
+impl contacts::report::ReadReports for Pending {
+    fn read(&self, k: usize) -> Option<NodeReport<'_>> {
+        let i = self.matched.binary_search_by_key(&k, |(i, _)| *i).ok()?;
+        self.matched[i].1.report()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use contacts::report::ReadReports;
 
     fn mail(var: &str, text: &str) -> Mail {
         Mail {
@@ -198,30 +206,32 @@ mod tests {
         let mut p = Pending::default();
         p.push(a.clone());
         p.push(b.clone());
-        // A registration copy of an older text, then a, another variable, then b.
+        let c = Relayed::new("NAME=c".into());
+        p.push(c);
+        // A registration copy of an older text, then a, another variable, then b, then
+        // ownship's c.
         let batch = [
             mail("NODE_REPORT", "NAME=z"),
             mail("NODE_REPORT", "NAME=a,X=1"),
             mail("NAV_X", "NAME=b"),
             mail("NODE_REPORT", "NAME=b"),
+            mail("NODE_REPORT_LOCAL", "NAME=c"),
         ];
         p.take(&batch);
-        let got = p.reports();
+        let got: Vec<_> = (0..batch.len()).map(|k| p.read(k)).collect();
         assert_eq!(
             got,
             [
                 None,
                 Some(NodeReport::parse("NAME=a,X=1")),
                 None,
-                Some(NodeReport::parse("NAME=b"))
+                Some(NodeReport::parse("NAME=b")),
+                Some(NodeReport::parse("NAME=c"))
             ]
         );
         drop(got);
         p.take(&batch[2..3]);
-        assert!(
-            p.reports().is_empty(),
-            "nothing matched: nothing handed over"
-        );
+        assert!(p.read(0).is_none(), "nothing matched: nothing handed over");
     }
 
     /// A queue that never matches (its app stopped fetching) stays bounded, and after
@@ -237,6 +247,6 @@ mod tests {
         assert_eq!(p.queue.len(), MAX_PENDING);
         let next = format!("NAME=v{}", 2 * MAX_PENDING);
         p.take(&[mail("NODE_REPORT", &next)]);
-        assert_eq!(p.reports(), [Some(NodeReport::parse(&next))]);
+        assert_eq!(p.read(0), Some(NodeReport::parse(&next)));
     }
 }

@@ -241,7 +241,8 @@ impl FleetPlan {
                 l.take_reports(&mut reports);
                 for m in &reports {
                     if let Value::Str(s) = &m.value {
-                        comms.send(off, i, Relayed::new(s.clone()), dist.row(i));
+                        let r = l.written(s).unwrap_or_else(|| Relayed::new(s.clone()));
+                        comms.send(off, i, r, dist.row(i));
                     }
                 }
             }

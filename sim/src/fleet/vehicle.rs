@@ -19,12 +19,12 @@ use helm_mission::HelmRecipe;
 use vehicle_model::{Drift, Kinematics, Nav, Severity, SimBlock, VehicleModel, SIM_NAME};
 
 use super::relay::{Pending, Relayed};
+use super::reporter::Ownship;
 use super::spec::VehicleSpec;
 use crate::bus::{SimBus, HELM};
 use crate::observe::Observer;
 use crate::run::{SimError, StartShift, HELM_NAME};
 use crate::scenario::When;
-use mbutil::push_fixed;
 
 pub const CMGR_NAME: &str = "pContactMgrV20";
 pub const REPORTER_NAME: &str = "pNodeReporter";
@@ -170,6 +170,10 @@ pub struct Live {
     /// The helm, the contact manager subscribed to `NODE_REPORT` (known once true:
     /// subscriptions are never dropped).
     hears_reports: [bool; 2],
+    /// The helm subscribed to `NODE_REPORT_LOCAL` (known once true).
+    hears_local: bool,
+    /// The reporter's last report.
+    local: Option<Rc<Relayed>>,
     /// Always a `Value::Str`: the contact manager's text postings, one after another.
     mgr_text: Value,
     /// Always a `Value::Str`: the node report being delivered.
@@ -180,6 +184,8 @@ pub struct Live {
     length_field: String,
     /// The bus places of the simulator's `NAV_*` variables, in `Nav::vars` order.
     nav_places: [usize; 5],
+    /// The bus places of `NODE_REPORT` and `NODE_REPORT_LOCAL`.
+    report_places: [usize; 2],
     pub obm: Option<super::obstacles::ObmLive>,
 }
 
@@ -236,8 +242,10 @@ impl Live {
         bus.deliver();
         let drove = helm.state() == HelmState::Drive;
         let nav_places = model.nav().vars().map(|(var, _)| bus.place(var));
+        let report_places = ["NODE_REPORT", "NODE_REPORT_LOCAL"].map(|var| bus.place(var));
         Ok(Live {
             nav_places,
+            report_places,
             start: model.nav(),
             bus,
             helm,
@@ -259,6 +267,8 @@ impl Live {
             helm_reports: Pending::default(),
             mgr_reports: Pending::default(),
             hears_reports: [false; 2],
+            hears_local: false,
+            local: None,
             mgr_text: Value::Str(String::new()),
             relay_text: Value::Str(String::new()),
             report: String::new(),
@@ -344,9 +354,8 @@ impl Live {
             } else {
                 self.bus.fetch(HELM, &mut self.helm_in);
                 self.helm_reports.take(&self.helm_in);
-                let read = self.helm_reports.reports();
                 self.cycle
-                    .mail_parsed(&mut self.helm, now, &self.helm_in, &read);
+                    .mail_parsed(&mut self.helm, now, &self.helm_in, &self.helm_reports);
                 self.cycle.iterate(&mut self.helm, &mut self.bus, now);
                 self.drove |= self.helm.state() == HelmState::Drive;
                 self.kh += 1;
@@ -355,51 +364,42 @@ impl Live {
         ts == off
     }
 
-    /// pNodeReporter's `NODE_REPORT_LOCAL` (contacts-appcast.md §2.2).
+    /// pNodeReporter's `NODE_REPORT_LOCAL` (contacts-appcast.md §2.2), kept read for
+    /// its readers (see [`Ownship`]).
     fn node_report(&mut self, p: &VehiclePlan, now: f64) {
         let nav = self.model.nav();
-        let mut r = std::mem::take(&mut self.report);
-        r.clear();
-        // As `format!("NAME={},X={:.2},...")` writes it (see `mbutil::push_fixed`).
-        let field = |r: &mut String, key: &str, x: f64, decimals: usize| {
-            r.push_str(key);
-            push_fixed(r, x, decimals);
+        let own = Ownship {
+            name: &p.spec.name,
+            x: nav.x,
+            y: nav.y,
+            spd: nav.speed,
+            hdg: nav.heading,
+            dep: nav.depth,
+            latlon: self.geo.as_ref().map(|g| g.to_latlon(nav.x, nav.y)),
+            vtype: &p.vtype,
+            color: &p.spec.moos_color,
+            mode: self.helm.state().as_str(),
+            index: self.report_index,
+            yaw: (90.0 - nav.heading).to_radians(),
+            time: now,
+            length_field: &self.length_field,
         };
-        r.push_str("NAME=");
-        r.push_str(&p.spec.name);
-        field(&mut r, ",X=", nav.x, 2);
-        field(&mut r, ",Y=", nav.y, 2);
-        field(&mut r, ",SPD=", nav.speed, 2);
-        field(&mut r, ",HDG=", nav.heading, 2);
-        field(&mut r, ",DEP=", nav.depth, 2);
-        if let Some(g) = &self.geo {
-            let (lat, lon) = g.to_latlon(nav.x, nav.y);
-            field(&mut r, ",LAT=", lat, 8);
-            field(&mut r, ",LON=", lon, 8);
-        }
-        let yaw = (90.0 - nav.heading).to_radians();
-        // As `write!(",TYPE={},COLOR={},MODE={},INDEX={}")`, without core::fmt.
-        let state = self.helm.state().as_str();
-        for (key, text) in [
-            (",TYPE=", &*p.vtype),
-            (",COLOR=", &p.spec.moos_color),
-            (",MODE=", state),
-        ] {
-            r.push_str(key);
-            r.push_str(text);
-        }
-        r.push_str(",INDEX=");
-        mbutil::push_u64(&mut r, self.report_index);
-        field(&mut r, ",YAW=", yaw, 7);
-        field(&mut r, ",TIME=", now, 2);
-        r.push_str(&self.length_field);
+        let mut r = std::mem::take(&mut self.report);
+        let local = own.relayed(&mut r);
         self.report_index += 1;
         let v = Value::Str(r);
+        let [_, own] = self.report_places;
         self.bus
-            .post(REPORTER_NAME, "NODE_REPORT_LOCAL", &v, "", now);
+            .post_at(own, REPORTER_NAME, "NODE_REPORT_LOCAL", &v, "", now);
         if let Value::Str(r) = v {
             self.report = r;
         }
+        // The helm reads it next (the shoreside's copy is taken from `local`).
+        self.hears_local = self.hears_local || self.bus.subscribes(HELM, "NODE_REPORT_LOCAL");
+        if !self.over && self.hears_local {
+            self.helm_reports.push(local.clone());
+        }
+        self.local = Some(local);
     }
 
     fn contact_manager(&mut self, now: f64) {
@@ -413,9 +413,8 @@ impl Live {
             batch.push((m.var.as_str(), v));
         }
         self.mgr_reports.take(&self.mgr_in);
-        let read = self.mgr_reports.reports();
-        self.mgr.handle_mail_parsed(now, &batch, &read);
-        drop((batch, read));
+        self.mgr.handle_mail_parsed(now, &batch, &self.mgr_reports);
+        drop(batch);
         for post in self.mgr.iterate(now) {
             match &post.val {
                 contact_manager::Value::Str(s) => {
@@ -441,8 +440,15 @@ impl Live {
             text.clear();
             text.push_str(&r.text);
         }
-        self.bus
-            .post(COMMS_NAME, "NODE_REPORT", &self.relay_text, "", now);
+        let [relayed, _] = self.report_places;
+        self.bus.post_at(
+            relayed,
+            COMMS_NAME,
+            "NODE_REPORT",
+            &self.relay_text,
+            "",
+            now,
+        );
         // Only for an app that will fetch it (a helm that is over fetches no more).
         for (hears, app) in self.hears_reports.iter_mut().zip([HELM, CMGR]) {
             *hears = *hears || self.bus.subscribes(app, "NODE_REPORT");
@@ -458,6 +464,12 @@ impl Live {
     /// The shoreside's pick-up: the node reports posted in the last step.
     pub fn take_reports(&mut self, out: &mut Vec<Mail>) {
         self.bus.fetch(SHORE, out);
+    }
+
+    /// The report this vehicle's reporter last wrote, read, if its text is `text` (the
+    /// shoreside relays it rather than a copy to read again).
+    pub fn written(&self, text: &str) -> Option<Rc<Relayed>> {
+        self.local.as_ref().filter(|r| r.text == text).cloned()
     }
 
     /// Flush the `.alog` (an error is kept on the bus and reported by the caller).
