@@ -200,6 +200,16 @@ fn deg_index(h: f64) -> f64 {
     }
 }
 
+/// The cosine of `a` degrees, 0 at 90 and 270 exactly ([`CpaEngine::roc`]'s).
+#[inline(always)]
+fn cos_or_zero(a: f64) -> f64 {
+    if a == 90.0 || a == 270.0 {
+        0.0
+    } else {
+        a.to_radians().cos()
+    }
+}
+
 /// The contact geometry engine (the reference's "OG" engine): a contact pose and
 /// ownship's position, reset once per iteration, then asked per candidate heading `h`
 /// and speed `v` of ownship. Candidate headings count by their integer degree (⌊h⌋),
@@ -462,12 +472,7 @@ impl CpaEngine {
             .unwrap_or_else(|| cos_star(fold(i, self.cnh)))
     }
     fn relcos(&self, i: f64) -> f64 {
-        let a = angle360(self.abs_os_cn - i);
-        if a == 90.0 || a == 270.0 {
-            0.0
-        } else {
-            a.to_radians().cos()
-        }
+        cos_or_zero(angle360(self.abs_os_cn - i))
     }
     fn tancos(&self, i: f64) -> f64 {
         self.table(i, |t| &t.tan)
@@ -516,7 +521,16 @@ impl CpaEngine {
     /// objective function asking `roc` per grid point computes them once with this and
     /// calls [`CpaEngine::roc_with`].
     pub fn roc_cosines(&self) -> [f64; 360] {
-        std::array::from_fn(|i| self.relcos(i as f64))
+        let b = self.abs_os_cn;
+        if !(0.0..360.0).contains(&b) {
+            return std::array::from_fn(|i| self.relcos(i as f64));
+        }
+        // From a bearing in [0, 360), `b - i` is below 360 and above -360: angle360's
+        // loops add 360 once to a negative one and do nothing else (the same angles).
+        std::array::from_fn(|i| {
+            let a = b - i as f64;
+            cos_or_zero(if a < 0.0 { a + 360.0 } else { a })
+        })
     }
 
     /// [`CpaEngine::roc`] with the cosine looked up in `cos` (from

@@ -603,6 +603,39 @@ fn kept_tables_are_the_built_ones() {
     }
 }
 
+/// `roc_cosines` (angles from a bearing in [0, 360) without angle360's loops) is the
+/// table of the plain formula, `cos` of `angle360(bearing - i)` in radians and 0 at 90
+/// and 270, bit for bit: random bearings, and ones at the edges (zeros, just below 360,
+/// just below an integer, so that `b - i` is a tiny negative that 360 absorbs, and
+/// bearings outside [0, 360) taking the plain way).
+#[test]
+fn roc_cosines_are_the_plain_formula() {
+    let plain = |b: f64, i: usize| {
+        let a = angle360(b - i as f64);
+        if a == 90.0 || a == 270.0 {
+            0.0
+        } else {
+            a.to_radians().cos()
+        }
+    };
+    let mut seed = 41u64;
+    let mut bearings = vec![0.0, -0.0, 90.0, 270.0, 180.0, 1e-300, 5e-324, 359.5];
+    bearings.extend([360.0f64, 90.0, 270.0, 1.0].map(|x| f64::from_bits(x.to_bits() - 1)));
+    bearings.extend((1..360).map(|i| i as f64 - 1e-14));
+    bearings.extend((0..2000).map(|_| rng(&mut seed) * 360.0));
+    bearings.extend([360.0, 400.0, -1.0, -1e-300, 1e7, f64::NAN, f64::INFINITY]);
+    for b in bearings {
+        let mut e = CpaEngine::new(0.0, 100.0, 180.0, 2.0, 0.0, 0.0);
+        e.abs_os_cn = b;
+        let table = e.roc_cosines();
+        for (i, &c) in table.iter().enumerate() {
+            let want = plain(b, i);
+            let same = c.to_bits() == want.to_bits() || (c.is_nan() && want.is_nan());
+            assert!(same, "bearing {b:e} heading {i}: {c} {want}");
+        }
+    }
+}
+
 /// `min_max_roc_with` over the engine's own cosine table is `min_max_roc`, bit for bit,
 /// over random geometries and speeds (negative, zero, NaN, infinite ones included).
 #[test]
