@@ -77,6 +77,10 @@ impl InfoBuffer {
         e
     }
 
+    /// Inlined: every behavior reads NAV_X, NAV_Y, ... through it every iteration, and
+    /// the lookup is a few instructions beside the call's own (left to itself, the
+    /// compiler keeps it a call).
+    #[inline(always)]
     fn get(&self, var: &str) -> Option<&Entry> {
         self.index.get(var).map(|i| &self.entries[i])
     }

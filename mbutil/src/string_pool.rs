@@ -59,8 +59,27 @@ impl StringPool {
 
     /// An empty string with room for `len` bytes: a spare one of `len`'s class or the
     /// next one up, else the largest spare one grown (or a new one) to the class's room.
+    #[inline]
     pub fn take_for(&mut self, len: usize) -> String {
         let c0 = class_of_len(len);
+        // The usual case, inlined: the top of the text's own class fits it. This is
+        // the search below at its first step (same string), for the several strings
+        // every behavior's messages take each iteration.
+        if let Some(stack) = self.stacks.get_mut(c0) {
+            if stack.last().is_some_and(|s| s.capacity() >= len) {
+                if let Some(s) = stack.pop() {
+                    self.count -= 1;
+                    return s;
+                }
+            }
+        }
+        self.take_for_search(len, c0)
+    }
+
+    /// [`StringPool::take_for`] past its first step: the classes from `c0` up, then
+    /// the largest smaller string grown (or a new one).
+    #[inline(never)]
+    fn take_for_search(&mut self, len: usize, c0: usize) -> String {
         for stack in self.stacks.iter_mut().skip(c0) {
             if stack.last().is_some_and(|s| s.capacity() >= len) {
                 if let Some(s) = stack.pop() {
@@ -96,6 +115,7 @@ impl StringPool {
     }
 
     /// A copy of `text` in a spare string that fits it when one does.
+    #[inline]
     pub fn copy_of(&mut self, text: &str) -> String {
         let mut s = self.take_for(text.len());
         s.push_str(text);
