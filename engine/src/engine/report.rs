@@ -353,6 +353,23 @@ mod tests {
         assert_eq!(lines[2], "WPT_STAT  waypt_survey  12.50  40    vname=alpha");
     }
 
+    /// A number is kept as the number and shown as it was written before (5 decimals,
+    /// compacted); a text replaces it.
+    #[test]
+    fn posted_values_show_as_written() {
+        let mut f = ReportFeed::default();
+        f.posted("SPD", "b", 1.0, 1, &Value::Num(1.25));
+        let mut want = String::new();
+        crate::runtime::push_compact(&mut want, 1.25, 5);
+        assert_eq!(f.rows["SPD"].value_text(), want);
+        f.posted("SPD", "b", 2.0, 2, &Value::Str("fast".into()));
+        assert_eq!(f.rows["SPD"].value_text(), "fast");
+        f.posted("SPD", "b", 3.0, 3, &Value::Num(-0.000_001));
+        let mut want = String::new();
+        crate::runtime::push_compact(&mut want, -0.000_001, 5);
+        assert_eq!(f.rows["SPD"].value_text(), want);
+    }
+
     #[test]
     fn completions_are_counted_most_recent_last() {
         let mut f = ReportFeed::default();
