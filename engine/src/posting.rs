@@ -32,50 +32,43 @@ impl DuplicateFilter {
     pub fn allow(&mut self, key: &str, value: &Value) -> bool {
         let repeatable = key.eq_ignore_ascii_case("repeatable");
         match value {
-            Value::Str(s) if !s.is_empty() => {
-                let same = self.strings.get(key).is_some_and(|old| old == s);
-                if repeatable || !same {
-                    // Copied into the kept string (no new allocation once it is long
-                    // enough).
-                    match self.strings.get_mut(key) {
-                        Some(old) => {
-                            old.clear();
-                            old.push_str(s);
-                        }
-                        None => {
-                            self.strings.insert(key.to_string(), s.clone());
-                        }
-                    }
-                    return true;
+            // One look-up: a changed value is copied into the kept string (no new
+            // allocation once it is long enough).
+            Value::Str(s) if !s.is_empty() => match self.strings.get_mut(key) {
+                Some(old) if repeatable || old != s => {
+                    old.clear();
+                    old.push_str(s);
+                    true
                 }
-                false
-            }
+                Some(_) => false,
+                None => {
+                    self.strings.insert(key.to_string(), s.clone());
+                    true
+                }
+            },
             Value::Str(_) => self.allow_number(key, 0.0, repeatable),
             Value::Num(v) => self.allow_number(key, *v, repeatable),
         }
     }
 
     fn allow_number(&mut self, key: &str, v: f64, repeatable: bool) -> bool {
-        let same = self.numbers.get(key).is_some_and(|old| *old == v);
-        if repeatable || !same {
-            remember(&mut self.numbers, key, v);
-            return true;
+        match self.numbers.get_mut(key) {
+            Some(old) if repeatable || *old != v => {
+                *old = v;
+                true
+            }
+            Some(_) => false,
+            None => {
+                self.numbers.insert(key.to_string(), v);
+                true
+            }
         }
-        false
     }
 
     /// HELM_MAP_CLEAR refresh: everything is published once more.
     pub fn clear(&mut self) {
         self.strings.clear();
         self.numbers.clear();
-    }
-}
-
-fn remember<V>(map: &mut HashMap<String, V>, key: &str, v: V) {
-    if let Some(slot) = map.get_mut(key) {
-        *slot = v;
-    } else {
-        map.insert(key.to_string(), v);
     }
 }
 

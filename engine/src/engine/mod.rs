@@ -92,6 +92,9 @@ pub struct Helm {
     pub(crate) outbox_taken: bool,
     /// Last values of the helm's "on change" postings.
     pub(crate) last_posted: BTreeMap<&'static str, String>,
+    /// The bits of the number whose text `last_posted` holds, per variable posted by
+    /// number: the same bits write the same text, so a repeat is known unformatted.
+    pub(crate) last_posted_num: Vec<(&'static str, u64)>,
     pub(crate) statevars: Vec<String>,
     pub(crate) bhv_cnt_ever: usize,
     pub(crate) completed_pending_last: Option<bool>,
@@ -224,6 +227,17 @@ impl Helm {
     /// value is kept (a new string the first time a variable is posted).
     pub(crate) fn post_on_change(&mut self, var: &'static str, value: crate::posting::Value) {
         use std::fmt::Write as _;
+        let bits = match &value {
+            crate::posting::Value::Num(v) => Some(v.to_bits()),
+            crate::posting::Value::Str(_) => None,
+        };
+        let known = self.last_posted_num.iter().position(|(v, _)| *v == var);
+        if let (Some(b), Some(k)) = (bits, known) {
+            // Kept in step with `last_posted` (cleared with it on restart).
+            if self.last_posted_num[k].1 == b {
+                return;
+            }
+        }
         let mut text = self.pool.take_for(match &value {
             crate::posting::Value::Str(s) => s.len(),
             crate::posting::Value::Num(_) => 24,
@@ -241,6 +255,14 @@ impl Helm {
         }
         if let Some(old) = self.last_posted.insert(var, text) {
             self.pool.give(old);
+        }
+        match (bits, known) {
+            (Some(b), Some(k)) => self.last_posted_num[k].1 = b,
+            (Some(b), None) => self.last_posted_num.push((var, b)),
+            (None, Some(k)) => {
+                self.last_posted_num.swap_remove(k);
+            }
+            (None, None) => {}
         }
         self.post(var, value, "");
     }

@@ -17,7 +17,10 @@ pub(crate) struct PostedRow {
     /// Seconds since the helm started.
     pub time: f64,
     pub iter: u64,
+    /// A text value, or the number (written only when a report shows it: most rows
+    /// change every iteration and are never shown).
     pub value: String,
+    pub num: Option<f64>,
 }
 
 /// What the report needs besides the behavior set.
@@ -42,11 +45,25 @@ fn compact(v: f64) -> String {
     bhv::number::compact(v, 5)
 }
 
-fn value_text(v: &Value, out: &mut String) {
-    out.clear();
-    match v {
-        Value::Str(s) => out.push_str(s),
-        Value::Num(n) => crate::runtime::push_compact(out, *n, 5),
+fn keep_value(v: &Value, row: &mut PostedRow) {
+    row.value.clear();
+    row.num = match v {
+        Value::Str(s) => {
+            row.value.push_str(s);
+            None
+        }
+        Value::Num(n) => Some(*n),
+    };
+}
+
+impl PostedRow {
+    /// The value as shown: the text, or the number compacted to 5 decimals.
+    fn value_text(&self) -> String {
+        let mut out = self.value.clone();
+        if let Some(n) = self.num {
+            crate::runtime::push_compact(&mut out, n, 5);
+        }
+        out
     }
 }
 
@@ -103,7 +120,7 @@ impl ReportFeed {
             row.behavior.push_str(behavior);
             row.time = elapsed;
             row.iter = iter;
-            value_text(v, &mut row.value);
+            keep_value(v, row);
             return;
         }
         let mut row = PostedRow {
@@ -111,8 +128,9 @@ impl ReportFeed {
             time: elapsed,
             iter,
             value: String::new(),
+            num: None,
         };
-        value_text(v, &mut row.value);
+        keep_value(v, &mut row);
         self.rows.insert(var.to_string(), row);
     }
 
@@ -294,7 +312,7 @@ impl Helm {
                     r.behavior.clone(),
                     format!("{:.2}", r.time),
                     r.iter.to_string(),
-                    cell(&r.value),
+                    cell(&r.value_text()),
                 ]
             })
             .collect();
@@ -333,6 +351,23 @@ mod tests {
         assert_eq!(lines[0], "Variable  Behavior      Time   Iter  Value");
         assert_eq!(lines[1], "--------  ------------  -----  ----  -----------");
         assert_eq!(lines[2], "WPT_STAT  waypt_survey  12.50  40    vname=alpha");
+    }
+
+    /// A number is kept as the number and shown as it was written before (5 decimals,
+    /// compacted); a text replaces it.
+    #[test]
+    fn posted_values_show_as_written() {
+        let mut f = ReportFeed::default();
+        f.posted("SPD", "b", 1.0, 1, &Value::Num(1.25));
+        let mut want = String::new();
+        crate::runtime::push_compact(&mut want, 1.25, 5);
+        assert_eq!(f.rows["SPD"].value_text(), want);
+        f.posted("SPD", "b", 2.0, 2, &Value::Str("fast".into()));
+        assert_eq!(f.rows["SPD"].value_text(), "fast");
+        f.posted("SPD", "b", 3.0, 3, &Value::Num(-0.000_001));
+        let mut want = String::new();
+        crate::runtime::push_compact(&mut want, -0.000_001, 5);
+        assert_eq!(f.rows["SPD"].value_text(), want);
     }
 
     #[test]

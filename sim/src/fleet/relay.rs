@@ -10,7 +10,7 @@
 //! sent on registration, a poke) is read by the app itself, so what it gets is always
 //! `NodeReport::parse` of its own text.
 
-use std::cell::OnceCell;
+use std::cell::{Cell, OnceCell};
 use std::collections::VecDeque;
 use std::rc::Rc;
 
@@ -56,8 +56,15 @@ impl Relayed {
     /// were not a piece of the text (parsing only borrows, so never): the reader parses.
     pub fn report(&self) -> Option<NodeReport<'_>> {
         let read = self.read.get_or_init(|| read(&self.text)).as_ref()?;
-        let [name, vtype, group, color, vsource, mode, allstop] =
-            read.spans.map(|(a, b)| self.text.get(a..b).unwrap_or(""));
+        // An absent field (group, vsource, allstop in a reporter's text) needs no check.
+        let field = |(a, b): (usize, usize)| {
+            if a == b {
+                ""
+            } else {
+                self.text.get(a..b).unwrap_or("")
+            }
+        };
+        let [name, vtype, group, color, vsource, mode, allstop] = read.spans.map(field);
         Some(NodeReport {
             name,
             vtype,
@@ -122,6 +129,8 @@ pub struct Pending {
     queue: VecDeque<Rc<Relayed>>,
     /// The last batch's matches: (index of the message, its report).
     matched: Vec<(usize, Rc<Relayed>)>,
+    /// Where the next read is likely found in `matched` (reads come in message order).
+    next: Cell<usize>,
 }
 
 /// Reports kept per app at most. Between two fetches an app gets one per other vehicle
@@ -143,6 +152,10 @@ impl Pending {
     /// `contacts::report::ReadReports`.
     pub fn take(&mut self, batch: &[Mail]) {
         self.matched.clear();
+        self.next.set(0);
+        if self.queue.is_empty() {
+            return;
+        }
         for (k, m) in batch.iter().enumerate() {
             let Value::Str(s) = &m.value else { continue };
             if !matches!(m.var.as_str(), "NODE_REPORT" | "NODE_REPORT_LOCAL") {
@@ -158,7 +171,12 @@ impl Pending {
 /// The batch last taken: message `k`'s reading, if it is a matched report.
 impl contacts::report::ReadReports for Pending {
     fn read(&self, k: usize) -> Option<NodeReport<'_>> {
-        let i = self.matched.binary_search_by_key(&k, |(i, _)| *i).ok()?;
+        let at = self.next.get();
+        let i = match self.matched.get(at) {
+            Some((j, _)) if *j == k => at,
+            _ => self.matched.binary_search_by_key(&k, |(i, _)| *i).ok()?,
+        };
+        self.next.set(i + 1);
         self.matched[i].1.report()
     }
 }
@@ -230,6 +248,18 @@ mod tests {
             ]
         );
         drop(got);
+        // Out of order (the cursor is only a guess), and again.
+        for k in [4, 1, 3, 1, 0, 4] {
+            assert_eq!(
+                p.read(k),
+                (k % 2 == 1 || k == 4).then(|| {
+                    NodeReport::parse(match &batch[k].value {
+                        Value::Str(s) => s,
+                        Value::Num(_) => "",
+                    })
+                })
+            );
+        }
         p.take(&batch[2..3]);
         assert!(p.read(0).is_none(), "nothing matched: nothing handed over");
     }
