@@ -130,22 +130,29 @@ function pts(list) {
   return list.map((p) => toScreen(p[0], p[1]).map((v) => v.toFixed(1)).join(",")).join(" ");
 }
 
-// Shape labels placed so far in this picture, as [left, top, right, bottom] in pixels.
+// Labels placed so far in this picture (shapes' first, then vehicles'), as [left, top,
+// right, bottom] in pixels.
 let placed = [];
 
-// A label beside its spot, moved down a line at a time while it would cover one already
-// placed: the points of several vehicles often share a spot (each one's next waypoint).
-// The width is estimated (11 px text) rather than measured, to keep a frame cheap.
-function label(g, x, y, text, c) {
-  if (!text) return;
+// A label's top edge, moved down a line at a time from `top` while its box would cover a
+// label already placed: the points of several vehicles often share a spot (each one's
+// next waypoint), and a vehicle sits on its waypoint when it arrives. The width is
+// estimated (11 px text) rather than measured, to keep a frame cheap.
+function place(left, top, text) {
   const w = text.length * 6.5, h = 15;
-  let top = y - 18;
   for (let i = 0; i < 8; i++) {
-    const hit = placed.some((r) => x + 6 < r[2] && r[0] < x + 6 + w && top < r[3] && r[1] < top + h);
+    const hit = placed.some((r) => left < r[2] && r[0] < left + w && top < r[3] && r[1] < top + h);
     if (!hit) break;
     top += h;
   }
-  placed.push([x + 6, top, x + 6 + w, top + h]);
+  placed.push([left, top, left + w, top + h]);
+  return top;
+}
+
+// A shape's label beside its spot.
+function label(g, x, y, text, c) {
+  if (!text) return;
+  const top = place(x + 6, y - 18, text);
   const t = el("text", { x: x + 6, y: top + 12, fill: color(c, "#ffffff"), class: "label" }, g);
   t.textContent = text;
 }
@@ -200,9 +207,14 @@ function drawShape(o, parent) {
   label(g, x, y, o.label, o.label_color);
 }
 
+// A vehicle's drawn length in pixels: to scale, but never too small to see.
+function hullLength(v) {
+  return Math.max((v.length || 4) * S.view.s, 16);
+}
+
 function hull(v) {
   const [cx, cy] = toScreen(v.x, v.y);
-  const L = Math.max((v.length || 4) * S.view.s, 16), W = L * 0.4;
+  const L = hullLength(v), W = L * 0.4;
   const a = (v.hdg * Math.PI) / 180;
   const f = [Math.sin(a), -Math.cos(a)], r = [Math.cos(a), Math.sin(a)];
   const body = [[0.5 * L, 0], [0.15 * L, 0.5 * W], [-0.5 * L, 0.5 * W], [-0.5 * L, -0.5 * W], [0.15 * L, -0.5 * W]];
@@ -238,8 +250,12 @@ function render() {
     const g = el("g", { class: "vehicle", "data-name": v.name, "data-x": v.x, "data-y": v.y, "data-hdg": v.hdg }, vg);
     el("polygon", { points: hull(v), fill: color(v.color, "#ffd700"), stroke: "#000", "stroke-width": 1 }, g);
     const [x, y] = toScreen(v.x, v.y);
-    const t = el("text", { x: x + 12, y: y + 4, fill: "#ffffff", class: "vlabel" }, g);
-    t.textContent = `${v.name} ${(+v.spd).toFixed(1)} m/s`;
+    const text = `${v.name} ${(+v.spd).toFixed(1)} m/s`;
+    // Clear of the hull whichever way it points (a long ship's reaches past 12 px).
+    const left = x + Math.max(12, hullLength(v) / 2 + 4);
+    const top = place(left, y - 8, text);
+    const t = el("text", { x: left, y: top + 12, fill: "#ffffff", class: "vlabel" }, g);
+    t.textContent = text;
   }
   // The time of the picture now drawn (frames arrive before the next paint draws them).
   document.body.dataset.drawn = String(S.t);

@@ -40,6 +40,8 @@ fn log(shift: f64) -> String {
             // Two more points on the first one's spot: their labels must not cover each other.
             s.push_str("10.000 VIEW_POINT pHelmIvP x=30,y=-20,label=twin_one\n");
             s.push_str("10.000 VIEW_POINT pHelmIvP x=30,y=-20,label=twin_two\n");
+            // Where abe is at 12 s: its label and the vehicle's must not cover each other.
+            s.push_str("10.000 VIEW_POINT pHelmIvP x=24,y=0,label=abe_wpt\n");
             s.push_str("10.000 VIEW_POLYGON pHelmIvP pts={garbled\n");
         }
         if i == 40 {
@@ -126,19 +128,23 @@ fn replay_in_a_real_browser() {
         0
     );
     assert_eq!(b.eval("window.__pwned === undefined"), true);
-    // Labels sharing a spot are stacked, not drawn over one another.
+    // Labels sharing a spot, shapes' and vehicles', are stacked, not drawn over one another.
     let overlaps = b.eval(
-        "(() => { const r = [...document.querySelectorAll('#shapes text')].map(t => t.getBBox()); let n = 0;
+        "(() => { const r = [...document.querySelectorAll('#shapes text, #vehicles text')].map(t => t.getBBox()); let n = 0;
            for (let i = 0; i < r.length; i++) for (let j = i + 1; j < r.length; j++)
              if (r[i].x < r[j].x + r[j].width && r[j].x < r[i].x + r[i].width &&
                  r[i].y < r[j].y + r[j].height && r[j].y < r[i].y + r[i].height) n++;
            return n; })()",
     );
-    assert_eq!(overlaps, 0, "shape labels overlap");
+    assert_eq!(overlaps, 0, "labels overlap");
     assert_eq!(
         b.eval("document.querySelectorAll('#shapes text').length"),
-        5,
-        "zone, two markup labels, two twins"
+        6,
+        "zone, two markup labels, two twins, abe's waypoint"
+    );
+    assert_eq!(
+        b.eval("document.querySelectorAll('#vehicles text').length"),
+        2
     );
     // The garbled polygon was counted, and the page says so.
     let skipped = b.eval("document.getElementById('skipped').textContent");
