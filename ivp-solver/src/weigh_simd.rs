@@ -56,6 +56,27 @@ fn spread3(a: __m256d, b: __m256d, c: __m256d) -> [__m256d; 3] {
     ]
 }
 
+/// [`spread3`] of the 4 pieces' weights at `w` (12 `f64`s), read as halves: each half
+/// vector holds two pieces' values in the lanes they go to, so one blend or shuffle
+/// per field gathers them (no cross-lane permute): the same lanes, fewer instructions.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn load_spread3(w: *const f64) -> [__m256d; 3] {
+    // SAFETY (all loads): the caller has 12 `f64`s at `w`.
+    let (m0, m1, m2) = unsafe {
+        (
+            _mm256_loadu2_m128d(w.add(6), w),         // w0a w1a | w0c w1c
+            _mm256_loadu2_m128d(w.add(8), w.add(2)),  // ca  w0b | cc  w0d
+            _mm256_loadu2_m128d(w.add(10), w.add(4)), // w1b cb  | w1d cd
+        )
+    };
+    [
+        _mm256_blend_pd::<0b1010>(m0, m1),
+        _mm256_shuffle_pd::<0b0101>(m0, m2),
+        _mm256_blend_pd::<0b1010>(m1, m2),
+    ]
+}
+
 /// `x < 0 ? neg : pos`, lane by lane (NaN takes `pos`, as `<` is false).
 #[target_feature(enable = "avx2")]
 #[inline]
@@ -193,14 +214,7 @@ unsafe fn lo_hi<const FROM: u8>(
     w: *const f64,
 ) -> (__m256d, __m256d) {
     // SAFETY: the caller has 12 `f64`s at `w`.
-    let (a, b, c) = unsafe {
-        (
-            _mm256_loadu_pd(w),
-            _mm256_loadu_pd(w.add(4)),
-            _mm256_loadu_pd(w.add(8)),
-        )
-    };
-    let [w0, w1, cc] = spread3(a, b, c);
+    let [w0, w1, cc] = unsafe { load_spread3(w) };
     if FROM != 0 {
         // `max(a, b)` is `a > b ? a : b`: a NaN `w·lo` gives `w·hi`, as the test would
         // for a weight that is not negative.
