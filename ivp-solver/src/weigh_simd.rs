@@ -45,14 +45,23 @@ unsafe fn bounds4(b: *const i32) -> [__m256d; 4] {
 #[target_feature(enable = "avx2")]
 #[inline]
 fn spread3(a: __m256d, b: __m256d, c: __m256d) -> [__m256d; 3] {
-    // a = [w0a w1a ca w0b], b = [w1b cb w0c w1c], c = [cc w0d w1d cd]
-    let w0 = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(a, b), c); // a d c b
-    let w1 = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(a, b), c); // b a d c
-    let cc = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(a, b), c); // c b a d
+    // a = [w0a w1a ca w0b], b = [w1b cb w0c w1c], c = [cc w0d w1d cd]: the halves
+    // paired as `load_spread3` reads them (one permute each), then one blend or
+    // shuffle per field.
+    let m0 = _mm256_permute2f128_pd::<0x30>(a, b); // w0a w1a | w0c w1c
+    let m1 = _mm256_permute2f128_pd::<0x21>(a, c); // ca  w0b | cc  w0d
+    let m2 = _mm256_permute2f128_pd::<0x30>(b, c); // w1b cb  | w1d cd
+    gather3(m0, m1, m2)
+}
+
+/// `[w0, w1, c]` of 4 pieces from their halves paired as [`spread3`] pairs them.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn gather3(m0: __m256d, m1: __m256d, m2: __m256d) -> [__m256d; 3] {
     [
-        _mm256_permute4x64_pd::<0b01_10_11_00>(w0),
-        _mm256_permute_pd::<0b0101>(w1),
-        _mm256_permute4x64_pd::<0b11_00_01_10>(cc),
+        _mm256_blend_pd::<0b1010>(m0, m1),
+        _mm256_shuffle_pd::<0b0101>(m0, m2),
+        _mm256_blend_pd::<0b1010>(m1, m2),
     ]
 }
 
@@ -70,11 +79,7 @@ unsafe fn load_spread3(w: *const f64) -> [__m256d; 3] {
             _mm256_loadu2_m128d(w.add(10), w.add(4)), // w1b cb  | w1d cd
         )
     };
-    [
-        _mm256_blend_pd::<0b1010>(m0, m1),
-        _mm256_shuffle_pd::<0b0101>(m0, m2),
-        _mm256_blend_pd::<0b1010>(m1, m2),
-    ]
+    gather3(m0, m1, m2)
 }
 
 /// `x < 0 ? neg : pos`, lane by lane (NaN takes `pos`, as `<` is false).
