@@ -174,17 +174,28 @@ fn extremes2_from<const FROM: u8>(
         _mm256_set1_pd(f64::INFINITY),
         _mm256_set1_pd(f64::NEG_INFINITY),
     );
-    for g in 0..groups {
-        // SAFETY: group g < groups is whole in the bounds and in `weights`.
-        let (lo, hi) = unsafe {
-            lo_hi::<FROM>(
-                group_bounds::<FROM>(ints, corners, g),
-                weights.as_ptr().add(12 * g),
-            )
-        };
-        // `lo < mn ? lo : mn`, `hi > mx ? hi : mx`.
-        mn = _mm256_min_pd(lo, mn);
-        mx = _mm256_max_pd(hi, mx);
+    macro_rules! group {
+        ($g:expr) => {{
+            let g = $g;
+            // SAFETY: group g < groups is whole in the bounds and in `weights`.
+            let (lo, hi) = unsafe {
+                lo_hi::<FROM>(
+                    group_bounds::<FROM>(ints, corners, g),
+                    weights.as_ptr().add(12 * g),
+                )
+            };
+            // `lo < mn ? lo : mn`, `hi > mx ? hi : mx`.
+            mn = _mm256_min_pd(lo, mn);
+            mx = _mm256_max_pd(hi, mx);
+        }};
+    }
+    // Two groups a step (half the loop's own instructions), in order.
+    for p in 0..groups / 2 {
+        group!(2 * p);
+        group!(2 * p + 1);
+    }
+    if groups % 2 == 1 {
+        group!(groups - 1);
     }
     let lo = first_best(mn, |a, b| a < b);
     let hi = first_best(mx, |a, b| a > b);
@@ -377,43 +388,54 @@ fn weigh2_body<const SWAP: bool, const NORM: bool, const FROM: u8>(
     let scale = _mm256_set1_pd(scale);
     // The terms added up: NaN if and only if one is (they are sums of magnitudes).
     let (mut most, mut sum) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-    for g in 0..groups {
-        let mut v = [_mm256_setzero_pd(); 3];
-        for (k, v) in v.iter_mut().enumerate() {
-            // SAFETY: group g < groups reads src[12g..12g+12].
-            *v = unsafe { _mm256_loadu_pd(src.as_ptr().add(12 * g + 4 * k)) };
-            *v = match NORM {
-                true => _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(*v, shifts[k]), scale), pwt),
-                false => _mm256_mul_pd(*v, pwt),
-            };
-        }
-        // The function's order; the problem's is the other way round with `SWAP`.
-        let [s0, s1, c] = spread3(v[0], v[1], v[2]);
-        let (w0, w1) = if SWAP { (s1, s0) } else { (s0, s1) };
-        if SWAP {
-            v = swap_slopes(v);
-        }
-        for (k, v) in v.iter().enumerate() {
-            // SAFETY: group g < groups writes weights[12g..12g+12].
-            unsafe { _mm256_storeu_pd(weights.as_mut_ptr().add(12 * g + 4 * k), *v) };
-        }
-        let t = _mm256_andnot_pd(sign, c);
-        let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w0), k0));
-        let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w1), k1));
-        most = _mm256_max_pd(t, most);
-        sum = _mm256_add_pd(sum, t);
-        if FROM > 0 {
-            // SAFETY: group g < groups reads its bounds, writes ub[4g..4g+4].
-            let [l0, h0, l1, h1] = unsafe {
-                match FROM {
-                    1 => group_bounds::<0>(ints, &[], g),
-                    _ => group_bounds::<1>(&[], corners, g),
-                }
-            };
-            let top = _mm256_add_pd(c, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
-            let top = _mm256_add_pd(top, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
-            unsafe { _mm256_storeu_pd(ub.as_mut_ptr().add(4 * g), top) };
-        }
+    macro_rules! group {
+        ($g:expr) => {{
+            let g = $g;
+            let mut v = [_mm256_setzero_pd(); 3];
+            for (k, v) in v.iter_mut().enumerate() {
+                // SAFETY: group g < groups reads src[12g..12g+12].
+                *v = unsafe { _mm256_loadu_pd(src.as_ptr().add(12 * g + 4 * k)) };
+                *v = match NORM {
+                    true => _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(*v, shifts[k]), scale), pwt),
+                    false => _mm256_mul_pd(*v, pwt),
+                };
+            }
+            // The function's order; the problem's is the other way round with `SWAP`.
+            let [s0, s1, c] = spread3(v[0], v[1], v[2]);
+            let (w0, w1) = if SWAP { (s1, s0) } else { (s0, s1) };
+            if SWAP {
+                v = swap_slopes(v);
+            }
+            for (k, v) in v.iter().enumerate() {
+                // SAFETY: group g < groups writes weights[12g..12g+12].
+                unsafe { _mm256_storeu_pd(weights.as_mut_ptr().add(12 * g + 4 * k), *v) };
+            }
+            let t = _mm256_andnot_pd(sign, c);
+            let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w0), k0));
+            let t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_andnot_pd(sign, w1), k1));
+            most = _mm256_max_pd(t, most);
+            sum = _mm256_add_pd(sum, t);
+            if FROM > 0 {
+                // SAFETY: group g < groups reads its bounds, writes ub[4g..4g+4].
+                let [l0, h0, l1, h1] = unsafe {
+                    match FROM {
+                        1 => group_bounds::<0>(ints, &[], g),
+                        _ => group_bounds::<1>(&[], corners, g),
+                    }
+                };
+                let top = _mm256_add_pd(c, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
+                let top = _mm256_add_pd(top, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
+                unsafe { _mm256_storeu_pd(ub.as_mut_ptr().add(4 * g), top) };
+            }
+        }};
+    }
+    // Two groups a step (half the loop's own instructions), in order.
+    for p in 0..groups / 2 {
+        group!(2 * p);
+        group!(2 * p + 1);
+    }
+    if groups % 2 == 1 {
+        group!(groups - 1);
     }
     let nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(sum, sum);
     let mut x = [0.0f64; 4];
