@@ -153,7 +153,6 @@ impl Helm {
             outbox: Vec::new(),
             outbox_taken: false,
             last_posted: Default::default(),
-            last_posted_num: Vec::new(),
             statevars: Vec::new(),
             completed_pending_last: None,
             // The reference posts the count only when it changes from its start value 0.
@@ -357,7 +356,6 @@ impl Helm {
         self.bhv_cnt_ever += self.behaviors.len();
         self.filter.clear();
         self.last_posted.clear();
-        self.last_posted_num.clear();
         self.summary_last.clear();
         self.deferred_done = false;
         self.start_time = now;

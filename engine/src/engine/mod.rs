@@ -91,10 +91,7 @@ pub struct Helm {
     /// The outbox was handed out: the next posting starts a new batch.
     pub(crate) outbox_taken: bool,
     /// Last values of the helm's "on change" postings.
-    pub(crate) last_posted: BTreeMap<&'static str, String>,
-    /// The bits of the number whose text `last_posted` holds, per variable posted by
-    /// number: the same bits write the same text, so a repeat is known unformatted.
-    pub(crate) last_posted_num: Vec<(&'static str, u64)>,
+    pub(crate) last_posted: BTreeMap<&'static str, LastPosted>,
     pub(crate) statevars: Vec<String>,
     pub(crate) bhv_cnt_ever: usize,
     pub(crate) completed_pending_last: Option<bool>,
@@ -143,6 +140,15 @@ pub struct Helm {
     pub(crate) report_var: String,
     /// The solver's list of this iteration's functions, kept for its allocation.
     pub(crate) function_refs: Vec<ivp_solver::FunctionView<'static>>,
+}
+
+/// What an "on change" posting last posted under its variable: the text, and the bits
+/// of the number it was written from (`None`: a text was posted). The same bits write
+/// the same text, so a repeated number is known without formatting it.
+#[derive(Debug, Default)]
+pub(crate) struct LastPosted {
+    pub(crate) text: String,
+    pub(crate) bits: Option<u64>,
 }
 
 impl Helm {
@@ -231,12 +237,9 @@ impl Helm {
             crate::posting::Value::Num(v) => Some(v.to_bits()),
             crate::posting::Value::Str(_) => None,
         };
-        let known = self.last_posted_num.iter().position(|(v, _)| *v == var);
-        if let (Some(b), Some(k)) = (bits, known) {
-            // Kept in step with `last_posted` (cleared with it on restart).
-            if self.last_posted_num[k].1 == b {
-                return;
-            }
+        let last = self.last_posted.get(var);
+        if bits.is_some() && last.is_some_and(|l| l.bits == bits) {
+            return;
         }
         let mut text = self.pool.take_for(match &value {
             crate::posting::Value::Str(s) => s.len(),
@@ -248,21 +251,21 @@ impl Helm {
                 let _ = write!(text, "{v}");
             }
         }
-        if self.last_posted.get(var) == Some(&text) {
-            self.pool.give(text);
-            crate::posting::give_value(&mut self.pool, value);
-            return;
-        }
-        if let Some(old) = self.last_posted.insert(var, text) {
-            self.pool.give(old);
-        }
-        match (bits, known) {
-            (Some(b), Some(k)) => self.last_posted_num[k].1 = b,
-            (Some(b), None) => self.last_posted_num.push((var, b)),
-            (None, Some(k)) => {
-                self.last_posted_num.swap_remove(k);
+        match self.last_posted.get_mut(var) {
+            Some(last) if last.text == text => {
+                last.bits = bits;
+                self.pool.give(text);
+                crate::posting::give_value(&mut self.pool, value);
+                return;
             }
-            (None, None) => {}
+            Some(last) => {
+                let old = std::mem::replace(&mut last.text, text);
+                last.bits = bits;
+                self.pool.give(old);
+            }
+            None => {
+                self.last_posted.insert(var, LastPosted { text, bits });
+            }
         }
         self.post(var, value, "");
     }

@@ -237,14 +237,18 @@ impl Helm {
                 names.push_str(&b.core.name);
                 n += 1;
             }
-            let last = self.last_posted.get(var).map_or("", String::as_str);
+            let last = self.last_posted.get(var).map_or("", |l| l.text.as_str());
             if names == last {
                 self.pool.give(names);
                 continue;
             }
             self.post_str(var, &names);
-            if let Some(old) = self.last_posted.insert(var, names) {
-                self.pool.give(old);
+            let posted = super::LastPosted {
+                text: names,
+                bits: None,
+            };
+            if let Some(old) = self.last_posted.insert(var, posted) {
+                self.pool.give(old.text);
             }
             self.post_num(cnt_var, n as f64);
         }
