@@ -278,17 +278,17 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     match dim {
         1 => {
             let i = [interval_cache(&mut intervals[0])];
-            pieces_n::<1, 2, 2>(b, w, &mut text, &mut out, i, slopes)
+            text = pieces_n::<1, 2, 2>(b, w, text, &mut out, i, slopes);
         }
         2 => {
             let [i0, i1, _] = intervals;
             let i = [interval_cache(i0), interval_cache(i1)];
-            pieces_n::<2, 4, 3>(b, w, &mut text, &mut out, i, slopes)
+            text = pieces_n::<2, 4, 3>(b, w, text, &mut out, i, slopes);
         }
         3 => {
             let [i0, i1, i2] = intervals;
             let i = [interval_cache(i0), interval_cache(i1), interval_cache(i2)];
-            pieces_n::<3, 6, 4>(b, w, &mut text, &mut out, i, slopes)
+            text = pieces_n::<3, 6, 4>(b, w, text, &mut out, i, slopes);
         }
         _ => {
             for (bounds, weights) in b.chunks_exact(2 * dim).zip(w.chunks_exact(dim + 1)) {
@@ -465,14 +465,22 @@ impl<'b> PieceText<'b> {
     }
 
     /// `,` and a slope, copied from `cache` when it holds its bits (weights as
-    /// [`PieceText::weight_or_slow`] writes them; a fast-path text is kept). Whether
-    /// it was found; `None` for ±0, written directly (as cheap as a copy).
+    /// [`PieceText::weight_or_slow`] writes them; a fast-path text is kept). The ±0
+    /// (written directly: as cheap as a copy, not looked up) and the misses counted
+    /// into `zeros` and `missed`.
     #[inline(always)]
-    fn slope(&mut self, w: f64, cache: &mut SlopeCache, out: &mut Utf8Out<'_>) -> Option<bool> {
+    fn slope(
+        &mut self,
+        w: f64,
+        cache: &mut SlopeCache,
+        out: &mut Utf8Out<'_>,
+        (zeros, missed): (&mut usize, &mut usize),
+    ) {
         let bits = w.to_bits();
         if bits << 1 == 0 {
             self.weight(w);
-            return None;
+            *zeros += 1;
+            return;
         }
         let slot = SlopeCache::slot(bits);
         let kept = &cache.slots[slot];
@@ -483,10 +491,10 @@ impl<'b> PieceText<'b> {
             self.len = start + 8;
             self.put8(b);
             self.len = start + kept.len as usize;
-            return Some(true);
+            return;
         }
         self.new_slope(w, cache, slot, out);
-        Some(false)
+        *missed += 1;
     }
 
     /// [`PieceText::slope`] for bits not in the cache: written, and kept if it took
@@ -646,6 +654,9 @@ impl<'b> PieceText<'b> {
         // frac / 100 for frac < 43699, and the rest.
         let hi = (frac * 5243) >> 19;
         let (hi, lo) = (hi as usize, (frac - hi * 100) as usize);
+        // SAFETY: `hi` is `frac / 100` exactly (frac < 10000), so `lo` is `frac % 100`,
+        // below 100; the compiler cannot see it and would check the index.
+        unsafe { std::hint::assert_unchecked(lo < 100) };
         let text = u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24);
         self.put8(text);
         // Trailing zeros dropped: with the digits as values (`.` stays nonzero), the

@@ -4,16 +4,18 @@
 use super::{PieceText, Utf8Out};
 use crate::intervals::{IntervalCache, SlopeCache};
 
-/// The pieces of `D` dimensions (`B` = 2·D bounds and `W` = D + 1 weights each).
-#[inline(always)]
-pub(crate) fn pieces_n<const D: usize, const B: usize, const W: usize>(
+/// The pieces of `D` dimensions (`B` = 2·D bounds and `W` = D + 1 weights each),
+/// into `text` (taken and given back by value, and the loop out of line: its length
+/// and pointers then stay in registers through the loop).
+#[inline(never)]
+pub(crate) fn pieces_n<'b, const D: usize, const B: usize, const W: usize>(
     bounds: &[i32],
     weights: &[f64],
-    text: &mut PieceText,
+    mut text: PieceText<'b>,
     out: &mut Utf8Out<'_>,
-    intervals: [&mut IntervalCache; D],
+    mut intervals: [&mut IntervalCache; D],
     slopes: &mut [SlopeCache; 3],
-) {
+) -> PieceText<'b> {
     debug_assert!(B == 2 * D && W == D + 1);
     let (bounds, _) = bounds.as_chunks::<B>();
     let (weights, _) = weights.as_chunks::<W>();
@@ -21,27 +23,50 @@ pub(crate) fn pieces_n<const D: usize, const B: usize, const W: usize>(
     // do (a contact function's), filling it costs more than it saves. Once PROBE
     // nonzero slopes were looked up, it stays in use only while at least a third of
     // them were found (checked every PROBE pieces). The text is the same either way.
-    const PROBE: u32 = 32;
-    let (mut found, mut missed, mut cached) = (0u32, 0u32, true);
-    for (i, (b, w)) in bounds.iter().zip(weights).enumerate() {
-        if cached && i % PROBE as usize == 0 && found + missed >= PROBE {
-            cached = 2 * found >= missed;
+    // The pieces go by PROBE at a time, so a piece tests no flag or count: the slopes
+    // of ±0 and the misses are counted on their own (rarer) paths, the hits follow.
+    const PROBE: usize = 32;
+    let (mut zeros, mut missed) = (0usize, 0usize);
+    let mut done = 0;
+    for (bs, ws) in bounds.chunks(PROBE).zip(weights.chunks(PROBE)) {
+        let looked = D * done - zeros;
+        if looked >= PROBE && 2 * (looked - missed) < missed {
+            break;
         }
-        text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
-        for d in 0..D {
-            text.interval(b[2 * d], b[2 * d + 1], intervals[d]);
-        }
-        for d in 0..D {
-            if !cached {
-                text.weight_or_slow(w[d], out);
-            } else if let Some(hit) = text.slope(w[d], &mut slopes[d], out) {
-                (found, missed) = if hit {
-                    (found + 1, missed)
-                } else {
-                    (found, missed + 1)
-                };
+        for (b, w) in bs.iter().zip(ws) {
+            text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
+            piece_intervals::<D, B>(b, &mut text, &mut intervals);
+            // Unrolled by hand (`D` is a constant).
+            text.slope(w[0], &mut slopes[0], out, (&mut zeros, &mut missed));
+            if D >= 2 {
+                text.slope(w[1], &mut slopes[1], out, (&mut zeros, &mut missed));
             }
+            if D >= 3 {
+                text.slope(w[2], &mut slopes[2], out, (&mut zeros, &mut missed));
+            }
+            text.weight_or_slow(w[D], out);
         }
-        text.weight_or_slow(w[D], out);
+        done += bs.len();
+    }
+    // Without the cache from here on.
+    for (b, w) in bounds[done..].iter().zip(&weights[done..]) {
+        text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
+        piece_intervals::<D, B>(b, &mut text, &mut intervals);
+        for &w in w {
+            text.weight_or_slow(w, out);
+        }
+    }
+    text
+}
+
+/// A piece's `D` intervals (`,lo,hi` each).
+#[inline(always)]
+fn piece_intervals<const D: usize, const B: usize>(
+    b: &[i32; B],
+    text: &mut PieceText,
+    intervals: &mut [&mut IntervalCache; D],
+) {
+    for d in 0..D {
+        text.interval(b[2 * d], b[2 * d + 1], intervals[d]);
     }
 }

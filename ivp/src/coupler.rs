@@ -437,6 +437,49 @@ mod tests {
         }
     }
 
+    /// Couplings whose range is not positive (flat: every value the same) or not a
+    /// number (a NaN weight) are left as `normalize` leaves them, bit for bit, as are
+    /// ones with signed zeros everywhere.
+    #[test]
+    fn paired_lines_left_unnormalized_as_normalize_leaves_them() {
+        let line = |var: &str, pieces: &[(i32, i32, f64, f64)]| {
+            let top = pieces.last().map_or(0, |p| p.1);
+            let d = Domain::parse(&format!("{var}:0:{top}:{}", top + 1)).unwrap();
+            let spec: Vec<_> = pieces
+                .iter()
+                .map(|&(lo, hi, s, c)| (vec![(lo, hi)], vec![s, c]))
+                .collect();
+            IvpFunction::from_pieces(d, &spec).unwrap()
+        };
+        let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let cases = [
+            (vec![(0, 9, 0.0, 5.0)], vec![(0, 4, 0.0, 5.0)]),
+            (
+                vec![(0, 3, -0.0, -0.0), (4, 9, 0.0, 0.0)],
+                vec![(0, 4, -0.0, -0.0)],
+            ),
+            (
+                vec![(0, 3, 1.0, f64::NAN), (4, 9, 0.0, 2.0)],
+                vec![(0, 4, 0.5, 1.0)],
+            ),
+            (
+                vec![(0, 9, 0.0, 1.0)],
+                vec![(0, 2, f64::NAN, 0.0), (3, 4, 1.0, 0.0)],
+            ),
+            (vec![(0, 9, 2.0, -0.0)], vec![(0, 4, -0.0, 0.0)]),
+        ];
+        for (k, (a, b)) in cases.iter().enumerate() {
+            let (a, b) = (line("course", a), line("speed", b));
+            for (w1, w2) in [(50.0, 50.0), (1.0, 99.0)] {
+                let mut want = try_couple(a.clone(), b.clone(), w1, w2, false).unwrap();
+                want.normalize(0.0, 100.0);
+                let got = try_couple(a.clone(), b.clone(), w1, w2, true).unwrap();
+                assert_eq!(got.bounds(), want.bounds(), "case {k}");
+                assert_eq!(bits(got.weights()), bits(want.weights()), "case {k}");
+            }
+        }
+    }
+
     /// One normalized f2, lent to many couplings, gives each what coupling a fresh f2
     /// gives, bit for bit, and is left as it was.
     #[test]

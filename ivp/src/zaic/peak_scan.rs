@@ -54,6 +54,23 @@ pub(crate) fn pieces(
     maxval: bool,
     out: &mut Pieces1,
 ) -> Option<()> {
+    // With `wrap` a constant in each copy, a sample's distance tests no flag.
+    if grid.wrap {
+        pieces_of::<true>(comps, grid, maxval, out)
+    } else {
+        pieces_of::<false>(comps, grid, maxval, out)
+    }
+}
+
+/// [`pieces`] on a grid whose `wrap` is `W`.
+#[inline(always)]
+fn pieces_of<const W: bool>(
+    comps: &[Component],
+    grid: Grid,
+    maxval: bool,
+    out: &mut Pieces1,
+) -> Option<()> {
+    debug_assert_eq!(grid.wrap, W);
     let n = grid.points;
     if n < MIN_POINTS || comps.is_empty() || comps.len() > MAX_COMPS {
         return None;
@@ -86,39 +103,36 @@ pub(crate) fn pieces(
     match comps {
         [ca] => {
             let a = Peak::of(ca);
-            if insists(&a, ca, &grid) {
+            if insists::<W>(&a, ca, &grid) {
                 return None;
             }
-            scan(n, kinks, |i| a.value(i, &grid), |i| a.flat(i, &grid), out)
+            let (value, flat) = (|i| a.value::<W>(i, &grid), |i| a.flat::<W>(i, &grid));
+            scan(n, kinks, value, flat, out)
         }
         [ca, cb] => {
             let (a, b) = (Peak::of(ca), Peak::of(cb));
-            if insists(&a, ca, &grid) || insists(&b, cb, &grid) {
+            if insists::<W>(&a, ca, &grid) || insists::<W>(&b, cb, &grid) {
                 return None;
             }
-            let value = |i| a.value(i, &grid) + b.value(i, &grid);
-            scan(
-                n,
-                kinks,
-                value,
-                |i| a.flat(i, &grid) && b.flat(i, &grid),
-                out,
-            )
+            let value = |i| a.value::<W>(i, &grid) + b.value::<W>(i, &grid);
+            let flat = |i| a.flat::<W>(i, &grid) && b.flat::<W>(i, &grid);
+            scan(n, kinks, value, flat, out)
         }
         _ => {
             let mut peaks = [Peak::of(&comps[0]); MAX_COMPS];
             for (p, c) in peaks.iter_mut().zip(comps) {
                 *p = Peak::of(c);
-                if insists(p, c, &grid) {
+                if insists::<W>(p, c, &grid) {
                     return None;
                 }
             }
             let (first, rest) = (peaks[0], &peaks[1..comps.len()]);
             let value = |i| {
-                rest.iter()
-                    .fold(first.value(i, &grid), |t, p| t + p.value(i, &grid))
+                rest.iter().fold(first.value::<W>(i, &grid), |t, p| {
+                    t + p.value::<W>(i, &grid)
+                })
             };
-            let flat = |i| first.flat(i, &grid) && rest.iter().all(|p| p.flat(i, &grid));
+            let flat = |i| first.flat::<W>(i, &grid) && rest.iter().all(|p| p.flat::<W>(i, &grid));
             scan(n, kinks, value, flat, out)
         }
     }
@@ -128,9 +142,9 @@ pub(crate) fn pieces(
 /// The summit-insist rule rewrites a component whose every sample is `minutil`: its
 /// sample nearest the summit then is `minutil` too, so that case samples everything.
 #[inline(always)]
-fn insists(p: &Peak, c: &Component, g: &Grid) -> bool {
+fn insists<const W: bool>(p: &Peak, c: &Component, g: &Grid) -> bool {
     let near = ((c.summit - g.low) / g.delta).round();
-    p.value(near.clamp(0.0, (g.points - 1) as f64) as usize, g) == c.minutil
+    p.value::<W>(near.clamp(0.0, (g.points - 1) as f64) as usize, g) == c.minutil
 }
 
 /// Sample index `i` as a float: the sampler's `f64::from(i as u32)` (grids are
@@ -158,29 +172,32 @@ impl Peak {
 
     /// Its sample `i`: the sampler's arithmetic.
     #[inline(always)]
-    fn value(&self, i: usize, g: &Grid) -> f64 {
+    fn value<const W: bool>(&self, i: usize, g: &Grid) -> f64 {
         let x = fl(i) * g.delta + g.low;
-        self.shape.utility(dist_to(self.summit, x, g))
+        self.shape.utility(dist_to::<W>(self.summit, x, g))
     }
 
     /// Constant on the stretch that holds sample `i` (off any kink)?
     #[inline(always)]
-    fn flat(&self, i: usize, g: &Grid) -> bool {
+    fn flat<const W: bool>(&self, i: usize, g: &Grid) -> bool {
         let x = fl(i) * g.delta + g.low;
-        let (d, s) = (dist_to(self.summit, x, g), &self.shape);
+        let (d, s) = (dist_to::<W>(self.summit, x, g), &self.shape);
         d > s.reach || (d <= s.pwidth && s.sd <= 0.0)
     }
 }
 
-/// [`dist_of`] on the grid: the sampler's own expression (so the same value), whose
-/// selects the compiler may keep free of branches (the side of the summit is data).
+/// [`dist_of`] on the grid (whose `wrap` is `W`): the sampler's own expression (so
+/// the same value), whose selects the compiler may keep free of branches (the side of
+/// the summit is data).
 #[inline(always)]
-fn dist_to(summit: f64, x: f64, g: &Grid) -> f64 {
-    dist_of(summit, x, g.wrap, g.low, g.high, g.delta)
+fn dist_to<const W: bool>(summit: f64, x: f64, g: &Grid) -> f64 {
+    dist_of(summit, x, W, g.low, g.high, g.delta)
 }
 
 /// The components' kinks in grid steps from `low`, sorted, into `kinks`; their count,
-/// `None` if one is not finite.
+/// `None` if one is not finite. Inlined (in both copies of `pieces_of`): it runs once
+/// per build, and out of line its call cost more than the copy.
+#[inline(always)]
 fn find_kinks(comps: &[Component], grid: &Grid, kinks: &mut [f64]) -> Option<usize> {
     let (low, delta, n) = (grid.low, grid.delta, grid.points);
     let mut nk = 0;
@@ -288,12 +305,13 @@ fn scan(
                 let j = if t >= fl(n) {
                     n - 2
                 } else {
-                    let c = t as usize;
+                    // `1 < t < n`: through i64, one conversion (`as usize` takes two).
+                    let c = t as i64 as usize;
                     let c = if fl(c) < t { c + 1 } else { c };
                     c.saturating_sub(1).min(n - 2)
                 };
                 if j > i {
-                    if let Some(vj) = on_line(j, value(j), (f1, v1, m, b), &flat) {
+                    if let Some(vj) = on_line(j, value(j), f1, v1, (m, b), &flat) {
                         // The jump's last sample is the next one's predecessor.
                         vp = vj;
                         i = j + 1;
@@ -343,7 +361,9 @@ fn scan(
 fn on_line(
     j: usize,
     vj: f64,
-    (f1, v1, m, b): (usize, f64, f64, f64),
+    f1: usize,
+    v1: f64,
+    (m, b): (f64, f64),
     flat: impl Fn(usize) -> bool,
 ) -> Option<f64> {
     // Along a straight stretch the gap is affine in the index, about 0 at `f1`, so if
