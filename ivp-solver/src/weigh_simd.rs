@@ -93,11 +93,22 @@ fn by_sign(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
     )
 }
 
+/// [`by_sign`] by `x`'s sign bit (one blend, no comparison): it differs only where
+/// `x` is -0.0 or a NaN with its sign set, and then `x` times either corner is the
+/// same when both are zero or more (a zero of `x`'s sign, or `x`'s NaN), as the
+/// corners are (see [`corners2`]): only for `x · by_sign(..)` of such corners.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn by_sign_bit(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
+    _mm256_blendv_pd(pos, neg, x)
+}
+
 /// The boxes of the whole groups of four 2-D pieces `boxes` (`[lo0, hi0, lo1, hi1]`
 /// each) as `f64`s, per group `[lo0; 4]`, `[hi0; 4]`, `[lo1; 4]`, `[hi1; 4]` (the
 /// lanes [`bounds4`] makes), into `out`: the boxes of a tiling stay from one solve to
 /// the next, so the passes read them so instead of spreading and converting them each
-/// time.
+/// time. The boxes are a checked function's (`0 <= lo <= hi`), which the passes
+/// reading the corners rely on (see [`lo_hi`], [`by_sign_bit`]).
 #[target_feature(enable = "avx2")]
 pub(crate) fn corners2(boxes: &[i32], out: &mut Vec<f64>) {
     let groups = boxes.len() / 16;
@@ -423,8 +434,13 @@ fn weigh2_body<const SWAP: bool, const NORM: bool, const FROM: u8>(
                         _ => group_bounds::<1>(&[], corners, g),
                     }
                 };
-                let top = _mm256_add_pd(c, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
-                let top = _mm256_add_pd(top, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
+                // The corners' bounds are zero or more: chosen by the sign bit.
+                let (x0, x1) = match FROM {
+                    1 => (by_sign(w0, l0, h0), by_sign(w1, l1, h1)),
+                    _ => (by_sign_bit(w0, l0, h0), by_sign_bit(w1, l1, h1)),
+                };
+                let top = _mm256_add_pd(c, _mm256_mul_pd(w0, x0));
+                let top = _mm256_add_pd(top, _mm256_mul_pd(w1, x1));
                 unsafe { _mm256_storeu_pd(ub.as_mut_ptr().add(4 * g), top) };
             }
         }};
