@@ -8,7 +8,8 @@
 //! first, the last NaN) is tracked or left to the caller, as each function says.
 //!
 //! Only the whole groups of four are done here; the caller finishes the rest with its
-//! scalar loop, starting from the values returned.
+//! scalar loop, starting from the values returned. The boxes are always a checked
+//! function's (`0 <= lo <= hi`, see [`by_sign`]).
 
 use std::arch::x86_64::*;
 
@@ -82,24 +83,14 @@ unsafe fn load_spread3(w: *const f64) -> [__m256d; 3] {
     gather3(m0, m1, m2)
 }
 
-/// `x < 0 ? neg : pos`, lane by lane (NaN takes `pos`, as `<` is false).
+/// `x < 0 ? neg : pos`, lane by lane, for the two corners `neg`, `pos` of a checked
+/// function's box (zero or more), chosen by `x`'s sign bit (one blend, no
+/// comparison): that differs from `x < 0` only where `x` is -0.0 or a NaN with its
+/// sign set, and then `x` times either corner has the same bits (a zero of `x`'s
+/// sign, `x`'s NaN). Only for `x · by_sign(x, ..)` of such corners, then.
 #[target_feature(enable = "avx2")]
 #[inline]
 fn by_sign(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
-    _mm256_blendv_pd(
-        pos,
-        neg,
-        _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_setzero_pd()),
-    )
-}
-
-/// [`by_sign`] by `x`'s sign bit (one blend, no comparison): it differs only where
-/// `x` is -0.0 or a NaN with its sign set, and then `x` times either corner is the
-/// same when both are zero or more (a zero of `x`'s sign, or `x`'s NaN), as the
-/// corners are (see [`corners2`]): only for `x · by_sign(..)` of such corners.
-#[target_feature(enable = "avx2")]
-#[inline]
-fn by_sign_bit(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
     _mm256_blendv_pd(pos, neg, x)
 }
 
@@ -108,7 +99,7 @@ fn by_sign_bit(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
 /// lanes [`bounds4`] makes), into `out`: the boxes of a tiling stay from one solve to
 /// the next, so the passes read them so instead of spreading and converting them each
 /// time. The boxes are a checked function's (`0 <= lo <= hi`), which the passes
-/// reading the corners rely on (see [`lo_hi`], [`by_sign_bit`]).
+/// reading the corners rely on (see [`lo_hi`], [`by_sign`]).
 #[target_feature(enable = "avx2")]
 pub(crate) fn corners2(boxes: &[i32], out: &mut Vec<f64>) {
     let groups = boxes.len() / 16;
@@ -434,13 +425,8 @@ fn weigh2_body<const SWAP: bool, const NORM: bool, const FROM: u8>(
                         _ => group_bounds::<1>(&[], corners, g),
                     }
                 };
-                // The corners' bounds are zero or more: chosen by the sign bit.
-                let (x0, x1) = match FROM {
-                    1 => (by_sign(w0, l0, h0), by_sign(w1, l1, h1)),
-                    _ => (by_sign_bit(w0, l0, h0), by_sign_bit(w1, l1, h1)),
-                };
-                let top = _mm256_add_pd(c, _mm256_mul_pd(w0, x0));
-                let top = _mm256_add_pd(top, _mm256_mul_pd(w1, x1));
+                let top = _mm256_add_pd(c, _mm256_mul_pd(w0, by_sign(w0, l0, h0)));
+                let top = _mm256_add_pd(top, _mm256_mul_pd(w1, by_sign(w1, l1, h1)));
                 unsafe { _mm256_storeu_pd(ub.as_mut_ptr().add(4 * g), top) };
             }
         }};
