@@ -394,28 +394,73 @@ fn translate_any(out: &mut [i32], fb: &[i32], map: &[usize], pts: &[i32]) {
 /// one if greater); an empty cell is `NO_BOUND`, not filled.
 fn cell_bounds(p: &mut Prepared, total: usize) {
     let (start, items, piece_ub) = (&p.cell_start[..=total], &p.cell_items, &p.piece_ub);
+    p.cell_ub.clear();
+    p.cell_ub.resize(total, NO_BOUND);
+    p.cell_filled.clear();
+    p.cell_filled.resize(total, false);
+    let out = (&mut p.cell_ub[..], &mut p.cell_filled[..]);
+    // Whether every piece the lists name has a `maxVal`: checked once over the lists
+    // (a vectorized max), not at every item of every list (a tiling's thousands).
+    let sure = items.is_empty() || (max_item(items) as usize) < piece_ub.len();
+    if sure {
+        fill_cells::<true>(start, items, piece_ub, out);
+    } else {
+        fill_cells::<false>(start, items, piece_ub, out);
+    }
+}
+
+/// The largest of `items` (0 for none), eight a step with AVX2 when the CPU has it.
+fn max_item(items: &[u32]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2.
+        return unsafe { max_item_avx2(items) };
+    }
+    items.iter().fold(0, |m, &k| m.max(k))
+}
+
+/// [`max_item`] compiled for AVX2 (the fold vectorized with `vpmaxud`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn max_item_avx2(items: &[u32]) -> u32 {
+    items.iter().fold(0, |m, &k| m.max(k))
+}
+
+/// [`cell_bounds`] into `ub` and `filled` (sized, `NO_BOUND` and not filled);
+/// `SURE`: every item of `items` is below `piece_ub.len()`.
+#[inline(always)]
+fn fill_cells<const SURE: bool>(
+    start: &[u32],
+    items: &[u32],
+    piece_ub: &[f64],
+    (ub, filled): (&mut [f64], &mut [bool]),
+) {
+    let at = |k: u32| {
+        if SURE {
+            // SAFETY: with `SURE` the caller found every item below `piece_ub.len()`.
+            unsafe { *piece_ub.get_unchecked(k as usize) }
+        } else {
+            piece_ub[k as usize]
+        }
+    };
     // The lists lie one after the other in `items` (`start` their prefix sums): each
     // split off the front of what remains, no index checks per cell.
     let mut rest = &items[start[0] as usize..];
-    let bound = |w: &[u32]| {
+    for (w, (ub, filled)) in start.windows(2).zip(ub.iter_mut().zip(filled)) {
         let (list, tail) = rest.split_at(w[1].saturating_sub(w[0]) as usize);
         rest = tail;
         let Some((&k0, list)) = list.split_first() else {
-            return NO_BOUND;
+            continue;
         };
-        let mut ub = piece_ub[k0 as usize];
+        let mut top = at(k0);
         for &k in list {
-            let v = piece_ub[k as usize];
-            if v > ub {
-                ub = v;
+            let v = at(k);
+            if v > top {
+                top = v;
             }
         }
-        ub
-    };
-    p.cell_ub.clear();
-    p.cell_ub.extend(start.windows(2).map(bound));
-    p.cell_filled.clear();
-    p.cell_filled.extend(start.windows(2).map(|w| w[1] > w[0]));
+        (*ub, *filled) = (top, true);
+    }
 }
 
 /// Cell lists of a multi-cell grid: every cell's pieces in array order.

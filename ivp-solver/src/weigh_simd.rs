@@ -8,7 +8,8 @@
 //! first, the last NaN) is tracked or left to the caller, as each function says.
 //!
 //! Only the whole groups of four are done here; the caller finishes the rest with its
-//! scalar loop, starting from the values returned.
+//! scalar loop, starting from the values returned. The boxes are always a checked
+//! function's (`0 <= lo <= hi`, see [`by_sign`]).
 
 use std::arch::x86_64::*;
 
@@ -82,22 +83,23 @@ unsafe fn load_spread3(w: *const f64) -> [__m256d; 3] {
     gather3(m0, m1, m2)
 }
 
-/// `x < 0 ? neg : pos`, lane by lane (NaN takes `pos`, as `<` is false).
+/// `x < 0 ? neg : pos`, lane by lane, for the two corners `neg`, `pos` of a checked
+/// function's box (zero or more), chosen by `x`'s sign bit (one blend, no
+/// comparison): that differs from `x < 0` only where `x` is -0.0 or a NaN with its
+/// sign set, and then `x` times either corner has the same bits (a zero of `x`'s
+/// sign, `x`'s NaN). Only for `x · by_sign(x, ..)` of such corners, then.
 #[target_feature(enable = "avx2")]
 #[inline]
 fn by_sign(x: __m256d, neg: __m256d, pos: __m256d) -> __m256d {
-    _mm256_blendv_pd(
-        pos,
-        neg,
-        _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_setzero_pd()),
-    )
+    _mm256_blendv_pd(pos, neg, x)
 }
 
 /// The boxes of the whole groups of four 2-D pieces `boxes` (`[lo0, hi0, lo1, hi1]`
 /// each) as `f64`s, per group `[lo0; 4]`, `[hi0; 4]`, `[lo1; 4]`, `[hi1; 4]` (the
 /// lanes [`bounds4`] makes), into `out`: the boxes of a tiling stay from one solve to
 /// the next, so the passes read them so instead of spreading and converting them each
-/// time.
+/// time. The boxes are a checked function's (`0 <= lo <= hi`), which the passes
+/// reading the corners rely on (see [`lo_hi`], [`by_sign`]).
 #[target_feature(enable = "avx2")]
 pub(crate) fn corners2(boxes: &[i32], out: &mut Vec<f64>) {
     let groups = boxes.len() / 16;
