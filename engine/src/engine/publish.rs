@@ -85,8 +85,7 @@ impl Helm {
                     if let Value::Str(s) = &m.value {
                         self.refill.push(s.len());
                     }
-                    let core = &mut self.behaviors[i].core;
-                    core.pool.give(std::mem::take(&mut m.key));
+                    self.behaviors[i].core.pool.give(std::mem::take(&mut m.key));
                     self.post_message(m, &aux);
                 } else {
                     let pool = &mut self.behaviors[i].core.pool;
@@ -204,23 +203,12 @@ impl Helm {
     /// §6 step 21: behavior lists and counts, each only when changed (the list is
     /// written into a spare string and compared before anything is kept).
     pub(crate) fn publish_behavior_lists(&mut self) {
+        use RunState::{Active, Disabled, Idle, Running};
         let groups = [
-            (
-                "IVPHELM_BHV_ACTIVE",
-                "IVPHELM_BHV_ACTIVE_CNT",
-                RunState::Active,
-            ),
-            (
-                "IVPHELM_BHV_RUNNING",
-                "IVPHELM_BHV_RUNNING_CNT",
-                RunState::Running,
-            ),
-            ("IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT", RunState::Idle),
-            (
-                "IVPHELM_BHV_DISABLED",
-                "IVPHELM_BHV_DISABLED_CNT",
-                RunState::Disabled,
-            ),
+            ("IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_ACTIVE_CNT", Active),
+            ("IVPHELM_BHV_RUNNING", "IVPHELM_BHV_RUNNING_CNT", Running),
+            ("IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT", Idle),
+            ("IVPHELM_BHV_DISABLED", "IVPHELM_BHV_DISABLED_CNT", Disabled),
         ];
         for (var, cnt_var, state) in groups {
             let len: usize = (self.behaviors.iter())
