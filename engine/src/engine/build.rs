@@ -160,6 +160,7 @@ impl Helm {
             life_events: Vec::new(),
             turn_samples: Vec::new(),
             functions: Vec::new(),
+            fn_slots: Vec::new(),
             mode_pairs: Vec::new(),
             pool: Default::default(),
             refill: Vec::new(),

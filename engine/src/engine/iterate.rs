@@ -275,9 +275,12 @@ impl Helm {
         // Last iteration's functions: their storage goes to this iteration's builders.
         for (name, f) in self.functions.drain(..) {
             self.pool.give(name);
-            recycle(f);
+            self.fn_slots.push(recycle(f));
         }
-        let (mut t, mut fd) = (started, None); // a behavior's end is the next one's start
+        // A behavior's function lands in a kept box (`step` writes it there) and moves
+        // on as the box: a pointer, not the buffers' headers, copied at each step.
+        let mut fd = self.fn_slots.pop().unwrap_or_default();
+        let mut t = started; // a behavior's end is the next one's start
 
         // Each behavior's own time (the appcast's `cpu=`, a display value) is taken on
         // one iteration in eight (the first included): on the others the creation costs
@@ -285,7 +288,8 @@ impl Helm {
         let each = iter % BEHAVIOR_TIMING_EVERY == 1;
         for i in 0..self.behaviors.len() {
             step(&mut self.behaviors[i], &self.env, &self.ib, &mut fd);
-            if let Some(fd) = fd.take() {
+            if fd.is_some() {
+                let fd = std::mem::replace(&mut fd, self.fn_slots.pop().unwrap_or_default());
                 let name = self.pool.copy_of(&self.behaviors[i].core.name);
                 let core = &mut self.behaviors[i].core;
                 match place(core, fd, &self.config.domain, name, &mut self.functions) {
@@ -303,26 +307,19 @@ impl Helm {
                 self.behaviors[i].core.step_secs = (t - start).as_secs_f64();
             }
             if !self.behaviors[i].core.ok {
-                let last = self.behaviors[i]
-                    .core
-                    .messages
-                    .iter()
-                    .rev()
-                    .find(|m| m.var == "BHV_ERROR")
-                    .and_then(|m| match &m.value {
-                        Value::Str(s) => Some(s.clone()),
-                        Value::Num(_) => None,
-                    });
-                let text = self
-                    .ib
-                    .sval("BHV_ERROR")
-                    .map(str::to_string)
-                    .or(last)
-                    .unwrap_or_else(|| " - unknown - ".into());
+                let msgs = &self.behaviors[i].core.messages;
+                let last = msgs.iter().rev().find(|m| m.var == "BHV_ERROR");
+                let last = last.and_then(|m| match &m.value {
+                    Value::Str(s) => Some(s.clone()),
+                    Value::Num(_) => None,
+                });
+                let text = self.ib.sval("BHV_ERROR").map(str::to_string).or(last);
+                let text = text.unwrap_or_else(|| " - unknown - ".into());
                 summary.halted = Some(format!("BHV_ERROR: {text}"));
                 break;
             }
         }
+        self.fn_slots.push(fd);
         summary.functions = self.functions.len();
         if summary.halted.is_some() || !each {
             // The creation ends now: behaviors not timed one by one on this iteration,
@@ -477,12 +474,8 @@ fn reuse_views<'b>(mut v: Vec<FunctionView<'_>>) -> Vec<FunctionView<'b>> {
 /// `DESIRED_<UPPER(name)>`, with course published as heading.
 pub(crate) fn desired_var(prefix: &str, name: &str) -> String {
     let up = name.to_ascii_uppercase();
-    let up = if up == "COURSE" {
-        "HEADING".to_string()
-    } else {
-        up
-    };
-    format!("{prefix}DESIRED_{up}")
+    let shown: &str = if up == "COURSE" { "HEADING" } else { &up };
+    format!("{prefix}DESIRED_{shown}")
 }
 
 /// `to` made equal to `from`, its strings' room reused.
@@ -501,37 +494,48 @@ fn copy_pairs(to: &mut Vec<(String, String)>, from: &[(String, String)]) {
 /// hands it back.
 pub(crate) type HelmFunction = CheckedFunction<AbiFunction>;
 
+/// A behavior's function in its kept box (always `Some` once placed).
+pub(crate) type FunctionSlot = Box<Option<FunctionData>>;
+
 /// A behavior's function as it crossed the ABI, read in place, and its recycler.
 #[derive(Debug)]
-pub(crate) struct AbiFunction(FunctionData, Option<behavior_api::FunctionRecycler>);
+pub(crate) struct AbiFunction(FunctionSlot, Option<behavior_api::FunctionRecycler>);
+
+impl AbiFunction {
+    fn data(&self) -> Option<&FunctionData> {
+        self.0.as_ref().as_ref()
+    }
+}
 
 impl PieceBuffers for AbiFunction {
     fn bounds(&self) -> &[i32] {
-        &self.0.bounds
+        self.data().map_or(&[], |f| &f.bounds)
     }
     fn weights(&self) -> &[f64] {
-        &self.0.weights
+        self.data().map_or(&[], |f| &f.weights)
     }
     fn gelbox(&self) -> &[u32] {
-        &self.0.gelbox
+        self.data().map_or(&[], |f| &f.gelbox)
     }
     fn grid(&self) -> &[f64] {
-        &self.0.grid
+        self.data().map_or(&[], |f| &f.grid)
     }
     fn pwt(&self) -> f64 {
-        self.0.pwt
+        self.data().map_or(0.0, |f| f.pwt)
     }
 }
 
 /// Storage back to whoever made it: the host's spares or the library's, for the next
 /// build (a library older than the recycler frees it here, through its own allocator).
-fn recycle(f: HelmFunction) {
-    let AbiFunction(fd, give_back) = f.into_parts();
-    hand_back(fd, give_back);
+/// The emptied box is kept for a later function.
+fn recycle(f: HelmFunction) -> FunctionSlot {
+    let AbiFunction(mut fd, give_back) = f.into_parts();
+    hand_back(&mut fd, give_back);
+    fd
 }
 
-fn hand_back(fd: FunctionData, give_back: Option<behavior_api::FunctionRecycler>) {
-    if let Some(give_back) = give_back {
+fn hand_back(fd: &mut FunctionSlot, give_back: Option<behavior_api::FunctionRecycler>) {
+    if let (Some(fd), Some(give_back)) = (fd.take(), give_back) {
         give_back(fd);
     }
 }
@@ -541,18 +545,19 @@ fn hand_back(fd: FunctionData, give_back: Option<behavior_api::FunctionRecycler>
 /// from the behavior's previous one (rare; the text's numbers are slow to read).
 fn place(
     core: &mut crate::runtime::BehaviorCore,
-    fd: FunctionData,
+    mut fd: FunctionSlot,
     helm: &ivp::Domain,
     name: String,
     out: &mut Vec<(String, HelmFunction)>,
 ) -> Result<(), String> {
-    if core.placed_domain != fd.domain.as_str() {
+    let data = fd.as_ref().as_ref().ok_or("no function")?; // never: the caller saw one
+    if core.placed_domain != data.domain.as_str() {
         core.placed_domain.clear();
         core.placed_dim = 0;
         core.placed = None;
-        fd.helm_vars_into(helm, &mut core.placed_vars)?;
-        core.placed_domain.push_str(fd.domain.as_str());
-        core.placed_dim = fd.dim();
+        data.helm_vars_into(helm, &mut core.placed_vars)?;
+        core.placed_domain.push_str(data.domain.as_str());
+        core.placed_dim = data.dim();
     }
     // The buffers are read where they are, then handed back for the next build (moving
     // them in would free a library's here and make it allocate anew).
@@ -562,7 +567,7 @@ fn place(
         None => match FunctionData::placed_domain(helm, &core.placed_vars) {
             Ok(d) => Arc::clone(core.placed.insert(Arc::new(d))),
             Err(msg) => {
-                hand_back(fd, give_back);
+                hand_back(&mut fd, give_back);
                 return Err(msg);
             }
         },
@@ -572,8 +577,8 @@ fn place(
             out.push((name, f));
             Ok(())
         }
-        Err((AbiFunction(fd, _), e)) => {
-            hand_back(fd, give_back);
+        Err((AbiFunction(mut fd, _), e)) => {
+            hand_back(&mut fd, give_back);
             Err(FunctionData::rejection(e))
         }
     }

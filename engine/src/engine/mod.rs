@@ -100,6 +100,8 @@ pub struct Helm {
     pub(crate) turn_samples: Vec<(f64, f64)>,
     /// Functions of this iteration (behavior name, function), reused across iterations.
     pub(crate) functions: Vec<(String, iterate::HelmFunction)>,
+    /// Emptied function boxes, for the next functions (see `Helm::decide`).
+    pub(crate) fn_slots: Vec<iterate::FunctionSlot>,
     /// Time spent in the engine's decision step (what the C++ timing measures), and count.
     pub(crate) decide_time: std::time::Duration,
     pub(crate) decide_count: u64,

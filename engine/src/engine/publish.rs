@@ -37,13 +37,14 @@ impl Helm {
         for i in 0..self.behaviors.len() {
             let mut messages = std::mem::take(&mut self.behaviors[i].core.messages);
             self.refill.clear();
+            let mut wanted = 0;
             name.clear();
             name.push_str(&self.behaviors[i].core.name);
             aux.clear();
             aux.push_str(itoa::Buffer::new().format(iter));
             aux.push(':');
             aux.push_str(&name);
-            for m in messages.drain(..) {
+            for mut m in messages.drain(..) {
                 match m.var.as_str() {
                     "BHV_IPF" => {
                         self.post_message(m, &name);
@@ -63,14 +64,11 @@ impl Helm {
                     }
                     _ => {}
                 }
-                // The behavior's own strings (BHV_IPF's are the helm's): it gets
-                // strings of these sizes back for its next messages.
-                self.refill.push(m.var.len());
-                self.refill
-                    .extend((!m.key.is_empty()).then_some(m.key.len()));
-                if let Value::Str(s) = &m.value {
-                    self.refill.push(s.len());
-                }
+                // The behavior's own strings (BHV_IPF's are the helm's): a filtered
+                // message's go straight back to its pool, a posted one's leave in the
+                // posting and the behavior gets spare strings of their sizes instead.
+                wanted += 1 + usize::from(!m.key.is_empty());
+                wanted += usize::from(matches!(m.value, Value::Str(_)));
                 self.ib.set_value(&m.var, &m.value, now);
                 let key = if m.key.is_empty() {
                     default_key.clear();
@@ -83,15 +81,22 @@ impl Helm {
                 if self.filter.allow(key, &m.value) {
                     self.report
                         .posted(&m.var, &name, now - self.start_time, iter, &m.value);
+                    self.refill.push(m.var.len());
+                    if let Value::Str(s) = &m.value {
+                        self.refill.push(s.len());
+                    }
+                    self.behaviors[i].core.pool.give(std::mem::take(&mut m.key));
                     self.post_message(m, &aux);
                 } else {
-                    self.recycle_message(m);
+                    let pool = &mut self.behaviors[i].core.pool;
+                    pool.give(m.var);
+                    pool.give(m.key);
+                    crate::posting::give_value(pool, m.value);
                 }
             }
             // Give the buffer back so its allocation is reused next iteration.
             let core = &mut self.behaviors[i].core;
             core.messages = messages;
-            let wanted = self.refill.len();
             for &len in &self.refill {
                 if core.pool.len() >= wanted || self.pool.is_empty() {
                     break;
@@ -195,33 +200,15 @@ impl Helm {
         });
     }
 
-    /// A behavior's message not posted: its strings are kept for later postings.
-    fn recycle_message(&mut self, m: crate::runtime::Message) {
-        self.pool.give(m.var);
-        self.pool.give(m.key);
-        crate::posting::give_value(&mut self.pool, m.value);
-    }
-
     /// §6 step 21: behavior lists and counts, each only when changed (the list is
     /// written into a spare string and compared before anything is kept).
     pub(crate) fn publish_behavior_lists(&mut self) {
+        use RunState::{Active, Disabled, Idle, Running};
         let groups = [
-            (
-                "IVPHELM_BHV_ACTIVE",
-                "IVPHELM_BHV_ACTIVE_CNT",
-                RunState::Active,
-            ),
-            (
-                "IVPHELM_BHV_RUNNING",
-                "IVPHELM_BHV_RUNNING_CNT",
-                RunState::Running,
-            ),
-            ("IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT", RunState::Idle),
-            (
-                "IVPHELM_BHV_DISABLED",
-                "IVPHELM_BHV_DISABLED_CNT",
-                RunState::Disabled,
-            ),
+            ("IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_ACTIVE_CNT", Active),
+            ("IVPHELM_BHV_RUNNING", "IVPHELM_BHV_RUNNING_CNT", Running),
+            ("IVPHELM_BHV_IDLE", "IVPHELM_BHV_IDLE_CNT", Idle),
+            ("IVPHELM_BHV_DISABLED", "IVPHELM_BHV_DISABLED_CNT", Disabled),
         ];
         for (var, cnt_var, state) in groups {
             let len: usize = (self.behaviors.iter())

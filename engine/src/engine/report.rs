@@ -3,8 +3,9 @@
 //! The report is built only when one is due, never on the iteration's path; the
 //! iteration only records what went out.
 
-use std::collections::BTreeMap;
 use std::fmt::Write;
+
+use rustc_hash::FxHashMap;
 
 use super::{Helm, HelmState};
 use crate::posting::Value;
@@ -27,8 +28,9 @@ pub(crate) struct PostedRow {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ReportFeed {
     pub warnings: crate::run_warnings::Warnings,
-    /// Variable → last posting, for variables posted by behaviors.
-    pub rows: BTreeMap<String, PostedRow>,
+    /// Variable → last posting, for variables posted by behaviors (hashed: looked up
+    /// for every posting, sorted only when a report is made).
+    pub rows: FxHashMap<String, PostedRow>,
     /// Completed behaviors: name, times completed, time of the last completion.
     pub completed: Vec<(String, u32, f64)>,
     /// The last decision step's halt reason and function count.
@@ -303,7 +305,7 @@ impl Helm {
         };
         let _ = writeln!(s, "Hold-On-Apps: {hold}");
         s.push_str("\n\n");
-        let rows: Vec<[String; 5]> = f
+        let mut rows: Vec<[String; 5]> = f
             .rows
             .iter()
             .map(|(var, r)| {
@@ -316,6 +318,7 @@ impl Helm {
                 ]
             })
             .collect();
+        rows.sort_unstable_by(|a, b| a[0].cmp(&b[0])); // the variables, each once
         s.push_str(&table(
             ["Variable", "Behavior", "Time", "Iter", "Value"],
             &rows,
