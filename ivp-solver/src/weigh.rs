@@ -32,8 +32,8 @@ pub(crate) struct Weighing<'a> {
 /// Every piece's weights from the function's `src` (`od` dimensions) into `weights`
 /// (problem order; the slopes of dimensions the function lacks are left as they are),
 /// and, with the pieces' problem-order `boxes` (a checked function's: `0 <= lo <=
-/// hi`), each piece's `maxVal` into `piece_ub` (cleared first). Returns the largest term scale (`term`), NaN kept. `corners`: the
-/// boxes' [`Corners`], when made.
+/// hi`), each piece's `maxVal` into `piece_ub` (cleared first). Returns the largest
+/// term scale (`term`), NaN kept. `corners`: the boxes' [`Corners`], when made.
 pub(crate) fn weigh(
     wg: &Weighing,
     src: &[f64],
