@@ -120,3 +120,36 @@ fn create_and_loop_times_are_measured_separately() {
         .unwrap_or_else(|| panic!("no cpu in {line}"));
     assert!(cpu > 0.0, "{line}");
 }
+
+#[test]
+fn the_appcast_lists_the_behaviors_postings_by_variable() {
+    // Postings of two behaviors, made in no particular order: the report's table of
+    // last postings gives each variable once, in the variables' order.
+    let bhv = "initialize DEPLOY = true\nBehavior = BHV_Waypoint\n{\n  name = w\n  condition = DEPLOY = true\n  speed = 2\n  points = 0,100 : 100,100\n  runflag = ZULU = 1\n  runflag = ALPHA = 2\n}\nBehavior = BHV_Timer\n{\n  name = t\n  condition = DEPLOY = true\n  runflag = MIKE = yes\n}\n";
+    let text = format!(
+        "name = \"rows\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n[[step]]\ntime = 1000.0\n"
+    );
+    let c: Case = toml::from_str(&text).expect("case parses");
+    let mut h = common::builtin_case_helm(&c, "rows.toml");
+    h.startup(1000.0);
+    for k in 0..12 {
+        let t = 1000.0 + 0.25 * k as f64;
+        h.handle_mail(t, &nav(t));
+        h.iterate(t);
+    }
+    let body = h.appcast_body(1003.0, "open");
+    let vars: Vec<&str> = body
+        .lines()
+        .skip_while(|l| !l.starts_with("Variable"))
+        .skip(2) // the header and its rule
+        .take_while(|l| !l.trim().is_empty())
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    for v in ["ALPHA", "MIKE", "ZULU"] {
+        assert!(vars.contains(&v), "{v} missing from {vars:?} in\n{body}");
+    }
+    let mut sorted = vars.clone();
+    sorted.sort_unstable();
+    sorted.dedup();
+    assert_eq!(vars, sorted, "{body}");
+}
