@@ -9,8 +9,13 @@ mod common;
 
 fn case(config: &str) -> Case {
     let bhv = "initialize DEPLOY = true\nBehavior = BHV_Timer\n{\n  name = t\n  condition = DEPLOY = true\n  runflag = T_RUN = yes\n}\n";
+    case_of("engine", bhv, config)
+}
+
+/// A case named `name` of the `.bhv` text `bhv`, with `config` as its `[config]`.
+fn case_of(name: &str, bhv: &str, config: &str) -> Case {
     let text = format!(
-        "name = \"engine\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\n{config}\n[[step]]\ntime = 1000.0\n"
+        "name = \"{name}\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\n{config}\n[[step]]\ntime = 1000.0\n"
     );
     toml::from_str(&text).expect("case parses")
 }
@@ -78,10 +83,7 @@ fn create_and_loop_times_are_measured_separately() {
     // decision the first is positive and not above the second; the appcast report gives
     // each active behavior its own step time.
     let bhv = "initialize DEPLOY = true\nBehavior = BHV_Waypoint\n{\n  name = w\n  condition = DEPLOY = true\n  speed = 2\n  points = 0,100 : 100,100\n}\n";
-    let text = format!(
-        "name = \"times\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n[[step]]\ntime = 1000.0\n"
-    );
-    let c: Case = toml::from_str(&text).expect("case parses");
+    let c = case_of("times", bhv, "start_in_drive = \"true\"");
     let mut h = common::builtin_case_helm(&c, "times.toml");
     h.startup(1000.0);
     let mut pairs = 0;
@@ -126,10 +128,7 @@ fn the_appcast_lists_the_behaviors_postings_by_variable() {
     // Postings of two behaviors, made in no particular order: the report's table of
     // last postings gives each variable once, in the variables' order.
     let bhv = "initialize DEPLOY = true\nBehavior = BHV_Waypoint\n{\n  name = w\n  condition = DEPLOY = true\n  speed = 2\n  points = 0,100 : 100,100\n  runflag = ZULU = 1\n  runflag = ALPHA = 2\n}\nBehavior = BHV_Timer\n{\n  name = t\n  condition = DEPLOY = true\n  runflag = MIKE = yes\n}\n";
-    let text = format!(
-        "name = \"rows\"\ndomain = [\"course:0:359:360\", \"speed:0:4:41\"]\ncheck = []\nbhv = '''\n{bhv}'''\n[config]\nstart_in_drive = \"true\"\n[[step]]\ntime = 1000.0\n"
-    );
-    let c: Case = toml::from_str(&text).expect("case parses");
+    let c = case_of("rows", bhv, "start_in_drive = \"true\"");
     let mut h = common::builtin_case_helm(&c, "rows.toml");
     h.startup(1000.0);
     for k in 0..12 {
