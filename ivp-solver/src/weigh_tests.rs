@@ -172,17 +172,11 @@ fn extremes_equal_the_plain_loop_bit_for_bit() {
         let od = 1 + rng.below(4);
         let n = 1 + rng.below(23);
         let (mut b, mut w) = pieces(&mut rng, n, od, round % 5 == 0);
-        // Half the rounds boxes as a checked function has them (`0 <= lo <= hi`, often
-        // a zero bound): the corners are only ever made from such.
+        // Half the rounds boxes as a checked function has them: the corners are only
+        // ever made from such.
         let valid = round % 4 < 2;
         if valid {
-            for x in b.chunks_exact_mut(2) {
-                let (l, h) = (x[0].unsigned_abs() % 400, x[1].unsigned_abs() % 400);
-                x.copy_from_slice(&[l.min(h) as i32, l.max(h) as i32]);
-                if rng.below(4) == 0 {
-                    x[0] = 0;
-                }
-            }
+            make_checked(&mut rng, &mut b);
         }
         if round % 7 == 0 {
             // Ordinary numbers only: the lanes' ties and order matter, not NaN.
@@ -240,17 +234,10 @@ fn weigh_equals_the_plain_loop_bit_for_bit() {
         let n = rng.below(23);
         let (_, src) = pieces(&mut rng, n, od, round % 5 == 0);
         let (mut boxes, _) = pieces(&mut rng, n, dim, false);
-        // Half the rounds boxes as a checked function has them (`0 <= lo <= hi`): the
-        // corners are only ever made from such.
+        // Half the rounds boxes as a checked function has them (see above).
         let valid = round % 4 < 2;
         if valid {
-            for x in boxes.chunks_exact_mut(2) {
-                let (l, h) = (x[0].unsigned_abs() % 400, x[1].unsigned_abs() % 400);
-                x.copy_from_slice(&[l.min(h) as i32, l.max(h) as i32]);
-                if rng.below(4) == 0 {
-                    x[0] = 0;
-                }
-            }
+            make_checked(&mut rng, &mut boxes);
         }
         let norm = rng.below(2) == 0;
         let (shift, scale) = match round % 3 {
@@ -289,6 +276,18 @@ fn weigh_equals_the_plain_loop_bit_for_bit() {
             assert_eq!(bits(&[got]), bits(&[want]), "{what}: {got} vs {want}");
             assert_eq!(bits(&w), bits(&want_w), "{what}: weights");
             assert_eq!(bits(&ub), bits(&want_ub), "{what}: piece_ub");
+        }
+    }
+}
+
+/// `boxes` (`[lo, hi]` pairs) made as a checked function has them: `0 <= lo <= hi`,
+/// often with a zero bound.
+fn make_checked(rng: &mut Rng, boxes: &mut [i32]) {
+    for x in boxes.chunks_exact_mut(2) {
+        let (l, h) = (x[0].unsigned_abs() % 400, x[1].unsigned_abs() % 400);
+        x.copy_from_slice(&[l.min(h) as i32, l.max(h) as i32]);
+        if rng.below(4) == 0 {
+            x[0] = 0;
         }
     }
 }
