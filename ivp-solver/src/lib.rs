@@ -35,6 +35,7 @@ mod first_level;
 mod first_simd;
 mod last_bits;
 mod last_index;
+mod lone;
 mod made_from;
 mod nan_scan;
 mod prepared;
@@ -121,6 +122,12 @@ pub struct Solver {
     /// Bit sets over the last function however few its pieces (tests).
     #[cfg(test)]
     all_bits: bool,
+    /// Every problem through the search, none through `lone.rs` (tests).
+    #[cfg(test)]
+    no_lone: bool,
+    /// Solves through `lone.rs`, over the solver's life (tests).
+    #[cfg(test)]
+    lone_solves: usize,
 }
 
 /// An empty list in `v`'s allocation, of any lifetime: the emptied list is collected
@@ -248,6 +255,9 @@ impl Solver {
             .extend(self.prob_to_helm.iter().map(|&h| helm.var(h).points as i32));
         if self.funcs.len() < functions.len() {
             self.funcs.resize_with(functions.len(), Prepared::default);
+        }
+        if let Some(lone) = self.lone(helm, functions) {
+            return self.run_lone(helm, lone, functions, out);
         }
         // Whether the problem is the one the slots' keys were made in: checked when a
         // key is first used or made (see `Solver::same_problem`).

@@ -44,12 +44,12 @@ impl Solver {
         let key = &mut self.funcs[fi].key;
         key.on = false;
         key.misses = key.misses.saturating_add(1);
-        self.prepare_fresh(fi, f, helm, dim, first)?;
+        self.prepare_fresh::<false>(fi, f, helm, dim, first)?;
         // Large functions (the contacts' tilings) change every iteration: keying them
         // would copy and compare thousands of weights for nothing. A slot whose
         // function keeps changing (a moving waypoint) is keyed now and then only.
         let misses = self.funcs[fi].key.misses;
-        if (misses <= 2 || misses.is_multiple_of(16)) && f.piece_count() <= KEEP_MAX_PIECES {
+        if keys_now(misses, f.piece_count()) {
             self.same_problem(helm, same);
             self.funcs[fi].key.set(f, first);
         }
@@ -59,7 +59,7 @@ impl Solver {
     /// Whether the problem (helm domain, `prob_to_helm`) is the one the slots' keys
     /// were made in, asked once per solve (`same`). When it is not, every key is
     /// dropped and this problem recorded: keys made from here on are this problem's.
-    fn same_problem(&mut self, helm: &Domain, same: &mut Option<bool>) -> bool {
+    pub(super) fn same_problem(&mut self, helm: &Domain, same: &mut Option<bool>) -> bool {
         if let Some(s) = *same {
             return s;
         }
@@ -76,7 +76,11 @@ impl Solver {
     }
 
     /// [`Solver::prepare`] from scratch (but for the kept boxes and cell lists).
-    fn prepare_fresh(
+    ///
+    /// `LONE`: for the lone function of `lone.rs` (`first`), only its boxes, weights and
+    /// pieces' `maxVal`s, made as here for any first function; its grid is left as it
+    /// was, and its key off, so the slot is prepared afresh before anything reads it.
+    pub(super) fn prepare_fresh<const LONE: bool>(
         &mut self,
         fi: usize,
         f: &FunctionView<'_>,
@@ -124,41 +128,45 @@ impl Solver {
         let norm = mx - mn > 100.0;
         let r = mx - mn;
         let (shift, scale) = (0.0 - mn, 100.0 / r);
-        // Grid (its shape depends on the boxes' domain only).
-        p.ppg.clear();
-        p.ncells.clear();
-        p.stride.clear();
-        let gel = f.gelbox();
+        // Grid (its shape depends on the boxes' domain only). The lone function's is
+        // not read (see `LONE`).
         let mut total = 1usize;
-        for d in 0..dim {
-            let g = p
-                .map
-                .iter()
-                .position(|&t| t == d)
-                .map_or(self.pts[d] - 1, |od_i| gel[od_i] as i32);
-            let ppg = g.saturating_add(1).max(2).min(self.pts[d]).max(1);
-            let nc = (self.pts[d] + ppg - 1) / ppg;
-            p.ppg.push(ppg);
-            p.ncells.push(nc);
-            p.stride.push(total);
-            total *= nc as usize;
-        }
-        p.single = total == 1;
-        // A builder-made grid is kept (its bounds transformed like the weights)
-        // when no translation is needed; otherwise the bounds come from the pieces.
-        // The first function's pieces are enumerated in array order and never
-        // bounded (bounds start at level 1): it needs neither.
-        // (With the helm indices, `identity` already says the names are the same.)
-        let same = identity
-            && (0..dim).all(|d| {
-                let (a, b) = (f.domain().var(d), helm.var(self.prob_to_helm[d]));
-                a.points == b.points
-                    && a.low == b.low
-                    && a.high == b.high
-                    && (helm_of.is_some() || a.name == b.name)
-            });
+        let mut keep_grid = false;
         let g = f.grid_bounds();
-        let keep_grid = same && g.len() == total;
+        if !LONE {
+            p.ppg.clear();
+            p.ncells.clear();
+            p.stride.clear();
+            let gel = f.gelbox();
+            for d in 0..dim {
+                let g = p
+                    .map
+                    .iter()
+                    .position(|&t| t == d)
+                    .map_or(self.pts[d] - 1, |od_i| gel[od_i] as i32);
+                let ppg = g.saturating_add(1).max(2).min(self.pts[d]).max(1);
+                let nc = (self.pts[d] + ppg - 1) / ppg;
+                p.ppg.push(ppg);
+                p.ncells.push(nc);
+                p.stride.push(total);
+                total *= nc as usize;
+            }
+            p.single = total == 1;
+            // A builder-made grid is kept (its bounds transformed like the weights)
+            // when no translation is needed; otherwise the bounds come from the pieces.
+            // The first function's pieces are enumerated in array order and never
+            // bounded (bounds start at level 1): it needs neither.
+            // (With the helm indices, `identity` already says the names are the same.)
+            let same = identity
+                && (0..dim).all(|d| {
+                    let (a, b) = (f.domain().var(d), helm.var(self.prob_to_helm[d]));
+                    a.points == b.points
+                        && a.low == b.low
+                        && a.high == b.high
+                        && (helm_of.is_some() || a.name == b.name)
+                });
+            keep_grid = same && g.len() == total;
+        }
         // The first function's `maxVal`s are its first-level node values (see
         // `Search::run`).
         let piece_bounds = first || !keep_grid;
@@ -190,6 +198,9 @@ impl Solver {
             &mut p.piece_ub,
         );
         p.term_scale = most;
+        if LONE {
+            return Ok(());
+        }
         if first {
             // Its cell size is still known (`ppg`), for the geometry sharing and the
             // last index. A large tiling whose boxes stay gets its cell lists too (on
@@ -531,3 +542,10 @@ const SEED_LISTS_MIN: usize = 64;
 
 /// Largest function kept from one solve to the next (see [`Solver::prepare`]).
 const KEEP_MAX_PIECES: usize = 128;
+
+/// Whether [`Solver::prepare`] keys a slot prepared afresh `misses` times in a row,
+/// its function of `pieces` pieces.
+#[inline(always)]
+pub(crate) fn keys_now(misses: u32, pieces: usize) -> bool {
+    (misses <= 2 || misses.is_multiple_of(16)) && pieces <= KEEP_MAX_PIECES
+}

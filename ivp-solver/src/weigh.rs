@@ -285,7 +285,8 @@ pub(crate) fn min_max_wt(f: &FunctionView<'_>) -> (f64, f64) {
 
 /// [`min_max_wt`], the AVX2 pass reading the function's boxes from their
 /// [`Corners`] (problem order; `swap`: the function's two dimensions the other way
-/// round) when given.
+/// round) when given. Inlined: called once per set-up, in both of its forms.
+#[inline(always)]
 pub(crate) fn min_max_wt_with(f: &FunctionView<'_>, corners: Option<(&[f64], bool)>) -> (f64, f64) {
     let (od, b, w) = (f.dim(), f.bounds(), f.weights());
     if od == 0 || f.piece_count() == 0 || b.len() < 2 * od || w.len() < od + 1 {

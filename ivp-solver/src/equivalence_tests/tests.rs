@@ -693,13 +693,14 @@ fn setup_fingerprint(s: &Solver, functions: &[&IvpFunction]) -> Vec<String> {
             };
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             let mut out = format!(
-                "{k} {boxes:?} {:?} {} {:?} {} {:?}",
+                "{k} {boxes:?} {:?} {}",
                 bits(&p.weights),
                 p.term_scale.to_bits(),
-                p.ppg,
-                p.single,
-                p.stride
             );
+            // A lone function's grid is not read (see `lone.rs`).
+            if s.active.len() > 1 {
+                out += &format!(" {:?} {} {:?}", p.ppg, p.single, p.stride);
+            }
             // The first function has neither bounds nor cells.
             if k > 0 && p.single {
                 out += &format!(" {}", p.global_ub.to_bits());
@@ -1198,4 +1199,165 @@ fn depth_group_search_equals_the_straightforward_branch_and_bound() {
     }
     eprintln!("{solves} solves, {with_sep} with the independent groups' bound");
     assert!(with_sep * 2 > solves, "{with_sep} of {solves}");
+}
+
+/// A random function over `fdom` for the lone path: ZAIC-like, a tiling or random
+/// overlapping boxes (ties frequent), now and then a NaN weight or no piece at all,
+/// with a random gel box and builder grid; as buffers, to be viewed.
+fn lone_buffers(fdom: &Domain, seed: &mut u64) -> (Vec<i32>, Vec<f64>, Vec<u32>, Vec<f64>) {
+    let od = fdom.size();
+    let big = pick(seed, 4) == 0;
+    let mut f = match pick(seed, 4) {
+        0 => zaic_like(fdom, big, seed),
+        1 => {
+            let size: Vec<i32> = (0..od).map(|_| 1 + pick(seed, 8) as i32).collect();
+            tiling(fdom, &size, big, seed)
+        }
+        2 => {
+            let pieces: Vec<_> = (0..1 + pick(seed, 30))
+                .map(|_| {
+                    let pts: Vec<i32> = (0..od).map(|d| fdom.var(d).points as i32).collect();
+                    let b = random_box(&pts, seed);
+                    let b = b.chunks_exact(2).map(|p| (p[0], p[1])).collect();
+                    (b, random_weights(od, big, seed))
+                })
+                .collect();
+            IvpFunction::from_pieces(fdom.clone(), &pieces).unwrap()
+        }
+        _ => IvpFunction::from_pieces(fdom.clone(), &[]).unwrap(),
+    };
+    if pick(seed, 3) == 0 {
+        f.set_gelbox(random_gel(fdom, None, seed)).unwrap();
+    }
+    if pick(seed, 3) == 0 {
+        f.build_grid();
+    }
+    let raw = f.into_raw_parts();
+    let mut weights = raw.weights;
+    if !weights.is_empty() && pick(seed, 8) == 0 {
+        let at = pick(seed, weights.len() as u64) as usize;
+        weights[at] = f64::NAN;
+    }
+    (raw.bounds, weights, raw.gelbox, raw.grid)
+}
+
+/// The lone path (`lone.rs`) decides as the search does: one function at a time (the
+/// others' priorities zero or negative), over helm domains of one to three variables,
+/// functions over all of them or a sub-domain in any order (or over a variable the
+/// helm lacks), with ties, NaN weights, no pieces, zero, negative, NaN and huge
+/// priorities; sequences of solves (changed, unchanged, switched functions) so that
+/// keys are made, matched and missed. Every answer, error or decision (indices, value
+/// bits, utility bits), as a solver's that never takes the lone path.
+#[test]
+fn lone_path_decides_as_the_search() {
+    let mut seed = 4242u64;
+    let (mut lone, mut lone_kept, mut solves, mut decided) = (0, 0, 0, 0);
+    for round in 0..400 {
+        let helm = random_domain(&mut seed);
+        let stray = Domain::parse("heading:0:9:10").unwrap();
+        let mut doms: Vec<Domain> = (0..1 + pick(&mut seed, 3))
+            .map(|_| {
+                if pick(&mut seed, 40) == 0 {
+                    stray.clone()
+                } else {
+                    random_vars(&helm, &mut seed)
+                }
+            })
+            .collect();
+        let mut bufs: Vec<_> = doms.iter().map(|d| lone_buffers(d, &mut seed)).collect();
+        let mut pwts: Vec<f64> = doms.iter().map(|_| 0.0).collect();
+        let mut own: Vec<Option<f64>> = doms.iter().map(|_| None).collect();
+        let (mut a, mut b) = (Solver::new(), Solver::new());
+        b.no_lone = true;
+        for step in 0..40 {
+            // The function on this step (now and then a new one, or new weights).
+            let on = pick(&mut seed, doms.len() as u64) as usize;
+            match pick(&mut seed, 6) {
+                0 => {
+                    doms[on] = random_vars(&helm, &mut seed);
+                    bufs[on] = lone_buffers(&doms[on], &mut seed);
+                }
+                1 | 2 => {
+                    let w = &mut bufs[on].1;
+                    for x in w.iter_mut() {
+                        if pick(&mut seed, 3) == 0 {
+                            *x += pick(&mut seed, 7) as f64 - 3.0;
+                        }
+                    }
+                }
+                _ => {}
+            }
+            // The function's own priority, drawn anew now and then (kept functions
+            // need the same one).
+            if pick(&mut seed, 6) == 0 || own[on].is_none() {
+                own[on] = Some(match pick(&mut seed, 12) {
+                    0 => 0.0,
+                    1 => -2.5,
+                    2 => f64::NAN,
+                    3 => 1e300,
+                    4 => 0.37 + pick(&mut seed, 50) as f64 / 3.0,
+                    _ => 1.0 + pick(&mut seed, 100) as f64,
+                });
+            }
+            for (k, w) in pwts.iter_mut().enumerate() {
+                *w = if k != on {
+                    [0.0, -1.0, -0.0][pick(&mut seed, 3) as usize]
+                } else {
+                    own[on].unwrap_or(1.0)
+                };
+            }
+            // Now and then every function on (the search's path in both).
+            if pick(&mut seed, 10) == 0 {
+                pwts.iter_mut().for_each(|w| *w = 1.0);
+            }
+            let views: Vec<FunctionView<'_>> = doms
+                .iter()
+                .zip(&bufs)
+                .zip(&pwts)
+                .map(|((d, (bo, w, g, gr)), &p)| FunctionView::checked(d, bo, w, g, gr, p).unwrap())
+                .collect();
+            let at = format!("round {round} step {step}");
+            let (was, kept_was) = (a.lone_solves, a.kept);
+            let (mut da, mut db) = (Decision::default(), Decision::default());
+            let (ra, rb) = if pick(&mut seed, 5) == 0 {
+                // An explicit problem domain: the variables found by name.
+                let fs: Vec<IvpFunction> = doms
+                    .iter()
+                    .zip(&bufs)
+                    .zip(&pwts)
+                    .filter_map(|((d, (bo, w, g, _)), &p)| {
+                        let mut f =
+                            IvpFunction::from_flat(d.clone(), bo.clone(), w.clone(), g.clone())
+                                .ok()?;
+                        f.set_pwt(p);
+                        Some(f)
+                    })
+                    .collect();
+                let refs: Vec<&IvpFunction> = fs.iter().collect();
+                let (ra, rb) = (a.solve_problem(&helm, &refs), b.solve_problem(&helm, &refs));
+                let found = |r: Result<Option<Decision>, IvpError>, d: &mut Decision| {
+                    r.map(|o| o.map(|x| *d = x).is_some())
+                };
+                (found(ra, &mut da), found(rb, &mut db))
+            } else {
+                (
+                    a.solve_views_into(&helm, &views, &mut da),
+                    b.solve_views_into(&helm, &views, &mut db),
+                )
+            };
+            lone += a.lone_solves - was;
+            if a.lone_solves > was && a.kept > kept_was {
+                lone_kept += 1;
+            }
+            solves += 1;
+            assert_eq!(format!("{ra:?}"), format!("{rb:?}"), "{at}");
+            assert_eq!(fingerprint(&da), fingerprint(&db), "{at}");
+            decided += usize::from(matches!(ra, Ok(true)));
+        }
+        assert_eq!(b.lone_solves, 0);
+    }
+    // The lone path was taken often, and decided often.
+    assert!(lone * 4 > solves, "{lone} lone of {solves}");
+    assert!(lone_kept * 20 > lone, "{lone_kept} kept of {lone} lone");
+    assert!(decided * 2 > solves, "{decided} decided of {solves}");
 }
