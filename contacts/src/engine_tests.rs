@@ -798,3 +798,34 @@ fn units_into_is_unit_per_heading() {
         assert_eq!((sins[0], coss[0]), (9.0, 9.0));
     }
 }
+
+/// `cosines_into` gives `heading(h).cosines()` per heading, bit for bit, with the
+/// tables and without, for grid headings, fractional ones and headings outside
+/// [0, 360) (NaN compared as NaN).
+#[test]
+fn cosines_into_is_heading_cosines() {
+    let mut seed = 41u64;
+    let mut headings: Vec<f64> = (0..360).map(f64::from).collect();
+    headings.extend([-0.0, 359.999, 360.0, -1.5, 725.25, f64::NAN, f64::INFINITY]);
+    headings.extend((0..40).map(|_| rng(&mut seed) * 400.0 - 20.0));
+    let (mut gams, mut cnhs, mut tans) = (vec![7.0; 3], Vec::new(), Vec::new());
+    for _ in 0..50 {
+        let pose = [400.0, 400.0, 720.0, 5.0, 100.0, 100.0].map(|s| (rng(&mut seed) - 0.5) * s);
+        let plain = CpaEngine::new(pose[0], pose[1], pose[2], pose[3], pose[4], pose[5]);
+        for e in [plain.clone(), plain.with_tables()] {
+            let lists = (&mut gams, &mut cnhs, &mut tans);
+            e.cosines_into(headings.iter().copied(), lists);
+            assert_eq!(gams.len(), headings.len());
+            for (k, &h) in headings.iter().enumerate() {
+                let want = e.heading(h).cosines();
+                let got = (gams[k], cnhs[k], tans[k]);
+                let same =
+                    |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+                assert!(
+                    same(got.0, want.0) && same(got.1, want.1) && same(got.2, want.2),
+                    "{pose:?} h={h}: {got:?} {want:?}"
+                );
+            }
+        }
+    }
+}

@@ -123,3 +123,32 @@ unsafe fn cpa_zip_avx2<F: Fn(f64, f64) -> f64>(
         *o = f(cpa_entry(row, (s, c), &|d| d), k);
     }
 }
+
+impl CpaEngine {
+    /// The [`Heading::cosines`](super::Heading::cosines) of [`CpaEngine::heading`] for
+    /// each of `headings`, into `gams`, `cnhs` and `tans` (emptied first): a heading in
+    /// [0, 360) is its integer degree's entry of the tables, read directly (deg_index of
+    /// such a heading is its truncation), the others as `heading` finds them.
+    pub fn cosines_into(
+        &self,
+        headings: impl ExactSizeIterator<Item = f64>,
+        (gams, cnhs, tans): (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>),
+    ) {
+        let n = headings.len();
+        for v in [&mut *gams, &mut *cnhs, &mut *tans] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        let lists = gams.iter_mut().zip(cnhs.iter_mut()).zip(tans.iter_mut());
+        let tables = self.tables.as_deref();
+        for (((gam, cnh), tan), h) in lists.zip(headings) {
+            (*gam, *cnh, *tan) = match tables {
+                Some(t) if (0.0..360.0).contains(&h) => {
+                    let i = (h as usize).min(359);
+                    (t.gam[i], t.cnh[i], t.tan[i])
+                }
+                _ => self.heading(h).cosines(),
+            };
+        }
+    }
+}

@@ -32,6 +32,11 @@ pub(super) struct Courses {
     /// loop compares them in lanes as wide as its other numbers. Empty unless asked.
     pub star_turns: Vec<f64>,
     pub port_turns: Vec<f64>,
+    /// The courses of `sins` and `coss`: the first variable's low value and step (bits),
+    /// and the indices. The unit vectors depend on these alone (the engine's table), and
+    /// a build asks for the same courses every iteration: kept lists of the same courses
+    /// are used as they are.
+    courses: (u64, u64, Vec<u32>),
 }
 
 /// More kept course lists than grids evaluated at once on a thread are let go.
@@ -43,21 +48,38 @@ thread_local! {
 }
 
 impl Courses {
-    /// Kept lists (empty, with the room of earlier grids) or new ones.
-    fn taken() -> Self {
-        spare::take_kept(&KEPT)
-    }
-
     /// The unit vectors only (`sins`, `coss`) of the courses `xs` (indices of the
-    /// domain's first variable), the other lists empty.
+    /// domain's first variable), the other lists empty: kept lists of these courses if
+    /// any, else kept lists (with the room of earlier grids) or new ones, filled.
     pub fn units(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
-        let mut c = Self::taken();
-        // domain.value(0, i), its step computed once; the engine's unit table looked up
-        // once for the whole list ([`CpaEngine::units_into`]).
+        // domain.value(0, i), its step computed once.
         let var = domain.var(0);
         let (low, delta) = (var.low, var.delta());
+        let key = (low.to_bits(), delta.to_bits());
+        let same = |c: &Self| (c.courses.0, c.courses.1) == key && c.courses.2 == xs;
+        let take = |k: &RefCell<Vec<Self>>| {
+            let mut k = k.try_borrow_mut().ok()?;
+            // Else new lists until MAX_KEPT are kept (each grid's courses keep their
+            // own), then the least lately used ones (the first) made again.
+            match k.iter().rposition(same) {
+                Some(i) => Some(k.remove(i)),
+                None if k.len() >= MAX_KEPT => Some(k.remove(0)),
+                None => None,
+            }
+        };
+        let mut c: Self = KEPT.try_with(take).ok().flatten().unwrap_or_default();
+        if same(&c) {
+            return c;
+        }
+        c.sins.clear();
+        c.coss.clear();
+        // The engine's unit table looked up once for the whole list
+        // ([`CpaEngine::units_into`]).
         let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
         engine.units_into(courses, (&mut c.sins, &mut c.coss));
+        c.courses.2.clear();
+        c.courses.2.extend_from_slice(xs);
+        (c.courses.0, c.courses.1) = key;
         c
     }
 
@@ -71,13 +93,8 @@ impl Courses {
         let course = |i: u32| low + delta * f64::from(i);
         // Written in place (a push checks the capacity per course).
         let n = xs.len();
-        for v in [&mut c.gams, &mut c.cnhs, &mut c.tans] {
-            v.resize(n, 0.0);
-        }
-        let lists = c.gams.iter_mut().zip(&mut c.cnhs).zip(&mut c.tans);
-        for (((gam, cnh), tan), &i) in lists.zip(xs) {
-            (*gam, *cnh, *tan) = engine.heading(course(i)).cosines();
-        }
+        let lists = (&mut c.gams, &mut c.cnhs, &mut c.tans);
+        engine.cosines_into(xs.iter().map(|&i| course(i)), lists);
         if let Some(osh) = osh {
             c.star_turns.resize(n, 0.0);
             c.port_turns.resize(n, 0.0);
@@ -91,18 +108,13 @@ impl Courses {
         c
     }
 
-    /// The lists, emptied, kept for the thread's next grids.
+    /// The lists kept for the thread's next grids (the unit vectors with their courses,
+    /// the others emptied).
     pub fn give_back(mut self) {
-        let lists = [
-            &mut self.sins,
-            &mut self.coss,
-            &mut self.gams,
-            &mut self.cnhs,
-        ];
-        for v in
-            lists
-                .into_iter()
-                .chain([&mut self.tans, &mut self.star_turns, &mut self.port_turns])
+        let lists = [&mut self.gams, &mut self.cnhs, &mut self.tans];
+        for v in lists
+            .into_iter()
+            .chain([&mut self.star_turns, &mut self.port_turns])
         {
             v.clear();
         }

@@ -225,11 +225,25 @@ impl CutRangeAof {
     /// row of them runs several at once), with [`Self::utility_at`]'s operations.
     #[inline(always)]
     fn blend(&self, cpa: f64, cosine: f64, s: f64) -> f64 {
+        if self.rr > 0.0 {
+            self.blend_of::<true>(cpa, cosine, s)
+        } else {
+            self.blend_of::<false>(cpa, cosine, s)
+        }
+    }
+
+    /// [`Self::blend`] with `self.rr > 0.0` given as `RANGED` (a row decides it once:
+    /// no choice per course).
+    #[inline(always)]
+    fn blend_of<const RANGED: bool>(&self, cpa: f64, cosine: f64, s: f64) -> f64 {
         let mid = 100.0 - 100.0 * cpa / self.dist;
         let far = if cpa > self.dist { 0.0 } else { mid };
         let metric = if cpa < 0.0 { 100.0 } else { far };
-        let scaled = 100.0 * (self.engine.roc_of_cosine(cosine, s) - self.rmin) / self.rr;
-        let nroc = if self.rr > 0.0 { scaled } else { 0.0 };
+        let nroc = if RANGED {
+            100.0 * (self.engine.roc_of_cosine(cosine, s) - self.rmin) / self.rr
+        } else {
+            0.0
+        };
         let p = self.patience / 100.0;
         (1.0 - p) * nroc + p * metric
     }
@@ -257,10 +271,15 @@ impl Aof for CutRangeAof {
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let s = domain.value(1, j);
             // Each CPA blended with its course's cosine as the row is done.
-            let blend = |cpa, cosine| self.blend(cpa, cosine, s);
             let units = (&c.sins[..], &c.coss[..]);
-            self.engine
-                .cpa_dists_zip(units, (s, self.tol), &c.cosines, row, blend);
+            let (e, at) = (&self.engine, (s, self.tol));
+            if self.rr > 0.0 {
+                let blend = |cpa, cosine| self.blend_of::<true>(cpa, cosine, s);
+                e.cpa_dists_zip(units, at, &c.cosines, row, blend);
+            } else {
+                let blend = |cpa, cosine| self.blend_of::<false>(cpa, cosine, s);
+                e.cpa_dists_zip(units, at, &c.cosines, row, blend);
+            }
         }
         c.give_back();
     }
