@@ -442,20 +442,35 @@ impl Solver {
         if !found {
             return Ok(false);
         }
-        self.prev.clear();
-        for (d, &h) in self.prob_to_helm.iter().enumerate() {
-            let ix = if self.best_w[d] < 0.0 {
-                self.best_b[2 * d]
-            } else {
-                self.best_b[2 * d + 1]
-            };
-            self.prev.push(ix);
-            let ix = ix.max(0) as u32;
-            out.indices[h] = Some(ix);
-            out.values[h] = Some(helm.value(h, ix));
-        }
+        let leaf = (&self.best_b[..], &self.best_w[..]);
+        decide_at(&self.prob_to_helm, &mut self.prev, helm, leaf, out);
         out.utility = best;
         Ok(true)
+    }
+}
+
+/// The decision in the winning piece (`bounds`, `weights`, in problem order): each
+/// variable at the edge its weight points to (the low one for a negative weight, else
+/// the high one), into `out` at its helm index and kept in `prev` (the next solve's seed).
+#[inline(always)]
+fn decide_at(
+    prob_to_helm: &[usize],
+    prev: &mut Vec<i32>,
+    helm: &Domain,
+    (bounds, weights): (&[i32], &[f64]),
+    out: &mut Decision,
+) {
+    prev.clear();
+    for (d, &h) in prob_to_helm.iter().enumerate() {
+        let ix = if weights[d] < 0.0 {
+            bounds[2 * d]
+        } else {
+            bounds[2 * d + 1]
+        };
+        prev.push(ix);
+        let ix = ix.max(0) as u32;
+        out.indices[h] = Some(ix);
+        out.values[h] = Some(helm.value(h, ix));
     }
 }
 

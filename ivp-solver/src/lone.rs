@@ -113,18 +113,7 @@ impl Solver {
             return Ok(false);
         };
         let (qb, qw) = (&boxes[q * bl..][..bl], &p.weights[q * wl..][..wl]);
-        self.prev.clear();
-        for (d, &h) in self.prob_to_helm.iter().enumerate() {
-            let ix = if qw[d] < 0.0 {
-                qb[2 * d]
-            } else {
-                qb[2 * d + 1]
-            };
-            self.prev.push(ix);
-            let ix = ix.max(0) as u32;
-            out.indices[h] = Some(ix);
-            out.values[h] = Some(helm.value(h, ix));
-        }
+        decide_at(&self.prob_to_helm, &mut self.prev, helm, (qb, qw), out);
         out.utility = best;
         Ok(true)
     }
