@@ -67,6 +67,26 @@ pub fn take_kept_or<T>(store: &'static Store<T>, new: impl FnOnce() -> T) -> T {
         .unwrap_or_else(new)
 }
 
+/// The most recently kept value of `store` that `same` accepts (one kept for the same
+/// inputs, to be used as it is); else, when `store` already holds `max`, the least
+/// recently kept one (to be made again), so that values of other inputs keep theirs;
+/// else a new (default) one. Given back with [`keep_in`].
+pub fn take_kept_matching<T: Default>(
+    store: &'static Store<T>,
+    same: impl Fn(&T) -> bool,
+    max: usize,
+) -> T {
+    let take = |k: &RefCell<Vec<T>>| {
+        let mut k = k.try_borrow_mut().ok()?;
+        match k.iter().rposition(&same) {
+            Some(i) => Some(k.remove(i)),
+            None if k.len() >= max => Some(k.remove(0)),
+            None => None,
+        }
+    };
+    store.try_with(take).ok().flatten().unwrap_or_default()
+}
+
 /// Keep `item` (the caller emptied what must not carry over) in `store` for the
 /// thread's next [`take_kept`], unless it already holds `max` (more than are in use at
 /// once on a thread are let go) or is in use or gone: then `item` is dropped.
@@ -330,5 +350,24 @@ mod tests {
         });
         assert_eq!(take_kept(&LISTS).capacity(), 5);
         assert_eq!(take_kept(&LISTS).capacity(), 0);
+    }
+
+    #[test]
+    fn a_matching_kept_value_comes_back_else_the_oldest_once_the_store_is_full() {
+        thread_local! {
+            static KEYED: RefCell<Vec<Vec<u8>>> = const { RefCell::new(Vec::new()) };
+        }
+        for v in [vec![1], vec![2], vec![1, 1]] {
+            keep_in(&KEYED, v, 3);
+        }
+        // The most recently kept match, from anywhere in the store.
+        assert_eq!(take_kept_matching(&KEYED, |v| v[0] == 1, 3), vec![1, 1]);
+        // No match, room left: a new value, the kept ones stay.
+        assert!(take_kept_matching(&KEYED, |v| v[0] == 9, 3).is_empty());
+        assert_eq!(KEYED.with_borrow(|k| k.len()), 2);
+        // No match, store full: the oldest kept one, to be made again.
+        keep_in(&KEYED, vec![3], 3);
+        assert_eq!(take_kept_matching(&KEYED, |v| v[0] == 9, 3), vec![1]);
+        assert_eq!(KEYED.with_borrow(|k| k.clone()), vec![vec![2], vec![3]]);
     }
 }

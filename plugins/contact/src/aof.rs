@@ -94,17 +94,9 @@ impl CourseUnits {
         let (low, delta) = (var.low, var.delta());
         let key = (low.to_bits(), delta.to_bits());
         let same = |c: &Self| (c.courses.0, c.courses.1) == key && c.courses.2 == xs;
-        let take = |k: &RefCell<Vec<Self>>| {
-            let mut k = k.try_borrow_mut().ok()?;
-            // Else new lists until MAX_KEPT are kept (each grid's courses keep their
-            // own), then the least lately used ones (the first) made again.
-            match k.iter().rposition(same) {
-                Some(i) => Some(k.remove(i)),
-                None if k.len() >= MAX_KEPT => Some(k.remove(0)),
-                None => None,
-            }
-        };
-        let mut c: Self = KEPT.try_with(take).ok().flatten().unwrap_or_default();
+        // Else new lists until MAX_KEPT are kept (each grid's courses keep their own),
+        // then the least lately used ones made again.
+        let mut c = spare::take_kept_matching(&KEPT, same, MAX_KEPT);
         if same(&c) {
             return c;
         }
