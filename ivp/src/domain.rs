@@ -36,6 +36,14 @@ impl DomainVar {
     pub fn value(&self, j: u32) -> f64 {
         self.low + self.delta() * f64::from(j)
     }
+
+    /// The values of the indices `xs`, in their order: [`Self::value`] of each, the step
+    /// computed once.
+    #[inline]
+    pub fn values_at<'a>(&self, xs: &'a [u32]) -> impl ExactSizeIterator<Item = f64> + Clone + 'a {
+        let (low, delta) = (self.low, self.delta());
+        xs.iter().map(move |&j| low + delta * f64::from(j))
+    }
 }
 
 /// Value → index conversion rule ("snap type" 0, 1, 2 of the spec).

@@ -38,7 +38,7 @@
 //! it exactly as the reference does, which settles rare floating-point
 //! near-ties.
 //!
-//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`]. The OF_Reflector is the
+//! Modules: [`domain`], [`function`], [`zaic`], [`coupler`], [`values_key`]. The OF_Reflector is the
 //! crate `ivp-reflector` (a few hidden items here are public for it alone); the
 //! BHV_IPF text of a function is the crate `ivp-ipf`.
 
@@ -49,10 +49,12 @@ pub mod coupler;
 pub mod domain;
 pub mod error;
 pub mod function;
+pub mod values_key;
 pub mod zaic;
 
 pub use coupler::{couple, try_couple, try_couple_normalized};
 pub use domain::{Domain, DomainVar, Snap};
 pub use error::IvpError;
 pub use function::{IvpFunction, Piece, PieceSpec, RawFunction};
+pub use values_key::ValuesKey;
 pub use zaic::{ZaicHeq, ZaicLeq, ZaicPeak, ZaicSpd, ZaicVector};

@@ -9,7 +9,7 @@ use std::cell::RefCell;
 use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::angle360;
-use behavior_api::ivp::Domain;
+use behavior_api::ivp::{Domain, ValuesKey};
 use behavior_api::mbutil::spare;
 
 use super::Metric;
@@ -32,11 +32,10 @@ pub(super) struct Courses {
     /// loop compares them in lanes as wide as its other numbers. Empty unless asked.
     pub star_turns: Vec<f64>,
     pub port_turns: Vec<f64>,
-    /// The courses of `sins` and `coss`: the first variable's low value and step (bits),
-    /// and the indices. The unit vectors depend on these alone (the engine's table), and
-    /// a build asks for the same courses every iteration: kept lists of the same courses
-    /// are used as they are.
-    courses: (u64, u64, Vec<u32>),
+    /// The courses of `sins` and `coss`. The unit vectors depend on these alone (the
+    /// engine's table), and a build asks for the same courses every iteration: kept
+    /// lists of the same courses are used as they are.
+    courses: ValuesKey,
 }
 
 /// More kept course lists than grids evaluated at once on a thread are let go.
@@ -52,11 +51,8 @@ impl Courses {
     /// domain's first variable), the other lists empty: kept lists of these courses if
     /// any, else kept lists (with the room of earlier grids) or new ones, filled.
     pub fn units(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
-        // domain.value(0, i), its step computed once.
         let var = domain.var(0);
-        let (low, delta) = (var.low, var.delta());
-        let key = (low.to_bits(), delta.to_bits());
-        let same = |c: &Self| (c.courses.0, c.courses.1) == key && c.courses.2 == xs;
+        let same = |c: &Self| c.courses.is(var, xs);
         // Else new lists until MAX_KEPT are kept (each grid's courses keep their own),
         // then the least lately used ones made again.
         let mut c = spare::take_kept_matching(&KEPT, same, MAX_KEPT);
@@ -67,11 +63,8 @@ impl Courses {
         c.coss.clear();
         // The engine's unit table looked up once for the whole list
         // ([`CpaEngine::units_into`]).
-        let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
-        engine.units_into(courses, (&mut c.sins, &mut c.coss));
-        c.courses.2.clear();
-        c.courses.2.extend_from_slice(xs);
-        (c.courses.0, c.courses.1) = key;
+        engine.units_into(var.values_at(xs), (&mut c.sins, &mut c.coss));
+        c.courses.set(var, xs);
         c
     }
 
@@ -80,19 +73,17 @@ impl Courses {
     /// `angle360(c − osh)` in (0, 180), port above 180.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32], osh: Option<f64>) -> Self {
         let mut c = Self::units(engine, domain, xs);
-        let var = domain.var(0);
-        let (low, delta) = (var.low, var.delta());
-        let course = |i: u32| low + delta * f64::from(i);
+        let courses = domain.var(0).values_at(xs);
         // Written in place (a push checks the capacity per course).
         let n = xs.len();
         let lists = (&mut c.gams, &mut c.cnhs, &mut c.tans);
-        engine.cosines_into(xs.iter().map(|&i| course(i)), lists);
+        engine.cosines_into(courses.clone(), lists);
         if let Some(osh) = osh {
             c.star_turns.resize(n, 0.0);
             c.port_turns.resize(n, 0.0);
             let turns = c.star_turns.iter_mut().zip(&mut c.port_turns);
-            for ((star, port), &i) in turns.zip(xs) {
-                let delta = angle360(course(i) - osh);
+            for ((star, port), course) in turns.zip(courses) {
+                let delta = angle360(course - osh);
                 *star = f64::from(u8::from(delta > 0.0 && delta < 180.0));
                 *port = f64::from(u8::from(delta > 180.0));
             }

@@ -6,7 +6,7 @@ use std::cell::RefCell;
 use behavior_api::contacts::engine::{roc_cosine, roc_index};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::reflector::eval_grid_pointwise;
-use behavior_api::ivp::{Aof, Domain};
+use behavior_api::ivp::{Aof, Domain, ValuesKey};
 use behavior_api::mbutil::spare;
 
 /// AOF_AvoidCollision (contacts-appcast.md §3.5): utility of the CPA a candidate
@@ -70,11 +70,10 @@ pub(crate) struct CourseUnits {
     /// Per course, its entry of a rate-of-closure cosine table ([`roc_index`]): they
     /// depend on the courses alone, so they are kept with them.
     pub cos_at: Vec<u16>,
-    /// The courses of `sins` and `coss`: the first variable's low value and step (bits),
-    /// and the indices. The unit vectors depend on these alone (the engine's table), and
-    /// a build asks for the same courses every iteration: kept lists of the same courses
-    /// are used as they are.
-    courses: (u64, u64, Vec<u32>),
+    /// The courses of `sins` and `coss`. The unit vectors depend on these alone (the
+    /// engine's table), and a build asks for the same courses every iteration: kept
+    /// lists of the same courses are used as they are.
+    courses: ValuesKey,
 }
 
 /// More kept course lists than grids evaluated at once on a thread are let go.
@@ -89,11 +88,8 @@ impl CourseUnits {
     /// The unit vectors of the courses `xs` (indices of the domain's first variable),
     /// in kept lists (empty, with the room of earlier grids) or new ones.
     pub fn of(engine: &CpaEngine, domain: &Domain, xs: &[u32]) -> Self {
-        // domain.value(0, i), its step computed once.
         let var = domain.var(0);
-        let (low, delta) = (var.low, var.delta());
-        let key = (low.to_bits(), delta.to_bits());
-        let same = |c: &Self| (c.courses.0, c.courses.1) == key && c.courses.2 == xs;
+        let same = |c: &Self| c.courses.is(var, xs);
         // Else new lists until MAX_KEPT are kept (each grid's courses keep their own),
         // then the least lately used ones made again.
         let mut c = spare::take_kept_matching(&KEPT, same, MAX_KEPT);
@@ -102,14 +98,12 @@ impl CourseUnits {
         }
         c.sins.clear();
         c.coss.clear();
-        let courses = xs.iter().map(move |&i| low + delta * f64::from(i));
+        let courses = var.values_at(xs);
         engine.units_into(courses.clone(), (&mut c.sins, &mut c.coss));
         c.cos_at.clear();
         // Below 360: fits.
         c.cos_at.extend(courses.map(|h| roc_index(h) as u16));
-        c.courses.2.clear();
-        c.courses.2.extend_from_slice(xs);
-        (c.courses.0, c.courses.1) = key;
+        c.courses.set(var, xs);
         c
     }
 
