@@ -8,92 +8,50 @@
 
 use std::path::{Path, PathBuf};
 
+use helm_conform::{Case, Step};
+
 use contact_manager::{AlertSet, Config, ContactManager, MailValue};
 
 /// Largest delay (s) accepted between our on-flag and the recorded arrival.
 const LATENCY: f64 = 1.0;
 
-fn cases() -> Vec<PathBuf> {
+/// The golden helm cases (read by the conformance runner's own reader).
+fn cases() -> Vec<(PathBuf, Case)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../conformance/helm");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("conformance/helm")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
-}
-
-struct Step {
-    time: f64,
-    mail: Vec<(String, toml::Value)>,
-    request: Option<String>,
-}
-
-fn steps(doc: &toml::Value) -> Vec<Step> {
-    let mut out = Vec::new();
-    for s in doc
-        .get("step")
-        .and_then(|s| s.as_array())
+    let paths = helm_conform::collect(&[dir]).expect("conformance/helm");
+    paths
         .into_iter()
-        .flatten()
-    {
-        let time = s.get("time").and_then(|t| t.as_float()).unwrap_or(0.0);
-        let mut mail = Vec::new();
-        for m in s
-            .get("mail")
-            .and_then(|m| m.as_array())
-            .into_iter()
-            .flatten()
-        {
-            if let Some([k, v]) = m.as_array().map(|a| a.as_slice()) {
-                if let Some(k) = k.as_str() {
-                    mail.push((k.to_string(), v.clone()));
-                }
-            }
-        }
-        let request = s
-            .get("expect")
-            .and_then(|e| e.get("BCM_ALERT_REQUEST"))
-            .and_then(|r| r.as_str())
-            .map(str::to_string);
-        out.push(Step {
-            time,
-            mail,
-            request,
-        });
-    }
-    out
+        .map(|p| {
+            let case = helm_conform::load(&p).expect("a golden case");
+            (p, case)
+        })
+        .collect()
+}
+
+/// The helm's request posted at step `s`, if any.
+fn request(s: &Step) -> Option<&str> {
+    s.expect.get("BCM_ALERT_REQUEST").and_then(|r| r.as_str())
 }
 
 #[test]
 fn on_flags_agree_with_the_recorded_contact_manager() {
     let mut checked = 0;
-    for path in cases() {
-        let text = std::fs::read_to_string(&path).expect("read case");
-        if !text.contains("BCM_ALERT_REQUEST") {
-            continue;
-        }
-        let doc: toml::Value = toml::from_str(&text).expect("case toml");
+    for (path, case) in cases() {
         // A case whose description says its alerts came from a scripted stand-in with
         // its own rule (not the helm's request) says nothing about the manager.
-        let desc = doc
-            .get("description")
-            .and_then(|d| d.as_str())
-            .unwrap_or("");
-        if desc.contains("stand-in") {
+        if case.description.contains("stand-in") {
             continue;
         }
-        let steps = steps(&doc);
-        let Some(req) = steps.iter().find_map(|s| s.request.clone()) else {
+        let steps = &case.step;
+        let Some(req) = steps.iter().find_map(request) else {
             continue;
         };
         let mut set = AlertSet::default();
-        let id = set.apply(&req).expect("the case's request parses");
+        let id = set.apply(req).expect("the case's request parses");
         let var = set.get(&id).expect("alert").on_flags[0].var.clone();
         // The recorded arrivals: (time, value) of each distinct value of the flag.
         let mut recorded: Vec<(f64, String)> = Vec::new();
-        for s in &steps {
+        for s in steps {
             for (k, v) in &s.mail {
                 if *k == var {
                     let v = v.as_str().unwrap_or_default().to_string();
@@ -108,7 +66,7 @@ fn on_flags_agree_with_the_recorded_contact_manager() {
         }
         let mut m = ContactManager::new("ownship", Config::default(), None);
         let mut ours: Vec<(f64, String)> = Vec::new();
-        for s in &steps {
+        for s in steps {
             let mut mail: Vec<(&str, MailValue<'_>)> = Vec::new();
             for (k, v) in &s.mail {
                 let v = match v {
@@ -119,7 +77,7 @@ fn on_flags_agree_with_the_recorded_contact_manager() {
                 };
                 mail.push((k.as_str(), v));
             }
-            if let Some(r) = &s.request {
+            if let Some(r) = request(s) {
                 mail.push(("BCM_ALERT_REQUEST", MailValue::Str(r)));
             }
             m.handle_mail(s.time, &mail);

@@ -8,62 +8,29 @@
 
 use std::path::{Path, PathBuf};
 
+use helm_conform::{Case, Step};
+
 use obstacle_manager::{AlertRequest, Config, MailValue, ObstacleManager};
 
 /// Largest delay (s) accepted between our update and the recorded arrival.
 const LATENCY: f64 = 1.0;
 
-fn cases() -> Vec<PathBuf> {
+/// The golden helm cases (read by the conformance runner's own reader).
+fn cases() -> Vec<(PathBuf, Case)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../conformance/helm");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("conformance/helm")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
-}
-
-struct Step {
-    time: f64,
-    mail: Vec<(String, toml::Value)>,
-    request: Option<String>,
-}
-
-fn steps(doc: &toml::Value) -> Vec<Step> {
-    let mut out = Vec::new();
-    for s in doc
-        .get("step")
-        .and_then(|s| s.as_array())
+    let paths = helm_conform::collect(&[dir]).expect("conformance/helm");
+    paths
         .into_iter()
-        .flatten()
-    {
-        let time = s.get("time").and_then(|t| t.as_float()).unwrap_or(0.0);
-        let mut mail = Vec::new();
-        for m in s
-            .get("mail")
-            .and_then(|m| m.as_array())
-            .into_iter()
-            .flatten()
-        {
-            if let Some([k, v]) = m.as_array().map(|a| a.as_slice()) {
-                if let Some(k) = k.as_str() {
-                    mail.push((k.to_string(), v.clone()));
-                }
-            }
-        }
-        let request = s
-            .get("expect")
-            .and_then(|e| e.get("OBM_ALERT_REQUEST"))
-            .and_then(|r| r.as_str())
-            .map(str::to_string);
-        out.push(Step {
-            time,
-            mail,
-            request,
-        });
-    }
-    out
+        .map(|p| {
+            let case = helm_conform::load(&p).expect("a golden case");
+            (p, case)
+        })
+        .collect()
+}
+
+/// The helm's request posted at step `s`, if any.
+fn request(s: &Step) -> Option<&str> {
+    s.expect.get("OBM_ALERT_REQUEST").and_then(|r| r.as_str())
 }
 
 /// The polygon part of an update: `name=..#poly=<this>#id=..`.
@@ -74,17 +41,12 @@ fn poly_of(update: &str) -> Option<&str> {
 #[test]
 fn updates_agree_with_the_recorded_obstacle_manager() {
     let mut checked = 0;
-    for path in cases() {
-        let text = std::fs::read_to_string(&path).expect("read case");
-        if !text.contains("OBM_ALERT_REQUEST") {
-            continue;
-        }
-        let doc: toml::Value = toml::from_str(&text).expect("case toml");
-        let steps = steps(&doc);
-        let Some(req) = steps.iter().find_map(|s| s.request.clone()) else {
+    for (path, case) in cases() {
+        let steps = &case.step;
+        let Some(req) = steps.iter().find_map(request) else {
             continue;
         };
-        let req = AlertRequest::parse(&req).expect("the helm's request parses");
+        let req = AlertRequest::parse(req).expect("the helm's request parses");
         // The recorded updates, with their arrival times.
         let recorded: Vec<(f64, String)> = steps
             .iter()
@@ -106,7 +68,7 @@ fn updates_agree_with_the_recorded_obstacle_manager() {
         let mut m = ObstacleManager::new(cfg, steps[0].time);
         let mut ours: Vec<(f64, String)> = Vec::new();
         let mut requested = false;
-        for s in &steps {
+        for s in steps {
             let mut mail: Vec<(&str, MailValue<'_>)> = s
                 .mail
                 .iter()
@@ -115,12 +77,12 @@ fn updates_agree_with_the_recorded_obstacle_manager() {
                 .collect();
             // The helm's request reaches the manager the step after it was posted.
             if requested {
-                if let Some(r) = steps.iter().find_map(|s| s.request.as_deref()) {
+                if let Some(r) = steps.iter().find_map(request) {
                     mail.push(("OBM_ALERT_REQUEST", MailValue::Str(r)));
                 }
                 requested = false;
             }
-            if s.request.is_some() {
+            if request(s).is_some() {
                 requested = true;
             }
             m.handle_mail(s.time, &mail);
