@@ -130,7 +130,8 @@ impl IpfWriter {
         encode_context_into(&f, &mut self.whole);
         self.set_id(name, itoa::Buffer::new().format(iter));
         let (whole_ascii, id_ascii) = (self.whole.is_ascii(), name.is_ascii());
-        self.kept_rest(f, kept, whole_ascii, id_ascii)
+        kept.keep(&f);
+        self.kept_rest(kept, whole_ascii, id_ascii)
     }
 
     /// [`IpfWriter::kept_packets`] with the helm's context, `iter:name`, written here
@@ -139,6 +140,20 @@ impl IpfWriter {
         &'s mut self,
         f: IpfSource<'_>,
         kept: &'s mut KeptIpf,
+        name: &str,
+        iter: u64,
+    ) -> Packets<'s> {
+        kept.keep(&f);
+        self.kept_helm_packets(kept, name, iter)
+    }
+
+    /// [`IpfWriter::helm_packets`] of the function `kept` was last given
+    /// ([`KeptIpf::keep`]), nothing formatted again: the helm formats a function in its
+    /// decision step (before the solve changes it) and splits its text into packets when
+    /// it publishes the behavior's messages (helm.md §8.3), as the real helm does.
+    pub fn kept_helm_packets<'s>(
+        &'s mut self,
+        kept: &'s KeptIpf,
         name: &str,
         iter: u64,
     ) -> Packets<'s> {
@@ -157,19 +172,17 @@ impl IpfWriter {
         w.push_str(name);
         w.push(',');
         self.set_id(name, iter_text);
-        self.kept_rest(f, kept, ascii, ascii)
+        self.kept_rest(kept, ascii, ascii)
     }
 
     /// The packets once the context is in `whole` and the id set (told whether they
     /// are ASCII): the rest from `kept`.
     fn kept_rest<'s>(
-        &'s mut self,
-        f: IpfSource<'_>,
-        kept: &'s mut KeptIpf,
+        &'s self,
+        kept: &'s KeptIpf,
         whole_ascii: bool,
         id_ascii: bool,
     ) -> Packets<'s> {
-        kept.update(&f);
         // The pieces are numbers and commas only, ASCII by construction.
         debug_assert!(kept.pieces.is_ascii());
         let ascii = kept.shape_ascii && whole_ascii;
@@ -222,7 +235,9 @@ pub struct KeptIpf {
 }
 
 impl KeptIpf {
-    fn update(&mut self, f: &IpfSource<'_>) {
+    /// The text of `f` after its context, formatted where the numbers it shows changed
+    /// since the last function kept.
+    pub fn keep(&mut self, f: &IpfSource<'_>) {
         let dim = f.domain.size();
         let count = f.weights.len() / (dim + 1);
         let same_domain = self
@@ -333,6 +348,54 @@ mod tests {
                     want.write(p, &mut a);
                     got.write(p, &mut b);
                     assert_eq!(a, b, "{name} {iter} packet {p}");
+                }
+            }
+        }
+    }
+
+    /// The helm's deferred path: functions kept in the decision step ([`KeptIpf::keep`]),
+    /// packets written later ([`IpfWriter::kept_helm_packets`]) by one writer shared by
+    /// the behaviors, in any order: each behavior's packets as [`IpfWriter::helm_packets`]
+    /// gives them at once, and again unchanged when asked twice.
+    #[test]
+    fn kept_helm_packets_written_later_equal_helm_packets() {
+        let d = Domain::parse("course:0:359:360,speed:0:4:41").unwrap();
+        let names = ["avd_abe", "tête", &"n".repeat(1990)];
+        let (mut a, mut b) = (String::new(), String::new());
+        let mut shared = IpfWriter::default();
+        let mut kept: Vec<KeptIpf> = names.iter().map(|_| KeptIpf::default()).collect();
+        for iter in [1u64, 2, 3, 40, 41] {
+            let fs: Vec<IvpFunction> = (0..names.len())
+                .map(|n| {
+                    let pieces: Vec<_> = (0..(60 * (n as i32 + 1)))
+                        .map(|i| {
+                            let c = (6 * i) % 360;
+                            let w = f64::from(i) * 0.37 - f64::from(iter as u32) * 1.1;
+                            (vec![(c, c + 5), (0, 40)], vec![w, -0.5, 100.0 - w])
+                        })
+                        .collect();
+                    IvpFunction::from_pieces(d.clone(), &pieces).unwrap()
+                })
+                .collect();
+            for (f, k) in fs.iter().zip(&mut kept) {
+                k.keep(&IpfSource {
+                    context: "",
+                    ..f.into()
+                });
+            }
+            for n in [2, 0, 1, 0] {
+                let mut alone = (IpfWriter::default(), KeptIpf::default());
+                let src = IpfSource {
+                    context: "",
+                    ..(&fs[n]).into()
+                };
+                let want = alone.0.helm_packets(src, &mut alone.1, names[n], iter);
+                let got = shared.kept_helm_packets(&kept[n], names[n], iter);
+                assert_eq!(got.count(), want.count(), "{n} {iter}");
+                for p in 1..=want.count() {
+                    want.write(p, &mut a);
+                    got.write(p, &mut b);
+                    assert_eq!(a, b, "{n} {iter} packet {p}");
                 }
             }
         }

@@ -294,7 +294,7 @@ impl Helm {
                 let core = &mut self.behaviors[i].core;
                 match place(core, fd, &self.config.domain, name, &mut self.functions) {
                     // BHV_IPF shows the function before normalization, pwt apart.
-                    Ok(()) => self.post_ipf(i, iter),
+                    Ok(()) => self.post_ipf(i),
                     Err(msg) => {
                         summary.halted = Some(msg.clone());
                         crate::runtime::fault(&mut self.behaviors[i].core, &msg);
@@ -352,14 +352,16 @@ impl Helm {
         summary
     }
 
-    /// BHV_IPF (behavior-common.md §4 step 10.7): the last function placed, serialised
-    /// into packets, queued as behavior `i`'s messages; every string is a reused one.
-    fn post_ipf(&mut self, i: usize, iter: u64) {
-        let (Some((name, f)), false) = (self.functions.last(), self.ipf_off) else {
+    /// BHV_IPF (behavior-common.md §4 step 10.7): the last function placed, formatted
+    /// into behavior `i`'s kept text (here, before the solve changes the function) and
+    /// queued as its message; the text is split into packets when the message is
+    /// published (helm.md §8.3), as the real helm does.
+    fn post_ipf(&mut self, i: usize) {
+        let (Some((_, f)), false) = (self.functions.last(), self.ipf_off) else {
             return;
         };
         let f = f.view();
-        // The function's context, `iteration:behavior`, is written by the writer.
+        // The function's context, `iteration:behavior`, is written with the packets.
         let source = ivp_ipf::IpfSource {
             context: "",
             domain: f.domain(),
@@ -369,18 +371,13 @@ impl Helm {
             weights: f.weights(),
         };
         let core = &mut self.behaviors[i].core;
-        let packets = self
-            .ipf
-            .helm_packets(source, &mut core.ipf_kept, name, iter);
-        for k in 1..=packets.count() {
-            let mut p = self.pool.take_long();
-            packets.write(k, &mut p);
-            core.messages.push(crate::runtime::Message {
-                var: self.pool.copy_of("BHV_IPF"),
-                value: Value::Str(p),
-                key: String::new(), // unread: BHV_IPF skips the duplicate filter
-            });
-        }
+        core.ipf_kept.keep(&source);
+        core.messages.push(crate::runtime::Message {
+            var: self.pool.copy_of("BHV_IPF"),
+            value: Value::Str(String::new()),
+            key: String::new(), // unread: BHV_IPF skips the duplicate filter
+            helm_ipf: true,
+        });
     }
 
     /// §9.1: all-stop or the decision.

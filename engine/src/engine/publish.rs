@@ -46,6 +46,12 @@ impl Helm {
             aux.push_str(&name);
             for mut m in messages.drain(..) {
                 match m.var.as_str() {
+                    "BHV_IPF" if m.helm_ipf => {
+                        self.post_ipf_packets(i, &name, iter);
+                        self.pool.give(m.var);
+                        self.pool.give(m.key);
+                        continue;
+                    }
                     "BHV_IPF" => {
                         self.post_message(m, &name);
                         continue;
@@ -190,6 +196,22 @@ impl Helm {
     }
 
     /// A behavior's message posted as it is (its strings move into the posting).
+    /// Behavior `i`'s BHV_IPF (its kept text) split into packets (ivp-solver.md §9.2),
+    /// each posted with source-aux `name`; every string is a reused one.
+    fn post_ipf_packets(&mut self, i: usize, name: &str, iter: u64) {
+        let kept = &self.behaviors[i].core.ipf_kept;
+        let packets = self.ipf.kept_helm_packets(kept, name, iter);
+        for k in 1..=packets.count() {
+            let mut p = self.pool.take_long();
+            packets.write(k, &mut p);
+            self.outbox.push(crate::posting::Posting {
+                var: self.pool.copy_of("BHV_IPF"),
+                value: Value::Str(p),
+                source_aux: self.pool.copy_of(name),
+            });
+        }
+    }
+
     fn post_message(&mut self, m: crate::runtime::Message, aux: &str) {
         let source_aux = self.pool.copy_of(aux);
         self.pool.give(m.key);

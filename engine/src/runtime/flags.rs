@@ -171,5 +171,6 @@ fn post_remote(
         var: "NODE_MESSAGE_LOCAL".into(),
         value: Value::Str(msg),
         key,
+        helm_ipf: false,
     });
 }

@@ -57,6 +57,9 @@ pub struct Message {
     /// The duplicate-filter key: `repeatable` or `<name><VAR><given key>`; empty for
     /// the default `<name><VAR>`, written where it is read (most messages have it).
     pub key: String,
+    /// The helm's BHV_IPF of the behavior's function (its text in the behavior's
+    /// `ipf_kept`, `value` unused): split into packets where it is published.
+    pub helm_ipf: bool,
 }
 
 /// The lists of common flags (behavior-common.md §3).
@@ -268,7 +271,12 @@ impl BehaviorCore {
             key.push_str(given_key);
             key
         };
-        self.messages.push(Message { var, value, key });
+        self.messages.push(Message {
+            var,
+            value,
+            key,
+            helm_ipf: false,
+        });
     }
 
     /// `postEMessage`: BHV_ERROR and the behavior is not ok (halts the iteration).
