@@ -508,12 +508,24 @@ impl Search<'_> {
                 }
             }
             (None, None) => {
-                let pieces = fb.chunks_exact(bl).zip(weights.chunks_exact(wl));
-                for (q, (qb, qw)) in pieces.take(f.n).enumerate() {
-                    if cut(self, q) {
-                        continue;
+                let n = f.n.min(fb.len() / bl).min(weights.len() / wl);
+                // Most pieces are cut: they are passed over in a tight loop, `cut`'s
+                // test with `best - 2 tol` held in a local (made again after a leaf,
+                // which may raise `best`).
+                let m = n.min(ubs.len());
+                let mut lim = self.best - 2.0 * self.tol;
+                let mut q = 0;
+                while q < n {
+                    while q < m && mv + ubs[q] <= lim {
+                        q += 1;
                     }
+                    if q == n {
+                        break;
+                    }
+                    let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
                     self.last_leaf(nb, nw, qb, qw, dim, false);
+                    lim = self.best - 2.0 * self.tol;
+                    q += 1;
                 }
             }
         }
