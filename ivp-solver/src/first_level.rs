@@ -121,6 +121,8 @@ impl Search<'_> {
         let last_ub = self.last_ub;
         // Held in locals: the loop tests them once per piece the tight loops stop at.
         let (two, mid) = (m == 2, self.mid.filter(|_| m > 2));
+        // The second function the last and one cell: its leaves read the piece in place.
+        let direct = two && self.funcs[self.active[1]].single;
         // The tight loops four pieces a step when the CPU has AVX2 (`first_simd.rs`),
         // the scalar loops then going on from where they stop.
         #[cfg(target_arch = "x86_64")]
@@ -220,9 +222,14 @@ impl Search<'_> {
                     (c != NO_CELL).then_some(c as usize)
                 });
             if !skip {
-                self.node_b[..bl].copy_from_slice(pb);
-                self.node_w[..wl].copy_from_slice(&fw[q * wl..(q + 1) * wl]);
-                self.recurse(1, mv);
+                let pw = &fw[q * wl..(q + 1) * wl];
+                if direct {
+                    self.last_of_two(pb, pw, mv);
+                } else {
+                    self.node_b[..bl].copy_from_slice(pb);
+                    self.node_w[..wl].copy_from_slice(pw);
+                    self.recurse(1, mv);
+                }
             }
             q += 1;
         }
