@@ -73,8 +73,14 @@ impl Search<'_> {
             (Some(list), _) => {
                 for &q in list {
                     let q = q as usize;
-                    let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                    self.last_leaf(nb, nw, qb, qw, dim, false);
+                    // Most of a cell's pieces miss the node: tested before their
+                    // weights are sliced.
+                    let qb = &fb[q * bl..(q + 1) * bl];
+                    if !intersects(nb, qb, dim) {
+                        continue;
+                    }
+                    let qw = &weights[q * wl..(q + 1) * wl];
+                    self.last_leaf(nb, nw, qb, qw, dim);
                 }
             }
             (None, Some(words)) => {
@@ -88,7 +94,7 @@ impl Search<'_> {
                             continue;
                         }
                         let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                        self.last_leaf(nb, nw, qb, qw, dim, true);
+                        self.last_leaf(nb, nw, qb, qw, dim);
                     }
                 }
             }
@@ -107,9 +113,12 @@ impl Search<'_> {
                     if q == n {
                         break;
                     }
-                    let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                    self.last_leaf(nb, nw, qb, qw, dim, false);
-                    lim = self.best - 2.0 * self.tol;
+                    let qb = &fb[q * bl..(q + 1) * bl];
+                    if intersects(nb, qb, dim) {
+                        let qw = &weights[q * wl..(q + 1) * wl];
+                        self.last_leaf(nb, nw, qb, qw, dim);
+                        lim = self.best - 2.0 * self.tol;
+                    }
                     q += 1;
                 }
             }
@@ -143,8 +152,9 @@ impl Search<'_> {
     }
 
     /// The leaf `node ∩ q` of [`Search::last_level_dim`] (the node's box and weights
-    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet (`met`:
-    /// known to, from the bit sets, which give exactly the pieces meeting the node).
+    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), which meet (the
+    /// callers test it, or know it from the bit sets, which give exactly the pieces
+    /// meeting the node).
     #[inline(always)]
     pub(crate) fn last_leaf(
         &mut self,
@@ -153,13 +163,9 @@ impl Search<'_> {
         qb: &[i32],
         qw: &[f64],
         dim: usize,
-        met: bool,
     ) {
         let (bl, wl) = (2 * dim, dim + 1);
         let (node_b, node_w, qb, qw) = (&node_b[..bl], &node_w[..wl], &qb[..bl], &qw[..wl]);
-        if !met && !intersects(node_b, qb, dim) {
-            return;
-        }
         let mut acc = node_w[dim] + qw[dim];
         for d in 0..dim {
             let w = node_w[d] + qw[d];
