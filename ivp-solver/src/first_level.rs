@@ -129,7 +129,10 @@ impl Search<'_> {
         let simd = std::arch::is_x86_feature_detected!("avx2");
         let mut q = 0;
         while q < n {
-            if two && (self.found || self.seeded) {
+            // The two-function loop stopped at `q`: `skip_indexed`'s tests made on it,
+            // with the same `best`, and it was not skipped.
+            let tested = two && (self.found || self.seeded);
+            if tested {
                 // `skip_indexed`: the reference bound `rb = mv + last_ub` (pruning, and
                 // before the first leaf raising `doubt` above `best - 2 tol`, as
                 // `prune(rb, rb)` does), then the index's.
@@ -216,7 +219,8 @@ impl Search<'_> {
                 }
             }
             let (pb, mv) = (&fb[q * bl..(q + 1) * bl], mvs[q]);
-            let skip = (self.found || self.seeded)
+            let skip = !tested
+                && (self.found || self.seeded)
                 && self.skip_indexed(1, pb, mv, ix, || {
                     let c = cells[q];
                     (c != NO_CELL).then_some(c as usize)
