@@ -121,13 +121,18 @@ impl Search<'_> {
         let last_ub = self.last_ub;
         // Held in locals: the loop tests them once per piece the tight loops stop at.
         let (two, mid) = (m == 2, self.mid.filter(|_| m > 2));
+        // The second function the last and one cell: its leaves read the piece in place.
+        let direct = two && self.funcs[self.active[1]].single;
         // The tight loops four pieces a step when the CPU has AVX2 (`first_simd.rs`),
         // the scalar loops then going on from where they stop.
         #[cfg(target_arch = "x86_64")]
         let simd = std::arch::is_x86_feature_detected!("avx2");
         let mut q = 0;
         while q < n {
-            if two && (self.found || self.seeded) {
+            // The two-function loop stopped at `q`: `skip_indexed`'s tests made on it,
+            // with the same `best`, and it was not skipped.
+            let tested = two && (self.found || self.seeded);
+            if tested {
                 // `skip_indexed`: the reference bound `rb = mv + last_ub` (pruning, and
                 // before the first leaf raising `doubt` above `best - 2 tol`, as
                 // `prune(rb, rb)` does), then the index's.
@@ -214,15 +219,21 @@ impl Search<'_> {
                 }
             }
             let (pb, mv) = (&fb[q * bl..(q + 1) * bl], mvs[q]);
-            let skip = (self.found || self.seeded)
+            let skip = !tested
+                && (self.found || self.seeded)
                 && self.skip_indexed(1, pb, mv, ix, || {
                     let c = cells[q];
                     (c != NO_CELL).then_some(c as usize)
                 });
             if !skip {
-                self.node_b[..bl].copy_from_slice(pb);
-                self.node_w[..wl].copy_from_slice(&fw[q * wl..(q + 1) * wl]);
-                self.recurse(1, mv);
+                let pw = &fw[q * wl..(q + 1) * wl];
+                if direct {
+                    self.last_of_two(pb, pw, mv);
+                } else {
+                    self.node_b[..bl].copy_from_slice(pb);
+                    self.node_w[..wl].copy_from_slice(pw);
+                    self.recurse(1, mv);
+                }
             }
             q += 1;
         }

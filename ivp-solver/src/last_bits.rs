@@ -27,6 +27,28 @@ pub(super) struct LastBits {
     off: Vec<usize>,
 }
 
+/// "lo <= v" accumulates upwards over the rows of `lo`, "hi >= v" downwards over those
+/// of `hi` (`W` words a row): a running OR per word, row by row (one load, OR and store
+/// per word; no index arithmetic to strength-reduce, so it stays cheap whatever the
+/// compiler inlines around it).
+#[inline(always)]
+fn running_or<const W: usize>(lo: &mut [u64], hi: &mut [u64]) {
+    let mut acc = [0u64; W];
+    for row in lo.chunks_exact_mut(W) {
+        for (a, x) in acc.iter_mut().zip(row) {
+            *a |= *x;
+            *x = *a;
+        }
+    }
+    let mut acc = [0u64; W];
+    for row in hi.chunks_exact_mut(W).rev() {
+        for (a, x) in acc.iter_mut().zip(row) {
+            *a |= *x;
+            *x = *a;
+        }
+    }
+}
+
 impl LastBits {
     /// Make (or keep, for the same boxes and points) the sets of `n` pieces `boxes`
     /// (problem order) over a domain of `pts` points. False, and no sets, when `n` is
@@ -69,23 +91,13 @@ impl LastBits {
                 self.sets[(base + b[2 * d] as usize) * words + k / 64] |= bit;
                 self.sets[(base + p + b[2 * d + 1] as usize) * words + k / 64] |= bit;
             }
-            // "lo <= v" accumulates upwards, "hi >= v" downwards: a running OR per word,
-            // row by row (one load, OR and store per word; no index arithmetic to
-            // strength-reduce, so it stays cheap whatever the compiler inlines around it).
             let (lo, hi) = self.sets[base * words..(base + 2 * p) * words].split_at_mut(p * words);
-            let mut acc = [0u64; WORDS];
-            for row in lo.chunks_exact_mut(words) {
-                for (a, x) in acc.iter_mut().zip(row) {
-                    *a |= *x;
-                    *x = *a;
-                }
-            }
-            let mut acc = [0u64; WORDS];
-            for row in hi.chunks_exact_mut(words).rev() {
-                for (a, x) in acc.iter_mut().zip(row) {
-                    *a |= *x;
-                    *x = *a;
-                }
+            // The word count made a constant: a row is a fixed-size array, no check per row.
+            match words {
+                1 => running_or::<1>(lo, hi),
+                2 => running_or::<2>(lo, hi),
+                3 => running_or::<3>(lo, hi),
+                _ => running_or::<WORDS>(lo, hi),
             }
         }
         self.made = true;

@@ -35,6 +35,7 @@ mod first_level;
 mod first_simd;
 mod last_bits;
 mod last_index;
+mod last_level;
 mod lone;
 mod made_from;
 mod nan_scan;

@@ -4,7 +4,7 @@
 pub(crate) use crate::clip::Clip;
 use crate::last_bits::LastBits;
 use crate::last_index::{LastIndex, NO_CELL};
-use crate::prepared::{intersects, CellRange, Prepared, BITS_AFTER, ODO_DIMS};
+use crate::prepared::{intersects, CellRange, Prepared, ODO_DIMS};
 use ivp::function::max_val;
 use std::cell::Cell;
 
@@ -162,7 +162,7 @@ pub(crate) struct Search<'a> {
     /// The last function's global bound (its term when `last` is on).
     pub(crate) last_ub: f64,
     /// The last function's bit sets when it may use them, made once `scans` reaches
-    /// [`BITS_AFTER`] (`bits_ready`).
+    /// [`BITS_AFTER`](crate::prepared::BITS_AFTER) (`bits_ready`).
     pub(crate) bits: Option<&'a mut LastBits>,
     pub(crate) bits_ready: bool,
     /// [`FEW_PIECES`] (0 in tests of the bit sets).
@@ -411,6 +411,8 @@ impl Search<'_> {
         // Without the index, the functions below all one cell: `skip`'s own path
         // (`skip_singles`, the clipped bound's), inlined here.
         let direct = self.last.is_none() && self.singles_from <= 1;
+        // The second function the last and one cell: its leaves read the piece in place.
+        let two = m == 2 && self.funcs[self.active[1]].single;
         for (q, (pb, pw)) in pieces.enumerate() {
             let mv = mv_of(q, pb, pw);
             let skip = if singles && self.found {
@@ -421,9 +423,13 @@ impl Search<'_> {
                 self.skip_first(q, pb, mv)
             };
             if !skip {
-                self.node_b[..bl].copy_from_slice(pb);
-                self.node_w[..wl].copy_from_slice(pw);
-                self.recurse(1, mv);
+                if two {
+                    self.last_of_two(pb, pw, mv);
+                } else {
+                    self.node_b[..bl].copy_from_slice(pb);
+                    self.node_w[..wl].copy_from_slice(pw);
+                    self.recurse(1, mv);
+                }
             }
         }
     }
@@ -437,154 +443,6 @@ impl Search<'_> {
                 .copy_from_slice(&self.node_b[slot * bl..(slot + 1) * bl]);
             self.best_w
                 .copy_from_slice(&self.node_w[slot * wl..(slot + 1) * wl]);
-        }
-    }
-
-    /// Fast path for the deepest level with a single-cell grid (`dim == self.dim`, a
-    /// constant in [`Search::recurse_dim`]): leaf values are computed on the fly with
-    /// exactly the operations of `maxVal(node ∩ q)` (summed weights, intercept first,
-    /// then dimensions in order); the leaf is only materialized when it becomes the
-    /// incumbent. A node inside one cell of the [`LastIndex`] meets only that cell's
-    /// pieces (array order, as here).
-    ///
-    /// Once a leaf is found or the search is seeded, a piece `q` with
-    /// `mv + maxVal(q) <= best - 2 tol` (`mv` the node's `maxVal`) is passed over: that
-    /// sum bounds its leaf `node ∩ q`, so the leaf is at most `best` (see
-    /// [`Search::prune`]): never taken and raising no `doubt`, the same answer.
-    #[inline(always)]
-    fn last_level_dim(&mut self, level: usize, f: &Prepared, fb: &[i32], dim: usize, mv: f64) {
-        let (bl, wl) = (2 * dim, dim + 1);
-        let cell = {
-            let node_b = &self.node_b[(level - 1) * bl..level * bl];
-            self.last
-                .and_then(|ix| ix.cell_of(node_b).map(|c| ix.pieces(c)))
-        };
-        // The pieces' `maxVal`s when the set-up made them (a NaN `mv` passes all).
-        let ubs = &f.piece_ub[..];
-        let (ubs, mv) = if ubs.len() == f.n && (self.found || self.seeded) {
-            (ubs, mv)
-        } else {
-            (&[][..], f64::NAN)
-        };
-        let mut meet = [0u64; 4];
-        let words = match cell {
-            Some(_) => None,
-            // A few pieces are passed over by their `maxVal` for less than the sets cost.
-            None if f.n <= self.few && !ubs.is_empty() => None,
-            None => self.bits_meeting(level, f, fb, &mut meet),
-        };
-        // The node held apart from `self` while the leaves update the incumbent.
-        let (all_b, all_w) = (
-            std::mem::take(&mut self.node_b),
-            std::mem::take(&mut self.node_w),
-        );
-        let nb = &all_b[(level - 1) * bl..level * bl];
-        let nw = &all_w[(level - 1) * wl..level * wl];
-        let weights = &f.weights;
-        let cut = |s: &Self, q: usize| ubs.get(q).is_some_and(|&u| mv + u <= s.best - 2.0 * s.tol);
-        match (cell, words) {
-            // (The index's cell bound already pruned the node when no piece of the cell
-            // could beat the incumbent: the cut would cost more than it saves.)
-            (Some(list), _) => {
-                for &q in list {
-                    let q = q as usize;
-                    let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                    self.last_leaf(nb, nw, qb, qw, dim, false);
-                }
-            }
-            (None, Some(words)) => {
-                // The pieces meeting the node, in array order.
-                for (w, &word) in meet.iter().enumerate().take(words) {
-                    let mut word = word;
-                    while word != 0 {
-                        let q = w * 64 + word.trailing_zeros() as usize;
-                        word &= word - 1;
-                        if cut(self, q) {
-                            continue;
-                        }
-                        let (qb, qw) = (&fb[q * bl..(q + 1) * bl], &weights[q * wl..(q + 1) * wl]);
-                        self.last_leaf(nb, nw, qb, qw, dim, true);
-                    }
-                }
-            }
-            (None, None) => {
-                let pieces = fb.chunks_exact(bl).zip(weights.chunks_exact(wl));
-                for (q, (qb, qw)) in pieces.take(f.n).enumerate() {
-                    if cut(self, q) {
-                        continue;
-                    }
-                    self.last_leaf(nb, nw, qb, qw, dim, false);
-                }
-            }
-        }
-        (self.node_b, self.node_w) = (all_b, all_w);
-    }
-
-    /// The pieces of the last function meeting the node at `level` into `meet`, and the
-    /// words used, from its bit sets; `None`: scan them all. The sets are made at the
-    /// [`BITS_AFTER`]th scan of a solve (fewer scans cost less than making them).
-    pub(crate) fn bits_meeting(
-        &mut self,
-        level: usize,
-        f: &Prepared,
-        fb: &[i32],
-        meet: &mut [u64; 4],
-    ) -> Option<usize> {
-        if !self.bits_ready {
-            let bits = self.bits.as_deref_mut()?;
-            self.scans += 1;
-            if self.scans < BITS_AFTER {
-                return None;
-            }
-            if !bits.make(fb, f.n, self.pts) {
-                self.bits = None;
-                return None;
-            }
-            self.bits_ready = true;
-        }
-        let bits = self.bits.as_deref()?;
-        let bl = 2 * self.dim;
-        let node_b = &self.node_b[(level - 1) * bl..level * bl];
-        bits.meeting(node_b, meet).then(|| bits.words())
-    }
-
-    /// The leaf `node ∩ q` of [`Search::last_level_dim`] (the node's box and weights
-    /// `node_b`, `node_w`; `q`'s `qb`, `qw`; `dim == self.dim`), if they meet (`met`:
-    /// known to, from the bit sets, which give exactly the pieces meeting the node).
-    #[inline(always)]
-    pub(crate) fn last_leaf(
-        &mut self,
-        node_b: &[i32],
-        node_w: &[f64],
-        qb: &[i32],
-        qw: &[f64],
-        dim: usize,
-        met: bool,
-    ) {
-        let (bl, wl) = (2 * dim, dim + 1);
-        let (node_b, node_w, qb, qw) = (&node_b[..bl], &node_w[..wl], &qb[..bl], &qw[..wl]);
-        if !met && !intersects(node_b, qb, dim) {
-            return;
-        }
-        let mut acc = node_w[dim] + qw[dim];
-        for d in 0..dim {
-            let w = node_w[d] + qw[d];
-            let c = if w < 0.0 {
-                node_b[2 * d].max(qb[2 * d])
-            } else {
-                node_b[2 * d + 1].min(qb[2 * d + 1])
-            };
-            acc += w * f64::from(c);
-        }
-        if self.takes(acc) {
-            self.set_best(acc);
-            for d in 0..dim {
-                self.best_b[2 * d] = node_b[2 * d].max(qb[2 * d]);
-                self.best_b[2 * d + 1] = node_b[2 * d + 1].min(qb[2 * d + 1]);
-            }
-            for i in 0..wl {
-                self.best_w[i] = node_w[i] + qw[i];
-            }
         }
     }
 
@@ -610,7 +468,15 @@ impl Search<'_> {
         let fb = self.boxes[self.active[level]];
         let last = level + 1 == self.active.len();
         if last && f.single {
-            self.last_level_dim(level, f, fb, dim, node_mv);
+            // The node held apart from `self` while the leaves update the incumbent.
+            let (all_b, all_w) = (
+                std::mem::take(&mut self.node_b),
+                std::mem::take(&mut self.node_w),
+            );
+            let nb = &all_b[(level - 1) * bl..level * bl];
+            let nw = &all_w[(level - 1) * (dim + 1)..level * (dim + 1)];
+            self.last_level_dim(nb, nw, f, fb, dim, node_mv);
+            (self.node_b, self.node_w) = (all_b, all_w);
             return;
         }
         let singles = self.singles_at(level + 1);
