@@ -9,6 +9,7 @@
 
 use ivp::IvpFunction;
 use std::fmt::Write;
+use std::num::NonZeroU64;
 
 mod intervals;
 mod packets;
@@ -33,9 +34,10 @@ impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
-        // as they were written, or copied from the ASCII tables `SMALL`, `PAIRS`,
-        // `DIGIT_PAIRS`, literals, and the interval and slope caches, whose shown bytes
-        // are digits and punctuation), so they are valid UTF-8 after every call, as a
+        // as they were written, or copied from the tables `SMALL`, `DOT_PAIRS`,
+        // `PAIRS_MARKED`, `DIGIT_PAIRS`, literals, and the interval and slope caches,
+        // whose shown bytes are digits and punctuation: their marks and lengths lie
+        // past the text), so they are valid UTF-8 after every call, as a
         // `String` requires, whenever `s` can be seen again.
         let bytes = unsafe { s.as_mut_vec() };
         Utf8Out { bytes }
@@ -371,12 +373,47 @@ const PAIRS: [u16; 100] = {
     t
 };
 
-/// `.` and the two digits of `0..=99` (first digit in the second byte).
-const DOT_PAIRS: [u32; 100] = {
+/// `.` and the two digits of `0..=99` (first digit in the second byte), with a mark
+/// bit at `40 + L` (past the text), `L` the length of `.` and those digits with their
+/// trailing zeros dropped: 1 (`.`), 2 or 3. See [`PAIRS_MARKED`].
+const DOT_PAIRS: [NonZeroU64; 100] = {
+    let mut t = [NonZeroU64::MIN; 100];
+    let mut n = 0;
+    while n < 100 {
+        let len = if n == 0 {
+            1
+        } else if n % 10 == 0 {
+            2
+        } else {
+            3
+        };
+        let text = b'.' as u64 | ((PAIRS[n] as u64) << 8) | (1 << (40 + len));
+        t[n] = match NonZeroU64::new(text) {
+            Some(t) => t,
+            None => panic!("the `.` is nonzero"),
+        };
+        n += 1;
+    }
+    t
+};
+
+/// `0..=99` as two digits (first digit in the low byte), with a mark bit at `16 + L`
+/// for a nonzero value, `L` the length of `.dddd` with this pair as the last two
+/// digits and trailing zeros dropped: 5, or 4 for a multiple of 10. Shifted to follow
+/// a [`DOT_PAIRS`] entry, the marks land in the same byte past the text, where the
+/// highest one is the text's length: the pair's if it has one, else the dot pair's.
+const PAIRS_MARKED: [u32; 100] = {
     let mut t = [0u32; 100];
     let mut n = 0;
     while n < 100 {
-        t[n] = b'.' as u32 | ((PAIRS[n] as u32) << 8);
+        let mark = if n == 0 {
+            0
+        } else if n % 10 == 0 {
+            1 << (16 + 4)
+        } else {
+            1 << (16 + 5)
+        };
+        t[n] = PAIRS[n] as u32 | mark;
         n += 1;
     }
     t
@@ -638,30 +675,36 @@ impl<'b> PieceText<'b> {
         // zero weight, handled above, drops the sign of -0.0).
         self.put8(u64::from(u16::from_le_bytes(*b",-")));
         self.len += 1 + (bits >> 63) as usize;
-        let whole = n / 10000;
-        if whole < 1000 {
+        let frac = if n < 10_000_000 {
+            // `n / 10000` for `n < 10^7` as one multiply: 13743896 = 2^37 / 10^4 + ε
+            // (ε < 0.66), so the product over 2^37 exceeds n / 10^4 by under
+            // 10^7 · 0.66 / 2^37 < 10^-4, which never reaches the next integer (checked
+            // for every such `n` in the tests).
+            let whole = (n * 13_743_896) >> 37;
+            // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`.
+            let e = unsafe { *SMALL.get_unchecked(whole as usize) };
             // The length byte lands where the `.` goes next.
-            let e = SMALL[whole as usize];
             self.put8(u64::from(e));
             self.len += (e >> 24) as usize;
+            n as u32 - whole as u32 * 10000
         } else {
-            self.u64(whole);
-        }
+            self.u64(n / 10000);
+            (n % 10000) as u32
+        };
+        // SAFETY: both arms give `n % 10000` (the first's quotient is exact, above).
+        unsafe { std::hint::assert_unchecked(frac < 10000) };
         // `.` and four decimals, trailing zeros removed (the `.` stays).
-        // (`%`, not `n - whole·10000`: the compiler then knows `frac < 10000` and
-        // reads the pair tables below unchecked.)
-        let frac = (n % 10000) as u32;
         // frac / 100 for frac < 43699, and the rest.
         let hi = (frac * 5243) >> 19;
         let (hi, lo) = (hi as usize, (frac - hi * 100) as usize);
         // SAFETY: `hi` is `frac / 100` exactly (frac < 10000), so `lo` is `frac % 100`,
         // below 100; the compiler cannot see it and would check the index.
         unsafe { std::hint::assert_unchecked(lo < 100) };
-        let text = u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24);
-        self.put8(text);
-        // Trailing zeros dropped: with the digits as values (`.` stays nonzero), the
-        // text ends at its last nonzero byte (no table: it would be cold at each call).
-        self.len += ((text - 0x30_3030_3000) | 1).ilog2() as usize / 8 + 1;
+        let text = DOT_PAIRS[hi] | (u64::from(PAIRS_MARKED[lo]) << 24);
+        self.put8(text.get());
+        // The text's length is the highest of the two tables' marks (past the text,
+        // overwritten by the next number): one bit scan, no table of 10^4 lengths.
+        self.len += text.ilog2() as usize - 40;
         true
     }
 }
@@ -900,6 +943,37 @@ mod tests {
             encode_weight(w, &mut a);
             reference::encode_weight(w, &mut b);
             assert_eq!(a, b, "weight {w:e}");
+        }
+    }
+
+    /// The multiply `PieceText::weight` divides by 10^4 with for `n < 10^7` is exact.
+    #[test]
+    fn whole_part_multiply_is_exact() {
+        for n in 0..10_000_000u64 {
+            assert_eq!((n * 13_743_896) >> 37, n / 10000, "n = {n}");
+        }
+    }
+
+    /// Every fraction (0 to 4 trailing zeros, all mark combinations) after integer
+    /// parts at the length and path boundaries (1, 2, 3 digits; 10^3 and up go the
+    /// general way, as `n >= 10^7`; 2^32 / 10^4), both signs, as the reference.
+    #[test]
+    fn piece_text_fractions_match_the_reference() {
+        let mut batch = [0; PieceText::SIZE + 8];
+        let mut want = String::new();
+        for whole in [
+            0u64, 1, 9, 10, 99, 100, 999, 1000, 1001, 429_496, 429_497, 12_345_678,
+        ] {
+            for frac in 0..10_000 {
+                for sign in [1.0, -1.0] {
+                    let w = sign * (whole * 10_000 + frac) as f64 / 10_000.0;
+                    want.clear();
+                    reference::encode_weight(w, &mut want);
+                    let mut text = PieceText::new(&mut batch);
+                    assert!(text.weight(w));
+                    assert_eq!(text.take(), format!(",{want}").as_bytes(), "weight {w:e}");
+                }
+            }
         }
     }
 
