@@ -140,6 +140,28 @@ pub(crate) fn highest_bit(x: NonZeroU64) -> usize {
     }
 }
 
+/// `x.trunc()` for `0.5 <= x < 2^63`, and 2^63 or more for NaN and larger `x`, by one
+/// `cvttsd2si` on x86-64 (an out-of-range value gives `i64::MIN`, 2^63 as a u64), where
+/// `as` would add its saturation tests. Callers test the range on the result.
+#[inline(always)]
+pub(crate) fn trunc_or_huge(x: f64) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_cvttsd_si64, _mm_set_sd};
+        // SAFETY: the two need SSE2, which every x86-64 processor has (the target's
+        // baseline).
+        unsafe { _mm_cvttsd_si64(_mm_set_sd(x)) as u64 }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        if x < 9.2e18 {
+            x as u64
+        } else {
+            u64::MAX
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,6 +174,26 @@ mod tests {
                 let x = NonZeroU64::new(bits).expect("the top bit is set");
                 assert_eq!(highest_bit(x), x.ilog2() as usize, "{x:#x}");
             }
+        }
+    }
+
+    #[test]
+    fn trunc_or_huge_truncates_or_goes_past_the_range() {
+        for x in [
+            0.5,
+            0.99,
+            1.0,
+            1.5,
+            9_999_999.5,
+            1e7,
+            1e15 - 0.5,
+            1e15,
+            9e18,
+        ] {
+            assert_eq!(trunc_or_huge(x), x.trunc() as u64, "{x}");
+        }
+        for x in [9.3e18, 1e19, 1e300, f64::INFINITY, f64::NAN] {
+            assert!(trunc_or_huge(x) >= 1 << 63, "{x}");
         }
     }
 }

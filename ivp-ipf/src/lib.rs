@@ -14,7 +14,9 @@ mod digits;
 mod intervals;
 mod packets;
 mod piece_loop;
-use digits::{highest_bit, long_digits, DIGIT_PAIRS, DOT_PAIRS, PAIRS_MARKED, SMALL};
+use digits::{
+    highest_bit, long_digits, trunc_or_huge, DIGIT_PAIRS, DOT_PAIRS, PAIRS_MARKED, SMALL,
+};
 pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
@@ -536,6 +538,14 @@ impl<'b> PieceText<'b> {
         self.u64(u64::from(v.unsigned_abs()));
     }
 
+    /// `,` and `-` for a negative weight (its sign bit: only a zero weight, handled
+    /// apart, drops the sign of -0.0): `,-` written always, the `-` kept or not.
+    #[inline(always)]
+    fn sign(&mut self, bits: u64) {
+        self.put8(u64::from(u16::from_le_bytes(*b",-")));
+        self.len += 1 + (bits >> 63) as usize;
+    }
+
     /// `,` and the 4-decimal weight encoding (spec §9.1) for the weights the integer
     /// path covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
     /// infinities, NaN), which [`Utf8Out::weight`] handles.
@@ -549,26 +559,12 @@ impl<'b> PieceText<'b> {
             return true;
         }
         let x = f64::from_bits(bits & !(1 << 63)) * 10000.0 + 0.5;
-        // One comparison (NaN fails it too); `is_nan() ||` would add one.
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        if !(x < 1e15) {
-            return false;
-        }
-        // Below 1e15 (< 2^53) the conversion is exactly `x.trunc()`; unchecked, it is
-        // one instruction (`as` adds the saturation compares).
-        // SAFETY: 0.5 <= x < 1e15: finite, and its truncation fits an i64.
-        let n = unsafe { x.to_int_unchecked::<i64>() } as u64;
-        if n == 0 {
-            let (text, len) = zero_weight(w);
-            self.put8(text);
-            self.len += len;
-            return true;
-        }
-        // `,-` written always, the `-` kept for a negative weight (its sign bit: only a
-        // zero weight, handled above, drops the sign of -0.0).
-        self.put8(u64::from(u16::from_le_bytes(*b",-")));
-        self.len += 1 + (bits >> 63) as usize;
-        let frac = if n < 10_000_000 {
+        let n = trunc_or_huge(x);
+        // One test keeps the usual weights (n from 1 to 10^7 - 1) on the straight path:
+        // the tiny ones (n = 0), those of 1000 and more, and the huge ones, infinities
+        // and NaN (n past 10^7, or not exact) are sorted out off it.
+        let frac = if n.wrapping_sub(1) < 10_000_000 - 1 {
+            self.sign(bits);
             // `n / 10000` for `n < 10^7` as one multiply: 13743896 = 2^37 / 10^4 + ε
             // (ε < 0.66), so the product over 2^37 exceeds n / 10^4 by under
             // 10^7 · 0.66 / 2^37 < 10^-4, which never reaches the next integer (checked
@@ -581,8 +577,21 @@ impl<'b> PieceText<'b> {
             self.len += (e >> 24) as usize;
             n as u32 - whole as u32 * 10000
         } else {
-            // Weights of 1000 and more are few: out of the straight path.
+            // Laid out of the way: the straight path then needs no jump over it.
             std::hint::cold_path();
+            // One comparison (NaN fails it too); `is_nan() ||` would add one.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(x < 1e15) {
+                return false;
+            }
+            // 0.5 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
+            if n == 0 {
+                let (text, len) = zero_weight(w);
+                self.put8(text);
+                self.len += len;
+                return true;
+            }
+            self.sign(bits);
             self.u64(n / 10000);
             (n % 10000) as u32
         };
