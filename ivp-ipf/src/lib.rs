@@ -10,9 +10,13 @@
 use ivp::IvpFunction;
 use std::fmt::Write;
 
+mod digits;
 mod intervals;
 mod packets;
 mod piece_loop;
+use digits::{
+    highest_bit, long_digits, trunc_or_huge, DIGIT_PAIRS, DOT_PAIRS, PAIRS_MARKED, SMALL,
+};
 pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
@@ -33,9 +37,10 @@ impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
-        // as they were written, or copied from the ASCII tables `SMALL`, `PAIRS`,
-        // `DIGIT_PAIRS`, literals, and the interval and slope caches, whose shown bytes
-        // are digits and punctuation), so they are valid UTF-8 after every call, as a
+        // as they were written, or copied from the tables `SMALL`, `DOT_PAIRS`,
+        // `PAIRS_MARKED`, `DIGIT_PAIRS`, literals, and the interval and slope caches,
+        // whose shown bytes are digits and punctuation: their marks and lengths lie
+        // past the text), so they are valid UTF-8 after every call, as a
         // `String` requires, whenever `s` can be seen again.
         let bytes = unsafe { s.as_mut_vec() };
         Utf8Out { bytes }
@@ -307,81 +312,6 @@ fn encode_pieces_into(f: &IpfSource<'_>, s: &mut String) {
     Caches::put(caches);
 }
 
-/// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
-#[cold]
-fn long_digits(mut n: u64) -> ([u8; 20], usize) {
-    let mut tmp = [0u8; 20];
-    let mut i = tmp.len();
-    while n >= 100 {
-        let p = 2 * (n % 100) as usize;
-        n /= 100;
-        i -= 2;
-        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
-    }
-    if n >= 10 {
-        i -= 2;
-        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
-    } else {
-        i -= 1;
-        tmp[i] = b'0' + n as u8;
-    }
-    (tmp, i)
-}
-
-/// `"00".."99"`: two digits per table read.
-const DIGIT_PAIRS: [u8; 200] = {
-    let mut t = [0u8; 200];
-    let mut i = 0;
-    while i < 100 {
-        t[2 * i] = b'0' + (i / 10) as u8;
-        t[2 * i + 1] = b'0' + (i % 10) as u8;
-        i += 1;
-    }
-    t
-};
-
-/// `0..=999` as text: the digits in the low three bytes (first digit lowest), their
-/// number in the top byte; one table read and one store write a small number.
-const SMALL: [u32; 1000] = {
-    let mut t = [0u32; 1000];
-    let mut n = 0;
-    while n < 1000 {
-        let (h, d, u) = ((n / 100) as u32, (n / 10 % 10) as u32, (n % 10) as u32);
-        let z = b'0' as u32;
-        t[n] = if n < 10 {
-            (1 << 24) | (z + u)
-        } else if n < 100 {
-            (2 << 24) | (z + d) | ((z + u) << 8)
-        } else {
-            (3 << 24) | (z + h) | ((z + d) << 8) | ((z + u) << 16)
-        };
-        n += 1;
-    }
-    t
-};
-
-/// `0..=99` as two digits, first digit in the low byte.
-const PAIRS: [u16; 100] = {
-    let mut t = [0u16; 100];
-    let mut n = 0;
-    while n < 100 {
-        t[n] = (b'0' as u16 + (n / 10) as u16) | ((b'0' as u16 + (n % 10) as u16) << 8);
-        n += 1;
-    }
-    t
-};
-
-/// `.` and the two digits of `0..=99` (first digit in the second byte).
-const DOT_PAIRS: [u32; 100] = {
-    let mut t = [0u32; 100];
-    let mut n = 0;
-    while n < 100 {
-        t[n] = b'.' as u32 | ((PAIRS[n] as u32) << 8);
-        n += 1;
-    }
-    t
-};
-
 /// A batch of pieces' text (ASCII digits and punctuation only) on the stack: `SIZE`
 /// bytes of text and room for the 8-byte stores that write a number's bytes at once
 /// (the bytes past a number are overwritten by the next one).
@@ -537,6 +467,8 @@ impl<'b> PieceText<'b> {
     #[inline(always)]
     fn weight_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
         if !self.weight(w) {
+            // Laid out of the way: the straight path then needs no jump over it.
+            std::hint::cold_path();
             self.byte(b',');
             out.ascii(self);
             out.weight(w);
@@ -606,6 +538,14 @@ impl<'b> PieceText<'b> {
         self.u64(u64::from(v.unsigned_abs()));
     }
 
+    /// `,` and `-` for a negative weight (its sign bit: only a zero weight, handled
+    /// apart, drops the sign of -0.0): `,-` written always, the `-` kept or not.
+    #[inline(always)]
+    fn sign(&mut self, bits: u64) {
+        self.put8(u64::from(u16::from_le_bytes(*b",-")));
+        self.len += 1 + (bits >> 63) as usize;
+    }
+
     /// `,` and the 4-decimal weight encoding (spec §9.1) for the weights the integer
     /// path covers; false, with nothing written, for the others (|w|·10⁴ + 0.5 ≥ 1e15,
     /// infinities, NaN), which [`Utf8Out::weight`] handles.
@@ -619,49 +559,56 @@ impl<'b> PieceText<'b> {
             return true;
         }
         let x = f64::from_bits(bits & !(1 << 63)) * 10000.0 + 0.5;
-        // One comparison (NaN fails it too); `is_nan() ||` would add one.
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        if !(x < 1e15) {
-            return false;
-        }
-        // Below 1e15 (< 2^53) the conversion is exactly `x.trunc()`; unchecked, it is
-        // one instruction (`as` adds the saturation compares).
-        // SAFETY: 0.5 <= x < 1e15: finite, and its truncation fits an i64.
-        let n = unsafe { x.to_int_unchecked::<i64>() } as u64;
-        if n == 0 {
-            let (text, len) = zero_weight(w);
-            self.put8(text);
-            self.len += len;
-            return true;
-        }
-        // `,-` written always, the `-` kept for a negative weight (its sign bit: only a
-        // zero weight, handled above, drops the sign of -0.0).
-        self.put8(u64::from(u16::from_le_bytes(*b",-")));
-        self.len += 1 + (bits >> 63) as usize;
-        let whole = n / 10000;
-        if whole < 1000 {
+        let n = trunc_or_huge(x);
+        // One test keeps the usual weights (n from 1 to 10^7 - 1) on the straight path:
+        // the tiny ones (n = 0), those of 1000 and more, and the huge ones, infinities
+        // and NaN (n past 10^7, or not exact) are sorted out off it.
+        let frac = if n.wrapping_sub(1) < 10_000_000 - 1 {
+            self.sign(bits);
+            // `n / 10000` for `n < 10^7` as one multiply: 13743896 = 2^37 / 10^4 + ε
+            // (ε < 0.66), so the product over 2^37 exceeds n / 10^4 by under
+            // 10^7 · 0.66 / 2^37 < 10^-4, which never reaches the next integer (checked
+            // for every such `n` in the tests).
+            let whole = (n * 13_743_896) >> 37;
+            // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`.
+            let e = unsafe { *SMALL.get_unchecked(whole as usize) };
             // The length byte lands where the `.` goes next.
-            let e = SMALL[whole as usize];
             self.put8(u64::from(e));
             self.len += (e >> 24) as usize;
+            n as u32 - whole as u32 * 10000
         } else {
-            self.u64(whole);
-        }
+            // Laid out of the way: the straight path then needs no jump over it.
+            std::hint::cold_path();
+            // One comparison (NaN fails it too); `is_nan() ||` would add one.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(x < 1e15) {
+                return false;
+            }
+            // 0.5 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
+            if n == 0 {
+                let (text, len) = zero_weight(w);
+                self.put8(text);
+                self.len += len;
+                return true;
+            }
+            self.sign(bits);
+            self.u64(n / 10000);
+            (n % 10000) as u32
+        };
+        // SAFETY: both arms give `n % 10000` (the first's quotient is exact, above).
+        unsafe { std::hint::assert_unchecked(frac < 10000) };
         // `.` and four decimals, trailing zeros removed (the `.` stays).
-        // (`%`, not `n - whole·10000`: the compiler then knows `frac < 10000` and
-        // reads the pair tables below unchecked.)
-        let frac = (n % 10000) as u32;
         // frac / 100 for frac < 43699, and the rest.
         let hi = (frac * 5243) >> 19;
         let (hi, lo) = (hi as usize, (frac - hi * 100) as usize);
         // SAFETY: `hi` is `frac / 100` exactly (frac < 10000), so `lo` is `frac % 100`,
         // below 100; the compiler cannot see it and would check the index.
         unsafe { std::hint::assert_unchecked(lo < 100) };
-        let text = u64::from(DOT_PAIRS[hi]) | (u64::from(PAIRS[lo]) << 24);
-        self.put8(text);
-        // Trailing zeros dropped: with the digits as values (`.` stays nonzero), the
-        // text ends at its last nonzero byte (no table: it would be cold at each call).
-        self.len += ((text - 0x30_3030_3000) | 1).ilog2() as usize / 8 + 1;
+        let text = DOT_PAIRS[hi] | (u64::from(PAIRS_MARKED[lo]) << 24);
+        self.put8(text.get());
+        // The text's length is the highest of the two tables' marks (past the text,
+        // overwritten by the next number): one bit scan, no table of 10^4 lengths.
+        self.len += highest_bit(text) - 40;
         true
     }
 }
@@ -900,6 +847,37 @@ mod tests {
             encode_weight(w, &mut a);
             reference::encode_weight(w, &mut b);
             assert_eq!(a, b, "weight {w:e}");
+        }
+    }
+
+    /// The multiply `PieceText::weight` divides by 10^4 with for `n < 10^7` is exact.
+    #[test]
+    fn whole_part_multiply_is_exact() {
+        for n in 0..10_000_000u64 {
+            assert_eq!((n * 13_743_896) >> 37, n / 10000, "n = {n}");
+        }
+    }
+
+    /// Every fraction (0 to 4 trailing zeros, all mark combinations) after integer
+    /// parts at the length and path boundaries (1, 2, 3 digits; 10^3 and up go the
+    /// general way, as `n >= 10^7`; 2^32 / 10^4), both signs, as the reference.
+    #[test]
+    fn piece_text_fractions_match_the_reference() {
+        let mut batch = [0; PieceText::SIZE + 8];
+        let mut want = String::new();
+        for whole in [
+            0u64, 1, 9, 10, 99, 100, 999, 1000, 1001, 429_496, 429_497, 12_345_678,
+        ] {
+            for frac in 0..10_000 {
+                for sign in [1.0, -1.0] {
+                    let w = sign * (whole * 10_000 + frac) as f64 / 10_000.0;
+                    want.clear();
+                    reference::encode_weight(w, &mut want);
+                    let mut text = PieceText::new(&mut batch);
+                    assert!(text.weight(w));
+                    assert_eq!(text.take(), format!(",{want}").as_bytes(), "weight {w:e}");
+                }
+            }
         }
     }
 

@@ -52,8 +52,14 @@ pub(crate) fn pieces_n<'b, const D: usize, const B: usize, const W: usize>(
     for (b, w) in bounds[done..].iter().zip(&weights[done..]) {
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
         piece_intervals::<D, B>(b, &mut text, &mut intervals);
-        for &w in w {
-            text.weight_or_slow(w, out);
+        // Unrolled by hand (`W` is a constant, 2 to 4): no loop count per weight.
+        text.weight_or_slow(w[0], out);
+        text.weight_or_slow(w[1], out);
+        if W >= 3 {
+            text.weight_or_slow(w[2], out);
+        }
+        if W >= 4 {
+            text.weight_or_slow(w[3], out);
         }
     }
     text
