@@ -193,6 +193,15 @@ fn collect_dir(dir: &Path, top: bool, out: &mut Vec<PathBuf>) -> Result<(), Case
     Ok(())
 }
 
+/// Every case named by `paths` ([`collect`]), each with its file, read ([`load`]).
+pub fn load_all(paths: &[PathBuf]) -> Result<Vec<(PathBuf, Case)>, CaseError> {
+    let files = collect(paths)?;
+    files
+        .into_iter()
+        .map(|f| load(&f).map(|case| (f, case)))
+        .collect()
+}
+
 pub fn load(path: &Path) -> Result<Case, CaseError> {
     let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
         path: path.to_path_buf(),
@@ -357,5 +366,32 @@ pub fn run_file(file: &Path, factory: &BehaviorFactory) -> CaseResult {
             waiting_for: Vec::new(),
         },
         Err(e) => CaseResult::failed(case.name, file, e),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `load_all` gives every file `collect` finds, in its order, each with its case,
+    /// and fails as `collect` does on a folder without cases.
+    #[test]
+    fn load_all_reads_every_collected_case_in_order() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../conformance/helm");
+        let files = collect(std::slice::from_ref(&dir)).unwrap();
+        let all = load_all(&[dir]).unwrap();
+        assert!(all.len() >= 28, "{}", all.len());
+        let paths: Vec<&PathBuf> = all.iter().map(|(p, _)| p).collect();
+        assert_eq!(paths, files.iter().collect::<Vec<_>>());
+        for (p, case) in &all {
+            let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+            assert_eq!(case.name, stem);
+            assert!(!case.step.is_empty(), "{stem}");
+        }
+        let empty = std::env::temp_dir().join(format!("conform-empty-{}", std::process::id()));
+        std::fs::create_dir_all(&empty).unwrap();
+        let err = load_all(std::slice::from_ref(&empty)).unwrap_err();
+        assert!(matches!(err, CaseError::NoCases { .. }), "{err}");
+        let _ = std::fs::remove_dir(&empty);
     }
 }

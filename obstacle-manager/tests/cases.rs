@@ -18,14 +18,7 @@ const LATENCY: f64 = 1.0;
 /// The golden helm cases (read by the conformance runner's own reader).
 fn cases() -> Vec<(PathBuf, Case)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../conformance/helm");
-    let paths = helm_conform::collect(&[dir]).expect("conformance/helm");
-    paths
-        .into_iter()
-        .map(|p| {
-            let case = helm_conform::load(&p).expect("a golden case");
-            (p, case)
-        })
-        .collect()
+    helm_conform::load_all(&[dir]).expect("the golden cases in conformance/helm")
 }
 
 /// The helm's request posted at step `s`, if any.
