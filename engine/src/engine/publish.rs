@@ -195,7 +195,6 @@ impl Helm {
         }
     }
 
-    /// A behavior's message posted as it is (its strings move into the posting).
     /// Behavior `i`'s BHV_IPF (its kept text) split into packets (ivp-solver.md §9.2),
     /// each posted with source-aux `name`; every string is a reused one.
     fn post_ipf_packets(&mut self, i: usize, name: &str, iter: u64) {
@@ -212,6 +211,7 @@ impl Helm {
         }
     }
 
+    /// A behavior's message posted as it is (its strings move into the posting).
     fn post_message(&mut self, m: crate::runtime::Message, aux: &str) {
         let source_aux = self.pool.copy_of(aux);
         self.pool.give(m.key);
