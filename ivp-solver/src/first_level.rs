@@ -226,14 +226,7 @@ impl Search<'_> {
                     (c != NO_CELL).then_some(c as usize)
                 });
             if !skip {
-                let pw = &fw[q * wl..(q + 1) * wl];
-                if direct {
-                    self.last_of_two(pb, pw, mv);
-                } else {
-                    self.node_b[..bl].copy_from_slice(pb);
-                    self.node_w[..wl].copy_from_slice(pw);
-                    self.recurse(1, mv);
-                }
+                self.descend(pb, &fw[q * wl..(q + 1) * wl], mv, direct);
             }
             q += 1;
         }

@@ -423,14 +423,22 @@ impl Search<'_> {
                 self.skip_first(q, pb, mv)
             };
             if !skip {
-                if two {
-                    self.last_of_two(pb, pw, mv);
-                } else {
-                    self.node_b[..bl].copy_from_slice(pb);
-                    self.node_w[..wl].copy_from_slice(pw);
-                    self.recurse(1, mv);
-                }
+                self.descend(pb, pw, mv, two);
             }
+        }
+    }
+
+    /// Below the first function's piece `pb`/`pw` (its best value `mv`): read in place
+    /// by [`Search::last_of_two`] when the second function is the last one (`two`), else
+    /// copied into the node for the levels below.
+    #[inline(always)]
+    pub(crate) fn descend(&mut self, pb: &[i32], pw: &[f64], mv: f64, two: bool) {
+        if two {
+            self.last_of_two(pb, pw, mv);
+        } else {
+            self.node_b[..pb.len()].copy_from_slice(pb);
+            self.node_w[..pw.len()].copy_from_slice(pw);
+            self.recurse(1, mv);
         }
     }
 
