@@ -32,19 +32,12 @@ use std::time::{Duration, Instant};
 
 use moos::client::{Client, ClientConfig};
 use moos::wire::{self, DataType, FrameReader, Message, MsgType};
+use test_support::free_port;
 
 /// One test at a time (memory is measured; the machine has 2 cores).
 fn serial() -> std::sync::MutexGuard<'static, ()> {
     static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
     LOCK.lock().unwrap_or_else(|p| p.into_inner())
-}
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .expect("bind")
-        .local_addr()
-        .expect("addr")
-        .port()
 }
 
 /// A `moosdb` child process, killed on drop.

@@ -7,64 +7,19 @@
 //! new-obstacle flag; a bad block line in the APPCAST and on stderr with file and line.
 //! Nothing is asserted on timing: every wait polls with a generous limit.
 
-use std::net::{TcpListener, TcpStream};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::Duration;
 
 use moos::client::{Client, ClientConfig};
 use moos::Message;
+use test_support::{free_port, moosdb_beside, wait_for, Proc};
 
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .map(|a| a.port())
-        .expect("free port")
-}
-
-/// The `moosdb` next to `obstaclemgr` (`cargo test --workspace` builds both); when
-/// only this crate was built, build it into a target folder of its own (the outer
-/// cargo may hold the lock of the usual one).
+/// The `moosdb` next to `obstaclemgr` (see [`test_support::moosdb_beside`]).
 fn moosdb_path() -> PathBuf {
     let exe = PathBuf::from(env!("CARGO_BIN_EXE_obstaclemgr"));
-    let beside = exe.with_file_name(format!("moosdb{}", std::env::consts::EXE_SUFFIX));
-    if beside.exists() {
-        return beside;
-    }
-    let target = exe
-        .parent()
-        .and_then(Path::parent)
-        .expect("target dir")
-        .join("obstaclemgr-test-moosdb");
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let st = Command::new(cargo)
-        .args(["build", "-q", "-p", "moosdb", "--bin", "moosdb"])
-        .env("CARGO_TARGET_DIR", &target)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .status()
-        .expect("run cargo build");
-    assert!(st.success(), "building moosdb failed");
-    target
-        .join("debug")
-        .join(format!("moosdb{}", std::env::consts::EXE_SUFFIX))
-}
-
-/// A child process killed on drop.
-struct Proc(Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn wait_for(what: &str, limit: Duration, mut f: impl FnMut() -> bool) {
-    let t0 = Instant::now();
-    while !f() {
-        assert!(t0.elapsed() < limit, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    moosdb_beside(&exe, env!("CARGO_MANIFEST_DIR"), "obstaclemgr-test-moosdb")
 }
 
 /// Every message of `var` seen so far.

@@ -78,21 +78,10 @@ pub fn temp_dir(prefix: &str) -> PathBuf {
     d
 }
 
-/// A port of 127.0.0.1 nobody listens on right now.
-pub fn free_port() -> u16 {
-    let l = TcpListener::bind("127.0.0.1:0").expect("bind an ephemeral port");
-    l.local_addr().expect("local addr").port()
-}
-
-/// A child process killed (and reaped) when dropped, so a failing test leaves nothing.
-pub struct Proc(pub Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+// A free port, and children killed (and reaped) when dropped so a failing test leaves
+// nothing: shared with the other crates' tests.
+#[allow(unused_imports)]
+pub use test_support::{free_port, Proc};
 
 /// Start `helm view ARGS --port 0` and return it with the page's URL (from its first
 /// line of output).
