@@ -84,6 +84,10 @@ pub const PROBE_VALUES: &[&str] = &[
     "1",
     "0",
     "true",
+    // A flag only one way accepted (`use_refinery`, which the helm does not build) and
+    // the grade words: without them a refused value read as an unknown parameter.
+    "false",
+    "linear",
     "red",
     "0,0",
     "x=0,y=0",
@@ -97,7 +101,11 @@ pub const PROBE_VALUES: &[&str] = &[
 /// What a value of `param` usually is, from its name (for a type's own parameters).
 pub fn expected_by_name(param: &str) -> &'static str {
     let p = param.to_ascii_lowercase();
-    if p.contains("color") || p.contains("colour") {
+    if p == "use_refinery" {
+        // AvoidCollision refuses `true`: its refinery is not described, so it is not
+        // guessed (plugins/README.md); the COLREGS behaviors take a boolean.
+        "false for BHV_AvoidCollision (this helm does not build its refinery), a boolean elsewhere"
+    } else if p.contains("color") || p.contains("colour") {
         "a colour name (e.g. red, dodger_blue, off) or hex"
     } else if p.contains("polygon") || p == "points" || p == "pts" {
         "a convex polygon or point list, e.g. `pts={0,0:10,0:10,10}`"

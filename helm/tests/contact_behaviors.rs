@@ -165,4 +165,8 @@ fn distribution_forms_check_ok_and_bad_values_name_file_and_line() {
         let at = format!("{path}:{}:", line_of(needle));
         assert!(text.contains(&at), "{needle} not reported at {at}: {text}");
     }
+    // Known parameters with a refused value are said to be that, not unknown.
+    for p in ["use_refinery = true", "pwt_grade = cubic"] {
+        assert!(text.contains(&format!("bad value: {p}")), "{p}: {text}");
+    }
 }
