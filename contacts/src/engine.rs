@@ -687,6 +687,8 @@ impl CpaEngine {
 
 #[path = "engine_heading.rs"]
 mod heading;
+#[path = "engine_roc.rs"]
+mod roc;
 #[path = "engine_zip.rs"]
 mod zip;
 pub use heading::{BowStarRate, BowStern, Heading, RowConsts, Sides};

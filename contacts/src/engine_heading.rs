@@ -361,6 +361,12 @@ pub struct RowConsts {
 }
 
 impl RowConsts {
+    /// `(cn_tan, tn_const, cnv)`: the numbers of [`Self::bearing_rate`] and
+    /// [`Self::beam_closing`], for loops that write those formulas out.
+    pub fn parts(&self) -> (f64, f64, f64) {
+        (self.cn_tan, self.tn_const, self.cnv)
+    }
+
     /// The bearing rate at speed `v` of the heading whose `tancos` is `tan`: the
     /// engine's formula ([`CpaEngine::bearing_rate_at`]).
     #[inline(always)]

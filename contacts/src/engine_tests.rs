@@ -666,6 +666,43 @@ fn min_max_roc_with_the_cosine_table_is_min_max_roc() {
     }
 }
 
+/// `min_max_roc_fast` is `min_max_roc_with` over the full table, bit for bit, wherever
+/// it answers: bearings at and near integers and half-integers, tiny ones, just below
+/// 360, random ones; speeds tiny to huge; rates of closure of either sign, and zero.
+/// Outside its range it declines.
+#[test]
+fn min_max_roc_fast_is_the_table_fold() {
+    let mut seed = 29u64;
+    let mut bearings = vec![0.0, -0.0, 0.5, 1.0, 89.5, 90.0, 179.5, 180.0, 270.0, 359.5];
+    bearings.extend([360.0f64, 1.0, 180.5, 0.5].map(|x| f64::from_bits(x.to_bits() - 1)));
+    bearings.extend([1e-300, 5e-324, 1e-13, 0.9999999999999]);
+    bearings.extend((0..720).map(|i| f64::from(i) / 2.0 + 1e-12));
+    bearings.extend((0..3000).map(|_| rng(&mut seed) * 360.0));
+    let mut answered = 0;
+    for (k, b) in bearings.into_iter().enumerate() {
+        let mut e = CpaEngine::new(0.0, 100.0, 180.0, 2.0, 0.0, 0.0);
+        e.abs_os_cn = b;
+        e.cn_to_os = [0.0, -0.0, 1.5, -3.0, 1e-200, 1e200][k % 6] * rng(&mut seed).max(0.5);
+        let vmax = [4.0, 1e-100, 1e100, 0.25, 1e-3, 7.7][k % 6 / 2 + k % 4];
+        let want = e.min_max_roc_with(&e.roc_cosines(), vmax);
+        if let Some(got) = e.min_max_roc_fast(vmax) {
+            answered += 1;
+            let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
+            assert_eq!(bits(got), bits(want), "bearing {b:e} vmax {vmax:e}");
+        }
+    }
+    assert!(answered > 3000);
+    let e = CpaEngine::new(0.0, 100.0, 180.0, 2.0, 0.0, 0.0);
+    for vmax in [0.0, -1.0, 1e-101, 1e101, f64::NAN, f64::INFINITY] {
+        assert!(e.min_max_roc_fast(vmax).is_none(), "{vmax}");
+    }
+    for b in [360.0, -1e-300, f64::NAN] {
+        let mut e = e.clone();
+        e.abs_os_cn = b;
+        assert!(e.min_max_roc_fast(4.0).is_none(), "{b}");
+    }
+}
+
 /// The two tables of a contact holding its course stay kept while the third angle
 /// changes every iteration.
 #[test]

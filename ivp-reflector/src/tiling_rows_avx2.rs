@@ -107,6 +107,9 @@ unsafe fn steps<const CENTRE: bool, const STRICT: bool>(
     let half = _mm256_set1_pd(0.5);
     let (rx, mx) = slope_factors(run.widths.0);
     let (ry, my) = slope_factors(run.widths.1);
+    // Opaque masks: known, the compiler tests each width in the loop (branches per
+    // step) instead of one AND per slope.
+    let (mx, my) = std::hint::black_box((mx, my));
     let [yl, yh, ym] = run.y.map(|y| _mm256_set1_pd(y));
     let count = _mm256_set1_pd(if CENTRE { 5.0 } else { 4.0 });
     let (inf, ninf) = (
@@ -117,89 +120,137 @@ unsafe fn steps<const CENTRE: bool, const STRICT: bool>(
     let [px, ph, pm] = run.x.map(|x| x.as_ptr());
     let [o0, o1, o2] = [0, 1, 2].map(|i| out.w[i].as_mut_ptr());
     let (omin, omax) = (out.min.as_mut_ptr(), out.max.as_mut_ptr());
-    for k in (0..n / 4).map(|q| 4 * q) {
-        // SAFETY (every load and store): k + 4 <= n, at most each list's length (the
-        // centres' only read when CENTRE, and then counted in n).
-        let ld = |p: *const f64| _mm256_loadu_pd(p.add(k));
-        let (v0, v1, v2, v3) = (ld(p0), ld(p1), ld(p2), ld(p3));
-        let v4 = if CENTRE { ld(p4) } else { zero };
-        // One value per tile: the filled step (module docs).
-        let mut flat = _mm256_and_pd(
-            _mm256_cmp_pd::<_CMP_EQ_OQ>(v1, v0),
-            _mm256_cmp_pd::<_CMP_EQ_OQ>(v2, v0),
-        );
-        flat = _mm256_and_pd(flat, _mm256_cmp_pd::<_CMP_EQ_OQ>(v3, v0));
-        if CENTRE {
-            flat = _mm256_and_pd(flat, _mm256_cmp_pd::<_CMP_EQ_OQ>(v4, v0));
-        }
-        flat = _mm256_and_pd(flat, fills::<STRICT>(v0));
-        if _mm256_testc_pd(flat, ones) != 0 {
-            let c = _mm256_add_pd(v0, zero);
+    // A step's values (the centres' only when CENTRE).
+    // SAFETY (every load and store below): k + 4 <= n, at most each list's length (the
+    // centres' only read when CENTRE, and then counted in n).
+    macro_rules! load {
+        ($k:expr) => {{
+            let ld = |p: *const f64| _mm256_loadu_pd(p.add($k));
+            let v4 = if CENTRE { ld(p4) } else { zero };
+            (ld(p0), ld(p1), ld(p2), ld(p3), v4)
+        }};
+    }
+    // Whether every tile of a step has one value (module docs), given `same`, the
+    // lanes where the first two corners agree.
+    macro_rules! flat {
+        ($same:expr, $v0:expr, $v2:expr, $v3:expr, $v4:expr) => {{
+            let mut flat = _mm256_and_pd($same, _mm256_cmp_pd::<_CMP_EQ_OQ>($v2, $v0));
+            flat = _mm256_and_pd(flat, _mm256_cmp_pd::<_CMP_EQ_OQ>($v3, $v0));
+            if CENTRE {
+                flat = _mm256_and_pd(flat, _mm256_cmp_pd::<_CMP_EQ_OQ>($v4, $v0));
+            }
+            flat = _mm256_and_pd(flat, fills::<STRICT>($v0));
+            _mm256_testc_pd(flat, ones) != 0
+        }};
+    }
+    // The filled step.
+    macro_rules! fill {
+        ($k:expr, $v0:expr) => {{
+            let k = $k;
+            let c = _mm256_add_pd($v0, zero);
             _mm256_storeu_pd(o0.add(k), zero);
             _mm256_storeu_pd(o1.add(k), zero);
             _mm256_storeu_pd(o2.add(k), c);
             _mm256_storeu_pd(omin.add(k), c);
             _mm256_storeu_pd(omax.add(k), c);
-            continue;
-        }
-        // Slopes: (0 + (v1 − v0)) + (v3 − v2), halved, scaled by 1 / width.
-        let sum = |d: __m256d, e: __m256d| _mm256_add_pd(_mm256_add_pd(zero, d), e);
-        let sx = sum(_mm256_sub_pd(v1, v0), _mm256_sub_pd(v3, v2));
-        let sy = sum(_mm256_sub_pd(v2, v0), _mm256_sub_pd(v3, v1));
-        let a = _mm256_and_pd(_mm256_mul_pd(_mm256_mul_pd(sx, half), rx), mx);
-        let b = _mm256_and_pd(_mm256_mul_pd(_mm256_mul_pd(sy, half), ry), my);
-        // Plane values a·x + b·y at the corners, then the centre: the fit's (0 + a·x) + b·y
-        // but for the sign of a zero, which no result shows (module docs).
-        let (axl, axh) = (_mm256_mul_pd(a, ld(px)), _mm256_mul_pd(a, ld(ph)));
-        let (byl, byh) = (_mm256_mul_pd(b, yl), _mm256_mul_pd(b, yh));
-        let q0 = _mm256_add_pd(axl, byl);
-        let q1 = _mm256_add_pd(axh, byl);
-        let q2 = _mm256_add_pd(axl, byh);
-        let q3 = _mm256_add_pd(axh, byh);
-        let q4 = if CENTRE {
-            _mm256_add_pd(_mm256_mul_pd(a, ld(pm)), _mm256_mul_pd(b, ym))
-        } else {
-            zero
-        };
-        let mut isum = _mm256_add_pd(zero, _mm256_sub_pd(v0, q0));
-        isum = _mm256_add_pd(isum, _mm256_sub_pd(v1, q1));
-        isum = _mm256_add_pd(isum, _mm256_sub_pd(v2, q2));
-        isum = _mm256_add_pd(isum, _mm256_sub_pd(v3, q3));
-        if CENTRE {
-            isum = _mm256_add_pd(isum, _mm256_sub_pd(v4, q4));
-        }
-        let mut icpt = _mm256_div_pd(isum, count);
-        if STRICT {
-            // min(x, m) is `x < m ? x : m`, max(x, m) `x > m ? x : m`: the fit's picks.
-            // The plane's extremes shifted once, not each value (module docs).
-            let (mut vmin, mut vmax, mut qmin, mut qmax) = (inf, ninf, inf, ninf);
-            let pairs = [(v0, q0), (v1, q1), (v2, q2), (v3, q3), (v4, q4)];
-            for &(v, q) in &pairs[..cnt] {
-                vmin = _mm256_min_pd(v, vmin);
-                vmax = _mm256_max_pd(v, vmax);
-                qmin = _mm256_min_pd(q, qmin);
-                qmax = _mm256_max_pd(q, qmax);
-            }
-            let (pmin, pmax) = (_mm256_add_pd(qmin, icpt), _mm256_add_pd(qmax, icpt));
-            let down = _mm256_sub_pd(icpt, _mm256_sub_pd(pmax, vmax));
-            let up = _mm256_add_pd(icpt, _mm256_sub_pd(vmin, pmin));
-            icpt = _mm256_blendv_pd(icpt, up, _mm256_cmp_pd::<_CMP_LT_OQ>(pmin, vmin));
-            icpt = _mm256_blendv_pd(icpt, down, _mm256_cmp_pd::<_CMP_GT_OQ>(pmax, vmax));
-        }
-        // The piece's range: the intercept plus each product picked by its slope's sign.
-        let na = _mm256_cmp_pd::<_CMP_LT_OQ>(a, zero);
-        let nb = _mm256_cmp_pd::<_CMP_LT_OQ>(b, zero);
-        let hi = _mm256_add_pd(icpt, _mm256_blendv_pd(axh, axl, na));
-        let lo = _mm256_add_pd(icpt, _mm256_blendv_pd(axl, axh, na));
-        let hi = _mm256_add_pd(hi, _mm256_blendv_pd(byh, byl, nb));
-        let lo = _mm256_add_pd(lo, _mm256_blendv_pd(byl, byh, nb));
-        _mm256_storeu_pd(o0.add(k), a);
-        _mm256_storeu_pd(o1.add(k), b);
-        _mm256_storeu_pd(o2.add(k), icpt);
-        _mm256_storeu_pd(omin.add(k), lo);
-        _mm256_storeu_pd(omax.add(k), hi);
+        }};
     }
-    n / 4 * 4
+    // The general fit of a step.
+    macro_rules! general {
+        ($k:expr, ($v0:expr, $v1:expr, $v2:expr, $v3:expr, $v4:expr)) => {{
+            let k = $k;
+            let (v0, v1, v2, v3, v4) = ($v0, $v1, $v2, $v3, $v4);
+            let ld = |p: *const f64| _mm256_loadu_pd(p.add(k));
+            // Slopes: (0 + (v1 − v0)) + (v3 − v2), halved, scaled by 1 / width.
+            let sum = |d: __m256d, e: __m256d| _mm256_add_pd(_mm256_add_pd(zero, d), e);
+            let sx = sum(_mm256_sub_pd(v1, v0), _mm256_sub_pd(v3, v2));
+            let sy = sum(_mm256_sub_pd(v2, v0), _mm256_sub_pd(v3, v1));
+            let a = _mm256_and_pd(_mm256_mul_pd(_mm256_mul_pd(sx, half), rx), mx);
+            let b = _mm256_and_pd(_mm256_mul_pd(_mm256_mul_pd(sy, half), ry), my);
+            // Plane values a·x + b·y at the corners, then the centre: the fit's (0 + a·x) + b·y
+            // but for the sign of a zero, which no result shows (module docs).
+            let (axl, axh) = (_mm256_mul_pd(a, ld(px)), _mm256_mul_pd(a, ld(ph)));
+            let (byl, byh) = (_mm256_mul_pd(b, yl), _mm256_mul_pd(b, yh));
+            let q0 = _mm256_add_pd(axl, byl);
+            let q1 = _mm256_add_pd(axh, byl);
+            let q2 = _mm256_add_pd(axl, byh);
+            let q3 = _mm256_add_pd(axh, byh);
+            let q4 = if CENTRE {
+                _mm256_add_pd(_mm256_mul_pd(a, ld(pm)), _mm256_mul_pd(b, ym))
+            } else {
+                zero
+            };
+            let mut isum = _mm256_add_pd(zero, _mm256_sub_pd(v0, q0));
+            isum = _mm256_add_pd(isum, _mm256_sub_pd(v1, q1));
+            isum = _mm256_add_pd(isum, _mm256_sub_pd(v2, q2));
+            isum = _mm256_add_pd(isum, _mm256_sub_pd(v3, q3));
+            if CENTRE {
+                isum = _mm256_add_pd(isum, _mm256_sub_pd(v4, q4));
+            }
+            let mut icpt = _mm256_div_pd(isum, count);
+            if STRICT {
+                // min(x, m) is `x < m ? x : m`, max(x, m) `x > m ? x : m`: the fit's picks.
+                // The plane's extremes shifted once, not each value (module docs).
+                let (mut vmin, mut vmax, mut qmin, mut qmax) = (inf, ninf, inf, ninf);
+                let pairs = [(v0, q0), (v1, q1), (v2, q2), (v3, q3), (v4, q4)];
+                for &(v, q) in &pairs[..cnt] {
+                    vmin = _mm256_min_pd(v, vmin);
+                    vmax = _mm256_max_pd(v, vmax);
+                    qmin = _mm256_min_pd(q, qmin);
+                    qmax = _mm256_max_pd(q, qmax);
+                }
+                let (pmin, pmax) = (_mm256_add_pd(qmin, icpt), _mm256_add_pd(qmax, icpt));
+                let down = _mm256_sub_pd(icpt, _mm256_sub_pd(pmax, vmax));
+                let up = _mm256_add_pd(icpt, _mm256_sub_pd(vmin, pmin));
+                icpt = _mm256_blendv_pd(icpt, up, _mm256_cmp_pd::<_CMP_LT_OQ>(pmin, vmin));
+                icpt = _mm256_blendv_pd(icpt, down, _mm256_cmp_pd::<_CMP_GT_OQ>(pmax, vmax));
+            }
+            // The piece's range: the intercept plus each product picked by its slope's sign.
+            let na = _mm256_cmp_pd::<_CMP_LT_OQ>(a, zero);
+            let nb = _mm256_cmp_pd::<_CMP_LT_OQ>(b, zero);
+            let hi = _mm256_add_pd(icpt, _mm256_blendv_pd(axh, axl, na));
+            let lo = _mm256_add_pd(icpt, _mm256_blendv_pd(axl, axh, na));
+            let hi = _mm256_add_pd(hi, _mm256_blendv_pd(byh, byl, nb));
+            let lo = _mm256_add_pd(lo, _mm256_blendv_pd(byl, byh, nb));
+            _mm256_storeu_pd(o0.add(k), a);
+            _mm256_storeu_pd(o1.add(k), b);
+            _mm256_storeu_pd(o2.add(k), icpt);
+            _mm256_storeu_pd(omin.add(k), lo);
+            _mm256_storeu_pd(omax.add(k), hi);
+        }};
+    }
+    let end = n / 4 * 4;
+    let mut k = 0;
+    // Two loops, one per expectation, so that no step tests which one it is in: while
+    // steps are flat (a contact's utility mostly is) each tests all its values at once;
+    // after one that is not, the first two corners are tested alone first (on a
+    // surface that varies most steps end there).
+    while k < end {
+        while k < end {
+            let (v0, v1, v2, v3, v4) = load!(k);
+            let same = _mm256_cmp_pd::<_CMP_EQ_OQ>(v1, v0);
+            if flat!(same, v0, v2, v3, v4) {
+                fill!(k, v0);
+                k += 4;
+                continue;
+            }
+            general!(k, (v0, v1, v2, v3, v4));
+            k += 4;
+            break;
+        }
+        while k < end {
+            let (v0, v1, v2, v3, v4) = load!(k);
+            let same = _mm256_cmp_pd::<_CMP_EQ_OQ>(v1, v0);
+            if _mm256_testc_pd(same, ones) != 0 && flat!(same, v0, v2, v3, v4) {
+                fill!(k, v0);
+                k += 4;
+                break;
+            }
+            general!(k, (v0, v1, v2, v3, v4));
+            k += 4;
+        }
+    }
+    end
 }
 
 /// [`super::raise_cells_of_row`] four cells at a time while four cells' tiles remain, each

@@ -171,7 +171,7 @@ pub fn ints_holding(items: &[i32]) -> Vec<i32> {
             Some(k) => s.held.swap_remove(k),
             None => fitting(&mut s.ints, items.len()).unwrap_or_default(),
         };
-        if v[..] != *items {
+        if !same_ints(&v, items) {
             v.clear();
             v.extend_from_slice(items);
         }
@@ -186,6 +186,44 @@ pub fn ints_holding(items: &[i32]) -> Vec<i32> {
         Some(v)
     });
     picked.ok().flatten().unwrap_or_else(|| items.to_vec())
+}
+
+/// `a == b`, by blocks of [`SAME_BLOCK`] numbers whose differences are OR-ed (no test
+/// per number: the compiler does a block in a few vector instructions), compiled for
+/// AVX2 when the CPU has it; a block that differs ends the comparison.
+fn same_ints(a: &[i32], b: &[i32]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        return unsafe { same_ints_avx2(a, b) };
+    }
+    same_ints_body(a, b)
+}
+
+/// Numbers per block of [`same_ints`].
+const SAME_BLOCK: usize = 64;
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn same_ints_avx2(a: &[i32], b: &[i32]) -> bool {
+    same_ints_body(a, b)
+}
+
+/// [`same_ints`] of two lists of one length.
+#[inline(always)]
+fn same_ints_body(a: &[i32], b: &[i32]) -> bool {
+    let (ab, bb) = (a.chunks_exact(SAME_BLOCK), b.chunks_exact(SAME_BLOCK));
+    let rest = ab.remainder() == bb.remainder();
+    for (x, y) in ab.zip(bb) {
+        let d = x.iter().zip(y).fold(0, |d, (x, y)| d | (x ^ y));
+        if d != 0 {
+            return false;
+        }
+    }
+    rest
 }
 
 /// An empty string, in a spare allocation when one is kept.
@@ -264,6 +302,30 @@ pub fn give_string(mut text: String) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The block comparison is `==` on lists of every length 0..=300, equal or with one
+    /// number changed anywhere (in a block or in the rest), and of other lengths.
+    #[test]
+    fn same_ints_is_equality() {
+        let mut seed = 7u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as i32
+        };
+        for n in 0..=300usize {
+            let a: Vec<i32> = (0..n).map(|_| next()).collect();
+            assert!(same_ints(&a, &a.clone()), "{n}");
+            for at in (0..n).step_by(7).chain(n.checked_sub(1)) {
+                let mut b = a.clone();
+                b[at] ^= 1 << (next() & 31);
+                assert!(!same_ints(&a, &b), "{n} {at}");
+                assert!(!same_ints(&b, &a), "{n} {at}");
+            }
+            assert!(!same_ints(&a, &a[..n.saturating_sub(1)]) || n == 0);
+        }
+    }
 
     thread_local! {
         static LISTS: RefCell<Vec<Vec<u8>>> = const { RefCell::new(Vec::new()) };

@@ -6,7 +6,7 @@
 
 use std::cell::RefCell;
 
-use behavior_api::contacts::engine::{BowStarRate, BowStern, RowConsts, Sides};
+use behavior_api::contacts::engine::{BowStern, RowConsts, Sides};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::geometry::angle360;
 use behavior_api::ivp::{Domain, ValuesKey};
@@ -224,43 +224,61 @@ pub(super) fn r14_row(r: &R14Row, c: &Courses, row: &mut [f64]) {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn r14_row_avx2(r: &R14Row, c: &Courses, row: &mut [f64]) {
-    r14_row_plain(r, c, row);
+    r14_row_with::<true>(r, c, row);
 }
+
+#[cfg(target_arch = "x86_64")]
+#[path = "aof_rows_avx2.rs"]
+mod avx2;
 
 /// [`r14_row`]'s loop, for the target's baseline instructions (and inlined into
 /// [`r14_row_avx2`]): one loop per combination of the engine's side facts, so that the
 /// rules' choices between comparisons are made once per row, not per candidate.
 #[inline(always)]
 fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
+    r14_row_with::<false>(r, c, row);
+}
+
+/// [`r14_row_plain`], its candidates four at a time by [`avx2::r14_lanes`] if `WIDE`
+/// (only under [`r14_row_avx2`]).
+#[inline(always)]
+fn r14_row_with<const WIDE: bool>(r: &R14Row, c: &Courses, row: &mut [f64]) {
     if r.metric.equal() {
-        r14_row_metric::<true>(r, c, row);
+        r14_row_metric::<WIDE, true>(r, c, row);
     } else {
-        r14_row_metric::<false>(r, c, row);
+        r14_row_metric::<WIDE, false>(r, c, row);
     }
 }
 
 /// [`r14_row_plain`] with the metric's kind decided (`EQUAL`: [`Metric::equal`]).
 #[inline(always)]
-fn r14_row_metric<const EQUAL: bool>(r: &R14Row, c: &Courses, row: &mut [f64]) {
+fn r14_row_metric<const WIDE: bool, const EQUAL: bool>(r: &R14Row, c: &Courses, row: &mut [f64]) {
     let s = &r.sides;
     match (s.port_of_cn, s.aft_of_cn, s.on_beam) {
-        (false, false, false) => r14_row_sides::<EQUAL, false, false, false>(r, c, row),
-        (false, false, true) => r14_row_sides::<EQUAL, false, false, true>(r, c, row),
-        (false, true, false) => r14_row_sides::<EQUAL, false, true, false>(r, c, row),
-        (false, true, true) => r14_row_sides::<EQUAL, false, true, true>(r, c, row),
-        (true, false, false) => r14_row_sides::<EQUAL, true, false, false>(r, c, row),
-        (true, false, true) => r14_row_sides::<EQUAL, true, false, true>(r, c, row),
-        (true, true, false) => r14_row_sides::<EQUAL, true, true, false>(r, c, row),
-        (true, true, true) => r14_row_sides::<EQUAL, true, true, true>(r, c, row),
+        (false, false, false) => r14_row_sides::<WIDE, EQUAL, false, false, false>(r, c, row),
+        (false, false, true) => r14_row_sides::<WIDE, EQUAL, false, false, true>(r, c, row),
+        (false, true, false) => r14_row_sides::<WIDE, EQUAL, false, true, false>(r, c, row),
+        (false, true, true) => r14_row_sides::<WIDE, EQUAL, false, true, true>(r, c, row),
+        (true, false, false) => r14_row_sides::<WIDE, EQUAL, true, false, false>(r, c, row),
+        (true, false, true) => r14_row_sides::<WIDE, EQUAL, true, false, true>(r, c, row),
+        (true, true, false) => r14_row_sides::<WIDE, EQUAL, true, true, false>(r, c, row),
+        (true, true, true) => r14_row_sides::<WIDE, EQUAL, true, true, true>(r, c, row),
     }
 }
 
 /// [`r14_row_plain`] for ownship to port of the contact (`PORT`), aft of it (`AFT`) and
-/// on its beam (`BEAM`): those facts are constants in the [`Sides`] given to
-/// [`BowStarRate::of`] (inlined), so its choices fold away. Refused (utility 0) is
+/// on its beam (`BEAM`): those facts are constants in
+/// [`behavior_api::contacts::engine::BowStarRate::of`]'s rules written out here, so its
+/// choices fold away. Refused (utility 0) is
 /// `on_contact | (PORT & crosses_bow) | passes_star`.
 #[inline(always)]
-fn r14_row_sides<const EQUAL: bool, const PORT: bool, const AFT: bool, const BEAM: bool>(
+fn r14_row_sides<
+    const WIDE: bool,
+    const EQUAL: bool,
+    const PORT: bool,
+    const AFT: bool,
+    const BEAM: bool,
+>(
     r: &R14Row,
     c: &Courses,
     row: &mut [f64],
@@ -285,23 +303,52 @@ fn r14_row_sides<const EQUAL: bool, const PORT: bool, const AFT: bool, const BEA
         row.fill(0.0);
         return;
     }
-    let sides = Sides {
-        port_of_cn: PORT,
-        aft_of_cn: AFT,
-        on_beam: BEAM,
-        ..s
-    };
-    for k in 0..n {
-        let r = BowStarRate::of(&sides, &consts, (gams[k], cnhs[k], tans[k]), v);
-        let refused = (PORT & r.crosses_bow) | r.passes_star;
-        let br = r.bearing_rate;
+    // BowStarRate::of's refusals with the row's facts put in (the rows refused whole
+    // are done above): crossing the bow (to port) is `moving & gam > 0 & br >= 0`, where
+    // `moving` (`!(v <= 0)`) is the row's; passing to starboard is nothing on the beam
+    // (ownship then to port), else `e > 0 & !port` with `port` the bearing rate's sign
+    // for aft or fore. Each refusal is one comparison's pick of 0 or the utility, in
+    // turn: no combined truth values, which the compiler would narrow and widen again
+    // in every step of the AVX2 loop.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let bow_rule = PORT && !(v <= 0.0);
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if WIDE {
+        let lists = (gams, cnhs, tans);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let reward = !(b0 >= 0.0);
+        // SAFETY: WIDE only under r14_row_avx2, whose caller checked AVX2.
+        done = unsafe {
+            use avx2::r14_lanes;
+            match (bow_rule, reward) {
+                (false, false) => r14_lanes::<EQUAL, false, AFT, BEAM, false>(r, lists, row),
+                (false, true) => r14_lanes::<EQUAL, false, AFT, BEAM, true>(r, lists, row),
+                (true, false) => r14_lanes::<EQUAL, true, AFT, BEAM, false>(r, lists, row),
+                (true, true) => r14_lanes::<EQUAL, true, AFT, BEAM, true>(r, lists, row),
+            }
+        };
+    }
+    for k in done..n {
+        let (gam, cnh, tan) = (gams[k], cnhs[k], tans[k]);
+        let br = consts.bearing_rate(tan, v);
         let m1 = metric.eval_row::<EQUAL>(row[k]);
         let scaled = 100.0 * br / b0;
         let beyond = if br <= b0 { 100.0 } else { scaled };
         let opening = if br >= 0.0 { 0.0 } else { beyond };
         let m3 = if b0 >= 0.0 { 0.0 } else { opening };
-        let u = m1 + m3;
-        row[k] = if refused { 0.0 } else { u };
+        let mut u = m1 + m3;
+        if bow_rule {
+            let crossing = if br >= 0.0 { 0.0 } else { u };
+            u = if gam <= 0.0 { u } else { crossing };
+        }
+        if !BEAM {
+            let e = consts.beam_closing(AFT, cnh, v);
+            let port = if AFT { br > 0.0 } else { br < 0.0 };
+            let star = if port { u } else { 0.0 };
+            u = if e > 0.0 { star } else { u };
+        }
+        row[k] = u;
     }
 }
 

@@ -1,7 +1,7 @@
 //! The analytical objective functions of the contact behaviors, evaluated on the
 //! decision grid by the reflector (ivp-solver.md §8).
 
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 
 use behavior_api::contacts::engine::{roc_cosine, roc_index};
 use behavior_api::contacts::CpaEngine;
@@ -150,14 +150,12 @@ impl Aof for AvoidAof {
 pub struct CutRangeAof {
     engine: CpaEngine,
     tol: f64,
-    dist: f64,
-    patience: f64,
-    rmin: f64,
-    rr: f64,
-    /// The engine's rate-of-closure cosine per integer heading, computed once: the
-    /// reflector asks for thousands of grid points per iteration. Held in place (2.9 KB,
-    /// no allocation per build).
-    cos: [f64; 360],
+    k: Blend,
+    /// The engine's rate-of-closure cosine per integer heading, computed once when first
+    /// needed: the reflector asks for thousands of grid points per iteration, and a
+    /// function of the CPA alone ([`Self::metric_only`]) needs none. Held in place
+    /// (2.9 KB, no allocation per build).
+    cos: OnceCell<[f64; 360]>,
 }
 
 impl CutRangeAof {
@@ -176,17 +174,61 @@ impl CutRangeAof {
         if tol < 1.0 || dist == 0.0 {
             return None;
         }
-        let cos = engine.roc_cosines();
-        let (rmin, rmax) = engine.min_max_roc_with(&cos, vmax);
-        Some(CutRangeAof {
-            engine,
-            tol,
+        // The range of the rate of closure from its four candidates when they tell it,
+        // else from the table (which a grid of the CPA's metric alone never needs:
+        // metric_only).
+        let cos = OnceCell::new();
+        let (rmin, rmax) = match engine.min_max_roc_fast(vmax) {
+            Some(r) => r,
+            None => engine.min_max_roc_with(cos.get_or_init(|| engine.roc_cosines()), vmax),
+        };
+        let k = Blend {
             dist,
             patience,
             rmin,
             rr: rmax - rmin,
+            cn_to_os: engine.cn_to_os,
+        };
+        Some(CutRangeAof {
+            engine,
+            tol,
+            k,
             cos,
         })
+    }
+
+    /// The cosine table ([`CpaEngine::roc_cosines`]), computed on first use.
+    fn cosines(&self) -> &[f64; 360] {
+        self.cos.get_or_init(|| self.engine.roc_cosines())
+    }
+
+    /// Whether every point of a grid of these speeds (`ys` of the domain's second
+    /// variable) has the utility [`Self::metric`] of its CPA, bit for bit: at patience
+    /// 100 the blend is `0·nroc + metric` (`(1 − p)` is 0, `p` is 1), which is `metric`
+    /// (never −0) when `nroc` is 0 (not ranged) or finite. Every cosine is within
+    /// [−1, 1] (a finite bearing), so `|nroc|` is at most
+    /// `100·((max|s| + |cn_to_os|) + |rmin|) / rr`, each step rounded upward of the
+    /// true one's magnitude at most as the real steps are: that bound finite, all are.
+    fn metric_only(&self, domain: &Domain, ys: &[u32]) -> bool {
+        let k = &self.k;
+        if k.patience / 100.0 != 1.0 {
+            return false;
+        }
+        // Not ranged (rr ≤ 0 or NaN): nroc is 0.
+        let ranged = k.rr > 0.0;
+        if !ranged {
+            return true;
+        }
+        let mut smax = 0.0f64;
+        for &j in ys {
+            let s = domain.value(1, j).abs();
+            if !s.is_finite() {
+                return false;
+            }
+            smax = smax.max(s);
+        }
+        let bound = 100.0 * ((smax + k.cn_to_os.abs()) + k.rmin.abs()) / k.rr;
+        self.engine.abs_os_cn.is_finite() && bound.is_finite()
     }
 
     pub fn utility(&self, c: f64, s: f64) -> f64 {
@@ -196,14 +238,42 @@ impl CutRangeAof {
     /// What [`Self::utility_at`] needs of course `c`: its unit vector and rate of
     /// closure cosine.
     fn course(&self, c: f64) -> ((f64, f64), f64) {
-        (self.engine.unit(c), roc_cosine(&self.cos, c))
+        (self.engine.unit(c), roc_cosine(self.cosines(), c))
     }
 
     /// [`Self::utility`] at speed `s` of a course prepared by [`Self::course`].
     #[inline]
     fn utility_at(&self, &(unit, cosine): &((f64, f64), f64), s: f64) -> f64 {
         let cpa = self.engine.cpa_unit(unit, s, self.tol).dist;
-        self.blend(cpa, cosine, s)
+        self.k.blend(cpa, cosine, s)
+    }
+}
+
+/// What [`CutRangeAof`]'s blend reads, plain numbers apart from the AOF (whose cosine
+/// table is in a cell): a copy in a row's loop stays in registers, where the AOF's own
+/// fields would be read again after every store.
+#[derive(Clone, Copy)]
+struct Blend {
+    dist: f64,
+    patience: f64,
+    rmin: f64,
+    rr: f64,
+    /// The engine's.
+    cn_to_os: f64,
+}
+
+impl Blend {
+    /// The CPA part of the blend (as a fraction of the current range), every branch
+    /// computed and the answer picked.
+    #[inline(always)]
+    fn metric(&self, cpa: f64) -> f64 {
+        let mid = 100.0 - 100.0 * cpa / self.dist;
+        let far = if cpa > self.dist { 0.0 } else { mid };
+        if cpa < 0.0 {
+            100.0
+        } else {
+            far
+        }
     }
 
     /// The utility given the CPA distance `cpa` and rate-of-closure cosine `cosine` of a
@@ -222,11 +292,10 @@ impl CutRangeAof {
     /// no choice per course).
     #[inline(always)]
     fn blend_of<const RANGED: bool>(&self, cpa: f64, cosine: f64, s: f64) -> f64 {
-        let mid = 100.0 - 100.0 * cpa / self.dist;
-        let far = if cpa > self.dist { 0.0 } else { mid };
-        let metric = if cpa < 0.0 { 100.0 } else { far };
+        let metric = self.metric(cpa);
         let nroc = if RANGED {
-            100.0 * (self.engine.roc_of_cosine(cosine, s) - self.rmin) / self.rr
+            // The engine's roc_of_cosine.
+            100.0 * ((s * cosine + self.cn_to_os) - self.rmin) / self.rr
         } else {
             0.0
         };
@@ -249,9 +318,19 @@ impl Aof for CutRangeAof {
             return;
         }
         let mut c = CourseUnits::of(&self.engine, domain, xs);
+        let k = self.k;
+        if self.metric_only(domain, ys) {
+            // The CPA's metric alone: no cosines, no blend.
+            let metric = move |cpa| k.metric(cpa);
+            for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
+                let at = (domain.value(1, j), self.tol);
+                (self.engine).cpa_dists_map((&c.sins, &c.coss), at, row, metric);
+            }
+            return c.give_back();
+        }
         c.cosines.reserve(xs.len());
         // The table read where each course reads it (roc_cosine), the places kept.
-        let cos = &self.cos;
+        let cos = self.cosines();
         c.cosines
             .extend(c.cos_at.iter().map(|&k| cos[usize::from(k)]));
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
@@ -259,11 +338,11 @@ impl Aof for CutRangeAof {
             // Each CPA blended with its course's cosine as the row is done.
             let units = (&c.sins[..], &c.coss[..]);
             let (e, at) = (&self.engine, (s, self.tol));
-            if self.rr > 0.0 {
-                let blend = |cpa, cosine| self.blend_of::<true>(cpa, cosine, s);
+            if k.rr > 0.0 {
+                let blend = move |cpa, cosine| k.blend_of::<true>(cpa, cosine, s);
                 e.cpa_dists_zip(units, at, &c.cosines, row, blend);
             } else {
-                let blend = |cpa, cosine| self.blend_of::<false>(cpa, cosine, s);
+                let blend = move |cpa, cosine| k.blend_of::<false>(cpa, cosine, s);
                 e.cpa_dists_zip(units, at, &c.cosines, row, blend);
             }
         }
