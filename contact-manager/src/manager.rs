@@ -55,30 +55,62 @@ pub struct ContactManager {
 }
 
 fn geometry(os: &Ownship, c: &Contact, decay: &Decay, now: f64) -> Geometry {
-    let (ex, ey) = decay.extrapolate(c.x, c.y, c.hdg, c.spd, c.utc, now);
-    let cpa = contacts::cpa(
-        os.x,
-        os.y,
-        os.hdg,
-        os.spd,
-        ex,
-        ey,
-        c.hdg,
-        c.spd,
-        CPA_HORIZON,
-    );
-    Geometry {
-        range: contacts::range(os.x, os.y, c.x, c.y),
-        range_extrap: contacts::range(os.x, os.y, ex, ey),
-        cpa: cpa.dist,
-        age: now - c.utc,
+    *Lazy::new(os, c, decay, now).full(os, c)
+}
+
+/// [`geometry`] with the closest approach worked out only when asked: most alert
+/// checks decide on the range alone, and a range report reads only the range.
+struct Lazy {
+    /// Its `cpa` is NaN until [`Lazy::full`].
+    g: Geometry,
+    /// The contact's extrapolated position.
+    ex: f64,
+    ey: f64,
+    known: bool,
+}
+
+impl Lazy {
+    fn new(os: &Ownship, c: &Contact, decay: &Decay, now: f64) -> Lazy {
+        let (ex, ey) = decay.extrapolate(c.x, c.y, c.hdg, c.spd, c.utc, now);
+        Lazy {
+            g: Geometry {
+                range: contacts::range(os.x, os.y, c.x, c.y),
+                range_extrap: contacts::range(os.x, os.y, ex, ey),
+                cpa: f64::NAN,
+                age: now - c.utc,
+            },
+            ex,
+            ey,
+            known: false,
+        }
+    }
+
+    /// The whole geometry (the same `os` and `c` as [`Lazy::new`]).
+    fn full(&mut self, os: &Ownship, c: &Contact) -> &Geometry {
+        if !self.known {
+            let cpa = contacts::cpa(
+                os.x,
+                os.y,
+                os.hdg,
+                os.spd,
+                self.ex,
+                self.ey,
+                c.hdg,
+                c.spd,
+                CPA_HORIZON,
+            );
+            self.g.cpa = cpa.dist;
+            self.known = true;
+        }
+        &self.g
     }
 }
 
-/// Whether `a` applies to contact `c` with geometry `g` (§4.3).
-fn applies(a: &Alert, c: &Contact, g: &Geometry, max_age: f64) -> bool {
+/// Whether `a` applies to contact `c` with geometry `l` (§4.3; `os` the ownship `l`
+/// was made with).
+fn applies(a: &Alert, c: &Contact, os: &Ownship, l: &mut Lazy, max_age: f64) -> bool {
     // A NaN age (hostile TIME) is not fresh.
-    let fresh = g.age <= max_age;
+    let fresh = l.g.age <= max_age;
     if !(a.valid() && a.enabled && fresh) {
         return false;
     }
@@ -87,7 +119,8 @@ fn applies(a: &Alert, c: &Contact, g: &Geometry, max_age: f64) -> bool {
     }
     let ar = a.alert_range.unwrap_or(0.0);
     if ar > 0.0 {
-        return g.range <= a.cpa_range() && (g.range <= ar || g.cpa <= ar);
+        let range = l.g.range;
+        return range <= a.cpa_range() && (range <= ar || l.full(os, c).cpa <= ar);
     }
     true
 }
@@ -381,9 +414,9 @@ impl ContactManager {
     fn check_alerts(&mut self, now: f64) {
         let max_age = self.cfg.contact_max_age;
         for c in self.table.contacts() {
-            let g = geometry(&self.os, c, &self.cfg.decay, now);
+            let mut l = Lazy::new(&self.os, c, &self.cfg.decay, now);
             for a in self.cfg.alerts.alerts() {
-                let on = applies(a, c, &g, max_age);
+                let on = applies(a, c, &self.os, &mut l, max_age);
                 let key = (c.name.as_str(), a.id.as_str());
                 let pos = self
                     .alerted
@@ -395,7 +428,7 @@ impl ContactManager {
                             self.postings.push(flag_posting(f, c, now));
                         }
                         if self.cfg.alert_verbose {
-                            self.postings.push(verbose(c, a, &g, true));
+                            self.postings.push(verbose(c, a, l.full(&self.os, c), true));
                         }
                     }
                     (Ok(i), false) => {
@@ -404,7 +437,8 @@ impl ContactManager {
                             self.postings.push(flag_posting(f, c, now));
                         }
                         if self.cfg.alert_verbose {
-                            self.postings.push(verbose(c, a, &g, false));
+                            self.postings
+                                .push(verbose(c, a, l.full(&self.os, c), false));
                         }
                     }
                     _ => {}
@@ -457,7 +491,7 @@ impl ContactManager {
                 if !r.vtype.is_empty() && !r.vtype.eq_ignore_ascii_case(&c.vtype) {
                     continue;
                 }
-                let g = geometry(&self.os, c, &self.cfg.decay, now);
+                let g = Lazy::new(&self.os, c, &self.cfg.decay, now).g;
                 if g.range_extrap < r.range {
                     if !val.is_empty() {
                         val.push(',');

@@ -140,6 +140,9 @@ pub struct Tracker {
     pairs: Vec<Option<Pair>>,
     encounter: f64,
     collision: f64,
+    /// Per vessel, the sine and cosine of its heading in this update, worked out on
+    /// first use: every pair with it as contact needs them (n − 1 pairs, one each).
+    trig: Vec<Option<(f64, f64)>>,
 }
 
 impl Tracker {
@@ -147,6 +150,7 @@ impl Tracker {
         Tracker {
             n,
             pairs: vec![None; n * n],
+            trig: vec![None; n],
             encounter,
             collision,
         }
@@ -161,6 +165,8 @@ impl Tracker {
         dist: &super::collide::Distances,
         alerted: &dyn Fn(usize, usize) -> bool,
     ) {
+        self.trig.clear();
+        self.trig.resize(self.n, None);
         for i in 0..self.n {
             for j in 0..self.n {
                 if i == j {
@@ -191,7 +197,7 @@ impl Tracker {
                             os_cn_at_min: 0.0,
                             dev_so_far: (0.0, 0.0),
                             dev_at_min: (0.0, 0.0),
-                            side: side(os, cn),
+                            side: side(os, cn, trig_of(&mut self.trig[j], cn)),
                             bow_crossings: 0,
                             stern_crossings: 0,
                         })
@@ -205,7 +211,7 @@ impl Tracker {
                     p.os_cn_at_min = rel_bearing(os, cn);
                     p.dev_at_min = p.dev_so_far;
                 }
-                let s = side(os, cn);
+                let s = side(os, cn, trig_of(&mut self.trig[j], cn));
                 if s != 0.0 && p.side != 0.0 && s != p.side && d <= p.range0.max(self.encounter) {
                     let along = (os.x - cn.x) * cn.heading.to_radians().sin()
                         + (os.y - cn.y) * cn.heading.to_radians().cos();
@@ -292,9 +298,14 @@ impl Tracker {
     }
 }
 
-/// Which side of `cn`'s track line `os` is on: 1 starboard, −1 port, 0 on it.
-fn side(os: &Vessel, cn: &Vessel) -> f64 {
-    let (s, c) = cn.heading.to_radians().sin_cos();
+/// `cn`'s heading's (sine, cosine), kept in `slot` once worked out.
+fn trig_of(slot: &mut Option<(f64, f64)>, cn: &Vessel) -> (f64, f64) {
+    *slot.get_or_insert_with(|| cn.heading.to_radians().sin_cos())
+}
+
+/// Which side of `cn`'s track line `os` is on: 1 starboard, −1 port, 0 on it; `(s, c)`
+/// the sine and cosine of `cn`'s heading.
+fn side(os: &Vessel, cn: &Vessel, (s, c): (f64, f64)) -> f64 {
     // Cross product of the contact's heading (s, c) with the offset to ownship.
     let cross = s * (os.y - cn.y) - c * (os.x - cn.x);
     if cross > 0.0 {

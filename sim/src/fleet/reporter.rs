@@ -197,7 +197,7 @@ mod tests {
             ] {
                 let o = ownship(name, vtype, color, x);
                 let r = o.relayed(&mut buf);
-                assert_eq!(r.text, buf);
+                assert_eq!(r.text(), buf);
                 let read = r.report().expect("read");
                 assert_eq!(read, NodeReport::parse(&buf), "{buf}");
                 assert_eq!(

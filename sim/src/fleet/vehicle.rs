@@ -438,7 +438,7 @@ impl Live {
     pub fn receive_report(&mut self, r: Rc<Relayed>, now: f64) {
         if let Value::Str(text) = &mut self.relay_text {
             text.clear();
-            text.push_str(&r.text);
+            text.push_str(r.text());
         }
         let [relayed, _] = self.report_places;
         self.bus.post_at(
@@ -469,7 +469,7 @@ impl Live {
     /// The report this vehicle's reporter last wrote, read, if its text is `text` (the
     /// shoreside relays it rather than a copy to read again).
     pub fn written(&self, text: &str) -> Option<Rc<Relayed>> {
-        self.local.as_ref().filter(|r| r.text == text).cloned()
+        self.local.as_ref().filter(|r| r.text() == text).cloned()
     }
 
     /// Flush the `.alog` (an error is kept on the bus and reported by the caller).
