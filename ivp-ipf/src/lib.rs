@@ -14,9 +14,7 @@ mod digits;
 mod intervals;
 mod packets;
 mod piece_loop;
-use digits::{
-    highest_bit, long_digits, trunc_or_huge, DIGIT_PAIRS, DOT_PAIRS, PAIRS_MARKED, SMALL,
-};
+use digits::{long_digits, trunc_or_huge, DIGIT_PAIRS, FRAC4, SMALL};
 pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
@@ -37,8 +35,8 @@ impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
-        // as they were written, or copied from the tables `SMALL`, `DOT_PAIRS`,
-        // `PAIRS_MARKED`, `DIGIT_PAIRS`, literals, and the interval and slope caches,
+        // as they were written, or copied from the tables `SMALL`, `FRAC4`,
+        // `DIGIT_PAIRS`, literals, and the interval and slope caches,
         // whose shown bytes are digits and punctuation: their marks and lengths lie
         // past the text), so they are valid UTF-8 after every call, as a
         // `String` requires, whenever `s` can be seen again.
@@ -597,18 +595,12 @@ impl<'b> PieceText<'b> {
         };
         // SAFETY: both arms give `n % 10000` (the first's quotient is exact, above).
         unsafe { std::hint::assert_unchecked(frac < 10000) };
-        // `.` and four decimals, trailing zeros removed (the `.` stays).
-        // frac / 100 for frac < 43699, and the rest.
-        let hi = (frac * 5243) >> 19;
-        let (hi, lo) = (hi as usize, (frac - hi * 100) as usize);
-        // SAFETY: `hi` is `frac / 100` exactly (frac < 10000), so `lo` is `frac % 100`,
-        // below 100; the compiler cannot see it and would check the index.
-        unsafe { std::hint::assert_unchecked(lo < 100) };
-        let text = DOT_PAIRS[hi] | (u64::from(PAIRS_MARKED[lo]) << 24);
-        self.put8(text.get());
-        // The text's length is the highest of the two tables' marks (past the text,
-        // overwritten by the next number): one bit scan, no table of 10^4 lengths.
-        self.len += highest_bit(text) - 40;
+        // `.` and four decimals, trailing zeros removed (the `.` stays); the length byte
+        // lands past the text (overwritten by the next number).
+        // SAFETY: `frac < 10000` (above), the table's size.
+        let text = unsafe { *FRAC4.get_unchecked(frac as usize) };
+        self.put8(text);
+        self.len += (text >> 56) as usize;
         true
     }
 }
