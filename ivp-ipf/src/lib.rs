@@ -14,7 +14,7 @@ mod digits;
 mod intervals;
 mod packets;
 mod piece_loop;
-use digits::{long_digits, trunc_or_huge, DIGIT_PAIRS, FRAC4, SMALL};
+use digits::{long_digits, trunc_or_huge, DIGIT_PAIRS, FRAC4, SIGNED_WHOLE, SMALL};
 pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
@@ -35,7 +35,7 @@ impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
-        // as they were written, or copied from the tables `SMALL`, `FRAC4`,
+        // as they were written, or copied from the tables `SMALL`, `SIGNED_WHOLE`, `FRAC4`,
         // `DIGIT_PAIRS`, literals, and the interval and slope caches,
         // whose shown bytes are digits and punctuation: their marks and lengths lie
         // past the text), so they are valid UTF-8 after every call, as a
@@ -562,18 +562,21 @@ impl<'b> PieceText<'b> {
         // the tiny ones (n = 0), those of 1000 and more, and the huge ones, infinities
         // and NaN (n past 10^7, or not exact) are sorted out off it.
         let frac = if n.wrapping_sub(1) < 10_000_000 - 1 {
-            self.sign(bits);
             // `n / 10000` for `n < 10^7` as one multiply: 13743896 = 2^37 / 10^4 + ε
             // (ε < 0.66), so the product over 2^37 exceeds n / 10^4 by under
             // 10^7 · 0.66 / 2^37 < 10^-4, which never reaches the next integer (checked
             // for every such `n` in the tests).
             let whole = (n * 13_743_896) >> 37;
-            // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`.
-            let e = unsafe { *SMALL.get_unchecked(whole as usize) };
-            // The length byte lands where the `.` goes next.
-            self.put8(u64::from(e));
-            self.len += (e >> 24) as usize;
-            n as u32 - whole as u32 * 10000
+            // `,`, the sign and the whole part in one read and one store.
+            let at = 2 * whole as usize + (bits >> 63) as usize;
+            // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`, so
+            // `at < 2000`, the table's size.
+            let e = unsafe { *SIGNED_WHOLE.get_unchecked(at) };
+            // The length byte lands past the text (overwritten by the next number).
+            self.put8(e);
+            self.len += (e >> 56) as usize;
+            // In u64 like `n` (as u32 it would be widened again to index `FRAC4`).
+            n - whole * 10000
         } else {
             // Laid out of the way: the straight path then needs no jump over it.
             std::hint::cold_path();
@@ -591,7 +594,7 @@ impl<'b> PieceText<'b> {
             }
             self.sign(bits);
             self.u64(n / 10000);
-            (n % 10000) as u32
+            n % 10000
         };
         // SAFETY: both arms give `n % 10000` (the first's quotient is exact, above).
         unsafe { std::hint::assert_unchecked(frac < 10000) };
