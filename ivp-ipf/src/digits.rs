@@ -54,10 +54,23 @@ pub(crate) const SMALL: [u32; 1000] = {
     t
 };
 
+/// The two tables a usual weight is written with, in one place: one address for
+/// both (the loop computes it once a weight, not once a table).
+#[repr(C)]
+pub(crate) struct WeightText {
+    pub(crate) signed_whole: [u64; 2000],
+    pub(crate) frac4: [u64; 10000],
+}
+
+pub(crate) static WEIGHT_TEXT: WeightText = WeightText {
+    signed_whole: signed_whole(),
+    frac4: frac4(),
+};
+
 /// `,`, `-` for a negative weight and the digits of `0..=999`, first byte lowest, and
 /// the text's length in the top byte: entry `2·n` for `n`, `2·n + 1` for `-n` (the sign
 /// bit added to twice the number indexes it). 16 KB.
-pub(crate) static SIGNED_WHOLE: [u64; 2000] = {
+const fn signed_whole() -> [u64; 2000] {
     let mut t = [0u64; 2000];
     let mut i = 0;
     while i < 2000 {
@@ -70,13 +83,13 @@ pub(crate) static SIGNED_WHOLE: [u64; 2000] = {
         i += 1;
     }
     t
-};
+}
 
 /// `.` and the four decimals of `0..=9999` with trailing zeros dropped (the `.` stays),
 /// first byte lowest, and the text's length (1 to 5) in the top byte: one table read
 /// and one store write a weight's fraction, where splitting it into two pairs and
 /// finding the length took ten instructions more. 80 KB, read only where weights are.
-pub(crate) static FRAC4: [u64; 10000] = {
+const fn frac4() -> [u64; 10000] {
     let mut t = [0u64; 10000];
     let mut n = 0;
     while n < 10000 {
@@ -95,7 +108,7 @@ pub(crate) static FRAC4: [u64; 10000] = {
         n += 1;
     }
     t
-};
+}
 
 /// `x.trunc()` for `0.5 <= x < 2^63`, and 2^63 or more for NaN and larger `x`, by one
 /// `cvttsd2si` on x86-64 (an out-of-range value gives `i64::MIN`, 2^63 as a u64), where
@@ -127,7 +140,7 @@ mod tests {
     /// nothing between.
     #[test]
     fn signed_whole_is_the_comma_sign_and_digits() {
-        for (i, &e) in SIGNED_WHOLE.iter().enumerate() {
+        for (i, &e) in WEIGHT_TEXT.signed_whole.iter().enumerate() {
             let want = format!(",{}{}", if i % 2 == 1 { "-" } else { "" }, i / 2);
             let len = (e >> 56) as usize;
             assert_eq!(len, want.len(), "{i}");
@@ -140,7 +153,7 @@ mod tests {
     /// in the top byte and nothing between.
     #[test]
     fn frac4_is_the_trimmed_decimals() {
-        for (n, &e) in FRAC4.iter().enumerate() {
+        for (n, &e) in WEIGHT_TEXT.frac4.iter().enumerate() {
             let want = format!(".{n:04}");
             let want = want.trim_end_matches('0');
             let len = (e >> 56) as usize;

@@ -14,7 +14,7 @@ mod digits;
 mod intervals;
 mod packets;
 mod piece_loop;
-use digits::{long_digits, trunc_or_huge, DIGIT_PAIRS, FRAC4, SIGNED_WHOLE, SMALL};
+use digits::{long_digits, trunc_or_huge, DIGIT_PAIRS, SMALL, WEIGHT_TEXT};
 pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
@@ -35,7 +35,7 @@ impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
-        // as they were written, or copied from the tables `SMALL`, `SIGNED_WHOLE`, `FRAC4`,
+        // as they were written, or copied from the tables `SMALL`, `WEIGHT_TEXT`,
         // `DIGIT_PAIRS`, literals, and the interval and slope caches,
         // whose shown bytes are digits and punctuation: their marks and lengths lie
         // past the text), so they are valid UTF-8 after every call, as a
@@ -571,11 +571,11 @@ impl<'b> PieceText<'b> {
             let at = 2 * whole as usize + (bits >> 63) as usize;
             // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`, so
             // `at < 2000`, the table's size.
-            let e = unsafe { *SIGNED_WHOLE.get_unchecked(at) };
+            let e = unsafe { *WEIGHT_TEXT.signed_whole.get_unchecked(at) };
             // The length byte lands past the text (overwritten by the next number).
             self.put8(e);
             self.len += (e >> 56) as usize;
-            // In u64 like `n` (as u32 it would be widened again to index `FRAC4`).
+            // In u64 like `n` (as u32 it would be widened again to index `frac4`).
             n - whole * 10000
         } else {
             // Laid out of the way: the straight path then needs no jump over it.
@@ -601,7 +601,7 @@ impl<'b> PieceText<'b> {
         // `.` and four decimals, trailing zeros removed (the `.` stays); the length byte
         // lands past the text (overwritten by the next number).
         // SAFETY: `frac < 10000` (above), the table's size.
-        let text = unsafe { *FRAC4.get_unchecked(frac as usize) };
+        let text = unsafe { *WEIGHT_TEXT.frac4.get_unchecked(frac as usize) };
         self.put8(text);
         self.len += (text >> 56) as usize;
         true
