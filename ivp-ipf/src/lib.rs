@@ -325,7 +325,7 @@ struct PieceText<'b> {
 }
 
 impl<'b> PieceText<'b> {
-    const SIZE: usize = 1024;
+    const SIZE: usize = 4096;
     /// Most bytes of one bound (`,`, sign, 10 digits).
     const BOUND_MAX: usize = 12;
     /// Most bytes of one fast-path weight (`,`, sign, 11 integer digits, `.`, 4 decimals).
