@@ -464,7 +464,19 @@ impl<'b> PieceText<'b> {
     /// into `out` after the batch so far.
     #[inline(always)]
     fn weight_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
-        if !self.weight(w) {
+        self.weight_or_slow_as::<true>(w, out);
+    }
+
+    /// [`PieceText::weight_or_slow`] for a piece's intercept, which is rarely ±0 (a
+    /// slope often is): ±0 is sorted out off the straight path, with the tiny weights.
+    #[inline(always)]
+    fn intercept_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
+        self.weight_or_slow_as::<false>(w, out);
+    }
+
+    #[inline(always)]
+    fn weight_or_slow_as<const ZERO_FIRST: bool>(&mut self, w: f64, out: &mut Utf8Out<'_>) {
+        if !self.weight_as::<ZERO_FIRST>(w) {
             // Laid out of the way: the straight path then needs no jump over it.
             std::hint::cold_path();
             self.byte(b',');
@@ -549,9 +561,16 @@ impl<'b> PieceText<'b> {
     /// infinities, NaN), which [`Utf8Out::weight`] handles.
     #[inline(always)]
     fn weight(&mut self, w: f64) -> bool {
+        self.weight_as::<true>(w)
+    }
+
+    /// [`PieceText::weight`] with ±0 tested first (`ZERO_FIRST`, for weights that
+    /// often are) or only where the tiny weights go (the text is the same).
+    #[inline(always)]
+    fn weight_as<const ZERO_FIRST: bool>(&mut self, w: f64) -> bool {
         let bits = w.to_bits();
         // ±0 first: in a tiling, slopes often are (half the weights of a contact's).
-        if bits << 1 == 0 {
+        if ZERO_FIRST && bits << 1 == 0 {
             self.put8(u64::from(u16::from_le_bytes(*b",0")));
             self.len += 2;
             return true;
@@ -587,6 +606,12 @@ impl<'b> PieceText<'b> {
             }
             // 0.5 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
             if n == 0 {
+                // ±0 (`,0`, the sign dropped) when not tested first.
+                if !ZERO_FIRST && bits << 1 == 0 {
+                    self.put8(u64::from(u16::from_le_bytes(*b",0")));
+                    self.len += 2;
+                    return true;
+                }
                 let (text, len) = zero_weight(w);
                 self.put8(text);
                 self.len += len;
@@ -881,6 +906,27 @@ mod tests {
     #[test]
     fn piece_text_weights_match_the_reference() {
         let mut batch = [0; PieceText::SIZE + 8];
+        // Every whole part of the straight path, with fractions of each length, both
+        // signs, and ±0 and tiny weights: slope and intercept variants alike.
+        let mut weights = vec![0.0, -0.0, 4e-5, -4e-5, 5e-5, -5e-5];
+        for whole in 0..1000u32 {
+            for frac in [0u32, 1, 10, 100, 1000, 9999, 5, 50, 500, 1234, 9990] {
+                let w = f64::from(whole * 10000 + frac) / 10000.0;
+                weights.extend([w, -w]);
+            }
+        }
+        let mut want = String::new();
+        for &w in &weights {
+            want.clear();
+            reference::encode_weight(w, &mut want);
+            let want = format!(",{want}");
+            let mut text = PieceText::new(&mut batch);
+            assert!(text.weight_as::<true>(w));
+            assert_eq!(text.take(), want.as_bytes(), "weight {w:e}");
+            let mut text = PieceText::new(&mut batch);
+            assert!(text.weight_as::<false>(w));
+            assert_eq!(text.take(), want.as_bytes(), "intercept {w:e}");
+        }
         let mut seed = 19u64;
         let mut want = String::new();
         for _ in 0..300_000 {
