@@ -612,9 +612,11 @@ impl<'b> PieceText<'b> {
                     self.len += 2;
                     return true;
                 }
-                let (text, len) = zero_weight(w);
-                self.put8(text);
-                self.len += len;
+                // `,0.0000` with the sign of a tiny weight (one that rounds to 0), from
+                // a table by the sign bit: no call (a contact's functions have many).
+                let neg = (bits >> 63) as usize;
+                self.put8(TINY[neg]);
+                self.len += 7 + neg;
                 return true;
             }
             self.sign(bits);
@@ -633,17 +635,12 @@ impl<'b> PieceText<'b> {
     }
 }
 
-/// `,` and the text of a tiny weight, one that rounds to 0 (its bytes, first lowest,
-/// and how many): `0.0000` with its sign. Rare: out of the loop.
-#[cold]
-#[inline(never)]
-fn zero_weight(w: f64) -> (u64, usize) {
-    if w < 0.0 {
-        (u64::from_le_bytes(*b",-0.0000"), 8)
-    } else {
-        (u64::from_le_bytes(*b",0.0000\0"), 7)
-    }
-}
+/// `,` and the text of a tiny weight, one that rounds to 0, by its sign bit: `0.0000`
+/// with its sign.
+const TINY: [u64; 2] = [
+    u64::from_le_bytes(*b",0.0000\0"),
+    u64::from_le_bytes(*b",-0.0000"),
+];
 
 #[cfg(test)]
 mod tests {
