@@ -599,12 +599,8 @@ impl<'b> PieceText<'b> {
         } else {
             // Laid out of the way: the straight path then needs no jump over it.
             std::hint::cold_path();
-            // One comparison (NaN fails it too); `is_nan() ||` would add one.
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            if !(x < 1e15) {
-                return false;
-            }
-            // 0.5 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
+            // `n = 0` only for 0 <= x < 1 (NaN and huge `x` give 2^63): ±0 and the tiny
+            // weights, the commonest here, sorted out before the range test.
             if n == 0 {
                 // ±0 (`,0`, the sign dropped) when not tested first.
                 if !ZERO_FIRST && bits << 1 == 0 {
@@ -619,6 +615,12 @@ impl<'b> PieceText<'b> {
                 self.len += 7 + neg;
                 return true;
             }
+            // One comparison (NaN fails it too); `is_nan() ||` would add one.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(x < 1e15) {
+                return false;
+            }
+            // 1 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
             self.sign(bits);
             self.u64(n / 10000);
             n % 10000
