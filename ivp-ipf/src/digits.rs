@@ -1,8 +1,6 @@
 //! The digit tables and bit tricks the piece text is written with: the box bounds'
 //! and weights' digits, a few at a time.
 
-use std::num::NonZeroU64;
-
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
 #[cold]
 pub(crate) fn long_digits(mut n: u64) -> ([u8; 20], usize) {
@@ -56,88 +54,60 @@ pub(crate) const SMALL: [u32; 1000] = {
     t
 };
 
-/// `0..=99` as two digits, first digit in the low byte.
-pub(crate) const PAIRS: [u16; 100] = {
-    let mut t = [0u16; 100];
-    let mut n = 0;
-    while n < 100 {
-        t[n] = (b'0' as u16 + (n / 10) as u16) | ((b'0' as u16 + (n % 10) as u16) << 8);
-        n += 1;
-    }
-    t
+/// The two tables a usual weight is written with, in one place: one address for
+/// both (the loop computes it once a weight, not once a table).
+#[repr(C)]
+pub(crate) struct WeightText {
+    pub(crate) signed_whole: [u64; 2000],
+    pub(crate) frac4: [u64; 10000],
+}
+
+pub(crate) static WEIGHT_TEXT: WeightText = WeightText {
+    signed_whole: signed_whole(),
+    frac4: frac4(),
 };
 
-/// `.` and the two digits of `0..=99` (first digit in the second byte), with a mark
-/// bit at `40 + L` (past the text), `L` the length of `.` and those digits with their
-/// trailing zeros dropped: 1 (`.`), 2 or 3. See [`PAIRS_MARKED`].
-pub(crate) const DOT_PAIRS: [NonZeroU64; 100] = {
-    let mut t = [NonZeroU64::MIN; 100];
-    let mut n = 0;
-    while n < 100 {
-        let len = if n == 0 {
-            1
-        } else if n % 10 == 0 {
-            2
-        } else {
-            3
-        };
-        let text = b'.' as u64 | ((PAIRS[n] as u64) << 8) | (1 << (40 + len));
-        t[n] = match NonZeroU64::new(text) {
-            Some(t) => t,
-            None => panic!("the `.` is nonzero"),
-        };
-        n += 1;
+/// `,`, `-` for a negative weight and the digits of `0..=999`, first byte lowest, and
+/// the text's length in the top byte: entry `2·n` for `n`, `2·n + 1` for `-n` (the sign
+/// bit added to twice the number indexes it). 16 KB.
+const fn signed_whole() -> [u64; 2000] {
+    let mut t = [0u64; 2000];
+    let mut i = 0;
+    while i < 2000 {
+        let (n, neg) = (i / 2, i % 2);
+        let small = SMALL[n] as u64;
+        let digits = small >> 24;
+        let mut text = b',' as u64 | ((b'-' as u64 * neg as u64) << 8);
+        text |= (small & 0xff_ffff) << (8 * (1 + neg));
+        t[i] = text | ((1 + neg as u64 + digits) << 56);
+        i += 1;
     }
     t
-};
+}
 
-/// `0..=99` as two digits (first digit in the low byte), with a mark bit at `16 + L`
-/// for a nonzero value, `L` the length of `.dddd` with this pair as the last two
-/// digits and trailing zeros dropped: 5, or 4 for a multiple of 10. Shifted to follow
-/// a [`DOT_PAIRS`] entry, the marks land in the same byte past the text, where the
-/// highest one is the text's length: the pair's if it has one, else the dot pair's.
-pub(crate) const PAIRS_MARKED: [u32; 100] = {
-    let mut t = [0u32; 100];
+/// `.` and the four decimals of `0..=9999` with trailing zeros dropped (the `.` stays),
+/// first byte lowest, and the text's length (1 to 5) in the top byte: one table read
+/// and one store write a weight's fraction, where splitting it into two pairs and
+/// finding the length took ten instructions more. 80 KB, read only where weights are.
+const fn frac4() -> [u64; 10000] {
+    let mut t = [0u64; 10000];
     let mut n = 0;
-    while n < 100 {
-        let mark = if n == 0 {
-            0
-        } else if n % 10 == 0 {
-            1 << (16 + 4)
-        } else {
-            1 << (16 + 5)
-        };
-        t[n] = PAIRS[n] as u32 | mark;
-        n += 1;
-    }
-    t
-};
-
-/// `x.ilog2()`, as the one `bsr` it is on x86-64: written as `ilog2`, the compiler
-/// folds the `- 40` after it into `63 - leading_zeros` and spends three instructions
-/// more a weight undoing that.
-#[inline(always)]
-pub(crate) fn highest_bit(x: NonZeroU64) -> usize {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let r: u64;
-        // SAFETY: `bsr` reads one register and writes one register and the flags; on a
-        // nonzero source (`x` is one) its result is defined: the highest set bit.
-        unsafe {
-            std::arch::asm!(
-                "bsr {r}, {x}",
-                x = in(reg) x.get(),
-                r = lateout(reg) r,
-                options(pure, nomem, nostack),
-            );
+    while n < 10000 {
+        let digits = [n / 1000, n / 100 % 10, n / 10 % 10, n % 10];
+        let mut kept = 4;
+        while kept > 0 && digits[kept - 1] == 0 {
+            kept -= 1;
         }
-        // A u64 result: no zero-extension of a 32-bit one.
-        r as usize
+        let mut text = b'.' as u64;
+        let mut i = 0;
+        while i < kept {
+            text |= (b'0' as u64 + digits[i] as u64) << (8 * (i + 1));
+            i += 1;
+        }
+        t[n] = text | ((1 + kept as u64) << 56);
+        n += 1;
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        x.ilog2() as usize
-    }
+    t
 }
 
 /// `x.trunc()` for `0.5 <= x < 2^63`, and 2^63 or more for NaN and larger `x`, by one
@@ -166,14 +136,30 @@ pub(crate) fn trunc_or_huge(x: f64) -> u64 {
 mod tests {
     use super::*;
 
+    /// Every entry is `,`, the sign and the number, its length in the top byte and
+    /// nothing between.
     #[test]
-    fn highest_bit_is_ilog2() {
-        for i in 0..64 {
-            for low in [0, 1, u64::MAX] {
-                let bits = (1u64 << i) | (low & ((1u64 << i) - 1));
-                let x = NonZeroU64::new(bits).expect("the top bit is set");
-                assert_eq!(highest_bit(x), x.ilog2() as usize, "{x:#x}");
-            }
+    fn signed_whole_is_the_comma_sign_and_digits() {
+        for (i, &e) in WEIGHT_TEXT.signed_whole.iter().enumerate() {
+            let want = format!(",{}{}", if i % 2 == 1 { "-" } else { "" }, i / 2);
+            let len = (e >> 56) as usize;
+            assert_eq!(len, want.len(), "{i}");
+            assert_eq!(&e.to_le_bytes()[..len], want.as_bytes(), "{i}");
+            assert_eq!(e & (u64::MAX << (8 * len)) & !(0xff << 56), 0, "{i}");
+        }
+    }
+
+    /// Every entry is `.` and the four decimals with trailing zeros dropped, its length
+    /// in the top byte and nothing between.
+    #[test]
+    fn frac4_is_the_trimmed_decimals() {
+        for (n, &e) in WEIGHT_TEXT.frac4.iter().enumerate() {
+            let want = format!(".{n:04}");
+            let want = want.trim_end_matches('0');
+            let len = (e >> 56) as usize;
+            assert_eq!(len, want.len(), "{n}");
+            assert_eq!(&e.to_le_bytes()[..len], want.as_bytes(), "{n}");
+            assert_eq!(e & (u64::MAX << (8 * len)) & !(0xff << 56), 0, "{n}");
         }
     }
 

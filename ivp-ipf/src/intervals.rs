@@ -31,7 +31,7 @@ impl Caches {
         CACHES.set(Some(caches));
     }
 
-    /// Made in place on the heap: built on the stack, its 7 KB would be copied.
+    /// Made in place on the heap: built on the stack, its 10 KB would be copied.
     #[cold]
     fn new_boxed() -> Box<Caches> {
         // SAFETY: `Caches` is integers, arrays of them and `None`s of boxes: all zero

@@ -14,9 +14,7 @@ mod digits;
 mod intervals;
 mod packets;
 mod piece_loop;
-use digits::{
-    highest_bit, long_digits, trunc_or_huge, DIGIT_PAIRS, DOT_PAIRS, PAIRS_MARKED, SMALL,
-};
+use digits::{long_digits, trunc_or_huge, DIGIT_PAIRS, SMALL, WEIGHT_TEXT};
 pub use intervals::prepare_thread;
 use intervals::{interval_cache, Caches, IntervalCache, SlopeCache, SlopeSlot};
 pub use packets::{ipf_packets, IpfWriter, KeptIpf, Packets};
@@ -37,8 +35,8 @@ impl<'a> Utf8Out<'a> {
     fn new(s: &'a mut String) -> Self {
         // SAFETY: the bytes are only appended to by `byte` (ASCII: masked to 7 bits),
         // `str` (a whole `&str`) and `ascii` (a `PieceText`'s bytes: masked to 7 bits
-        // as they were written, or copied from the tables `SMALL`, `DOT_PAIRS`,
-        // `PAIRS_MARKED`, `DIGIT_PAIRS`, literals, and the interval and slope caches,
+        // as they were written, or copied from the tables `SMALL`, `WEIGHT_TEXT`,
+        // `DIGIT_PAIRS`, literals, and the interval and slope caches,
         // whose shown bytes are digits and punctuation: their marks and lengths lie
         // past the text), so they are valid UTF-8 after every call, as a
         // `String` requires, whenever `s` can be seen again.
@@ -327,7 +325,7 @@ struct PieceText<'b> {
 }
 
 impl<'b> PieceText<'b> {
-    const SIZE: usize = 1024;
+    const SIZE: usize = 4096;
     /// Most bytes of one bound (`,`, sign, 10 digits).
     const BOUND_MAX: usize = 12;
     /// Most bytes of one fast-path weight (`,`, sign, 11 integer digits, `.`, 4 decimals).
@@ -466,7 +464,19 @@ impl<'b> PieceText<'b> {
     /// into `out` after the batch so far.
     #[inline(always)]
     fn weight_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
-        if !self.weight(w) {
+        self.weight_or_slow_as::<true>(w, out);
+    }
+
+    /// [`PieceText::weight_or_slow`] for a piece's intercept, which is rarely ±0 (a
+    /// slope often is): ±0 is sorted out off the straight path, with the tiny weights.
+    #[inline(always)]
+    fn intercept_or_slow(&mut self, w: f64, out: &mut Utf8Out<'_>) {
+        self.weight_or_slow_as::<false>(w, out);
+    }
+
+    #[inline(always)]
+    fn weight_or_slow_as<const ZERO_FIRST: bool>(&mut self, w: f64, out: &mut Utf8Out<'_>) {
+        if !self.weight_as::<ZERO_FIRST>(w) {
             // Laid out of the way: the straight path then needs no jump over it.
             std::hint::cold_path();
             self.byte(b',');
@@ -551,9 +561,16 @@ impl<'b> PieceText<'b> {
     /// infinities, NaN), which [`Utf8Out::weight`] handles.
     #[inline(always)]
     fn weight(&mut self, w: f64) -> bool {
+        self.weight_as::<true>(w)
+    }
+
+    /// [`PieceText::weight`] with ±0 tested first (`ZERO_FIRST`, for weights that
+    /// often are) or only where the tiny weights go (the text is the same).
+    #[inline(always)]
+    fn weight_as<const ZERO_FIRST: bool>(&mut self, w: f64) -> bool {
         let bits = w.to_bits();
         // ±0 first: in a tiling, slopes often are (half the weights of a contact's).
-        if bits << 1 == 0 {
+        if ZERO_FIRST && bits << 1 == 0 {
             self.put8(u64::from(u16::from_le_bytes(*b",0")));
             self.len += 2;
             return true;
@@ -564,66 +581,68 @@ impl<'b> PieceText<'b> {
         // the tiny ones (n = 0), those of 1000 and more, and the huge ones, infinities
         // and NaN (n past 10^7, or not exact) are sorted out off it.
         let frac = if n.wrapping_sub(1) < 10_000_000 - 1 {
-            self.sign(bits);
             // `n / 10000` for `n < 10^7` as one multiply: 13743896 = 2^37 / 10^4 + ε
             // (ε < 0.66), so the product over 2^37 exceeds n / 10^4 by under
             // 10^7 · 0.66 / 2^37 < 10^-4, which never reaches the next integer (checked
             // for every such `n` in the tests).
             let whole = (n * 13_743_896) >> 37;
-            // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`.
-            let e = unsafe { *SMALL.get_unchecked(whole as usize) };
-            // The length byte lands where the `.` goes next.
-            self.put8(u64::from(e));
-            self.len += (e >> 24) as usize;
-            n as u32 - whole as u32 * 10000
+            // `,`, the sign and the whole part in one read and one store.
+            let at = 2 * whole as usize + (bits >> 63) as usize;
+            // SAFETY: `whole` is `n / 10000` (above), below 1000 as `n < 10^7`, so
+            // `at < 2000`, the table's size.
+            let e = unsafe { *WEIGHT_TEXT.signed_whole.get_unchecked(at) };
+            // The length byte lands past the text (overwritten by the next number).
+            self.put8(e);
+            self.len += (e >> 56) as usize;
+            // In u64 like `n` (as u32 it would be widened again to index `frac4`).
+            n - whole * 10000
         } else {
             // Laid out of the way: the straight path then needs no jump over it.
             std::hint::cold_path();
+            // `n = 0` only for 0 <= x < 1 (NaN and huge `x` give 2^63): ±0 and the tiny
+            // weights, the commonest here, sorted out before the range test.
+            if n == 0 {
+                // ±0 (`,0`, the sign dropped) when not tested first.
+                if !ZERO_FIRST && bits << 1 == 0 {
+                    self.put8(u64::from(u16::from_le_bytes(*b",0")));
+                    self.len += 2;
+                    return true;
+                }
+                // `,0.0000` with the sign of a tiny weight (one that rounds to 0), from
+                // a table by the sign bit: no call (a contact's functions have many).
+                let neg = (bits >> 63) as usize;
+                self.put8(TINY[neg]);
+                self.len += 7 + neg;
+                return true;
+            }
             // One comparison (NaN fails it too); `is_nan() ||` would add one.
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
             if !(x < 1e15) {
                 return false;
             }
-            // 0.5 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
-            if n == 0 {
-                let (text, len) = zero_weight(w);
-                self.put8(text);
-                self.len += len;
-                return true;
-            }
+            // 1 <= x < 1e15 (< 2^53) from here: `n` is exactly `x.trunc()`.
             self.sign(bits);
             self.u64(n / 10000);
-            (n % 10000) as u32
+            n % 10000
         };
         // SAFETY: both arms give `n % 10000` (the first's quotient is exact, above).
         unsafe { std::hint::assert_unchecked(frac < 10000) };
-        // `.` and four decimals, trailing zeros removed (the `.` stays).
-        // frac / 100 for frac < 43699, and the rest.
-        let hi = (frac * 5243) >> 19;
-        let (hi, lo) = (hi as usize, (frac - hi * 100) as usize);
-        // SAFETY: `hi` is `frac / 100` exactly (frac < 10000), so `lo` is `frac % 100`,
-        // below 100; the compiler cannot see it and would check the index.
-        unsafe { std::hint::assert_unchecked(lo < 100) };
-        let text = DOT_PAIRS[hi] | (u64::from(PAIRS_MARKED[lo]) << 24);
-        self.put8(text.get());
-        // The text's length is the highest of the two tables' marks (past the text,
-        // overwritten by the next number): one bit scan, no table of 10^4 lengths.
-        self.len += highest_bit(text) - 40;
+        // `.` and four decimals, trailing zeros removed (the `.` stays); the length byte
+        // lands past the text (overwritten by the next number).
+        // SAFETY: `frac < 10000` (above), the table's size.
+        let text = unsafe { *WEIGHT_TEXT.frac4.get_unchecked(frac as usize) };
+        self.put8(text);
+        self.len += (text >> 56) as usize;
         true
     }
 }
 
-/// `,` and the text of a tiny weight, one that rounds to 0 (its bytes, first lowest,
-/// and how many): `0.0000` with its sign. Rare: out of the loop.
-#[cold]
-#[inline(never)]
-fn zero_weight(w: f64) -> (u64, usize) {
-    if w < 0.0 {
-        (u64::from_le_bytes(*b",-0.0000"), 8)
-    } else {
-        (u64::from_le_bytes(*b",0.0000\0"), 7)
-    }
-}
+/// `,` and the text of a tiny weight, one that rounds to 0, by its sign bit: `0.0000`
+/// with its sign.
+const TINY: [u64; 2] = [
+    u64::from_le_bytes(*b",0.0000\0"),
+    u64::from_le_bytes(*b",-0.0000"),
+];
 
 #[cfg(test)]
 mod tests {
@@ -886,6 +905,27 @@ mod tests {
     #[test]
     fn piece_text_weights_match_the_reference() {
         let mut batch = [0; PieceText::SIZE + 8];
+        // Every whole part of the straight path, with fractions of each length, both
+        // signs, and ±0 and tiny weights: slope and intercept variants alike.
+        let mut weights = vec![0.0, -0.0, 4e-5, -4e-5, 5e-5, -5e-5];
+        for whole in 0..1000u32 {
+            for frac in [0u32, 1, 10, 100, 1000, 9999, 5, 50, 500, 1234, 9990] {
+                let w = f64::from(whole * 10000 + frac) / 10000.0;
+                weights.extend([w, -w]);
+            }
+        }
+        let mut want = String::new();
+        for &w in &weights {
+            want.clear();
+            reference::encode_weight(w, &mut want);
+            let want = format!(",{want}");
+            let mut text = PieceText::new(&mut batch);
+            assert!(text.weight_as::<true>(w));
+            assert_eq!(text.take(), want.as_bytes(), "weight {w:e}");
+            let mut text = PieceText::new(&mut batch);
+            assert!(text.weight_as::<false>(w));
+            assert_eq!(text.take(), want.as_bytes(), "intercept {w:e}");
+        }
         let mut seed = 19u64;
         let mut want = String::new();
         for _ in 0..300_000 {

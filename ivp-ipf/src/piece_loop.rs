@@ -44,7 +44,7 @@ pub(crate) fn pieces_n<'b, const D: usize, const B: usize, const W: usize>(
             if D >= 3 {
                 text.slope(w[2], &mut slopes[2], out, (&mut zeros, &mut missed));
             }
-            text.weight_or_slow(w[D], out);
+            text.intercept_or_slow(w[D], out);
         }
         done += bs.len();
     }
@@ -52,15 +52,15 @@ pub(crate) fn pieces_n<'b, const D: usize, const B: usize, const W: usize>(
     for (b, w) in bounds[done..].iter().zip(&weights[done..]) {
         text.make_room(B * PieceText::BOUND_MAX + W * PieceText::WEIGHT_MAX, out);
         piece_intervals::<D, B>(b, &mut text, &mut intervals);
-        // Unrolled by hand (`W` is a constant, 2 to 4): no loop count per weight.
+        // Unrolled by hand (`D` is a constant, 1 to 3): no loop count per weight.
         text.weight_or_slow(w[0], out);
-        text.weight_or_slow(w[1], out);
-        if W >= 3 {
+        if D >= 2 {
+            text.weight_or_slow(w[1], out);
+        }
+        if D >= 3 {
             text.weight_or_slow(w[2], out);
         }
-        if W >= 4 {
-            text.weight_or_slow(w[3], out);
-        }
+        text.intercept_or_slow(w[D], out);
     }
     text
 }
