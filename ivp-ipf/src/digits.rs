@@ -1,38 +1,15 @@
 //! The digit tables and bit tricks the piece text is written with: the box bounds'
 //! and weights' digits, a few at a time.
 
+pub(crate) use mbutil::fixed::DIGIT_PAIRS;
+
 /// The decimal digits of `n >= 100` at the end of a 20-byte array, and where they start.
 #[cold]
-pub(crate) fn long_digits(mut n: u64) -> ([u8; 20], usize) {
+pub(crate) fn long_digits(n: u64) -> ([u8; 20], usize) {
     let mut tmp = [0u8; 20];
-    let mut i = tmp.len();
-    while n >= 100 {
-        let p = 2 * (n % 100) as usize;
-        n /= 100;
-        i -= 2;
-        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[p..p + 2]);
-    }
-    if n >= 10 {
-        i -= 2;
-        tmp[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * n as usize..2 * n as usize + 2]);
-    } else {
-        i -= 1;
-        tmp[i] = b'0' + n as u8;
-    }
+    let i = mbutil::fixed::put_digits_back(&mut tmp, 20, n);
     (tmp, i)
 }
-
-/// `"00".."99"`: two digits per table read.
-pub(crate) const DIGIT_PAIRS: [u8; 200] = {
-    let mut t = [0u8; 200];
-    let mut i = 0;
-    while i < 100 {
-        t[2 * i] = b'0' + (i / 10) as u8;
-        t[2 * i + 1] = b'0' + (i % 10) as u8;
-        i += 1;
-    }
-    t
-};
 
 /// `0..=999` as text: the digits in the low three bytes (first digit lowest), their
 /// number in the top byte; one table read and one store write a small number.

@@ -111,18 +111,7 @@ pub(crate) fn push_scaled(out: &mut String, neg: bool, mut n: u64, decimals: usi
         i -= 1;
         buf[i] = b'.';
     }
-    while n >= 100 {
-        i -= 2;
-        put_pair(&mut buf, i, n % 100);
-        n /= 100;
-    }
-    if n >= 10 {
-        i -= 2;
-        put_pair(&mut buf, i, n);
-    } else {
-        i -= 1;
-        buf[i] = b'0' + n as u8;
-    }
+    i = put_digits_back(&mut buf, i, n);
     if neg {
         i -= 1;
         buf[i] = b'-';
@@ -132,8 +121,8 @@ pub(crate) fn push_scaled(out: &mut String, neg: bool, mut n: u64, decimals: usi
     unsafe { out.as_mut_vec() }.extend_from_slice(&buf[i..]);
 }
 
-/// "00" to "99", for two digits at a time.
-const PAIRS: &[u8; 200] = b"\
+/// `"00".."99"`: two digits per table read (also ivp-ipf's, for BHV_IPF text).
+pub const DIGIT_PAIRS: &[u8; 200] = b"\
 0001020304050607080910111213141516171819\
 2021222324252627282930313233343536373839\
 4041424344454647484950515253545556575859\
@@ -142,14 +131,49 @@ const PAIRS: &[u8; 200] = b"\
 
 /// The two digits of `r` (below 100) at `buf[i..i + 2]`.
 #[inline(always)]
-fn put_pair(buf: &mut [u8; 24], i: usize, r: u64) {
+fn put_pair(buf: &mut [u8], i: usize, r: u64) {
     let r = (r as usize % 100) * 2;
-    buf[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
+    buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[r..r + 2]);
+}
+
+/// The decimal digits of `n` written backwards into `buf`, ending just before `end`,
+/// two a division; returns where they start. `buf[..end]` must hold them (20 bytes
+/// hold any `u64`).
+#[inline(always)]
+pub fn put_digits_back(buf: &mut [u8], end: usize, mut n: u64) -> usize {
+    let mut i = end;
+    while n >= 100 {
+        i -= 2;
+        put_pair(buf, i, n % 100);
+        n /= 100;
+    }
+    if n >= 10 {
+        i -= 2;
+        put_pair(buf, i, n);
+    } else {
+        i -= 1;
+        buf[i] = b'0' + n as u8;
+    }
+    i
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `put_digits_back` writes `n`'s decimal text and nothing before it.
+    #[test]
+    fn put_digits_back_is_the_decimal_text() {
+        let mut ns = vec![0, 1, 9, 10, 11, 99, 100, 101, 999, 1000, 12345, u64::MAX];
+        ns.extend((0..64).map(|k| 1u64 << k));
+        ns.extend((1..20).map(|k| 10u64.pow(k) - 1));
+        for n in ns {
+            let mut buf = [b'x'; 24];
+            let at = put_digits_back(&mut buf, 22, n);
+            assert_eq!(&buf[at..22], n.to_string().as_bytes(), "{n}");
+            assert!(buf[..at].iter().all(|&b| b == b'x'), "{n}");
+        }
+    }
 
     fn by_fmt(v: f64, d: usize) -> String {
         format!("{v:.d$}")
