@@ -235,7 +235,7 @@ mod avx2;
 /// [`r14_row_avx2`]): one loop per combination of the engine's side facts, so that the
 /// rules' choices between comparisons are made once per row, not per candidate.
 #[inline(always)]
-fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
+pub(super) fn r14_row_plain(r: &R14Row, c: &Courses, row: &mut [f64]) {
     r14_row_with::<false>(r, c, row);
 }
 
