@@ -211,10 +211,11 @@ impl Tracker {
                     p.os_cn_at_min = rel_bearing(os, cn);
                     p.dev_at_min = p.dev_so_far;
                 }
-                let s = side(os, cn, trig_of(&mut self.trig[j], cn));
+                let (hs, hc) = trig_of(&mut self.trig[j], cn);
+                let s = side(os, cn, (hs, hc));
                 if s != 0.0 && p.side != 0.0 && s != p.side && d <= p.range0.max(self.encounter) {
-                    let along = (os.x - cn.x) * cn.heading.to_radians().sin()
-                        + (os.y - cn.y) * cn.heading.to_radians().cos();
+                    // (`sin_cos` is `(sin, cos)`: the same bits as each alone.)
+                    let along = (os.x - cn.x) * hs + (os.y - cn.y) * hc;
                     if along > 0.0 {
                         p.bow_crossings += 1;
                     } else {
