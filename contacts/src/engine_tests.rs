@@ -452,7 +452,15 @@ fn cpa_row_avx2_is_the_plain_row() {
         let (mut plain, mut wide) = (vec![1.5; n], vec![-2.5; n]);
         cpa_row(&row, (&sins, &coss), &mut plain, |d| d);
         // SAFETY: AVX2 is present (checked above).
-        unsafe { cpa_row_avx2(&row, (&sins, &coss), &mut wide, |d| d) };
+        unsafe {
+            cpa_row_avx2(
+                &row,
+                (&sins, &coss),
+                &mut wide,
+                |d| d,
+                super::heading::Ends::OFF,
+            )
+        };
         for (a, b) in plain.iter().zip(&wide) {
             assert!(
                 a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
@@ -551,7 +559,15 @@ fn cpa_row_chunks_are_cpa_entry() {
             if std::arch::is_x86_feature_detected!("avx2") {
                 let mut wide = vec![-2.5; n];
                 // SAFETY: AVX2 is present (checked just above).
-                unsafe { super::heading::cpa_row_avx2(&row, (&sins, &coss), &mut wide, f) };
+                unsafe {
+                    super::heading::cpa_row_avx2(
+                        &row,
+                        (&sins, &coss),
+                        &mut wide,
+                        f,
+                        super::heading::Ends::OFF,
+                    )
+                };
                 for (i, (a, b)) in want.iter().zip(&wide).enumerate() {
                     assert!(same(*a, *b), "case {case} f{k} [{i}] avx2: {a} {b}");
                 }

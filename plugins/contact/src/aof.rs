@@ -3,7 +3,7 @@
 
 use std::cell::{OnceCell, RefCell};
 
-use behavior_api::contacts::engine::{roc_cosine, roc_index};
+use behavior_api::contacts::engine::{roc_cosine, roc_index, FlatEnds};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain, ValuesKey};
@@ -53,6 +53,15 @@ fn metric_of(cd: f64, acd: f64, x: f64) -> f64 {
     } else {
         high
     }
+}
+
+/// Where [`metric_of`] is flat: 0 below `cd` (for any `x < cd`), 100 above both
+/// (`x ≥ cd` and `x > acd`); none unless both are finite.
+fn flat(cd: f64, acd: f64) -> Option<FlatEnds> {
+    (cd.is_finite() && acd.is_finite()).then(|| FlatEnds {
+        below: cd.min(acd),
+        above: cd.max(acd),
+    })
 }
 
 /// The courses of a grid as the rows read them: their unit vectors as two lists, sines
@@ -130,12 +139,12 @@ impl Aof for AvoidAof {
             return;
         }
         let c = CourseUnits::of(&self.engine, domain, xs);
+        let (cd, acd) = (self.cd, self.acd);
+        let metric = move |d| metric_of(cd, acd, d);
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let v = domain.value(1, j);
-            let (cd, acd) = (self.cd, self.acd);
-            let metric = move |d| metric_of(cd, acd, d);
-            self.engine
-                .cpa_dists_map((&c.sins, &c.coss), (v, self.tol), row, metric);
+            let at = (v, self.tol);
+            (self.engine).cpa_dists_flat((&c.sins, &c.coss), at, row, metric, flat(cd, acd));
         }
         c.give_back();
     }
