@@ -8,6 +8,8 @@
 
 use std::fmt::Write as _;
 
+use mbutil::short_str;
+
 use crate::geodesy::Geodesy;
 use crate::report::NodeReport;
 use crate::snapshot::{ContactRecord, LedgerSnap};
@@ -299,7 +301,7 @@ impl Ledger {
     fn store(&mut self, c: &Checked<'_>, now: f64) -> Result<Accepted<'_>, IngestError> {
         let pos = self
             .records
-            .binary_search_by(|r| r.name.as_str().cmp(c.name));
+            .binary_search_by(|r| short_str::order(&r.name, c.name));
         if pos.is_err() && self.records.len() >= self.max_contacts {
             self.refused += 1;
             self.refused_full += 1;
@@ -330,9 +332,9 @@ impl Ledger {
             }
         };
         let rec = &mut self.records[i];
-        set_str(&mut rec.vtype, c.vtype);
-        set_str(&mut rec.group, c.group);
-        set_str(&mut rec.vsource, c.vsource);
+        short_str::assign(&mut rec.vtype, c.vtype);
+        short_str::assign(&mut rec.group, c.group);
+        short_str::assign(&mut rec.vsource, c.vsource);
         rec.x = c.x;
         rec.y = c.y;
         rec.lat = c.lat;
@@ -446,13 +448,6 @@ struct Checked<'a> {
     spd: f64,
     utc: f64,
     length: f64,
-}
-
-fn set_str(dst: &mut String, src: &str) {
-    if dst != src {
-        dst.clear();
-        dst.push_str(src);
-    }
 }
 
 /// `<NAME>_NAV_<SUFFIX>` with the name upper-cased, into `out` (a kept string: reports
