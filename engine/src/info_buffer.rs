@@ -93,7 +93,9 @@ impl InfoBuffer {
     /// A contact's group and type, as `<NAME>_NAV_GROUP` and `<NAME>_NAV_TYPE` (from
     /// every contact every second: each contact's two places are found once).
     pub fn set_contact_nav(&mut self, name: &str, group: &str, vtype: &str, msg_time: f64) {
-        let found = self.nav_places.iter().find(|(n, _)| n == name).map(|e| e.1);
+        let found = (self.nav_places.iter())
+            .find(|(n, _)| mbutil::short_str::same(n, name))
+            .map(|e| e.1);
         let [g, t] = found.unwrap_or_else(|| {
             let mut var = String::new();
             let places = ["GROUP", "TYPE"].map(|suffix| {

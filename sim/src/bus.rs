@@ -16,6 +16,7 @@
 //! posted as 0: they measure the machine, not the mission, and would make two runs'
 //! logs differ.
 
+use mbutil::short_str::same;
 use moos::alog::LineValue;
 use rustc_hash::FxHashMap;
 
@@ -337,7 +338,8 @@ impl cycle::Bus for SimBus {
         // The helm hands over its whole list every iteration. Every variable of the
         // list handled last is subscribed (and stays so): the same list again has
         // nothing new, and comparing it costs less than looking each one up.
-        if self.helm_subs.as_slice() == subs {
+        let kept = &self.helm_subs;
+        if kept.len() == subs.len() && kept.iter().zip(subs).all(|(a, b)| same(a, b)) {
             return Vec::new();
         }
         let mut new = Vec::new();
@@ -356,7 +358,7 @@ impl cycle::Bus for SimBus {
         self.helm_post_at += 1;
         // A remembered slot is one posted to, so it has a latest value naming its variable.
         let i = match self.helm_posts.get(j) {
-            Some(&i) if self.slots[i].last.as_ref().is_some_and(|m| m.var == p.var) => i,
+            Some(&i) if (self.slots[i].last.as_ref()).is_some_and(|m| same(&m.var, &p.var)) => i,
             _ => {
                 let i = self.slot_of(&p.var);
                 if let Some(kept) = self.helm_posts.get_mut(j) {
