@@ -16,7 +16,7 @@
 //! posted as 0: they measure the machine, not the mission, and would make two runs'
 //! logs differ.
 
-use mbutil::short_str::same;
+use mbutil::short_str::{assign, same};
 use moos::alog::LineValue;
 use rustc_hash::FxHashMap;
 
@@ -98,15 +98,12 @@ fn fill_but_var(
 ) {
     debug_assert_eq!(dst.var, var);
     dst.time = now;
-    dst.source.clear();
-    dst.source.push_str(source);
-    dst.source_aux.clear();
-    dst.source_aux.push_str(aux);
+    // A slot's latest value mostly has the same source, often the same aux and
+    // value: those are not copied again (see `short_str::assign`).
+    assign(&mut dst.source, source);
+    assign(&mut dst.source_aux, aux);
     match (&mut dst.value, value) {
-        (Value::Str(old), Value::Str(new)) => {
-            old.clear();
-            old.push_str(new);
-        }
+        (Value::Str(old), Value::Str(new)) => assign(old, new),
         (old @ Value::Num(_), Value::Str(new)) => {
             let mut s = spare_text.pop().unwrap_or_default();
             s.clear();
