@@ -1,6 +1,7 @@
 //! The manager: mail in, an iteration, postings out (the helm engine's shape).
 
 use contacts::{Decay, NodeReport};
+use mbutil::short_str;
 
 use crate::alert::{Alert, AlertSet};
 use crate::config::Config;
@@ -418,9 +419,9 @@ impl ContactManager {
             for a in self.cfg.alerts.alerts() {
                 let on = applies(a, c, &self.os, &mut l, max_age);
                 let key = (c.name.as_str(), a.id.as_str());
-                let pos = self
-                    .alerted
-                    .binary_search_by(|(n, i)| (n.as_str(), i.as_str()).cmp(&key));
+                let pos = self.alerted.binary_search_by(|(n, i)| {
+                    short_str::order(n, key.0).then_with(|| short_str::order(i, key.1))
+                });
                 match (pos, on) {
                     (Err(i), true) => {
                         self.alerted.insert(i, (c.name.clone(), a.id.clone()));

@@ -5,6 +5,8 @@
 
 use std::collections::VecDeque;
 
+use mbutil::short_str;
+
 use crate::config::Config;
 use crate::table::Table;
 use crate::value::{Ownship, Posting};
@@ -29,7 +31,7 @@ pub struct Status {
 
 /// Post `var = buf` when it differs from `prev` (which then takes the new value).
 fn on_change(out: &mut Vec<Posting>, var: &str, buf: &mut String, prev: &mut String) {
-    if buf != prev {
+    if !short_str::same(buf, prev) {
         std::mem::swap(buf, prev);
         out.push(Posting::str(var, prev.clone()));
     }
@@ -78,7 +80,8 @@ impl Status {
                 .iter()
                 .filter(|a| a.valid() && a.enabled)
             {
-                let hit = alerted.iter().any(|(n, i)| *n == c.name && *i == a.id);
+                let hit = (alerted.iter())
+                    .any(|(n, i)| short_str::same(n, &c.name) && short_str::same(i, &a.id));
                 if !hit {
                     push_pair(buf, &c.name, &a.id);
                 }
@@ -167,7 +170,7 @@ impl Status {
         let Some((c, r)) = best else {
             return;
         };
-        if c.name != self.closest {
+        if !short_str::same(&c.name, &self.closest) {
             self.closest.clone_from(&c.name);
             out.push(Posting::str("CONTACT_CLOSEST", c.name.as_str()));
             out.push(Posting::num("CONTACT_CLOSEST_TIME", now));

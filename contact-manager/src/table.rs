@@ -10,6 +10,8 @@
 use contacts::vtype::needs_depth;
 use contacts::{default_length, fix_type, ContactFilter, Geodesy, NodeReport};
 
+use mbutil::short_str;
+
 use crate::config::LocalCoords;
 
 /// Beyond the reject range by more than this, a contact is retired (V20 keeps it up to
@@ -72,13 +74,6 @@ pub struct Table {
     max_contacts: usize,
 }
 
-fn set_str(dst: &mut String, src: &str) {
-    if dst != src {
-        dst.clear();
-        dst.push_str(src);
-    }
-}
-
 impl Table {
     pub fn new(origin: Option<(f64, f64)>, coords: LocalCoords, max_contacts: usize) -> Table {
         Table {
@@ -107,7 +102,7 @@ impl Table {
 
     fn index(&self, name: &str) -> Result<usize, usize> {
         self.contacts
-            .binary_search_by(|c| c.name.as_str().cmp(name))
+            .binary_search_by(|c| short_str::order(&c.name, name))
     }
 
     /// Take one `NODE_REPORT`. Returns the contact's name and whether it is new.
@@ -168,9 +163,9 @@ impl Table {
             }
         };
         let c = &mut self.contacts[i];
-        set_str(&mut c.vtype, vtype);
-        set_str(&mut c.group, r.group);
-        set_str(&mut c.vsource, r.vsource);
+        short_str::assign(&mut c.vtype, vtype);
+        short_str::assign(&mut c.group, r.group);
+        short_str::assign(&mut c.vsource, r.vsource);
         (c.x, c.y, c.lat, c.lon) = (x, y, lat, lon);
         c.hdg = r.hdg.unwrap_or(0.0);
         c.spd = r.spd.unwrap_or(0.0);

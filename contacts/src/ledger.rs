@@ -8,6 +8,8 @@
 
 use std::fmt::Write as _;
 
+use mbutil::short_str;
+
 use crate::geodesy::Geodesy;
 use crate::report::NodeReport;
 use crate::snapshot::{ContactRecord, LedgerSnap};
@@ -36,7 +38,9 @@ pub const LEDGER_VARS: &[&str] = &["NODE_REPORT", "AIS_REPORT", "AIS_REPORT_LOCA
 
 /// True for a variable whose reports feed the ledger.
 pub fn feeds_ledger(var: &str) -> bool {
-    LEDGER_VARS.contains(&var)
+    // Spelled out, not `LEDGER_VARS.contains`: each literal then is compared inline
+    // (every message to the helm asks).
+    matches!(var, "NODE_REPORT" | "AIS_REPORT" | "AIS_REPORT_LOCAL")
 }
 
 /// What a report lacked (§2.2 step 1); the text is the reference's "why", the pieces
@@ -299,7 +303,7 @@ impl Ledger {
     fn store(&mut self, c: &Checked<'_>, now: f64) -> Result<Accepted<'_>, IngestError> {
         let pos = self
             .records
-            .binary_search_by(|r| r.name.as_str().cmp(c.name));
+            .binary_search_by(|r| short_str::order(&r.name, c.name));
         if pos.is_err() && self.records.len() >= self.max_contacts {
             self.refused += 1;
             self.refused_full += 1;
@@ -330,9 +334,9 @@ impl Ledger {
             }
         };
         let rec = &mut self.records[i];
-        set_str(&mut rec.vtype, c.vtype);
-        set_str(&mut rec.group, c.group);
-        set_str(&mut rec.vsource, c.vsource);
+        short_str::assign(&mut rec.vtype, c.vtype);
+        short_str::assign(&mut rec.group, c.group);
+        short_str::assign(&mut rec.vsource, c.vsource);
         rec.x = c.x;
         rec.y = c.y;
         rec.lat = c.lat;
@@ -446,13 +450,6 @@ struct Checked<'a> {
     spd: f64,
     utc: f64,
     length: f64,
-}
-
-fn set_str(dst: &mut String, src: &str) {
-    if dst != src {
-        dst.clear();
-        dst.push_str(src);
-    }
 }
 
 /// `<NAME>_NAV_<SUFFIX>` with the name upper-cased, into `out` (a kept string: reports

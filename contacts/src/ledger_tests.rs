@@ -240,3 +240,13 @@ fn ingest_parsed_is_ingest_of_the_text() {
     assert_eq!(text.summary(), parsed.summary());
     assert_eq!(text.snapshot(), parsed.snapshot());
 }
+
+#[test]
+fn feeds_ledger_is_the_list() {
+    for v in LEDGER_VARS {
+        assert!(feeds_ledger(v), "{v}");
+    }
+    for v in ["NODE_REPORT_LOCAL", "AIS_REPORTS", "", "node_report"] {
+        assert!(!feeds_ledger(v), "{v}");
+    }
+}

@@ -135,7 +135,7 @@ impl LedgerSnap {
     /// One contact by exact (case-sensitive) name; O(log n).
     pub fn get(&self, name: &str) -> Option<&ContactRecord> {
         self.contacts
-            .binary_search_by(|c| c.name.as_str().cmp(name))
+            .binary_search_by(|c| mbutil::short_str::order(&c.name, name))
             .ok()
             .map(|i| &self.contacts[i])
     }

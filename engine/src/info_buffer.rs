@@ -11,7 +11,8 @@ struct Entry {
     /// Timestamp of the message that last wrote it.
     msg_time: f64,
     /// This iteration's strings are the first `str_count`; the strings past it are
-    /// kept cleared for their allocation (the next iteration's deltas reuse them).
+    /// spare, never read (the next iteration's deltas reuse their room, and their
+    /// text when it is the same).
     str_deltas: Vec<String>,
     str_count: usize,
     dbl_deltas: Vec<f64>,
@@ -93,7 +94,9 @@ impl InfoBuffer {
     /// A contact's group and type, as `<NAME>_NAV_GROUP` and `<NAME>_NAV_TYPE` (from
     /// every contact every second: each contact's two places are found once).
     pub fn set_contact_nav(&mut self, name: &str, group: &str, vtype: &str, msg_time: f64) {
-        let found = self.nav_places.iter().find(|(n, _)| n == name).map(|e| e.1);
+        let found = (self.nav_places.iter())
+            .find(|(n, _)| mbutil::short_str::same(n, name))
+            .map(|e| e.1);
         let [g, t] = found.unwrap_or_else(|| {
             let mut var = String::new();
             let places = ["GROUP", "TYPE"].map(|suffix| {
@@ -110,11 +113,9 @@ impl InfoBuffer {
     fn set_string_at(&mut self, i: usize, val: &str, msg_time: f64) {
         let now = self.curr_time;
         let e = self.entry_at(i);
+        // Mostly the value it had (a mode, a contact's type): not copied again.
         match &mut e.sval {
-            Some(s) => {
-                s.clear();
-                s.push_str(val);
-            }
+            Some(s) => mbutil::short_str::assign(s, val),
             None => e.sval = Some(val.to_string()),
         }
         e.time = now;
@@ -206,10 +207,7 @@ impl InfoBuffer {
 /// Append `text` as the `count`th string of `list`, reusing a kept string's allocation.
 fn push_reused(list: &mut Vec<String>, count: &mut usize, text: &str) {
     match list.get_mut(*count) {
-        Some(slot) => {
-            slot.clear();
-            slot.push_str(text);
-        }
+        Some(slot) => mbutil::short_str::assign(slot, text),
         None => list.push(text.to_string()),
     }
     *count += 1;

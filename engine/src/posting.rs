@@ -35,7 +35,7 @@ impl DuplicateFilter {
             // One look-up: a changed value is copied into the kept string (no new
             // allocation once it is long enough).
             Value::Str(s) if !s.is_empty() => match self.strings.get_mut(key) {
-                Some(old) if repeatable || old != s => {
+                Some(old) if repeatable || !mbutil::short_str::same(old, s) => {
                     old.clear();
                     old.push_str(s);
                     true

@@ -281,6 +281,45 @@ pub struct SeglistSpecCache {
     spec: String,
 }
 
+/// `a == b`, the texts compared in place (`mbutil::short_str`): the derived compare
+/// calls `memcmp` for each of the nine, empty ones too, at every view a behavior posts.
+/// (`a` taken apart whole: a new field must be added here to compile.)
+fn same_attrs(a: &Attrs, b: &Attrs) -> bool {
+    use mbutil::short_str::same;
+    let Attrs {
+        active,
+        label,
+        msg,
+        source,
+        vsource,
+        id,
+        label_color,
+        edge_color,
+        vertex_color,
+        fill_color,
+        time,
+        duration,
+        vertex_size,
+        edge_size,
+        fill_transparency,
+    } = a;
+    *active == b.active
+        && same(label, &b.label)
+        && same(msg, &b.msg)
+        && same(source, &b.source)
+        && same(vsource, &b.vsource)
+        && same(id, &b.id)
+        && same(label_color, &b.label_color)
+        && same(edge_color, &b.edge_color)
+        && same(vertex_color, &b.vertex_color)
+        && same(fill_color, &b.fill_color)
+        && *time == b.time
+        && *duration == b.duration
+        && *vertex_size == b.vertex_size
+        && *edge_size == b.edge_size
+        && *fill_transparency == b.fill_transparency
+}
+
 impl SeglistSpecCache {
     /// [`seglist_spec`] of these inputs, built only when they differ from the last call.
     pub fn get(&mut self, pts: &[Vertex], precision: usize, attrs: &Attrs) -> &str {
@@ -300,7 +339,7 @@ impl SeglistSpecCache {
             || self.pts != pts
             || self.tags != tags
             || self.precision != precision
-            || self.attrs != *attrs
+            || !same_attrs(&self.attrs, attrs)
         {
             self.pts.clear();
             self.pts.extend_from_slice(pts);
@@ -394,5 +433,36 @@ mod tests {
             "pts={0,0:9,0:0,9},active=false,label=L"
         );
         assert_eq!(point_erase_spec(""), "x=0,y=0,active=false");
+    }
+
+    #[test]
+    fn same_attrs_is_eq() {
+        let base = Attrs {
+            label: "abe_wpt".into(),
+            edge_color: "gray_70".into(),
+            edge_size: Some(1.0),
+            ..Attrs::default()
+        };
+        let mut all = vec![base.clone(), Attrs::default()];
+        let edits: [fn(&mut Attrs); 8] = [
+            |a| a.label.push('x'),
+            |a| a.msg = "m".into(),
+            |a| a.fill_color = "red".into(),
+            |a| a.active = Some(false),
+            |a| a.edge_size = Some(-0.0),
+            |a| a.time = Some(f64::NAN),
+            |a| a.vertex_size = Some(0.0),
+            |a| a.id = "a_much_longer_identifier_than_any_word".into(),
+        ];
+        for e in edits {
+            let mut a = base.clone();
+            e(&mut a);
+            all.push(a);
+        }
+        for a in &all {
+            for b in &all {
+                assert_eq!(same_attrs(a, b), a == b, "{a:?} {b:?}");
+            }
+        }
     }
 }

@@ -17,7 +17,15 @@ impl CoordTable {
     /// Whether the table is the one of these points and cell sizes.
     pub(crate) fn is_for(&self, pts: &[i32], ppg: &[i32]) -> bool {
         let dim = pts.len();
-        self.key.len() == 2 * dim && self.key[..dim] == *pts && self.key[dim..] == *ppg
+        // Element by element: a couple of words, not worth a `memcmp` call (every
+        // function of every solve asks).
+        self.key.len() == 2 * dim
+            && self
+                .key
+                .iter()
+                .zip(pts.iter().chain(ppg))
+                .all(|(a, b)| a == b)
+            && ppg.len() == dim
     }
 
     /// (Re)make the table for `pts` points and `ppg` points per cell, unless it is theirs.

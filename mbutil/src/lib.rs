@@ -17,6 +17,7 @@ pub mod file;
 pub mod fixed;
 pub mod name_index;
 pub mod number;
+pub mod short_str;
 pub mod spare;
 pub mod string_pool;
 

@@ -16,6 +16,7 @@
 //! posted as 0: they measure the machine, not the mission, and would make two runs'
 //! logs differ.
 
+use mbutil::short_str::{assign, same};
 use moos::alog::LineValue;
 use rustc_hash::FxHashMap;
 
@@ -97,15 +98,12 @@ fn fill_but_var(
 ) {
     debug_assert_eq!(dst.var, var);
     dst.time = now;
-    dst.source.clear();
-    dst.source.push_str(source);
-    dst.source_aux.clear();
-    dst.source_aux.push_str(aux);
+    // A slot's latest value mostly has the same source, often the same aux and
+    // value: those are not copied again (see `short_str::assign`).
+    assign(&mut dst.source, source);
+    assign(&mut dst.source_aux, aux);
     match (&mut dst.value, value) {
-        (Value::Str(old), Value::Str(new)) => {
-            old.clear();
-            old.push_str(new);
-        }
+        (Value::Str(old), Value::Str(new)) => assign(old, new),
         (old @ Value::Num(_), Value::Str(new)) => {
             let mut s = spare_text.pop().unwrap_or_default();
             s.clear();
@@ -337,7 +335,8 @@ impl cycle::Bus for SimBus {
         // The helm hands over its whole list every iteration. Every variable of the
         // list handled last is subscribed (and stays so): the same list again has
         // nothing new, and comparing it costs less than looking each one up.
-        if self.helm_subs.as_slice() == subs {
+        let kept = &self.helm_subs;
+        if kept.len() == subs.len() && kept.iter().zip(subs).all(|(a, b)| same(a, b)) {
             return Vec::new();
         }
         let mut new = Vec::new();
@@ -356,7 +355,7 @@ impl cycle::Bus for SimBus {
         self.helm_post_at += 1;
         // A remembered slot is one posted to, so it has a latest value naming its variable.
         let i = match self.helm_posts.get(j) {
-            Some(&i) if self.slots[i].last.as_ref().is_some_and(|m| m.var == p.var) => i,
+            Some(&i) if (self.slots[i].last.as_ref()).is_some_and(|m| same(&m.var, &p.var)) => i,
             _ => {
                 let i = self.slot_of(&p.var);
                 if let Some(kept) = self.helm_posts.get_mut(j) {

@@ -16,8 +16,6 @@ mod report;
 mod spawn;
 mod summary;
 
-use std::collections::BTreeMap;
-
 use bhv::modes::ModeSet;
 use bhv::reader::Init;
 
@@ -91,7 +89,7 @@ pub struct Helm {
     /// The outbox was handed out: the next posting starts a new batch.
     pub(crate) outbox_taken: bool,
     /// Last values of the helm's "on change" postings.
-    pub(crate) last_posted: BTreeMap<&'static str, LastPosted>,
+    pub(crate) last_posted: PostedMap,
     pub(crate) statevars: Vec<String>,
     pub(crate) bhv_cnt_ever: usize,
     pub(crate) completed_pending_last: Option<bool>,
@@ -151,6 +149,40 @@ pub struct Helm {
 pub(crate) struct LastPosted {
     pub(crate) text: String,
     pub(crate) bits: Option<u64>,
+}
+
+/// [`LastPosted`] by variable: a dozen names, all `IVPHELM_...`, looked up several
+/// times an iteration. A list searched by the names' addresses (the same literal each
+/// time), then their bytes in place: an ordered map compared the shared prefix with a
+/// `memcmp` call at every step of its search. Never iterated: order cannot show.
+#[derive(Debug, Default)]
+pub(crate) struct PostedMap(Vec<(&'static str, LastPosted)>);
+
+impl PostedMap {
+    fn at(&self, var: &str) -> Option<usize> {
+        let by_addr = |k: &&str| k.as_ptr() == var.as_ptr() && k.len() == var.len();
+        (self.0.iter().position(|(k, _)| by_addr(k)))
+            .or_else(|| (self.0.iter()).position(|(k, _)| mbutil::short_str::same(k, var)))
+    }
+    pub(crate) fn get(&self, var: &str) -> Option<&LastPosted> {
+        self.at(var).map(|i| &self.0[i].1)
+    }
+    pub(crate) fn get_mut(&mut self, var: &str) -> Option<&mut LastPosted> {
+        self.at(var).map(|i| &mut self.0[i].1)
+    }
+    /// `v` under `var`; the value it replaces.
+    pub(crate) fn insert(&mut self, var: &'static str, v: LastPosted) -> Option<LastPosted> {
+        match self.at(var) {
+            Some(i) => Some(std::mem::replace(&mut self.0[i].1, v)),
+            None => {
+                self.0.push((var, v));
+                None
+            }
+        }
+    }
+    pub(crate) fn clear(&mut self) {
+        self.0.clear();
+    }
 }
 
 impl Helm {

@@ -247,7 +247,7 @@ impl Helm {
                 n += 1;
             }
             let last = self.last_posted.get(var).map_or("", |l| l.text.as_str());
-            if names == last {
+            if mbutil::short_str::same(&names, last) {
                 self.pool.give(names);
                 continue;
             }

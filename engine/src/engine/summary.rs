@@ -4,6 +4,8 @@
 //! Every field is written into a string kept from the last iteration and compared with
 //! the field last reported, so a steady summary allocates nothing.
 
+use mbutil::short_str;
+
 use super::iterate::DecisionSummary;
 use super::Helm;
 use crate::runtime::{push_compact, RunState};
@@ -151,7 +153,7 @@ impl Helm {
         out.push_str(",utc_time=");
         mbutil::push_fixed(&mut out, now, 2);
         for (k, v) in fields.iter().enumerate() {
-            let changed = self.summary_last.get(k) != Some(v);
+            let changed = !(self.summary_last.get(k)).is_some_and(|l| short_str::same(l, v));
             if full || changed {
                 out.push(',');
                 if !FIELDS[k].is_empty() {
@@ -163,10 +165,7 @@ impl Helm {
         }
         self.summary_last.resize_with(FIELDS.len(), String::new);
         for (last, v) in self.summary_last.iter_mut().zip(&fields) {
-            if last != v {
-                last.clear();
-                last.push_str(v);
-            }
+            short_str::assign(last, v);
         }
         self.summary_fields = fields;
         self.post("IVPHELM_SUMMARY", crate::posting::Value::Str(out), "");

@@ -230,10 +230,7 @@ impl HelmContext for HostCtx<'_> {
     }
 
     fn set_contact(&mut self, name: RStr<'_>) {
-        if self.core.contact != name.as_str() {
-            self.core.contact.clear();
-            self.core.contact.push_str(name.as_str());
-        }
+        mbutil::short_str::assign(&mut self.core.contact, name.as_str());
     }
 
     // The `_into` forms (0.1.2): `out` belongs to the behavior; refilled in place, it

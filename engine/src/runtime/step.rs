@@ -183,7 +183,7 @@ fn validate(core: &mut BehaviorCore, f: &Function) -> Option<(f64, usize)> {
     }
     // `FunctionData::piece_count`, with the dimensions of the domain text placed last
     // (the same text every iteration) instead of counting its colons again.
-    let same = core.placed_domain == f.domain.as_str();
+    let same = mbutil::short_str::same(&core.placed_domain, f.domain.as_str());
     let dim = if same { core.placed_dim } else { f.dim() };
     let n = f.bounds.len().checked_div(2 * dim).unwrap_or(0);
     if n * 2 * dim != f.bounds.len() || f.weights.len() != n * (dim + 1) || dim == 0 {
