@@ -1,16 +1,11 @@
-//! The AVX2 row with [`FlatEnds`] is the formula, bit for bit, and skips the formula
-//! where it can.
+//! The AVX2 row with [`FlatEnds`] is the formula, bit for bit, at the ends' borders,
+//! and skips the formula where it can (awkward numbers with the ends given:
+//! engine_tests.rs's `cpa_row_chunks_are_cpa_entry`).
 
 use std::cell::Cell;
 
 use super::*;
-
-fn rng(seed: &mut u64) -> f64 {
-    *seed = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (*seed >> 11) as f64 / (1u64 << 53) as f64
-}
+use crate::engine::tests::rng;
 
 /// An avoidance utility: 0 below `cd`, 100 above `acd`, a ramp between (with its
 /// division), flat at both ends as [`FlatEnds`] says.
@@ -113,63 +108,6 @@ fn flat_rows_are_the_formula_at_the_borders() {
             25.0,
             &format!("case {case} 8..25"),
         );
-    }
-}
-
-/// Rows the ends' tests must stay out of: awkward numbers anywhere (NaN, infinities,
-/// zeros, huge and tiny), ownship on the contact, matching the contact's velocity,
-/// still; ends reversed, negative or equal. Every answer is the formula's.
-#[test]
-fn flat_rows_with_awkward_numbers_are_the_formula() {
-    if !std::arch::is_x86_feature_detected!("avx2") {
-        return;
-    }
-    let (sins, coss) = units();
-    let odd = [
-        0.0,
-        -0.0,
-        f64::NAN,
-        f64::INFINITY,
-        -f64::INFINITY,
-        1e-310,
-        1e-160,
-        1e160,
-        -1e300,
-        f64::MAX,
-    ];
-    let mut seed = 99u64;
-    let pick = |seed: &mut u64, scale: f64| {
-        if rng(seed) < 0.1 {
-            odd[(rng(seed) * odd.len() as f64) as usize % odd.len()]
-        } else {
-            (rng(seed) - 0.5) * scale
-        }
-    };
-    for case in 0..6000 {
-        let mut row = CpaRow {
-            v: pick(&mut seed, 8.0).max(0.0),
-            px: pick(&mut seed, 200.0),
-            py: pick(&mut seed, 200.0),
-            cn_vx: pick(&mut seed, 6.0),
-            cn_vy: pick(&mut seed, 6.0),
-            now: pick(&mut seed, 200.0),
-            tol: pick(&mut seed, 300.0),
-        };
-        match case % 5 {
-            0 => (row.px, row.py) = (0.0, 0.0),
-            1 => {
-                let k = (rng(&mut seed) * 360.0) as usize % 360;
-                (row.cn_vx, row.cn_vy) = (row.v * sins[k], row.v * coss[k]);
-            }
-            _ => {}
-        }
-        let (cd, acd) = (pick(&mut seed, 60.0), pick(&mut seed, 60.0));
-        // Only ends that hold for the metric are given: finite, below ≤ above, and
-        // f(0) the low end's value (cd > 0) or no low end at all.
-        if !(cd.is_finite() && acd.is_finite() && cd <= acd) {
-            continue;
-        }
-        check(&row, (&sins, &coss), cd, acd, &format!("case {case}"));
     }
 }
 

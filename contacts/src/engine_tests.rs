@@ -218,7 +218,7 @@ fn roc_with_the_cosine_table_is_roc() {
     }
 }
 
-fn rng(seed: &mut u64) -> f64 {
+pub(super) fn rng(seed: &mut u64) -> f64 {
     *seed = seed
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
@@ -570,6 +570,21 @@ fn cpa_row_chunks_are_cpa_entry() {
                 };
                 for (i, (a, b)) in want.iter().zip(&wide).enumerate() {
                     assert!(same(*a, *b), "case {case} f{k} [{i}] avx2: {a} {b}");
+                }
+                // The metric with its flat ends given (10 and 40 m): the same answers.
+                if k == 1 {
+                    let flat = Some(FlatEnds {
+                        below: 10.0,
+                        above: 40.0,
+                    });
+                    let ends = super::heading::Ends::of(&row, flat, &f);
+                    // SAFETY: AVX2 is present (checked above).
+                    unsafe {
+                        super::heading::cpa_row_avx2(&row, (&sins, &coss), &mut wide, f, ends)
+                    };
+                    for (i, (a, b)) in want.iter().zip(&wide).enumerate() {
+                        assert!(same(*a, *b), "case {case} flat [{i}] avx2: {a} {b}");
+                    }
                 }
             }
         }
