@@ -473,3 +473,5 @@ pub use rows::FlatEnds;
 pub(super) use rows::{cpa_entry, cpa_row, still_row, CpaRow};
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(super) use rows::{cpa_row_avx2, Ends};
+#[cfg(target_arch = "x86_64")]
+pub(super) use rows::{Lanes, WIDE};

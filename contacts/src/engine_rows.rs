@@ -2,6 +2,9 @@
 //! distance (or a function of it) per course. The baseline loop and its AVX2
 //! compilation give the same bits (engine_tests.rs checks both against the formula).
 
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::*;
+
 /// What a row of CPA distances needs of the engine and the speed.
 #[derive(Clone, Copy)]
 pub(crate) struct CpaRow {
@@ -99,6 +102,108 @@ impl Ends {
     }
 }
 
+/// A row's numbers in AVX2 registers, with [`cpa_entry`]'s two halves on four
+/// candidates at a time: one definition for both AVX2 row kernels ([`cpa_row_avx2`] and
+/// engine_zip.rs's), so that they give the same distances.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+pub(crate) struct Lanes {
+    v: __m256d,
+    px: __m256d,
+    py: __m256d,
+    cn_vx: __m256d,
+    cn_vy: __m256d,
+    now: __m256d,
+    tol: __m256d,
+    zero: __m256d,
+}
+
+/// `(ux, uy, p·u)` of four candidates ([`cpa_closing_num`] per lane).
+#[cfg(target_arch = "x86_64")]
+pub(crate) type Closing = (__m256d, __m256d, __m256d);
+
+#[cfg(target_arch = "x86_64")]
+impl Lanes {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(crate) fn of(row: &CpaRow) -> Lanes {
+        let set = _mm256_set1_pd;
+        Lanes {
+            v: set(row.v),
+            px: set(row.px),
+            py: set(row.py),
+            cn_vx: set(row.cn_vx),
+            cn_vy: set(row.cn_vy),
+            now: set(row.now),
+            tol: set(row.tol),
+            zero: _mm256_setzero_pd(),
+        }
+    }
+
+    /// [`cpa_closing_num`] per vector of a chunk, and whether any lane's p·u is above 0.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(crate) fn closing(&self, s: &[f64; WIDE], c: &[f64; WIDE]) -> ([Closing; VECS], bool) {
+        let Lanes {
+            v,
+            px,
+            py,
+            cn_vx,
+            cn_vy,
+            zero,
+            ..
+        } = *self;
+        let mut u = [(zero, zero, zero); VECS];
+        let mut any = zero;
+        for (h, u) in u.iter_mut().enumerate() {
+            // SAFETY: a chunk holds VECS vectors of 4.
+            let (s, c) = unsafe {
+                let at = |x: &[f64; WIDE]| _mm256_loadu_pd(x.as_ptr().add(4 * h));
+                (at(s), at(c))
+            };
+            let ux = _mm256_sub_pd(cn_vx, _mm256_mul_pd(v, s));
+            let uy = _mm256_sub_pd(cn_vy, _mm256_mul_pd(v, c));
+            let num = _mm256_add_pd(_mm256_mul_pd(px, ux), _mm256_mul_pd(py, uy));
+            any = _mm256_or_pd(any, _mm256_cmp_pd::<_CMP_GT_OQ>(num, zero));
+            *u = (ux, uy, num);
+        }
+        (u, _mm256_testz_pd(any, any) == 0)
+    }
+
+    /// `|u|²` of four candidates.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(crate) fn ww((ux, uy, _): Closing) -> __m256d {
+        _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy))
+    }
+
+    /// [`cpa_finish`]'s distance of four candidates (`ww` their [`Lanes::ww`]):
+    /// `closing` is `!(ww == 0) & (t > 0)`; min(tol, t) is `tol` when `tol < t`, else
+    /// `t`; max(r, 0) is `r` when `r > 0`, else 0.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(crate) fn dist(&self, (ux, uy, num): Closing, ww: __m256d) -> __m256d {
+        let Lanes {
+            px,
+            py,
+            now,
+            tol,
+            zero,
+            ..
+        } = *self;
+        let t = _mm256_div_pd(num, ww);
+        let closing = _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_NEQ_UQ>(ww, zero),
+            _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
+        );
+        let t = _mm256_min_pd(tol, t);
+        let dx = _mm256_sub_pd(px, _mm256_mul_pd(ux, t));
+        let dy = _mm256_sub_pd(py, _mm256_mul_pd(uy, t));
+        let r = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+        _mm256_blendv_pd(now, _mm256_max_pd(r, zero), closing)
+    }
+}
+
 /// [`CpaEngine::cpa_dists`]'s loop compiled for AVX2: [`cpa_row`]'s chunks, with
 /// [`cpa_entry`]'s operations written as AVX2 instructions on four candidates at a time
 /// (left to itself, the compiler does a chunk's candidates two at a time or one by one).
@@ -115,20 +220,13 @@ pub(crate) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
     f: F,
     ends: Ends,
 ) {
-    use std::arch::x86_64::*;
     let ((sins, coss), out) = row_slices(units, out);
     if still_row(row, (sins, coss), out, &f) {
         return;
     }
+    let lanes = Lanes::of(row);
+    let (px, py, zero) = (lanes.px, lanes.py, lanes.zero);
     let set = _mm256_set1_pd;
-    let (v, px, py, cn_vx, cn_vy) = (
-        set(row.v),
-        set(row.px),
-        set(row.py),
-        set(row.cn_vx),
-        set(row.cn_vy),
-    );
-    let (now, tol, zero) = (set(row.now), set(row.tol), _mm256_setzero_pd());
     let far = set(f(row.now));
     let (k_hi, k_lo, tol_lo) = (set(ends.k_hi), set(ends.k_lo), set(ends.tol_lo));
     let (lo_val, hi_val) = (set(ends.lo), set(ends.hi));
@@ -137,22 +235,8 @@ pub(crate) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
     let (cc, c_rest) = coss.as_chunks::<WIDE>();
     let (oc, o_rest) = out.as_chunks_mut::<WIDE>();
     for ((o, s), c) in oc.iter_mut().zip(sc).zip(cc) {
-        // cpa_closing_num per vector, and whether any lane's p·u is above 0.
-        let mut u = [(zero, zero, zero); VECS];
-        let mut any = zero;
-        for (h, u) in u.iter_mut().enumerate() {
-            // SAFETY: a chunk holds VECS vectors of 4.
-            let (s, c) = unsafe {
-                let at = |x: &[f64; WIDE]| _mm256_loadu_pd(x.as_ptr().add(4 * h));
-                (at(s), at(c))
-            };
-            let ux = _mm256_sub_pd(cn_vx, _mm256_mul_pd(v, s));
-            let uy = _mm256_sub_pd(cn_vy, _mm256_mul_pd(v, c));
-            let num = _mm256_add_pd(_mm256_mul_pd(px, ux), _mm256_mul_pd(py, uy));
-            any = _mm256_or_pd(any, _mm256_cmp_pd::<_CMP_GT_OQ>(num, zero));
-            *u = (ux, uy, num);
-        }
-        if _mm256_testz_pd(any, any) == 1 {
+        let (u, any) = lanes.closing(s, c);
+        if !any {
             // SAFETY: a chunk holds VECS vectors of 4.
             unsafe {
                 for h in 0..VECS {
@@ -161,12 +245,11 @@ pub(crate) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
             }
             continue;
         }
-        // cpa_finish per vector: `closing` is `!(ww == 0) & (t > 0)`; min(tol, t) is
-        // `tol` when `tol < t`, else `t`; max(r, 0) is `r` when `r > 0`, else 0.
         let mut d = [0.0; WIDE];
         let mut formula = [true; VECS];
-        for (h, &(ux, uy, num)) in u.iter().enumerate() {
-            let ww = _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy));
+        for (h, &u) in u.iter().enumerate() {
+            let (ux, uy, num) = u;
+            let ww = Lanes::ww(u);
             if ends.on {
                 // Ends::of's tests; a lane not closing (p·u ≤ 0) is `far` as below.
                 let cross = _mm256_sub_pd(_mm256_mul_pd(px, uy), _mm256_mul_pd(py, ux));
@@ -198,18 +281,8 @@ pub(crate) unsafe fn cpa_row_avx2<F: Fn(f64) -> f64>(
                     continue;
                 }
             }
-            let t = _mm256_div_pd(num, ww);
-            let closing = _mm256_and_pd(
-                _mm256_cmp_pd::<_CMP_NEQ_UQ>(ww, zero),
-                _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
-            );
-            let t = _mm256_min_pd(tol, t);
-            let dx = _mm256_sub_pd(px, _mm256_mul_pd(ux, t));
-            let dy = _mm256_sub_pd(py, _mm256_mul_pd(uy, t));
-            let r = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
-            let dist = _mm256_blendv_pd(now, _mm256_max_pd(r, zero), closing);
             // SAFETY: `d` holds VECS vectors of 4.
-            unsafe { _mm256_storeu_pd(d.as_mut_ptr().add(4 * h), dist) };
+            unsafe { _mm256_storeu_pd(d.as_mut_ptr().add(4 * h), lanes.dist(u, ww)) };
         }
         // `f` per lane: the compiler does these at vector width too.
         if formula == [true; VECS] {
@@ -308,8 +381,8 @@ pub(crate) fn still_row<F: Fn(f64) -> f64>(
 const LANES: usize = 4;
 
 /// AVX2 vectors (of four candidates) per chunk of [`cpa_row_avx2`], and its candidates.
-const VECS: usize = 2;
-const WIDE: usize = 4 * VECS;
+pub(crate) const VECS: usize = 2;
+pub(crate) const WIDE: usize = 4 * VECS;
 
 /// One entry of [`cpa_row`]: `cpa_of_ranged`'s formula with the relative velocity
 /// negated, `u = contact − ownship` (so `t = p·u / |u|²` needs no sign flip and

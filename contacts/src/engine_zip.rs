@@ -3,6 +3,8 @@
 //! term): one pass over the row instead of a row of distances written, then read again
 //! by a pass of its own.
 
+#[cfg(target_arch = "x86_64")]
+use super::heading::Lanes;
 use super::heading::{cpa_entry, cpa_row, still_row, CpaRow};
 use super::CpaEngine;
 
@@ -43,8 +45,8 @@ impl CpaEngine {
 }
 
 /// [`CpaEngine::cpa_dists_zip`] for AVX2 (all lists of one length): the chunks of
-/// [`super::heading::cpa_row_avx2`] (its operations, in its order: the same distances),
-/// each distance put through `f` with its course's number as the chunk is done. A chunk
+/// [`super::heading::cpa_row_avx2`] with its [`Lanes`] (the same operations: the same
+/// distances), each distance put through `f` with its course's number as the chunk is done. A chunk
 /// none of whose courses is closing is the range now throughout.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
@@ -55,65 +57,31 @@ unsafe fn cpa_zip_avx2<F: Fn(f64, f64) -> f64>(
     out: &mut [f64],
     f: F,
 ) {
-    use std::arch::x86_64::*;
-    /// Vectors of four per chunk, and courses per chunk (cpa_row_avx2's).
-    const VECS: usize = 2;
-    const WIDE: usize = 4 * VECS;
+    use super::heading::WIDE;
+    use std::arch::x86_64::_mm256_storeu_pd;
     if still_row(row, (sins, coss), out, &|d| d) {
         for (o, &c) in out.iter_mut().zip(col) {
             *o = f(*o, c);
         }
         return;
     }
-    let set = _mm256_set1_pd;
-    let (v, px, py, cn_vx, cn_vy) = (
-        set(row.v),
-        set(row.px),
-        set(row.py),
-        set(row.cn_vx),
-        set(row.cn_vy),
-    );
-    let (now, tol, zero) = (set(row.now), set(row.tol), _mm256_setzero_pd());
+    let lanes = Lanes::of(row);
     let (sc, s_rest) = sins.as_chunks::<WIDE>();
     let (cc, c_rest) = coss.as_chunks::<WIDE>();
     let (kc, k_rest) = col.as_chunks::<WIDE>();
     let (oc, o_rest) = out.as_chunks_mut::<WIDE>();
     for (((o, s), c), k) in oc.iter_mut().zip(sc).zip(cc).zip(kc) {
-        let mut u = [(zero, zero, zero); VECS];
-        let mut any = zero;
-        for (h, u) in u.iter_mut().enumerate() {
-            // SAFETY: a chunk holds VECS vectors of 4.
-            let (s, c) = unsafe {
-                let at = |x: &[f64; WIDE]| _mm256_loadu_pd(x.as_ptr().add(4 * h));
-                (at(s), at(c))
-            };
-            let ux = _mm256_sub_pd(cn_vx, _mm256_mul_pd(v, s));
-            let uy = _mm256_sub_pd(cn_vy, _mm256_mul_pd(v, c));
-            let num = _mm256_add_pd(_mm256_mul_pd(px, ux), _mm256_mul_pd(py, uy));
-            any = _mm256_or_pd(any, _mm256_cmp_pd::<_CMP_GT_OQ>(num, zero));
-            *u = (ux, uy, num);
-        }
-        if _mm256_testz_pd(any, any) == 1 {
+        let (u, any) = lanes.closing(s, c);
+        if !any {
             for (o, &k) in o.iter_mut().zip(k) {
                 *o = f(row.now, k);
             }
             continue;
         }
         let mut d = [0.0; WIDE];
-        for (h, &(ux, uy, num)) in u.iter().enumerate() {
-            let ww = _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy));
-            let t = _mm256_div_pd(num, ww);
-            let closing = _mm256_and_pd(
-                _mm256_cmp_pd::<_CMP_NEQ_UQ>(ww, zero),
-                _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
-            );
-            let t = _mm256_min_pd(tol, t);
-            let dx = _mm256_sub_pd(px, _mm256_mul_pd(ux, t));
-            let dy = _mm256_sub_pd(py, _mm256_mul_pd(uy, t));
-            let r = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
-            let dist = _mm256_blendv_pd(now, _mm256_max_pd(r, zero), closing);
+        for (h, &u) in u.iter().enumerate() {
             // SAFETY: `d` holds VECS vectors of 4.
-            unsafe { _mm256_storeu_pd(d.as_mut_ptr().add(4 * h), dist) };
+            unsafe { _mm256_storeu_pd(d.as_mut_ptr().add(4 * h), lanes.dist(u, Lanes::ww(u))) };
         }
         for ((o, &d), &k) in o.iter_mut().zip(&d).zip(k) {
             *o = f(d, k);
