@@ -17,15 +17,10 @@ impl CoordTable {
     /// Whether the table is the one of these points and cell sizes.
     pub(crate) fn is_for(&self, pts: &[i32], ppg: &[i32]) -> bool {
         let dim = pts.len();
-        // Element by element: a couple of words, not worth a `memcmp` call (every
-        // function of every solve asks).
+        // Every function of every solve asks: see `same_small`.
         self.key.len() == 2 * dim
-            && self
-                .key
-                .iter()
-                .zip(pts.iter().chain(ppg))
-                .all(|(a, b)| a == b)
-            && ppg.len() == dim
+            && same_small(&self.key[..dim], pts)
+            && same_small(&self.key[dim..], ppg)
     }
 
     /// (Re)make the table for `pts` points and `ppg` points per cell, unless it is theirs.
@@ -61,4 +56,11 @@ impl CoordTable {
     pub(crate) fn line(&self, d: usize) -> &[u32] {
         &self.coord[self.off[d]..self.off[d + 1]]
     }
+}
+
+/// `a == b` for the few entries of a map, the problem's points or cell sizes, element
+/// by element (no call to compare a couple of words).
+#[inline(always)]
+pub(crate) fn same_small<T: PartialEq>(a: &[T], b: &[T]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
 }

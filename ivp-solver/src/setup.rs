@@ -2,6 +2,7 @@
 //! translated into the problem domain, with its grid of cell lists and cell bounds.
 
 use super::*;
+use crate::coords::same_small;
 use crate::prepared::{walk_cells, ODO_DIMS};
 use crate::weigh::{min_max_wt_with, weigh, Weighing};
 
@@ -309,13 +310,6 @@ fn translate_boxes(p: &mut Prepared, fb: &[i32], pts: &[i32]) {
         return;
     }
     remake_boxes(p, fb, pts);
-}
-
-/// `a == b` for the few entries of a map or the problem's points, element by element
-/// (no call to compare a couple of words).
-#[inline(always)]
-fn same_small<T: PartialEq>(a: &[T], b: &[T]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
 }
 
 /// [`translate_boxes`] when they are new: kept out of line, the set-up's common path
