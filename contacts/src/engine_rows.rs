@@ -40,8 +40,9 @@ pub struct FlatEnds {
 /// (`p·u ≤ tol_lo·|u|²`) that it is below `below`. The thresholds are `above` and
 /// `below` moved out by `slack`, far more than the rounding of either formula: the
 /// computed distance differs from the geometric one by a few units of the last place of
-/// the range, `|p|`, and the tests' products by a few of their own (engine_tests.rs
-/// checks the answers against the formula on random and borderline rows).
+/// the range, `|p|`, and the tests' products by a few of their own (engine_rows_tests.rs
+/// checks the answers against the formula on borderline rows, engine_tests.rs on
+/// random and awkward ones).
 #[derive(Clone, Copy)]
 pub(crate) struct Ends {
     pub on: bool,
