@@ -35,6 +35,9 @@ use toml::Spanned;
 
 use helm_engine::posting::Value;
 
+pub(crate) mod fields;
+use fields::{EndDoc, Fields};
+
 /// Default limit of simulated time (s) when the scenario names none.
 pub const DEFAULT_MAX_TIME: f64 = 3600.0;
 
@@ -151,22 +154,6 @@ struct PokeDoc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct EndDoc {
-    max_time: Option<Spanned<f64>>,
-    mission_over: Option<bool>,
-    #[serde(default)]
-    when: Vec<WhenDoc>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct WhenDoc {
-    var: Spanned<String>,
-    value: Spanned<toml::Value>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 struct VehicleDoc {
     x: Option<Spanned<f64>>,
     y: Option<Spanned<f64>>,
@@ -236,95 +223,32 @@ impl Scenario {
 
     /// Parse and check `text` (read from `path`, for messages).
     pub fn parse(text: &str, path: &Path) -> Result<Scenario, ScenarioError> {
-        let bad = |span, message| bad_at(path, text, span, message);
+        let f = Fields::new(path, text);
         let doc: FileDoc = parse_toml(text, path)?;
-        let finite = |v: &Spanned<f64>, what: &str| {
-            if v.get_ref().is_finite() {
-                Ok(*v.get_ref())
-            } else {
-                Err(bad(v.span(), format!("{what} must be a finite number")))
-            }
-        };
-        let var_name = |v: &Spanned<String>| {
-            let s = v.get_ref().trim();
-            if s.is_empty() || s.contains(char::is_whitespace) {
-                Err(bad(
-                    v.span(),
-                    format!("`{s}` is not a MOOS variable name (empty or with blanks)"),
-                ))
-            } else {
-                Ok(s.to_string())
-            }
-        };
-        let value = |v: &Spanned<toml::Value>| match v.get_ref() {
-            toml::Value::String(s) => Ok(Value::Str(s.clone())),
-            toml::Value::Integer(i) => Ok(Value::Num(*i as f64)),
-            toml::Value::Float(f) if f.is_finite() => Ok(Value::Num(*f)),
-            toml::Value::Boolean(b) => Ok(Value::Str(b.to_string())),
-            other => Err(bad(
-                v.span(),
-                format!(
-                    "value must be a string, a finite number or a boolean, not {}",
-                    other.type_str()
-                ),
-            )),
-        };
-
         let mut sc = Scenario {
             path: Some(path.to_path_buf()),
             ..Scenario::default()
         };
         for p in &doc.poke {
-            let at = finite(&p.at, "`at`")?;
-            if at < 0.0 {
-                return Err(bad(
-                    p.at.span(),
-                    format!("`at = {at}`: a poke time is >= 0 s"),
-                ));
-            }
-            sc.pokes.push(Poke {
-                at,
-                var: var_name(&p.var)?,
-                value: value(&p.value)?,
-            });
+            sc.pokes.push(f.poke(&p.at, &p.var, &p.value)?);
         }
         sc.pokes.sort_by(|a, b| a.at.total_cmp(&b.at));
-        if let Some(end) = &doc.end {
-            if let Some(m) = &end.max_time {
-                let t = finite(m, "`max_time`")?;
-                if t <= 0.0 {
-                    return Err(bad(m.span(), format!("`max_time = {t}` must be > 0 s")));
-                }
-                sc.max_time = t;
-            }
-            sc.mission_over = end.mission_over.unwrap_or(true);
-            for w in &end.when {
-                sc.when.push(When {
-                    var: var_name(&w.var)?,
-                    value: value(&w.value)?,
-                });
-            }
-        }
+        let end = f.end(doc.end.as_ref())?;
+        (sc.max_time, sc.mission_over, sc.when) = (end.max_time, end.mission_over, end.when);
         if let Some(v) = &doc.vehicle {
-            let opt = |f: &Option<Spanned<f64>>, what: &str| {
-                f.as_ref().map(|s| finite(s, what)).transpose()
-            };
             sc.vehicle = VehicleStart {
-                x: opt(&v.x, "`x`")?,
-                y: opt(&v.y, "`y`")?,
-                heading: opt(&v.heading, "`heading`")?,
-                speed: opt(&v.speed, "`speed`")?,
-                depth: opt(&v.depth, "`depth`")?,
+                x: f.opt_number(&v.x, "x", None)?,
+                y: f.opt_number(&v.y, "y", None)?,
+                heading: f.opt_number(&v.heading, "heading", None)?,
+                speed: f.opt_number(&v.speed, "speed", Some(0.0))?,
+                depth: f.opt_number(&v.depth, "depth", None)?,
                 current: (
-                    opt(&v.current_x, "`current_x`")?.unwrap_or(0.0),
-                    opt(&v.current_y, "`current_y`")?.unwrap_or(0.0),
+                    f.opt_number(&v.current_x, "current_x", None)?
+                        .unwrap_or(0.0),
+                    f.opt_number(&v.current_y, "current_y", None)?
+                        .unwrap_or(0.0),
                 ),
             };
-            if let (Some(s), Some(span)) = (sc.vehicle.speed, v.speed.as_ref()) {
-                if s < 0.0 {
-                    return Err(bad(span.span(), format!("`speed = {s}` must be >= 0")));
-                }
-            }
         }
         Ok(sc)
     }

@@ -43,8 +43,8 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::scenario::{bad_at, parse_toml, read_text, Poke, ScenarioError, When, DEFAULT_MAX_TIME};
-use helm_engine::posting::Value;
+use crate::scenario::fields::{EndDoc, Fields};
+use crate::scenario::{parse_toml, read_text, Poke, ScenarioError, When};
 
 /// Colours of vehicles that name none, in order.
 pub const PALETTE: [&str; 10] = [
@@ -204,22 +204,6 @@ struct PokeDoc {
     vehicle: Option<Spanned<String>>,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct EndDoc {
-    max_time: Option<Spanned<f64>>,
-    mission_over: Option<bool>,
-    #[serde(default)]
-    when: Vec<WhenDoc>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct WhenDoc {
-    var: Spanned<String>,
-    value: Spanned<toml::Value>,
-}
-
 /// Whether `text` is a fleet scenario (`vehicle` is an array of tables). Text that is
 /// not TOML is not: the one-vehicle reader reports it.
 pub fn is_fleet(text: &str) -> bool {
@@ -247,22 +231,11 @@ impl FleetScenario {
 
     /// Parse and check `text`, read from `path` (mission files are relative to it).
     pub fn parse(text: &str, path: &Path) -> Result<FleetScenario, ScenarioError> {
-        let bad = |span, message| bad_at(path, text, span, message);
+        let f = Fields::new(path, text);
+        let bad = |span, message| f.bad(span, message);
         let doc: Doc = parse_toml(text, path)?;
-        let num = |v: &Spanned<f64>, what: &str, min: f64| {
-            let x = *v.get_ref();
-            if x.is_finite() && x >= min {
-                Ok(x)
-            } else {
-                Err(bad(
-                    v.span(),
-                    format!("`{what} = {x}`: must be a finite number >= {min}"),
-                ))
-            }
-        };
-        let opt = |v: &Option<Spanned<f64>>, what: &str, min: f64| {
-            v.as_ref().map(|s| num(s, what, min)).transpose()
-        };
+        let opt =
+            |v: &Option<Spanned<f64>>, what: &str, min: Option<f64>| f.opt_number(v, what, min);
         let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
         let file = |s: &Spanned<String>, what: &str| {
             let p = dir.join(s.get_ref().trim());
@@ -315,10 +288,10 @@ impl FleetScenario {
                 name,
                 mission: file(&v.mission, "mission")?,
                 bhv,
-                x: opt(&v.x, "x", f64::MIN)?,
-                y: opt(&v.y, "y", f64::MIN)?,
-                heading: opt(&v.heading, "heading", f64::MIN)?,
-                speed: opt(&v.speed, "speed", 0.0)?,
+                x: opt(&v.x, "x", None)?,
+                y: opt(&v.y, "y", None)?,
+                heading: opt(&v.heading, "heading", None)?,
+                speed: opt(&v.speed, "speed", Some(0.0))?,
                 color,
                 moos_color,
                 vtype: v.vtype.as_ref().map(|t| t.get_ref().trim().to_string()),
@@ -326,9 +299,9 @@ impl FleetScenario {
         }
         let mut comms = Comms::default();
         if let Some(c) = &doc.comms {
-            comms.range = opt(&c.range, "range", 0.0)?.unwrap_or(comms.range);
-            comms.latency = opt(&c.latency, "latency", 0.0)?.unwrap_or(0.0);
-            comms.drop_pct = opt(&c.drop, "drop", 0.0)?.unwrap_or(0.0);
+            comms.range = opt(&c.range, "range", Some(0.0))?.unwrap_or(comms.range);
+            comms.latency = opt(&c.latency, "latency", Some(0.0))?.unwrap_or(0.0);
+            comms.drop_pct = opt(&c.drop, "drop", Some(0.0))?.unwrap_or(0.0);
             if let Some(d) = &c.drop {
                 if comms.drop_pct > 100.0 {
                     return Err(bad(d.span(), "`drop` is a percentage, 0..100".into()));
@@ -338,9 +311,11 @@ impl FleetScenario {
         }
         let mut ranges = Ranges::default();
         if let Some(c) = &doc.collision {
-            ranges.encounter = opt(&c.encounter, "encounter", 0.0)?.unwrap_or(ranges.encounter);
-            ranges.near_miss = opt(&c.near_miss, "near_miss", 0.0)?.unwrap_or(ranges.near_miss);
-            ranges.collision = opt(&c.collision, "collision", 0.0)?.unwrap_or(ranges.collision);
+            let r =
+                |v, what, dflt| Ok::<_, ScenarioError>(opt(v, what, Some(0.0))?.unwrap_or(dflt));
+            ranges.encounter = r(&c.encounter, "encounter", ranges.encounter)?;
+            ranges.near_miss = r(&c.near_miss, "near_miss", ranges.near_miss)?;
+            ranges.collision = r(&c.collision, "collision", ranges.collision)?;
             if !(ranges.collision <= ranges.near_miss && ranges.near_miss <= ranges.encounter) {
                 let span = c
                     .collision
@@ -355,35 +330,8 @@ impl FleetScenario {
             }
         }
         let tick = match doc.picture.as_ref().and_then(|p| p.tick.as_ref()) {
-            Some(t) => {
-                let v = num(t, "tick", 0.0)?;
-                if v == 0.0 {
-                    return Err(bad(t.span(), "`tick` must be > 0 s".into()));
-                }
-                v
-            }
+            Some(t) => f.seconds(t, "tick")?,
             None => 60.0,
-        };
-        let var_name = |v: &Spanned<String>| {
-            let s = v.get_ref().trim();
-            if s.is_empty() || s.contains(char::is_whitespace) {
-                Err(bad(v.span(), format!("`{s}` is not a MOOS variable name")))
-            } else {
-                Ok(s.to_string())
-            }
-        };
-        let value = |v: &Spanned<toml::Value>| match v.get_ref() {
-            toml::Value::String(s) => Ok(Value::Str(s.clone())),
-            toml::Value::Integer(i) => Ok(Value::Num(*i as f64)),
-            toml::Value::Float(f) if f.is_finite() => Ok(Value::Num(*f)),
-            toml::Value::Boolean(b) => Ok(Value::Str(b.to_string())),
-            other => Err(bad(
-                v.span(),
-                format!(
-                    "value must be a string, a finite number or a boolean, not {}",
-                    other.type_str()
-                ),
-            )),
         };
         let mut pokes = Vec::new();
         for p in &doc.poke {
@@ -397,31 +345,12 @@ impl FleetScenario {
                 ),
             };
             pokes.push(FleetPoke {
-                poke: Poke {
-                    at: num(&p.at, "at", 0.0)?,
-                    var: var_name(&p.var)?,
-                    value: value(&p.value)?,
-                },
+                poke: f.poke(&p.at, &p.var, &p.value)?,
                 vehicle,
             });
         }
         pokes.sort_by(|a, b| a.poke.at.total_cmp(&b.poke.at));
-        let (mut max_time, mut mission_over, mut when) = (DEFAULT_MAX_TIME, true, Vec::new());
-        if let Some(end) = &doc.end {
-            if let Some(m) = &end.max_time {
-                max_time = num(m, "max_time", 0.0)?;
-                if max_time == 0.0 {
-                    return Err(bad(m.span(), "`max_time` must be > 0 s".into()));
-                }
-            }
-            mission_over = end.mission_over.unwrap_or(true);
-            for w in &end.when {
-                when.push(When {
-                    var: var_name(&w.var)?,
-                    value: value(&w.value)?,
-                });
-            }
-        }
+        let end = f.end(doc.end.as_ref())?;
         let obstacles = super::obstacles::read_setup(
             &super::obstacles::Docs {
                 obstacle: &doc.obstacle,
@@ -439,9 +368,9 @@ impl FleetScenario {
             ranges,
             tick,
             pokes,
-            max_time,
-            mission_over,
-            when,
+            max_time: end.max_time,
+            mission_over: end.mission_over,
+            when: end.when,
             path: path.to_path_buf(),
         })
     }
@@ -501,6 +430,11 @@ mod tests {
             (format!("{v}[comms]\nrange = -5\n"), 5, "range"),
             (format!("{v}[comms]\ndrop = 120\n"), 5, "percentage"),
             (format!("{v}color = \"notacolour\"\n"), 4, "colour"),
+            (
+                format!("{v}x = inf\n"),
+                4,
+                "`x = inf`: must be a finite number",
+            ),
             (
                 format!("{v}[collision]\ncollision = 30\n"),
                 5,
