@@ -194,6 +194,45 @@ impl Outcome {
     }
 }
 
+/// The mission's uSimMarine block with its warnings, or the error listing its errors.
+pub(crate) fn sim_block(block: SimBlock) -> Result<(SimBlock, Vec<String>), SimError> {
+    let errors: Vec<&str> = block
+        .problems_at_least(Severity::Error)
+        .map(|p| p.text.as_str())
+        .collect();
+    if !errors.is_empty() {
+        return Err(SimError::SimBlock {
+            problems: errors.join("\n"),
+            count: errors.len(),
+        });
+    }
+    let warnings = block
+        .problems
+        .iter()
+        .filter(|p| p.severity == Severity::Warning)
+        .map(|p| p.text.clone())
+        .collect();
+    Ok((block, warnings))
+}
+
+/// A new `.alog` at `path`, its header written (log start `t0`, named by its file name).
+pub(crate) fn open_alog(
+    path: &Path,
+    t0: f64,
+) -> Result<moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>, SimError> {
+    std::fs::File::create(path)
+        .and_then(|f| {
+            let name = path
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            moos::alog::AlogWriter::new(std::io::BufWriter::new(f), t0, &name)
+        })
+        .map_err(|source| SimError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+}
+
 impl Prepared {
     /// Read `mission` (plus extra `.bhv` files) and `scenario` (default: the
     /// `scenario.toml` beside the mission, if any). A MALCONFIG helm is an error: it
@@ -224,23 +263,7 @@ impl Prepared {
         }
         let helm_tick = file.app_tick(HELM_NAME, 5.0);
         let sim_tick = file.app_tick(SIM_NAME, 10.0);
-        let block = SimBlock::read(&file);
-        let errors: Vec<&str> = block
-            .problems_at_least(Severity::Error)
-            .map(|p| p.text.as_str())
-            .collect();
-        if !errors.is_empty() {
-            return Err(SimError::SimBlock {
-                problems: errors.join("\n"),
-                count: errors.len(),
-            });
-        }
-        let sim_warnings = block
-            .problems
-            .iter()
-            .filter(|p| p.severity == Severity::Warning)
-            .map(|p| p.text.clone())
-            .collect();
+        let (block, sim_warnings) = sim_block(SimBlock::read(&file))?;
         let mut vehicle = Kinematics::from_block(&block);
         let v = &scenario.vehicle;
         vehicle.x = v.x.unwrap_or(vehicle.x);
@@ -286,18 +309,7 @@ impl Prepared {
             Observer::new(t0, self.scenario.when.clone()),
         );
         if let Some(path) = &opts.alog {
-            let w = std::fs::File::create(path)
-                .and_then(|f| {
-                    let name = path
-                        .file_name()
-                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-                    moos::alog::AlogWriter::new(std::io::BufWriter::new(f), t0, &name)
-                })
-                .map_err(|source| SimError::Write {
-                    path: path.clone(),
-                    source,
-                })?;
-            bus.alog = Some(w);
+            bus.alog = Some(open_alog(path, t0)?);
         }
         if opts.record {
             bus.record = Some(Vec::new());

@@ -16,14 +16,14 @@ use helm_cycle::HelmCycle;
 use helm_engine::posting::Value;
 use helm_engine::{Helm, HelmState, Mail};
 use helm_mission::HelmRecipe;
-use vehicle_model::{Drift, Kinematics, Nav, Severity, SimBlock, VehicleModel, SIM_NAME};
+use vehicle_model::{Drift, Kinematics, Nav, SimBlock, VehicleModel, SIM_NAME};
 
 use super::relay::{Pending, Relayed};
 use super::reporter::Ownship;
 use super::spec::VehicleSpec;
 use crate::bus::{SimBus, HELM};
 use crate::observe::Observer;
-use crate::run::{SimError, StartShift, HELM_NAME};
+use crate::run::{open_alog, sim_block, SimError, StartShift, HELM_NAME};
 use crate::scenario::When;
 
 pub const CMGR_NAME: &str = "pContactMgrV20";
@@ -76,23 +76,7 @@ impl VehiclePlan {
                 ),
             });
         }
-        let block = SimBlock::read(&file);
-        let errors: Vec<&str> = block
-            .problems_at_least(Severity::Error)
-            .map(|p| p.text.as_str())
-            .collect();
-        if !errors.is_empty() {
-            return Err(SimError::SimBlock {
-                problems: errors.join("\n"),
-                count: errors.len(),
-            });
-        }
-        let warnings = block
-            .problems
-            .iter()
-            .filter(|p| p.severity == Severity::Warning)
-            .map(|p| p.text.clone())
-            .collect();
+        let (block, warnings) = sim_block(SimBlock::read(&file))?;
         let mut start = Kinematics::from_block(&block);
         start.x = spec.x.unwrap_or(start.x);
         start.y = spec.y.unwrap_or(start.y);
@@ -210,18 +194,7 @@ impl Live {
             Observer::new(t0, when),
         );
         if let Some(path) = alog {
-            let w = std::fs::File::create(&path)
-                .and_then(|f| {
-                    let name = path
-                        .file_name()
-                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-                    moos::alog::AlogWriter::new(std::io::BufWriter::new(f), t0, &name)
-                })
-                .map_err(|source| SimError::Write {
-                    path: path.clone(),
-                    source,
-                })?;
-            bus.alog = Some(w);
+            bus.alog = Some(open_alog(&path, t0)?);
         }
         for var in ["DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH"] {
             bus.subscribe(SIM, var);
