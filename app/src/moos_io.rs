@@ -147,19 +147,14 @@ impl Registrar {
 /// An `.alog` of a run: every posting of the helm and every mail it received from
 /// other apps (its own postings that come back as mail are not logged twice).
 pub struct AlogSink {
-    w: moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>,
+    w: moos::alog::AlogFile,
     path: std::path::PathBuf,
     app: String,
 }
 
 impl AlogSink {
     pub fn create(path: &std::path::Path, start: f64, app: &str) -> std::io::Result<AlogSink> {
-        let f = std::fs::File::create(path)?;
-        let name = path.file_name().map_or_else(
-            || path.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        let w = moos::alog::AlogWriter::new(std::io::BufWriter::new(f), start, &name)?;
+        let w = moos::alog::AlogFile::create(path, start)?;
         Ok(AlogSink {
             w,
             path: path.to_path_buf(),

@@ -51,6 +51,22 @@ pub struct AlogWriter<W: Write> {
     line: String,
 }
 
+/// An alog file being written through a buffer.
+pub type AlogFile = AlogWriter<io::BufWriter<std::fs::File>>;
+
+impl AlogFile {
+    /// A new alog file at `path` (replacing one there), its header written with the
+    /// file's name (the whole path if it has none).
+    pub fn create(path: &std::path::Path, log_start: f64) -> io::Result<AlogFile> {
+        let f = std::fs::File::create(path)?;
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        AlogWriter::new(io::BufWriter::new(f), log_start, &name)
+    }
+}
+
 impl<W: Write> AlogWriter<W> {
     /// Write the header. `log_start` is the MOOS time that line times are relative to.
     pub fn new(mut w: W, log_start: f64, file_name: &str) -> io::Result<AlogWriter<W>> {
@@ -414,6 +430,26 @@ mod tests {
             log.entries[1].value,
             AlogValue::String("iter=3, mode=DRIVE".into())
         );
+    }
+
+    #[test]
+    fn alog_file_is_named_by_its_file_and_reads_back() {
+        let dir = std::env::temp_dir().join(format!("moos-alog-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("abe.alog");
+        let mut w = AlogFile::create(&path, 100.0).unwrap();
+        w.write(&Message::notify_double("NAV_X", 3.0, 101.0))
+            .unwrap();
+        w.flush().unwrap();
+        drop(w);
+        let text = std::fs::read(&path).unwrap();
+        assert!(String::from_utf8_lossy(&text).contains("%% LOG FILE:       abe.alog\n"));
+        let log = read(&text[..]).unwrap();
+        assert_eq!((log.log_start, log.entries.len()), (Some(100.0), 1));
+        assert_eq!(log.entries[0].value, AlogValue::Double(3.0));
+        // A folder that does not exist: an error, not a panic.
+        assert!(AlogFile::create(&dir.join("no/such/dir.alog"), 0.0).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// Reproducer from the fuzz harness: a message without a source (the DB's timing

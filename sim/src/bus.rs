@@ -51,7 +51,7 @@ pub struct SimBus {
     /// [`SimBus::deliver`].
     staged: Vec<(usize, Mail)>,
     pub observer: Observer,
-    pub alog: Option<moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>>,
+    pub alog: Option<moos::alog::AlogFile>,
     /// Every message, when asked for (tests, replay).
     pub record: Option<Vec<Mail>>,
     /// The first alog write error (the run goes on; the error is reported at the end).

@@ -215,22 +215,12 @@ pub(crate) fn sim_block(block: SimBlock) -> Result<(SimBlock, Vec<String>), SimE
     Ok((block, warnings))
 }
 
-/// A new `.alog` at `path`, its header written (log start `t0`, named by its file name).
-pub(crate) fn open_alog(
-    path: &Path,
-    t0: f64,
-) -> Result<moos::alog::AlogWriter<std::io::BufWriter<std::fs::File>>, SimError> {
-    std::fs::File::create(path)
-        .and_then(|f| {
-            let name = path
-                .file_name()
-                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-            moos::alog::AlogWriter::new(std::io::BufWriter::new(f), t0, &name)
-        })
-        .map_err(|source| SimError::Write {
-            path: path.to_path_buf(),
-            source,
-        })
+/// A new `.alog` at `path`, its header written (log start `t0`).
+pub(crate) fn open_alog(path: &Path, t0: f64) -> Result<moos::alog::AlogFile, SimError> {
+    moos::alog::AlogFile::create(path, t0).map_err(|source| SimError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 impl Prepared {
