@@ -85,8 +85,9 @@ enum Command {
     /// missions/README.md.
     ///
     /// A single run logs all the helm posts, BHV_IPF included, as a wildcard pLogger
-    /// would: a 10-vehicle fleet hour is about 7 GB and runs near 50x real time. For
-    /// timing or statistics use --runs, which writes no logs unless --alogs asks.
+    /// would: a 10-vehicle fleet hour with avoidance writes about 7 GB, and writing
+    /// takes more of the run's time than the helms do. For timing or statistics use
+    /// --runs, which writes no logs unless --alogs asks.
     ///
     /// Examples: helm sim missions/alpha; helm sim missions/encounter --runs 1000
     /// --jitter x=10,y=10,heading=15; helm sim missions/fleet --runs 400 --shard 2/4
