@@ -91,6 +91,24 @@ pub fn nice_length(width_m: f64) -> f64 {
         .unwrap_or(p)
 }
 
+/// The scale bar, bottom left: a round length ([`nice_length`]) of the drawing's width
+/// at `v`'s scale, with its ticks and its length in metres.
+pub fn scale_bar(s: &mut String, v: &View) {
+    let width_m = (W - 2.0 * MARGIN - 170.0) / v.scale;
+    let len = nice_length(width_m);
+    let (bx, by) = (MARGIN, H - 25.0);
+    let bw = len * v.scale;
+    let _ = writeln!(
+        s,
+        r##"<path d="M{bx},{by} h{bw:.1} M{bx},{:.1} v10 M{:.1},{:.1} v10" stroke="#222" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="12" fill="#222">{len} m</text>"##,
+        by - 5.0,
+        bx + bw,
+        by - 5.0,
+        bx + bw + 8.0,
+        by + 4.0
+    );
+}
+
 /// The halo (outline, SVG attributes) that keeps a label in `color` legible over
 /// anything: 3 px of white, or a thin dark grey outline when the text itself is light
 /// (white, yellow, a `light…` or `pale…` name, a hex colour of luminance above 0.8). A
@@ -150,6 +168,13 @@ pub fn halo(color: &str) -> &'static str {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn scale_bar_lengths_are_round() {
+        assert_eq!(super::nice_length(230.0), 20.0);
+        assert_eq!(super::nice_length(1000.0), 200.0);
+        assert_eq!(super::nice_length(3.0), 1.0);
+    }
+
     #[test]
     fn light_text_gets_a_dark_halo() {
         for light in ["white", "yellow", "lightblue", "#ffff80", "#FFFFFF"] {

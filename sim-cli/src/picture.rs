@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
+use super::canvas::{esc, poly_points, scale_bar, View, H, MARGIN, W};
 use super::labels::{Placed, Placer, Rect, Style};
 use helm_sim::observe::{Observer, ViewKind};
 
@@ -262,20 +262,7 @@ pub fn svg_with_tracks(
             esc(text)
         );
     }
-    // Scale bar, bottom left.
-    let width_m = (W - 2.0 * MARGIN - 170.0) / v.scale;
-    let len = nice_length(width_m);
-    let (bx, by) = (MARGIN, H - 25.0);
-    let bw = len * v.scale;
-    let _ = writeln!(
-        o,
-        r##"<path d="M{bx},{by} h{bw:.1} M{bx},{:.1} v10 M{:.1},{:.1} v10" stroke="#222" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="12" fill="#222">{len} m</text>"##,
-        by - 5.0,
-        bx + bw,
-        by - 5.0,
-        bx + bw + 8.0,
-        by + 4.0
-    );
+    scale_bar(&mut o, &v);
     let erased = shapes.iter().any(|(_, c)| c.as_deref() == Some(ERASED));
     let only: Vec<Shape> = shapes.into_iter().map(|(s, _)| s).collect();
     legend(&mut o, &only, !others.is_empty(), erased);
@@ -666,12 +653,5 @@ mod tests {
         }
         let svg = svg(&o, "t", "s");
         assert_eq!(svg.matches(r#"paint-order="stroke""#).count(), labels.len());
-    }
-
-    #[test]
-    fn scale_bar_lengths_are_round() {
-        assert_eq!(nice_length(230.0), 20.0);
-        assert_eq!(nice_length(1000.0), 200.0);
-        assert_eq!(nice_length(3.0), 1.0);
     }
 }

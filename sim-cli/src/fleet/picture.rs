@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use crate::canvas::{esc, nice_length, poly_points, View, H, MARGIN, W};
+use crate::canvas::{esc, poly_points, scale_bar, View, H, MARGIN, W};
 use crate::labels::{Placed, Placer, Rect, Style};
 use helm_sim::fleet::collide::PairRecord;
 use helm_sim::fleet::run::FleetOutcome;
@@ -287,22 +287,6 @@ fn starts_and_ends(s: &mut String, v: &View, o: &FleetOutcome) {
             );
         }
     }
-}
-
-fn scale_bar(s: &mut String, v: &View) {
-    let width_m = (W - 2.0 * MARGIN - 170.0) / v.scale;
-    let len = nice_length(width_m);
-    let (bx, by) = (MARGIN, H - 25.0);
-    let bw = len * v.scale;
-    let _ = writeln!(
-        s,
-        r##"<path d="M{bx},{by} h{bw:.1} M{bx},{:.1} v10 M{:.1},{:.1} v10" stroke="#222" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="12" fill="#222">{len} m</text>"##,
-        by - 5.0,
-        bx + bw,
-        by - 5.0,
-        bx + bw + 8.0,
-        by + 4.0
-    );
 }
 
 fn legend(s: &mut String, o: &FleetOutcome) {
