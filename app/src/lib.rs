@@ -170,20 +170,15 @@ impl StopReason {
 /// starts; an unknown name is shown and ignored.
 fn check_sim_block(mission: &moos::mission::MissionFile) -> Result<(), AppError> {
     let block = vehicle_model::SimBlock::read(mission);
-    let errors: Vec<&str> = block
-        .problems_at_least(vehicle_model::Severity::Error)
-        .map(|p| p.text.as_str())
-        .collect();
+    let errors = block.error_texts();
     if !errors.is_empty() {
         return Err(AppError::SimBlock {
             problems: errors.join("\n"),
             count: errors.len(),
         });
     }
-    for p in &block.problems {
-        if p.severity == vehicle_model::Severity::Warning {
-            eprintln!("warning: {}", p.text);
-        }
+    for w in block.warning_texts() {
+        eprintln!("warning: {w}");
     }
     Ok(())
 }

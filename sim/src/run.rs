@@ -21,7 +21,7 @@ use helm_cycle::HelmCycle;
 use helm_engine::posting::Value;
 use helm_engine::Mail;
 use helm_mission::HelmRecipe;
-use vehicle_model::{Drift, Kinematics, Severity, SimBlock, VehicleModel, SIM_NAME};
+use vehicle_model::{Drift, Kinematics, SimBlock, VehicleModel, SIM_NAME};
 
 /// MOOS time of the start of every simulated run (fixed: logs are reproducible).
 pub const SIM_EPOCH: f64 = 1_700_000_000.0;
@@ -196,22 +196,14 @@ impl Outcome {
 
 /// The mission's uSimMarine block with its warnings, or the error listing its errors.
 pub(crate) fn sim_block(block: SimBlock) -> Result<(SimBlock, Vec<String>), SimError> {
-    let errors: Vec<&str> = block
-        .problems_at_least(Severity::Error)
-        .map(|p| p.text.as_str())
-        .collect();
+    let errors = block.error_texts();
     if !errors.is_empty() {
         return Err(SimError::SimBlock {
             problems: errors.join("\n"),
             count: errors.len(),
         });
     }
-    let warnings = block
-        .problems
-        .iter()
-        .filter(|p| p.severity == Severity::Warning)
-        .map(|p| p.text.clone())
-        .collect();
+    let warnings = block.warning_texts().map(str::to_string).collect();
     Ok((block, warnings))
 }
 

@@ -260,6 +260,22 @@ impl SimBlock {
     pub fn problems_at_least(&self, min: Severity) -> impl Iterator<Item = &BlockProblem> {
         self.problems.iter().filter(move |p| p.severity >= min)
     }
+
+    /// Its errors' texts, in file order: values that cannot be read (a run must not
+    /// start).
+    pub fn error_texts(&self) -> Vec<&str> {
+        self.problems_at_least(Severity::Error)
+            .map(|p| p.text.as_str())
+            .collect()
+    }
+
+    /// Its warnings' texts, in file order: names it ignores.
+    pub fn warning_texts(&self) -> impl Iterator<Item = &str> {
+        self.problems
+            .iter()
+            .filter(|p| p.severity == Severity::Warning)
+            .map(|p| p.text.as_str())
+    }
 }
 
 /// The pieces of a `start_pos` value.
@@ -373,10 +389,7 @@ mod tests {
     #[test]
     fn bad_values_are_errors_with_their_line() {
         let b = read("  turn_rate = banana\n  start_heading = north\n  start_pos = x=1, q=2");
-        let errs: Vec<&str> = b
-            .problems_at_least(Severity::Error)
-            .map(|p| p.text.as_str())
-            .collect();
+        let errs = b.error_texts();
         assert_eq!(errs.len(), 3, "{errs:?}");
         assert!(errs[0].starts_with("m.moos:3: ") && errs[0].contains("a number > 0"));
         assert!(errs[1].starts_with("m.moos:4: ") && errs[1].contains("north"));
