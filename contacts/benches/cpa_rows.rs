@@ -6,20 +6,9 @@
 
 use std::hint::black_box;
 
-use contacts::engine::FlatEnds;
+use contacts::engine::AvoidRamp;
 use contacts::CpaEngine;
 use criterion::{criterion_group, criterion_main, Criterion};
-
-fn metric(d: f64) -> f64 {
-    let (cd, acd) = (8.0, 25.0);
-    let mid = 25.0 + 75.0 * (d - cd) / (acd - cd);
-    let high = if d > acd { 100.0 } else { mid };
-    if d < cd {
-        0.0
-    } else {
-        high
-    }
-}
 
 fn engines() -> Vec<CpaEngine> {
     let mut out = Vec::new();
@@ -41,6 +30,9 @@ fn bench(c: &mut Criterion) {
         .unzip();
     let speeds: Vec<f64> = (0..21).map(|j| 0.2 * f64::from(j)).collect();
     let mut row = vec![0.0; sins.len()];
+    // AvoidCollision's 8/25 m utility.
+    let ramp = AvoidRamp { cd: 8.0, acd: 25.0 };
+    let metric = move |d: f64| ramp.at(d);
     let mut g = c.benchmark_group("cpa_rows");
     g.bench_function("plain", |b| {
         b.iter(|| {
@@ -62,10 +54,7 @@ fn bench(c: &mut Criterion) {
             }
         })
     });
-    let flat = Some(FlatEnds {
-        below: 8.0,
-        above: 25.0,
-    });
+    let flat = ramp.flat_ends();
     g.bench_function("flat", |b| {
         b.iter(|| {
             for e in &es {

@@ -691,7 +691,7 @@ mod heading;
 mod roc;
 #[path = "engine_zip.rs"]
 mod zip;
-pub use heading::{BowStarRate, BowStern, FlatEnds, Heading, RowConsts, Sides};
+pub use heading::{AvoidRamp, BowStarRate, BowStern, FlatEnds, Heading, RowConsts, Sides};
 
 #[cfg(test)]
 #[path = "engine_tests.rs"]

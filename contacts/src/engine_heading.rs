@@ -469,9 +469,9 @@ impl CpaEngine {
 
 #[path = "engine_rows.rs"]
 mod rows;
-pub use rows::FlatEnds;
 pub(super) use rows::{cpa_entry, cpa_row, still_row, CpaRow};
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(super) use rows::{cpa_row_avx2, Ends};
+pub use rows::{AvoidRamp, FlatEnds};
 #[cfg(target_arch = "x86_64")]
 pub(super) use rows::{Lanes, WIDE};

@@ -33,6 +33,41 @@ pub struct FlatEnds {
     pub above: f64,
 }
 
+/// AOF_AvoidCollision's utility of a CPA distance (contacts-appcast.md §3.5): 0 below
+/// the collision distance `cd`, 100 above the all-clear distance `acd`, else
+/// `25 + 75·(d − cd)/(acd − cd)` (the jump from 0 to 25 at `cd` is the reference's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AvoidRamp {
+    pub cd: f64,
+    pub acd: f64,
+}
+
+impl AvoidRamp {
+    /// The utility of `d`: the ramp computed and the answer picked, without jumps, so
+    /// that a row's loop does several entries per instruction.
+    #[inline(always)]
+    pub fn at(self, d: f64) -> f64 {
+        let AvoidRamp { cd, acd } = self;
+        let mid = 25.0 + 75.0 * (d - cd) / (acd - cd);
+        let high = if d > acd { 100.0 } else { mid };
+        if d < cd {
+            0.0
+        } else {
+            high
+        }
+    }
+
+    /// Where [`AvoidRamp::at`] is flat: 0 below `cd` (for any `d < cd`), 100 above both
+    /// (`d ≥ cd` and `d > acd`); none unless both are finite.
+    pub fn flat_ends(self) -> Option<FlatEnds> {
+        let AvoidRamp { cd, acd } = self;
+        (cd.is_finite() && acd.is_finite()).then(|| FlatEnds {
+            below: cd.min(acd),
+            above: cd.max(acd),
+        })
+    }
+}
+
 /// A row's tests for [`FlatEnds`], from [`Ends::of`]. A candidate's CPA is read off the
 /// distance of the contact's track to ownship's line, `|p × u| / |u|`, without a
 /// division: `(p × u)² ≥ k_hi·|u|²` says the distance at any time is above `above`, and

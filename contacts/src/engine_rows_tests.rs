@@ -7,18 +7,11 @@ use std::cell::Cell;
 use super::*;
 use crate::engine::tests::rng;
 
-/// An avoidance utility: 0 below `cd`, 100 above `acd`, a ramp between (with its
-/// division), flat at both ends as [`FlatEnds`] says.
+/// An avoidance utility ([`AvoidRamp`]): 0 below `cd`, 100 above `acd`, a ramp between
+/// (with its division), flat at both ends as [`FlatEnds`] says.
 fn metric(cd: f64, acd: f64) -> impl Fn(f64) -> f64 + Copy {
-    move |d: f64| {
-        let mid = 25.0 + 75.0 * (d - cd) / (acd - cd);
-        let high = if d > acd { 100.0 } else { mid };
-        if d < cd {
-            0.0
-        } else {
-            high
-        }
-    }
+    let ramp = AvoidRamp { cd, acd };
+    move |d: f64| ramp.at(d)
 }
 
 fn units() -> (Vec<f64>, Vec<f64>) {
@@ -161,5 +154,36 @@ fn flat_rows_skip_the_formula() {
     for row in [far, near] {
         assert!(run(&row, None) >= 100, "{}", run(&row, None));
         assert!(run(&row, ends) <= 3, "{}", run(&row, ends));
+    }
+}
+
+/// [`AvoidRamp::flat_ends`] keeps [`FlatEnds`]' promise (the value at 0 below `below`,
+/// the value at `f64::MAX` above `above`) for ramps either way round, and gives none
+/// for ends that are not finite.
+#[test]
+fn avoid_ramp_is_flat_where_it_says() {
+    for (cd, acd) in [
+        (8.0, 25.0),
+        (10.0, 40.0),
+        (3.5, 3.5),
+        (25.0, 8.0),
+        (0.0, 1e-300),
+    ] {
+        let ramp = AvoidRamp { cd, acd };
+        let ends = ramp.flat_ends().expect("finite ends");
+        let (low, high) = (ramp.at(0.0), ramp.at(f64::MAX));
+        for k in 0..=1000 {
+            let d = ends.below * f64::from(k) / 1000.0;
+            if d < ends.below {
+                assert!(same(ramp.at(d), low), "{cd}/{acd} below at {d}");
+            }
+            let d = ends.above * (1.0 + f64::from(k) / 100.0) + f64::from(k);
+            if d > ends.above {
+                assert!(same(ramp.at(d), high), "{cd}/{acd} above at {d}");
+            }
+        }
+    }
+    for (cd, acd) in [(f64::NAN, 25.0), (8.0, f64::INFINITY)] {
+        assert_eq!(AvoidRamp { cd, acd }.flat_ends(), None);
     }
 }

@@ -501,15 +501,11 @@ fn cpa_row_chunks_are_cpa_entry() {
         }
     };
     let grid: Vec<(f64, f64)> = (0..360).map(|h| unit(f64::from(h))).collect();
-    let metric = |d: f64| {
-        let mid = 25.0 + 75.0 * (d - 10.0) / 30.0;
-        let high = if d > 40.0 { 100.0 } else { mid };
-        if d < 10.0 {
-            0.0
-        } else {
-            high
-        }
+    let ramp = AvoidRamp {
+        cd: 10.0,
+        acd: 40.0,
     };
+    let metric = move |d: f64| ramp.at(d);
     let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
     for case in 0..6000 {
         // Odd cases: a grid row of consecutive courses (from a random one, any length

@@ -3,7 +3,7 @@
 
 use std::cell::{OnceCell, RefCell};
 
-use behavior_api::contacts::engine::{roc_cosine, roc_index, FlatEnds};
+use behavior_api::contacts::engine::{roc_cosine, roc_index, AvoidRamp};
 use behavior_api::contacts::CpaEngine;
 use behavior_api::ivp::reflector::eval_grid_pointwise;
 use behavior_api::ivp::{Aof, Domain, ValuesKey};
@@ -40,28 +40,6 @@ impl AvoidAof {
     fn utility_of_unit(&self, u: (f64, f64), v: f64) -> f64 {
         self.metric(self.engine.cpa_unit(u, v, self.tol).dist)
     }
-}
-
-/// [`AvoidAof::metric`] of `x`, the formula computed and the answer picked (no jumps:
-/// it runs inside the CPA row's loop, several entries per instruction).
-#[inline(always)]
-fn metric_of(cd: f64, acd: f64, x: f64) -> f64 {
-    let mid = 25.0 + 75.0 * (x - cd) / (acd - cd);
-    let high = if x > acd { 100.0 } else { mid };
-    if x < cd {
-        0.0
-    } else {
-        high
-    }
-}
-
-/// Where [`metric_of`] is flat: 0 below `cd` (for any `x < cd`), 100 above both
-/// (`x ≥ cd` and `x > acd`); none unless both are finite.
-fn flat(cd: f64, acd: f64) -> Option<FlatEnds> {
-    (cd.is_finite() && acd.is_finite()).then(|| FlatEnds {
-        below: cd.min(acd),
-        above: cd.max(acd),
-    })
 }
 
 /// The courses of a grid as the rows read them: their unit vectors as two lists, sines
@@ -139,12 +117,16 @@ impl Aof for AvoidAof {
             return;
         }
         let c = CourseUnits::of(&self.engine, domain, xs);
-        let (cd, acd) = (self.cd, self.acd);
-        let metric = move |d| metric_of(cd, acd, d);
+        // AvoidAof::metric without jumps (the test below compares the two).
+        let ramp = AvoidRamp {
+            cd: self.cd,
+            acd: self.acd,
+        };
+        let (metric, ends) = (move |d| ramp.at(d), ramp.flat_ends());
         for (row, &j) in out.chunks_exact_mut(xs.len()).zip(ys.iter()) {
             let v = domain.value(1, j);
             let at = (v, self.tol);
-            (self.engine).cpa_dists_flat((&c.sins, &c.coss), at, row, metric, flat(cd, acd));
+            (self.engine).cpa_dists_flat((&c.sins, &c.coss), at, row, metric, ends);
         }
         c.give_back();
     }
@@ -458,7 +440,7 @@ mod tests {
         }
     }
 
-    /// The metric without jumps, as the CPA row's loop runs it (compiled for AVX2 when
+    /// The metric without jumps ([`AvoidRamp::at`]), as the CPA row's loop runs it (compiled for AVX2 when
     /// the CPU has it, several entries per instruction, and for the baseline), is
     /// [`AvoidAof::metric`] bit for bit, over rows of every length 0..=41 with awkward
     /// distances and settings.
@@ -466,7 +448,8 @@ mod tests {
     fn metric_without_jumps_is_the_metric() {
         #[inline(always)]
         fn metric_row(cd: f64, acd: f64, row: &mut [f64]) {
-            row.iter_mut().for_each(|d| *d = metric_of(cd, acd, *d));
+            let ramp = AvoidRamp { cd, acd };
+            row.iter_mut().for_each(|d| *d = ramp.at(*d));
         }
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2")]
